@@ -1,0 +1,1 @@
+"""FMI 2.0 co-simulation facade over the NC core (built with pythonfmu); no NC logic here."""

@@ -1,0 +1,27 @@
+"""The signal catalogue files (``db10_nck.yaml`` ... ``db31_axis.yaml``) and their loader.
+
+Reading the packaged YAML files is the only file access of ``interfaces`` outside
+``links/``; everything else builds on the parsed :class:`~interfaces.signals.Catalog`.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from importlib import resources
+
+import yaml
+
+from interfaces.signals import Catalog
+
+CATALOG_FILES = ("db10_nck.yaml", "db11_mode_group.yaml", "db21_channel.yaml", "db31_axis.yaml")
+
+
+@lru_cache(maxsize=1)
+def load_catalog() -> Catalog:
+    """The packaged catalogue, parsed and checked once per process."""
+    package = resources.files(__name__)
+    documents = []
+    for name in CATALOG_FILES:
+        text = package.joinpath(name).read_text(encoding="utf-8")
+        documents.append((f"interfaces/catalog/{name}", yaml.safe_load(text)))
+    return Catalog.from_documents(documents)

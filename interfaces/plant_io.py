@@ -1,0 +1,202 @@
+"""Plant I/O: what is wired to the PLC's inputs (I) and outputs (Q), declared per machine.
+
+A machine file lists its I/O like an electrical I/O list, address -> function name::
+
+    I0.0: MCP.auto          # machine control panel key
+    I2.0: X1.refCam         # reference cam switch of X1
+    IB4:  MCP.feedOverride  # feed override switch (binary 0..200 %)
+
+The function names form a fixed vocabulary (``PLANT_FUNCTIONS``), so the plant model and
+the PLC programs agree on what each point is without knowing its address.  Safety
+contacts (emergency-stop chain, hardware limit switches) are normally closed: the input
+reads 1 while healthy and 0 when actuated or when the wire is broken.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from enum import StrEnum
+
+from interfaces.address import Address, AddressError
+from interfaces.signals import Direction, SignalRef, SignalType, UnknownSignalError
+
+
+class Owner(StrEnum):
+    """Who drives a plant I/O point."""
+
+    OPERATOR = "operator"  # keys, switches and the emergency-stop button: set by a person (a scenario)
+    PLANT = "plant"  # sensors the simulated machine drives: cams, limit switches, drive ready
+    PLC = "plc"  # outputs the PLC drives
+
+
+@dataclass(frozen=True, slots=True)
+class PlantFunction:
+    pattern: str  # regular expression over the name; (?P<axis>...) captures an axis name
+    type: SignalType
+    direction: Direction
+    owner: Owner
+    meaning: str
+
+
+_AXIS = r"(?P<axis>[A-Za-z][A-Za-z0-9_]*)"
+
+PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
+    PlantFunction(r"MCP\.(auto|mda|jog|ref)", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR,
+                  "operating mode / machine function key on the machine control panel"),
+    PlantFunction(r"MCP\.(ncStart|ncStop|reset|feedStop|feedStart|spindleStop|spindleStart|rapid)",
+                  SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR, "machine control panel key"),
+    PlantFunction(rf"MCP\.(plus|minus)\.{_AXIS}", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR,
+                  "traverse key of one axis on the machine control panel"),
+    PlantFunction(r"MCP\.(feedOverride|spindleOverride|rapidOverride)", SignalType.BYTE,
+                  Direction.PLANT_TO_PLC, Owner.OPERATOR, "override switch, binary coded percent (0..200)"),
+    PlantFunction(r"EStop\.chainOk", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR,
+                  "emergency-stop chain, normally closed: 1 = healthy, 0 = pressed or broken"),
+    PlantFunction(r"Drives\.ready", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+                  "drive line-up ready (infeed on, no drive fault)"),
+    PlantFunction(rf"{_AXIS}\.refCam", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+                  "reference cam switch of the axis: 1 while the axis stands on the cam"),
+    PlantFunction(rf"{_AXIS}\.(hwLimitMinus|hwLimitPlus)", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+                  "hardware limit switch, normally closed: 1 = free, 0 = actuated"),
+    PlantFunction(r"Drives\.on", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
+                  "main contactor / infeed on command"),
+    PlantFunction(r"Lamp\.[A-Za-z0-9_.]+", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
+                  "indicator lamp on the machine control panel"),
+)
+
+_COMPILED = tuple((re.compile(f"^{f.pattern}$"), f) for f in PLANT_FUNCTIONS)
+
+_TYPE_WIDTH = {SignalType.BOOL: "X", SignalType.BYTE: "B", SignalType.WORD: "W"}
+
+
+def plant_function(name: str) -> PlantFunction | None:
+    """The vocabulary entry a plant I/O name belongs to, or None."""
+    for regex, function in _COMPILED:
+        if regex.match(name):
+            return function
+    return None
+
+
+@dataclass(frozen=True, slots=True)
+class PlantIoPoint:
+    address: Address
+    name: str
+    type: SignalType
+    direction: Direction
+    owner: Owner
+    meaning: str
+
+    def ref(self) -> SignalRef:
+        bits = 1 if self.type is SignalType.BOOL else 8 * self.address.size
+        return SignalRef(self.name, self.address, self.type, bits, self.direction, None)
+
+
+class PlantIoError(ValueError):
+    """Problems in a plant I/O list; ``problems`` pairs each key with its message."""
+
+    def __init__(self, problems: list[tuple[str, str]]):
+        self.problems = problems
+        super().__init__("; ".join(f"{key}: {message}" for key, message in problems))
+
+
+@dataclass(frozen=True, slots=True)
+class PlantIoMap:
+    points: tuple[PlantIoPoint, ...]
+
+    @classmethod
+    def from_mapping(cls, entries: Mapping[str, str], axes: Iterable[str]) -> PlantIoMap:
+        """Build the map from ``{address text: function name}``; collects every problem."""
+        axis_names = set(axes)
+        problems: list[tuple[str, str]] = []
+        points: list[PlantIoPoint] = []
+        names: dict[str, str] = {}
+        occupied: dict[tuple[str, int, int], str] = {}
+        for address_text, name in entries.items():
+            key = str(address_text)
+            try:
+                address = Address.parse(key)
+            except AddressError as error:
+                problems.append((key, str(error)))
+                continue
+            if address.area not in ("I", "Q"):
+                problems.append((key, "plant I/O lives in I (inputs) or Q (outputs), not in a data block"))
+                continue
+            name = str(name)
+            function = plant_function(name)
+            if function is None:
+                problems.append((key, f"'{name}' is not a plant function (see interfaces/plant_io.py)"))
+                continue
+            axis = re.match(f"^{function.pattern}$", name)
+            if axis is not None and "axis" in axis.groupdict() and axis.group("axis") not in axis_names:
+                problems.append((key, f"'{name}' names axis {axis.group('axis')}, which the machine lacks"))
+                continue
+            expected_area = "I" if function.direction is Direction.PLANT_TO_PLC else "Q"
+            if address.area != expected_area:
+                problems.append((key, f"'{name}' is an {'input' if expected_area == 'I' else 'output'};"
+                                      f" wire it to {expected_area}, not {address.area}"))
+                continue
+            if address.width != _TYPE_WIDTH[function.type]:
+                problems.append((key, f"'{name}' is a {function.type.value}; it needs a"
+                                      f" {'bit' if function.type is SignalType.BOOL else 'byte'} address"))
+                continue
+            if name in names:
+                problems.append((key, f"'{name}' is already wired to {names[name]}"))
+                continue
+            clash = _first_clash(address, occupied)
+            if clash is not None:
+                problems.append((key, f"overlaps {clash}"))
+                continue
+            names[name] = key
+            for location in _bits_of(address):
+                occupied[location] = f"{address} ({name})"
+            points.append(PlantIoPoint(address, name, function.type, function.direction, function.owner,
+                                       function.meaning))
+        if problems:
+            raise PlantIoError(problems)
+        return cls(tuple(points))
+
+    def area_sizes(self) -> dict[str, int]:
+        """Bytes of the I and Q areas (at least 1 each)."""
+        sizes = {"I": 1, "Q": 1}
+        for point in self.points:
+            end = point.address.byte + point.address.size
+            sizes[point.address.area] = max(sizes[point.address.area], end)
+        return sizes
+
+    def by_name(self, name: str) -> PlantIoPoint | None:
+        for point in self.points:
+            if point.name == name:
+                return point
+        return None
+
+    def resolve(self, name: str) -> SignalRef:
+        """Resolve a function name (``MCP.jog``) or an I/Q address (``I0.2``) that is wired."""
+        point = self.by_name(name.strip())
+        if point is not None:
+            return point.ref()
+        try:
+            address = Address.parse(name)
+        except AddressError:
+            raise UnknownSignalError(f"unknown plant I/O '{name}'") from None
+        for point in self.points:
+            if point.address == address:
+                return point.ref()
+            if address.is_bit and point.address.area == address.area and point.type is not SignalType.BOOL \
+                    and point.address.byte <= address.byte < point.address.byte + point.address.size:
+                return SignalRef(str(address), address, SignalType.BOOL, 1, point.direction, None)
+        raise UnknownSignalError(f"{address} is not wired on this machine")
+
+
+def _bits_of(address: Address) -> list[tuple[str, int, int]]:
+    if address.is_bit:
+        return [(address.area, address.byte, address.bit)]
+    return [(address.area, byte, bit) for byte in range(address.byte, address.byte + address.size)
+            for bit in range(8)]
+
+
+def _first_clash(address: Address, occupied: Mapping[tuple[str, int, int], str]) -> str | None:
+    for location in _bits_of(address):
+        if location in occupied:
+            return occupied[location]
+    return None

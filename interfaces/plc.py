@@ -1,0 +1,42 @@
+"""The PLC side of the contract: what a soft PLC gets and what it must do each scan.
+
+The harness (``vc``) and the built-in soft PLC (``plc_stub``) never import each other:
+the harness finds PLC programs by name through the ``vc_harness.plc_programs`` entry
+point (``interfaces.links.inprocess.plc_programs``) and drives them through
+:class:`SoftPlc`, exactly as a real NC and PLC meet only through the interface DBs.
+
+One scan (OB1) in lockstep with the NC::
+
+    1. publish the outputs of the previous scan (PLC->NC data blocks, plant outputs Q)
+    2. read the inputs (NC->PLC data blocks, plant inputs I)
+    3. run the program
+
+So a signal the PLC copies (a cam input to DB31.DBX12.7) reaches the NC one scan after
+the PLC read it, as on a real machine where the outputs are written at the end of the
+scan.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Protocol
+
+from interfaces.image import ProcessImage
+from interfaces.plant_io import PlantIoMap
+from interfaces.signals import ExpandedCatalog
+
+
+@dataclass(frozen=True, slots=True)
+class PlcEnvironment:
+    catalog: ExpandedCatalog  # the interface of this machine (every DB instance)
+    plant_io: PlantIoMap  # the machine's I/O list
+    scan_time_s: float  # OB1 period
+
+
+class SoftPlc(Protocol):
+    def scan(self, interface: ProcessImage, plant: ProcessImage) -> None:
+        """One OB1 scan: publish the previous outputs, read the inputs, run the program."""
+
+
+PlcFactory = Callable[[PlcEnvironment], SoftPlc]

@@ -1,0 +1,101 @@
+"""The PLC's own process image and typed access to it, resolved once per signal.
+
+A program asks for its inputs and outputs by name at construction, interface signals by
+symbol (``X1.basic.out.traversKeyPlus``) and plant I/O by function (``MCP.plus.X1``),
+and then reads and writes ``.value`` in every scan.  Asking for an input as an output
+(or the other way round) is a programming error and fails when the program is built.
+"""
+
+from __future__ import annotations
+
+from interfaces.image import ProcessImage
+from interfaces.plc import PlcEnvironment
+from interfaces.signals import Direction, SignalRef, SignalType, UnknownSignalError
+
+_INPUTS = (Direction.NC_TO_PLC, Direction.PLANT_TO_PLC)
+_OUTPUTS = (Direction.PLC_TO_NC, Direction.PLC_TO_PLANT)
+
+
+class Bool:
+    """One bit of the PLC's image."""
+
+    __slots__ = ("_area", "_byte", "_mask", "name")
+
+    def __init__(self, area: bytearray, ref: SignalRef):
+        self._area = area
+        self._byte = ref.address.byte
+        self._mask = 1 << ref.address.bit
+        self.name = ref.name
+
+    @property
+    def value(self) -> bool:
+        return bool(self._area[self._byte] & self._mask)
+
+    @value.setter
+    def value(self, on: bool) -> None:
+        if on:
+            self._area[self._byte] |= self._mask
+        else:
+            self._area[self._byte] &= ~self._mask & 0xFF
+
+
+class Byte:
+    """One byte of the PLC's image (an override switch, an override factor)."""
+
+    __slots__ = ("_area", "_byte", "name")
+
+    def __init__(self, area: bytearray, ref: SignalRef):
+        self._area = area
+        self._byte = ref.address.byte
+        self.name = ref.name
+
+    @property
+    def value(self) -> int:
+        return self._area[self._byte]
+
+    @value.setter
+    def value(self, number: int) -> None:
+        self._area[self._byte] = number & 0xFF
+
+
+class PlcIo:
+    def __init__(self, environment: PlcEnvironment):
+        self.environment = environment
+        sizes = dict(environment.catalog.area_sizes)
+        sizes.update(environment.plant_io.area_sizes())
+        self.image = ProcessImage(sizes)
+
+    def _resolve(self, name: str) -> SignalRef:
+        try:
+            return self.environment.catalog.resolve(name)
+        except UnknownSignalError:
+            return self.environment.plant_io.resolve(name)
+
+    def is_wired(self, name: str) -> bool:
+        """True if the machine has this plant I/O point."""
+        return self.environment.plant_io.by_name(name) is not None
+
+    def input(self, name: str) -> Bool:
+        ref = self._checked(name, _INPUTS, SignalType.BOOL)
+        return Bool(self.image.area(ref.area_key), ref)
+
+    def output(self, name: str) -> Bool:
+        ref = self._checked(name, _OUTPUTS, SignalType.BOOL)
+        return Bool(self.image.area(ref.area_key), ref)
+
+    def input_byte(self, name: str) -> Byte:
+        ref = self._checked(name, _INPUTS, SignalType.BYTE)
+        return Byte(self.image.area(ref.area_key), ref)
+
+    def output_byte(self, name: str) -> Byte:
+        ref = self._checked(name, _OUTPUTS, SignalType.BYTE)
+        return Byte(self.image.area(ref.area_key), ref)
+
+    def _checked(self, name: str, directions: tuple[Direction, ...], signal_type: SignalType) -> SignalRef:
+        ref = self._resolve(name)
+        if ref.direction not in directions:
+            kind = "an input" if ref.direction in _INPUTS else "an output"
+            raise TypeError(f"{name} is {kind} of the PLC")
+        if ref.type is not signal_type:
+            raise TypeError(f"{name} is a {ref.type.value}, not a {signal_type.value}")
+        return ref

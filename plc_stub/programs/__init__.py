@@ -1,0 +1,20 @@
+"""The built-in PLC programs, registered by name for the harness.
+
+``REGISTRY`` is published through the ``vc_harness.plc_programs`` entry point; the
+harness looks programs up there and never imports this package.
+"""
+
+from __future__ import annotations
+
+from interfaces.plc import PlcEnvironment, PlcFactory, SoftPlc
+from plc_stub.programs.basic_machine import BasicMachine
+from plc_stub.runtime import ScanCycleRuntime
+
+
+def _basic_machine(environment: PlcEnvironment) -> SoftPlc:
+    return ScanCycleRuntime(environment, BasicMachine)
+
+
+REGISTRY: dict[str, PlcFactory] = {
+    "basic_machine": _basic_machine,
+}

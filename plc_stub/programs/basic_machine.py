@@ -1,0 +1,214 @@
+"""basic_machine: the basic machine control every machine needs, written like PLC code.
+
+Networks (one method each, called in this order from OB1):
+
+1. Emergency stop and drives: the e-stop chain (normally closed) drives DB10.DBX56.1;
+   the infeed stays on for a short off delay after an e-stop so that the NC can brake the
+   axes with the drives powered (stop category 1).  The reset key acknowledges the
+   emergency stop (DB10.DBX56.2) once the chain is closed again.
+2. Operating mode: the mode keys AUTO / MDA / JOG select the mode (one-hot in
+   DB11.DBX0.0..0.2, held until another key); REF switches the machine function
+   REF on (DB11.DBX1.2) and a mode key switches it off.
+3. Channel: NC start / NC stop / reset keys to DB21.DBX7.1 / 7.3 / 7.7; feed stop and
+   feed start keys latch the channel feed disable DB21.DBX6.0; the override switches to
+   DB21.DBB4 (feed) and DBB5 (rapid) with their enables.
+4. Axes: controller and pulse enable once the drives are ready (follow-up mode while the
+   enable is off), the axis override, the traverse keys to DB31.DBX4.6/4.7, the rapid
+   traverse key, the reference cam to DB31.DBX12.7 and the hardware limit switches
+   (normally closed) to DB31.DBX12.0/12.1.
+
+Everything is derived from the machine's I/O list: an axis without a cam simply has no
+cam network.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from plc_stub.blocks import R_TRIG, TOF
+from plc_stub.io import Bool, Byte, PlcIo
+
+DRIVES_OFF_DELAY_S = 0.5  # infeed kept on after an e-stop: the NC brakes with powered drives
+KEY_MODES = ("auto", "mda", "jog")
+
+
+@dataclass(slots=True)
+class _AxisIo:
+    controller_enable: Bool
+    pulse_enable: Bool
+    follow_up_mode: Bool
+    override_active: Bool
+    override: Byte
+    key_minus: Bool
+    key_plus: Bool
+    rapid: Bool
+    panel_minus: Bool | None
+    panel_plus: Bool | None
+    cam_input: Bool | None
+    cam_output: Bool
+    limit_minus_input: Bool | None
+    limit_plus_input: Bool | None
+    limit_minus_output: Bool
+    limit_plus_output: Bool
+
+
+@dataclass(slots=True)
+class _ChannelIo:
+    nc_start: Bool
+    nc_stop: Bool
+    reset: Bool
+    feed_disable: Bool
+    feed_override_active: Bool
+    feed_override: Byte
+    rapid_override_active: Bool
+    rapid_override: Byte
+
+
+class BasicMachine:
+    def __init__(self, io: PlcIo):
+        scan = io.environment.scan_time_s
+        layout = io.environment.catalog.layout
+
+        def optional_input(name: str) -> Bool | None:
+            return io.input(name) if io.is_wired(name) else None
+
+        def optional_byte(name: str) -> Byte | None:
+            return io.input_byte(name) if io.is_wired(name) else None
+
+        # Network 1
+        self.chain_ok = optional_input("EStop.chainOk")
+        self.drives_ready = optional_input("Drives.ready")
+        self.drives_on = io.output("Drives.on") if io.is_wired("Drives.on") else None
+        self.emergency_stop = io.output("NC.basic.out.emergencyStop")
+        self.emergency_stop_ack = io.output("NC.basic.out.emergencyStopAck")
+        self.drives_off_delay = TOF(DRIVES_OFF_DELAY_S, scan)
+        # Network 2
+        self.mode_keys = {mode: optional_input(f"MCP.{mode}") for mode in KEY_MODES}
+        self.mode_key_edges = {mode: R_TRIG() for mode in KEY_MODES}
+        self.mode_outputs = {
+            "auto": io.output("MODEGROUP.basic.out.autoMode"),
+            "mda": io.output("MODEGROUP.basic.out.mdaMode"),
+            "jog": io.output("MODEGROUP.basic.out.jogMode"),
+        }
+        self.ref_key = optional_input("MCP.ref")
+        self.ref_key_edge = R_TRIG()
+        self.ref_output = io.output("MODEGROUP.basic.out.refPoint")
+        self.selected_mode = "jog"
+        self.reference_function = False
+        # Network 3
+        self.key_nc_start = optional_input("MCP.ncStart")
+        self.key_nc_stop = optional_input("MCP.ncStop")
+        self.key_reset = optional_input("MCP.reset")
+        self.key_feed_stop = optional_input("MCP.feedStop")
+        self.key_feed_start = optional_input("MCP.feedStart")
+        self.feed_switch = optional_byte("MCP.feedOverride")
+        self.rapid_switch = optional_byte("MCP.rapidOverride")
+        self.key_rapid = optional_input("MCP.rapid")
+        self.feed_stopped = False
+        self.channels = [
+            _ChannelIo(
+                nc_start=io.output(f"{name}.basic.out.ncStart"),
+                nc_stop=io.output(f"{name}.basic.out.ncStop"),
+                reset=io.output(f"{name}.basic.out.reset"),
+                feed_disable=io.output(f"{name}.basic.out.disableFeed"),
+                feed_override_active=io.output(f"{name}.basic.out.pathFeedrateOvr"),
+                feed_override=io.output_byte(f"{name}.basic.out.pathFeedrateOvrFactor"),
+                rapid_override_active=io.output(f"{name}.basic.out.pathRapidTraversOvr"),
+                rapid_override=io.output_byte(f"{name}.basic.out.pathRapidTraversOvrFactor"),
+            )
+            for name in layout.channels
+        ]
+        # Network 4
+        self.axes = [
+            _AxisIo(
+                controller_enable=io.output(f"{name}.basic.out.enableCtrl"),
+                pulse_enable=io.output(f"{name}.drive.out.enablePulses"),
+                follow_up_mode=io.output(f"{name}.basic.out.followUpMode"),
+                override_active=io.output(f"{name}.basic.out.enableOvr"),
+                override=io.output_byte(f"{name}.basic.out.feedrateOvrFactor"),
+                key_minus=io.output(f"{name}.basic.out.traversKeyMinus"),
+                key_plus=io.output(f"{name}.basic.out.traversKeyPlus"),
+                rapid=io.output(f"{name}.basic.out.enableRapidTravers"),
+                panel_minus=optional_input(f"MCP.minus.{name}"),
+                panel_plus=optional_input(f"MCP.plus.{name}"),
+                cam_input=optional_input(f"{name}.refCam"),
+                cam_output=io.output(f"{name}.basic.out.refPointApproachCam"),
+                limit_minus_input=optional_input(f"{name}.hwLimitMinus"),
+                limit_plus_input=optional_input(f"{name}.hwLimitPlus"),
+                limit_minus_output=io.output(f"{name}.basic.out.hwLimitSwitchMinus"),
+                limit_plus_output=io.output(f"{name}.basic.out.hwLimitSwitchPlus"),
+            )
+            for name in layout.axes
+        ]
+
+    def ob1(self) -> None:
+        self.emergency_stop_and_drives()
+        self.operating_mode()
+        self.channel_control()
+        self.axis_control()
+
+    # Network 1 ---------------------------------------------------------------------------
+    def emergency_stop_and_drives(self) -> None:
+        chain_ok = self.chain_ok.value if self.chain_ok is not None else True
+        self.emergency_stop.value = not chain_ok
+        reset_pressed = self.key_reset.value if self.key_reset is not None else False
+        self.emergency_stop_ack.value = chain_ok and reset_pressed
+        if self.drives_on is not None:
+            self.drives_on.value = self.drives_off_delay(chain_ok)
+
+    # Network 2 ---------------------------------------------------------------------------
+    def operating_mode(self) -> None:
+        for mode, key in self.mode_keys.items():
+            if key is not None and self.mode_key_edges[mode](key.value):
+                self.selected_mode = mode
+                self.reference_function = False
+        if self.ref_key is not None and self.ref_key_edge(self.ref_key.value):
+            self.reference_function = True
+            if self.selected_mode == "auto":
+                self.selected_mode = "jog"  # REF is a machine function of JOG or MDA
+        for mode, output in self.mode_outputs.items():
+            output.value = mode == self.selected_mode
+        self.ref_output.value = self.reference_function
+
+    # Network 3 ---------------------------------------------------------------------------
+    def channel_control(self) -> None:
+        start = self.key_nc_start.value if self.key_nc_start is not None else False
+        stop = self.key_nc_stop.value if self.key_nc_stop is not None else False
+        reset = self.key_reset.value if self.key_reset is not None else False
+        if self.key_feed_stop is not None and self.key_feed_stop.value:
+            self.feed_stopped = True
+        if self.key_feed_start is not None and self.key_feed_start.value:
+            self.feed_stopped = False
+        feed = self.feed_switch.value if self.feed_switch is not None else 100
+        rapid = self.rapid_switch.value if self.rapid_switch is not None else feed
+        for channel in self.channels:
+            channel.nc_start.value = start
+            channel.nc_stop.value = stop
+            channel.reset.value = reset
+            channel.feed_disable.value = self.feed_stopped
+            channel.feed_override_active.value = True
+            channel.feed_override.value = feed
+            channel.rapid_override_active.value = True
+            channel.rapid_override.value = rapid
+
+    # Network 4 ---------------------------------------------------------------------------
+    def axis_control(self) -> None:
+        ready = self.drives_ready.value if self.drives_ready is not None else True
+        feed = self.feed_switch.value if self.feed_switch is not None else 100
+        rapid = self.key_rapid.value if self.key_rapid is not None else False
+        for axis in self.axes:
+            axis.controller_enable.value = ready
+            axis.pulse_enable.value = ready
+            axis.follow_up_mode.value = not ready
+            axis.override_active.value = True
+            axis.override.value = feed
+            axis.key_minus.value = axis.panel_minus.value if axis.panel_minus is not None else False
+            axis.key_plus.value = axis.panel_plus.value if axis.panel_plus is not None else False
+            axis.rapid.value = rapid
+            if axis.cam_input is not None:
+                axis.cam_output.value = axis.cam_input.value
+            # Limit switches are normally closed: an open contact (0) means "actuated".
+            if axis.limit_minus_input is not None:
+                axis.limit_minus_output.value = not axis.limit_minus_input.value
+            if axis.limit_plus_input is not None:
+                axis.limit_plus_output.value = not axis.limit_plus_input.value

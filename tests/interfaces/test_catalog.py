@@ -1,0 +1,350 @@
+"""The signal catalogue (interfaces/catalog/*.yaml) as loaded, expanded and used through a process image."""
+
+from __future__ import annotations
+
+import re
+from functools import lru_cache
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from interfaces.address import Address
+from interfaces.catalog import load_catalog
+from interfaces.image import ProcessImage, Value
+from interfaces.signals import (
+    FIRST_DB,
+    PLACEHOLDER,
+    Direction,
+    ExpandedCatalog,
+    InstanceKind,
+    InterfaceLayout,
+    Origin,
+    SignalInstance,
+    SignalType,
+    Trigger,
+    UnknownSignalError,
+    expand,
+)
+
+LAYOUT = InterfaceLayout(channels=("CHAN1", "CHAN2"), axes=("X1", "Z1", "SP1"))
+SEED_NAME = "shared/seeds/003_95dbb5e1007b236c.txt"
+CONTROL_NOTE = (
+    "not in the seed; address of the real control (840D sl list manual); symbols chosen by the project"
+)
+CONTROL_SOURCE = "SINUMERIK 840D sl NC variables and interface signals, list manual (external)"
+
+
+@lru_cache(maxsize=1)
+def expanded() -> ExpandedCatalog:
+    return expand(load_catalog(), LAYOUT)
+
+
+def by_address(text: str) -> SignalInstance:
+    item = expanded().signal_at(Address.parse(text))
+    assert item is not None, f"{text} is not in the catalogue"
+    return item
+
+
+@lru_cache(maxsize=1)
+def seed_lines() -> list[str] | None:
+    for base in (Path(__file__).resolve().parents[3], Path("/work")):
+        path = base / SEED_NAME
+        if path.is_file():
+            return path.read_text(encoding="utf-8").split("\n")
+    return None
+
+
+# --------------------------------------------------------------------------------------------
+# 1. loading and uniqueness
+
+
+def test_catalog_loads_with_the_four_kinds() -> None:
+    catalog = load_catalog()
+    assert {section.kind for section in catalog.sections} == set(InstanceKind)
+    for section in catalog.sections:
+        assert section.db == FIRST_DB[section.kind]
+        assert section.signals, f"DB{section.db} has no signals"
+        for signal in section.signals:
+            assert signal.address.db == section.db
+            assert signal.symbol.startswith(PLACEHOLDER[section.kind] + ".")
+
+
+def test_sizes_cover_the_highest_signals() -> None:
+    catalog = load_catalog()
+    minimum = {InstanceKind.NCK: 110, InstanceKind.MODE_GROUP: 8, InstanceKind.CHANNEL: 378,
+               InstanceKind.AXIS: 104}
+    for kind, size in minimum.items():
+        assert catalog.section(kind).size >= size
+
+
+def test_expanded_symbols_and_addresses_are_unique() -> None:
+    items = expanded().signals
+    symbols = [item.symbol for item in items]
+    addresses = [item.address for item in items]
+    assert len(set(symbols)) == len(symbols)
+    assert len({symbol.casefold() for symbol in symbols}) == len(symbols)
+    assert len(set(addresses)) == len(addresses)
+    per_kind = {section.kind: len(section.signals) for section in load_catalog().sections}
+    expected = (per_kind[InstanceKind.NCK] + per_kind[InstanceKind.MODE_GROUP]
+                + 2 * per_kind[InstanceKind.CHANNEL] + 3 * per_kind[InstanceKind.AXIS])
+    assert len(items) == expected
+
+
+def test_instances_land_in_their_data_blocks() -> None:
+    assert expanded().area_sizes.keys() == {"DB10", "DB11", "DB21", "DB22", "DB31", "DB32", "DB33"}
+    assert expanded().resolve("CHAN2.basic.out.reset").address == Address.parse("DB22.DBX7.7")
+    assert expanded().resolve("SP1.basic.in.enc1Synchronized").address == Address.parse("DB33.DBX60.4")
+    assert expanded().resolve("MODEGROUP.basic.out.jogMode").address == Address.parse("DB11.DBX0.2")
+    assert expanded().resolve("NC.basic.out.emergencyStop").address == Address.parse("DB10.DBX56.1")
+
+
+# --------------------------------------------------------------------------------------------
+# 2. round trips
+
+
+def test_every_signal_resolves_by_symbol_and_by_address() -> None:
+    cat = expanded()
+    for item in cat.signals:
+        by_symbol = cat.resolve(item.symbol)
+        assert by_symbol.address == item.address
+        assert by_symbol.signal == item
+        assert (by_symbol.type, by_symbol.bits, by_symbol.direction) == (
+            item.type, item.definition.bits, item.direction)
+        by_text = cat.resolve(str(item.address))
+        assert by_text.address == item.address
+        assert by_text.signal == item
+        assert by_text.direction == item.direction
+        if item.type is SignalType.BITS:
+            # an absolute bit address names one bit, even where a bits field starts
+            assert (by_text.type, by_text.bits) == (SignalType.BOOL, 1)
+        else:
+            assert (by_text.type, by_text.bits) == (item.type, item.definition.bits)
+        assert Address.parse(str(item.address)) == item.address
+        assert cat.resolve(item.symbol.lower()).signal == item
+
+
+def _values(item: SignalInstance) -> st.SearchStrategy[Value]:
+    if item.type is SignalType.REAL:
+        return st.floats(width=32, allow_nan=False, allow_infinity=False)
+    return st.integers(0, (1 << item.definition.bits) - 1)
+
+
+@settings(max_examples=400, deadline=None)
+@given(data=st.data())
+def test_written_values_read_back_and_touch_nothing_else(data: st.DataObject) -> None:
+    cat = expanded()
+    item = data.draw(st.sampled_from(cat.signals), label="signal")
+    value = data.draw(_values(item), label="value")
+    image = ProcessImage(cat.area_sizes)
+    key = item.address.area_key
+    background = data.draw(st.binary(min_size=len(image.area(key)), max_size=len(image.area(key))))
+    image.area(key)[:] = background
+    before = image.snapshot()
+    ref = cat.resolve(item.symbol)
+    image.write(ref, value)
+    assert image.read(ref) == value
+    if item.type in (SignalType.BOOL, SignalType.BITS):
+        mask = ((1 << item.definition.bits) - 1) << item.address.bit
+        byte = item.address.byte
+        assert image.area(key)[byte] & ~mask & 0xFF == background[byte] & ~mask & 0xFF
+    span = set(item.definition.byte_span)
+    for change in image.changes_since(before):
+        assert change.area == key and change.byte in span, change
+
+
+@settings(max_examples=200, deadline=None)
+@given(data=st.data())
+def test_a_bool_write_keeps_the_neighbouring_bits(data: st.DataObject) -> None:
+    cat = expanded()
+    bools = [item for item in cat.signals if item.type is SignalType.BOOL]
+    item = data.draw(st.sampled_from(bools), label="signal")
+    start = data.draw(st.integers(0, 255), label="byte before")
+    value = data.draw(st.integers(0, 1), label="value")
+    image = ProcessImage(cat.area_sizes)
+    area = image.area(item.address.area_key)
+    area[item.address.byte] = start
+    image.write(cat.resolve(str(item.address)), value)
+    expected = (start & ~(1 << item.address.bit)) | (value << item.address.bit)
+    assert area[item.address.byte] == expected
+
+
+# --------------------------------------------------------------------------------------------
+# 3. seed citations
+
+
+def _address_pattern(address: Address) -> str:
+    if address.is_bit:
+        return rf"(?<![\d.])0*{address.byte}\.{address.bit}(?!\d)"
+    return rf"DB{address.width}0*{address.byte}(?!\d)"
+
+
+def test_seed_citations_print_the_entry() -> None:
+    lines = seed_lines()
+    if lines is None:
+        pytest.skip("seed manual not present")
+    problems = []
+    for signal in load_catalog().signals:
+        if signal.origin is not Origin.SEED:
+            continue
+        cited = [int(n) for n in re.findall(r"\bL(\d+)\b", signal.source)]
+        if not cited:
+            problems.append(f"{signal.address}: no seed line cited in {signal.source!r}")
+            continue
+        tail = signal.symbol.split(".", 1)[1]
+        pattern = _address_pattern(signal.address)
+        if not any(0 < n <= len(lines) and (re.search(pattern, lines[n - 1]) or tail in lines[n - 1])
+                   for n in cited):
+            problems.append(f"{signal.address} {signal.symbol}: none of {cited} prints it")
+    assert not problems, "\n".join(problems)
+
+
+def test_entries_say_where_they_come_from() -> None:
+    for signal in load_catalog().signals:
+        if signal.origin is Origin.SEED:
+            assert "seed 003 L" in signal.source, signal.address
+        elif signal.origin is Origin.CONTROL:
+            assert signal.source.startswith(CONTROL_SOURCE), signal.address
+            assert signal.note == CONTROL_NOTE, signal.address
+        assert signal.meaning, signal.address
+
+
+def test_control_entries_are_the_agreed_ones() -> None:
+    control = {str(s.address) for s in load_catalog().signals if s.origin is Origin.CONTROL}
+    assert control == {
+        "DB10.DBX56.2", "DB10.DBX106.1", "DB10.DBX108.7", "DB10.DBX109.0",
+        "DB11.DBX0.0", "DB11.DBX6.0", "DB11.DBX6.1", "DB11.DBX7.2",
+        "DB21.DBX1.7", *(f"DB21.DBX35.{bit}" for bit in range(7)), "DB21.DBX36.6", "DB21.DBX36.7",
+    }
+
+
+def test_symbols_are_well_formed_and_match_the_direction() -> None:
+    form = re.compile(r"^<(Nc|ModeGroup|Chan|Axis)>(\.[A-Za-z][A-Za-z0-9]*(\[\d+\])?)+$")
+    for signal in load_catalog().signals:
+        assert form.match(signal.symbol), signal.symbol
+        expected = Direction.PLC_TO_NC if ".out." in signal.symbol else Direction.NC_TO_PLC
+        assert signal.direction is expected, signal.symbol
+        if signal.trigger is Trigger.EDGE:
+            assert signal.direction is Direction.PLC_TO_NC and signal.type is SignalType.BOOL, signal.symbol
+
+
+# --------------------------------------------------------------------------------------------
+# 4. spot checks
+
+
+@pytest.mark.parametrize(
+    ("address", "symbol", "direction", "signal_type", "bits", "trigger"),
+    [
+        ("DB31.DBX60.4", "<Axis>.basic.in.enc1Synchronized", "nc_to_plc", "bool", 1, "level"),
+        ("DB21.DBX36.2", "<Chan>.basic.in.allAxesReferenced", "nc_to_plc", "bool", 1, "level"),
+        ("DB31.DBX12.7", "<Axis>.basic.out.refPointApproachCam", "plc_to_nc", "bool", 1, "level"),
+        ("DB31.DBB19", "<Axis>.spindle.out.ovrFactor", "plc_to_nc", "byte", 8, "level"),
+        ("DB31.DBD88", "<Axis>.spindle.in.sFuncValue", "nc_to_plc", "real", 32, "level"),
+        ("DB31.DBX16.0", "<Axis>.spindle.out.gearStageSelection", "plc_to_nc", "bits", 3, "level"),
+        ("DB11.DBX0.2", "<ModeGroup>.basic.out.jogMode", "plc_to_nc", "bool", 1, "level"),
+        ("DB21.DBX7.7", "<Chan>.basic.out.reset", "plc_to_nc", "bool", 1, "edge"),
+        ("DB21.DBX7.1", "<Chan>.basic.out.ncStart", "plc_to_nc", "bool", 1, "edge"),
+        ("DB21.DBX1.0", "<Chan>.basic.out.refPointApproach", "plc_to_nc", "bool", 1, "edge"),
+        ("DB31.DBX31.4", "<Axis>.coupling.out.syncSpindleResync", "plc_to_nc", "bool", 1, "edge"),
+        ("DB31.DBX31.7", "<Axis>.coupling.out.syncResetCorrection", "plc_to_nc", "bool", 1, "edge"),
+        ("DB31.DBX16.4", "<Axis>.spindle.out.resyncEnc1", "plc_to_nc", "bool", 1, "edge"),
+        ("DB31.DBX2.4", "<Axis>.basic.out.refPointSelection", "plc_to_nc", "bits", 4, "level"),
+        ("DB31.DBX82.0", "<Axis>.spindle.in.requestedGearStageNumber", "nc_to_plc", "bits", 3, "level"),
+        ("DB31.DBX68.0", "<Axis>.plcCtrl.in.assignedChanNumber", "nc_to_plc", "bits", 4, "level"),
+        ("DB31.DBB0", "<Axis>.basic.out.feedrateOvrFactor", "plc_to_nc", "byte", 8, "level"),
+        ("DB21.DBB4", "<Chan>.basic.out.pathFeedrateOvrFactor", "plc_to_nc", "byte", 8, "level"),
+        ("DB21.DBW68", "<Chan>.auxMFuncs[1].in.extendedAddress", "nc_to_plc", "word", 16, "level"),
+        ("DB31.DBD78", "<Axis>.basic.in.posAxisFeedrateValue", "nc_to_plc", "real", 32, "level"),
+        ("DB31.DBB86", "<Axis>.spindle.in.mFuncNumber", "nc_to_plc", "byte", 8, "level"),
+        ("DB31.DBX99.0", "<Axis>.coupling.in.leadingSpindleActive", "nc_to_plc", "bool", 1, "level"),
+        ("DB31.DBX95.1", "<Axis>.drive.in.esrDcVoltageAlarmActive", "nc_to_plc", "bool", 1, "level"),
+        ("DB31.DBX28.7", "<Axis>.plcCtrl.out.requestPlcCtrl", "plc_to_nc", "bool", 1, "level"),
+        ("DB21.DBX7.0", "<Chan>.basic.out.disableNcStart", "plc_to_nc", "bool", 1, "level"),
+        ("DB21.DBX33.0", "<Chan>.basic.in.refActive", "nc_to_plc", "bool", 1, "level"),
+        ("DB10.DBX56.1", "<Nc>.basic.out.emergencyStop", "plc_to_nc", "bool", 1, "level"),
+    ],
+)
+def test_spot_checks(address: str, symbol: str, direction: str, signal_type: str, bits: int,
+                     trigger: str) -> None:
+    item = by_address(address)
+    definition = item.definition
+    assert definition.symbol == symbol
+    assert definition.direction is Direction(direction)
+    assert definition.type is SignalType(signal_type)
+    assert definition.bits == bits
+    assert definition.trigger is Trigger(trigger)
+
+
+def test_signals_that_must_not_be_catalogued() -> None:
+    catalog = load_catalog()
+    symbols = {signal.symbol for signal in catalog.signals}
+    addresses = {str(signal.address) for signal in catalog.signals}
+    assert not any(s.startswith(("<Hmi", "<HmiChan>", "<HmiModeGroup>")) for s in symbols)
+    assert "DB31.DBX29.4" not in addresses
+    assert "DB31.DBX7.0" not in addresses  # the channel's NC start disable lives in DB21
+    assert not any(signal.address.db == 31 and signal.address.byte >= 132 for signal in catalog.signals)
+
+
+# --------------------------------------------------------------------------------------------
+# 5. resolve errors
+
+
+@pytest.mark.parametrize(
+    ("name", "message"),
+    [
+        ("Y9.basic.in.enc1Synchronized",
+         "unknown signal 'Y9.basic.in.enc1Synchronized': 'Y9' is not an instance of this machine"
+         " (known: CHAN1, CHAN2, MODEGROUP, NC, SP1, X1, Z1)"),
+        ("X1.basic.in.enc1Synchronised",
+         "unknown signal 'X1.basic.in.enc1Synchronised'; did you mean X1.basic.in.enc1Synchronized"
+         " or X1.basic.in.enc2Synchronized?"),
+        ("X1.nothing.like.this", "unknown signal 'X1.nothing.like.this'"),
+        ("DB31.DBX50.0", "DB31.DBX50.0 is not a signal of the catalogue"),
+        ("DB34.DBX60.4", "DB34.DBX60.4: this machine has no DB34"),
+        ("DB23.DBX7.7", "DB23.DBX7.7: this machine has no DB23"),
+        ("DB31.DBW31", "DB31.DBW31 covers bytes that hold no catalogue signal"),
+        ("I0.3", "I0.3: plant I/O is not part of the NC/PLC interface"),
+    ],
+)
+def test_resolve_error_messages(name: str, message: str) -> None:
+    with pytest.raises(UnknownSignalError) as caught:
+        expanded().resolve(name)
+    assert str(caught.value) == message
+
+
+def test_raw_addresses_inside_signals_resolve() -> None:
+    cat = expanded()
+    gear_b = cat.resolve("DB32.DBX16.1")
+    assert gear_b.signal == cat.by_symbol("Z1.spindle.out.gearStageSelection")
+    assert (gear_b.type, gear_b.bits, gear_b.direction) == (SignalType.BOOL, 1, Direction.PLC_TO_NC)
+    override_bit = cat.resolve("DB31.DBX19.3")
+    assert override_bit.signal == cat.by_symbol("X1.spindle.out.ovrFactor")
+    status = cat.resolve("DB31.DBW60")
+    assert (status.type, status.bits, status.direction, status.signal) == (
+        SignalType.WORD, 16, Direction.NC_TO_PLC, None)
+
+
+# --------------------------------------------------------------------------------------------
+# 6. direction ranges
+
+
+def test_direction_ranges_are_disjoint_and_cover_every_signal_byte() -> None:
+    """Ranges may span bytes that hold no signal (fewer, longer copies), never a byte of the other way."""
+    cat = expanded()
+    covered: dict[Direction, set[tuple[str, int]]] = {}
+    for direction in (Direction.PLC_TO_NC, Direction.NC_TO_PLC):
+        bytes_of_direction: set[tuple[str, int]] = set()
+        for key, start, stop in cat.byte_ranges(direction):
+            assert 0 <= start < stop <= cat.area_sizes[key]
+            span = {(key, byte) for byte in range(start, stop)}
+            assert not span & bytes_of_direction, (key, start, stop)
+            bytes_of_direction |= span
+        covered[direction] = bytes_of_direction
+    assert not covered[Direction.PLC_TO_NC] & covered[Direction.NC_TO_PLC]
+    for item in cat.signals:
+        for byte in item.definition.byte_span:
+            assert (item.address.area_key, byte) in covered[item.direction], (item.symbol, byte)
+    for direction, bytes_of_direction in covered.items():
+        for key, byte in bytes_of_direction:
+            assert cat.byte_direction(key, byte) in (direction, None), (direction, key, byte)

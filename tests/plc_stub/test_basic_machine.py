@@ -1,0 +1,286 @@
+"""basic_machine: the basic machine control, scan by scan, against its interface and plant images.
+
+The PLC runs alone here: the test writes its inputs (plant I, NC->PLC bytes) and reads what
+it published (plant Q, PLC->NC bytes).  Outputs computed in a scan reach the images at the
+start of the next scan (``interfaces.plc``: publish, read, run), so a copied input shows one
+scan after the scan that read it.  No ``vc`` import: the PLC meets the NC only through
+``interfaces``.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from interfaces.catalog import load_catalog
+from interfaces.image import ProcessImage, Value
+from interfaces.plant_io import PlantIoMap
+from interfaces.plc import PlcEnvironment
+from interfaces.signals import InterfaceLayout, expand
+from plc_stub.programs import REGISTRY
+from plc_stub.programs.basic_machine import DRIVES_OFF_DELAY_S, BasicMachine
+from plc_stub.runtime import ScanCycleRuntime
+
+SCAN = 0.01  # s, OB1 period
+AXES = ("X1", "Z1", "SP1")
+IO_LIST = {
+    "I0.0": "MCP.auto", "I0.1": "MCP.mda", "I0.2": "MCP.jog", "I0.3": "MCP.ref",
+    "I1.0": "MCP.ncStart", "I1.1": "MCP.ncStop", "I1.2": "MCP.reset", "I1.3": "MCP.feedStop",
+    "I1.4": "MCP.feedStart", "I1.7": "MCP.rapid",
+    "I2.0": "MCP.plus.X1", "I2.1": "MCP.minus.X1", "I2.2": "MCP.plus.Z1", "I2.3": "MCP.minus.Z1",
+    "IB3": "MCP.feedOverride", "IB5": "MCP.rapidOverride",
+    "I6.0": "EStop.chainOk", "I6.1": "Drives.ready",
+    "I7.0": "X1.refCam", "I7.1": "X1.hwLimitMinus", "I7.2": "X1.hwLimitPlus",
+    "I7.4": "Z1.hwLimitMinus", "I7.5": "Z1.hwLimitPlus",  # Z1 has no cam
+    "Q0.0": "Drives.on",
+}
+
+
+class PlcBench:
+    def __init__(self, io_list: dict[str, str] | None = None):
+        self.plant_io = PlantIoMap.from_mapping(io_list or IO_LIST, AXES)
+        self.catalog = expand(load_catalog(), InterfaceLayout(channels=("CHAN1",), axes=AXES))
+        self.runtime = ScanCycleRuntime(PlcEnvironment(self.catalog, self.plant_io, SCAN), BasicMachine)
+        self.interface = ProcessImage(self.catalog.area_sizes)
+        self.plant = ProcessImage(self.plant_io.area_sizes())
+        # a healthy machine at power-on: e-stop chain closed, drives ready, limit switches free,
+        # override switches at 100 %
+        for name in ("EStop.chainOk", "Drives.ready", "X1.hwLimitMinus", "X1.hwLimitPlus", "Z1.hwLimitMinus",
+                     "Z1.hwLimitPlus"):
+            self.input(name, 1)
+        for switch in ("MCP.feedOverride", "MCP.rapidOverride"):
+            if self.plant_io.by_name(switch) is not None:
+                self.input(switch, 100)
+
+    def input(self, name: str, value: Value) -> None:
+        self.plant.write(self.plant_io.resolve(name), value)
+
+    def nc(self, name: str, value: Value) -> None:
+        """An NC->PLC signal as the NC publishes it."""
+        self.interface.write(self.catalog.resolve(name), value)
+
+    def out(self, name: str) -> Value:
+        """A published PLC output: PLC->NC interface signal or plant output Q."""
+        try:
+            return self.plant.read(self.plant_io.resolve(name))
+        except KeyError:
+            return self.interface.read(self.catalog.resolve(name))
+
+    def scan(self, count: int = 1) -> None:
+        for _ in range(count):
+            self.runtime.scan(self.interface, self.plant)
+
+    def tap(self, name: str) -> None:
+        self.input(name, 1)
+        self.scan()
+        self.input(name, 0)
+        self.scan(2)
+
+
+@pytest.fixture
+def plc() -> PlcBench:
+    bench = PlcBench()
+    bench.scan(2)
+    return bench
+
+
+def test_basic_machine_is_registered_under_its_name() -> None:
+    assert "basic_machine" in REGISTRY
+
+
+# ------------------------------------------------------------------------------ scan timing
+
+
+def test_reference_cam_reaches_db31_dbx12_7_one_scan_later(plc: PlcBench) -> None:
+    plc.input("X1.refCam", 1)
+    plc.scan()  # reads the cam and computes the output
+    assert plc.out("X1.basic.out.refPointApproachCam") == 0
+    plc.scan()  # publishes it
+    assert plc.out("X1.basic.out.refPointApproachCam") == 1
+    plc.input("X1.refCam", 0)
+    plc.scan()
+    assert plc.out("X1.basic.out.refPointApproachCam") == 1
+    plc.scan()
+    assert plc.out("X1.basic.out.refPointApproachCam") == 0
+
+
+def test_axis_without_a_cam_keeps_its_cam_signal_0() -> None:
+    plc = PlcBench()
+    plc.scan(3)
+    assert plc.out("Z1.basic.out.refPointApproachCam") == 0
+
+
+def test_first_scan_publishes_nothing() -> None:
+    plc = PlcBench()
+    plc.scan()
+    assert plc.out("X1.basic.out.enableCtrl") == 0
+    plc.scan()
+    assert plc.out("X1.basic.out.enableCtrl") == 1
+
+
+# ------------------------------------------------------------------------------ limit switches
+
+
+@pytest.mark.parametrize(("contact", "signal"), [(1, 0), (0, 1)])
+def test_normally_closed_limit_switches_are_inverted_to_db31_dbx12_0_and_12_1(
+        plc: PlcBench, contact: int, signal: int) -> None:
+    plc.input("X1.hwLimitMinus", contact)
+    plc.input("Z1.hwLimitPlus", contact)
+    plc.scan(2)
+    assert plc.out("X1.basic.out.hwLimitSwitchMinus") == signal  # DB31.DBX12.0
+    assert plc.out("Z1.basic.out.hwLimitSwitchPlus") == signal  # DB32.DBX12.1
+    assert plc.out("X1.basic.out.hwLimitSwitchPlus") == 0
+    assert plc.out("Z1.basic.out.hwLimitSwitchMinus") == 0
+
+
+# ------------------------------------------------------------------------------ operating modes
+
+
+def modes(plc: PlcBench) -> tuple[Value, Value, Value]:
+    return (plc.out("MODEGROUP.basic.out.autoMode"), plc.out("MODEGROUP.basic.out.mdaMode"),
+            plc.out("MODEGROUP.basic.out.jogMode"))
+
+
+def test_power_on_mode_request_is_jog(plc: PlcBench) -> None:
+    assert modes(plc) == (0, 0, 1)
+
+
+@pytest.mark.parametrize(("key", "expected"), [("MCP.auto", (1, 0, 0)), ("MCP.mda", (0, 1, 0)),
+                                               ("MCP.jog", (0, 0, 1))])
+def test_mode_keys_select_one_hot_and_the_selection_is_held(plc: PlcBench, key: str,
+                                                            expected: tuple[int, int, int]) -> None:
+    plc.tap("MCP.auto" if key != "MCP.auto" else "MCP.mda")
+    plc.tap(key)
+    assert modes(plc) == expected
+    plc.scan(10)  # key released: the selection stays
+    assert modes(plc) == expected
+
+
+def test_ref_key_switches_on_the_machine_function_and_a_mode_key_off(plc: PlcBench) -> None:
+    plc.tap("MCP.ref")
+    assert plc.out("MODEGROUP.basic.out.refPoint") == 1
+    assert modes(plc) == (0, 0, 1)
+    plc.tap("MCP.mda")
+    assert plc.out("MODEGROUP.basic.out.refPoint") == 0
+    assert modes(plc) == (0, 1, 0)
+
+
+def test_ref_key_in_auto_selects_jog(plc: PlcBench) -> None:
+    plc.tap("MCP.auto")
+    plc.tap("MCP.ref")
+    assert modes(plc) == (0, 0, 1)
+    assert plc.out("MODEGROUP.basic.out.refPoint") == 1
+
+
+# ------------------------------------------------------------------------------ channel keys
+
+
+def test_program_keys_reach_the_channel_while_pressed(plc: PlcBench) -> None:
+    for key, signal in (("MCP.ncStart", "ncStart"), ("MCP.ncStop", "ncStop"), ("MCP.reset", "reset")):
+        plc.input(key, 1)
+        plc.scan(2)
+        assert plc.out(f"CHAN1.basic.out.{signal}") == 1, key
+        plc.input(key, 0)
+        plc.scan(2)
+        assert plc.out(f"CHAN1.basic.out.{signal}") == 0, key
+
+
+def test_feed_stop_and_feed_start_keys_latch_the_channel_feed_disable(plc: PlcBench) -> None:
+    plc.tap("MCP.feedStop")
+    assert plc.out("CHAN1.basic.out.disableFeed") == 1  # DB21.DBX6.0
+    plc.scan(10)
+    assert plc.out("CHAN1.basic.out.disableFeed") == 1  # latched after the key is released
+    plc.tap("MCP.feedStart")
+    assert plc.out("CHAN1.basic.out.disableFeed") == 0
+    plc.scan(10)
+    assert plc.out("CHAN1.basic.out.disableFeed") == 0
+
+
+def test_override_switches_are_copied_with_their_enables(plc: PlcBench) -> None:
+    plc.input("MCP.feedOverride", 73)
+    plc.input("MCP.rapidOverride", 25)
+    plc.scan(2)
+    assert plc.out("CHAN1.basic.out.pathFeedrateOvrFactor") == 73  # DB21.DBB4
+    assert plc.out("CHAN1.basic.out.pathFeedrateOvr") == 1  # DB21.DBX6.7
+    assert plc.out("CHAN1.basic.out.pathRapidTraversOvrFactor") == 25  # DB21.DBB5
+    assert plc.out("CHAN1.basic.out.pathRapidTraversOvr") == 1  # DB21.DBX6.6
+    for axis in ("X1", "Z1"):
+        assert plc.out(f"{axis}.basic.out.feedrateOvrFactor") == 73  # DB31.DBB0
+        assert plc.out(f"{axis}.basic.out.enableOvr") == 1  # DB31.DBX1.7
+
+
+def test_without_a_rapid_override_switch_the_feed_override_acts_on_rapid() -> None:
+    # Seed 003 (§7.4.2): without a separate rapid override switch DB21.DBB5 = DB21.DBB4.
+    io_list = {key: value for key, value in IO_LIST.items() if value != "MCP.rapidOverride"}
+    plc = PlcBench(io_list)
+    plc.input("MCP.feedOverride", 40)
+    plc.scan(2)
+    assert plc.out("CHAN1.basic.out.pathRapidTraversOvrFactor") == 40
+
+
+# ------------------------------------------------------------------------------ axes
+
+
+def test_traverse_keys_and_rapid_key_reach_the_axis(plc: PlcBench) -> None:
+    plc.input("MCP.plus.X1", 1)
+    plc.input("MCP.rapid", 1)
+    plc.scan(2)
+    assert plc.out("X1.basic.out.traversKeyPlus") == 1  # DB31.DBX4.7
+    assert plc.out("X1.basic.out.traversKeyMinus") == 0
+    assert plc.out("X1.basic.out.enableRapidTravers") == 1  # DB31.DBX4.5
+    assert plc.out("Z1.basic.out.traversKeyPlus") == 0
+    plc.input("MCP.plus.X1", 0)
+    plc.input("MCP.minus.Z1", 1)
+    plc.scan(2)
+    assert plc.out("X1.basic.out.traversKeyPlus") == 0
+    assert plc.out("Z1.basic.out.traversKeyMinus") == 1  # DB32.DBX4.6
+
+
+def test_enables_follow_drives_ready_and_follow_up_is_requested_without_them(plc: PlcBench) -> None:
+    assert plc.out("X1.basic.out.enableCtrl") == 1  # DB31.DBX2.1
+    assert plc.out("X1.drive.out.enablePulses") == 1  # DB31.DBX21.7
+    assert plc.out("X1.basic.out.followUpMode") == 0  # DB31.DBX1.4
+    plc.input("Drives.ready", 0)
+    plc.scan(2)
+    assert plc.out("X1.basic.out.enableCtrl") == 0
+    assert plc.out("X1.drive.out.enablePulses") == 0
+    assert plc.out("X1.basic.out.followUpMode") == 1
+
+
+# ------------------------------------------------------------------------------ emergency stop and drives
+
+
+def test_open_emergency_stop_chain_sets_db10_dbx56_1(plc: PlcBench) -> None:
+    assert plc.out("NC.basic.out.emergencyStop") == 0
+    plc.input("EStop.chainOk", 0)
+    plc.scan(2)
+    assert plc.out("NC.basic.out.emergencyStop") == 1
+    plc.input("EStop.chainOk", 1)
+    plc.scan(2)
+    assert plc.out("NC.basic.out.emergencyStop") == 0
+
+
+def test_reset_key_acknowledges_the_emergency_stop_only_with_the_chain_closed(plc: PlcBench) -> None:
+    plc.input("EStop.chainOk", 0)
+    plc.input("MCP.reset", 1)
+    plc.scan(2)
+    assert plc.out("NC.basic.out.emergencyStopAck") == 0  # DB10.DBX56.2
+    plc.input("EStop.chainOk", 1)
+    plc.scan(2)
+    assert plc.out("NC.basic.out.emergencyStopAck") == 1
+    assert plc.out("CHAN1.basic.out.reset") == 1  # together with the channel reset
+
+
+def test_drives_stay_on_for_the_off_delay_after_an_emergency_stop(plc: PlcBench) -> None:
+    # Stop category 1: the infeed stays on DRIVES_OFF_DELAY_S = 0.5 s = 50 scans so that the NC
+    # can brake the axes with powered drives.
+    assert plc.out("Drives.on") == 1
+    plc.input("EStop.chainOk", 0)
+    plc.scan(2)
+    assert plc.out("Drives.on") == 1
+    plc.scan(round(DRIVES_OFF_DELAY_S / SCAN) - 5)
+    assert plc.out("Drives.on") == 1
+    plc.scan(10)
+    assert plc.out("Drives.on") == 0
+    plc.input("EStop.chainOk", 1)
+    plc.scan(2)
+    assert plc.out("Drives.on") == 1

@@ -1,0 +1,249 @@
+"""Machine files: the shipped machines, scenario overrides, and the bad-file corpus."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from vc.config import md_dictionary as mdd
+from vc.config.loader import load_machine
+from vc.config.model import AxisConfig, MachineConfig, machine_ipo_cycle_us
+from vc.located_yaml import LocatedMap, SourceError, load_text
+
+ROOT = Path(__file__).resolve().parents[3]
+MACHINES = ROOT / "scenarios" / "machines"
+TURN_MILL = str(MACHINES / "turn_mill.yaml")
+MILL = str(MACHINES / "mill_3axis.yaml")
+CORPUS = Path(__file__).resolve().parent / "bad_machines"
+
+
+@pytest.fixture(scope="module")
+def turn_mill() -> MachineConfig:
+    return load_machine(TURN_MILL)
+
+
+@pytest.fixture(scope="module")
+def mill() -> MachineConfig:
+    return load_machine(MILL)
+
+
+# ------------------------------------------------------------------------------ shipped machines
+
+
+@pytest.mark.parametrize("path", sorted(str(path) for path in MACHINES.glob("*.yaml")))
+def test_every_shipped_machine_loads(path: str) -> None:
+    config = load_machine(path)
+    assert config.source == path
+    assert machine_ipo_cycle_us(config) == 2000
+
+
+def test_turn_mill_structure(turn_mill: MachineConfig) -> None:
+    assert turn_mill.name == "turn_mill"
+    assert turn_mill.plc_cycle_ipo == 5
+    assert [(axis.name, axis.number, axis.db) for axis in turn_mill.axes] == [
+        ("X1", 1, 31), ("Z1", 2, 32), ("Y1", 3, 33), ("SP1", 4, 34), ("SP2", 5, 35), ("SP3", 6, 36)]
+    assert [(axis.name, axis.spindle_number) for axis in turn_mill.axes if axis.is_spindle] == [
+        ("SP1", 1), ("SP2", 2), ("SP3", 3)]
+    assert [axis.name for axis in turn_mill.axes if axis.is_rotary] == ["SP1", "SP2", "SP3"]
+    (channel,) = turn_mill.channels
+    assert (channel.name, channel.number, channel.db) == ("CHAN1", 1, 21)
+    assert channel.axes == ("X1", "Z1", "Y1", "SP1", "SP2", "SP3")
+    assert channel.program_names == ("X", "Z", "Y", "SP1", "SP2", "SP3")
+    assert channel.geometry_names == ("X", "Y", "Z")
+    assert channel.geometry_axes == ("X1", "Y1", "Z1")
+    assert channel.axis_for_program_name("Y") == "Y1"
+    assert channel.axis_for_program_name("Z") == "Z1"
+    assert channel.axis_for_program_name("SP2") == "SP2"
+    assert channel.axis_for_program_name("X1") == "X1"
+    assert channel.axis_for_program_name("Q") is None
+    assert channel.md.int(mdd.REFP_NC_START_LOCK) == 1
+    assert channel.md.value(mdd.AXCONF_MACHAX_USED) == (1, 2, 3, 4, 5, 6) + (0,) * 14
+    assert turn_mill.layout.axes == ("X1", "Z1", "Y1", "SP1", "SP2", "SP3")
+    assert turn_mill.layout.channels == ("CHAN1",)
+
+
+def test_machine_data_values_and_defaults(turn_mill: MachineConfig) -> None:
+    x1, sp1 = turn_mill.axis("X1"), turn_mill.axis("SP1")
+    assert x1.md.float(mdd.MAX_AX_VELO) == 30000.0
+    assert x1.md.float(mdd.MAX_AX_ACCEL, 0) == 4.0
+    # an array written from index 0: the unwritten indices keep the defaults
+    assert x1.md.value(mdd.REFP_SET_POS) == (273.0, 0.0, 0.0, 0.0)
+    assert sp1.md.floats(mdd.GEAR_STEP_MAX_VELO) == (800.0, 800.0, 2000.0, 4500.0, 4000.0, 8000.0)
+    assert sp1.md.int(mdd.NUM_GEAR_STEPS) == 3
+    # MachineData holds only what the file writes; the rest comes from the definitions
+    written = dict(x1.md.items())
+    assert mdd.STANDSTILL_POS_TOL.number not in written
+    assert x1.md.float(mdd.STANDSTILL_POS_TOL) == mdd.STANDSTILL_POS_TOL.default
+    names = turn_mill.nck.value(mdd.AXCONF_MACHAX_NAME_TAB)
+    assert names[:7] == ("X1", "Z1", "Y1", "SP1", "SP2", "SP3", "AX7")  # MD10000 from the axes: section
+
+
+def test_sim_and_plant(turn_mill: MachineConfig) -> None:
+    x1 = turn_mill.axis("X1")
+    assert (x1.sim.start_position, x1.sim.zero_mark_offset) == (150.0, 275.0)
+    assert x1.plant.ref_cam == (280.0, 295.0)
+    assert (x1.plant.hw_limit_minus, x1.plant.hw_limit_plus) == (-12.0, 312.0)
+    assert turn_mill.axis("SP1").plant.ref_cam is None
+
+
+def test_plant_io(turn_mill: MachineConfig, mill: MachineConfig) -> None:
+    assert turn_mill.plant_io.area_sizes() == {"I": 9, "Q": 2}
+    assert len(turn_mill.plant_io.points) == 41
+    assert str(turn_mill.plant_io.resolve("X1.refCam").address) == "I7.0"
+    assert str(turn_mill.plant_io.resolve("MCP.feedOverride").address) == "IB3"
+    assert mill.plant_io.area_sizes() == {"I": 11, "Q": 3}
+    assert str(mill.plant_io.resolve("EStop.chainOk").address) == "I0.0"
+
+
+def test_mill_structure(mill: MachineConfig) -> None:
+    assert [axis.name for axis in mill.axes] == ["X1", "Y1", "Z1", "SP1"]
+    (channel,) = mill.channels
+    assert channel.geometry_axes == ("X1", "Y1", "Z1")
+    sp1 = mill.axis("SP1")
+    assert sp1.is_spindle and sp1.md.int(mdd.NUM_GEAR_STEPS) == 2
+    assert mill.plc_cycle_ipo == 4
+
+
+def _linear_axes() -> list[tuple[str, AxisConfig]]:
+    return [(Path(path).stem, axis) for path in (TURN_MILL, MILL) for axis in load_machine(path).axes
+            if not axis.is_rotary]
+
+
+@pytest.mark.parametrize(("machine", "axis"), _linear_axes(), ids=lambda value: getattr(value, "name", value))
+def test_shipped_linear_axes_are_physically_consistent(machine: str, axis: AxisConfig) -> None:
+    """Cam near one end, start position free, software limits inside the hardware limits, the
+    first zero mark a few mm beyond the cam edge, and MD34100 = where referencing ends."""
+    md, plant, sim = axis.md, axis.plant, axis.sim
+    assert plant.ref_cam is not None and plant.hw_limit_minus is not None and plant.hw_limit_plus is not None
+    minus, plus = md.float(mdd.POS_LIMIT_MINUS), md.float(mdd.POS_LIMIT_PLUS)
+    assert plant.hw_limit_minus < minus < plus < plant.hw_limit_plus
+    assert minus < sim.start_position < plus
+    assert not plant.ref_cam[0] <= sim.start_position <= plant.ref_cam[1]
+    towards_minus = md.bool(mdd.REFP_CAM_DIR_IS_MINUS)
+    assert md.bool(mdd.REFP_CAM_IS_ACTIVE)
+    assert not md.bool(mdd.REFP_SEARCH_MARKER_REVERSE)  # falling-edge synchronisation
+    travel = plant.hw_limit_plus - plant.hw_limit_minus
+    if towards_minus:
+        assert plant.ref_cam[0] - plant.hw_limit_minus < 0.1 * travel
+    else:
+        assert plant.hw_limit_plus - plant.ref_cam[1] < 0.1 * travel
+    # phase 2 leaves the cam against the approach direction
+    edge, search = (plant.ref_cam[1], 1.0) if towards_minus else (plant.ref_cam[0], -1.0)
+    pitch = md.float(mdd.LEADSCREW_PITCH)
+    nearest = round((edge - sim.zero_mark_offset) / pitch)
+    marks = [sim.zero_mark_offset + pitch * k for k in range(nearest - 2, nearest + 3)]
+    beyond_edge = [mark for mark in marks if (mark - edge) * search > 0]
+    first_mark = min(beyond_edge, key=lambda mark: abs(mark - edge))
+    assert 0.2 * pitch <= abs(first_mark - edge) <= 0.8 * pitch
+    reference_point = first_mark + search * md.float(mdd.REFP_MOVE_DIST)
+    assert md.float(mdd.REFP_SET_POS, 0) == pytest.approx(reference_point)
+    distance_to_cam = abs((plant.ref_cam[1] if towards_minus else plant.ref_cam[0]) - sim.start_position)
+    assert distance_to_cam < md.float(mdd.REFP_MAX_CAM_DIST)
+
+
+# ------------------------------------------------------------------------------ overrides
+
+
+def _overrides(text: str) -> LocatedMap:
+    document, problems = load_text(text, "scenario.yaml")
+    assert problems == []
+    overrides = document["machine_data"]
+    assert isinstance(overrides, LocatedMap)
+    return overrides
+
+
+def test_valid_overrides_replace_the_file_values_index_by_index() -> None:
+    overrides = _overrides(
+        "machine_data:\n"
+        "  X1:\n"
+        "    MD34050: 1\n"
+        "    REFP_SET_POS[2]: 7.5\n"
+        "  SP1:\n"
+        "    MD35110 GEAR_STEP_MAX_VELO[2]: 2500\n"
+        "  CHAN1: {$MC_REFP_NC_START_LOCK: 0}\n"
+        "  NC: {MD10192: 5.0}\n"
+    )
+    config = load_machine(TURN_MILL, overrides, "scenario.yaml")
+    x1 = config.axis("X1")
+    assert x1.md.bool(mdd.REFP_SEARCH_MARKER_REVERSE)
+    assert x1.md.value(mdd.REFP_SET_POS) == (273.0, 0.0, 7.5, 0.0)
+    assert config.axis("SP1").md.floats(mdd.GEAR_STEP_MAX_VELO)[:4] == (800.0, 800.0, 2500.0, 4500.0)
+    assert config.channel("CHAN1").md.int(mdd.REFP_NC_START_LOCK) == 0
+    assert config.nck.float(mdd.GEAR_CHANGE_WAIT_TIME) == 5.0
+
+
+def test_overrides_that_change_the_structure_are_rechecked() -> None:
+    overrides = _overrides("machine_data:\n  SP2: {MD35000: 1}\n  CHAN1: {MD20050: [1, 4, 2]}\n")
+    with pytest.raises(SourceError) as error:
+        load_machine(TURN_MILL, overrides, "scenario.yaml")
+    assert [str(problem) for problem in error.value.problems] == [
+        "scenario.yaml:2:18: SP2: spindle number 1 (MD35000 SPIND_ASSIGN_TO_MACHAX) is already the number"
+        " of SP1",
+        "scenario.yaml:3:24: MD20050 AXCONF_GEOAX_ASSIGN_TAB[1] = 4: geometry axis Y is channel axis 4 (SP1),"
+        " but MD20080 gives the name Y to channel axis 3",
+        "scenario.yaml:3:24: MD20050 AXCONF_GEOAX_ASSIGN_TAB[1] = 4: geometry axis Y would be the"
+        " spindle SP1",
+    ]
+
+
+def test_invalid_overrides_are_reported_with_the_scenario_marks() -> None:
+    overrides = _overrides(
+        "machine_data:\n"
+        "  Q9: {MD32000: 100}\n"
+        "  X1:\n"
+        "    MD32000: fast\n"
+        "    MD20700: 0\n"
+        "    MD34100[9]: 1.0\n"
+        "    MD34093: 2.0\n"
+        "  CHAN1: 3\n"
+        "  NC: {MD10000: [A, B]}\n"
+    )
+    with pytest.raises(SourceError) as error:
+        load_machine(TURN_MILL, overrides, "scenario.yaml")
+    assert [str(problem) for problem in error.value.problems] == [
+        "scenario.yaml:2:3: machine_data: turn_mill has no axis or channel 'Q9'"
+        " (it has X1, Z1, Y1, SP1, SP2, SP3, CHAN1, NC)",
+        "scenario.yaml:4:14: MD32000 MAX_AX_VELO: expected a number, got 'fast'",
+        "scenario.yaml:5:5: MD20700 REFP_NC_START_LOCK is channel data ($MC_); set it for a channel",
+        "scenario.yaml:6:5: MD34100 REFP_SET_POS has 4 values; index 9 is out of range",
+        "scenario.yaml:7:5: MD34093 REFP_CAM_MARKER_DIST is read-only: the control writes it",
+        "scenario.yaml:8:10: machine_data.CHAN1: expected a mapping of machine data, got 3",
+        "scenario.yaml:9:8: MD10000 AXCONF_MACHAX_NAME_TAB is not written as machine data:"
+        " it comes from the names under axes:, in order",
+    ]
+
+
+def test_overrides_built_in_code_use_the_scenario_file_name() -> None:
+    overrides = LocatedMap({"X1": {"MD32000": -1}})
+    with pytest.raises(SourceError) as error:
+        load_machine(TURN_MILL, overrides, "built.yaml")
+    assert [str(problem) for problem in error.value.problems] == [
+        "built.yaml:1:1: MD32000 MAX_AX_VELO = -1: below the minimum 0.0 mm/min"]
+
+
+def test_a_missing_file_is_a_problem() -> None:
+    with pytest.raises(SourceError) as error:
+        load_machine(str(CORPUS / "no_such_machine.yaml"))
+    (problem,) = error.value.problems
+    assert problem.message.startswith("cannot read the file")
+
+
+# ------------------------------------------------------------------------------ bad-file corpus
+
+
+@pytest.mark.parametrize("name", sorted(path.name for path in CORPUS.glob("*.yaml")))
+def test_bad_machine_corpus(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each bad file reports exactly the problems of its ``.expected`` file, sorted by line."""
+    monkeypatch.chdir(CORPUS)
+    assert Path(name).read_text(encoding="utf-8").startswith("#"), "every corpus file explains itself"
+    expected = Path(name).with_suffix(".expected").read_text(encoding="utf-8").splitlines()
+    with pytest.raises(SourceError) as error:
+        load_machine(name)
+    assert [str(problem) for problem in error.value.problems] == expected
+
+
+def test_corpus_is_complete() -> None:
+    names = {path.stem for path in CORPUS.glob("*.yaml")}
+    assert len(names) >= 15
+    assert names == {path.stem for path in CORPUS.glob("*.expected")}

@@ -1,0 +1,125 @@
+"""Position measuring system: zero-mark spacing, zero marks crossed, actual value at power-on.
+
+Turn-mill X1: MD31030 = 10 mm pitch, motor encoder, ratio 1:1, zero marks at ... 265, 275,
+285 ... (sim zero_mark_offset 275), slide at 150 at power-on.
+"""
+
+from __future__ import annotations
+
+import pytest
+from core_rig import machine
+
+from vc.config.model import AxisConfig
+from vc.core.encoder import Encoder, zero_mark_spacing
+
+
+def axis(name: str, overrides: str = "") -> AxisConfig:
+    return machine(overrides).axis(name)
+
+
+# ------------------------------------------------------------------------------ zero-mark spacing
+
+
+def test_linear_motor_encoder_with_direct_drive_has_one_mark_per_pitch() -> None:
+    assert zero_mark_spacing(axis("X1")) == pytest.approx(10.0)
+
+
+@pytest.mark.parametrize(("pitch", "load_revs", "motor_revs", "spacing"), [
+    (10.0, 1, 2, 5.0),  # motor turns twice per leadscrew turn: 10 mm * 1/2 = 5 mm per motor turn
+    (5.0, 3, 1, 15.0),  # 3 leadscrew turns per motor turn: 5 mm * 3 = 15 mm
+    (20.0, 2, 5, 8.0),  # 20 mm * 2/5 = 8 mm
+])
+def test_linear_motor_encoder_spacing_is_pitch_times_load_over_motor_revolutions(
+        pitch: float, load_revs: int, motor_revs: int, spacing: float) -> None:
+    # MD31050 DRIVE_AX_RATIO_DENOM = load revolutions, MD31060 DRIVE_AX_RATIO_NUMERA = motor
+    # revolutions: one motor revolution (one zero mark) moves the slide pitch * DENOM / NUMERA.
+    overrides = f"X1: {{MD31030: {pitch}, MD31050: [{load_revs}], MD31060: [{motor_revs}]}}"
+    assert zero_mark_spacing(axis("X1", overrides)) == pytest.approx(spacing)
+
+
+def test_direct_encoder_on_a_spindle_has_one_mark_per_load_revolution() -> None:
+    assert zero_mark_spacing(axis("SP1", "SP1: {MD31040: 1}")) == pytest.approx(360.0)
+
+
+# ------------------------------------------------------------------------------ zero marks crossed
+
+
+@pytest.fixture
+def x1_encoder() -> Encoder:
+    return Encoder.at_power_on(axis("X1"), 150.0)
+
+
+@pytest.mark.parametrize(("start", "end", "mark"), [
+    (270.0, 280.0, 275.0),  # moving plus across one mark
+    (280.0, 270.0, 275.0),  # moving minus across the same mark
+    (260.0, 290.0, 265.0),  # plus across three marks: the first one passed
+    (290.0, 260.0, 285.0),  # minus across three marks: the first one passed
+    (270.0, 275.0, 275.0),  # ending exactly on a mark: it is reached
+    (280.0, 275.0, 275.0),
+    (-7.0, -3.0, -5.0),  # marks continue below zero: ..., -5, 5, ...
+])
+def test_first_zero_mark_passed(x1_encoder: Encoder, start: float, end: float, mark: float) -> None:
+    assert x1_encoder.zero_mark_between(start, end) == pytest.approx(mark)
+
+
+@pytest.mark.parametrize(("start", "end"), [
+    (276.0, 284.0),  # between two marks
+    (284.0, 276.0),
+    (275.0, 280.0),  # starting exactly on a mark: it was passed when the slide arrived there
+    (275.0, 270.0),
+    (275.0, 275.0),  # no motion
+])
+def test_no_zero_mark_passed(x1_encoder: Encoder, start: float, end: float) -> None:
+    assert x1_encoder.zero_mark_between(start, end) is None
+
+
+def test_each_mark_is_found_once_when_moving_cycle_by_cycle(x1_encoder: Encoder) -> None:
+    # 0.0667 mm per cycle (2000 mm/min, 2 ms) from 250 to 300 passes 255, 265, 275, 285, 295 once each,
+    # in both directions.
+    for step in (2000.0 / 60.0 * 0.002, -2000.0 / 60.0 * 0.002):
+        position = 250.0 if step > 0 else 300.0
+        found = []
+        for _ in range(750):
+            mark = x1_encoder.zero_mark_between(position, position + step)
+            if mark is not None:
+                found.append(round(mark, 6))
+            position += step
+        expected = [255.0, 265.0, 275.0, 285.0, 295.0]
+        assert found == (expected if step > 0 else expected[::-1])
+
+
+# ------------------------------------------------------------------------------ actual value at power-on
+
+
+def test_incremental_encoder_starts_at_zero_and_is_not_referenced() -> None:
+    encoder = Encoder.at_power_on(axis("X1"), 150.0)
+    assert not encoder.referenced
+    assert encoder.actual(150.0) == 0.0
+    assert encoder.actual(160.0) == pytest.approx(10.0)
+
+
+def test_calibrated_absolute_encoder_is_referenced_with_actual_equal_to_physical() -> None:
+    # MD30240 = 4 (absolute), MD34210 = 2 (calibrated), MD34090 = 0: seed 003 §4.9, §4.10 (L2584-2586).
+    encoder = Encoder.at_power_on(axis("X1", "X1: {MD30240: 4, MD34210: 2}"), 150.0)
+    assert encoder.referenced
+    assert encoder.actual(150.0) == 150.0
+
+
+def test_calibrated_absolute_encoder_adds_the_reference_point_offset_md34090() -> None:
+    encoder = Encoder.at_power_on(axis("X1", "X1: {MD30240: 4, MD34210: 2, MD34090: -12.5}"), 150.0)
+    assert encoder.referenced
+    assert encoder.actual(150.0) == pytest.approx(137.5)
+
+
+@pytest.mark.parametrize("state", [0, 1])
+def test_absolute_encoder_not_calibrated_is_not_referenced(state: int) -> None:
+    encoder = Encoder.at_power_on(axis("X1", f"X1: {{MD30240: 4, MD34210: {state}}}"), 150.0)
+    assert not encoder.referenced
+
+
+def test_synchronising_sets_the_actual_value_at_the_current_position() -> None:
+    encoder = Encoder.at_power_on(axis("X1"), 150.0)
+    encoder.set_actual(277.0, 273.0)
+    assert encoder.referenced
+    assert encoder.actual(277.0) == pytest.approx(273.0)
+    assert encoder.actual(280.0) == pytest.approx(276.0)

@@ -1,0 +1,91 @@
+"""The ``vc`` command line: run scenarios, print the signal map, measure the speed.
+
+    vc run PATH... [--junit FILE] [--trace-dir DIR]   run scenario files or directories
+    vc map --machine M.yaml [--format md|csv|json]    the machine's expanded signal map
+    vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle
+
+Problems in input files are reported with file, line and column and exit with code 2;
+a failed scenario exits with 1.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+
+from interfaces.catalog import load_catalog
+from interfaces.signal_map import FORMATTERS, map_rows
+from interfaces.signals import expand
+from vc.config.loader import load_machine
+from vc.located_yaml import SourceError
+
+DEFAULT_MACHINE = "scenarios/machines/turn_mill.yaml"
+EXIT_PROBLEMS = 2
+
+
+def _map(arguments: argparse.Namespace) -> int:
+    machine = load_machine(arguments.machine)
+    rows = map_rows(expand(load_catalog(), machine.layout), machine.plant_io)
+    sys.stdout.write(FORMATTERS[arguments.format](rows))
+    return 0
+
+
+def _bench(arguments: argparse.Namespace) -> int:
+    from vc.harness.benchmark import run_benchmark
+
+    result = run_benchmark(arguments.machine, arguments.seconds)
+    print(f"machine {result.machine}, IPO cycle {result.ipo_cycle_us} us, built-in PLC basic_machine")
+    print(f"simulated {result.simulated_s:.2f} s ({result.cycles} IPO cycles) in {result.wall_s:.3f} s wall time")
+    print(f"real-time factor {result.realtime_factor:.1f}x, {result.us_per_cycle:.1f} us per IPO cycle")
+    print(json.dumps({"realtime_factor": round(result.realtime_factor, 1),
+                      "us_per_cycle": round(result.us_per_cycle, 2)}))
+    return 0
+
+
+def _run(arguments: argparse.Namespace) -> int:
+    from vc.harness.scenarios import run_scenario_files
+
+    return run_scenario_files(arguments.paths, junit=arguments.junit, trace_dir=arguments.trace_dir)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="vc", description="Virtual commissioning harness for CNC machines")
+    commands = parser.add_subparsers(dest="command", required=True)
+
+    run = commands.add_parser("run", help="run scenarios with the built-in PLC")
+    run.add_argument("paths", nargs="+", help="scenario files or directories (searched recursively)")
+    run.add_argument("--junit", metavar="FILE", help="write a JUnit XML report")
+    run.add_argument("--trace-dir", metavar="DIR", help="write a CSV and a VCD trace per scenario")
+    run.set_defaults(handler=_run)
+
+    signal_map = commands.add_parser("map", help="print the expanded signal catalogue of a machine")
+    signal_map.add_argument("--machine", required=True, help="machine YAML file")
+    signal_map.add_argument("--format", choices=sorted(FORMATTERS), default="md")
+    signal_map.set_defaults(handler=_map)
+
+    bench = commands.add_parser("bench", help="measure the real-time factor of the simulation")
+    bench.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")
+    bench.add_argument("--seconds", type=float, default=30.0, help="simulated seconds to run (default 30)")
+    bench.set_defaults(handler=_bench)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    arguments = build_parser().parse_args(argv)
+    try:
+        code: int = arguments.handler(arguments)
+    except SourceError as error:
+        for problem in error.problems:
+            print(problem, file=sys.stderr)
+        count = len(error.problems)
+        print(f"{count} problem{'s' if count != 1 else ''} found; nothing was run.", file=sys.stderr)
+        return EXIT_PROBLEMS
+    except BrokenPipeError:
+        return 0
+    return code
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,631 @@
+"""The machine data the harness knows, with the manual's numbers and names.
+
+``source`` cites the seed line (``seed 003 L1003``) where the seed gives the datum; where
+the seed is silent the real control's meaning, unit and default are used and marked
+``[control]``.  Units are those of the control's display: mm, mm/min, m/s^2, s; rotary
+axes and spindles use degrees and rev/min where the control does.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from vc.config.machine_data import MdDef, MdLevel, MdType
+
+N, C, A = MdLevel.NCK, MdLevel.CHANNEL, MdLevel.AXIS
+BOOL, INT, FLOAT, STR = MdType.BOOL, MdType.INT, MdType.FLOAT, MdType.STR
+
+
+def _repeat(value: float, count: int) -> tuple[float, ...]:
+    return (value,) * count
+
+
+# Override switch tables for Gray-coded switches, 31 switch positions.  The seed says the
+# factors must be entered in MD12010/12030/12050/12070 but prints no table (spec B.4.17
+# [GAP]); these are the control's delivery values.
+_FEED_GRAY = (0.0, 0.01, 0.02, 0.04, 0.06, 0.08, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.75, 0.8, 0.85,
+              0.9, 0.95, 1.0, 1.05, 1.1, 1.15, 1.2, 1.2, 1.2, 1.2, 1.2, 1.2, 1.2, 1.2, 1.2)
+_RAPID_GRAY = (0.0, 0.01, 0.02, 0.04, 0.06, 0.08, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.75, 0.8, 0.85,
+               0.9, 0.95, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0)
+_SPINDLE_GRAY = (0.5, 0.55, 0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15, 1.2, 1.2,
+                 1.2, 1.2, 1.2, 1.2, 1.2, 1.2, 1.2, 1.2, 1.2, 1.2, 1.2, 1.2, 1.2, 1.2, 1.2)
+
+# ---------------------------------------------------------------------------------- NCK
+AXCONF_MACHAX_NAME_TAB = MdDef(10000, "AXCONF_MACHAX_NAME_TAB", N, STR, tuple(f"AX{n}" for n in range(1, 32)),
+                               "machine axis names (also used in G74 <axis>); the loader sets it from the"
+                               " order of the axes: section",
+                               "seed 003 L779-780; [control] generic names AX<n>",
+                               length=31)
+SYSCLOCK_CYCLE_TIME = MdDef(10050, "SYSCLOCK_CYCLE_TIME", N, FLOAT, 0.002, "basic system clock cycle",
+                            "seed 003 L2518-2535; [control] default chosen for a 2 ms IPO cycle", "s",
+                            0.000125, 0.031)
+IPO_SYSCLOCK_TIME_RATIO = MdDef(10070, "IPO_SYSCLOCK_TIME_RATIO", N, INT, 1,
+                                "IPO cycle as a multiple of the system clock cycle",
+                                "seed 003 L2518-2535; [control] default 1 gives IPO = 2 ms", "", 1, 100)
+GEAR_CHANGE_WAIT_TIME = MdDef(10192, "GEAR_CHANGE_WAIT_TIME", N, FLOAT, 10.0,
+                              "longest wait for the PLC's gear-change acknowledgement",
+                              "seed 003 L19127-19147; [control] default", "s", 0.0, 1.0e5)
+OPERATING_MODE_DEFAULT = MdDef(10720, "OPERATING_MODE_DEFAULT", N, INT, (7,) * 10,
+                               "operating mode of each mode group after power-on: 0 = AUTOMATIC, 3 = MDA,"
+                               " 7 = JOG (further values for the sub-modes REPOS, REF, TEACH IN)",
+                               "seed 003 L35366-35368; [control] coding and default 7 = JOG", "", 0, 12, 10)
+OPERATING_MODE_EXTENDED = MdDef(10721, "OPERATING_MODE_EXTENDED", N, INT, (0,) * 10,
+                                "after power-on: 0 = mode from MD10720, 1 = JOG if retract data exist"
+                                " (DB21.DBX377.5)", "seed 003 L35370-35378; [control] default", "", 0, 1, 10,
+                                allowed=(0, 1))
+JOG_MODE_MASK = MdDef(10735, "JOG_MODE_MASK", N, INT, 0,
+                      "JOG settings (bit mask); bit 8 = 1: manual retraction in both directions"
+                      " (0 = plus only)",
+                      "seed 003 L35390-35400, L35547-35549; [control] default", "", 0, 0xFFFF)
+JOG_INC_MODE_LEVELTRIGGRD = MdDef(11300, "JOG_INC_MODE_LEVELTRIGGRD", N, BOOL, True,
+                                  "INC and REF in hold mode: the key must be held (default)",
+                                  "seed 003 L558-565, L33093-33095")
+SUPPRESS_ALARM_MASK = MdDef(11410, "SUPPRESS_ALARM_MASK", N, INT, 0, "suppress specific alarms (bit mask)",
+                            "seed 003 L18401-18405", "", 0, 0xFFFFFFFF)
+OVR_AX_IS_GRAY_CODE = MdDef(12000, "OVR_AX_IS_GRAY_CODE", N, BOOL, False,
+                            "axis feed override switch is Gray coded", "seed 003 L9133-9158")
+OVR_FACTOR_AX_SPEED = MdDef(12010, "OVR_FACTOR_AX_SPEED", N, FLOAT, _FEED_GRAY,
+                            "axis override factor per Gray switch position",
+                            "seed 003 L9154-9158; [control] values",
+                            "", 0.0, 2.0, 31)
+OVR_FEED_IS_GRAY_CODE = MdDef(12020, "OVR_FEED_IS_GRAY_CODE", N, BOOL, False,
+                              "path feed override switch is Gray coded", "seed 003 L9040-9067")
+OVR_FACTOR_FEEDRATE = MdDef(12030, "OVR_FACTOR_FEEDRATE", N, FLOAT, _FEED_GRAY,
+                            "path feed override factor per Gray switch position",
+                            "seed 003 L9065-9067; [control] values", "", 0.0, 2.0, 31)
+OVR_RAPID_IS_GRAY_CODE = MdDef(12040, "OVR_RAPID_IS_GRAY_CODE", N, BOOL, False,
+                               "rapid traverse override switch is Gray coded", "seed 003 L9048, L9067")
+OVR_FACTOR_RAPID_TRA = MdDef(12050, "OVR_FACTOR_RAPID_TRA", N, FLOAT, _RAPID_GRAY,
+                             "rapid override factor per Gray switch position",
+                             "seed 003 L9067; [control] values", "", 0.0, 2.0, 31)
+OVR_SPIND_IS_GRAY_CODE = MdDef(12060, "OVR_SPIND_IS_GRAY_CODE", N, BOOL, False,
+                               "spindle override switch is Gray coded", "seed 003 L9177-9198")
+OVR_FACTOR_SPIND_SPEED = MdDef(12070, "OVR_FACTOR_SPIND_SPEED", N, FLOAT, _SPINDLE_GRAY,
+                               "spindle override factor per Gray switch position",
+                               "seed 003 L9196-9198; [control] values", "", 0.0, 2.0, 31)
+OVR_REFERENCE_IS_PROG_FEED = MdDef(12080, "OVR_REFERENCE_IS_PROG_FEED", N, BOOL, False,
+                                   "spindle override refers to the programmed speed"
+                                   " (0 = to the limited speed)",
+                                   "seed 003 L8644, L9208-9214; [control] default")
+OVR_REFERENCE_IS_MIN_FEED = MdDef(12082, "OVR_REFERENCE_IS_MIN_FEED", N, BOOL, False,
+                                  "path feed override refers to the limited feed where it is below the"
+                                  " programmed feed", "seed 003 L8651, L9119-9123; [control] default")
+OVR_FACTOR_LIMIT_BIN = MdDef(12100, "OVR_FACTOR_LIMIT_BIN", N, FLOAT, 1.2,
+                             "upper limit of binary-coded override (path, axis, spindle)",
+                             "seed 003 L9216-9220; [control] default", "", 0.0, 2.0)
+
+
+# ---------------------------------------------------------------------------------- channel
+AXCONF_GEOAX_ASSIGN_TAB = MdDef(20050, "AXCONF_GEOAX_ASSIGN_TAB", C, INT, (1, 2, 3),
+                                "channel axis number serving each geometry axis (0 = none)",
+                                "[control]", "", 0, 20, 3)
+AXCONF_GEOAX_NAME_TAB = MdDef(20060, "AXCONF_GEOAX_NAME_TAB", C, STR, ("X", "Y", "Z"),
+                              "names of the geometry axes in the channel", "[control]", length=3)
+AXCONF_MACHAX_USED = MdDef(20070, "AXCONF_MACHAX_USED", C, INT, (1, 2, 3, 4) + (0,) * 16,
+                           "machine axis number of each channel axis (0 = none); the loader sets it from"
+                           " the channel's axes list", "seed 003 L22075-22082; [control] default", "",
+                           0, 31, 20)
+AXCONF_CHANAX_NAME_TAB = MdDef(20080, "AXCONF_CHANAX_NAME_TAB", C, STR, ("",) * 20,
+                               "names of the channel axes used in part programs; empty = the machine axis"
+                               " name (project convention)", "[control]", length=20)
+SPIND_DEF_MASTER_SPIND = MdDef(20090, "SPIND_DEF_MASTER_SPIND", C, INT, 1,
+                               "default master spindle of the channel", "seed 003 L20340-20345", "", 0, 20)
+SPIND_ASSIGN_TAB_ENABLE = MdDef(20092, "SPIND_ASSIGN_TAB_ENABLE", C, BOOL, False,
+                                "enable the logical-to-physical spindle converter (SD42800)",
+                                "seed 003 L20190-20198; [control] default")
+SPIND_RIGID_TAPPING_M_NR = MdDef(20094, "SPIND_RIGID_TAPPING_M_NR", C, INT, 70,
+                                 "M function that switches the spindle to axis mode",
+                                 "seed 003 L17177-17181; [control] default M70", "", 0, 2_147_483_647)
+RESET_MODE_MASK = MdDef(20110, "RESET_MODE_MASK", C, INT, 0x1,
+                        "basic settings after reset / program end (bit mask); bit 0 = 1: reset behaviour"
+                        " of the other bits active, bit 10: programmed coupling kept (1) or cancelled (0)",
+                        "seed 003 L22968-22981; [control] default", "", 0, 0x7FFFFFFF)
+START_MODE_MASK = MdDef(20112, "START_MODE_MASK", C, INT, 0x400,
+                        "basic settings at NC start (bit mask); bit 10: programmed coupling cancelled (1) or"
+                        " kept (0)", "seed 003 L22954-22956; [control] default", "", 0, 0x7FFFFFFF)
+REFP_NC_START_LOCK = MdDef(20700, "REFP_NC_START_LOCK", C, INT, 1,
+                           "NC start disabled without reference point: 0 = allowed, 1 = disabled,"
+                           " 2 = allowed with restored positions in MDA and overstore",
+                           "seed 003 L2218-2231, L2726-2752; [control] default 1", "", 0, 2,
+                           allowed=(0, 1, 2))
+SPOS_TO_VDI = MdDef(20850, "SPOS_TO_VDI", C, INT, 0,
+                    "bit 0 = 1: SPOS/SPOSA output the auxiliary function M19 to the PLC",
+                    "seed 003 L16406-16420; [control] default", "", 0, 1)
+LIFTFAST_DIST = MdDef(21200, "LIFTFAST_DIST", C, FLOAT, 0.1,
+                      "default retract distance of fast retraction (LFON); DILF overrides it until reset",
+                      "seed 003 L8266-8273, L8398; [control] default", "mm", 0.0, 1.0e6)
+COUPLE_AXIS_1 = MdDef(21300, "COUPLE_AXIS_1", C, INT, (0, 0),
+                      "machine axis numbers of the configured synchronous spindle pair: [0] = following,"
+                      " [1] = leading spindle; 0 = no configured pair",
+                      "seed 003 L22869-22881, L21887-21893; [control] default", "", 0, 31, 2)
+COUPLING_MODE_1 = MdDef(21310, "COUPLING_MODE_1", C, INT, 1,
+                        "coupling type of the configured pair: 0 = actual value (AV), 1 = setpoint (DV),"
+                        " 2 = velocity (VV)", "seed 003 L22900-22906; [control] coding and default", "", 0, 2,
+                        allowed=(0, 1, 2))
+COUPLE_BLOCK_CHANGE_CTRL_1 = MdDef(21320, "COUPLE_BLOCK_CHANGE_CTRL_1", C, INT, 1,
+                                   "block change after COUPON: 0 = immediately, 1 = synchronism fine,"
+                                   " 2 = synchronism coarse, 3 = setpoint synchronism (IPOSTOP)",
+                                   "seed 003 L22883-22897; [control] coding and default", "", 0, 3,
+                                   allowed=(0, 1, 2, 3))
+COUPLE_RESET_MODE_1 = MdDef(21330, "COUPLE_RESET_MODE_1", C, INT, 0x1,
+                            "configured pair at NC start / reset (bit mask): bit 0 cancel at NC start,"
+                            " bit 1 cancel at reset, bit 5/6 activate configured data, bit 9 activate at"
+                            " NC start",
+                            "seed 003 L22908-22912, L22946-22975; [control] default", "", 0, 0x3FF)
+COUPLE_IS_WRITE_PROT_1 = MdDef(21340, "COUPLE_IS_WRITE_PROT_1", C, BOOL, False,
+                               "COUPDEF may not change ratio, type and block change of the configured pair",
+                               "seed 003 L21986-21991; [control] default")
+ESR_DELAY_TIME1 = MdDef(21380, "ESR_DELAY_TIME1", C, FLOAT, 0.0,
+                        "NC-controlled stop: time the path interpolation continues after the ESR trigger",
+                        "seed 003 L42152-42154; [control] default", "s", 0.0, 1.0e3)
+ESR_DELAY_TIME2 = MdDef(21381, "ESR_DELAY_TIME2", C, FLOAT, 0.04,
+                        "NC-controlled stop: braking time after MD21380",
+                        "seed 003 L42156; [control] default",
+                        "s", 0.0, 1.0e3)
+
+# ---------------------------------------------------------------------------------- axis
+IS_ROT_AX = MdDef(30300, "IS_ROT_AX", A, BOOL, False, "rotary axis / spindle", "[control]")
+ROT_IS_MODULO = MdDef(30310, "ROT_IS_MODULO", A, BOOL, False, "modulo conversion for a rotary axis",
+                      "seed 003 L2826-2827")
+MODULO_RANGE = MdDef(30330, "MODULO_RANGE", A, FLOAT, 360.0, "size of the modulo range",
+                     "seed 003 L1662-1663",
+                     "deg", 1.0, 360000.0)
+ENC_TYPE = MdDef(30240, "ENC_TYPE", A, INT, 1, "encoder type: 0 = simulated, 1 = incremental, 4 = absolute",
+                 "seed 003 L2363-2365, L5881-5883", "", 0, 4, allowed=(0, 1, 4))
+ENC_RESOL = MdDef(31020, "ENC_RESOL", A, INT, 2048, "encoder lines per revolution", "seed 003 L2533", "",
+                  1, 10_000_000)
+LEADSCREW_PITCH = MdDef(31030, "LEADSCREW_PITCH", A, FLOAT, 10.0,
+                        "leadscrew pitch: travel per leadscrew revolution", "[control]", "mm",
+                        0.001, 10_000.0)
+ENC_IS_DIRECT = MdDef(31040, "ENC_IS_DIRECT", A, BOOL, False,
+                      "encoder mounted directly on the machine (0 = motor encoder)", "seed 003 L16884-16888")
+DRIVE_AX_RATIO_DENOM = MdDef(31050, "DRIVE_AX_RATIO_DENOM", A, INT, (1,) * 6,
+                             "load gearbox denominator (load revolutions) per parameter set",
+                             "seed 003 L19022-19034", "", -2_147_000_000, 2_147_000_000, 6)
+DRIVE_AX_RATIO_NUMERA = MdDef(31060, "DRIVE_AX_RATIO_NUMERA", A, INT, (1,) * 6,
+                              "load gearbox numerator (motor revolutions) per parameter set",
+                              "seed 003 L19022-19034", "", -2_147_000_000, 2_147_000_000, 6)
+MAX_AX_VELO = MdDef(32000, "MAX_AX_VELO", A, FLOAT, 10000.0, "maximum axis velocity",
+                    "seed 003 L8340-8349, L21166-21168; [control] default", "mm/min", 0.0, 1.0e7)
+JOG_VELO_RAPID = MdDef(32010, "JOG_VELO_RAPID", A, FLOAT, 10000.0, "rapid traverse in JOG", "[control]",
+                       "mm/min", 0.0, 1.0e7)
+JOG_VELO = MdDef(32020, "JOG_VELO", A, FLOAT, 2000.0, "JOG velocity", "[control]", "mm/min", 0.0, 1.0e7)
+POSCTRL_GAIN = MdDef(32200, "POSCTRL_GAIN", A, FLOAT, _repeat(16.667, 6),
+                     "servo gain factor Kv per parameter set (16.667/s = 1 (m/min)/mm)", "[control]",
+                     "1/s", 0.0, 2000.0, 6)
+MAX_AX_ACCEL = MdDef(32300, "MAX_AX_ACCEL", A, FLOAT, _repeat(1.0, 5), "maximum axis acceleration",
+                     "seed 003 L8340-8349; [control] default", "m/s^2", 0.001, 1000.0, 5)
+AX_JERK_ENABLE = MdDef(32400, "AX_JERK_ENABLE", A, BOOL, False,
+                       "axial jerk limitation: filter on the position setpoint", "[control]")
+AX_JERK_MODE = MdDef(32402, "AX_JERK_MODE", A, INT, 2,
+                     "kind of axial jerk filter: 1 = 2nd order filter, 2 = moving average", "[control]", "",
+                     1, 2, allowed=(1, 2))
+AX_JERK_TIME = MdDef(32410, "AX_JERK_TIME", A, FLOAT, 0.016, "time constant of the axial jerk filter",
+                     "[control]", "s", 0.0, 0.2)
+MAX_AX_JERK = MdDef(32431, "MAX_AX_JERK", A, FLOAT, _repeat(1000.0, 5),
+                    "maximum axial jerk for path motion with SOFT", "seed 003 L8340-8349; [control] default",
+                    "m/s^3", 0.001, 1.0e6, 5)
+VELO_FFW_WEIGHT = MdDef(32610, "VELO_FFW_WEIGHT", A, FLOAT, _repeat(1.0, 6),
+                        "feedforward weighting factor", "[control]", "", 0.0, 1.2, 6)
+FFW_MODE = MdDef(32620, "FFW_MODE", A, INT, 1, "feedforward: 0 = off, 1 = speed feedforward,"
+                 " 3 = speed feedforward with symmetrising", "seed 003 L17265-17268, L22997-23006",
+                 "", 0, 4, allowed=(0, 1, 2, 3, 4))
+EQUIV_SPEEDCTRL_TIME = MdDef(32810, "EQUIV_SPEEDCTRL_TIME", A, FLOAT, _repeat(0.004, 6),
+                             "equivalent time constant of the closed speed control loop",
+                             "seed 003 L23700-23721; [control] default", "s", 0.0, 1.0, 6)
+SPIND_ASSIGN_TO_MACHAX = MdDef(35000, "SPIND_ASSIGN_TO_MACHAX", A, INT, 0,
+                               "spindle number of the machine axis (0 = not a spindle)",
+                               "seed 003 L20186-20188", "", 0, 20)
+STOP_LIMIT_COARSE = MdDef(36000, "STOP_LIMIT_COARSE", A, FLOAT, 0.04, "exact stop coarse window",
+                          "seed 003 L21210-21240; [control] default", "mm", 0.0, 1.0e6)
+STOP_LIMIT_FINE = MdDef(36010, "STOP_LIMIT_FINE", A, FLOAT, 0.01, "exact stop fine window",
+                        "seed 003 L21210-21240; [control] default", "mm", 0.0, 1.0e6)
+POSITIONING_TIME = MdDef(36020, "POSITIONING_TIME", A, FLOAT, 1.0,
+                         "delay for exact stop fine at the end of a motion (then alarm 25080)",
+                         "[control]", "s", 0.0, 1.0e5)
+STANDSTILL_POS_TOL = MdDef(36030, "STANDSTILL_POS_TOL", A, FLOAT, 0.2, "standstill tolerance (alarm 25040)",
+                           "[control]", "mm", 0.0, 1.0e6)
+STANDSTILL_DELAY_TIME = MdDef(36040, "STANDSTILL_DELAY_TIME", A, FLOAT, 0.4,
+                              "delay before standstill monitoring starts", "[control]", "s", 0.0, 1.0e5)
+STANDSTILL_VELO_TOL = MdDef(36060, "STANDSTILL_VELO_TOL", A, FLOAT, 0.2,
+                            "maximum velocity for 'axis/spindle stationary'", "seed 003 L20780-20787;"
+                            " [control] default", "mm/min", 0.0, 1.0e6)
+POS_LIMIT_MINUS = MdDef(36100, "POS_LIMIT_MINUS", A, FLOAT, -1.0e8, "1st software limit switch minus",
+                        "[control]", "mm", -1.0e9, 1.0e9)
+POS_LIMIT_PLUS = MdDef(36110, "POS_LIMIT_PLUS", A, FLOAT, 1.0e8, "1st software limit switch plus",
+                       "[control]", "mm", -1.0e9, 1.0e9)
+CONTOUR_TOL = MdDef(36400, "CONTOUR_TOL", A, FLOAT, 1.0, "tolerance band of contour monitoring (alarm 25050)",
+                    "[control]", "mm", 0.0, 1.0e6)
+BRAKE_MODE_CHOICE = MdDef(36600, "BRAKE_MODE_CHOICE", A, INT, 0,
+                          "braking at a hardware limit switch: 0 = braking ramp, 1 = rapid stop", "[control]",
+                          "", 0, 1, allowed=(0, 1))
+AX_EMERGENCY_STOP_TIME = MdDef(36610, "AX_EMERGENCY_STOP_TIME", A, FLOAT, 0.05,
+                               "braking ramp time for error states (rapid stop)", "[control]", "s",
+                               0.0, 1.0e3)
+SERVO_DISABLE_DELAY_TIME = MdDef(36620, "SERVO_DISABLE_DELAY_TIME", A, FLOAT, 0.1,
+                                 "delay before the controller enable is removed after a rapid stop",
+                                 "[control]", "s", 0.0, 1.0e3)
+
+# ---------------------------------------------------------------------------------- axis: encoder
+# Encoder-specific data (the control's [n] = measuring system 1/2) are modelled for measuring
+# system 1 only, as scalars, like MD30240 ENC_TYPE above.
+ENC_IS_INDEPENDENT = MdDef(30242, "ENC_IS_INDEPENDENT", A, INT, 0,
+                           "encoder independence: 0 = not independent, 1 = independent, 2 = passive encoder"
+                           " compensated from the active one, 3 = passive distance-coded encoder referenced"
+                           " automatically", "seed 003 L1757-1762, L5931-5943; [control] default", "", 0, 3,
+                           allowed=(0, 1, 2, 3))
+ACT_POS_ABS = MdDef(30250, "ACT_POS_ABS", A, FLOAT, 0.0,
+                    "absolute encoder position at switch-off (internal encoder position, normally written"
+                    " by the control)", "seed 003 L2022, L2366, L2462; [control] default", "", -1.0e9, 1.0e9)
+ENC_ABS_BUFFERING = MdDef(30270, "ENC_ABS_BUFFERING", A, INT, 0,
+                          "absolute encoder traversing range extension: 0 = active (default), 1 = off",
+                          "seed 003 L2377-2378, L2464", "", 0, 1, allowed=(0, 1))
+MISC_FUNCTION_MASK = MdDef(30455, "MISC_FUNCTION_MASK", A, INT, 0,
+                           "axis functions (bit mask): bit 1 modulo mapping of distance-coded reference,"
+                           " bit 4 feed stop acts on the FS only, bit 5 FS control parameters, bit 6 uniform"
+                           " FA/OVRA/ACC, bit 7 edge-triggered synchronism measurement",
+                           "seed 003 L1665-1672, L22391-22401, L23756-23797, L31462-31476; [control] default",
+                           "", 0, 0xFFFF)
+AXCONF_ASSIGN_MASTER_CHAN = MdDef(30550, "AXCONF_ASSIGN_MASTER_CHAN", A, INT, 0,
+                                  "master channel of the axis (0 = the channel whose axes list holds it);"
+                                  " axis-specific referencing runs in it",
+                                  "seed 003 L616-620, L22082; [control] default", "", 0, 10)
+ENC_IS_LINEAR = MdDef(31000, "ENC_IS_LINEAR", A, BOOL, False, "the measuring system is a linear scale",
+                      "seed 003 L2422-2424, L6291")
+BERO_DELAY_TIME_PLUS = MdDef(31122, "BERO_DELAY_TIME_PLUS", A, FLOAT, 0.000110,
+                             "BERO signal delay compensation, plus direction (spindle)",
+                             "seed 003 L18045-18068; [control] delivery value", "s", 0.0, 1.0)
+BERO_DELAY_TIME_MINUS = MdDef(31123, "BERO_DELAY_TIME_MINUS", A, FLOAT, 0.000078,
+                              "BERO signal delay compensation, minus direction (spindle)",
+                              "seed 003 L18045-18068; [control] delivery value", "s", 0.0, 1.0)
+
+# ---------------------------------------------------------------------------------- axis: referencing
+REFP_CAM_IS_ACTIVE = MdDef(34000, "REFP_CAM_IS_ACTIVE", A, BOOL, True,
+                           "axis with reference cam (0 = one zero mark in the whole range / per revolution)",
+                           "seed 003 L1022-1035, L1621-1633; [control] default")
+REFP_CAM_DIR_IS_MINUS = MdDef(34010, "REFP_CAM_DIR_IS_MINUS", A, BOOL, False,
+                              "reference point approach in minus direction (0 = plus): the traverse key that"
+                              " starts referencing and the phase-1 direction",
+                              "seed 003 L539-551, L1001-1003, L1092-1097; [control] default")
+REFP_VELO_SEARCH_CAM = MdDef(34020, "REFP_VELO_SEARCH_CAM", A, FLOAT, 5000.0,
+                             "reference point approach velocity (phase 1)",
+                             "seed 003 L1003, L1137; [control] default", "mm/min", 0.0, 1.0e7)
+REFP_MAX_CAM_DIST = MdDef(34030, "REFP_MAX_CAM_DIST", A, FLOAT, 10000.0,
+                          "maximum distance to the reference cam; the axis stops if no cam is found",
+                          "seed 003 L1046-1048; [control] default", "mm", 0.0, 1.0e8)
+REFP_VELO_SEARCH_MARKER = MdDef(34040, "REFP_VELO_SEARCH_MARKER", A, FLOAT, 300.0,
+                                "reference point creep velocity (phase 2 zero-mark search; BERO mode 7)",
+                                "seed 003 L1126, L1148, L1512-1513, L18062-18064; [control] default",
+                                "mm/min", 0.0, 1.0e7)
+REFP_SEARCH_MARKER_REVERSE = MdDef(34050, "REFP_SEARCH_MARKER_REVERSE", A, BOOL, False,
+                                   "direction reversal on the cam: 0 = sync on the falling cam edge,"
+                                   " 1 = on the rising edge", "seed 003 L1086-1107; [control] default")
+REFP_MAX_MARKER_DIST = MdDef(34060, "REFP_MAX_MARKER_DIST", A, FLOAT, 20.0,
+                             "maximum distance to the zero mark (phase 2); the axis stops if none is found",
+                             "seed 003 L1262-1264, L1566-1568, L16912-16915, L2446; [control] default",
+                             "mm", 0.0, 1.0e8)
+REFP_VELO_POS = MdDef(34070, "REFP_VELO_POS", A, FLOAT, 10000.0,
+                      "reference point positioning velocity (phase 3)",
+                      "seed 003 L1303-1305, L1605; [control] default", "mm/min", 0.0, 1.0e7)
+REFP_MOVE_DIST = MdDef(34080, "REFP_MOVE_DIST", A, FLOAT, 2.0,
+                       "reference point distance: zero mark to reference point"
+                       " (distance-coded: target point)",
+                       "seed 003 L1307-1311, L18020; [control] default", "mm", -1.0e8, 1.0e8)
+REFP_MOVE_DIST_CORR = MdDef(34090, "REFP_MOVE_DIST_CORR", A, FLOAT, 0.0,
+                            "reference point offset; absolute encoder: machine zero to encoder zero",
+                            "seed 003 L1311, L1400-1444, L2066-2068; [control] default", "mm", -1.0e9, 1.0e9)
+REFP_CAM_SHIFT = MdDef(34092, "REFP_CAM_SHIFT", A, FLOAT, 0.0,
+                       "electronic reference cam shift in zero-mark search direction (only with MD34000 = 1)",
+                       "seed 003 L1159-1189, L15747; [control] default", "mm", 0.0, 1.0e6)
+REFP_CAM_MARKER_DIST = MdDef(34093, "REFP_CAM_MARKER_DIST", A, FLOAT, 0.0,
+                             "measured distance from leaving the cam to the zero mark (the control writes it"
+                             " during referencing)", "seed 003 L1239-1246", "mm", read_only=True)
+REFP_SET_POS = MdDef(34100, "REFP_SET_POS", A, FLOAT, _repeat(0.0, 4),
+                     "reference point value n, selected by DB31.DBX2.4..2.7",
+                     "seed 003 L1316-1322, L2132, L2271-2274; [control] default", "mm", -1.0e9, 1.0e9, 4)
+REFP_SYNC_ENCS = MdDef(34102, "REFP_SYNC_ENCS", A, BOOL, False,
+                       "compensate the other measuring system after referencing",
+                       "seed 003 L1709-1713, L1749; [control] default")
+REFP_PERMITTED_IN_FOLLOWUP = MdDef(34104, "REFP_PERMITTED_IN_FOLLOWUP", A, BOOL, False,
+                                   "referencing permitted in follow-up mode",
+                                   "seed 003 L1843-1845; [control] default")
+REFP_CYCLE_NR = MdDef(34110, "REFP_CYCLE_NR", A, INT, 1,
+                      "order in channel-specific referencing: -1 = not needed for NC start, 0 = does not take"
+                      " part, 1..15 = sequence number (equal numbers together)",
+                      "seed 003 L667-683, L2750; [control] default", "", -1, 15)
+ENC_REFP_MODE = MdDef(34200, "ENC_REFP_MODE", A, INT, 1,
+                      "referencing mode: 0 = take over the reference value (absolute encoder), 1 = zero mark,"
+                      " 2/7 = spindle BERO, 3 = distance-coded, 4 = [GAP], 8 = distance-coded with 4 marks",
+                      "seed 003 L928-930, L1448-1462, L18060-18070, L2379-2380; [control] default", "", 0, 8,
+                      allowed=(0, 1, 2, 3, 4, 7, 8))
+ENC_REFP_STATE = MdDef(34210, "ENC_REFP_STATE", A, INT, 0,
+                       "absolute encoder: 0 = not calibrated, 1 = calibration enabled, 2 = calibrated;"
+                       " incremental: 1..3 = automatic referencing / restoring (see seed)",
+                       "seed 003 L1970-1978, L2653-2742; [control] default", "", 0, 3)
+ENC_ABS_TURNS_MODULO = MdDef(34220, "ENC_ABS_TURNS_MODULO", A, INT, 4096,
+                             "absolute encoder modulo range in revolutions (e.g. EQN 1325: 4096)",
+                             "seed 003 L2390-2392, L2814-2836; [control] default", "", 1, 100_000)
+ENC_REFP_MARKER_DIST = MdDef(34300, "ENC_REFP_MARKER_DIST", A, FLOAT, 20.0,
+                             "reference mark spacing of a distance-coded scale",
+                             "seed 003 L1550-1561; [control] default", "mm", 0.0, 1.0e6)
+ENC_INVERS = MdDef(34320, "ENC_INVERS", A, BOOL, False,
+                   "length measuring system runs opposite to the machine coordinate system",
+                   "seed 003 L1404-1407, L1431-1437; [control] default")
+REFP_STOP_AT_ABS_MARKER = MdDef(34330, "REFP_STOP_AT_ABS_MARKER", A, BOOL, True,
+                                "distance-coded / absolute: 0 = travel to the reference position MD34100,"
+                                " 1 = referencing ends without travel",
+                                "seed 003 L1591-1599, L2331-2343; [control] default")
+
+# ---------------------------------------------------------------------------------- axis: spindle
+# Gear-stage arrays have 6 indices as on the control: index n = gear stage n, index 0 = gear
+# stage 0 / axis mode.  Speeds in rev/min, accelerations in rev/s^2, positions in degrees.
+GEAR_STEP_CHANGE_ENABLE = MdDef(35010, "GEAR_STEP_CHANGE_ENABLE", A, INT, 0,
+                                "gear-stage change (bits): 0 = fixed ratio of gear stage 1; bit 0 = up to 5"
+                                " stages, change with oscillation; bit 1 = change at the position MD35012;"
+                                " bit 3 = simulate the NC/PLC gear-change dialog; bit 5 = 2nd data set for"
+                                " G331/G332", "seed 003 L18245-18276, L19537, L19803", "", 0, 0x3F)
+GEAR_STEP_CHANGE_POSITION = MdDef(35012, "GEAR_STEP_CHANGE_POSITION", A, FLOAT, _repeat(0.0, 6),
+                                  "gear-change position per gear stage (approached with the current gear)",
+                                  "seed 003 L18219, L19661-19664; [control] default", "deg", 0.0, 360.0, 6)
+GEAR_STEP_USED_IN_AXISMODE = MdDef(35014, "GEAR_STEP_USED_IN_AXISMODE", A, INT, 0,
+                                   "gear stage engaged on M70: 0 = keep the current gear,"
+                                   " 1..5 = change to it",
+                                   "seed 003 L19007-19017, L19886-19891", "", 0, 5)
+SPIND_DEFAULT_MODE = MdDef(35020, "SPIND_DEFAULT_MODE", A, INT, 0,
+                           "spindle initial setting: 0 = speed control without position control, 1 = speed"
+                           " control with position control, 2 = positioning mode, 3 = axis mode",
+                           "seed 003 L17577-17598; [control] default", "", 0, 3, allowed=(0, 1, 2, 3))
+SPIND_DEFAULT_ACT_MASK = MdDef(35030, "SPIND_DEFAULT_ACT_MASK", A, INT, 0,
+                               "when MD35020 takes effect: 0 = power-on, 1 = also at program start,"
+                               " 2 = also at reset (M2/M30)", "seed 003 L17600-17608; [control] default",
+                               "", 0, 2, allowed=(0, 1, 2))
+SPIND_FUNCTION_MASK = MdDef(35035, "SPIND_FUNCTION_MASK", A, INT, 0,
+                            "spindle functions (bits): 0/1 suppress gear change in dry run / program test,"
+                            " 2 catch up in REPOS, 4/5/8/10 setting data use, 12 override in zero-mark"
+                            " search,"
+                            " 19/20 implicit M19/M70 output, 22 invertM3M4 off for G331/G332",
+                            "seed 003 L19956-19993, L20100-20172, L16421-16430, L17465-17475;"
+                            " [control] default",
+                            "", 0, 0x7FFFFF)
+SPIND_ACTIVE_AFTER_RESET = MdDef(35040, "SPIND_ACTIVE_AFTER_RESET", A, INT, 0,
+                                 "own spindle reset: 0 = brake at reset/M2/M30, 1 = keep speed and direction",
+                                 "seed 003 L16196-16214; [control] default", "", 0, 1, allowed=(0, 1))
+NUM_GEAR_STEPS = MdDef(35090, "NUM_GEAR_STEPS", A, INT, 5, "number of gear stages",
+                       "seed 003 L18205-18211; [control] default", "", 1, 5)
+NUM_GEAR_STEPS2 = MdDef(35092, "NUM_GEAR_STEPS2", A, INT, 0, "gear stages of the 2nd data set (0 = off)",
+                        "seed 003 L18422-18427", "", 0, 5)
+SPIND_VELO_LIMIT = MdDef(35100, "SPIND_VELO_LIMIT", A, FLOAT, 10000.0,
+                         "maximum spindle speed (chuck protection), monitored on the actual value",
+                         "seed 003 L20932-20963; [control] default", "rev/min", 0.0, 1.0e6)
+GEAR_STEP_MAX_VELO = MdDef(35110, "GEAR_STEP_MAX_VELO", A, FLOAT,
+                           (500.0, 500.0, 1000.0, 2000.0, 4000.0, 8000.0),
+                           "upper switching threshold of automatic gear selection (M40) per gear stage",
+                           "seed 003 L18221, L21285-21288; [control] defaults", "rev/min", 0.0, 1.0e6, 6)
+GEAR_STEP_MAX_VELO2 = MdDef(35112, "GEAR_STEP_MAX_VELO2", A, FLOAT,
+                            (500.0, 500.0, 1000.0, 2000.0, 4000.0, 8000.0),
+                            "as MD35110 for the 2nd gear-stage data set",
+                            "seed 003 L18444; [control] defaults",
+                            "rev/min", 0.0, 1.0e6, 6)
+GEAR_STEP_MIN_VELO = MdDef(35120, "GEAR_STEP_MIN_VELO", A, FLOAT, (50.0, 50.0, 400.0, 800.0, 1500.0, 3000.0),
+                           "lower switching threshold of automatic gear selection (M40) per gear stage",
+                           "seed 003 L18222, L21292-21306; [control] defaults", "rev/min", 0.0, 1.0e6, 6)
+GEAR_STEP_MIN_VELO2 = MdDef(35122, "GEAR_STEP_MIN_VELO2", A, FLOAT,
+                            (50.0, 50.0, 400.0, 800.0, 1500.0, 3000.0),
+                            "as MD35120 for the 2nd gear-stage data set",
+                            "seed 003 L18445; [control] defaults",
+                            "rev/min", 0.0, 1.0e6, 6)
+GEAR_STEP_MAX_VELO_LIMIT = MdDef(35130, "GEAR_STEP_MAX_VELO_LIMIT", A, FLOAT,
+                                 (500.0, 500.0, 1000.0, 2000.0, 4000.0, 8000.0),
+                                 "maximum speed of the gear stage (setpoint clamped, DB31.DBX83.1)",
+                                 "seed 003 L18224, L20903-20910; [control] defaults", "rev/min",
+                                 0.0, 1.0e6, 6)
+GEAR_STEP_PC_MAX_VELO_LIMIT = MdDef(35135, "GEAR_STEP_PC_MAX_VELO_LIMIT", A, FLOAT, _repeat(0.0, 6),
+                                    "maximum speed of the gear stage in position control (0 = from MD35130)",
+                                    "seed 003 L18226-18228; [control] default", "rev/min", 0.0, 1.0e6, 6)
+GEAR_STEP_MIN_VELO_LIMIT = MdDef(35140, "GEAR_STEP_MIN_VELO_LIMIT", A, FLOAT,
+                                 (5.0, 5.0, 10.0, 20.0, 40.0, 80.0),
+                                 "minimum speed of the gear stage (setpoint raised, DB31.DBX83.2)",
+                                 "seed 003 L18230, L20875-20900; [control] defaults", "rev/min",
+                                 0.0, 1.0e6, 6)
+SPIND_DES_VELO_TOL = MdDef(35150, "SPIND_DES_VELO_TOL", A, FLOAT, 0.1,
+                           "spindle speed tolerance factor for 'speed reached' (0.1 = +-10 %, 0 = always)",
+                           "seed 003 L20840-20858, L1109-1115; [control] default", "", 0.0, 1.0)
+GEAR_STEP_SPEEDCTRL_ACCEL = MdDef(35200, "GEAR_STEP_SPEEDCTRL_ACCEL", A, FLOAT, _repeat(30.0, 6),
+                                  "acceleration in speed-control mode per gear stage",
+                                  "seed 003 L16175, L18232; [control] default", "rev/s^2", 0.001, 1.0e5, 6)
+GEAR_STEP_POSCTRL_ACCEL = MdDef(35210, "GEAR_STEP_POSCTRL_ACCEL", A, FLOAT, _repeat(30.0, 6),
+                                "acceleration in position-control mode per gear stage",
+                                "seed 003 L16192, L18234; [control] default", "rev/s^2", 0.001, 1.0e5, 6)
+GEAR_STEP_POSCTRL_ACCEL2 = MdDef(35212, "GEAR_STEP_POSCTRL_ACCEL2", A, FLOAT, _repeat(30.0, 6),
+                                 "as MD35210 for the 2nd gear-stage data set",
+                                 "seed 003 L18447-18449; [control] default", "rev/s^2", 0.001, 1.0e5, 6)
+SPIND_POSCTRL_VELO = MdDef(35300, "SPIND_POSCTRL_VELO", A, FLOAT, _repeat(500.0, 6),
+                           "position-control activation speed = maximum positioning speed per gear stage",
+                           "seed 003 L16639-16645, L18239, L2541-2545; [control] default", "rev/min",
+                           0.0, 1.0e6, 6)
+SPIND_POSIT_DELAY_TIME = MdDef(35310, "SPIND_POSIT_DELAY_TIME", A, FLOAT, (0.0, 0.05, 0.1, 0.2, 0.4, 0.8),
+                               "positioning delay per gear stage (wait at the gear-change position)",
+                               "seed 003 L18241, L19666-19675; [control] defaults", "s", 0.0, 1.0e3, 6)
+SPIND_POSITIONING_DIR = MdDef(35350, "SPIND_POSITIONING_DIR", A, INT, 3,
+                              "direction when positioning an unsynchronized spindle from standstill:"
+                              " 3 = M3 (clockwise), 4 = M4",
+                              "seed 003 L16904-16906, L19687-19689; [control] coding and default", "", 3, 4,
+                              allowed=(3, 4))
+SPIND_OSCILL_DES_VELO = MdDef(35400, "SPIND_OSCILL_DES_VELO", A, FLOAT, 500.0, "oscillation speed",
+                              "seed 003 L19222; [control] default", "rev/min", 0.0, 1.0e6)
+SPIND_OSCILL_ACCEL = MdDef(35410, "SPIND_OSCILL_ACCEL", A, FLOAT, 16.0, "oscillation acceleration",
+                           "seed 003 L19218; [control] default", "rev/s^2", 0.001, 1.0e5)
+SPIND_OSCILL_START_DIR = MdDef(35430, "SPIND_OSCILL_START_DIR", A, INT, 0,
+                               "oscillation start direction: 0..2 = opposite to the last direction of"
+                               " rotation, 3 = M3, 4 = M4", "seed 003 L19220; [control] coding and default",
+                               "", 0, 4)
+SPIND_OSCILL_TIME_CW = MdDef(35440, "SPIND_OSCILL_TIME_CW", A, FLOAT, 1.0, "oscillation time in M3 direction",
+                             "seed 003 L19226; [control] default", "s", 0.0, 1.0e3)
+SPIND_OSCILL_TIME_CCW = MdDef(35450, "SPIND_OSCILL_TIME_CCW", A, FLOAT, 0.5,
+                              "oscillation time in M4 direction",
+                              "seed 003 L19224; [control] default", "s", 0.0, 1.0e3)
+SPIND_ON_SPEED_AT_IPO_START = MdDef(35500, "SPIND_ON_SPEED_AT_IPO_START", A, INT, 1,
+                                    "feed enable only with the spindle at speed: 0 = off, 1 = path starts"
+                                    " when the set speed is reached, 2 = also stops at the last G0",
+                                    "seed 003 L16517-16540; [control] default", "", 0, 2, allowed=(0, 1, 2))
+SPIND_STOPPED_AT_IPO_START = MdDef(35510, "SPIND_STOPPED_AT_IPO_START", A, BOOL, False,
+                                   "with M5 the path feed waits until the spindle is stationary",
+                                   "seed 003 L16538-16540, L20792-20798; [control] default")
+DRILL_VELO_LIMIT = MdDef(35550, "DRILL_VELO_LIMIT", A, FLOAT, _repeat(10000.0, 6),
+                         "maximum speed for rigid tapping per gear stage",
+                         "seed 003 L18243, L18474-18477; [control] default", "rev/min", 0.0, 1.0e6, 6)
+PARAMSET_CHANGE_ENABLE = MdDef(35590, "PARAMSET_CHANGE_ENABLE", A, INT, 0,
+                               "parameter set selection: 0 = internal, 1 = internal and external"
+                               " (DB31.DBX9.0-2),"
+                               " 2 = external only", "seed 003 L18927-18958; [control] default", "", 0, 2,
+                               allowed=(0, 1, 2))
+ENC_FREQ_LIMIT = MdDef(36300, "ENC_FREQ_LIMIT", A, FLOAT, 300000.0, "encoder limit frequency",
+                       "seed 003 L2485-2499, L16733-16736; [control] default", "Hz", 0.0, 1.0e8)
+ENC_FREQ_LIMIT_LOW = MdDef(36302, "ENC_FREQ_LIMIT_LOW", A, FLOAT, 99.9,
+                           "encoder limit frequency for resynchronisation, in percent of MD36300",
+                           "seed 003 L2440-2443, L16733-16736; [control] unit and default", "%", 0.0, 100.0)
+
+# ---------------------------------------------------------------------------------- axis: coupling
+COUPLE_POS_TOL_COARSE = MdDef(37200, "COUPLE_POS_TOL_COARSE", A, FLOAT, 1.0,
+                              "threshold 'synchronism coarse' of AV/DV couplings (default of CPSYNCOP)",
+                              "seed 003 L22447-22452, L29651; [control] default", "deg", 0.0, 1.0e6)
+COUPLE_POS_TOL_COARSE_2 = MdDef(37202, "COUPLE_POS_TOL_COARSE_2", A, FLOAT, 0.0,
+                                "second coarse threshold (0 = monitoring off)", "seed 003 L29801-29808",
+                                "deg",
+                                0.0, 1.0e6)
+COUPLE_POS_TOL_FINE = MdDef(37210, "COUPLE_POS_TOL_FINE", A, FLOAT, 0.5,
+                            "threshold 'synchronism fine' of AV/DV couplings (default of CPSYNFIP)",
+                            "seed 003 L22454-22457, L29696; [control] default", "deg", 0.0, 1.0e6)
+COUPLE_POS_TOL_FINE_2 = MdDef(37212, "COUPLE_POS_TOL_FINE_2", A, FLOAT, 0.0,
+                              "second fine threshold (0 = monitoring off)", "seed 003 L29801-29808", "deg",
+                              0.0, 1.0e6)
+COUPLE_VELO_TOL_COARSE = MdDef(37220, "COUPLE_VELO_TOL_COARSE", A, FLOAT, 1.0,
+                               "velocity tolerance 'coarse' of VV couplings (default of CPSYNCOV)",
+                               "seed 003 L22452, L29711; [control] default", "rev/min", 0.0, 1.0e6)
+COUPLE_VELO_TOL_FINE = MdDef(37230, "COUPLE_VELO_TOL_FINE", A, FLOAT, 0.5,
+                             "velocity tolerance 'fine' of VV couplings (default of CPSYNFIV)",
+                             "seed 003 L22457, L29726; [control] default", "rev/min", 0.0, 1.0e6)
+EG_VEL_WARNING = MdDef(37550, "EG_VEL_WARNING", A, FLOAT, 90.0,
+                       "velocity/acceleration warning threshold of the following axis in percent of"
+                       " MD32000/MD32300 (DB31.DBX98.5/98.6)", "seed 003 L26518-26523; [control] default",
+                       "%", 0.0, 100.0)
+EG_ACC_TOL = MdDef(37560, "EG_ACC_TOL", A, FLOAT, 25.0,
+                   "acceleration threshold of the following axis in percent of MD32300 (DB31.DBX99.3)",
+                   "seed 003 L26525-26527; [control] default", "%", 0.0, 100.0)
+
+# ---------------------------------------------------------------------------------- axis: ESR
+ESR_REACTION = MdDef(37500, "ESR_REACTION", A, INT, 0,
+                     "extended stop and retract of the axis: 0 = none, 21 = NC-controlled retract,"
+                     " 22 = NC-controlled stop, 10/11/12 = drive-autonomous retract/stop/generator",
+                     "seed 003 L42144-42150, L11536-11552; [control] values 0, 10..12 and default", "", 0, 22,
+                     allowed=(0, 10, 11, 12, 21, 22))
+AX_ESR_DELAY_TIME1 = MdDef(37510, "AX_ESR_DELAY_TIME1", A, FLOAT, 0.0,
+                           "single-axis ESR: delay before braking (single axes only)",
+                           "seed 003 L11497-11503, L11544; [control] default", "s", 0.0, 1.0e3)
+AX_ESR_DELAY_TIME2 = MdDef(37511, "AX_ESR_DELAY_TIME2", A, FLOAT, 0.04, "single-axis ESR: braking time",
+                           "seed 003 L11501-11503, L11545; [control] default", "s", 0.0, 1.0e3)
+
+# ---------------------------------------------------------------------------------- index
+
+ALL_MACHINE_DATA: tuple[MdDef, ...] = tuple(
+    sorted((value for value in globals().values() if isinstance(value, MdDef)), key=lambda md: md.number)
+)
+BY_NUMBER: dict[int, MdDef] = {md.number: md for md in ALL_MACHINE_DATA}
+BY_NAME: dict[str, MdDef] = {md.name: md for md in ALL_MACHINE_DATA}
+
+_LEVEL_TEXT = {MdLevel.NCK: "general data", MdLevel.CHANNEL: "channel data", MdLevel.AXIS: "axis data"}
+
+
+def level_text(level: MdLevel) -> str:
+    """``channel data ($MC_)`` and the like, as messages describe a level."""
+    return f"{_LEVEL_TEXT[level]} ({level.prefix})"
+
+
+class MdKeyError(ValueError):
+    """A text that does not name a machine datum; the message says why."""
+
+
+@dataclass(frozen=True, slots=True)
+class MdKey:
+    """A machine datum as a file names it, with the array index if one was written."""
+
+    md: MdDef
+    index: int | None  # None = the whole datum (all indices of an array)
+
+    @property
+    def label(self) -> str:
+        return self.md.label if self.index is None else f"{self.md.label}[{self.index}]"
+
+
+_KEY = re.compile(
+    r"^(?:MD(?P<number>\d+)(?: (?:\$M(?P<number_level>[NCA])_)?(?P<number_name>[A-Z0-9_]+))?"
+    r"|(?P<bare_number>\d+)"
+    r"|(?:\$M(?P<level>[NCA])_)?(?P<name>[A-Z_][A-Z0-9_]*))"
+    r"(?: ?\[ ?(?P<index>[^\]]*?) ?\])?$"
+)
+
+KEY_FORMS = "MD32000, MD32000 MAX_AX_VELO, $MA_MAX_AX_VELO or MAX_AX_VELO, with [n] for one index of an array"
+
+
+def parse_md_key(key: str) -> MdKey:
+    """Resolve a machine datum key as machine and scenario files write it.
+
+    Accepted (case-insensitive): ``MD32000``, ``MD32000 MAX_AX_VELO``, ``MD32000 $MA_MAX_AX_VELO``,
+    ``32000``, ``$MA_MAX_AX_VELO``, ``MAX_AX_VELO``; each optionally followed by ``[n]`` to name
+    one index of an array datum.  Number and name must agree, a ``$Mx_`` prefix must match
+    the datum's level and an index must lie inside the array; otherwise :class:`MdKeyError`
+    says what is wrong.
+    """
+    normalized = re.sub(r"\s+", " ", str(key).strip())
+    match = _KEY.match(normalized.upper())
+    if match is None:
+        raise MdKeyError(f"'{key}' is not a machine datum (write {KEY_FORMS})")
+    number_text = match["number"] or match["bare_number"]
+    name = match["number_name"] or match["name"]
+    level = match["number_level"] or match["level"]
+    if number_text is not None:
+        md = BY_NUMBER.get(int(number_text))
+        if md is None:
+            raise MdKeyError(f"unknown machine datum MD{int(number_text)}")
+        if name is not None and name != md.name:
+            other = BY_NAME.get(name)
+            where = f" ({name} is MD{other.number})" if other is not None else ""
+            raise MdKeyError(f"MD{md.number} is {md.name}, not {name}{where}")
+    else:
+        assert name is not None
+        found = BY_NAME.get(name)
+        if found is None:
+            raise MdKeyError(f"unknown machine datum {name}")
+        md = found
+    if level is not None and level != md.level.value:
+        raise MdKeyError(f"{md.label} is {level_text(md.level)}, not $M{level}_")
+    index_text = None if match["index"] is None else normalized[match.start("index"):match.end("index")]
+    return MdKey(md, _index(md, index_text))
+
+
+def _index(md: MdDef, text: str | None) -> int | None:
+    if text is None:
+        return None
+    if not md.is_array:
+        raise MdKeyError(f"{md.label} is not an array; write it without [{text}]")
+    if not text.isdigit():
+        raise MdKeyError(f"{md.label}[{text}]: the index must be a whole number 0..{md.length - 1}")
+    index = int(text)
+    if index >= md.length:
+        raise MdKeyError(f"{md.label} has {md.length} values; index {index} is out of range")
+    return index
+
+
+def lookup(key: str) -> MdDef | None:
+    """The machine datum a key names, or None.
+
+    Takes every form of :func:`parse_md_key` *without* an index: a key with ``[n]`` gives None
+    here; use :func:`parse_md_key` where an index may be written (it returns the index
+    separately).
+    """
+    try:
+        parsed = parse_md_key(key)
+    except MdKeyError:
+        return None
+    return parsed.md if parsed.index is None else None

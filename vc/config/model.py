@@ -1,0 +1,116 @@
+"""A machine configuration, as loaded and checked from a machine YAML file.
+
+Frozen dataclasses: the NC core, the plant and the harness read them and never change
+them.  Machine data live in :class:`~vc.config.machine_data.MachineData` per level
+instance; what is not machine data of the control (where the simulated machine's cams,
+limit switches and zero marks physically are) lives in the ``sim`` and ``plant`` parts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from interfaces.plant_io import PlantIoMap
+from interfaces.signals import InterfaceLayout
+from vc.config.machine_data import MachineData
+from vc.config.md_dictionary import IPO_SYSCLOCK_TIME_RATIO, SYSCLOCK_CYCLE_TIME
+
+
+@dataclass(frozen=True, slots=True)
+class AxisSimulation:
+    """Physical facts of the simulated axis that the control does not know."""
+
+    start_position: float = 0.0  # where the slide stands at power-on (machine coordinates, mm or deg)
+    zero_mark_offset: float = 0.0  # physical position of one encoder zero mark
+
+
+@dataclass(frozen=True, slots=True)
+class AxisPlant:
+    """Switches mounted along the axis, in physical machine coordinates."""
+
+    ref_cam: tuple[float, float] | None = None  # the axis stands on the cam inside [start, end]
+    hw_limit_minus: float | None = None  # the minus limit switch is actuated at or below this position
+    hw_limit_plus: float | None = None  # the plus limit switch is actuated at or above this position
+
+
+@dataclass(frozen=True, slots=True)
+class AxisConfig:
+    name: str  # machine axis name (MD10000), also the interface instance name
+    number: int  # machine axis number, 1-based: interface DB(30 + number)
+    md: MachineData
+    is_rotary: bool  # MD30300 IS_ROT_AX
+    spindle_number: int  # MD35000 SPIND_ASSIGN_TO_MACHAX, 0 = not a spindle
+    sim: AxisSimulation = field(default_factory=AxisSimulation)
+    plant: AxisPlant = field(default_factory=AxisPlant)
+
+    @property
+    def is_spindle(self) -> bool:
+        return self.spindle_number > 0
+
+    @property
+    def db(self) -> int:
+        return 30 + self.number
+
+
+@dataclass(frozen=True, slots=True)
+class ChannelConfig:
+    name: str
+    number: int  # 1-based: interface DB(20 + number)
+    md: MachineData
+    axes: tuple[str, ...]  # machine axes of the channel (MD20070), in channel axis order
+    program_names: tuple[str, ...]  # channel axis names used in part programs (MD20080), same order
+    geometry_names: tuple[str, ...]  # names of the geometry axes (MD20060), e.g. ("X", "Y", "Z")
+    geometry_axes: tuple[str, ...]  # machine axis serving each geometry axis (MD20050), "" = none
+
+    @property
+    def db(self) -> int:
+        return 20 + self.number
+
+    def axis_for_program_name(self, name: str) -> str | None:
+        """The machine axis a part program means by ``name`` (geometry, channel or machine axis name)."""
+        for geometry_name, machine_axis in zip(self.geometry_names, self.geometry_axes, strict=True):
+            if name == geometry_name and machine_axis:
+                return machine_axis
+        for program_name, machine_axis in zip(self.program_names, self.axes, strict=True):
+            if name == program_name:
+                return machine_axis
+        return name if name in self.axes else None
+
+
+@dataclass(frozen=True, slots=True)
+class MachineConfig:
+    name: str
+    source: str  # the file it was loaded from
+    nck: MachineData
+    channels: tuple[ChannelConfig, ...]
+    axes: tuple[AxisConfig, ...]
+    plant_io: PlantIoMap
+    plc_cycle_ipo: int  # OB1 period in IPO cycles
+
+    @property
+    def layout(self) -> InterfaceLayout:
+        return InterfaceLayout(
+            channels=tuple(channel.name for channel in self.channels),
+            axes=tuple(axis.name for axis in self.axes),
+        )
+
+    def axis(self, name: str) -> AxisConfig:
+        for axis in self.axes:
+            if axis.name == name:
+                return axis
+        raise KeyError(name)
+
+    def channel(self, name: str) -> ChannelConfig:
+        for channel in self.channels:
+            if channel.name == name:
+                return channel
+        raise KeyError(name)
+
+
+def machine_ipo_cycle_us(config: MachineConfig) -> int:
+    """The IPO cycle in microseconds: MD10050 SYSCLOCK_CYCLE_TIME x MD10070 IPO_SYSCLOCK_TIME_RATIO.
+
+    The loader has checked that it is a whole number of microseconds.
+    """
+    seconds = config.nck.float(SYSCLOCK_CYCLE_TIME) * config.nck.int(IPO_SYSCLOCK_TIME_RATIO)
+    return round(seconds * 1_000_000)

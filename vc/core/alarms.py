@@ -1,0 +1,180 @@
+"""Alarms of the simulated control: values with a number, a text, where, and a reaction.
+
+A fault of the simulated machine is data, never an exception.  Each alarm number has a
+definition (text with %1.. parameters, reaction, how it is cleared) in ``ALARM_TEXTS``;
+the numbers and texts are those of the real control (the seed names few numbers; the
+others are marked ``[control]``).  The :class:`AlarmList` is the NCK's alarm memory: the
+NC core raises and clears alarms, the interface shows "alarm present" bits, scenarios
+assert on them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from enum import Flag, StrEnum, auto
+
+
+class Reaction(Flag):
+    """What the control does while the alarm is present."""
+
+    NONE = 0
+    STOP_AXES = auto()  # brake the axes of the channel (interpolation stop)
+    NC_START_DISABLED = auto()  # NC start is refused
+    READ_IN_DISABLED = auto()  # no further block is decoded
+    CHANNEL_INTERRUPT = auto()  # the running program is interrupted (NC stop)
+    RAPID_STOP = auto()  # axes stop with the rapid-stop ramp, then controller enable is removed
+    MODE_GROUP = auto()  # acts on every channel of the mode group
+
+
+class Clear(StrEnum):
+    """How the alarm goes away."""
+
+    RESET = "reset"  # channel or mode-group reset
+    CANCEL = "cancel"  # acknowledge key (or reset)
+    SELF = "self"  # disappears when its cause is gone
+    POWER_ON = "power_on"
+    EMERGENCY_STOP_ACK = "emergency_stop_ack"  # e-stop released, acknowledged and reset
+
+
+@dataclass(frozen=True, slots=True)
+class AlarmDefinition:
+    number: int
+    text: str  # with %1.. placeholders as on the control
+    reaction: Reaction
+    clear: Clear
+    source: str
+
+
+@dataclass(frozen=True, slots=True)
+class Alarm:
+    """One present alarm."""
+
+    number: int
+    text: str  # the text with its parameters filled in
+    reaction: Reaction
+    clear: Clear
+    channel: str = ""
+    axis: str = ""
+    raised_cycle: int = 0
+
+    def __str__(self) -> str:
+        return f"{self.number} {self.text}"
+
+
+_STOP = Reaction.STOP_AXES | Reaction.NC_START_DISABLED | Reaction.CHANNEL_INTERRUPT
+
+# Reaction bits as ints, for ``AlarmList.reactions`` in the cycle.
+STOP_AXES = Reaction.STOP_AXES.value
+NC_START_DISABLED = Reaction.NC_START_DISABLED.value
+CHANNEL_INTERRUPT = Reaction.CHANNEL_INTERRUPT.value
+
+ALARM_TEXTS: dict[int, AlarmDefinition] = {
+    definition.number: definition
+    for definition in (
+        AlarmDefinition(3000, "Emergency stop", Reaction.RAPID_STOP | _STOP | Reaction.MODE_GROUP,
+                        Clear.EMERGENCY_STOP_ACK, "[control]"),
+        AlarmDefinition(10203, "Channel %1 NC start without reference point (action=%2)",
+                        Reaction.NC_START_DISABLED, Clear.RESET, "seed 003 L2218-2231; [control] number"),
+        AlarmDefinition(10621, "Channel %1 axis %2 rests on software limit switch %3",
+                        Reaction.NONE, Clear.SELF, "[control]"),
+        AlarmDefinition(10720, "Channel %1 block %3 axis %2 software limit switch %4",
+                        _STOP | Reaction.READ_IN_DISABLED, Clear.RESET, "[control]"),
+        AlarmDefinition(10860, "Channel %1 block %2 feedrate not programmed", _STOP, Clear.RESET,
+                        "seed 003 L7841-7858"),
+        AlarmDefinition(12080, "Channel %1 block %2 syntax error in text %3", _STOP, Clear.RESET, "[control]"),
+        AlarmDefinition(12550, "Channel %1 block %2 name %3 not defined or option/function not available",
+                        _STOP, Clear.RESET, "[control]"),
+        AlarmDefinition(14800, "Channel %1 block %2 programmed path velocity is less than or equal to zero",
+                        _STOP, Clear.RESET, "seed 003 L7841-7858"),
+        AlarmDefinition(21612, "Channel %1 axis %2 VDI signal 'controller enable' reset during motion",
+                        _STOP | Reaction.RAPID_STOP, Clear.RESET, "[control]"),
+        AlarmDefinition(21614, "Channel %1 axis %2 hardware limit switch %3", _STOP, Clear.RESET, "[control]"),
+        AlarmDefinition(25040, "Axis %1 standstill monitoring", _STOP | Reaction.RAPID_STOP, Clear.RESET,
+                        "[control]"),
+        AlarmDefinition(25050, "Axis %1 contour monitoring", _STOP | Reaction.RAPID_STOP, Clear.RESET,
+                        "[control]"),
+        AlarmDefinition(25080, "Axis %1 positioning monitoring", _STOP | Reaction.RAPID_STOP, Clear.RESET,
+                        "[control]"),
+    )
+}
+
+
+def format_text(template: str, parameters: tuple[object, ...]) -> str:
+    text = template
+    for index, parameter in reversed(list(enumerate(parameters, start=1))):
+        text = text.replace(f"%{index}", str(parameter))
+    return text
+
+
+@dataclass(slots=True)
+class AlarmList:
+    """The alarms present in the NCK, in the order they were raised."""
+
+    present: list[Alarm] = field(default_factory=list)
+    history: list[Alarm] = field(default_factory=list)  # every alarm ever raised, for reports
+    version: int = 0  # counts changes of ``present``, so the interface is rewritten only on change
+    _reactions: dict[str | None, int] = field(default_factory=dict)  # per channel, valid for ``version``
+    _reactions_version: int = -1
+
+    def raise_alarm(
+        self, number: int, cycle: int, *parameters: object, channel: str = "", axis: str = ""
+    ) -> Alarm:
+        """Raise alarm ``number`` unless the same alarm is already present for the same place."""
+        for alarm in self.present:
+            if alarm.number == number and alarm.channel == channel and alarm.axis == axis:
+                return alarm
+        definition = ALARM_TEXTS[number]
+        alarm = Alarm(number, format_text(definition.text, parameters), definition.reaction,
+                      definition.clear, channel, axis, cycle)
+        self.present.append(alarm)
+        self.history.append(alarm)
+        self.version += 1
+        return alarm
+
+    def clear(self, number: int, *, channel: str | None = None, axis: str | None = None) -> None:
+        self._keep([
+            alarm for alarm in self.present
+            if not (alarm.number == number and (channel is None or alarm.channel == channel)
+                    and (axis is None or alarm.axis == axis))
+        ])
+
+    def clear_on(self, kinds: tuple[Clear, ...], channel: str | None = None) -> None:
+        """Clear every alarm whose clearing condition is one of ``kinds`` (reset, cancel ...)."""
+        self._keep([
+            alarm for alarm in self.present
+            if alarm.clear not in kinds or (channel is not None and alarm.channel not in ("", channel))
+        ])
+
+    def _keep(self, remaining: list[Alarm]) -> None:
+        if len(remaining) != len(self.present):
+            self.present = remaining
+            self.version += 1
+
+    def reactions(self, channel: str | None = None) -> int:
+        """The combined reactions of the alarms acting on ``channel`` (all alarms for None).
+
+        A plain int of ``Reaction`` bits: the cycle tests it with ``& STOP_AXES`` and the
+        like, and int operations cost far less than ``Flag`` operations.
+        """
+        if self._reactions_version != self.version:
+            self._reactions.clear()
+            self._reactions_version = self.version
+        cached = self._reactions.get(channel)
+        if cached is not None:
+            return cached
+        result = 0
+        for alarm in self.present:
+            if channel is None or alarm.channel in ("", channel) or Reaction.MODE_GROUP in alarm.reaction:
+                result |= alarm.reaction.value
+        self._reactions[channel] = result
+        return result
+
+    def __iter__(self) -> Iterator[Alarm]:
+        return iter(self.present)
+
+    def __len__(self) -> int:
+        return len(self.present)
+
+    def is_present(self, number: int, axis: str | None = None) -> bool:
+        return any(a.number == number and (axis is None or a.axis == axis) for a in self.present)

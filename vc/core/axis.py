@@ -1,0 +1,474 @@
+"""A machine axis or spindle: setpoint, position control loop, drive, encoder, monitoring.
+
+Per IPO cycle the axis gets a position setpoint from whoever owns its motion (the
+channel's path interpolation, JOG, a braking ramp), filters it (axial jerk filter where
+configured), closes the position loop (Kv, speed feedforward), moves the simulated drive
+(first-order lag with the equivalent speed-control time constant MD32810) and the slide,
+reads the encoder, monitors, and writes its DB31 status bits.
+
+Internal units: mm, mm/s, mm/s^2 for linear axes; degrees, deg/s, deg/s^2 for rotary
+axes and spindles.  Machine data come in the control's units (mm/min, rev/min, m/s^2).
+
+Motion owners (one at a time)::
+
+    NONE ──key held in JOG──▶ JOG ──key released, stopped──▶ NONE
+    NONE ──block with this axis──▶ PATH ──block end──▶ NONE
+    any ──e-stop, enable removed, hardware limit──▶ BRAKE ──standstill──▶ NONE
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import Enum
+
+from vc.config import md_dictionary as MD
+from vc.config.model import AxisConfig
+from vc.core.alarms import AlarmList
+from vc.core.encoder import Encoder
+from vc.core.interface_map import SignalTable
+from vc.core.motion import JerkFilter, ramp, stopping_velocity
+
+_TINY = 1e-9
+_RESOLUTION = 1e-6  # mm or degrees: far below the control's internal precision of 1 um
+
+
+class Owner(Enum):
+    NONE = "none"
+    JOG = "jog"
+    PATH = "path"
+    BRAKE = "brake"
+
+
+@dataclass(frozen=True, slots=True)
+class AxisDynamics:
+    """Limits and loop parameters in internal units (per second)."""
+
+    max_velocity: float
+    max_accel: float
+    jog_velocity: float
+    jog_rapid_velocity: float
+    rapid_stop_decel: float
+    kv: float
+    feedforward: float  # 0 = off, else weighting factor
+    drive_time_constant: float
+    coarse_window: float
+    fine_window: float
+    standstill_velocity: float
+    positioning_time: float
+    standstill_tolerance: float
+    standstill_delay: float
+    servo_disable_delay: float
+    limit_minus: float
+    limit_plus: float
+    brake_rapid_at_limit_switch: bool
+    display_velocity_factor: float  # internal per second -> mm/min or rev/min
+
+
+def dynamics_of(axis: AxisConfig) -> AxisDynamics:
+    md = axis.md
+    if axis.is_rotary:
+        velocity_unit = 6.0  # rev/min -> deg/s
+        accel_unit = 360.0  # rev/s^2 -> deg/s^2
+    else:
+        velocity_unit = 1.0 / 60.0  # mm/min -> mm/s
+        accel_unit = 1000.0  # m/s^2 -> mm/s^2
+    max_velocity = md.float(MD.MAX_AX_VELO) * velocity_unit
+    emergency_time = md.float(MD.AX_EMERGENCY_STOP_TIME)
+    max_accel = md.float(MD.MAX_AX_ACCEL, 0) * accel_unit
+    return AxisDynamics(
+        max_velocity=max_velocity,
+        max_accel=max_accel,
+        jog_velocity=min(md.float(MD.JOG_VELO) * velocity_unit, max_velocity),
+        jog_rapid_velocity=min(md.float(MD.JOG_VELO_RAPID) * velocity_unit, max_velocity),
+        rapid_stop_decel=max(max_velocity / emergency_time, max_accel) if emergency_time > 0 else math.inf,
+        kv=md.float(MD.POSCTRL_GAIN, 0),
+        feedforward=md.float(MD.VELO_FFW_WEIGHT, 0) if md.int(MD.FFW_MODE) else 0.0,
+        drive_time_constant=md.float(MD.EQUIV_SPEEDCTRL_TIME, 0),
+        coarse_window=md.float(MD.STOP_LIMIT_COARSE),
+        fine_window=md.float(MD.STOP_LIMIT_FINE),
+        standstill_velocity=md.float(MD.STANDSTILL_VELO_TOL) * velocity_unit,
+        positioning_time=md.float(MD.POSITIONING_TIME),
+        standstill_tolerance=md.float(MD.STANDSTILL_POS_TOL),
+        standstill_delay=md.float(MD.STANDSTILL_DELAY_TIME),
+        servo_disable_delay=md.float(MD.SERVO_DISABLE_DELAY_TIME),
+        limit_minus=md.float(MD.POS_LIMIT_MINUS),
+        limit_plus=md.float(MD.POS_LIMIT_PLUS),
+        brake_rapid_at_limit_switch=md.int(MD.BRAKE_MODE_CHOICE) == 1,
+        display_velocity_factor=1.0 / velocity_unit,
+    )
+
+
+class AxisSignals:
+    """Byte positions of the DB31 signals an axis reads and writes."""
+
+    def __init__(self, table: SignalTable):
+        self.feed_override = table.field("basic.out.feedrateOvrFactor")
+        self.disable = table.bit("basic.out.disable")
+        self.follow_up_mode = table.bit("basic.out.followUpMode")
+        self.override_active = table.bit("basic.out.enableOvr")
+        self.controller_enable = table.bit("basic.out.enableCtrl")
+        self.reset_movement = table.bit("basic.out.resetMovement")
+        self.feed_stop = table.bit("basic.out.feedStopSpindleStop")
+        self.rapid_key = table.bit("basic.out.enableRapidTravers")
+        self.key_minus = table.bit("basic.out.traversKeyMinus")
+        self.key_plus = table.bit("basic.out.traversKeyPlus")
+        self.hw_limit_minus = table.bit("basic.out.hwLimitSwitchMinus")
+        self.hw_limit_plus = table.bit("basic.out.hwLimitSwitchPlus")
+        self.pulse_enable = table.bit("drive.out.enablePulses")
+        self.spindle_mode = table.bit("basic.in.spindleModeActive")
+        self.referenced = table.bit("basic.in.enc1Synchronized")
+        self.exact_coarse = table.bit("basic.in.posCoarseReached")
+        self.exact_fine = table.bit("basic.in.posFineReached")
+        self.follow_up_active = table.bit("basic.in.followUpModeActive")
+        self.stationary = table.bit("basic.in.isStationary")
+        self.position_control = table.bit("basic.in.posCtrlActive")
+        self.disabled = table.bit("basic.in.disabled")
+        self.command_minus = table.bit("basic.in.traversMinusCommandActive")
+        self.command_plus = table.bit("basic.in.traversPlusCommandActive")
+        self.control_mode = table.bit("spindle.in.ctrlModeActive")
+
+
+@dataclass(slots=True)
+class AxisInputs:
+    """The PLC-to-NC signals of one axis, decoded when the PLC changed its outputs."""
+
+    controller_enable: bool = False
+    pulse_enable: bool = False
+    disable: bool = False
+    follow_up_mode: bool = False
+    override_active: bool = False
+    override_raw: int = 0
+    feed_stop: bool = False
+    rapid_key: bool = False
+    key_minus: bool = False
+    key_plus: bool = False
+    hw_limit_minus: bool = False
+    hw_limit_plus: bool = False
+    reset_movement: bool = False
+
+
+class MachineAxis:
+    """One machine axis or spindle of the simulated control."""
+
+    def __init__(self, config: AxisConfig, signals: AxisSignals, area: bytearray, dt: float, channel: str):
+        self.config = config
+        self.name = config.name
+        self.area_key = f"DB{config.db}"
+        self.channel = channel
+        self.dyn = dynamics_of(config)
+        self._signals = signals
+        self._area = area
+        self._dt = dt
+        self.inputs = AxisInputs()
+        self.physical = config.sim.start_position
+        self.encoder = Encoder.at_power_on(config, self.physical)
+        self.actual = self.encoder.actual(self.physical)
+        self.setpoint = self.actual  # interpolated position setpoint (before the jerk filter)
+        self.command_velocity = 0.0  # velocity of the interpolated setpoint, signed, per second
+        self.velocity = 0.0  # actual velocity of the slide, signed, per second
+        self._loop_setpoint = self.actual  # setpoint after the jerk filter
+        self._model_position = self.actual  # the setpoint as the drive can follow it (symmetrising)
+        self._model_velocity = 0.0
+        self._drive_velocity = 0.0
+        self.owner = Owner.NONE
+        self.servo_on = False
+        self.follow_up = False
+        self.override = 1.0
+        self._brake_decel = 0.0
+        self._servo_off_countdown = -1  # cycles until the controller enable is removed after a rapid stop
+        self._motion_end_cycle = 0  # cycles since the interpolator reached its end point
+        self._fine_reached = True
+        self.at_software_limit = 0  # -1 / +1 while resting on the minus / plus software limit switch
+        self.jerk_filter: JerkFilter | None = None
+        if config.md.bool(MD.AX_JERK_ENABLE):
+            self.jerk_filter = JerkFilter(config.md.int(MD.AX_JERK_MODE), config.md.float(MD.AX_JERK_TIME),
+                                          dt, self.actual)
+        self.resting = False  # at rest and no input changed since: the cycle may skip the axis
+        self._status: tuple[bool, ...] = ()  # the status bits last written
+        self.is_spindle = config.is_spindle
+
+    # ------------------------------------------------------------------ inputs
+    def decode_inputs(self) -> None:
+        area, sig, inp = self._area, self._signals, self.inputs
+        inp.controller_enable = bool(area[sig.controller_enable.byte] & sig.controller_enable.mask)
+        inp.pulse_enable = bool(area[sig.pulse_enable.byte] & sig.pulse_enable.mask)
+        inp.disable = bool(area[sig.disable.byte] & sig.disable.mask)
+        inp.follow_up_mode = bool(area[sig.follow_up_mode.byte] & sig.follow_up_mode.mask)
+        inp.override_active = bool(area[sig.override_active.byte] & sig.override_active.mask)
+        inp.override_raw = sig.feed_override.get(area)
+        inp.feed_stop = bool(area[sig.feed_stop.byte] & sig.feed_stop.mask)
+        inp.rapid_key = bool(area[sig.rapid_key.byte] & sig.rapid_key.mask)
+        inp.key_minus = bool(area[sig.key_minus.byte] & sig.key_minus.mask)
+        inp.key_plus = bool(area[sig.key_plus.byte] & sig.key_plus.mask)
+        inp.hw_limit_minus = bool(area[sig.hw_limit_minus.byte] & sig.hw_limit_minus.mask)
+        inp.hw_limit_plus = bool(area[sig.hw_limit_plus.byte] & sig.hw_limit_plus.mask)
+        inp.reset_movement = bool(area[sig.reset_movement.byte] & sig.reset_movement.mask)
+        self.resting = False
+
+    @property
+    def drive_ready(self) -> bool:
+        """Controller and pulse enable present: the axis can be moved under position control."""
+        return self.inputs.controller_enable and self.inputs.pulse_enable
+
+    @property
+    def referenced(self) -> bool:
+        return self.encoder.referenced
+
+    @property
+    def software_limits_active(self) -> bool:
+        return self.encoder.referenced and not self.is_spindle
+
+    @property
+    def following_error(self) -> float:
+        return self._loop_setpoint - self.actual
+
+    @property
+    def display_velocity(self) -> float:
+        return self.velocity * self.dyn.display_velocity_factor
+
+    @property
+    def at_rest(self) -> bool:
+        """No motion commanded and the setpoint has arrived."""
+        return self.owner is Owner.NONE and self.command_velocity == 0.0
+
+    # ------------------------------------------------------------------ motion owners
+    def take(self, owner: Owner) -> None:
+        self.owner = owner
+        self._motion_end_cycle = 0
+        self.resting = False
+
+    def release(self) -> None:
+        """The owner has finished: the setpoint stands still at its end point."""
+        self.owner = Owner.NONE
+        self.command_velocity = 0.0
+        self._motion_end_cycle = 0
+
+    def brake(self, decel: float | None = None) -> None:
+        """Stop the setpoint on a ramp, whatever owns the axis (e-stop, enable removed, limit switch)."""
+        self._brake_decel = self.dyn.max_accel if decel is None else decel
+        self.take(Owner.BRAKE)
+
+    def rapid_stop(self, then_servo_off: bool) -> None:
+        self.brake(self.dyn.rapid_stop_decel)
+        if then_servo_off and self._servo_off_countdown < 0:
+            self._servo_off_countdown = max(1, round(self.dyn.servo_disable_delay / self._dt))
+
+    def set_path_setpoint(self, position: float, velocity: float) -> None:
+        self.setpoint = position
+        self.command_velocity = velocity
+
+    def jog_cycle(self, allowed: bool, channel_feed_disable: bool) -> None:
+        """Continuous JOG with the traverse keys (level-triggered), one IPO cycle."""
+        inp = self.inputs
+        direction = 0
+        if allowed and inp.key_plus != inp.key_minus:
+            direction = 1 if inp.key_plus else -1
+            if (direction > 0 and inp.hw_limit_plus) or (direction < 0 and inp.hw_limit_minus):
+                direction = 0  # only away from an actuated limit switch
+            elif self.software_limits_active and self.owner is Owner.NONE and (
+                    (direction > 0 and self.setpoint >= self.dyn.limit_plus)
+                    or (direction < 0 and self.setpoint <= self.dyn.limit_minus)):
+                direction = 0  # resting on a software limit switch: only away from it
+        if direction and self.owner is Owner.NONE and self.drive_ready:
+            self.take(Owner.JOG)
+        if self.owner is not Owner.JOG:
+            return
+        speed = self.dyn.jog_rapid_velocity if inp.rapid_key else self.dyn.jog_velocity
+        stopped = inp.feed_stop or channel_feed_disable or not self.drive_ready
+        target = 0.0 if stopped else direction * speed * self.override
+        velocity = ramp(self.command_velocity, target, self.dyn.max_accel, self._dt)
+        if self.software_limits_active:
+            velocity = self._limit_to_software_limits(velocity)
+        self.command_velocity = velocity
+        self.setpoint += velocity * self._dt
+        if velocity == 0.0 and (direction == 0 or self.at_software_limit == direction):
+            self.release()  # stopped: key released, or resting on the software limit it points to
+
+    def _limit_to_software_limits(self, velocity: float) -> float:
+        """Brake so as to stop exactly on a software limit switch (JOG)."""
+        accel, dt = self.dyn.max_accel, self._dt
+        if velocity > 0.0:
+            remaining = self.dyn.limit_plus - self.setpoint
+            limit = stopping_velocity(remaining, accel, dt)
+            if velocity >= limit:
+                if remaining <= limit * dt + _TINY:
+                    self.setpoint = self.dyn.limit_plus
+                    self.at_software_limit = 1
+                    return 0.0
+                return limit
+        elif velocity < 0.0:
+            remaining = self.setpoint - self.dyn.limit_minus
+            limit = stopping_velocity(remaining, accel, dt)
+            if -velocity >= limit:
+                if remaining <= limit * dt + _TINY:
+                    self.setpoint = self.dyn.limit_minus
+                    self.at_software_limit = -1
+                    return 0.0
+                return -limit
+        return velocity
+
+    def _brake_cycle(self) -> None:
+        velocity = ramp(self.command_velocity, 0.0, self._brake_decel, self._dt)
+        self.command_velocity = velocity
+        self.setpoint += velocity * self._dt
+        if velocity == 0.0:
+            self.release()
+
+    # ------------------------------------------------------------------ control loop
+    def control_cycle(self, cycle: int, alarms: AlarmList) -> bool:
+        """Position loop, drive, encoder, monitoring and status bits for one IPO cycle.
+
+        Returns False when the axis was at rest and nothing changed (its outputs stand).
+        """
+        if self.owner is Owner.BRAKE:
+            self._brake_cycle()
+        if self.resting and self.command_velocity == 0.0 and self.owner is Owner.NONE:
+            return False
+        inp = self.inputs
+        self._update_servo_state(cycle, alarms)
+        dt = self._dt
+        if self.servo_on:
+            self._close_position_loop(dt)
+        else:
+            # No position control: the drive brakes on its own ramp and the slide stops.
+            self._drive_velocity = ramp(self._drive_velocity, 0.0, self.dyn.rapid_stop_decel, dt)
+        if inp.disable:
+            # Axis disable: the setpoints do not reach the drive; the NC shows the setpoint as actual value.
+            self._drive_velocity = 0.0
+            self.velocity = self.command_velocity
+            self.actual = self._loop_setpoint if self.servo_on else self.actual
+        else:
+            self.physical += self._drive_velocity * dt
+            self.velocity = self._drive_velocity
+            self.actual = self.encoder.actual(self.physical)
+        if not self.servo_on and self.follow_up:
+            self.setpoint = self._loop_setpoint = self._model_position = self.actual
+            self._model_velocity = 0.0
+            self.command_velocity = 0.0
+            if self.jerk_filter:
+                self.jerk_filter.reset(self.actual)
+        self._monitor(cycle, alarms)
+        self._write_outputs()
+        return True
+
+    def _close_position_loop(self, dt: float) -> None:
+        """Kv loop with speed feedforward; the drive is a first-order lag (MD32810).
+
+        With feedforward the setpoint is compared with the actual value only after the
+        same lag as the drive's (the control's symmetrising with MD32810), so the loop
+        corrects real deviations and not the drive's own delay: no overshoot at the end.
+        """
+        dyn = self.dyn
+        previous = self._loop_setpoint
+        target = self.setpoint
+        loop_setpoint = self.jerk_filter.apply(target) if self.jerk_filter else target
+        self._loop_setpoint = loop_setpoint
+        feedforward = (loop_setpoint - previous) / dt * dyn.feedforward
+        tau = dyn.drive_time_constant
+        lag = dt / tau if tau > dt else 1.0
+        symmetrising = bool(feedforward or self._model_velocity)
+        # The model and the slide are compared at the same instant, then both move on.
+        compare = self._model_position if symmetrising else loop_setpoint
+        velocity_command = dyn.kv * (compare - self.actual) + feedforward
+        limit = 1.2 * dyn.max_velocity
+        velocity_command = max(-limit, min(limit, velocity_command))
+        self._drive_velocity += (velocity_command - self._drive_velocity) * lag
+        if symmetrising:
+            self._model_velocity += (feedforward - self._model_velocity) * lag
+            self._model_position += self._model_velocity * dt
+        else:
+            self._model_position = loop_setpoint
+        if (self.command_velocity == 0.0 and abs(loop_setpoint - self.actual) < _RESOLUTION
+                and abs(self._drive_velocity) < _RESOLUTION / dt and abs(self._model_velocity) < _RESOLUTION / dt):
+            # Settled below the measuring resolution: the slide stands on the setpoint.
+            self.physical += loop_setpoint - self.actual
+            self._drive_velocity = self._model_velocity = 0.0
+            self._model_position = loop_setpoint
+
+    def _update_servo_state(self, cycle: int, alarms: AlarmList) -> None:
+        inp = self.inputs
+        if self._servo_off_countdown > 0:
+            self._servo_off_countdown -= 1
+        forced_off = self._servo_off_countdown == 0
+        wanted = self.drive_ready and not forced_off
+        if self.servo_on and not wanted and not forced_off:
+            moving = self.command_velocity != 0.0 or abs(self.velocity) > self.dyn.standstill_velocity
+            if moving:
+                alarms.raise_alarm(21612, cycle, self.channel, self.name, channel=self.channel, axis=self.name)
+            self.brake(self.dyn.rapid_stop_decel)
+        # Enable returns: take the present position (follow-up), or return to the held setpoint.
+        if not self.servo_on and wanted and (self.follow_up or (self.owner is Owner.NONE and inp.follow_up_mode)):
+            self.setpoint = self._loop_setpoint = self._model_position = self.actual
+            self._model_velocity = 0.0
+            if self.jerk_filter:
+                self.jerk_filter.reset(self.actual)
+        self.servo_on = wanted
+        self.follow_up = not wanted and (inp.follow_up_mode or forced_off)
+
+    def restore_servo(self) -> None:
+        """After an acknowledged emergency stop: the NC gives the controller enable back."""
+        self._servo_off_countdown = -1
+        self.resting = False
+
+    def _monitor(self, cycle: int, alarms: AlarmList) -> None:
+        dyn = self.dyn
+        error = abs(self._loop_setpoint - self.actual)
+        interpolation_done = self.owner is Owner.NONE and self.command_velocity == 0.0
+        if interpolation_done and self.servo_on and not self.inputs.disable:
+            self._motion_end_cycle += 1
+            elapsed = self._motion_end_cycle * self._dt
+            if error <= dyn.fine_window:
+                self._fine_reached = True
+            elif not self._fine_reached and elapsed > dyn.positioning_time:
+                alarms.raise_alarm(25080, cycle, self.name, channel=self.channel, axis=self.name)
+            if self._fine_reached and elapsed > dyn.standstill_delay and error > dyn.standstill_tolerance:
+                alarms.raise_alarm(25040, cycle, self.name, channel=self.channel, axis=self.name)
+        else:
+            self._fine_reached = False
+        if self.at_software_limit:
+            resting_on_limit = (self.at_software_limit > 0 and self.setpoint >= dyn.limit_plus - _TINY) or \
+                               (self.at_software_limit < 0 and self.setpoint <= dyn.limit_minus + _TINY)
+            if resting_on_limit:
+                alarms.raise_alarm(10621, cycle, self.channel, self.name,
+                                   "+" if self.at_software_limit > 0 else "-", channel=self.channel, axis=self.name)
+            else:
+                self.at_software_limit = 0
+                alarms.clear(10621, axis=self.name)
+        # At rest when nothing moves: the next cycles can skip the loop until an input changes.
+        self.resting = (interpolation_done and self.velocity == 0.0 and self._drive_velocity == 0.0
+                             and self._loop_setpoint == self.setpoint and error <= dyn.fine_window
+                             and (self.jerk_filter is None or self.jerk_filter.settled(self.setpoint, 0.0))
+                             and self._servo_off_countdown <= 0 and not self.at_software_limit)
+
+    def _write_outputs(self) -> None:
+        dyn = self.dyn
+        error = abs(self._loop_setpoint - self.actual)
+        no_motion = self.owner is Owner.NONE and self.command_velocity == 0.0
+        status = (
+            no_motion and error <= dyn.coarse_window,
+            no_motion and error <= dyn.fine_window,
+            no_motion and abs(self.velocity) <= dyn.standstill_velocity,
+            self.servo_on and not self.is_spindle,
+            self.follow_up,
+            self.encoder.referenced,
+            self.inputs.disable,
+            self.command_velocity > _TINY,
+            self.command_velocity < -_TINY,
+        )
+        if status == self._status:
+            return
+        self._status = status
+        area, sig = self._area, self._signals
+        coarse, fine, stationary, position_control, follow_up, referenced, disabled, plus, minus = status
+        sig.exact_coarse.put(area, coarse)
+        sig.exact_fine.put(area, fine)
+        sig.stationary.put(area, stationary)
+        sig.position_control.put(area, position_control)
+        sig.follow_up_active.put(area, follow_up)
+        sig.referenced.put(area, referenced)
+        sig.disabled.put(area, disabled)
+        sig.command_plus.put(area, plus)
+        sig.command_minus.put(area, minus)
+        sig.spindle_mode.put(area, self.is_spindle)
+        sig.control_mode.put(area, self.is_spindle)

@@ -1,0 +1,423 @@
+"""A channel: program execution, NC start/stop/reset, block change, and its DB21 signals.
+
+Channel and program states (DB21.DBX35.x)::
+
+    RESET / aborted ──NC start (AUTO: selected program, MDA: MDA buffer)──▶ ACTIVE / running
+    ACTIVE / running ──NC stop, M0, alarm with interrupt──▶ INTERRUPTED / stopped
+    INTERRUPTED / stopped ──mode change (e.g. to JOG)──▶ INTERRUPTED / interrupted
+    INTERRUPTED ──NC start (in the mode the program was started in)──▶ ACTIVE / running
+    any ──reset, M2, M30──▶ RESET / aborted
+
+Block execution, one phase at a time::
+
+    DECODE ──motion block──▶ INTERPOLATE ──path at its end──▶ BLOCK_END (exact stop window)
+    DECODE ──G4──▶ DWELL ──time elapsed──▶ next block
+    BLOCK_END ──window reached, read-in not disabled──▶ DECODE (next block)
+    INTERPOLATE ──an axis braked off the path (e-stop, limit switch)──▶ CONTOUR_LOST ──RESET──▶ DECODE
+
+A block is decoded only when it is about to run, so a faulty block raises its alarm when
+execution reaches it, and a software limit switch in the block stops the program before
+the block moves.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import Enum
+
+from vc.config import md_dictionary as MD
+from vc.config.model import ChannelConfig
+from vc.core.alarms import CHANNEL_INTERRUPT, NC_START_DISABLED, STOP_AXES, AlarmList, Clear
+from vc.core.axis import MachineAxis, Owner
+from vc.core.interface_map import SignalTable
+from vc.core.interpreter import (
+    EXACT_STOP_COARSE,
+    EXACT_STOP_FINE,
+    BlockPlan,
+    ModalState,
+    decode,
+)
+from vc.core.overrides import OverrideCoding
+from vc.core.path import PathSegment
+from vc.core.program import Block, parse_program
+
+
+class ChannelState(Enum):
+    RESET = "reset"
+    ACTIVE = "active"
+    INTERRUPTED = "interrupted"
+
+
+class ProgramState(Enum):
+    ABORTED = "aborted"
+    RUNNING = "running"
+    WAITING = "waiting"
+    STOPPED = "stopped"
+    INTERRUPTED = "interrupted"
+
+
+class Phase(Enum):
+    DECODE = "decode"
+    INTERPOLATE = "interpolate"
+    BLOCK_END = "block_end"
+    DWELL = "dwell"
+    CONTOUR_LOST = "contour_lost"  # an axis was braked off the path: NC start cannot continue
+
+
+class Mode(Enum):
+    AUTO = "AUTO"
+    MDA = "MDA"
+    JOG = "JOG"
+
+
+class ChannelSignals:
+    def __init__(self, table: SignalTable):
+        self.nc_start_disable = table.bit("basic.out.disableNcStart")
+        self.nc_start = table.bit("basic.out.ncStart")
+        self.nc_stop = table.bit("basic.out.ncStop")
+        self.nc_stop_all = table.bit("basic.out.ncStopAxesAndSpindles")
+        self.reset = table.bit("basic.out.reset")
+        self.feed_disable = table.bit("basic.out.disableFeed")
+        self.read_in_disable = table.bit("basic.out.disableReadIn")
+        self.delete_distance_to_go = table.bit("basic.out.deleteDistanceToGo")
+        self.feed_override = table.field("basic.out.pathFeedrateOvrFactor")
+        self.feed_override_active = table.bit("basic.out.pathFeedrateOvr")
+        self.rapid_override = table.field("basic.out.pathRapidTraversOvrFactor")
+        self.rapid_override_active = table.bit("basic.out.pathRapidTraversOvr")
+        self.running = table.bit("basic.in.progStateRunning")
+        self.waiting = table.bit("basic.in.progStateWaiting")
+        self.stopped = table.bit("basic.in.progStateStopped")
+        self.interrupted = table.bit("basic.in.progStateInterrupted")
+        self.aborted = table.bit("basic.in.progStateAborted")
+        self.state_active = table.bit("basic.in.stateActive")
+        self.state_interrupted = table.bit("basic.in.stateInterrupted")
+        self.state_reset = table.bit("basic.in.stateReset")
+        self.all_referenced = table.bit("basic.in.allAxesReferenced")
+        self.all_stationary = table.bit("basic.in.allAxesStationary")
+        self.alarm_active = table.bit("basic.in.alarmActive")
+        self.alarm_with_stop = table.bit("basic.in.alarmWithStopActive")
+
+
+@dataclass(slots=True)
+class ChannelInputs:
+    nc_start_disable: bool = False
+    nc_start: bool = False
+    nc_stop: bool = False
+    nc_stop_all: bool = False
+    reset: bool = False
+    feed_disable: bool = False
+    read_in_disable: bool = False
+    delete_distance_to_go: bool = False
+    feed_override: float = 1.0
+    rapid_override: float = 1.0
+
+
+@dataclass(slots=True)
+class Edges:
+    nc_start: bool = False
+    nc_stop: bool = False
+    reset: bool = False
+    delete_distance_to_go: bool = False
+
+
+class Channel:
+    def __init__(
+        self,
+        config: ChannelConfig,
+        signals: ChannelSignals,
+        area: bytearray,
+        axes: list[MachineAxis],
+        alarms: AlarmList,
+        feed_coding: OverrideCoding,
+        rapid_coding: OverrideCoding,
+        dt: float,
+    ):
+        self.config = config
+        self.name = config.name
+        self.area_key = f"DB{config.db}"
+        self._signals = signals
+        self._area = area
+        self.axes = axes
+        self.axes_by_name = {axis.name: axis for axis in axes}
+        self._alarms = alarms
+        self._feed_coding = feed_coding
+        self._rapid_coding = rapid_coding
+        self._dt = dt
+        self.inputs = ChannelInputs()
+        self.edges = Edges()
+        self.state = ChannelState.RESET
+        self.program_state = ProgramState.ABORTED
+        self.modal = ModalState()
+        self.mda_text = ""
+        self.selected_program: tuple[str, str] | None = None
+        self.started_in: Mode | None = None
+        self._blocks: tuple[Block, ...] = ()
+        self._block_index = 0
+        self.current_block: Block | None = None
+        self._phase = Phase.DECODE
+        self._plan: BlockPlan | None = None
+        self._segment: PathSegment | None = None
+        self._dwell_cycles = 0
+        self._stop_after_block = False
+        self._stopping = False  # braking on the path after NC stop / an alarm
+        self._aborting = False  # braking on the path after a reset
+        self._geometry = set(axis for axis in config.geometry_axes if axis)
+        self._summary: tuple[bool, bool] | None = None
+        self._needs_reference = [
+            axis for axis in axes
+            if not axis.is_spindle and axis.config.md.int(MD.REFP_CYCLE_NR) != -1
+        ]
+
+    # ------------------------------------------------------------------ inputs
+    def decode_inputs(self) -> None:
+        area, sig, inp, edges = self._area, self._signals, self.inputs, self.edges
+        nc_start = sig.nc_start.get(area)
+        nc_stop = sig.nc_stop.get(area)
+        nc_stop_all = sig.nc_stop_all.get(area)
+        reset = sig.reset.get(area)
+        delete = sig.delete_distance_to_go.get(area)
+        edges.nc_start = nc_start and not inp.nc_start
+        edges.nc_stop = (nc_stop and not inp.nc_stop) or (nc_stop_all and not inp.nc_stop_all)
+        edges.reset = reset and not inp.reset
+        edges.delete_distance_to_go = delete and not inp.delete_distance_to_go
+        inp.nc_start, inp.nc_stop, inp.nc_stop_all, inp.reset = nc_start, nc_stop, nc_stop_all, reset
+        inp.delete_distance_to_go = delete
+        inp.nc_start_disable = sig.nc_start_disable.get(area)
+        inp.feed_disable = sig.feed_disable.get(area)
+        inp.read_in_disable = sig.read_in_disable.get(area)
+        inp.feed_override = self._feed_coding.factor(sig.feed_override.get(area), sig.feed_override_active.get(area))
+        inp.rapid_override = self._rapid_coding.factor(sig.rapid_override.get(area),
+                                                       sig.rapid_override_active.get(area))
+
+    def clear_edges(self) -> None:
+        self.edges.nc_start = self.edges.nc_stop = self.edges.reset = self.edges.delete_distance_to_go = False
+
+    # ------------------------------------------------------------------ commands
+    @property
+    def is_active(self) -> bool:
+        return self.state is ChannelState.ACTIVE
+
+    def reset(self, cycle: int) -> None:
+        """Channel or mode-group reset: abort the program, brake, clear reset alarms."""
+        self._alarms.clear_on((Clear.RESET, Clear.CANCEL), channel=self.name)
+        if self._segment is not None and not self._segment.finished:
+            self._aborting = True
+        self._end_program()
+        for axis in self.axes:
+            if axis.owner is Owner.JOG:
+                axis.brake()
+            axis.at_software_limit = 0
+
+    def _end_program(self) -> None:
+        self.state = ChannelState.RESET
+        self.program_state = ProgramState.ABORTED
+        self.started_in = None
+        self._blocks = ()
+        self._block_index = 0
+        self.current_block = None
+        self._phase = Phase.DECODE
+        self._plan = None
+        self._stop_after_block = False
+        self._stopping = False
+        self.modal.reset()
+
+    def nc_start(self, cycle: int, mode: Mode, reference_function: bool) -> None:
+        """NC start edge from the PLC."""
+        inp = self.inputs
+        if inp.nc_start_disable or inp.nc_stop or inp.nc_stop_all or inp.reset:
+            return
+        if self._alarms.reactions(self.name) & NC_START_DISABLED:
+            return
+        if mode is Mode.JOG or reference_function:
+            return
+        if self.state is ChannelState.INTERRUPTED:
+            if self.started_in is mode and self._phase is not Phase.CONTOUR_LOST:
+                self.state = ChannelState.ACTIVE
+                self.program_state = ProgramState.RUNNING
+                self._stopping = False
+            return
+        if self.state is not ChannelState.RESET:
+            return
+        if not self._references_allow_start(cycle):
+            return
+        text = self.mda_text if mode is Mode.MDA else (self.selected_program[1] if self.selected_program else "")
+        self._blocks = parse_program(text)
+        self._block_index = 0
+        self._phase = Phase.DECODE
+        self.modal.reset()
+        self.started_in = mode
+        self.state = ChannelState.ACTIVE
+        self.program_state = ProgramState.RUNNING
+
+    def _references_allow_start(self, cycle: int) -> bool:
+        """MD20700 REFP_NC_START_LOCK: no program start with unreferenced axes (seed 003 L2218-2231)."""
+        if self.config.md.int(MD.REFP_NC_START_LOCK) == 0:
+            return True
+        if all(axis.referenced for axis in self._needs_reference):
+            return True
+        self._alarms.raise_alarm(10203, cycle, self.name, 1, channel=self.name)
+        return False
+
+    def stop(self) -> None:
+        """NC stop: brake on the path, the program is stopped and can continue with NC start."""
+        if self.state is ChannelState.ACTIVE:
+            self.state = ChannelState.INTERRUPTED
+            self.program_state = ProgramState.STOPPED
+            self._stopping = True
+
+    def mode_changed(self) -> None:
+        """Leaving the mode of a stopped program interrupts it (DB21.DBX35.3)."""
+        if self.state is ChannelState.INTERRUPTED:
+            self.program_state = ProgramState.INTERRUPTED
+
+    # ------------------------------------------------------------------ cycle
+    def program_cycle(self, cycle: int) -> None:
+        """Interpolation and block change for one IPO cycle."""
+        reactions = self._alarms.reactions(self.name)
+        if reactions & CHANNEL_INTERRUPT and self.state is ChannelState.ACTIVE:
+            self.stop()
+        if self._aborting:
+            self._brake_segment()
+            return
+        if self.state is ChannelState.RESET:
+            return
+        hold = self.state is not ChannelState.ACTIVE or bool(reactions & STOP_AXES)
+        if self._phase is Phase.INTERPOLATE:
+            self._interpolate(hold)
+        elif self._phase is Phase.DWELL and not hold:
+            self._dwell_cycles -= 1
+            if self._dwell_cycles <= 0:
+                self._next_block()
+        elif self._phase is Phase.BLOCK_END:
+            self._block_end()
+        if self._phase is Phase.DECODE and self.state is ChannelState.ACTIVE and not hold:
+            self._decode_next(cycle)
+
+    def _brake_segment(self) -> None:
+        segment = self._segment
+        if segment is None or segment.finished or segment.velocity == 0.0 or \
+                any(axis.owner is not Owner.PATH for axis in segment.axes):
+            self._release_segment()
+            self._aborting = False
+            return
+        segment.cycle(1.0, True, self._dt)
+        if segment.velocity == 0.0:
+            self._release_segment()
+            self._aborting = False
+
+    def _release_segment(self) -> None:
+        if self._segment is not None:
+            for axis in self._segment.axes:
+                if axis.owner is Owner.PATH:
+                    axis.release()
+        self._segment = None
+
+    def _interpolate(self, hold: bool) -> None:
+        segment = self._segment
+        assert segment is not None and self._plan is not None
+        if any(axis.owner is not Owner.PATH for axis in segment.axes):
+            # A reaction (rapid stop, limit switch) braked an axis off the path: the contour is
+            # lost, the block cannot be finished; the program stops and only RESET ends it.
+            self._release_segment()
+            self._phase = Phase.CONTOUR_LOST
+            self.stop()
+            return
+        # Feed disable, an axis feed stop or a missing enable hold the path; the program keeps
+        # its state "running" (only read-in disable makes it "waiting").
+        axes_hold = any(axis.inputs.feed_stop or not axis.drive_ready for axis in segment.axes)
+        blocked = hold or self.inputs.feed_disable or axes_hold
+        override = self.inputs.rapid_override if segment.rapid else self.inputs.feed_override
+        segment.cycle(override, blocked, self._dt)
+        if segment.finished:
+            self._release_segment()
+            self._phase = Phase.BLOCK_END
+            self._block_end()
+
+    def _block_end(self) -> None:
+        plan = self._plan
+        assert plan is not None
+        if plan.block_end in (EXACT_STOP_FINE, EXACT_STOP_COARSE):
+            fine = plan.block_end == EXACT_STOP_FINE
+            for name in plan.targets:
+                axis = self.axes_by_name[name]
+                window = axis.dyn.fine_window if fine else axis.dyn.coarse_window
+                if abs(axis.following_error) > window:
+                    return
+        if self.inputs.read_in_disable:
+            self.program_state = ProgramState.WAITING
+            return
+        if self.program_state is ProgramState.WAITING:
+            self.program_state = ProgramState.RUNNING
+        self._next_block()
+
+    def _next_block(self) -> None:
+        plan = self._plan
+        self._phase = Phase.DECODE
+        self._plan = None
+        self._block_index += 1
+        if plan is not None and plan.program_end:
+            self._end_program()
+        elif plan is not None and plan.program_stop:
+            self.stop()
+
+    def _decode_next(self, cycle: int) -> None:
+        if self._block_index >= len(self._blocks):
+            self._end_program()  # a program without M30 ends after its last block
+            return
+        block = self._blocks[self._block_index]
+        self.current_block = block
+        plan, alarm = decode(block, self.modal, self.config, self.axes_by_name)
+        if alarm is not None:
+            self._alarms.raise_alarm(alarm.number, cycle, *alarm.parameters, channel=self.name, axis=alarm.axis)
+            self.stop()
+            return
+        self._plan = plan
+        if plan.dwell > 0.0:
+            self._phase = Phase.DWELL
+            self._dwell_cycles = max(1, math.ceil(plan.dwell / self._dt - 1e-9))
+            return
+        if not plan.targets:
+            self._phase = Phase.BLOCK_END
+            self._block_end()
+            return
+        axes = [self.axes_by_name[name] for name in plan.targets]
+        for axis in axes:
+            if axis.owner is not Owner.NONE and axis.owner is not Owner.PATH:
+                axis.brake()
+        self._segment = PathSegment.plan(
+            axes,
+            [plan.targets[axis.name] for axis in axes],
+            [axis.name in self._geometry for axis in axes],
+            plan.feed / 60.0,
+            plan.rapid,
+        )
+        for axis in axes:
+            axis.take(Owner.PATH)
+        self._phase = Phase.INTERPOLATE
+        self._interpolate(False)
+
+    # ------------------------------------------------------------------ outputs
+    def write_status(self, alarm_present: bool, alarm_with_stop: bool) -> None:
+        """Channel and program state and the alarm bits (written when they change)."""
+        area, sig = self._area, self._signals
+        state, program = self.state, self.program_state
+        sig.running.put(area, program is ProgramState.RUNNING)
+        sig.waiting.put(area, program is ProgramState.WAITING)
+        sig.stopped.put(area, program is ProgramState.STOPPED)
+        sig.interrupted.put(area, program is ProgramState.INTERRUPTED)
+        sig.aborted.put(area, program is ProgramState.ABORTED)
+        sig.state_active.put(area, state is ChannelState.ACTIVE)
+        sig.state_interrupted.put(area, state is ChannelState.INTERRUPTED)
+        sig.state_reset.put(area, state is ChannelState.RESET)
+        sig.alarm_active.put(area, alarm_present)
+        sig.alarm_with_stop.put(area, alarm_with_stop)
+
+    def write_axis_summary(self) -> None:
+        """All axes referenced / all axes stationary (written when they change)."""
+        summary = (all(axis.referenced for axis in self._needs_reference),
+                   all(axis.at_rest and abs(axis.velocity) <= axis.dyn.standstill_velocity for axis in self.axes))
+        if summary != self._summary:
+            self._summary = summary
+            self._signals.all_referenced.put(self._area, summary[0])
+            self._signals.all_stationary.put(self._area, summary[1])

@@ -1,0 +1,90 @@
+"""Where the NC core finds its interface signals, resolved from the catalogue once.
+
+The core never writes an address: it names signals by their catalogue symbol without
+the instance (``basic.out.traversKeyPlus``) and gets a :class:`Bit` or :class:`Field`
+with the byte offset and mask inside the instance's data block.  The cycle then works on
+the bytes directly, which keeps an IPO cycle cheap.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from interfaces.signals import PLACEHOLDER, Catalog, InstanceKind, SignalDef, SignalType
+
+
+@dataclass(frozen=True, slots=True)
+class Bit:
+    byte: int
+    mask: int
+
+    def get(self, area: bytearray) -> bool:
+        return bool(area[self.byte] & self.mask)
+
+    def put(self, area: bytearray, value: bool) -> None:
+        if value:
+            area[self.byte] |= self.mask
+        else:
+            area[self.byte] &= ~self.mask & 0xFF
+
+
+@dataclass(frozen=True, slots=True)
+class Field:
+    """An unsigned bits field, a byte, a word or a double word (big-endian) inside one DB."""
+
+    byte: int
+    shift: int
+    width_bits: int
+    type: SignalType
+
+    def get(self, area: bytearray) -> int:
+        if self.type in (SignalType.BITS, SignalType.BOOL):
+            return (area[self.byte] >> self.shift) & ((1 << self.width_bits) - 1)
+        if self.type is SignalType.BYTE:
+            return area[self.byte]
+        size = self.width_bits // 8
+        return int.from_bytes(area[self.byte : self.byte + size], "big")
+
+    def put(self, area: bytearray, value: int) -> None:
+        if self.type in (SignalType.BITS, SignalType.BOOL):
+            mask = ((1 << self.width_bits) - 1) << self.shift
+            area[self.byte] = (area[self.byte] & ~mask & 0xFF) | ((value << self.shift) & mask)
+        elif self.type is SignalType.BYTE:
+            area[self.byte] = value & 0xFF
+        else:
+            size = self.width_bits // 8
+            area[self.byte : self.byte + size] = (value & ((1 << (8 * size)) - 1)).to_bytes(size, "big")
+
+
+class SignalTable:
+    """The signals of one DB kind, looked up by their symbol without the instance."""
+
+    def __init__(self, catalog: Catalog, kind: InstanceKind):
+        section = catalog.section(kind)
+        prefix = PLACEHOLDER[kind] + "."
+        self._signals: dict[str, SignalDef] = {s.symbol[len(prefix):]: s for s in section.signals}
+        self.size = section.size
+
+    def definition(self, name: str) -> SignalDef:
+        try:
+            return self._signals[name]
+        except KeyError:
+            raise KeyError(f"the signal catalogue has no '{name}'") from None
+
+    def bit(self, name: str) -> Bit:
+        definition = self.definition(name)
+        if definition.type is not SignalType.BOOL:
+            raise TypeError(f"{name} is a {definition.type.value}, not a bool")
+        return Bit(definition.address.byte, 1 << definition.address.bit)
+
+    def field(self, name: str) -> Field:
+        definition = self.definition(name)
+        address = definition.address
+        shift = address.bit if address.is_bit else 0
+        return Field(address.byte, shift, definition.bits, definition.type)
+
+    def real_offset(self, name: str) -> int:
+        definition = self.definition(name)
+        if definition.type is not SignalType.REAL:
+            raise TypeError(f"{name} is a {definition.type.value}, not a real")
+        return definition.address.byte

@@ -1,0 +1,205 @@
+"""Block decoding: modal G-code state and what one block asks the channel to do.
+
+``decode`` turns a parsed block into a :class:`BlockPlan` (axis end points, dwell,
+program stop or end) or an alarm, using the modal state it updates.  The words this
+control understands are dispatched through ``_WORD_HANDLERS`` / ``_KEYWORD_HANDLERS``;
+a word without a handler raises alarm 12550 "name not defined or option/function not
+available", as on a control without the function.  Later NC functions add handlers.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from vc.config.model import ChannelConfig
+from vc.core.axis import MachineAxis
+from vc.core.program import Assignment, Block, Call, Item, Keyword, Label, ValueFunction, Word
+
+# Block-end condition of a motion block (G60 exact stop with its window, or G64 continuous path).
+EXACT_STOP_FINE = "G601"
+EXACT_STOP_COARSE = "G602"
+INTERPOLATION_END = "G603"
+
+
+@dataclass(slots=True)
+class ModalState:
+    """Modal G-code state of a channel; ``reset()`` restores the values after reset / program start."""
+
+    rapid: bool = True  # group 1: G0 (reset value) / G1
+    absolute: bool = True  # G90 / G91
+    block_end: str = EXACT_STOP_FINE  # G60 + G601 / G602 / G603; G64 ends at interpolation end
+    feed: float | None = None  # F in mm/min (path feed)
+
+    def reset(self) -> None:
+        self.rapid = True
+        self.absolute = True
+        self.block_end = EXACT_STOP_FINE
+        self.feed = None
+
+
+@dataclass(slots=True)
+class BlockPlan:
+    targets: dict[str, float] = field(default_factory=dict)  # machine axis -> end position
+    rapid: bool = True
+    feed: float = 0.0  # mm/min
+    dwell: float = 0.0  # seconds
+    program_stop: bool = False  # M0
+    program_end: bool = False  # M2 / M30
+    block_end: str = EXACT_STOP_FINE
+
+
+@dataclass(frozen=True, slots=True)
+class DecodeAlarm:
+    number: int
+    parameters: tuple[object, ...]
+    axis: str = ""
+
+
+class _Decoder:
+    def __init__(self, block: Block, modal: ModalState, channel: ChannelConfig, axes: dict[str, MachineAxis]):
+        self.block = block
+        self.modal = modal
+        self.channel = channel
+        self.axes = axes
+        self.plan = BlockPlan()
+        self.alarm: DecodeAlarm | None = None
+        self.dwell_requested = False
+        self.dwell_value: float | None = None
+        self.feed_word: float | None = None
+
+    def fail(self, number: int, *parameters: object, axis: str = "") -> None:
+        if self.alarm is None:
+            self.alarm = DecodeAlarm(number, parameters, axis)
+
+    def unknown(self, text: str) -> None:
+        self.fail(12550, self.channel.name, self.block.label, text)
+
+    def axis_value(self, name: str, value: object) -> None:
+        machine_axis = self.channel.axis_for_program_name(name)
+        if machine_axis is None or machine_axis not in self.axes:
+            self.unknown(name)
+            return
+        axis = self.axes[machine_axis]
+        if axis.is_spindle:
+            self.unknown(name)  # axis mode of a spindle (M70) is not part of this control yet
+            return
+        if isinstance(value, ValueFunction) and value.name in ("AC", "IC"):
+            absolute, number = value.name == "AC", value.value
+        elif isinstance(value, float):
+            absolute, number = self.modal.absolute, value
+        else:
+            self.unknown(f"{name}={value}")
+            return
+        start = self.plan.targets.get(machine_axis, axis.setpoint)
+        self.plan.targets[machine_axis] = number if absolute else start + number
+
+
+def _g_word(decoder: _Decoder, value: float) -> None:
+    code = round(value * 10) / 10
+    modal = decoder.modal
+    if code == 0:
+        modal.rapid = True
+    elif code == 1:
+        modal.rapid = False
+    elif code == 4:
+        decoder.dwell_requested = True
+    elif code == 90:
+        modal.absolute = True
+    elif code == 91:
+        modal.absolute = False
+    elif code in (60, 601):
+        modal.block_end = EXACT_STOP_FINE
+    elif code == 602:
+        modal.block_end = EXACT_STOP_COARSE
+    elif code in (603, 64):
+        # G64 without look-ahead blending: the block ends when interpolation ends.
+        modal.block_end = INTERPOLATION_END
+    else:
+        decoder.unknown(f"G{value:g}")
+
+
+def _m_word(decoder: _Decoder, value: float) -> None:
+    if value == 0:
+        decoder.plan.program_stop = True
+    elif value == 1:
+        pass  # optional stop, not activated
+    elif value in (2, 30):
+        decoder.plan.program_end = True
+    else:
+        decoder.unknown(f"M{value:g}")
+
+
+def _f_word(decoder: _Decoder, value: float) -> None:
+    decoder.feed_word = value
+
+
+_WORD_HANDLERS: dict[str, Callable[[_Decoder, float], None]] = {"G": _g_word, "M": _m_word, "F": _f_word}
+_KEYWORD_HANDLERS: dict[str, Callable[[_Decoder], None]] = {}
+
+
+def decode(
+    block: Block, modal: ModalState, channel: ChannelConfig, axes: dict[str, MachineAxis]
+) -> tuple[BlockPlan, DecodeAlarm | None]:
+    """Decode ``block`` (updating ``modal``) into what the channel must do, or an alarm."""
+    decoder = _Decoder(block, modal, channel, axes)
+    if block.error:
+        decoder.fail(12080, channel.name, block.label, block.error)
+        return decoder.plan, decoder.alarm
+    for item in block.items:
+        _decode_item(decoder, item)
+    _finish(decoder)
+    return decoder.plan, decoder.alarm
+
+
+def _decode_item(decoder: _Decoder, item: Item) -> None:
+    if isinstance(item, Word):
+        handler = _WORD_HANDLERS.get(item.address)
+        if handler is not None:
+            handler(decoder, item.value)
+        else:
+            decoder.axis_value(item.address, item.value)
+    elif isinstance(item, Assignment):
+        if item.index:
+            decoder.unknown(f"{item.name}[{item.index}]")
+        else:
+            decoder.axis_value(item.name, item.value)
+    elif isinstance(item, Keyword):
+        keyword_handler = _KEYWORD_HANDLERS.get(item.name)
+        if keyword_handler is None:
+            decoder.unknown(item.name)
+        else:
+            keyword_handler(decoder)
+    elif isinstance(item, Call):
+        decoder.unknown(item.name)
+    elif isinstance(item, Label):
+        pass
+
+
+def _finish(decoder: _Decoder) -> None:
+    modal, plan, channel = decoder.modal, decoder.plan, decoder.channel
+    if decoder.dwell_requested:
+        # G4 F<seconds>: the F of a dwell block is a time and does not change the modal feed.
+        if decoder.feed_word is None or decoder.feed_word < 0 or plan.targets:
+            decoder.fail(12080, channel.name, decoder.block.label, "G4")
+        plan.dwell = decoder.feed_word or 0.0
+        return
+    if decoder.feed_word is not None:
+        modal.feed = decoder.feed_word
+    plan.rapid = modal.rapid
+    plan.block_end = modal.block_end
+    if plan.targets and not modal.rapid:
+        if modal.feed is None:
+            decoder.fail(10860, channel.name, decoder.block.label)
+        elif modal.feed <= 0.0:
+            decoder.fail(14800, channel.name, decoder.block.label)
+        else:
+            plan.feed = modal.feed
+    for name, target in plan.targets.items():
+        axis = decoder.axes[name]
+        if not axis.software_limits_active:
+            continue
+        if target > axis.dyn.limit_plus:
+            decoder.fail(10720, channel.name, name, decoder.block.label, "+", axis=name)
+        elif target < axis.dyn.limit_minus:
+            decoder.fail(10720, channel.name, name, decoder.block.label, "-", axis=name)

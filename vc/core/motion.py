@@ -1,0 +1,84 @@
+"""Velocity profiles for one IPO cycle at a time, and the axial jerk filter.
+
+All motion in the core is planned online, one cycle at a time, so that overrides, feed
+stop, NC stop and limit switches act at once: the velocity ramps toward its command with
+the acceleration limit and never exceeds the velocity from which the motion can still
+stop at its end point.
+
+Jerk limitation is the control's axial jerk filter (MD32400 AX_JERK_ENABLE, MD32402
+AX_JERK_MODE, MD32410 AX_JERK_TIME): a filter on the position setpoint.  Both modes keep
+the end position exactly (unit DC gain); the motion ends later by the filter time.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+
+def ramp(velocity: float, target: float, accel: float, dt: float) -> float:
+    """Move ``velocity`` toward ``target`` by at most ``accel * dt``."""
+    step = accel * dt
+    if target > velocity + step:
+        return velocity + step
+    if target < velocity - step:
+        return velocity - step
+    return target
+
+
+def stopping_velocity(remaining: float, accel: float, dt: float) -> float:
+    """Largest speed from which a motion braking with ``accel`` in steps of ``dt`` stops within ``remaining``.
+
+    With speed v in the next cycle and braking by ``accel*dt`` per cycle, the distance
+    covered until standstill is ``v*dt*(n+1) - accel*dt*dt*n*(n+1)/2``; solving for the
+    largest v that fits gives ``sqrt(2*a*s + (a*dt/2)**2) - a*dt/2``.
+    """
+    if remaining <= 0.0:
+        return 0.0
+    half_step = 0.5 * accel * dt
+    return math.sqrt(2.0 * accel * remaining + half_step * half_step) - half_step
+
+
+def braking_distance(speed: float, accel: float) -> float:
+    return speed * speed / (2.0 * accel) if accel > 0.0 else math.inf
+
+
+class JerkFilter:
+    """Axial jerk filter on the position setpoint (MD32402: 1 = 2nd order, 2 = moving average)."""
+
+    __slots__ = ("_alpha", "_history", "_mode", "_repeats", "_stage1", "_stage2", "_window")
+
+    def __init__(self, mode: int, filter_time: float, dt: float, start: float):
+        self._mode = mode
+        self._window = max(1, round(filter_time / dt))
+        self._history: deque[float] = deque([start] * self._window, maxlen=self._window)
+        self._repeats = self._window  # how many of the latest inputs equal the newest one
+        # Two first-order stages of time constant T/2 each: critically damped 2nd order.
+        self._alpha = dt / (dt + 0.5 * filter_time) if filter_time > 0.0 else 1.0
+        self._stage1 = start
+        self._stage2 = start
+
+    def apply(self, value: float) -> float:
+        if self._mode == 2:
+            self._repeats = self._repeats + 1 if value == self._history[-1] else 1
+            self._history.append(value)
+            if self._repeats >= self._window:
+                return value  # settled: exactly the input, free of rounding in the sum
+            return sum(self._history) / self._window
+        self._stage1 += self._alpha * (value - self._stage1)
+        self._stage2 += self._alpha * (self._stage1 - self._stage2)
+        if abs(self._stage2 - value) < 1e-9 and abs(self._stage1 - value) < 1e-9:
+            self._stage1 = self._stage2 = value  # settled: snap to the input
+        return self._stage2
+
+    def settled(self, value: float, tolerance: float) -> bool:
+        """True when the filter output has reached ``value`` (within ``tolerance``)."""
+        if self._mode == 2:
+            return all(abs(item - value) <= tolerance for item in self._history)
+        return abs(self._stage2 - value) <= tolerance and abs(self._stage1 - value) <= tolerance
+
+    def reset(self, value: float) -> None:
+        self._history = deque([value] * self._window, maxlen=self._window)
+        self._repeats = self._window
+        self._stage1 = value
+        self._stage2 = value

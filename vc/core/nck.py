@@ -1,0 +1,258 @@
+"""The NCK: one deterministic IPO cycle at a time.
+
+``Nck.step(plc_side)`` is the only way time advances.  Its body is the order of
+operations of one IPO cycle::
+
+    latch PLC->NC signals -> edges -> NCK functions (emergency stop)
+    -> mode group and channel commands (reset, NC start/stop, mode, REF)
+    -> program interpreter and path interpolation -> JOG
+    -> position control, drive, encoder, monitoring -> reactions to new alarms
+    -> NC->PLC outputs
+
+The NCK owns its own process image of all interface data blocks.  It reads the PLC's
+outputs from ``plc_side`` at the start of the cycle (only when that image changed) and
+writes its outputs into its own image at the end; a link moves those bytes to the PLC.
+No I/O, no wall clock, no global state: same configuration and same inputs give the
+same outputs, byte for byte.
+"""
+
+from __future__ import annotations
+
+from interfaces.image import ProcessImage
+from interfaces.signals import Catalog, Direction, InstanceKind, expand
+from vc.config import md_dictionary as MD
+from vc.config.model import MachineConfig, machine_ipo_cycle_us
+from vc.core.alarms import STOP_AXES, Alarm, AlarmList, Clear, Reaction
+from vc.core.axis import AxisSignals, MachineAxis, Owner
+from vc.core.channel import Channel, ChannelSignals, Mode
+from vc.core.interface_map import SignalTable
+from vc.core.mode_group import ModeGroup, ModeGroupSignals
+from vc.core.overrides import OverrideCoding
+
+EMERGENCY_STOP_ALARM = 3000
+
+
+class NckSignals:
+    def __init__(self, table: SignalTable):
+        self.emergency_stop = table.bit("basic.out.emergencyStop")
+        self.emergency_stop_ack = table.bit("basic.out.emergencyStopAck")
+        self.emergency_stop_active = table.bit("basic.in.emergencyStopActive")
+        self.nc_ready = table.bit("basic.in.ncReady")
+        self.alarm_active = table.bit("basic.in.alarmActive")
+
+
+class Nck:
+    def __init__(self, machine: MachineConfig, catalog: Catalog):
+        self.machine = machine
+        self.cycle_us = machine_ipo_cycle_us(machine)
+        self.dt = self.cycle_us / 1_000_000
+        self.cycle = 0
+        expanded = expand(catalog, machine.layout)
+        self.catalog = expanded
+        self.image = ProcessImage(expanded.area_sizes)
+        self.plc_to_nc_ranges = expanded.byte_ranges(Direction.PLC_TO_NC)
+        self.nc_to_plc_ranges = expanded.byte_ranges(Direction.NC_TO_PLC)
+        self._seen_version = -1
+        self.alarms = AlarmList()
+        self._alarm_count = 0
+        self._nck_signals = NckSignals(SignalTable(catalog, InstanceKind.NCK))
+        self._nck_area = self.image.area("DB10")
+        self.mode_group = ModeGroup(ModeGroupSignals(SignalTable(catalog, InstanceKind.MODE_GROUP)),
+                                    self.image.area("DB11"))
+        axis_signals = AxisSignals(SignalTable(catalog, InstanceKind.AXIS))
+        channel_of_axis = {axis: channel.name for channel in machine.channels for axis in channel.axes}
+        self.axes = [
+            MachineAxis(axis, axis_signals, self.image.area(f"DB{axis.db}"), self.dt,
+                        channel_of_axis.get(axis.name, ""))
+            for axis in machine.axes
+        ]
+        self.axes_by_name = {axis.name: axis for axis in self.axes}
+        nck = machine.nck
+        feed_coding = OverrideCoding(nck.bool(MD.OVR_FEED_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_FEEDRATE),
+                                     nck.float(MD.OVR_FACTOR_LIMIT_BIN))
+        rapid_coding = OverrideCoding(nck.bool(MD.OVR_RAPID_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_RAPID_TRA),
+                                      nck.float(MD.OVR_FACTOR_LIMIT_BIN))
+        self._axis_coding = OverrideCoding(nck.bool(MD.OVR_AX_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_AX_SPEED),
+                                           nck.float(MD.OVR_FACTOR_LIMIT_BIN))
+        channel_signals = ChannelSignals(SignalTable(catalog, InstanceKind.CHANNEL))
+        self.channels = [
+            Channel(channel, channel_signals, self.image.area(f"DB{channel.db}"),
+                    [self.axes_by_name[name] for name in channel.axes], self.alarms, feed_coding, rapid_coding,
+                    self.dt)
+            for channel in machine.channels
+        ]
+        self.channels_by_name = {channel.name: channel for channel in self.channels}
+        self.emergency_stop = False
+        self._emergency_stop_level = False
+        self._emergency_stop_ack = False
+        self._hw_limits = {axis.name: (False, False) for axis in self.axes}
+        for axis in self.axes:
+            axis.control_cycle(0, self.alarms)  # publish the power-on state
+        self._last_status = self._status_signature()
+        self._write_status()
+        for channel in self.channels:
+            channel.write_axis_summary()
+
+    # ------------------------------------------------------------------ the IPO cycle
+    def step(self, plc_side: ProcessImage) -> None:
+        """Advance one IPO cycle with the PLC's outputs as they are in ``plc_side``."""
+        self.cycle += 1
+        if plc_side.version != self._seen_version:
+            self._seen_version = plc_side.version
+            changed = self._latch(plc_side)
+            if changed:
+                self._decode_inputs(changed)
+        self._emergency_stop_function()
+        self._mode_group_and_channel_commands()
+        for channel in self.channels:
+            channel.program_cycle(self.cycle)
+        self._jog()
+        moved = False
+        for axis in self.axes:
+            if axis.resting and axis.owner is Owner.NONE:
+                continue  # nothing moves and no input changed: its outputs stand
+            if axis.control_cycle(self.cycle, self.alarms):
+                moved = True
+        self._react_to_new_alarms()
+        status = self._status_signature()
+        if status != self._last_status:
+            self._last_status = status
+            self._write_status()
+        if moved:
+            for channel in self.channels:
+                channel.write_axis_summary()
+        for channel in self.channels:
+            channel.clear_edges()
+        self.mode_group.reset_edge = False
+
+    # ------------------------------------------------------------------ inputs
+    def _latch(self, plc_side: ProcessImage) -> set[str]:
+        """Copy the PLC->NC bytes that changed; return the data blocks they belong to."""
+        changed: set[str] = set()
+        areas, sources = self.image.areas, plc_side.areas
+        for key, start, stop in self.plc_to_nc_ranges:
+            incoming = sources[key][start:stop]
+            if incoming != areas[key][start:stop]:
+                areas[key][start:stop] = incoming
+                changed.add(key)
+        return changed
+
+    def _decode_inputs(self, changed: set[str]) -> None:
+        if "DB10" in changed:
+            sig, area = self._nck_signals, self._nck_area
+            self._emergency_stop_level = sig.emergency_stop.get(area)
+            self._emergency_stop_ack = sig.emergency_stop_ack.get(area)
+        if "DB11" in changed:
+            self.mode_group.decode_inputs()
+        for channel in self.channels:
+            if channel.area_key in changed:
+                channel.decode_inputs()
+        for axis in self.axes:
+            if axis.area_key in changed:
+                axis.decode_inputs()
+                axis.override = self._axis_coding.factor(axis.inputs.override_raw, axis.inputs.override_active)
+                self._hardware_limit_switches(axis)
+
+    def _hardware_limit_switches(self, axis: MachineAxis) -> None:
+        """An actuated hardware limit switch stops the axis and raises alarm 21614 (on its edge)."""
+        was_minus, was_plus = self._hw_limits[axis.name]
+        minus, plus = axis.inputs.hw_limit_minus, axis.inputs.hw_limit_plus
+        self._hw_limits[axis.name] = (minus, plus)
+        for edge, sign in ((minus and not was_minus, "-"), (plus and not was_plus, "+")):
+            if edge:
+                self.alarms.raise_alarm(21614, self.cycle, axis.channel, axis.name, sign,
+                                        channel=axis.channel, axis=axis.name)
+                if axis.dyn.brake_rapid_at_limit_switch:
+                    axis.brake(axis.dyn.rapid_stop_decel)
+                else:
+                    axis.brake()
+
+    # ------------------------------------------------------------------ NCK functions
+    def _emergency_stop_function(self) -> None:
+        """DB10.DBX56.1: alarm 3000, rapid stop of every axis, then the controller enable is removed.
+
+        Leaving the emergency-stop state needs the button released (56.1 = 0), the
+        acknowledgement DB10.DBX56.2 and a reset (channel or mode group).
+        """
+        if self._emergency_stop_level and not self.emergency_stop:
+            self.emergency_stop = True
+            self.alarms.raise_alarm(EMERGENCY_STOP_ALARM, self.cycle)
+            for axis in self.axes:
+                axis.rapid_stop(then_servo_off=True)
+            for channel in self.channels:
+                channel.stop()
+            return
+        if self.emergency_stop and not self._emergency_stop_level and self._emergency_stop_ack:
+            reset_requested = self.mode_group.reset_edge or any(c.edges.reset for c in self.channels)
+            if reset_requested:
+                self.emergency_stop = False
+                self.alarms.clear(EMERGENCY_STOP_ALARM)
+                for axis in self.axes:
+                    axis.restore_servo()
+
+    def _mode_group_and_channel_commands(self) -> None:
+        mode_group = self.mode_group
+        if mode_group.update(any(channel.is_active for channel in self.channels)):
+            for channel in self.channels:
+                channel.mode_changed()
+        for channel in self.channels:
+            edges = channel.edges
+            if edges.reset or mode_group.reset_edge:
+                channel.reset(self.cycle)
+                continue
+            if edges.nc_stop or channel.inputs.nc_stop or channel.inputs.nc_stop_all:
+                channel.stop()
+            if edges.nc_start and not self.emergency_stop:
+                channel.nc_start(self.cycle, mode_group.mode, mode_group.reference_function)
+
+    def _jog(self) -> None:
+        mode_group = self.mode_group
+        jog_mode = mode_group.mode is Mode.JOG and not mode_group.reference_function and not self.emergency_stop
+        for channel in self.channels:
+            allowed = jog_mode and not channel.is_active and \
+                not self.alarms.reactions(channel.name) & STOP_AXES
+            feed_disable = channel.inputs.feed_disable
+            for axis in channel.axes:
+                if not axis.is_spindle:
+                    axis.jog_cycle(allowed, feed_disable)
+
+    def _react_to_new_alarms(self) -> None:
+        """Axis alarms whose reaction is a rapid stop put the axis into follow-up (servo off)."""
+        history = self.alarms.history
+        for alarm in history[self._alarm_count:]:
+            if Reaction.RAPID_STOP in alarm.reaction and alarm.axis and alarm.number != 21612:
+                self.axes_by_name[alarm.axis].rapid_stop(then_servo_off=True)
+        self._alarm_count = len(history)
+
+    # ------------------------------------------------------------------ outputs
+    def _status_signature(self) -> tuple[object, ...]:
+        """What the NCK, mode-group and channel outputs depend on besides the axes."""
+        mode_group = self.mode_group
+        return (self.alarms.version, self.emergency_stop, mode_group.mode, mode_group.reference_function,
+                *((channel.state, channel.program_state) for channel in self.channels))
+
+    def _write_status(self) -> None:
+        present = self.alarms.present
+        sig, area = self._nck_signals, self._nck_area
+        sig.emergency_stop_active.put(area, self.emergency_stop)
+        sig.nc_ready.put(area, True)
+        sig.alarm_active.put(area, bool(present))
+        self.mode_group.write_outputs(ready=True)
+        for channel in self.channels:
+            channel_alarms = [a for a in present if a.channel in ("", channel.name)] if present else []
+            with_stop = any(Reaction.STOP_AXES in a.reaction for a in channel_alarms)
+            channel.write_status(bool(channel_alarms), with_stop)
+
+    # ------------------------------------------------------------------ operator access (HMI)
+    def load_mda(self, channel: str, text: str) -> None:
+        self.channels_by_name[channel].mda_text = text
+
+    def select_program(self, channel: str, name: str, text: str) -> None:
+        self.channels_by_name[channel].selected_program = (name, text)
+
+    def acknowledge(self, kind: Clear = Clear.CANCEL) -> None:
+        """The operator's acknowledge key for alarms cleared with CANCEL."""
+        self.alarms.clear_on((kind,))
+
+    def present_alarms(self) -> list[Alarm]:
+        return list(self.alarms.present)

@@ -1,0 +1,266 @@
+"""Part-program text to blocks of words (SINUMERIK syntax, as far as the sequences need it).
+
+A block is one line.  Its items::
+
+    N10                      block number
+    G1  X100.5  Z-2  F.5     address words: one letter followed by a number ("X1" is X = 1)
+    X1=100  DILF=10  M2=3    assignments: a name (letters and digits) '=' a value
+    SPOS[2]=IC(-90)          assignment with an index and a value function (AC, IC, DC, ACP, ACN)
+    FA[S2]=3600  POLF[X]=10  index by name
+    COUPON(S2,S1,77)         a call with arguments (names, numbers, "strings")
+    LFON  STOPRE             a keyword (a name that is not an address word)
+    MM_THREAD:               a label
+    ; comment                everything after ';' is a comment
+
+Parsing only checks the form; what a word means is the interpreter's business, so a new
+NC function adds a handler there and no syntax here.  A malformed block is kept with its
+error so that the control raises alarm 12080 when (and only when) execution reaches it.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+_NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)"
+_NAME = r"[A-Z_$][A-Z0-9_$]*"
+_TOKEN = re.compile(
+    rf"\s*(?:(?P<number>{_NUMBER})|(?P<name>{_NAME})|(?P<string>\"[^\"]*\")|(?P<symbol>[=\[\](),:]))",
+    re.IGNORECASE,
+)
+_ADDRESS_WORD = re.compile(rf"^([A-Z])({_NUMBER})$", re.IGNORECASE)
+
+Argument = float | str
+
+
+@dataclass(frozen=True, slots=True)
+class ValueFunction:
+    """``IC(5)``, ``AC(10)``, ``DC(90)``, ``ACP(0)``, ``ACN(180)`` as a value."""
+
+    name: str
+    value: float
+
+
+Value = float | ValueFunction | str
+
+
+@dataclass(frozen=True, slots=True)
+class Word:
+    """``X100``: one-letter address and number."""
+
+    address: str
+    value: float
+
+
+@dataclass(frozen=True, slots=True)
+class Assignment:
+    """``X1=100``, ``SPOS[2]=IC(-90)``, ``M2=3``."""
+
+    name: str
+    index: str  # "" if none, else the index as written ("2", "S2", "X")
+    value: Value
+
+
+@dataclass(frozen=True, slots=True)
+class Call:
+    """``COUPON(S2,S1,77)``."""
+
+    name: str
+    arguments: tuple[Argument, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Keyword:
+    """``LFON``."""
+
+    name: str
+
+
+@dataclass(frozen=True, slots=True)
+class Label:
+    name: str
+
+
+Item = Word | Assignment | Call | Keyword | Label
+
+
+@dataclass(frozen=True, slots=True)
+class Block:
+    line: int  # 1-based line in the program text
+    text: str  # the line as written, for alarms
+    number: int | None  # N number
+    items: tuple[Item, ...]
+    error: str = ""  # syntax error: execution of this block raises alarm 12080
+
+    @property
+    def label(self) -> str:
+        """Block number as the control shows it in alarms (N10, or the line)."""
+        return f"N{self.number}" if self.number is not None else f"line {self.line}"
+
+
+class _SyntaxError(Exception):
+    pass
+
+
+def parse_program(text: str) -> tuple[Block, ...]:
+    """Every non-empty line becomes a block; comments and blank lines are dropped."""
+    blocks = []
+    for line_number, raw in enumerate(text.splitlines(), start=1):
+        code = raw.split(";", 1)[0].strip()
+        if not code:
+            continue
+        try:
+            number, items = _parse_line(code)
+            blocks.append(Block(line_number, raw.strip(), number, items))
+        except _SyntaxError as error:
+            blocks.append(Block(line_number, raw.strip(), None, (), str(error)))
+    return tuple(blocks)
+
+
+def _tokens(code: str) -> list[tuple[str, str]]:
+    tokens: list[tuple[str, str]] = []
+    position = 0
+    while position < len(code):
+        if code[position].isspace():
+            position += 1
+            continue
+        match = _TOKEN.match(code, position)
+        if match is None or match.end() == position:
+            raise _SyntaxError(code[position:])
+        kind = match.lastgroup
+        assert kind is not None
+        tokens.append((kind, match.group(kind)))
+        position = match.end()
+    return tokens
+
+
+def _split_address_words(tokens: list[tuple[str, str]]) -> list[tuple[str, str]]:
+    """``X100`` is one name token to the tokenizer; split it into address and number.
+
+    ``X1=5`` stays a name (the '=' makes it an assignment), and so do ``SP1`` (two
+    letters) and names inside brackets (``FA[S2]``, ``COUPON(S2,S1)``).  ``X100.5``
+    arrives as name ``X100`` and number ``.5``: they are joined.
+    """
+    result: list[tuple[str, str]] = []
+    depth = 0  # inside (...) or [...] names are arguments or indices: S2 stays S2
+    index = 0
+    while index < len(tokens):
+        kind, text = tokens[index]
+        if text in ("(", "["):
+            depth += 1
+        elif text in (")", "]"):
+            depth -= 1
+        following = tokens[index + 1] if index + 1 < len(tokens) else ("", "")
+        if kind == "name" and depth == 0 and following[1] not in ("=", "(", "[", ":"):
+            match = _ADDRESS_WORD.match(text)
+            if match:
+                number = match.group(2)
+                if following[0] == "number" and following[1].startswith(".") and "." not in number:
+                    number += following[1]
+                    index += 1
+                result.append(("address", match.group(1).upper()))
+                result.append(("number", number))
+                index += 1
+                continue
+            if len(text) == 1 and following[0] == "number":
+                result.append(("address", text.upper()))
+                index += 1
+                continue
+        result.append((kind, text.upper() if kind == "name" else text))
+        index += 1
+    return result
+
+
+def _parse_line(code: str) -> tuple[int | None, tuple[Item, ...]]:
+    tokens = _split_address_words(_tokens(code))
+    items: list[Item] = []
+    number: int | None = None
+    index = 0
+    while index < len(tokens):
+        kind, text = tokens[index]
+        if kind == "address":
+            value_kind, value_text = tokens[index + 1]
+            if value_kind != "number":
+                raise _SyntaxError(f"{text}{value_text}")
+            if text == "N" and not items and number is None:
+                number = int(float(value_text))
+            else:
+                items.append(Word(text, float(value_text)))
+            index += 2
+            continue
+        if kind != "name":
+            raise _SyntaxError(text)
+        following = tokens[index + 1][1] if index + 1 < len(tokens) else ""
+        if following == ":":
+            items.append(Label(text))
+            index += 2
+        elif following == "(":
+            arguments, index = _arguments(tokens, index + 2)
+            items.append(Call(text, tuple(arguments)))
+        elif following in ("=", "["):
+            item, index = _assignment(tokens, index)
+            items.append(item)
+        else:
+            items.append(Keyword(text))
+            index += 1
+    return number, tuple(items)
+
+
+def _arguments(tokens: list[tuple[str, str]], index: int) -> tuple[list[Argument], int]:
+    """Arguments up to the closing ')'; empty arguments (``WAITC(S2, ,S4)``) read as ''."""
+    arguments: list[Argument] = []
+    expect_value = True
+    while index < len(tokens):
+        kind, text = tokens[index]
+        if text == ")":
+            if expect_value and arguments:
+                arguments.append("")  # a trailing empty argument: f(a, )
+            return arguments, index + 1
+        if text == ",":
+            if expect_value:
+                arguments.append("")
+            expect_value = True
+        elif not expect_value:
+            raise _SyntaxError(text)
+        elif kind == "number":
+            arguments.append(float(text))
+            expect_value = False
+        elif kind == "string":
+            arguments.append(text[1:-1])
+            expect_value = False
+        elif kind in ("name", "address"):
+            arguments.append(text.upper())
+            expect_value = False
+        else:
+            raise _SyntaxError(text)
+        index += 1
+    raise _SyntaxError("missing ')'")
+
+
+def _assignment(tokens: list[tuple[str, str]], index: int) -> tuple[Assignment, int]:
+    name = tokens[index][1]
+    index += 1
+    subscript = ""
+    if tokens[index][1] == "[":
+        if index + 2 >= len(tokens) or tokens[index + 2][1] != "]":
+            raise _SyntaxError(f"{name}[")
+        subscript = tokens[index + 1][1].upper()
+        index += 3
+    if index >= len(tokens) or tokens[index][1] != "=":
+        raise _SyntaxError(f"{name}: '=' expected")
+    index += 1
+    if index >= len(tokens):
+        raise _SyntaxError(f"{name}=: a value is missing")
+    kind, text = tokens[index]
+    if kind == "number":
+        return Assignment(name, subscript, float(text)), index + 1
+    if kind == "string":
+        return Assignment(name, subscript, text[1:-1]), index + 1
+    if kind in ("name", "address") and index + 1 < len(tokens) and tokens[index + 1][1] == "(":
+        arguments, end = _arguments(tokens, index + 2)
+        if len(arguments) != 1 or not isinstance(arguments[0], float):
+            raise _SyntaxError(f"{name}={text}(...)")
+        return Assignment(name, subscript, ValueFunction(text.upper(), arguments[0])), end
+    if kind in ("name", "address"):
+        return Assignment(name, subscript, text.upper()), index + 1
+    raise _SyntaxError(f"{name}={text}")

@@ -1,0 +1,166 @@
+"""NC, plant and PLC in virtual lockstep: the simulation a scenario runs against.
+
+Images and who writes them::
+
+    nck.image   the NC's data blocks: it writes NC->PLC bytes at the end of each IPO cycle
+    interface   the wire between NC and PLC: the PLC (or a scenario acting as PLC)
+                writes PLC->NC bytes; NC->PLC bytes are copied in before every PLC scan
+    plant_io    plant inputs I (plant, operator) and outputs Q (PLC)
+
+One IPO cycle: NC step (reads ``interface``) -> plant step (reads physical positions and
+Q, writes I) -> every ``plc_cycle_ipo`` cycles a PLC scan.  Forces are applied where
+their owner writes, so a forced value is what the reader sees.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from interfaces.catalog import load_catalog
+from interfaces.image import ProcessImage, Value
+from interfaces.links.inprocess import plc_program
+from interfaces.plc import PlcEnvironment, SoftPlc
+from interfaces.signals import Direction, SignalRef
+from vc.config.model import MachineConfig
+from vc.core.alarms import Alarm
+from vc.core.nck import Nck
+from vc.plant.plant import Plant
+
+AXIS_QUANTITIES = ("position", "setpoint", "velocity", "followingError", "physical")
+
+
+class Simulation:
+    def __init__(self, machine: MachineConfig, plc: str | None = "basic_machine"):
+        catalog = load_catalog()
+        self.machine = machine
+        self.nck = Nck(machine, catalog)
+        self.catalog = self.nck.catalog
+        self.plant_io = machine.plant_io
+        self.interface = ProcessImage(self.catalog.area_sizes)
+        self.plant_image = ProcessImage(machine.plant_io.area_sizes())
+        self.plant = Plant(machine, self.nck.cycle_us, self.nck.axes)
+        self.plc_name = plc
+        self.plc: SoftPlc | None = None
+        self.plc_period = machine.plc_cycle_ipo
+        if plc is not None:
+            scan_time = self.plc_period * self.nck.cycle_us / 1_000_000
+            environment = PlcEnvironment(self.catalog, machine.plant_io, scan_time)
+            self.plc = plc_program(plc)(environment)
+        self._observed = ProcessImage({**self.catalog.area_sizes, **machine.plant_io.area_sizes()})
+        self._observed_cycle = -1
+        self._forces: dict[SignalRef, Value] = {}
+        self._forces_by_direction: dict[Direction, list[tuple[SignalRef, Value]]] = {d: [] for d in Direction}
+        self.plant.power_on(self.plant_image)
+        self._plc_cycle()
+
+    # ------------------------------------------------------------------ time
+    @property
+    def cycle(self) -> int:
+        return self.nck.cycle
+
+    @property
+    def ipo_cycle_us(self) -> int:
+        return self.nck.cycle_us
+
+    @property
+    def time_s(self) -> float:
+        return self.nck.cycle * self.nck.cycle_us / 1_000_000
+
+    def step(self, cycles: int = 1) -> None:
+        nck, plant, interface, plant_image = self.nck, self.plant, self.interface, self.plant_image
+        plant_forces = self._forces_by_direction[Direction.PLANT_TO_PLC]
+        for _ in range(cycles):
+            nck.step(interface)
+            plant.step(plant_image)
+            if plant_forces:
+                self._apply(plant_forces, plant_image)
+            if nck.cycle % self.plc_period == 0:
+                self._plc_cycle()
+
+    def _plc_cycle(self) -> None:
+        """Interface update and one PLC scan (or, without a PLC, just the interface update)."""
+        self.interface.copy_from(self.nck.image, self.nck.nc_to_plc_ranges)
+        self._apply(self._forces_by_direction[Direction.NC_TO_PLC], self.interface)
+        if self.plc is not None:
+            self.plc.scan(self.interface, self.plant_image)
+            self._apply(self._forces_by_direction[Direction.PLC_TO_NC], self.interface)
+            self._apply(self._forces_by_direction[Direction.PLC_TO_PLANT], self.plant_image)
+
+    # ------------------------------------------------------------------ signals
+    def _image_of(self, ref: SignalRef) -> ProcessImage:
+        return self.plant_image if ref.address.area in ("I", "Q") else self.interface
+
+    def read(self, ref: SignalRef) -> Value:
+        if ref.direction is Direction.NC_TO_PLC:
+            forced = self._forces.get(ref)
+            return forced if forced is not None else self.nck.image.read(ref)
+        return self._image_of(ref).read(ref)
+
+    def write(self, ref: SignalRef, value: Value) -> None:
+        self._image_of(ref).write(ref, value)
+        self._observed_cycle = -1
+
+    def force(self, ref: SignalRef, value: Value) -> None:
+        self._forces[ref] = value
+        self._rebuild_forces()
+        self._image_of(ref).write(ref, value)
+        self._observed_cycle = -1
+
+    def release(self, ref: SignalRef) -> None:
+        if self._forces.pop(ref, None) is not None:
+            self._rebuild_forces()
+            self._observed_cycle = -1
+
+    def _rebuild_forces(self) -> None:
+        for items in self._forces_by_direction.values():
+            items.clear()
+        for ref, value in self._forces.items():
+            self._forces_by_direction[ref.direction].append((ref, value))
+
+    @staticmethod
+    def _apply(forces: list[tuple[SignalRef, Value]], image: ProcessImage) -> None:
+        for ref, value in forces:
+            image.write(ref, value)
+
+    def image_areas(self) -> dict[str, bytearray]:
+        """The interface as ``read`` shows it, byte by byte, for trace recording.
+
+        NC->PLC bytes come from the NC (forces applied), PLC->NC bytes from the wire, I and Q
+        from the plant image.  Composed once per cycle, only when someone asks.
+        """
+        observed = self._observed
+        if self._observed_cycle != self.nck.cycle:
+            self._observed_cycle = self.nck.cycle
+            observed.copy_from(self.nck.image, self.nck.nc_to_plc_ranges)
+            observed.copy_from(self.interface, self.nck.plc_to_nc_ranges)
+            self._apply(self._forces_by_direction[Direction.NC_TO_PLC], observed)
+            for key in ("I", "Q"):
+                observed.areas[key][:] = self.plant_image.areas[key]
+        return observed.areas
+
+    # ------------------------------------------------------------------ axes, alarms, HMI
+    def axis_quantity(self, axis: str, quantity: str) -> float:
+        item = self.nck.axes_by_name[axis]
+        if quantity == "position":
+            return item.actual
+        if quantity == "setpoint":
+            return item.setpoint
+        if quantity == "velocity":
+            return item.display_velocity
+        if quantity == "followingError":
+            return item.following_error
+        if quantity == "physical":
+            return item.physical
+        raise KeyError(f"unknown axis quantity '{quantity}' (known: {', '.join(AXIS_QUANTITIES)})")
+
+    def alarms(self) -> Sequence[Alarm]:
+        return list(self.nck.alarms.present)
+
+    def alarm_history(self) -> Sequence[Alarm]:
+        return list(self.nck.alarms.history)
+
+    def load_mda(self, channel: str, text: str) -> None:
+        self.nck.load_mda(channel, text)
+
+    def select_program(self, channel: str, name: str, text: str) -> None:
+        self.nck.select_program(channel, name, text)

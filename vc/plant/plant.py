@@ -1,0 +1,117 @@
+"""The machine plant: switches along the axes and the drive line-up, wired to PLC inputs.
+
+The plant sees the true (physical) slide positions and drives the plant-owned inputs of
+the I/O list: reference cams (1 while the slide stands on the cam), hardware limit
+switches (normally closed: 0 while actuated), and ``Drives.ready``, which follows the
+PLC's ``Drives.on`` output after the infeed's switch-on delay.  Operator inputs (panel
+keys, the emergency-stop button) are not the plant's: a person (a scenario) sets them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Protocol
+
+from interfaces.image import ProcessImage
+from interfaces.signals import SignalRef
+from vc.config.model import AxisConfig, MachineConfig
+
+DRIVE_READY_DELAY_S = 0.1  # infeed switch-on to "ready", a typical line module figure
+# The operator panel as it stands at power-on: e-stop button released, override switches at 100 %.
+PANEL_AT_POWER_ON = {"EStop.chainOk": 1, "MCP.feedOverride": 100, "MCP.rapidOverride": 100,
+                     "MCP.spindleOverride": 100}
+
+
+class Slide(Protocol):
+    """Anything with the true position of a slide (the NC core's machine axis has it)."""
+
+    physical: float
+
+
+@dataclass(slots=True)
+class _AxisSwitches:
+    cam: tuple[SignalRef, float, float] | None
+    limit_minus: tuple[SignalRef, float] | None
+    limit_plus: tuple[SignalRef, float] | None
+    last_position: float | None = None
+    states: tuple[int, int, int] | None = None  # cam, minus, plus as last written
+
+
+class Plant:
+    def __init__(self, machine: MachineConfig, ipo_cycle_us: int, slides: Sequence[Slide]):
+        self._io = machine.plant_io
+        self._slides = list(slides)  # in machine axis order
+        self._axes = [self._switches_of(axis) for axis in machine.axes]
+        ready = self._io.by_name("Drives.ready")
+        on = self._io.by_name("Drives.on")
+        self._drives_ready = ready.ref() if ready else None
+        self._drives_on = on.ref() if on else None
+        self._ready_delay_cycles = max(1, round(DRIVE_READY_DELAY_S * 1_000_000 / ipo_cycle_us))
+        self._on_cycles = 0
+        self._ready: int | None = None
+
+    def _switches_of(self, axis: AxisConfig) -> _AxisSwitches:
+        def wired(function: str) -> SignalRef | None:
+            point = self._io.by_name(f"{axis.name}.{function}")
+            return point.ref() if point else None
+
+        plant = axis.plant
+        cam_ref = wired("refCam")
+        minus_ref = wired("hwLimitMinus")
+        plus_ref = wired("hwLimitPlus")
+        return _AxisSwitches(
+            cam=(cam_ref, plant.ref_cam[0], plant.ref_cam[1]) if cam_ref and plant.ref_cam else None,
+            limit_minus=(minus_ref, plant.hw_limit_minus)
+            if minus_ref and plant.hw_limit_minus is not None else None,
+            limit_plus=(plus_ref, plant.hw_limit_plus) if plus_ref and plant.hw_limit_plus is not None else None,
+        )
+
+    def power_on(self, io: ProcessImage) -> None:
+        """Set every plant input for the positions at power-on, and the panel's initial state."""
+        for name, value in PANEL_AT_POWER_ON.items():
+            point = self._io.by_name(name)
+            if point is not None:
+                io.write(point.ref(), value)
+        for switches in self._axes:
+            switches.last_position = None
+            switches.states = None
+        self._ready = None
+        self.step(io)
+
+    def step(self, io: ProcessImage) -> None:
+        """Update the plant inputs for one IPO cycle."""
+        for switches, slide in zip(self._axes, self._slides, strict=True):
+            position = slide.physical
+            if position == switches.last_position:
+                continue
+            switches.last_position = position
+            cam = switches.cam
+            minus = switches.limit_minus
+            plus = switches.limit_plus
+            states = (
+                1 if cam is not None and cam[1] <= position <= cam[2] else 0,
+                0 if minus is not None and position <= minus[1] else 1,
+                0 if plus is not None and position >= plus[1] else 1,
+            )
+            if states == switches.states:
+                continue
+            switches.states = states
+            if cam is not None:
+                io.write(cam[0], states[0])
+            if minus is not None:
+                io.write(minus[0], states[1])
+            if plus is not None:
+                io.write(plus[0], states[2])
+        self._drive_line_up(io)
+
+    def _drive_line_up(self, io: ProcessImage) -> None:
+        if self._drives_ready is None:
+            return
+        on = self._drives_on
+        switched_on = True if on is None else bool(io.areas["Q"][on.address.byte] >> on.address.bit & 1)
+        self._on_cycles = min(self._on_cycles + 1, self._ready_delay_cycles) if switched_on else 0
+        ready = 1 if self._on_cycles >= self._ready_delay_cycles else 0
+        if ready != self._ready:
+            self._ready = ready
+            io.write(self._drives_ready, ready)

@@ -1,0 +1,439 @@
+"""Conditions in scenario files: a small expression language, parsed once, evaluated every cycle.
+
+Grammar (lowest precedence first; keywords and function names in any letter case)::
+
+    expression  := or
+    or          := and ( "or" and )*
+    and         := not ( "and" not )*
+    not         := "not" not | comparison
+    comparison  := sum [ ( "==" | "!=" | "<" | "<=" | ">" | ">=" ) sum ]
+    sum         := product ( ( "+" | "-" ) product )*
+    product     := unary ( ( "*" | "/" ) unary )*
+    unary       := "-" unary | primary
+    primary     := NUMBER | "true" | "false" | NAME | "(" expression ")"
+                 | "abs" "(" expression ")"
+                 | "alarm" "(" NUMBER [ "," NAME ] ")"
+
+``NAME`` is a signal symbol, an absolute address, a plant I/O name, ``<axis>.<quantity>`` or
+``time`` (see :mod:`vc.scenario.quantities`).  Comparisons and ``and``/``or``/``not`` give 1 or
+0; a condition holds when its value is not 0.  Only one comparison per level: write
+``0 < X1.position and X1.position < 5`` (chained comparisons read differently in different
+languages, so they are refused with that hint).  ``alarm(21614, X1)`` is 1 while alarm 21614
+of axis (or channel) X1 is present.
+
+Parsing never uses ``eval``: a tokenizer and a recursive-descent parser build a tree that is
+compiled into nested closures, so an invariant costs a few function calls per IPO cycle.
+Errors carry the 1-based column inside the text.
+"""
+
+from __future__ import annotations
+
+import operator
+import re
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import Protocol
+
+from interfaces.signals import UnknownSignalError
+from vc.scenario.quantities import NameResolver, Quantity
+
+Number = int | float
+Evaluator = Callable[[], Number]
+
+
+class ExpressionError(ValueError):
+    """A syntax or name problem in an expression, at a 1-based column of its text."""
+
+    def __init__(self, message: str, column: int | None = None):
+        super().__init__(message)
+        self.message = message
+        self.column = column
+
+    def __str__(self) -> str:
+        return self.message if self.column is None else f"{self.message} at column {self.column}"
+
+
+class EvaluationError(ArithmeticError):
+    """A condition could not be evaluated in this cycle (division by zero)."""
+
+
+# ---------------------------------------------------------------------------------- tokens
+
+_TOKEN = re.compile(
+    r"""
+    (?P<space>\s+)
+  | (?P<number>(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?(?![A-Za-z_0-9.]))
+  | (?P<name>[A-Za-z_][A-Za-z_0-9]*(?:\.[A-Za-z_0-9]+)*)
+  | (?P<op>==|!=|<=|>=|<|>|\+|-|\*|/|\(|\)|,)
+    """,
+    re.VERBOSE,
+)
+
+# Operators from other languages, with the way to write them here.
+_FOREIGN = (
+    ("&&", "write and"), ("||", "write or"), ("<>", "write !="), ("=", "compare with =="),
+    ("!", "write not, or != to compare"), ("&", "write and"), ("|", "write or"),
+)
+
+KEYWORDS = frozenset({"and", "or", "not", "true", "false"})
+FUNCTIONS = ("abs", "alarm")
+
+
+@dataclass(frozen=True, slots=True)
+class Token:
+    kind: str  # "number", "name", "op", "end"
+    text: str
+    column: int  # 1-based
+
+
+def tokenize(text: str) -> list[Token]:
+    tokens: list[Token] = []
+    position = 0
+    while position < len(text):
+        match = _TOKEN.match(text, position)
+        if match is None or text.startswith("<>", position):
+            raise ExpressionError(_unexpected_character(text, position), position + 1)
+        kind = match.lastgroup
+        assert kind is not None
+        if kind != "space":
+            tokens.append(Token(kind, match.group(), position + 1))
+        position = match.end()
+    tokens.append(Token("end", "", len(text) + 1))
+    return tokens
+
+
+def _unexpected_character(text: str, position: int) -> str:
+    for foreign, hint in _FOREIGN:
+        if text.startswith(foreign, position):
+            return f"unexpected '{foreign}' ({hint})"
+    if text[position].isdigit():
+        return "a number must not run into a name (leave a space or an operator between them)"
+    return f"unexpected '{text[position]}'"
+
+
+# ---------------------------------------------------------------------------------- tree
+
+
+@dataclass(frozen=True, slots=True)
+class Literal:
+    value: Number
+    column: int
+
+
+@dataclass(frozen=True, slots=True)
+class Name:
+    text: str
+    column: int
+
+
+@dataclass(frozen=True, slots=True)
+class Unary:
+    op: str  # "-" or "not"
+    operand: Node
+    column: int
+
+
+@dataclass(frozen=True, slots=True)
+class Binary:
+    op: str
+    left: Node
+    right: Node
+    column: int
+
+
+@dataclass(frozen=True, slots=True)
+class Abs:
+    operand: Node
+    column: int
+
+
+@dataclass(frozen=True, slots=True)
+class AlarmCall:
+    number: int
+    place: str  # axis or channel name; "" = anywhere
+    column: int
+    place_column: int = 0
+
+
+Node = Literal | Name | Unary | Binary | Abs | AlarmCall
+
+_COMPARISONS = ("==", "!=", "<", "<=", ">", ">=")
+
+
+class _Parser:
+    def __init__(self, text: str):
+        self.text = text
+        self.tokens = tokenize(text)
+        self.index = 0
+
+    @property
+    def token(self) -> Token:
+        return self.tokens[self.index]
+
+    def advance(self) -> Token:
+        token = self.tokens[self.index]
+        self.index += 1
+        return token
+
+    def is_keyword(self, word: str) -> bool:
+        return self.token.kind == "name" and self.token.text.lower() == word
+
+    def is_op(self, *ops: str) -> bool:
+        return self.token.kind == "op" and self.token.text in ops
+
+    def unexpected(self) -> ExpressionError:
+        token = self.token
+        if token.kind == "end":
+            return ExpressionError("unexpected end of the expression", token.column)
+        return ExpressionError(f"unexpected '{token.text}'", token.column)
+
+    def parse(self) -> Node:
+        if self.token.kind == "end":
+            raise ExpressionError("the expression is empty", 1)
+        node = self.parse_or()
+        if self.token.kind != "end":
+            if self.is_op(*_COMPARISONS):
+                raise ExpressionError(
+                    f"a comparison cannot follow another ('{self.token.text}'); join them with and",
+                    self.token.column)
+            raise self.unexpected()
+        return node
+
+    def parse_or(self) -> Node:
+        node = self.parse_and()
+        while self.is_keyword("or"):
+            column = self.advance().column
+            node = Binary("or", node, self.parse_and(), column)
+        return node
+
+    def parse_and(self) -> Node:
+        node = self.parse_not()
+        while self.is_keyword("and"):
+            column = self.advance().column
+            node = Binary("and", node, self.parse_not(), column)
+        return node
+
+    def parse_not(self) -> Node:
+        if self.is_keyword("not"):
+            column = self.advance().column
+            return Unary("not", self.parse_not(), column)
+        return self.parse_comparison()
+
+    def parse_comparison(self) -> Node:
+        node = self.parse_sum()
+        if self.is_op(*_COMPARISONS):
+            token = self.advance()
+            node = Binary(token.text, node, self.parse_sum(), token.column)
+        return node
+
+    def parse_sum(self) -> Node:
+        node = self.parse_product()
+        while self.is_op("+", "-"):
+            token = self.advance()
+            node = Binary(token.text, node, self.parse_product(), token.column)
+        return node
+
+    def parse_product(self) -> Node:
+        node = self.parse_unary()
+        while self.is_op("*", "/"):
+            token = self.advance()
+            node = Binary(token.text, node, self.parse_unary(), token.column)
+        return node
+
+    def parse_unary(self) -> Node:
+        if self.is_op("-"):
+            column = self.advance().column
+            return Unary("-", self.parse_unary(), column)
+        return self.parse_primary()
+
+    def parse_primary(self) -> Node:
+        token = self.token
+        if token.kind == "number":
+            self.advance()
+            value = float(token.text)
+            return Literal(int(token.text) if token.text.isdigit() else value, token.column)
+        if self.is_op("("):
+            self.advance()
+            node = self.parse_or()
+            self.expect_close(token)
+            return node
+        if token.kind != "name":
+            raise self.unexpected()
+        word = token.text.lower()
+        if word in ("true", "false"):
+            self.advance()
+            return Literal(1 if word == "true" else 0, token.column)
+        if word in ("and", "or", "not"):
+            raise self.unexpected()
+        self.advance()
+        if not self.is_op("("):
+            return Name(token.text, token.column)
+        opening = self.advance()
+        if word == "abs":
+            operand = self.parse_or()
+            self.expect_close(opening)
+            return Abs(operand, token.column)
+        if word == "alarm":
+            return self.parse_alarm(token, opening)
+        raise ExpressionError(f"unknown function '{token.text}' (known: {', '.join(FUNCTIONS)})",
+                              token.column)
+
+    def parse_alarm(self, name: Token, opening: Token) -> AlarmCall:
+        number = self.token
+        if number.kind != "number" or not number.text.isdigit():
+            raise ExpressionError("alarm(...) takes an alarm number, e.g. alarm(3000) or alarm(21614, X1)",
+                                  number.column)
+        self.advance()
+        place, place_column = "", 0
+        if self.is_op(","):
+            self.advance()
+            if self.token.kind != "name" or "." in self.token.text:
+                raise ExpressionError("the second argument of alarm(...) is an axis or channel name",
+                                      self.token.column)
+            place_column = self.token.column
+            place = self.advance().text
+        self.expect_close(opening)
+        return AlarmCall(int(number.text), place, name.column, place_column)
+
+    def expect_close(self, opening: Token) -> None:
+        if self.is_op(")"):
+            self.advance()
+            return
+        if self.token.kind == "end":
+            raise ExpressionError("this '(' is not closed", opening.column)
+        raise self.unexpected()
+
+
+def parse(text: str) -> Node:
+    """Parse ``text`` into a tree; raises :class:`ExpressionError` with the column."""
+    return _Parser(text).parse()
+
+
+def walk(node: Node) -> Iterator[Node]:
+    yield node
+    if isinstance(node, Unary | Abs):
+        yield from walk(node.operand)
+    elif isinstance(node, Binary):
+        yield from walk(node.left)
+        yield from walk(node.right)
+
+
+def to_text(node: Node) -> str:
+    """The tree written back as text, fully parenthesised (for tests and messages)."""
+    if isinstance(node, Literal):
+        return repr(node.value)
+    if isinstance(node, Name):
+        return node.text
+    if isinstance(node, Unary):
+        return f"(not {to_text(node.operand)})" if node.op == "not" else f"(-{to_text(node.operand)})"
+    if isinstance(node, Binary):
+        return f"({to_text(node.left)} {node.op} {to_text(node.right)})"
+    if isinstance(node, Abs):
+        return f"abs({to_text(node.operand)})"
+    return f"alarm({node.number}, {node.place})" if node.place else f"alarm({node.number})"
+
+
+# ---------------------------------------------------------------------------------- resolved
+
+
+@dataclass(frozen=True, slots=True)
+class Expression:
+    """A parsed expression whose names are resolved for one machine."""
+
+    text: str
+    root: Node
+    quantities: dict[str, Quantity]  # name as written -> what it stands for
+
+    @property
+    def names(self) -> tuple[Quantity, ...]:
+        """The quantities the expression reads, each once, in order of appearance."""
+        seen: dict[str, Quantity] = {}
+        for quantity in self.quantities.values():
+            seen.setdefault(quantity.name, quantity)
+        return tuple(seen.values())
+
+    def compile(self, probe: Probe) -> Evaluator:
+        return _compile(self.root, self.quantities, probe)
+
+    def __str__(self) -> str:
+        return self.text
+
+
+def parse_expression(text: str, resolver: NameResolver | None) -> Expression:
+    """Parse ``text`` and resolve its names (skipped when ``resolver`` is None, e.g. because the
+    machine did not load).  Raises :class:`ExpressionError`; name problems carry no column since
+    the message quotes the name."""
+    root = parse(text)
+    quantities: dict[str, Quantity] = {}
+    if resolver is not None:
+        for node in walk(root):
+            if isinstance(node, Name) and node.text not in quantities:
+                try:
+                    quantities[node.text] = resolver.resolve(node.text)
+                except UnknownSignalError as error:
+                    raise ExpressionError(error.message) from None
+            elif isinstance(node, AlarmCall) and node.place:
+                try:
+                    resolver.place(node.place)
+                except KeyError as error:
+                    raise ExpressionError(str(error.args[0]), node.place_column) from None
+    return Expression(text, root, quantities)
+
+
+# ---------------------------------------------------------------------------------- compile
+
+
+class Probe(Protocol):
+    """What compiled expressions read: provided by the runner for one target."""
+
+    def reader(self, quantity: Quantity) -> Evaluator: ...
+
+    def alarm_present(self, number: int, place: str) -> bool: ...
+
+
+_ARITHMETIC: dict[str, Callable[[Number, Number], Number]] = {
+    "+": operator.add, "-": operator.sub, "*": operator.mul,
+}
+_COMPARE: dict[str, Callable[[Number, Number], bool]] = {
+    "==": operator.eq, "!=": operator.ne, "<": operator.lt, "<=": operator.le, ">": operator.gt,
+    ">=": operator.ge,
+}
+
+
+def _compile(node: Node, quantities: dict[str, Quantity], probe: Probe) -> Evaluator:
+    if isinstance(node, Literal):
+        constant = node.value
+        return lambda: constant
+    if isinstance(node, Name):
+        return probe.reader(quantities[node.text])
+    if isinstance(node, AlarmCall):
+        number, place, present = node.number, node.place, probe.alarm_present
+        return lambda: 1 if present(number, place) else 0
+    if isinstance(node, Abs):
+        inner = _compile(node.operand, quantities, probe)
+        return lambda: abs(inner())
+    if isinstance(node, Unary):
+        operand = _compile(node.operand, quantities, probe)
+        if node.op == "not":
+            return lambda: 0 if operand() else 1
+        return lambda: -operand()
+    left = _compile(node.left, quantities, probe)
+    right = _compile(node.right, quantities, probe)
+    op = node.op
+    if op == "and":
+        return lambda: 1 if left() and right() else 0
+    if op == "or":
+        return lambda: 1 if left() or right() else 0
+    if op in _COMPARE:
+        compare = _COMPARE[op]
+        return lambda: 1 if compare(left(), right()) else 0
+    if op == "/":
+        return lambda: _divide(left(), right())
+    arithmetic = _ARITHMETIC[op]
+    return lambda: arithmetic(left(), right())
+
+
+def _divide(numerator: Number, denominator: Number) -> float:
+    if denominator == 0:
+        raise EvaluationError(f"division by zero ({numerator} / 0)")
+    return numerator / denominator

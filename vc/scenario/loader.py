@@ -1,0 +1,789 @@
+"""Scenario files -> checked :class:`~vc.scenario.model.Scenario` objects.
+
+Every problem of a file is collected with ``file:line:column`` and one
+:class:`~vc.located_yaml.SourceError` reports them all: unknown keys and step kinds (with
+"did you mean"), missing entries, unknown PLC programs, problems of the machine file
+(reported at the machine file's own lines; machine data overrides at the scenario's lines),
+unknown signals, bad durations, expressions, expected values, values outside a signal's
+range, and writes that the signal's owner would undo.  :func:`load_scenarios` checks every
+file of a run before any of them runs.
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+from collections.abc import Callable, Collection, Iterable, Sequence
+from pathlib import Path
+from typing import Any
+
+from interfaces.image import Value, value_range
+from interfaces.plant_io import Owner
+from interfaces.signals import Catalog, Direction, SignalType, UnknownSignalError, expand
+from vc.config.loader import load_machine
+from vc.config.model import MachineConfig
+from vc.core.alarms import ALARM_TEXTS
+from vc.located_yaml import LocatedList, LocatedMap, Mark, Problem, Problems, SourceError, load_file
+from vc.scenario.durations import Duration, DurationError, parse_duration
+from vc.scenario.expressions import Expression, ExpressionError, parse_expression
+from vc.scenario.model import (
+    NO_PLC,
+    EdgeKind,
+    Event,
+    ExpectAlarm,
+    ExpectCondition,
+    ExpectOrder,
+    ExpectTiming,
+    ExpectValues,
+    Hold,
+    Invariant,
+    LoadMda,
+    Press,
+    Release,
+    Scenario,
+    SelectProgram,
+    SetValues,
+    Step,
+    Wait,
+    WaitUntil,
+)
+from vc.scenario.quantities import NameResolver, Quantity, QuantityKind
+from vc.scenario.values import ExpectedValue, ExpectedValueError, parse_expected
+
+TOP_KEYS = ("name", "description", "machine", "plc", "machine_data", "timeout", "invariants", "steps")
+REQUIRED_TOP_KEYS = ("name", "machine", "plc", "steps")
+STEP_KINDS = ("press", "hold", "release", "set", "force", "pulse", "mda", "program", "wait", "expect",
+              "expect_alarm", "expect_no_alarm", "expect_order", "expect_timing")
+STEP_EXAMPLES = {
+    "press": "press: MCP.jog", "hold": "hold: MCP.plus.X1", "release": "release: MCP.plus.X1",
+    "set": "set: {MCP.feedOverride: 50}", "force": "force: {X1.basic.out.enableCtrl: 0}",
+    "pulse": "pulse: {signal: CHAN1.basic.out.ncStart, for: 20ms}", "mda": 'mda: "G1 X100 F2000"',
+    "program": "program: {name: PART1, file: programs/part1.mpf}", "wait": "wait: 500ms",
+    "expect": 'expect: {X1.position: "100 +- 0.001"}', "expect_alarm": "expect_alarm: 10621",
+    "expect_no_alarm": "expect_no_alarm: all", "expect_order": "expect_order: [MCP.jog rises, MCP.jog falls]",
+    "expect_timing": "expect_timing: {from: MCP.jog rises, to: MCP.jog falls, max: 1s}",
+}
+DEFAULT_TIMEOUT = Duration(300_000_000)
+DEFAULT_PRESS = Duration(100_000)
+SCENARIO_SUFFIXES = (".yaml", ".yml")
+SKIPPED_DIRECTORY = "machines"
+
+# load_machine(path, overrides, overrides_file) -> MachineConfig, raising SourceError
+MachineLoader = Callable[[str, LocatedMap | None, str], MachineConfig]
+
+
+def default_machine_loader(path: str, overrides: LocatedMap | None, overrides_file: str) -> MachineConfig:
+    return load_machine(path, overrides, overrides_file)
+
+
+def default_catalog() -> Catalog:
+    from interfaces.catalog import load_catalog
+
+    return load_catalog()
+
+
+# ---------------------------------------------------------------------------------- public
+
+
+def load_scenario(path: str, known_programs: Collection[str], *, catalog: Catalog | None = None,
+                  machine_loader: MachineLoader | None = None) -> Scenario:
+    """Load and check one scenario file; raises :class:`SourceError` with every problem."""
+    return load_scenarios([path], known_programs, catalog=catalog, machine_loader=machine_loader)[0]
+
+
+def load_scenarios(paths: Sequence[str], known_programs: Collection[str], *, catalog: Catalog | None = None,
+                   machine_loader: MachineLoader | None = None) -> list[Scenario]:
+    """Load every scenario of ``paths`` (files, or directories searched recursively for ``*.yaml``
+    outside directories named ``machines``).  Raises one :class:`SourceError` for all files."""
+    files, problems = scenario_files(paths)
+    machines = _Machines(machine_loader or default_machine_loader)
+    collected = Problems()
+    collected.extend(problems)
+    scenarios: list[Scenario] = []
+    for file in files:
+        checker = _ScenarioChecker(file, known_programs, catalog, machines, collected)
+        scenario = checker.check()
+        if scenario is not None:
+            scenarios.append(scenario)
+    if collected:
+        raise SourceError(sorted(set(collected.items)))
+    return scenarios
+
+
+def scenario_files(paths: Iterable[str]) -> tuple[list[str], list[Problem]]:
+    """The scenario files named by ``paths``, in a stable order, and the paths that do not exist."""
+    files: list[str] = []
+    problems: list[Problem] = []
+    for path in paths:
+        if os.path.isdir(path):
+            found = []
+            for directory, subdirectories, names in os.walk(path):
+                subdirectories[:] = sorted(d for d in subdirectories if d != SKIPPED_DIRECTORY)
+                found += [os.path.join(directory, n) for n in names if n.endswith(SCENARIO_SUFFIXES)]
+            files += sorted(found)
+        elif os.path.isfile(path):
+            files.append(path)
+        else:
+            problems.append(Problem(Mark(path, 1, 1), "no such scenario file or directory"))
+    unique = list(dict.fromkeys(os.path.normpath(f) if os.path.isabs(f) else f for f in files))
+    return unique, problems
+
+
+# ---------------------------------------------------------------------------------- machine
+
+
+class _Machines:
+    """Loads each machine file once per run (unless a scenario overrides machine data)."""
+
+    def __init__(self, loader: MachineLoader):
+        self.loader = loader
+        self._plain: dict[str, MachineConfig | SourceError] = {}
+
+    def load(self, path: str, overrides: LocatedMap | None, overrides_file: str) -> MachineConfig:
+        if overrides:
+            return self.loader(path, overrides, overrides_file)
+        key = os.path.abspath(path)
+        if key not in self._plain:
+            try:
+                self._plain[key] = self.loader(path, None, "")
+            except SourceError as error:
+                self._plain[key] = error
+        result = self._plain[key]
+        if isinstance(result, SourceError):
+            raise result
+        return result
+
+
+# ---------------------------------------------------------------------------------- checker
+
+
+def _suggest(word: str, choices: Sequence[str]) -> str:
+    close = difflib.get_close_matches(word, choices, n=1, cutoff=0.6)
+    return f"; did you mean {close[0]}?" if close else ""
+
+
+def _looked_for(written: str, location: str) -> str:
+    return "" if os.path.normpath(written) == location else f" (looked for {location})"
+
+
+def _kind_of_value(value: object) -> str:
+    if isinstance(value, LocatedMap):
+        return "a mapping"
+    if isinstance(value, LocatedList):
+        return "a list"
+    if isinstance(value, bool):
+        return "true/false"
+    if value is None:
+        return "empty"
+    return f"'{value}'"
+
+
+class _ScenarioChecker:
+    def __init__(self, path: str, known_programs: Collection[str], catalog: Catalog | None,
+                 machines: _Machines, problems: Problems):
+        self.path = path
+        self.directory = os.path.dirname(path)
+        self.known_programs = known_programs
+        self.catalog = catalog
+        self.machines = machines
+        self.problems = problems
+        self.machine: MachineConfig | None = None
+        self.resolver: NameResolver | None = None
+        self.plc = NO_PLC
+        self.forced: set[str] = set()
+
+    def add(self, mark: Mark, message: str) -> None:
+        self.problems.add(mark, message)
+
+    # -- top level -------------------------------------------------------------------------
+
+    def check(self) -> Scenario | None:
+        problems_before = len(self.problems.items)
+        document, parse_problems = load_file(self.path)
+        self.problems.extend(parse_problems)
+        if document is None:
+            return None
+        if not isinstance(document, LocatedMap):
+            self.add(Mark(self.path, 1, 1),
+                     "a scenario is a mapping with name, machine, plc and steps (see docs/scenarios.md)")
+            return None
+        self.check_keys(document, TOP_KEYS, REQUIRED_TOP_KEYS, "the scenario")
+        name = self.text(document, "name")
+        description = self.text(document, "description") if "description" in document else ""
+        self.plc = self.check_plc(document)
+        machine_file = self.load_machine(document)
+        timeout = DEFAULT_TIMEOUT
+        if "timeout" in document:
+            timeout = self.duration(document["timeout"], document.mark_of("timeout"), positive=True) \
+                or timeout
+        invariants = self.invariants(document)
+        steps = self.steps(document)
+        if len(self.problems.items) > problems_before or self.machine is None or self.resolver is None:
+            return None
+        return Scenario(
+            name=name, description=description, path=self.path, machine_file=machine_file,
+            machine=self.machine, catalog=self.resolver.catalog, plc=self.plc, timeout=timeout,
+            invariants=tuple(invariants), steps=tuple(steps), mark=document.mark,
+        )
+
+    def check_keys(self, mapping: LocatedMap, allowed: Sequence[str], required: Sequence[str],
+                   where: str) -> bool:
+        """Report unknown and missing keys; True if all required keys are there."""
+        for key in mapping:
+            if key not in allowed:
+                hint = _suggest(key, allowed) or f" (known: {', '.join(allowed)})"
+                self.add(mapping.mark_of_key(key), f"unknown key '{key}' in {where}{hint}")
+        missing = [key for key in required if key not in mapping]
+        for key in missing:
+            self.add(mapping.mark, f"{where} needs '{key}'")
+        return not missing
+
+    def text(self, mapping: LocatedMap, key: str) -> str:
+        value = mapping.get(key)
+        if key in mapping and (not isinstance(value, str) or not value.strip()):
+            self.add(mapping.mark_of(key), f"{key} must be a text, not {_kind_of_value(value)}")
+            return ""
+        return str(value or "").strip()
+
+    def check_plc(self, document: LocatedMap) -> str:
+        if "plc" not in document:
+            return NO_PLC
+        value = document["plc"]
+        mark = document.mark_of("plc")
+        if value is False:  # YAML reads "plc: no" or "plc: off" as false
+            return NO_PLC
+        if not isinstance(value, str):
+            self.add(mark, f"plc must name a PLC program or be none, not {_kind_of_value(value)}")
+            return NO_PLC
+        if value == NO_PLC or value in self.known_programs:
+            return value
+        known = sorted(self.known_programs)
+        hint = _suggest(value, known)
+        self.add(mark, f"unknown PLC program '{value}'{hint} (known: {', '.join([*known, NO_PLC])})")
+        return NO_PLC
+
+    def load_machine(self, document: LocatedMap) -> str:
+        value = document.get("machine")
+        if "machine" not in document:
+            return ""
+        mark = document.mark_of("machine")
+        if not isinstance(value, str) or not value.strip():
+            self.add(mark, f"machine must be the path of a machine file, not {_kind_of_value(value)}")
+            return ""
+        machine_file = os.path.normpath(os.path.join(self.directory, value.strip()))
+        overrides = document.get("machine_data")
+        if overrides is not None and not isinstance(overrides, LocatedMap):
+            self.add(document.mark_of("machine_data"),
+                     "machine_data is a mapping {axis, channel or NC: {MD number or name: value}}")
+            overrides = None
+        if not os.path.isfile(machine_file):
+            self.add(mark, f"machine file '{value}' not found{_looked_for(value, machine_file)}")
+            return machine_file
+        try:
+            self.machine = self.machines.load(machine_file, overrides or None, self.path)
+        except SourceError as error:
+            self.problems.extend(error.problems)
+            if not overrides:
+                return machine_file
+            # The overrides are wrong; the machine itself may be sound, and its names let the
+            # rest of the file be checked.
+            try:
+                self.machine = self.machines.load(machine_file, None, self.path)
+            except SourceError:
+                return machine_file
+        catalog = self.catalog if self.catalog is not None else default_catalog()
+        machine = self.machine
+        self.resolver = NameResolver(expand(catalog, machine.layout), machine.plant_io,
+                                     (axis.name for axis in machine.axes),
+                                     (channel.name for channel in machine.channels))
+        return machine_file
+
+    def invariants(self, document: LocatedMap) -> list[Invariant]:
+        value = document.get("invariants")
+        if value is None:
+            return []
+        items = value if isinstance(value, LocatedList) else None
+        if items is None:
+            if isinstance(value, str):
+                expression = self.expression(value, document.mark_of("invariants"))
+                return [Invariant(expression, document.mark_of("invariants"))] if expression else []
+            self.add(document.mark_of("invariants"), "invariants is a list of conditions in quotes")
+            return []
+        result = []
+        for _, item, mark in items.located_items():
+            expression = self.expression(item, mark)
+            if expression is not None:
+                result.append(Invariant(expression, mark))
+        return result
+
+    def steps(self, document: LocatedMap) -> list[Step]:
+        value = document.get("steps")
+        if "steps" not in document:
+            return []
+        if not isinstance(value, LocatedList) or not value:
+            self.add(document.mark_of("steps"), "steps is a list of steps, each starting with '- '"
+                     " (e.g. '- wait: 2s')")
+            return []
+        steps: list[Step] = []
+        for index, item, mark in value.located_items():
+            step = self.step(index + 1, item, mark)
+            if step is not None:
+                steps.append(step)
+        return steps
+
+    # -- steps -----------------------------------------------------------------------------
+
+    def step(self, index: int, item: Any, mark: Mark) -> Step | None:
+        if isinstance(item, str) and item in STEP_KINDS:
+            self.add(mark, f"'{item}' needs a colon and what to do, e.g. '- {STEP_EXAMPLES[item]}'")
+            return None
+        if not isinstance(item, LocatedMap) or not item:
+            shown = _kind_of_value(item)
+            hint = _suggest(item, STEP_KINDS) if isinstance(item, str) else ""
+            self.add(mark, f"a step is written 'kind: what' (e.g. '- wait: 2s'), not {shown}{hint}")
+            return None
+        if len(item) > 1:
+            kinds = " and ".join(f"'{key}'" for key in item)
+            self.add(item.mark, f"one step per '-': this one has {kinds}"
+                     " (options of a step go into a mapping, e.g. press: {key: MCP.jog, for: 300ms})")
+            return None
+        kind = next(iter(item))
+        value = item[kind]
+        value_mark = item.mark_of(kind)
+        if kind not in STEP_KINDS:
+            hint = _suggest(kind, STEP_KINDS) or f" (steps: {', '.join(STEP_KINDS)})"
+            self.add(item.mark_of_key(kind), f"unknown step '{kind}'{hint}")
+            return None
+        handler: Callable[[int, Mark, Any, Mark], Step | None] = getattr(self, f"step_{kind}")
+        return handler(index, item.mark, value, value_mark)
+
+    def step_press(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        return self.press(index, mark, value, value_mark, "press", "key")
+
+    def step_pulse(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        return self.press(index, mark, value, value_mark, "pulse", "signal")
+
+    def press(self, index: int, mark: Mark, value: Any, value_mark: Mark, kind: str,
+              name_key: str) -> Step | None:
+        duration = DEFAULT_PRESS
+        names_value, names_mark = value, value_mark
+        if isinstance(value, LocatedMap):
+            if not self.check_keys(value, (name_key, "for"), (name_key,), kind):
+                return None
+            names_value, names_mark = value[name_key], value.mark_of(name_key)
+            if "for" in value:
+                parsed = self.duration(value["for"], value.mark_of("for"), positive=True)
+                if parsed is None:
+                    return None
+                duration = parsed
+        keys = self.writable_keys(names_value, names_mark, kind)
+        return Press(index, kind, mark, keys, duration) if keys is not None else None
+
+    def step_hold(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        keys = self.writable_keys(value, value_mark, "hold")
+        return Hold(index, "hold", mark, keys) if keys is not None else None
+
+    def step_release(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        names = self.name_list(value, value_mark, "release")
+        if names is None:
+            return None
+        result: list[Quantity] = []
+        for name, name_mark in names:
+            quantity = self.resolve(name, name_mark)
+            if quantity is None:
+                continue
+            if quantity.name in self.forced:
+                self.forced.discard(quantity.name)
+            elif self.key_refusal(quantity, "release"):
+                self.add(name_mark, f"cannot release {quantity.label}: no step before this one forces it"
+                         " (release ends a force, or lets go of a key)")
+                continue
+            result.append(quantity)
+        return Release(index, "release", mark, tuple(result)) if len(result) == len(names) else None
+
+    def step_set(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        return self.set_values(index, mark, value, value_mark, forced=False)
+
+    def step_force(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        return self.set_values(index, mark, value, value_mark, forced=True)
+
+    def set_values(self, index: int, mark: Mark, value: Any, value_mark: Mark, forced: bool) -> Step | None:
+        kind = "force" if forced else "set"
+        if not isinstance(value, LocatedMap) or not value:
+            self.add(value_mark, f"{kind} takes a mapping of names and values,"
+                     f" e.g. {kind}: {{MCP.feedOverride: 50}}")
+            return None
+        values: list[tuple[Quantity, Value]] = []
+        for name, item, item_mark in value.located_items():
+            name_mark = value.mark_of_key(name)
+            quantity = self.resolve(name, name_mark)
+            if quantity is None:
+                continue
+            if not forced and not self.check_writable(quantity, name_mark, kind):
+                continue
+            if forced and not self.check_signal(quantity, name_mark, kind):
+                continue
+            checked = self.signal_value(quantity, item, item_mark)
+            if checked is not None:
+                values.append((quantity, checked))
+                if forced:
+                    self.forced.add(quantity.name)
+        if len(values) != len(value):
+            return None
+        return SetValues(index, kind, mark, tuple(values), forced)
+
+    def step_mda(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        channel = self.first_channel()
+        text = value
+        text_mark = value_mark
+        if isinstance(value, LocatedMap):
+            if not self.check_keys(value, ("channel", "text"), ("text",), "mda"):
+                return None
+            channel = self.channel(value, channel)
+            text, text_mark = value["text"], value.mark_of("text")
+        if not isinstance(text, str) or not text.strip():
+            self.add(text_mark, f"mda takes the block(s) to run as a text, not {_kind_of_value(text)}")
+            return None
+        return LoadMda(index, "mda", mark, channel, text) if channel is not None else None
+
+    def step_program(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        if not isinstance(value, LocatedMap):
+            self.add(value_mark, "program takes a mapping: {name: PART1, text: ...}"
+                     " or {name: PART1, file: ...}")
+            return None
+        if not self.check_keys(value, ("name", "text", "file", "channel"), ("name",), "program"):
+            return None
+        name = self.text(value, "name")
+        channel = self.channel(value, self.first_channel())
+        if ("text" in value) == ("file" in value):
+            self.add(value.mark, "program needs either 'text' (the program itself) or 'file' (where it is)")
+            return None
+        if "text" in value:
+            text = self.text(value, "text")
+        else:
+            file = self.text(value, "file")
+            if not file:
+                return None
+            location = os.path.normpath(os.path.join(self.directory, file))
+            try:
+                text = Path(location).read_text(encoding="utf-8")
+            except OSError as error:
+                self.add(value.mark_of("file"), f"cannot read the program file '{file}'"
+                         f" ({error.strerror}){_looked_for(file, location)}")
+                return None
+            except UnicodeDecodeError:
+                self.add(value.mark_of("file"), f"the program file '{file}' is not UTF-8 text")
+                return None
+        if not name or not text or channel is None:
+            return None
+        return SelectProgram(index, "program", mark, channel, name, text)
+
+    def step_wait(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        if not isinstance(value, LocatedMap):
+            duration = self.duration(value, value_mark)
+            return Wait(index, "wait", mark, duration) if duration is not None else None
+        if not self.check_keys(value, ("until", "timeout"), ("until",), "wait"):
+            return None
+        condition = self.expression(value["until"], value.mark_of("until"))
+        timeout = None
+        if "timeout" in value:
+            timeout = self.duration(value["timeout"], value.mark_of("timeout"), positive=True)
+            if timeout is None:
+                return None
+        return WaitUntil(index, "wait", mark, condition, timeout) if condition is not None else None
+
+    def step_expect(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        if isinstance(value, str):
+            condition = self.expression(value, value_mark)
+            return ExpectCondition(index, "expect", mark, condition) if condition is not None else None
+        if not isinstance(value, LocatedMap) or not value:
+            self.add(value_mark, "expect takes a condition in quotes or a mapping of names and expected"
+                     ' values, e.g. expect: {X1.position: "100 +- 0.001"}')
+            return None
+        checks: list[tuple[Quantity, ExpectedValue]] = []
+        for name, item, item_mark in value.located_items():
+            quantity = self.resolve(name, value.mark_of_key(name))
+            try:
+                expected = parse_expected(item)
+            except ExpectedValueError as error:
+                self.add(item_mark, str(error))
+                continue
+            if quantity is None:
+                continue
+            if self.expected_in_range(quantity, expected, item_mark):
+                checks.append((quantity, expected))
+        if len(checks) != len(value):
+            return None
+        return ExpectValues(index, "expect", mark, tuple(checks))
+
+    def step_expect_alarm(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        return self.alarm_step(index, mark, value, value_mark, present=True)
+
+    def step_expect_no_alarm(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        return self.alarm_step(index, mark, value, value_mark, present=False)
+
+    def alarm_step(self, index: int, mark: Mark, value: Any, value_mark: Mark, present: bool) -> Step | None:
+        kind = "expect_alarm" if present else "expect_no_alarm"
+        place = ""
+        number_value, number_mark = value, value_mark
+        if isinstance(value, LocatedMap):
+            if not self.check_keys(value, ("number", "axis", "channel"), ("number",), kind):
+                return None
+            if "axis" in value and "channel" in value:
+                self.add(value.mark, f"{kind} takes 'axis' or 'channel', not both")
+                return None
+            for key in ("axis", "channel"):
+                if key in value:
+                    place = self.place(value[key], value.mark_of(key), key) or ""
+                    if not place:
+                        return None
+            number_value, number_mark = value["number"], value.mark_of("number")
+        if not present and number_value == "all" and not place:
+            return ExpectAlarm(index, kind, mark, 0, "", present)
+        if isinstance(number_value, bool) or not isinstance(number_value, int):
+            also = " or all" if not present else ""
+            hint = " (all is for expect_no_alarm)" if number_value == "all" else ""
+            self.add(number_mark,
+                     f"{kind} takes an alarm number{also}, not {_kind_of_value(number_value)}{hint}")
+            return None
+        if number_value not in ALARM_TEXTS:
+            known = ", ".join(str(number) for number in sorted(ALARM_TEXTS))
+            self.add(number_mark, f"alarm {number_value} is not an alarm of the simulated control"
+                     f" (known: {known})")
+            return None
+        return ExpectAlarm(index, kind, mark, number_value, place, present)
+
+    def step_expect_order(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        if not isinstance(value, LocatedList) or len(value) < 2:
+            self.add(value_mark, "expect_order takes a list of two or more events, e.g."
+                     " [X1.basic.out.refPointApproachCam rises, X1.basic.in.enc1Synchronized rises]")
+            return None
+        events = [self.event(item, item_mark) for _, item, item_mark in value.located_items()]
+        checked = [event for event in events if event is not None]
+        if len(checked) != len(events):
+            return None
+        return ExpectOrder(index, "expect_order", mark, tuple(checked))
+
+    def step_expect_timing(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        if not isinstance(value, LocatedMap):
+            self.add(value_mark, "expect_timing takes a mapping"
+                     " {from: EVENT, to: EVENT, min: TIME, max: TIME}")
+            return None
+        if not self.check_keys(value, ("from", "to", "min", "max"), ("from", "to"), "expect_timing"):
+            return None
+        start = self.event(value["from"], value.mark_of("from"))
+        end = self.event(value["to"], value.mark_of("to"))
+        minimum = self.duration(value["min"], value.mark_of("min")) if "min" in value else None
+        maximum = self.duration(value["max"], value.mark_of("max")) if "max" in value else None
+        if "min" not in value and "max" not in value:
+            self.add(value.mark, "expect_timing needs 'min', 'max' or both")
+            return None
+        if minimum is not None and maximum is not None and minimum > maximum:
+            self.add(value.mark_of("max"), f"max ({maximum}) is shorter than min ({minimum})")
+            return None
+        if start is None or end is None or (("min" in value) != (minimum is not None)) \
+                or (("max" in value) != (maximum is not None)):
+            return None
+        return ExpectTiming(index, "expect_timing", mark, start, end, minimum, maximum)
+
+    # -- pieces ----------------------------------------------------------------------------
+
+    def resolve(self, name: object, mark: Mark) -> Quantity | None:
+        if not isinstance(name, str) or not name.strip():
+            self.add(mark, f"expected a signal name, not {_kind_of_value(name)}")
+            return None
+        if self.resolver is None:
+            return None
+        try:
+            return self.resolver.resolve(name)
+        except UnknownSignalError as error:
+            self.add(mark, error.message)
+            return None
+
+    def name_list(self, value: Any, mark: Mark, kind: str) -> list[tuple[str, Mark]] | None:
+        if isinstance(value, str):
+            return [(value, mark)]
+        if isinstance(value, LocatedList) and value and all(isinstance(item, str) for item in value):
+            return [(item, item_mark) for _, item, item_mark in value.located_items()]
+        self.add(mark, f"{kind} takes a name or a list of names, not {_kind_of_value(value)}")
+        return None
+
+    def writable_keys(self, value: Any, mark: Mark, kind: str) -> tuple[Quantity, ...] | None:
+        names = self.name_list(value, mark, kind)
+        if names is None:
+            return None
+        keys = []
+        for name, name_mark in names:
+            quantity = self.resolve(name, name_mark)
+            if quantity is not None and self.check_key(quantity, name_mark, kind):
+                keys.append(quantity)
+        return tuple(keys) if len(keys) == len(names) else None
+
+    def check_key(self, quantity: Quantity, mark: Mark, kind: str) -> bool:
+        """A key for press/hold/release/pulse: a bool the scenario may write."""
+        refusal = self.key_refusal(quantity, kind)
+        if refusal:
+            self.add(mark, refusal)
+        return not refusal
+
+    def check_writable(self, quantity: Quantity, mark: Mark, kind: str) -> bool:
+        """Whether the scenario may write ``quantity`` once (as its owner would)."""
+        refusal = self.write_refusal(quantity, kind)
+        if refusal:
+            self.add(mark, refusal)
+        return not refusal
+
+    def check_signal(self, quantity: Quantity, mark: Mark, kind: str) -> bool:
+        refusal = self.signal_refusal(quantity, kind)
+        if refusal:
+            self.add(mark, refusal)
+        return not refusal
+
+    def signal_refusal(self, quantity: Quantity, kind: str) -> str:
+        if quantity.kind is QuantityKind.SIGNAL:
+            return ""
+        what = "the simulated axis" if quantity.kind is QuantityKind.AXIS else "the simulation"
+        return f"cannot {kind} {quantity.label}: it is a quantity of {what}, not a signal"
+
+    def write_refusal(self, quantity: Quantity, kind: str) -> str:
+        refusal = self.signal_refusal(quantity, kind)
+        if refusal:
+            return refusal
+        assert quantity.ref is not None
+        direction = quantity.ref.direction
+        owner = ""
+        if direction is Direction.NC_TO_PLC:
+            owner = "it is written by the NC"
+        elif direction in (Direction.PLC_TO_NC, Direction.PLC_TO_PLANT) and self.plc != NO_PLC:
+            owner = f"it is written by the PLC program {self.plc}"
+        elif direction is Direction.PLANT_TO_PLC and not self.is_operator_input(quantity):
+            owner = "it is driven by the simulated machine"
+        return f"cannot {kind} {quantity.label}: {owner}; use force to override it" if owner else ""
+
+    def key_refusal(self, quantity: Quantity, kind: str) -> str:
+        refusal = self.write_refusal(quantity, kind)
+        if refusal:
+            return refusal
+        assert quantity.ref is not None
+        if quantity.ref.type is not SignalType.BOOL:
+            return (f"{kind} works on keys and bool signals; {quantity.label} is a"
+                    f" {quantity.ref.type.value} (use set)")
+        return ""
+
+    def is_operator_input(self, quantity: Quantity) -> bool:
+        """Plant inputs an operator works: the panel keys and switches, the emergency-stop button."""
+        assert quantity.ref is not None
+        if self.machine is None:
+            return False
+        address = quantity.ref.address
+        for point in self.machine.plant_io.points:
+            inside = point.address.area == address.area and \
+                point.address.byte <= address.byte < point.address.byte + point.address.size
+            if point.address == address or (address.is_bit and not point.address.is_bit and inside):
+                return point.owner is Owner.OPERATOR
+        return False
+
+    def signal_value(self, quantity: Quantity, value: Any, mark: Mark) -> Value | None:
+        assert quantity.ref is not None
+        ref = quantity.ref
+        if isinstance(value, bool):
+            value = int(value)
+        if not isinstance(value, (int, float)):
+            self.add(mark, f"the value for {quantity.label} must be a number (or true/false),"
+                     f" not {_kind_of_value(value)}")
+            return None
+        if ref.type is SignalType.REAL:
+            return float(value)
+        if isinstance(value, float):
+            if not value.is_integer():
+                self.add(mark, f"{quantity.label} is a {ref.type.value}; {value} is not a whole number")
+                return None
+            value = int(value)
+        low, high = value_range(ref.type, ref.bits)
+        number = int(value)
+        if not low <= number <= high:
+            self.add(mark, f"{quantity.label} is a {ref.type.value};"
+                     f" {number} is outside {int(low)}..{int(high)}")
+            return None
+        return number
+
+    def expected_in_range(self, quantity: Quantity, expected: ExpectedValue, mark: Mark) -> bool:
+        exact = expected.exact
+        if quantity.ref is None or exact is None or quantity.ref.type is SignalType.REAL:
+            return True
+        low, high = value_range(quantity.ref.type, quantity.ref.bits)
+        if low <= exact <= high:
+            return True
+        self.add(mark, f"{quantity.label} is a {quantity.ref.type.value} ({int(low)}..{int(high)});"
+                 f" it can never be {exact}")
+        return False
+
+    def duration(self, value: Any, mark: Mark, positive: bool = False) -> Duration | None:
+        try:
+            duration = parse_duration(value)
+        except DurationError as error:
+            self.add(mark, str(error))
+            return None
+        if positive and duration.microseconds == 0:
+            self.add(mark, "the time must be longer than 0 s")
+            return None
+        return duration
+
+    def expression(self, value: Any, mark: Mark, offset: int = 0, shown: str = "") -> Expression | None:
+        if not isinstance(value, str):
+            self.add(mark, f"a condition is a text in quotes (e.g. \"X1.position > 5\"),"
+                     f" not {_kind_of_value(value)}")
+            return None
+        try:
+            return parse_expression(value, self.resolver)
+        except ExpressionError as error:
+            where = f" at column {error.column + offset}" if error.column is not None else ""
+            self.add(mark, f'in "{shown or value}": {error.message}{where}')
+            return None
+
+    def event(self, value: Any, mark: Mark) -> Event | None:
+        usage = "write 'NAME rises', 'NAME falls', 'NAME changes' or 'when CONDITION'"
+        if not isinstance(value, str):
+            self.add(mark, f"an event is a text ({usage}), not {_kind_of_value(value)}")
+            return None
+        text = value.strip()
+        head, _, rest = text.partition(" ")
+        if head.lower() == "when":
+            condition_text = rest.lstrip()
+            offset = len(value.rstrip()) - len(condition_text)
+            condition = self.expression(condition_text, mark, offset=offset, shown=value)
+            return Event(text, EdgeKind.WHEN, condition=condition) if condition is not None else None
+        name, _, edge = text.rpartition(" ")
+        kinds = {kind.value: kind for kind in EdgeKind if kind is not EdgeKind.WHEN}
+        if edge.lower() not in kinds or not name.strip():
+            self.add(mark, f"'{text}' is not an event ({usage})")
+            return None
+        quantity = self.resolve(name.strip(), mark)
+        if quantity is None:
+            return None
+        return Event(text, kinds[edge.lower()], quantity=quantity)
+
+    def first_channel(self) -> str | None:
+        if self.machine is None:
+            return None
+        return self.machine.channels[0].name if self.machine.channels else None
+
+    def channel(self, mapping: LocatedMap, default: str | None) -> str | None:
+        if "channel" not in mapping:
+            return default
+        return self.place(mapping["channel"], mapping.mark_of("channel"), "channel")
+
+    def place(self, value: Any, mark: Mark, key: str) -> str | None:
+        if not isinstance(value, str):
+            self.add(mark, f"{key} must be a name, not {_kind_of_value(value)}")
+            return None
+        if self.machine is None:
+            return None
+        names = [axis.name for axis in self.machine.axes] if key == "axis" else \
+            [channel.name for channel in self.machine.channels]
+        if value not in names:
+            plural = "axes" if key == "axis" else "channels"
+            self.add(mark, f"this machine has no {key} '{value}'{_suggest(value, names)}"
+                     f" ({plural}: {', '.join(names)})")
+            return None
+        return value

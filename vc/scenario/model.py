@@ -1,0 +1,234 @@
+"""A checked scenario: names resolved, durations parsed, expressions compiled to trees.
+
+Everything here is built by :mod:`vc.scenario.loader` and read by :mod:`vc.scenario.runner`;
+nothing in it touches a simulation.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from enum import Enum
+
+from interfaces.image import Value
+from interfaces.signals import ExpandedCatalog
+from vc.config.model import MachineConfig
+from vc.located_yaml import Mark
+from vc.scenario.durations import Duration
+from vc.scenario.expressions import Expression
+from vc.scenario.quantities import Quantity
+from vc.scenario.values import ExpectedValue
+
+NO_PLC = "none"
+
+
+class EdgeKind(Enum):
+    RISES = "rises"  # 0 -> not 0
+    FALLS = "falls"  # not 0 -> 0
+    CHANGES = "changes"  # any change of the value
+    WHEN = "when"  # the cycle a condition becomes true
+
+
+@dataclass(frozen=True, slots=True)
+class Event:
+    text: str  # as written: "X1.basic.in.enc1Synchronized rises", "when X1.position > 5"
+    kind: EdgeKind
+    quantity: Quantity | None = None  # for rises / falls / changes
+    condition: Expression | None = None  # for when
+
+    @property
+    def quantities(self) -> tuple[Quantity, ...]:
+        if self.condition is not None:
+            return self.condition.names
+        return (self.quantity,) if self.quantity is not None else ()
+
+    def __str__(self) -> str:
+        return self.text
+
+
+@dataclass(frozen=True, slots=True)
+class Step:
+    """Common part of every step: its 1-based position and where it is written."""
+
+    index: int
+    kind: str
+    mark: Mark
+
+    @property
+    def quantities(self) -> tuple[Quantity, ...]:
+        """The names this step reads or writes (their history goes into a failure report)."""
+        return ()
+
+    @property
+    def label(self) -> str:
+        return f"step {self.index} ({self.kind})"
+
+
+@dataclass(frozen=True, slots=True)
+class Press(Step):
+    """``press`` / ``pulse``: set the keys to 1, let ``duration`` pass, set them to 0."""
+
+    keys: tuple[Quantity, ...]
+    duration: Duration
+
+    @property
+    def quantities(self) -> tuple[Quantity, ...]:
+        return self.keys
+
+
+@dataclass(frozen=True, slots=True)
+class Hold(Step):
+    keys: tuple[Quantity, ...]
+
+    @property
+    def quantities(self) -> tuple[Quantity, ...]:
+        return self.keys
+
+
+@dataclass(frozen=True, slots=True)
+class Release(Step):
+    """End the forces on these names; names that are not forced are keys let go (set to 0)."""
+
+    names: tuple[Quantity, ...]
+
+    @property
+    def quantities(self) -> tuple[Quantity, ...]:
+        return self.names
+
+
+@dataclass(frozen=True, slots=True)
+class SetValues(Step):
+    """``set`` (once, as the owner would) or ``force`` (held against the owner until released)."""
+
+    values: tuple[tuple[Quantity, Value], ...]
+    forced: bool
+
+    @property
+    def quantities(self) -> tuple[Quantity, ...]:
+        return tuple(quantity for quantity, _ in self.values)
+
+
+@dataclass(frozen=True, slots=True)
+class LoadMda(Step):
+    channel: str
+    text: str
+
+
+@dataclass(frozen=True, slots=True)
+class SelectProgram(Step):
+    channel: str
+    name: str
+    text: str
+
+
+@dataclass(frozen=True, slots=True)
+class Wait(Step):
+    duration: Duration
+
+
+@dataclass(frozen=True, slots=True)
+class WaitUntil(Step):
+    condition: Expression
+    timeout: Duration | None  # None: until the scenario's own timeout
+
+    @property
+    def quantities(self) -> tuple[Quantity, ...]:
+        return self.condition.names
+
+
+@dataclass(frozen=True, slots=True)
+class ExpectValues(Step):
+    checks: tuple[tuple[Quantity, ExpectedValue], ...]
+
+    @property
+    def quantities(self) -> tuple[Quantity, ...]:
+        return tuple(quantity for quantity, _ in self.checks)
+
+
+@dataclass(frozen=True, slots=True)
+class ExpectCondition(Step):
+    condition: Expression
+
+    @property
+    def quantities(self) -> tuple[Quantity, ...]:
+        return self.condition.names
+
+
+@dataclass(frozen=True, slots=True)
+class ExpectAlarm(Step):
+    """``expect_alarm`` (present) or ``expect_no_alarm`` (absent); number 0 = any alarm."""
+
+    number: int
+    place: str  # axis or channel; "" = anywhere
+    present: bool
+
+
+@dataclass(frozen=True, slots=True)
+class ExpectOrder(Step):
+    events: tuple[Event, ...]
+
+    @property
+    def quantities(self) -> tuple[Quantity, ...]:
+        return _unique(quantity for event in self.events for quantity in event.quantities)
+
+
+@dataclass(frozen=True, slots=True)
+class ExpectTiming(Step):
+    start: Event
+    end: Event
+    minimum: Duration | None
+    maximum: Duration | None
+
+    @property
+    def quantities(self) -> tuple[Quantity, ...]:
+        return _unique((*self.start.quantities, *self.end.quantities))
+
+
+@dataclass(frozen=True, slots=True)
+class Invariant:
+    condition: Expression
+    mark: Mark
+
+
+@dataclass(slots=True)
+class Scenario:
+    name: str
+    description: str
+    path: str  # the scenario file as given
+    machine_file: str  # the machine file, relative to the working directory like ``path``
+    machine: MachineConfig
+    catalog: ExpandedCatalog
+    plc: str  # a built-in PLC program, or "none": the steps act as the PLC
+    timeout: Duration
+    invariants: tuple[Invariant, ...]
+    steps: tuple[Step, ...]
+    mark: Mark = field(default_factory=lambda: Mark("", 1, 1))
+
+    @property
+    def plc_program(self) -> str | None:
+        return None if self.plc == NO_PLC else self.plc
+
+    @property
+    def events(self) -> tuple[Event, ...]:
+        """Every event named by an expect_order or expect_timing step."""
+        found: list[Event] = []
+        for step in self.steps:
+            if isinstance(step, ExpectOrder):
+                found.extend(step.events)
+            elif isinstance(step, ExpectTiming):
+                found.extend((step.start, step.end))
+        return tuple(found)
+
+    @property
+    def quantities(self) -> tuple[Quantity, ...]:
+        """Every name the scenario reads or writes."""
+        names = [q for invariant in self.invariants for q in invariant.condition.names]
+        names += [q for step in self.steps for q in step.quantities]
+        return _unique(names)
+
+
+def _unique(quantities: Iterable[Quantity]) -> tuple[Quantity, ...]:
+    seen: dict[str, Quantity] = {}
+    for quantity in quantities:
+        seen.setdefault(quantity.name, quantity)
+    return tuple(seen.values())

@@ -1,0 +1,165 @@
+"""What a name in a scenario stands for: an interface signal, a plant I/O point, an axis quantity, time.
+
+Names are resolved once, when the file is loaded, in this order:
+
+1. the signal catalogue of the machine, by symbol (``X1.basic.in.enc1Synchronized``) or by
+   absolute address (``DB31.DBX60.4``, ``DB21.DBB4``, ``DB31.DBD88``),
+2. the machine's plant I/O, by function name (``MCP.jog``) or address (``I0.3``),
+3. ``<axis>.<quantity>`` for a machine axis or spindle (``X1.position``; see ``AXIS_QUANTITIES``),
+4. ``time``: simulated seconds since the scenario started.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable
+from dataclasses import dataclass
+from enum import Enum
+
+from interfaces.address import Address, AddressError
+from interfaces.plant_io import PlantIoMap, plant_function
+from interfaces.signals import (
+    MODE_GROUP_INSTANCE,
+    NCK_INSTANCE,
+    Direction,
+    ExpandedCatalog,
+    SignalRef,
+    SignalType,
+    UnknownSignalError,
+)
+from vc.scenario.target import AXIS_QUANTITIES
+
+TIME = "time"
+
+
+class QuantityKind(Enum):
+    SIGNAL = "signal"  # interface signal or plant I/O point
+    AXIS = "axis"  # a quantity of a machine axis or spindle
+    TIME = "time"
+
+
+@dataclass(frozen=True, slots=True)
+class Quantity:
+    """A resolved name: what the runner reads and the recorder records."""
+
+    name: str  # as shown in messages and traces
+    kind: QuantityKind
+    ref: SignalRef | None = None
+    axis: str = ""
+    quantity: str = ""
+
+    @property
+    def is_integer(self) -> bool:
+        """True for signals other than REAL (their values are whole numbers)."""
+        return self.ref is not None and self.ref.type is not SignalType.REAL
+
+    @property
+    def address(self) -> str:
+        return str(self.ref.address) if self.ref is not None else ""
+
+    @property
+    def scope(self) -> str:
+        """Where the quantity belongs: NC, MODEGROUP, CHAN1, X1 (interface), PLANT, AXES, SIM."""
+        if self.kind is QuantityKind.AXIS:
+            return "AXES"
+        if self.kind is QuantityKind.TIME:
+            return "SIM"
+        assert self.ref is not None
+        if self.ref.direction in (Direction.PLANT_TO_PLC, Direction.PLC_TO_PLANT):
+            return "PLANT"
+        if self.ref.signal is not None:
+            return self.ref.signal.instance
+        return self.ref.area_key
+
+    @property
+    def label(self) -> str:
+        """The name with its address, for messages: ``X1.basic.in.enc1Synchronized (DB31.DBX60.4)``."""
+        address = self.address
+        return f"{self.name} ({address})" if address and address != self.name else self.name
+
+    def __str__(self) -> str:
+        return self.name
+
+
+def signal_quantity(ref: SignalRef) -> Quantity:
+    return Quantity(ref.name, QuantityKind.SIGNAL, ref)
+
+
+def axis_quantity(axis: str, quantity: str) -> Quantity:
+    return Quantity(f"{axis}.{quantity}", QuantityKind.AXIS, axis=axis, quantity=quantity)
+
+
+TIME_QUANTITY = Quantity(TIME, QuantityKind.TIME)
+
+
+class NameResolver:
+    """Resolves the names of one machine; unknown names raise :class:`UnknownSignalError`."""
+
+    def __init__(self, catalog: ExpandedCatalog, plant_io: PlantIoMap, axes: Iterable[str],
+                 channels: Iterable[str]):
+        self.catalog = catalog
+        self.plant_io = plant_io
+        self.axes = tuple(axes)
+        self.channels = tuple(channels)
+        self._instances = {NCK_INSTANCE, MODE_GROUP_INSTANCE, *self.axes, *self.channels}
+        self._cache: dict[str, Quantity] = {}
+
+    def resolve(self, name: str) -> Quantity:
+        text = name.strip()
+        cached = self._cache.get(text)
+        if cached is None:
+            cached = self._cache[text] = self._resolve(text)
+        return cached
+
+    def _resolve(self, text: str) -> Quantity:
+        try:
+            return signal_quantity(self.catalog.resolve(text))
+        except UnknownSignalError as error:
+            catalog_error = error
+        try:
+            return signal_quantity(self.plant_io.resolve(text))
+        except UnknownSignalError as error:
+            plant_error = error
+        head, _, tail = text.partition(".")
+        if head in self.axes and tail in AXIS_QUANTITIES:
+            return axis_quantity(head, tail)
+        if text == TIME:
+            return TIME_QUANTITY
+        raise UnknownSignalError(self._unknown_message(text, head, tail, catalog_error, plant_error))
+
+    def _unknown_message(self, text: str, head: str, tail: str, catalog_error: UnknownSignalError,
+                         plant_error: UnknownSignalError) -> str:
+        try:
+            address = Address.parse(text)
+        except AddressError:
+            address = None
+        if address is not None:
+            return plant_error.message if address.area in ("I", "Q") else catalog_error.message
+        if head in self.axes and tail and "." not in tail:
+            close = difflib.get_close_matches(tail, AXIS_QUANTITIES, n=1, cutoff=0.6)
+            hint = f"; did you mean {head}.{close[0]}?" if close else ""
+            return (f"'{text}' is not a quantity of axis {head}{hint}"
+                    f" (axis quantities: {', '.join(AXIS_QUANTITIES)})")
+        if head in self._instances:
+            return catalog_error.message
+        if plant_function(text) is not None:
+            return f"{text} is not wired on this machine (its plant_io list has no entry for it)"
+        suggestions = difflib.get_close_matches(text, self._all_names(), n=2, cutoff=0.75)
+        if suggestions:
+            return f"unknown signal '{text}'; did you mean {' or '.join(suggestions)}?"
+        return (f"unknown signal '{text}': not a catalogue signal of this machine (instances"
+                f" {', '.join(sorted(self._instances))}), not wired plant I/O, not an axis quantity")
+
+    def _all_names(self) -> list[str]:
+        names = [item.symbol for item in self.catalog.signals]
+        names += [point.name for point in self.plant_io.points]
+        names += [f"{axis}.{quantity}" for axis in self.axes for quantity in AXIS_QUANTITIES]
+        names.append(TIME)
+        return names
+
+    def place(self, name: str) -> str:
+        """An axis or channel name as the second argument of ``alarm(...)``; raises ``KeyError``."""
+        if name in self.axes or name in self.channels:
+            return name
+        known = ", ".join((*self.axes, *self.channels))
+        raise KeyError(f"'{name}' is neither an axis nor a channel of this machine (known: {known})")

@@ -1,0 +1,492 @@
+"""Running checked scenarios against a simulation, through :class:`ScenarioTarget` only.
+
+Steps run in order.  Time passes only in steps that take time (``press``, ``pulse``,
+``wait``); everything else happens between two IPO cycles.  After every cycle the runner
+records the changes, checks the invariants (the first violation fails the scenario) and
+watches the ``when`` events; the scenario's ``timeout`` bounds the simulated time.  A failed
+step ends the scenario.
+
+Who builds the simulation is the caller's business: :func:`run_scenarios` takes a factory
+``make_target(scenario) -> ScenarioTarget`` (the harness), so this module never imports it.
+"""
+
+from __future__ import annotations
+
+import re
+import time as wallclock
+import traceback
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Protocol
+
+from vc.located_yaml import Mark
+from vc.scenario.durations import Duration, format_seconds
+from vc.scenario.expressions import EvaluationError, Evaluator, Expression
+from vc.scenario.model import (
+    EdgeKind,
+    Event,
+    ExpectAlarm,
+    ExpectCondition,
+    ExpectOrder,
+    ExpectTiming,
+    ExpectValues,
+    Hold,
+    LoadMda,
+    Press,
+    Release,
+    Scenario,
+    SelectProgram,
+    SetValues,
+    Step,
+    Wait,
+    WaitUntil,
+)
+from vc.scenario.quantities import Quantity, QuantityKind
+from vc.scenario.target import ScenarioTarget
+from vc.scenario.trace import Recorder, write_csv, write_vcd
+from vc.scenario.values import format_value
+
+HISTORY_CHANGES = 10  # changes per name in a failure report
+HISTORY_WINDOW_S = 5.0  # ... within this much simulated time before the failure
+PROGRESS_EVERY = 500  # cycles between two progress reports
+
+
+@dataclass(frozen=True, slots=True)
+class SignalTrail:
+    """Recent values of one name before a failure: ``(seconds since start, value)``."""
+
+    name: str
+    address: str
+    entries: tuple[tuple[float, float], ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Failure:
+    kind: str  # "step", "invariant", "timeout"
+    step: Step | None  # the step that was running
+    mark: Mark  # where to look: the failing step, or the violated invariant
+    message: str  # what was expected and what was found
+    cycle: int
+    time_s: float
+    history: tuple[SignalTrail, ...] = ()
+
+    @property
+    def where(self) -> str:
+        """``step 4 (wait) at x.yaml:12:5``, ``invariant at x.yaml:6:5, during step 4 (wait, line 12)``,
+        ``timeout during step 4 (wait) at x.yaml:12:5``."""
+        step = self.step
+        if self.kind == "invariant":
+            during = f", during {step.label[:-1]}, line {step.mark.line})" if step is not None else ""
+            return f"invariant at {self.mark}{during}"
+        if step is None:
+            return f"{self.kind} at {self.mark}"
+        return f"{'timeout during ' if self.kind == 'timeout' else ''}{step.label} at {self.mark}"
+
+
+@dataclass(slots=True)
+class ScenarioResult:
+    scenario: Scenario
+    passed: bool
+    failure: Failure | None = None
+    error: str = ""  # a harness error (exception with traceback): the scenario could not run
+    simulated_s: float = 0.0
+    wall_s: float = 0.0
+    cycles: int = 0
+    steps_done: int = 0
+    recorder: Recorder | None = None
+    trace_files: list[str] = field(default_factory=list)
+
+    @property
+    def status(self) -> str:
+        return "PASS" if self.passed else ("ERROR" if self.error else "FAIL")
+
+
+class RunObserver(Protocol):
+    """Told about progress (the console report implements it)."""
+
+    def scenario_started(self, scenario: Scenario, position: int, total: int) -> None: ...
+
+    def scenario_progress(self, scenario: Scenario, simulated_s: float) -> None: ...
+
+    def scenario_finished(self, result: ScenarioResult) -> None: ...
+
+
+class _Stop(Exception):
+    def __init__(self, failure: Failure):
+        super().__init__(failure.message)
+        self.failure = failure
+
+
+class _Probe:
+    """Compiled expressions read the target through this."""
+
+    def __init__(self, target: ScenarioTarget, start_cycle: int):
+        self.target = target
+        self.start_cycle = start_cycle
+
+    def reader(self, quantity: Quantity) -> Evaluator:
+        target = self.target
+        if quantity.kind is QuantityKind.SIGNAL:
+            assert quantity.ref is not None
+            read, ref = target.read, quantity.ref
+            return lambda: read(ref)
+        if quantity.kind is QuantityKind.AXIS:
+            axis_value, axis, name = target.axis_quantity, quantity.axis, quantity.quantity
+            return lambda: axis_value(axis, name)
+        start, seconds_per_cycle = self.start_cycle, target.ipo_cycle_us / 1e6
+        return lambda: (target.cycle - start) * seconds_per_cycle
+
+    def alarm_present(self, number: int, place: str) -> bool:
+        return any(alarm.number == number and (not place or place in (alarm.axis, alarm.channel))
+                   for alarm in self.target.alarms())
+
+
+@dataclass(slots=True)
+class _WhenTracker:
+    evaluate: Evaluator
+    holds: bool = False
+    cycles: list[int] = field(default_factory=list)
+
+
+class _Run:
+    def __init__(self, scenario: Scenario, target: ScenarioTarget, recorder: Recorder,
+                 observer: RunObserver | None):
+        self.scenario = scenario
+        self.target = target
+        self.recorder = recorder
+        self.observer = observer
+        self.ipo_cycle_us = target.ipo_cycle_us
+        self.timeout_cycles = scenario.timeout.cycles(self.ipo_cycle_us)
+        self.start_cycle = target.cycle
+        self.probe = _Probe(target, self.start_cycle)
+        self.invariants = [(invariant, invariant.condition.compile(self.probe))
+                           for invariant in scenario.invariants]
+        self.when: dict[str, _WhenTracker] = {}
+        for event in scenario.events:
+            if event.kind is EdgeKind.WHEN and event.text not in self.when:
+                assert event.condition is not None
+                self.when[event.text] = _WhenTracker(event.condition.compile(self.probe))
+        self.forced: set[str] = set()
+        self.step: Step | None = None
+        self.steps_done = 0
+
+    @property
+    def cycle(self) -> int:
+        return self.target.cycle - self.start_cycle
+
+    def seconds(self, cycle: int | None = None) -> float:
+        return (self.cycle if cycle is None else cycle) * self.ipo_cycle_us / 1e6
+
+    # -- time ------------------------------------------------------------------------------
+
+    def begin(self) -> None:
+        self.recorder.start()
+        for tracker in self.when.values():
+            tracker.holds = bool(self.evaluate(tracker.evaluate, None))
+            if tracker.holds:
+                tracker.cycles.append(0)
+
+    def advance(self, cycles: int | None, until: Evaluator | None = None,
+                until_expression: Expression | None = None) -> bool:
+        """Run ``cycles`` IPO cycles (None: no limit but the timeout), or until ``until`` holds.
+        True if ``until`` became true."""
+        done = 0
+        while cycles is None or done < cycles:
+            if self.cycle >= self.timeout_cycles:
+                step = self.step
+                waiting = ""
+                if isinstance(step, WaitUntil):
+                    waiting = f' while waiting for "{step.condition}"{self.now(step.quantities, ". Now: ")}'
+                raise _Stop(self.failure(
+                    "timeout", f"the scenario's timeout of {self.scenario.timeout} was reached{waiting}",
+                    step.mark if step is not None else self.scenario.mark,
+                    step.quantities if step is not None else ()))
+            self.target.step(1)
+            done += 1
+            self.after_cycle()
+            if until is not None and self.evaluate(until, until_expression):
+                return True
+        return False
+
+    def after_cycle(self) -> None:
+        self.recorder.sample()
+        cycle = self.cycle
+        for invariant, condition in self.invariants:
+            if not self.evaluate(condition, invariant.condition):
+                names = invariant.condition.names
+                raise _Stop(self.failure(
+                    "invariant",
+                    f"invariant \"{invariant.condition}\" was violated at cycle {cycle}"
+                    f" (t = {format_seconds(self.seconds())}){self.now(names, ': ')}",
+                    invariant.mark, names))
+        self.watch_when_events()
+        if self.observer is not None and cycle % PROGRESS_EVERY == 0:
+            self.observer.scenario_progress(self.scenario, self.seconds())
+
+    def watch_when_events(self) -> None:
+        cycle = self.cycle
+        for tracker in self.when.values():
+            holds = bool(self.evaluate(tracker.evaluate, None))
+            if holds and not tracker.holds:
+                tracker.cycles.append(cycle)
+            tracker.holds = holds
+
+    def after_writes(self, written: Sequence[Quantity]) -> None:
+        """The scenario wrote between two cycles: that belongs to the history of this cycle."""
+        self.recorder.note_writes(written)
+        self.watch_when_events()
+
+    def evaluate(self, evaluator: Evaluator, expression: Expression | None) -> float:
+        try:
+            return evaluator()
+        except EvaluationError as error:
+            text = f" in \"{expression}\"" if expression is not None else ""
+            step = self.step
+            raise _Stop(self.failure("step", f"cannot evaluate{text}: {error}",
+                                     step.mark if step is not None else self.scenario.mark,
+                                     expression.names if expression is not None else ())) from None
+
+    # -- reporting -------------------------------------------------------------------------
+
+    def failure(self, kind: str, message: str, mark: Mark, names: Sequence[Quantity]) -> Failure:
+        trails = []
+        for quantity in names:
+            if quantity.kind is QuantityKind.TIME:
+                continue
+            entries = self.recorder.recent(quantity, HISTORY_CHANGES, HISTORY_WINDOW_S)
+            trails.append(SignalTrail(quantity.name, quantity.address,
+                                      tuple((self.seconds(cycle), value) for cycle, value in entries)))
+        return Failure(kind, self.step, mark, message, self.cycle, self.seconds(), tuple(trails))
+
+    def fail(self, step: Step, message: str, names: Sequence[Quantity] | None = None) -> _Stop:
+        return _Stop(self.failure("step", message, step.mark, step.quantities if names is None else names))
+
+    def read(self, quantity: Quantity) -> float:
+        return self.probe.reader(quantity)()
+
+    def now(self, names: Sequence[Quantity], lead: str) -> str:
+        shown = [f"{q.name} = {format_value(self.read(q))}" for q in names if q.kind is not QuantityKind.TIME]
+        return lead + ", ".join(shown) if shown else ""
+
+    # -- steps -----------------------------------------------------------------------------
+
+    def run_step(self, step: Step) -> None:
+        self.step = step
+        target = self.target
+        if isinstance(step, Press):
+            self.write_keys(step.keys, 1)
+            self.advance(step.duration.cycles(self.ipo_cycle_us))
+            self.write_keys(step.keys, 0)
+        elif isinstance(step, Hold):
+            self.write_keys(step.keys, 1)
+        elif isinstance(step, Release):
+            for quantity in step.names:
+                assert quantity.ref is not None
+                if quantity.name in self.forced:
+                    # the owner's value applies again from the next cycle on
+                    self.forced.discard(quantity.name)
+                    target.release(quantity.ref)
+                else:
+                    target.write(quantity.ref, 0)
+            self.after_writes(step.names)
+        elif isinstance(step, SetValues):
+            for quantity, value in step.values:
+                assert quantity.ref is not None
+                if step.forced:
+                    target.force(quantity.ref, value)
+                    self.forced.add(quantity.name)
+                else:
+                    target.write(quantity.ref, value)
+            self.after_writes(step.quantities)
+        elif isinstance(step, LoadMda):
+            target.load_mda(step.channel, step.text)
+        elif isinstance(step, SelectProgram):
+            target.select_program(step.channel, step.name, step.text)
+        elif isinstance(step, Wait):
+            self.advance(step.duration.cycles(self.ipo_cycle_us))
+        elif isinstance(step, WaitUntil):
+            self.wait_until(step)
+        elif isinstance(step, ExpectValues):
+            self.expect_values(step)
+        elif isinstance(step, ExpectCondition):
+            if not self.evaluate(step.condition.compile(self.probe), step.condition):
+                raise self.fail(step, f"expected {step.condition}{self.now(step.quantities, '; found ')}")
+        elif isinstance(step, ExpectAlarm):
+            self.expect_alarm(step)
+        elif isinstance(step, ExpectOrder):
+            self.expect_order(step)
+        elif isinstance(step, ExpectTiming):
+            self.expect_timing(step)
+        else:  # pragma: no cover - the loader builds only the kinds above
+            raise TypeError(f"unknown step {step!r}")
+        self.steps_done += 1
+
+    def write_keys(self, keys: Sequence[Quantity], value: int) -> None:
+        for key in keys:
+            assert key.ref is not None
+            self.target.write(key.ref, value)
+        self.after_writes(keys)
+
+    def wait_until(self, step: WaitUntil) -> None:
+        condition = step.condition.compile(self.probe)
+        if self.evaluate(condition, step.condition):
+            return
+        limit = step.timeout.cycles(self.ipo_cycle_us) if step.timeout is not None else None
+        if not self.advance(limit, condition, step.condition):
+            raise self.fail(step, f"waited {step.timeout} for \"{step.condition}\"; it did not become true"
+                            f"{self.now(step.quantities, '. Now: ')}")
+
+    def expect_values(self, step: ExpectValues) -> None:
+        wrong = []
+        for quantity, expected in step.checks:
+            actual = self.read(quantity)
+            if not expected.matches(actual):
+                shown = str(expected)
+                relation = shown if shown[0] in "<>!=" else f"= {shown}"
+                wrong.append(f"expected {quantity.name} {relation}, found {format_value(actual)}")
+        if wrong:
+            raise self.fail(step, "; ".join(wrong))
+
+    def expect_alarm(self, step: ExpectAlarm) -> None:
+        place = f" ({step.place})" if step.place else ""
+        alarms = list(self.target.alarms())
+        present = ", ".join(_alarm_text(alarm.number, alarm.axis or alarm.channel, alarm.text)
+                            for alarm in alarms) or "none"
+        if step.present:
+            if not self.probe.alarm_present(step.number, step.place):
+                raise self.fail(step, f"expected alarm {step.number}{place} to be present;"
+                                f" present alarms: {present}")
+            return
+        if step.number == 0:
+            if alarms:
+                raise self.fail(step, f"expected no alarm; present alarms: {present}")
+            return
+        if self.probe.alarm_present(step.number, step.place):
+            raise self.fail(step, f"expected no alarm {step.number}{place}; present alarms: {present}")
+
+    def occurrences(self, event: Event) -> list[int]:
+        if event.kind is EdgeKind.WHEN:
+            return self.when[event.text].cycles
+        assert event.quantity is not None
+        return self.recorder.occurrences(event.quantity, event.kind)
+
+    def expect_order(self, step: ExpectOrder) -> None:
+        found: list[str] = []
+        after = 0
+        for event in step.events:
+            cycles = self.occurrences(event)
+            later = [cycle for cycle in cycles if cycle >= after]
+            if not later:
+                expected = "expected " + ", then ".join(f"'{e}'" for e in step.events)
+                so_far = "; " + ", ".join(found) if found else ""
+                if not cycles:
+                    missing = f"'{event}' did not occur"
+                else:
+                    missing = (f"'{event}' did not occur after that (only at"
+                               f" {', '.join(self.at(c) for c in cycles[:3])})")
+                raise self.fail(step, f"{expected}{so_far}; {missing}")
+            after = later[0]
+            found.append(f"'{event}' at {self.at(after)}")
+
+    def expect_timing(self, step: ExpectTiming) -> None:
+        window = _window(step.minimum, step.maximum)
+        head = f"expected '{step.start}' to '{step.end}' to take {window}"
+        starts = self.occurrences(step.start)
+        if not starts:
+            raise self.fail(step, f"{head}; '{step.start}' did not occur")
+        start = starts[0]
+        ends = [cycle for cycle in self.occurrences(step.end) if cycle >= start]
+        if not ends:
+            raise self.fail(step, f"{head}; '{step.end}' did not occur after '{step.start}'"
+                            f" (at {self.at(start)})")
+        end = ends[0]
+        took_us = (end - start) * self.ipo_cycle_us
+        too_short = step.minimum is not None and took_us < step.minimum.microseconds
+        too_long = step.maximum is not None and took_us > step.maximum.microseconds
+        if too_short or too_long:
+            raise self.fail(step, f"{head}; it took {format_seconds(took_us / 1e6)}"
+                            f" ('{step.start}' at {self.at(start)}, '{step.end}' at {self.at(end)})")
+
+    def at(self, cycle: int) -> str:
+        return format_seconds(self.seconds(cycle))
+
+
+def _window(minimum: Duration | None, maximum: Duration | None) -> str:
+    if minimum is not None and maximum is not None:
+        return f"{minimum} .. {maximum}"
+    if minimum is not None:
+        return f"at least {minimum}"
+    return f"at most {maximum}"
+
+
+def _alarm_text(number: int, place: str, text: str) -> str:
+    return f"{number} {text}" if not place or place in text else f"{number} {text} ({place})"
+
+
+# ---------------------------------------------------------------------------------- public
+
+
+def run_scenario(scenario: Scenario, target: ScenarioTarget, recorder: Recorder | None = None,
+                 observer: RunObserver | None = None) -> ScenarioResult:
+    """Run one scenario on a freshly created target; exceptions of the target propagate."""
+    began = wallclock.perf_counter()
+    if recorder is None:
+        recorder = Recorder(target)
+    recorder.watch(scenario.quantities)
+    run = _Run(scenario, target, recorder, observer)
+    failure = None
+    try:
+        run.begin()
+        for step in scenario.steps:
+            run.run_step(step)
+    except _Stop as stop:
+        failure = stop.failure
+    return ScenarioResult(
+        scenario=scenario, passed=failure is None, failure=failure, simulated_s=run.seconds(),
+        wall_s=wallclock.perf_counter() - began, cycles=run.cycle, steps_done=run.steps_done,
+        recorder=recorder,
+    )
+
+
+def run_scenarios(scenarios: Sequence[Scenario], make_target: Callable[[Scenario], ScenarioTarget], *,
+                  observer: RunObserver | None = None,
+                  trace_dir: str | Path | None = None) -> list[ScenarioResult]:
+    """Run each scenario on its own target from ``make_target``; write traces to ``trace_dir``.
+
+    An exception while building or running a target (a harness error, not a scenario
+    failure) is reported as that scenario's ``error`` and the next scenario runs.
+    """
+    results = []
+    names = trace_names(scenarios)
+    for position, scenario in enumerate(scenarios):
+        if observer is not None:
+            observer.scenario_started(scenario, position, len(scenarios))
+        began = wallclock.perf_counter()
+        try:
+            result = run_scenario(scenario, make_target(scenario), observer=observer)
+        except Exception:
+            result = ScenarioResult(scenario, passed=False, error=traceback.format_exc(),
+                                    wall_s=wallclock.perf_counter() - began)
+        if trace_dir is not None and result.recorder is not None:
+            directory = Path(trace_dir)
+            directory.mkdir(parents=True, exist_ok=True)
+            csv_path, vcd_path = directory / f"{names[position]}.csv", directory / f"{names[position]}.vcd"
+            write_csv(result.recorder, csv_path)
+            write_vcd(result.recorder, vcd_path)
+            result.trace_files = [str(csv_path), str(vcd_path)]
+        if observer is not None:
+            observer.scenario_finished(result)
+        results.append(result)
+    return results
+
+
+def trace_names(scenarios: Sequence[Scenario]) -> list[str]:
+    """A file name (without suffix) per scenario: the file's stem, numbered when stems repeat."""
+    names: list[str] = []
+    used: dict[str, int] = {}
+    for scenario in scenarios:
+        stem = re.sub(r"[^A-Za-z0-9_.-]+", "_", Path(scenario.path).stem) or "scenario"
+        used[stem] = used.get(stem, 0) + 1
+        names.append(stem if used[stem] == 1 else f"{stem}-{used[stem]}")
+    return names

@@ -1,0 +1,71 @@
+"""What the scenario runner needs from a running simulation.
+
+The harness (``vc.harness.simulation.Simulation``) implements this protocol; the runner
+depends only on it.  Time is counted in IPO cycles; every read shows the value as it is
+*at the interface* at the end of the last completed cycle.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Protocol
+
+from interfaces.image import Value
+from interfaces.plant_io import PlantIoMap
+from interfaces.signals import ExpandedCatalog, SignalRef
+from vc.config.model import MachineConfig
+from vc.core.alarms import Alarm
+
+# Quantities of an axis or spindle that scenarios may read besides interface signals:
+#   position        actual position the NC shows (machine coordinate system), mm or degrees
+#   setpoint        position setpoint of the interpolator
+#   velocity        actual velocity, mm/min (linear) or rev/min (rotary and spindles)
+#   followingError  setpoint minus actual position
+#   physical        true position of the slide in the simulated machine (plant), mm or degrees
+AXIS_QUANTITIES = ("position", "setpoint", "velocity", "followingError", "physical")
+
+
+class ScenarioTarget(Protocol):
+    machine: MachineConfig
+    catalog: ExpandedCatalog
+    plant_io: PlantIoMap
+
+    @property
+    def cycle(self) -> int:
+        """IPO cycles completed since power-on."""
+
+    @property
+    def ipo_cycle_us(self) -> int:
+        """Length of one IPO cycle in microseconds."""
+
+    def step(self, cycles: int = 1) -> None:
+        """Advance NC, plant and PLC by ``cycles`` IPO cycles in lockstep."""
+
+    def read(self, ref: SignalRef) -> Value:
+        """Current value of an interface signal or a plant I/O point."""
+
+    def write(self, ref: SignalRef, value: Value) -> None:
+        """Set a signal once, as its owner would: an operator key (plant input ``MCP.*``), a
+        PLC-to-NC signal when the scenario acts as the PLC, a plant output when there is no PLC.
+        The owner may change it again in a later cycle."""
+
+    def force(self, ref: SignalRef, value: Value) -> None:
+        """Hold a signal at ``value`` in every cycle, overriding its owner, until released."""
+
+    def release(self, ref: SignalRef) -> None:
+        """End a force; the owner's value applies again from the next cycle."""
+
+    def axis_quantity(self, axis: str, quantity: str) -> float:
+        """One of ``AXIS_QUANTITIES`` for a machine axis or spindle."""
+
+    def alarms(self) -> Sequence[Alarm]:
+        """Alarms present now."""
+
+    def alarm_history(self) -> Sequence[Alarm]:
+        """Every alarm raised since power-on, present or not."""
+
+    def load_mda(self, channel: str, text: str) -> None:
+        """Put ``text`` into the channel's MDA buffer (as the operator does on the HMI)."""
+
+    def select_program(self, channel: str, name: str, text: str) -> None:
+        """Select a part program for AUTOMATIC in ``channel`` (as the operator does on the HMI)."""

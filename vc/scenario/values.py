@@ -1,0 +1,119 @@
+"""Expected values in ``expect`` mappings.
+
+=====================  =================================================
+written                passes when the actual value ...
+=====================  =================================================
+``1``, ``true``        equals it exactly (whole numbers and yes/no)
+``99.5``               is within 1e-9 of it (a decimal number)
+``"100 +- 0.001"``     lies in 100 - 0.001 .. 100 + 0.001, bounds included (also ``±``)
+``"< 5"``, ``"<= 5"``  is below / at most 5
+``"> 5"``, ``">= 5"``  is above / at least 5
+``"!= 0"``, ``"== 3"`` differs from / equals the number
+=====================  =================================================
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+FLOAT_TOLERANCE = 1e-9
+ROUNDING_SLACK = 1e-12  # relative; far below any tolerance a machine is measured with
+
+_NUMBER = r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?"
+_WITHIN = re.compile(rf"^\s*(?P<value>{_NUMBER})\s*(?:\+-|\+/-|±)\s*(?P<tolerance>{_NUMBER})\s*$")
+_COMPARE = re.compile(rf"^\s*(?P<op>==|!=|<=|>=|<|>)\s*(?P<value>{_NUMBER})\s*$")
+_PLAIN = re.compile(rf"^\s*(?P<value>{_NUMBER})\s*$")
+
+
+class ExpectedValueError(ValueError):
+    """A text that is not an expected value."""
+
+
+@dataclass(frozen=True, slots=True)
+class ExpectedValue:
+    op: str  # "==", "!=", "<", "<=", ">", ">=", or "+-" (within a tolerance)
+    value: int | float
+    tolerance: float = 0.0
+
+    def matches(self, actual: float) -> bool:
+        op, value = self.op, self.value
+        if op == "+-":  # bounds included, with slack for binary rounding (100.001 - 100 > 0.001)
+            return abs(actual - value) <= self.tolerance + ROUNDING_SLACK * max(1.0, abs(value))
+        if op == "==":
+            return actual == value
+        if op == "!=":
+            return actual != value
+        if op == "<":
+            return actual < value
+        if op == "<=":
+            return actual <= value
+        if op == ">":
+            return actual > value
+        return actual >= value
+
+    @property
+    def exact(self) -> int | None:
+        """The whole number this expects exactly, if it does (for checks against a signal's range)."""
+        return self.value if self.op == "==" and isinstance(self.value, int) else None
+
+    def __str__(self) -> str:
+        if self.op == "+-":
+            if self.tolerance == FLOAT_TOLERANCE:
+                return _number(self.value)
+            return f"{_number(self.value)} ± {_number(self.tolerance)}"
+        if self.op == "==":
+            return _number(self.value)
+        return f"{self.op} {_number(self.value)}"
+
+
+def parse_expected(value: object) -> ExpectedValue:
+    """An expected value from YAML: a number, true/false, or a text as in the module docstring."""
+    if isinstance(value, bool):
+        return ExpectedValue("==", int(value))
+    if isinstance(value, int):
+        return ExpectedValue("==", value)
+    if isinstance(value, float):
+        return ExpectedValue("+-", value, FLOAT_TOLERANCE)
+    if isinstance(value, str):
+        match = _WITHIN.match(value)
+        if match:
+            tolerance = float(match.group("tolerance"))
+            if tolerance < 0:
+                raise ExpectedValueError(f"'{value}': the tolerance after +- cannot be negative")
+            return ExpectedValue("+-", _to_number(match.group("value")), tolerance)
+        match = _COMPARE.match(value)
+        if match:
+            return ExpectedValue(match.group("op"), _to_number(match.group("value")))
+        match = _PLAIN.match(value)
+        if match:
+            number = _to_number(match.group("value"))
+            if isinstance(number, int):
+                return ExpectedValue("==", number)
+            return ExpectedValue("+-", number, FLOAT_TOLERANCE)
+    raise ExpectedValueError(
+        f"{value!r} is not an expected value (write a number, true/false, \"100 +- 0.001\","
+        " \"< 5\", \">= 5\" or \"!= 0\")"
+    )
+
+
+def _to_number(text: str) -> int | float:
+    stripped = text.lstrip("+-")
+    if stripped.isdigit():
+        return int(text)
+    return float(text)
+
+
+def _number(value: float) -> str:
+    if isinstance(value, int):
+        return str(value)
+    return f"{value:.9g}" if abs(value) < 1e15 else repr(value)
+
+
+def format_value(value: float) -> str:
+    """An actual value for messages: whole numbers as such, others with up to 9 significant digits."""
+    if isinstance(value, int):
+        return str(value)
+    if value.is_integer() and abs(value) < 1e15:
+        return f"{value:.1f}"
+    return f"{value:.9g}"
