@@ -9,43 +9,63 @@ from __future__ import annotations
 
 
 class TON:
-    """On delay: Q becomes 1 when IN has been 1 for the preset time."""
+    """On delay: Q becomes 1 when IN has been 1 for the preset time.
 
-    __slots__ = ("_elapsed", "_preset", "_scan", "q")
+    The elapsed time ET is 0 in the scan in which IN rises and grows by one scan time in each
+    following scan, so a 50 ms preset at a 10 ms scan sets Q in the sixth scan.
+    """
+
+    __slots__ = ("_elapsed", "_preset", "_running", "_scan", "q")
 
     def __init__(self, preset_s: float, scan_time_s: float):
         self._preset = preset_s
         self._scan = scan_time_s
         self._elapsed = 0.0
+        self._running = False
         self.q = False
 
     def __call__(self, start: bool) -> bool:
         if start:
-            self._elapsed = min(self._elapsed + self._scan, self._preset)
+            if self._running:
+                self._elapsed = min(self._elapsed + self._scan, self._preset)
+            else:
+                self._running = True
+                self._elapsed = 0.0
             self.q = self._elapsed >= self._preset - 1e-12
         else:
+            self._running = False
             self._elapsed = 0.0
             self.q = False
         return self.q
 
 
 class TOF:
-    """Off delay: Q is 1 while IN is 1 and for the preset time after IN falls."""
+    """Off delay: Q is 1 while IN is 1 and for the preset time after IN falls.
 
-    __slots__ = ("_elapsed", "_preset", "_scan", "q")
+    The elapsed time ET is 0 in the scan in which IN falls and grows by one scan time in each
+    following scan; Q falls when ET reaches the preset.
+    """
+
+    __slots__ = ("_elapsed", "_preset", "_running", "_scan", "q")
 
     def __init__(self, preset_s: float, scan_time_s: float):
         self._preset = preset_s
         self._scan = scan_time_s
-        self._elapsed = preset_s
+        self._elapsed = 0.0
+        self._running = False
         self.q = False
 
     def __call__(self, start: bool) -> bool:
         if start:
+            self._running = False
             self._elapsed = 0.0
             self.q = True
-        else:
-            self._elapsed = min(self._elapsed + self._scan, self._preset)
+        elif self.q:
+            if self._running:
+                self._elapsed = min(self._elapsed + self._scan, self._preset)
+            else:
+                self._running = True
+                self._elapsed = 0.0
             self.q = self._elapsed < self._preset - 1e-12
         return self.q
 

@@ -81,7 +81,8 @@ def dynamics_of(axis: AxisConfig) -> AxisDynamics:
         max_accel=max_accel,
         jog_velocity=min(md.float(MD.JOG_VELO) * velocity_unit, max_velocity),
         jog_rapid_velocity=min(md.float(MD.JOG_VELO_RAPID) * velocity_unit, max_velocity),
-        rapid_stop_decel=max(max_velocity / emergency_time, max_accel) if emergency_time > 0 else math.inf,
+        # MD36610: the rapid-stop ramp takes the axis from MAX_AX_VELO to standstill in this time
+        rapid_stop_decel=max_velocity / emergency_time if emergency_time > 0 else math.inf,
         kv=md.float(MD.POSCTRL_GAIN, 0),
         feedforward=md.float(MD.VELO_FFW_WEIGHT, 0) if md.int(MD.FFW_MODE) else 0.0,
         drive_time_constant=md.float(MD.EQUIV_SPEEDCTRL_TIME, 0),
@@ -177,6 +178,7 @@ class MachineAxis:
         self.override = 1.0
         self._brake_decel = 0.0
         self._servo_off_countdown = -1  # cycles until the controller enable is removed after a rapid stop
+        self._tracking = False  # enable lost in motion: the setpoint follows the slide until the enable returns
         self._motion_end_cycle = 0  # cycles since the interpolator reached its end point
         self._fine_reached = True
         self.at_software_limit = 0  # -1 / +1 while resting on the minus / plus software limit switch
@@ -221,7 +223,14 @@ class MachineAxis:
 
     @property
     def following_error(self) -> float:
+        """Position setpoint at the position controller minus actual value."""
         return self._loop_setpoint - self.actual
+
+    @property
+    def distance_to_end_point(self) -> float:
+        """Interpolated end point minus actual value: what the exact stop windows measure
+        (seed 003 §13.8.8: the windows are counted from the target position)."""
+        return self.setpoint - self.actual
 
     @property
     def display_velocity(self) -> float:
@@ -282,31 +291,30 @@ class MachineAxis:
             velocity = self._limit_to_software_limits(velocity)
         self.command_velocity = velocity
         self.setpoint += velocity * self._dt
+        if self.software_limits_active:
+            self._arrive_at_software_limits()
         if velocity == 0.0 and (direction == 0 or self.at_software_limit == direction):
             self.release()  # stopped: key released, or resting on the software limit it points to
 
     def _limit_to_software_limits(self, velocity: float) -> float:
-        """Brake so as to stop exactly on a software limit switch (JOG)."""
+        """Brake so as to stop exactly on a software limit switch (JOG), never harder than MD32300."""
         accel, dt = self.dyn.max_accel, self._dt
         if velocity > 0.0:
-            remaining = self.dyn.limit_plus - self.setpoint
-            limit = stopping_velocity(remaining, accel, dt)
-            if velocity >= limit:
-                if remaining <= limit * dt + _TINY:
-                    self.setpoint = self.dyn.limit_plus
-                    self.at_software_limit = 1
-                    return 0.0
-                return limit
-        elif velocity < 0.0:
-            remaining = self.setpoint - self.dyn.limit_minus
-            limit = stopping_velocity(remaining, accel, dt)
-            if -velocity >= limit:
-                if remaining <= limit * dt + _TINY:
-                    self.setpoint = self.dyn.limit_minus
-                    self.at_software_limit = -1
-                    return 0.0
-                return -limit
+            limit = stopping_velocity(self.dyn.limit_plus - self.setpoint, accel, dt)
+            return min(velocity, limit)
+        if velocity < 0.0:
+            limit = stopping_velocity(self.setpoint - self.dyn.limit_minus, accel, dt)
+            return max(velocity, -limit)
         return velocity
+
+    def _arrive_at_software_limits(self) -> None:
+        """Snap the rounding rest when the setpoint reached a software limit switch."""
+        if self.command_velocity > 0.0 and self.dyn.limit_plus - self.setpoint <= _TINY:
+            self.setpoint = self.dyn.limit_plus
+            self.at_software_limit = 1
+        elif self.command_velocity < 0.0 and self.setpoint - self.dyn.limit_minus <= _TINY:
+            self.setpoint = self.dyn.limit_minus
+            self.at_software_limit = -1
 
     def _brake_cycle(self) -> None:
         velocity = ramp(self.command_velocity, 0.0, self._brake_decel, self._dt)
@@ -342,7 +350,7 @@ class MachineAxis:
             self.physical += self._drive_velocity * dt
             self.velocity = self._drive_velocity
             self.actual = self.encoder.actual(self.physical)
-        if not self.servo_on and self.follow_up:
+        if not self.servo_on and (self.follow_up or self._tracking):
             self.setpoint = self._loop_setpoint = self._model_position = self.actual
             self._model_velocity = 0.0
             self.command_velocity = 0.0
@@ -396,13 +404,17 @@ class MachineAxis:
             moving = self.command_velocity != 0.0 or abs(self.velocity) > self.dyn.standstill_velocity
             if moving:
                 alarms.raise_alarm(21612, cycle, self.channel, self.name, channel=self.channel, axis=self.name)
+                self._tracking = True  # the NC cannot hold a moving setpoint: it follows the braking slide
             self.brake(self.dyn.rapid_stop_decel)
         # Enable returns: take the present position (follow-up), or return to the held setpoint.
-        if not self.servo_on and wanted and (self.follow_up or (self.owner is Owner.NONE and inp.follow_up_mode)):
+        if not self.servo_on and wanted and (self.follow_up or self._tracking
+                                             or (self.owner is Owner.NONE and inp.follow_up_mode)):
             self.setpoint = self._loop_setpoint = self._model_position = self.actual
             self._model_velocity = 0.0
             if self.jerk_filter:
                 self.jerk_filter.reset(self.actual)
+        if wanted:
+            self._tracking = False
         self.servo_on = wanted
         self.follow_up = not wanted and (inp.follow_up_mode or forced_off)
 
@@ -413,7 +425,7 @@ class MachineAxis:
 
     def _monitor(self, cycle: int, alarms: AlarmList) -> None:
         dyn = self.dyn
-        error = abs(self._loop_setpoint - self.actual)
+        error = abs(self.setpoint - self.actual)  # exact stop windows count from the end point
         interpolation_done = self.owner is Owner.NONE and self.command_velocity == 0.0
         if interpolation_done and self.servo_on and not self.inputs.disable:
             self._motion_end_cycle += 1
@@ -443,7 +455,7 @@ class MachineAxis:
 
     def _write_outputs(self) -> None:
         dyn = self.dyn
-        error = abs(self._loop_setpoint - self.actual)
+        error = abs(self.setpoint - self.actual)  # exact stop windows count from the end point
         no_motion = self.owner is Owner.NONE and self.command_velocity == 0.0
         status = (
             no_motion and error <= dyn.coarse_window,

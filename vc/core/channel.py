@@ -342,7 +342,7 @@ class Channel:
             for name in plan.targets:
                 axis = self.axes_by_name[name]
                 window = axis.dyn.fine_window if fine else axis.dyn.coarse_window
-                if abs(axis.following_error) > window:
+                if abs(axis.distance_to_end_point) > window:
                     return
         if self.inputs.read_in_disable:
             self.program_state = ProgramState.WAITING

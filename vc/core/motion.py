@@ -27,16 +27,25 @@ def ramp(velocity: float, target: float, accel: float, dt: float) -> float:
 
 
 def stopping_velocity(remaining: float, accel: float, dt: float) -> float:
-    """Largest speed from which a motion braking with ``accel`` in steps of ``dt`` stops within ``remaining``.
+    """Largest speed for the next cycle from which the motion can still stop exactly at ``remaining``.
 
-    With speed v in the next cycle and braking by ``accel*dt`` per cycle, the distance
-    covered until standstill is ``v*dt*(n+1) - accel*dt*dt*n*(n+1)/2``; solving for the
-    largest v that fits gives ``sqrt(2*a*s + (a*dt/2)**2) - a*dt/2``.
+    Time is discrete: a speed v moves ``v*dt`` in its cycle, and braking lowers the speed by
+    at most ``a*dt`` per cycle.  Going at v and then braking as hard as allowed covers
+    ``T(v) = (n+1)*v*dt - a*dt**2*n*(n+1)/2`` with ``n = floor(v/(a*dt))``; T grows with v.
+    The largest v with ``T(v) <= remaining``: the largest n with ``a*dt**2*n*(n+1)/2 <=
+    remaining``, then v from T(v) = remaining, capped at ``(n+1)*a*dt``.  Any longer distance
+    can be covered exactly by braking a little less, so a motion planned with this speed ends
+    on its end point without overshoot and never brakes harder than ``a`` (for the last
+    cycle v = remaining/dt <= a*dt).
     """
     if remaining <= 0.0:
         return 0.0
-    half_step = 0.5 * accel * dt
-    return math.sqrt(2.0 * accel * remaining + half_step * half_step) - half_step
+    step = accel * dt * dt
+    n = math.floor((math.sqrt(1.0 + 8.0 * remaining / step) - 1.0) / 2.0)
+    while n > 0 and step * n * (n + 1) / 2.0 > remaining:
+        n -= 1  # guard against rounding in the square root
+    velocity = (remaining + step * n * (n + 1) / 2.0) / ((n + 1) * dt)
+    return min(velocity, (n + 1) * accel * dt)
 
 
 def braking_distance(speed: float, accel: float) -> float:

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-# Gray code of the 31 switch positions, position n = gray(n - 1): the standard reflected
-# binary code a 5-bit Gray switch produces.
-_GRAY_TO_POSITION = {(index ^ (index >> 1)): index + 1 for index in range(31)}
+# The 31 positions of a 5-bit Gray-coded override switch: position n sends n XOR (n >> 1)
+# (position 1 = 00001, 2 = 00011, 3 = 00010 ... 31 = 10000), as on the control's panels.
+_GRAY_TO_POSITION = {(position ^ (position >> 1)): position for position in range(1, 32)}
 
 
 @dataclass(frozen=True, slots=True)
@@ -26,7 +26,7 @@ class OverrideCoding:
         if self.gray:
             position = _GRAY_TO_POSITION.get(raw & 0x1F)
             if position is None:
-                return 0.0
+                return 0.0  # 00000 is no switch position (wire break): stop rather than guess
             if not active and position != 1:
                 return 1.0
             return self.gray_table[position - 1]

@@ -57,6 +57,7 @@ class PathSegment:
 
     @property
     def finished(self) -> bool:
+        """At the end point and standing: the cycle after the one that arrived (which still moved)."""
         return self.s >= self.length and self.velocity == 0.0
 
     @property
@@ -68,25 +69,23 @@ class PathSegment:
         if self.length == 0.0:
             self.velocity = 0.0
             return
+        if self.s >= self.length:
+            self.velocity = 0.0
+            self._hand_out(0.0)
+            return
         target = 0.0 if hold else self.command_velocity * override
-        velocity = ramp(self.velocity, target, self.accel, dt)
-        remaining = self.length - self.s
-        limit = stopping_velocity(remaining, self.accel, dt)
-        if velocity >= limit:
-            velocity = limit
-            if remaining <= velocity * dt + 1e-12:
-                self.s = self.length
-                self.velocity = 0.0
-                self._hand_out(0.0)
-                return
+        velocity = min(ramp(self.velocity, target, self.accel, dt),
+                       stopping_velocity(self.length - self.s, self.accel, dt))
         self.s += velocity * dt
+        if self.length - self.s <= 1e-12 * max(1.0, self.length):
+            self.s = self.length  # arrived: the last cycle covered exactly the rest (rounding aside)
         self.velocity = velocity
         self._hand_out(velocity)
 
     def _hand_out(self, velocity: float) -> None:
         if self.s >= self.length:
-            for axis, end in zip(self.axes, self.ends, strict=True):
-                axis.set_path_setpoint(end, 0.0)
+            for axis, end, unit in zip(self.axes, self.ends, self._unit, strict=True):
+                axis.set_path_setpoint(end, unit * velocity)
             return
         s = self.s
         for axis, start, unit in zip(self.axes, self.starts, self._unit, strict=True):

@@ -29,6 +29,9 @@ _TOKEN = re.compile(
     re.IGNORECASE,
 )
 _ADDRESS_WORD = re.compile(rf"^([A-Z])({_NUMBER})$", re.IGNORECASE)
+# Address words written without blanks: "G1X10Y20", or "G1X" followed by the number "-10".
+_CHAINED_WORDS = re.compile(r"^(?:[A-Z]\d+)+[A-Z]?$", re.IGNORECASE)
+_BLOCK_NUMBER = re.compile(r"^\s*N(\d+)", re.IGNORECASE)
 
 Argument = float | str
 
@@ -113,7 +116,10 @@ def parse_program(text: str) -> tuple[Block, ...]:
             number, items = _parse_line(code)
             blocks.append(Block(line_number, raw.strip(), number, items))
         except _SyntaxError as error:
-            blocks.append(Block(line_number, raw.strip(), None, (), str(error)))
+            # The block keeps its number, so alarm 12080 names it as the control does.
+            number_match = _BLOCK_NUMBER.match(code)
+            number = int(number_match.group(1)) if number_match else None
+            blocks.append(Block(line_number, raw.strip(), number, (), str(error)))
     return tuple(blocks)
 
 
@@ -151,6 +157,14 @@ def _split_address_words(tokens: list[tuple[str, str]]) -> list[tuple[str, str]]
         elif text in (")", "]"):
             depth -= 1
         following = tokens[index + 1] if index + 1 < len(tokens) else ("", "")
+        if kind == "name" and depth == 0 and following[1] not in ("=", "(", "[", ":") and len(text) > 2 \
+                and _CHAINED_WORDS.match(text) and not _ADDRESS_WORD.match(text):
+            for letter, digits in re.findall(r"([A-Z])(\d*)", text.upper()):
+                result.append(("address", letter))
+                if digits:
+                    result.append(("number", digits))
+            index += 1
+            continue
         if kind == "name" and depth == 0 and following[1] not in ("=", "(", "[", ":"):
             match = _ADDRESS_WORD.match(text)
             if match:
@@ -179,7 +193,7 @@ def _parse_line(code: str) -> tuple[int | None, tuple[Item, ...]]:
     while index < len(tokens):
         kind, text = tokens[index]
         if kind == "address":
-            value_kind, value_text = tokens[index + 1]
+            value_kind, value_text = tokens[index + 1] if index + 1 < len(tokens) else ("", "")
             if value_kind != "number":
                 raise _SyntaxError(f"{text}{value_text}")
             if text == "N" and not items and number is None:
@@ -200,6 +214,8 @@ def _parse_line(code: str) -> tuple[int | None, tuple[Item, ...]]:
         elif following in ("=", "["):
             item, index = _assignment(tokens, index)
             items.append(item)
+        elif len(text) == 1:
+            raise _SyntaxError(f"{text}: a value is missing")  # every single letter is an address
         else:
             items.append(Keyword(text))
             index += 1

@@ -19,6 +19,7 @@ from collections.abc import Sequence
 from interfaces.catalog import load_catalog
 from interfaces.image import ProcessImage, Value
 from interfaces.links.inprocess import plc_program
+from interfaces.plant_io import Owner
 from interfaces.plc import PlcEnvironment, SoftPlc
 from interfaces.signals import Direction, SignalRef
 from vc.config.model import MachineConfig
@@ -49,6 +50,7 @@ class Simulation:
         self._observed = ProcessImage({**self.catalog.area_sizes, **machine.plant_io.area_sizes()})
         self._observed_cycle = -1
         self._forces: dict[SignalRef, Value] = {}
+        self._underlying: dict[SignalRef, Value] = {}  # what the owner wrote while a force held
         self._forces_by_direction: dict[Direction, list[tuple[SignalRef, Value]]] = {d: [] for d in Direction}
         self.plant.power_on(self.plant_image)
         self._plc_cycle()
@@ -97,19 +99,33 @@ class Simulation:
         return self._image_of(ref).read(ref)
 
     def write(self, ref: SignalRef, value: Value) -> None:
+        if ref in self._forces:
+            self._underlying[ref] = value  # the force wins; the value applies when it is released
+            return
         self._image_of(ref).write(ref, value)
         self._observed_cycle = -1
 
     def force(self, ref: SignalRef, value: Value) -> None:
+        if ref not in self._forces and ref.direction is not Direction.NC_TO_PLC:
+            self._underlying[ref] = self._image_of(ref).read(ref)
         self._forces[ref] = value
         self._rebuild_forces()
-        self._image_of(ref).write(ref, value)
+        if ref.direction is not Direction.NC_TO_PLC:
+            self._image_of(ref).write(ref, value)
         self._observed_cycle = -1
 
     def release(self, ref: SignalRef) -> None:
-        if self._forces.pop(ref, None) is not None:
-            self._rebuild_forces()
-            self._observed_cycle = -1
+        """End a force: the owner's value applies again (the plant's, the operator's, the PLC's)."""
+        if self._forces.pop(ref, None) is None:
+            return
+        self._rebuild_forces()
+        self._observed_cycle = -1
+        underlying = self._underlying.pop(ref, None)
+        point = self.plant_io.by_name(ref.name) if ref.direction is Direction.PLANT_TO_PLC else None
+        if point is not None and point.owner is Owner.PLANT:
+            self.plant.refresh(self.plant_image)
+        elif underlying is not None:
+            self._image_of(ref).write(ref, underlying)
 
     def _rebuild_forces(self) -> None:
         for items in self._forces_by_direction.values():

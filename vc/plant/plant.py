@@ -68,11 +68,15 @@ class Plant:
         )
 
     def power_on(self, io: ProcessImage) -> None:
-        """Set every plant input for the positions at power-on, and the panel's initial state."""
+        """The panel's initial state and every plant input for the positions at power-on."""
         for name, value in PANEL_AT_POWER_ON.items():
             point = self._io.by_name(name)
             if point is not None:
                 io.write(point.ref(), value)
+        self.refresh(io)
+
+    def refresh(self, io: ProcessImage) -> None:
+        """Write every plant-owned input anew (e.g. after a force on one of them ended)."""
         for switches in self._axes:
             switches.last_position = None
             switches.states = None
