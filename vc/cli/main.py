@@ -1,6 +1,7 @@
 """The ``vc`` command line: run scenarios, print the signal map, measure the speed.
 
-    vc run PATH... [--junit FILE] [--trace-dir DIR]   run scenario files or directories
+    vc run PATH... [--junit FILE] [--trace-dir DIR] [--golden DIR [--update-golden]]
+                                                      run scenario files or directories
     vc map --machine M.yaml [--format md|csv|json]    the machine's expanded signal map
     vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle
 
@@ -47,7 +48,11 @@ def _bench(arguments: argparse.Namespace) -> int:
 def _run(arguments: argparse.Namespace) -> int:
     from vc.harness.scenarios import run_scenario_files
 
-    return run_scenario_files(arguments.paths, junit=arguments.junit, trace_dir=arguments.trace_dir)
+    if arguments.update_golden and not arguments.golden:
+        print("--update-golden needs --golden DIR", file=sys.stderr)
+        return EXIT_PROBLEMS
+    return run_scenario_files(arguments.paths, junit=arguments.junit, trace_dir=arguments.trace_dir,
+                              golden=arguments.golden, update_golden=arguments.update_golden)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -58,6 +63,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("paths", nargs="+", help="scenario files or directories (searched recursively)")
     run.add_argument("--junit", metavar="FILE", help="write a JUnit XML report")
     run.add_argument("--trace-dir", metavar="DIR", help="write a CSV and a VCD trace per scenario")
+    run.add_argument("--golden", metavar="DIR",
+                     help="compare each scenario with its golden trace in DIR (regression check)")
+    run.add_argument("--update-golden", action="store_true", help="write the golden traces of --golden DIR anew")
     run.set_defaults(handler=_run)
 
     signal_map = commands.add_parser("map", help="print the expanded signal catalogue of a machine")

@@ -15,5 +15,7 @@ def simulation_for(scenario: Scenario) -> Simulation:
     return Simulation(scenario.machine, scenario.plc_program)
 
 
-def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_dir: str | None = None) -> int:
-    return run_command(paths, simulation_for, plc_programs().keys(), junit=junit, trace_dir=trace_dir)
+def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_dir: str | None = None,
+                       golden: str | None = None, update_golden: bool = False) -> int:
+    return run_command(paths, simulation_for, plc_programs().keys(), junit=junit, trace_dir=trace_dir,
+                       golden=golden, update_golden=update_golden)

@@ -13,6 +13,7 @@ from rich.console import Console
 
 from interfaces.signals import Catalog
 from vc.located_yaml import SourceError
+from vc.scenario.golden import GoldenCheck
 from vc.scenario.loader import MachineLoader, load_scenarios
 from vc.scenario.model import Scenario
 from vc.scenario.report import ConsoleReport, write_junit
@@ -27,8 +28,13 @@ EXIT_PROBLEMS = 2
 def run_command(paths: Sequence[str], make_target: Callable[[Scenario], ScenarioTarget],
                 known_programs: Collection[str], *, junit: str | Path | None = None,
                 trace_dir: str | Path | None = None, console: Console | None = None,
-                catalog: Catalog | None = None, machine_loader: MachineLoader | None = None) -> int:
-    """Check every scenario of ``paths``, run them if all are sound, report; return the exit code."""
+                catalog: Catalog | None = None, machine_loader: MachineLoader | None = None,
+                golden: str | Path | None = None, update_golden: bool = False) -> int:
+    """Check every scenario of ``paths``, run them if all are sound, report; return the exit code.
+
+    With ``golden`` each passed scenario is compared with its golden trace in that directory
+    (``update_golden`` writes the traces instead).
+    """
     report = ConsoleReport(console)
     try:
         scenarios = load_scenarios(paths, known_programs, catalog=catalog, machine_loader=machine_loader)
@@ -39,7 +45,8 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
         report.console.print("no scenario files found in " + ", ".join(paths), highlight=False)
         return EXIT_PROBLEMS
     try:
-        results = run_scenarios(scenarios, make_target, observer=report, trace_dir=trace_dir)
+        check = GoldenCheck(Path(golden), update_golden) if golden is not None else None
+        results = run_scenarios(scenarios, make_target, observer=report, trace_dir=trace_dir, check=check)
     finally:
         report.close()
     report.print_summary(results)

@@ -451,11 +451,14 @@ def run_scenario(scenario: Scenario, target: ScenarioTarget, recorder: Recorder 
 
 def run_scenarios(scenarios: Sequence[Scenario], make_target: Callable[[Scenario], ScenarioTarget], *,
                   observer: RunObserver | None = None,
-                  trace_dir: str | Path | None = None) -> list[ScenarioResult]:
+                  trace_dir: str | Path | None = None,
+                  check: Callable[[ScenarioResult], None] | None = None) -> list[ScenarioResult]:
     """Run each scenario on its own target from ``make_target``; write traces to ``trace_dir``.
 
-    An exception while building or running a target (a harness error, not a scenario
-    failure) is reported as that scenario's ``error`` and the next scenario runs.
+    ``check`` looks at each result before it is reported and may turn a pass into a failure
+    (the golden-trace comparison does).  An exception while building or running a target (a
+    harness error, not a scenario failure) is reported as that scenario's ``error`` and the
+    next scenario runs.
     """
     results = []
     names = trace_names(scenarios)
@@ -475,6 +478,8 @@ def run_scenarios(scenarios: Sequence[Scenario], make_target: Callable[[Scenario
             write_csv(result.recorder, csv_path)
             write_vcd(result.recorder, vcd_path)
             result.trace_files = [str(csv_path), str(vcd_path)]
+        if check is not None:
+            check(result)
         if observer is not None:
             observer.scenario_finished(result)
         results.append(result)

@@ -1,0 +1,70 @@
+"""The ``vc`` command line as a user sees it: map, bench, run with a broken file."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+from pathlib import Path
+
+import pytest
+
+from vc.cli.main import main
+
+ROOT = Path(__file__).resolve().parents[3]
+MACHINE = str(ROOT / "scenarios" / "machines" / "turn_mill.yaml")
+
+
+def test_map_csv_starts_with_the_required_columns_and_lists_every_instance(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["map", "--machine", MACHINE, "--format", "csv"]) == 0
+    rows = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
+    assert list(rows[0])[:4] == ["symbol", "address", "direction", "type"]
+    by_symbol = {row["symbol"]: row for row in rows}
+    # turn_mill: X1 is machine axis 1 (DB31), SP3 machine axis 6 (DB36); one channel (DB21)
+    assert by_symbol["X1.basic.in.enc1Synchronized"]["address"] == "DB31.DBX60.4"
+    assert by_symbol["SP3.basic.in.enc1Synchronized"]["address"] == "DB36.DBX60.4"
+    assert by_symbol["CHAN1.basic.out.reset"]["address"] == "DB21.DBX7.7"
+    assert by_symbol["MODEGROUP.basic.out.jogMode"]["direction"] == "plc_to_nc"
+    assert by_symbol["MCP.jog"]["direction"] == "plant_to_plc"
+    instances = {row["instance"] for row in rows}
+    assert instances == {"NC", "MODEGROUP", "CHAN1", "X1", "Z1", "Y1", "SP1", "SP2", "SP3", "PLANT"}
+
+
+def test_map_json_and_markdown(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["map", "--machine", MACHINE, "--format", "json"]) == 0
+    entries = json.loads(capsys.readouterr().out)
+    assert {"symbol": "X1.basic.out.refPointApproachCam", "address": "DB31.DBX12.7"}.items() <= entries[
+        [e["symbol"] for e in entries].index("X1.basic.out.refPointApproachCam")].items()
+    assert main(["map", "--machine", MACHINE, "--format", "md"]) == 0
+    markdown = capsys.readouterr().out
+    assert "## X1 (DB31)" in markdown and "| X1.basic.in.enc1Synchronized | DB31.DBX60.4 |" in markdown
+
+
+def test_map_of_a_broken_machine_file_names_file_and_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    broken = tmp_path / "broken.yaml"
+    broken.write_text("machine: m\nchannels:\n  CHAN1: {axes: [X1]}\naxes:\n  X1: {MD32000: fast}\n")
+    assert main(["map", "--machine", str(broken)]) == 2
+    error = capsys.readouterr().err
+    assert f"{broken}:5:" in error and "MD32000" in error and "nothing was run" in error
+
+
+def test_bench_prints_its_figures_as_the_last_line_in_json(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["bench", "--machine", MACHINE, "--seconds", "1"]) == 0
+    last = capsys.readouterr().out.strip().splitlines()[-1]
+    figures = json.loads(last)
+    assert set(figures) == {"realtime_factor", "us_per_cycle"}
+    assert figures["realtime_factor"] > 0 and figures["us_per_cycle"] > 0
+
+
+def test_a_broken_scenario_stops_the_whole_run_before_anything_runs(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(ROOT)
+    good = ROOT / "scenarios" / "foundation" / "nc_start_without_reference.yaml"
+    broken = tmp_path / "broken.yaml"
+    broken.write_text(f"name: broken\nmachine: {ROOT / 'scenarios/machines/turn_mill.yaml'}\nplc: basic_machine\n"
+                      "steps:\n  - press: MCP.jgo\n")
+    assert main(["run", str(good), str(broken)]) == 2
+    output = capsys.readouterr()
+    text = output.out + output.err
+    assert f"{broken}:5:" in text and "MCP.jgo" in text and "did you mean MCP.jog" in text
+    assert "PASS" not in text  # nothing ran, not even the good scenario

@@ -1,0 +1,167 @@
+"""Golden traces: a scenario's recorded behaviour, kept as a regression baseline.
+
+``vc run --golden DIR`` compares each run with ``DIR/<scenario path>.json`` and fails a
+scenario whose behaviour changed; ``--update-golden`` writes the baselines anew.
+
+Compared by meaning, not byte by byte:
+
+* every digital signal (bool, bits, byte, word of the interface and the plant I/O) must go
+  through the same sequence of values; each change may move by up to one PLC scan in time,
+  so an unrelated change of timing inside a scan does not count;
+* the alarms raised, in order;
+* per axis, the end position and the smallest and largest position reached, within 1 um.
+
+A signal that changes in one trace but not in the other is a difference too.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from vc.scenario.quantities import QuantityKind
+from vc.scenario.runner import Failure, ScenarioResult
+from vc.scenario.trace import Recorder
+
+POSITION_TOLERANCE = 1e-3  # mm or degrees
+FORMAT_VERSION = 1
+
+
+@dataclass(frozen=True, slots=True)
+class GoldenSummary:
+    digital: dict[str, list[tuple[float, int]]]  # name -> [(time s, value), ...]
+    alarms: list[int]
+    positions: dict[str, tuple[float, float, float]]  # axis -> (end, lowest, highest)
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "format": FORMAT_VERSION,
+            "alarms": self.alarms,
+            "positions": {axis: list(values) for axis, values in sorted(self.positions.items())},
+            "digital": {name: [[round(t, 6), v] for t, v in changes] for name, changes in sorted(self.digital.items())},
+        }
+
+    @classmethod
+    def from_json(cls, document: dict[str, Any]) -> GoldenSummary:
+        return cls(
+            digital={name: [(float(t), int(v)) for t, v in changes] for name, changes in document["digital"].items()},
+            alarms=[int(number) for number in document["alarms"]],
+            positions={axis: (float(a), float(b), float(c)) for axis, (a, b, c) in document["positions"].items()},
+        )
+
+
+def summarize(recorder: Recorder, alarm_numbers: Sequence[int]) -> GoldenSummary:
+    digital: dict[str, list[tuple[float, int]]] = {}
+    positions: dict[str, tuple[float, float, float]] = {}
+    for history in recorder.histories:
+        quantity = history.quantity
+        if quantity.kind is QuantityKind.AXIS:
+            if quantity.name.endswith(".position") and len(history):
+                values = list(history.values)
+                positions[quantity.name.rsplit(".", 1)[0]] = (values[-1], min(values), max(values))
+            continue
+        if not quantity.is_integer or len(history) < 2:
+            continue  # a signal that never changed says nothing about behaviour
+        digital[quantity.name] = [(recorder.time_of(cycle), int(value)) for cycle, value in history.entries()]
+    return GoldenSummary(digital, list(alarm_numbers), positions)
+
+
+def compare(golden: GoldenSummary, actual: GoldenSummary, time_tolerance_s: float) -> list[str]:
+    """The differences in meaning, each as one sentence; empty when the behaviour is the same."""
+    differences: list[str] = []
+    if golden.alarms != actual.alarms:
+        differences.append(f"alarms raised: expected {golden.alarms}, got {actual.alarms}")
+    for axis, (end, low, high) in sorted(golden.positions.items()):
+        found = actual.positions.get(axis)
+        if found is None:
+            differences.append(f"{axis}: no positions recorded")
+            continue
+        for label, expected, value in (("end position", end, found[0]), ("lowest position", low, found[1]),
+                                       ("highest position", high, found[2])):
+            if abs(expected - value) > POSITION_TOLERANCE:
+                differences.append(f"{axis} {label}: expected {expected:.4f}, got {value:.4f}")
+    for name in sorted(set(golden.digital) | set(actual.digital)):
+        expected_changes = golden.digital.get(name)
+        found_changes = actual.digital.get(name)
+        if expected_changes is None:
+            differences.append(f"{name} now changes ({_values(found_changes)}) but did not in the golden trace")
+        elif found_changes is None:
+            differences.append(f"{name} no longer changes (golden: {_values(expected_changes)})")
+        else:
+            differences.extend(_compare_changes(name, expected_changes, found_changes, time_tolerance_s))
+    return differences
+
+
+def _compare_changes(name: str, expected: list[tuple[float, int]], found: list[tuple[float, int]],
+                     tolerance: float) -> list[str]:
+    if [value for _, value in expected] != [value for _, value in found]:
+        return [f"{name} went through {_values(found)}, golden {_values(expected)}"]
+    for (expected_time, value), (found_time, _) in zip(expected, found, strict=True):
+        if abs(expected_time - found_time) > tolerance + 1e-9:
+            return [f"{name} became {value} at {found_time:.3f} s, golden {expected_time:.3f} s"
+                    f" (tolerance {tolerance * 1000:.0f} ms)"]
+    return []
+
+
+def _values(changes: list[tuple[float, int]] | None) -> str:
+    shown = [str(value) for _, value in (changes or [])]
+    return " -> ".join(shown[:12]) + (" ..." if len(shown) > 12 else "")
+
+
+def golden_path(golden_dir: str | Path, scenario_path: str) -> Path:
+    """``DIR/<scenario file without its first directory>.json`` (scenarios/a/b.yaml -> DIR/a/b.json)."""
+    parts = Path(scenario_path).with_suffix(".json").parts
+    relative = Path(*parts[1:]) if len(parts) > 1 else Path(parts[0])
+    return Path(golden_dir) / relative
+
+
+def load(path: Path) -> GoldenSummary | None:
+    if not path.exists():
+        return None
+    with path.open(encoding="utf-8") as handle:
+        return GoldenSummary.from_json(json.load(handle))
+
+
+def store(summary: GoldenSummary, path: Path) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("w", encoding="utf-8") as handle:
+        json.dump(summary.to_json(), handle, indent=0, separators=(",", ":"))
+        handle.write("\n")
+
+
+@dataclass(frozen=True, slots=True)
+class GoldenCheck:
+    """Compare each passed scenario with its golden trace, or (``update``) write it anew."""
+
+    directory: Path
+    update: bool = False
+
+    def __call__(self, result: ScenarioResult) -> None:
+        recorder = result.recorder
+        if not result.passed or recorder is None:
+            return
+        scenario = result.scenario
+        summary = summarize(recorder, [alarm.number for alarm in recorder.target.alarm_history()])
+        path = golden_path(self.directory, scenario.path)
+        if self.update:
+            store(summary, path)
+            return
+        golden = load(path)
+        if golden is None:
+            self._fail(result, f"no golden trace {path}; write it with vc run ... --golden {self.directory}"
+                               " --update-golden")
+            return
+        machine = scenario.machine
+        tolerance = machine.plc_cycle_ipo * recorder.ipo_cycle_us / 1e6
+        differences = compare(golden, summary, tolerance)
+        if differences:
+            shown = "; ".join(differences[:6]) + (f"; and {len(differences) - 6} more" if len(differences) > 6 else "")
+            self._fail(result, f"the behaviour differs from the golden trace {path}: {shown}")
+
+    @staticmethod
+    def _fail(result: ScenarioResult, message: str) -> None:
+        result.passed = False
+        result.failure = Failure("golden", None, result.scenario.mark, message, result.cycles, result.simulated_s)
