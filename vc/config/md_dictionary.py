@@ -171,15 +171,15 @@ ROT_IS_MODULO = MdDef(30310, "ROT_IS_MODULO", A, BOOL, False, "modulo conversion
 MODULO_RANGE = MdDef(30330, "MODULO_RANGE", A, FLOAT, 360.0, "size of the modulo range",
                      "seed 003 L1662-1663",
                      "deg", 1.0, 360000.0)
-ENC_TYPE = MdDef(30240, "ENC_TYPE", A, INT, 1, "encoder type: 0 = simulated, 1 = incremental, 4 = absolute",
-                 "seed 003 L2363-2365, L5881-5883", "", 0, 4, allowed=(0, 1, 4))
-ENC_RESOL = MdDef(31020, "ENC_RESOL", A, INT, 2048, "encoder lines per revolution", "seed 003 L2533", "",
-                  1, 10_000_000)
+ENC_TYPE = MdDef(30240, "ENC_TYPE", A, INT, (1,) * 2, "encoder type: 0 = simulated, 1 = incremental, 4 = absolute",
+                 "seed 003 L2363-2365, L5881-5883", "", 0, 4, allowed=(0, 1, 4), length=2)
+ENC_RESOL = MdDef(31020, "ENC_RESOL", A, INT, (2048,) * 2, "encoder lines per revolution", "seed 003 L2533", "",
+                  1, 10_000_000, length=2)
 LEADSCREW_PITCH = MdDef(31030, "LEADSCREW_PITCH", A, FLOAT, 10.0,
                         "leadscrew pitch: travel per leadscrew revolution", "[control]", "mm",
                         0.001, 10_000.0)
-ENC_IS_DIRECT = MdDef(31040, "ENC_IS_DIRECT", A, BOOL, False,
-                      "encoder mounted directly on the machine (0 = motor encoder)", "seed 003 L16884-16888")
+ENC_IS_DIRECT = MdDef(31040, "ENC_IS_DIRECT", A, BOOL, (False,) * 2,
+                      "encoder mounted directly on the machine (0 = motor encoder)", "seed 003 L16884-16888", length=2)
 DRIVE_AX_RATIO_DENOM = MdDef(31050, "DRIVE_AX_RATIO_DENOM", A, INT, (1,) * 6,
                              "load gearbox denominator (load revolutions) per parameter set",
                              "seed 003 L19022-19034", "", -2_147_000_000, 2_147_000_000, 6)
@@ -250,14 +250,14 @@ SERVO_DISABLE_DELAY_TIME = MdDef(36620, "SERVO_DISABLE_DELAY_TIME", A, FLOAT, 0.
 # ---------------------------------------------------------------------------------- axis: encoder
 # Encoder-specific data (the control's [n] = measuring system 1/2) are modelled for measuring
 # system 1 only, as scalars, like MD30240 ENC_TYPE above.
-ENC_IS_INDEPENDENT = MdDef(30242, "ENC_IS_INDEPENDENT", A, INT, 0,
+ENC_IS_INDEPENDENT = MdDef(30242, "ENC_IS_INDEPENDENT", A, INT, (0,) * 2,
                            "encoder independence: 0 = not independent, 1 = independent, 2 = passive encoder"
                            " compensated from the active one, 3 = passive distance-coded encoder referenced"
                            " automatically", "seed 003 L1757-1762, L5931-5943; [control] default", "", 0, 3,
-                           allowed=(0, 1, 2, 3))
-ACT_POS_ABS = MdDef(30250, "ACT_POS_ABS", A, FLOAT, 0.0,
+                           allowed=(0, 1, 2, 3), length=2)
+ACT_POS_ABS = MdDef(30250, "ACT_POS_ABS", A, FLOAT, (0.0,) * 2,
                     "absolute encoder position at switch-off (internal encoder position, normally written"
-                    " by the control)", "seed 003 L2022, L2366, L2462; [control] default", "", -1.0e9, 1.0e9)
+                    " by the control)", "seed 003 L2022, L2366, L2462; [control] default", "", -1.0e9, 1.0e9, length=2)
 ENC_ABS_BUFFERING = MdDef(30270, "ENC_ABS_BUFFERING", A, INT, 0,
                           "absolute encoder traversing range extension: 0 = active (default), 1 = off",
                           "seed 003 L2377-2378, L2464", "", 0, 1, allowed=(0, 1))
@@ -271,8 +271,8 @@ AXCONF_ASSIGN_MASTER_CHAN = MdDef(30550, "AXCONF_ASSIGN_MASTER_CHAN", A, INT, 0,
                                   "master channel of the axis (0 = the channel whose axes list holds it);"
                                   " axis-specific referencing runs in it",
                                   "seed 003 L616-620, L22082; [control] default", "", 0, 10)
-ENC_IS_LINEAR = MdDef(31000, "ENC_IS_LINEAR", A, BOOL, False, "the measuring system is a linear scale",
-                      "seed 003 L2422-2424, L6291")
+ENC_IS_LINEAR = MdDef(31000, "ENC_IS_LINEAR", A, BOOL, (False,) * 2, "the measuring system is a linear scale",
+                      "seed 003 L2422-2424, L6291", length=2)
 BERO_DELAY_TIME_PLUS = MdDef(31122, "BERO_DELAY_TIME_PLUS", A, FLOAT, 0.000110,
                              "BERO signal delay compensation, plus direction (spindle)",
                              "seed 003 L18045-18068; [control] delivery value", "s", 0.0, 1.0)
@@ -312,15 +312,15 @@ REFP_MOVE_DIST = MdDef(34080, "REFP_MOVE_DIST", A, FLOAT, 2.0,
                        "reference point distance: zero mark to reference point"
                        " (distance-coded: target point)",
                        "seed 003 L1307-1311, L18020; [control] default", "mm", -1.0e8, 1.0e8)
-REFP_MOVE_DIST_CORR = MdDef(34090, "REFP_MOVE_DIST_CORR", A, FLOAT, 0.0,
+REFP_MOVE_DIST_CORR = MdDef(34090, "REFP_MOVE_DIST_CORR", A, FLOAT, (0.0,) * 2,
                             "reference point offset; absolute encoder: machine zero to encoder zero",
-                            "seed 003 L1311, L1400-1444, L2066-2068; [control] default", "mm", -1.0e9, 1.0e9)
+                            "seed 003 L1311, L1400-1444, L2066-2068; [control] default", "mm", -1.0e9, 1.0e9, length=2)
 REFP_CAM_SHIFT = MdDef(34092, "REFP_CAM_SHIFT", A, FLOAT, 0.0,
                        "electronic reference cam shift in zero-mark search direction (only with MD34000 = 1)",
                        "seed 003 L1159-1189, L15747; [control] default", "mm", 0.0, 1.0e6)
-REFP_CAM_MARKER_DIST = MdDef(34093, "REFP_CAM_MARKER_DIST", A, FLOAT, 0.0,
+REFP_CAM_MARKER_DIST = MdDef(34093, "REFP_CAM_MARKER_DIST", A, FLOAT, (0.0,) * 2,
                              "measured distance from leaving the cam to the zero mark (the control writes it"
-                             " during referencing)", "seed 003 L1239-1246", "mm", read_only=True)
+                             " during referencing)", "seed 003 L1239-1246", "mm", read_only=True, length=2)
 REFP_SET_POS = MdDef(34100, "REFP_SET_POS", A, FLOAT, _repeat(0.0, 4),
                      "reference point value n, selected by DB31.DBX2.4..2.7",
                      "seed 003 L1316-1322, L2132, L2271-2274; [control] default", "mm", -1.0e9, 1.0e9, 4)
@@ -334,24 +334,24 @@ REFP_CYCLE_NR = MdDef(34110, "REFP_CYCLE_NR", A, INT, 1,
                       "order in channel-specific referencing: -1 = not needed for NC start, 0 = does not take"
                       " part, 1..15 = sequence number (equal numbers together)",
                       "seed 003 L667-683, L2750; [control] default", "", -1, 15)
-ENC_REFP_MODE = MdDef(34200, "ENC_REFP_MODE", A, INT, 1,
+ENC_REFP_MODE = MdDef(34200, "ENC_REFP_MODE", A, INT, (1,) * 2,
                       "referencing mode: 0 = take over the reference value (absolute encoder), 1 = zero mark,"
                       " 2/7 = spindle BERO, 3 = distance-coded, 4 = [GAP], 8 = distance-coded with 4 marks",
                       "seed 003 L928-930, L1448-1462, L18060-18070, L2379-2380; [control] default", "", 0, 8,
-                      allowed=(0, 1, 2, 3, 4, 7, 8))
-ENC_REFP_STATE = MdDef(34210, "ENC_REFP_STATE", A, INT, 0,
+                      allowed=(0, 1, 2, 3, 4, 7, 8), length=2)
+ENC_REFP_STATE = MdDef(34210, "ENC_REFP_STATE", A, INT, (0,) * 2,
                        "absolute encoder: 0 = not calibrated, 1 = calibration enabled, 2 = calibrated;"
                        " incremental: 1..3 = automatic referencing / restoring (see seed)",
-                       "seed 003 L1970-1978, L2653-2742; [control] default", "", 0, 3)
-ENC_ABS_TURNS_MODULO = MdDef(34220, "ENC_ABS_TURNS_MODULO", A, INT, 4096,
+                       "seed 003 L1970-1978, L2653-2742; [control] default", "", 0, 3, length=2)
+ENC_ABS_TURNS_MODULO = MdDef(34220, "ENC_ABS_TURNS_MODULO", A, INT, (4096,) * 2,
                              "absolute encoder modulo range in revolutions (e.g. EQN 1325: 4096)",
-                             "seed 003 L2390-2392, L2814-2836; [control] default", "", 1, 100_000)
-ENC_REFP_MARKER_DIST = MdDef(34300, "ENC_REFP_MARKER_DIST", A, FLOAT, 20.0,
+                             "seed 003 L2390-2392, L2814-2836; [control] default", "", 1, 100_000, length=2)
+ENC_REFP_MARKER_DIST = MdDef(34300, "ENC_REFP_MARKER_DIST", A, FLOAT, (20.0,) * 2,
                              "reference mark spacing of a distance-coded scale",
-                             "seed 003 L1550-1561; [control] default", "mm", 0.0, 1.0e6)
-ENC_INVERS = MdDef(34320, "ENC_INVERS", A, BOOL, False,
+                             "seed 003 L1550-1561; [control] default", "mm", 0.0, 1.0e6, length=2)
+ENC_INVERS = MdDef(34320, "ENC_INVERS", A, BOOL, (False,) * 2,
                    "length measuring system runs opposite to the machine coordinate system",
-                   "seed 003 L1404-1407, L1431-1437; [control] default")
+                   "seed 003 L1404-1407, L1431-1437; [control] default", length=2)
 REFP_STOP_AT_ABS_MARKER = MdDef(34330, "REFP_STOP_AT_ABS_MARKER", A, BOOL, True,
                                 "distance-coded / absolute: 0 = travel to the reference position MD34100,"
                                 " 1 = referencing ends without travel",
@@ -525,6 +525,46 @@ AX_ESR_DELAY_TIME1 = MdDef(37510, "AX_ESR_DELAY_TIME1", A, FLOAT, 0.0,
                            "seed 003 L11497-11503, L11544; [control] default", "s", 0.0, 1.0e3)
 AX_ESR_DELAY_TIME2 = MdDef(37511, "AX_ESR_DELAY_TIME2", A, FLOAT, 0.04, "single-axis ESR: braking time",
                            "seed 003 L11501-11503, L11545; [control] default", "s", 0.0, 1.0e3)
+
+# ---------------------------------------------------------------------------------- measuring systems
+NUM_ENCS = MdDef(30200, "NUM_ENCS", A, INT, 1, "number of measuring systems of the axis (1 or 2)",
+                 "seed 003 L1685-1785 (two measuring systems); [control] default", "", 0, 2)
+ENC_GRID_POINT_DIST = MdDef(31010, "ENC_GRID_POINT_DIST", A, FLOAT, (0.01,) * 2,
+                            "grid spacing of a linear scale", "[control] default", "mm", 0.00001, 100.0, length=2)
+ENC_SERIAL_NUMBER = MdDef(34230, "ENC_SERIAL_NUMBER", A, INT, (0,) * 2,
+                          "encoder serial number; a new encoder (other number) needs recalibration",
+                          "seed 003 L2394-2397, L2028-2043", "", 0, 2_147_483_647, length=2)
+ENC_MARKER_INC = MdDef(34310, "ENC_MARKER_INC", A, FLOAT, (0.02,) * 2,
+                       "interval increment of a distance-coded scale: the distances between adjacent reference"
+                       " marks differ by multiples of it", "seed 003 L1376-1384; [control] default", "mm",
+                       0.0001, 1000.0, length=2)
+
+# ---------------------------------------------------------------------------------- inclined axis (GSK 988TD)
+# The inclined-axis control of seed 000 is configured by GSK parameters 8200-8212; the
+# SINUMERIK has no such data, so they are machine data of the project in the OEM range
+# (62800..) that say which GSK parameter each one carries.
+INCL_AXIS_ENABLE = MdDef(62800, "INCL_AXIS_ENABLE", C, BOOL, False,
+                         "inclined-axis control on (GSK parameter 8200 #0 AAC); project machine datum",
+                         "seed 000 L400-409")
+INCL_AXIS_REF_ORTHO_STILL = MdDef(62801, "INCL_AXIS_REF_ORTHO_STILL", C, BOOL, False,
+                                  "referencing the inclined axis does not move the orthogonal axis (GSK 8200 #2"
+                                  " AZR); project machine datum", "seed 000 L52-53, L410-412")
+INCL_AXIS_LIMITS_CARTESIAN = MdDef(62802, "INCL_AXIS_LIMITS_CARTESIAN", C, BOOL, (False,) * 3,
+                                   "stroke limits 1, 2, 3 in Cartesian (1) or inclined (0) coordinates (GSK 8201"
+                                   " #0 AOT, #1 AO2, #2 AO3); project machine datum", "seed 000 L414-429",
+                                   length=3)
+INCL_AXIS_G28_CARTESIAN = MdDef(62803, "INCL_AXIS_G28_CARTESIAN", C, BOOL, False,
+                                "G28/G30 from the intermediate point in Cartesian (1) or inclined (0) motion"
+                                " (GSK 8209 #0 ARF); project machine datum", "seed 000 L431-441")
+INCL_AXIS_ANGLE = MdDef(62804, "INCL_AXIS_ANGLE", C, FLOAT, 0.0,
+                        "inclination angle theta (GSK 8210, there in 0.001 degree); project machine datum",
+                        "seed 000 L443-449", "deg", -180.0, 180.0)
+INCL_AXIS_INCLINED = MdDef(62805, "INCL_AXIS_INCLINED", C, INT, 0,
+                           "channel axis number of the inclined axis (GSK 8211); project machine datum",
+                           "seed 000 L451", "", 0, 20)
+INCL_AXIS_ORTHOGONAL = MdDef(62806, "INCL_AXIS_ORTHOGONAL", C, INT, 0,
+                             "channel axis number of the orthogonal axis (GSK 8212); project machine datum",
+                             "seed 000 L454-464, L45-49", "", 0, 20)
 
 # ---------------------------------------------------------------------------------- index
 

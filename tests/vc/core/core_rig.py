@@ -33,9 +33,9 @@ MILL = str(ROOT / "scenarios" / "machines" / "mill_3axis.yaml")
 
 DT = 0.002  # s, IPO cycle of both shipped machines (MD10050 x MD10070)
 # No NC start lock, X1 with a calibrated absolute encoder: referenced at power-on.
-ABSOLUTE_X1 = "CHAN1: {MD20700: 0}\nX1: {MD30240: 4, MD34210: 2}"
-ABSOLUTE_XYZ = ("CHAN1: {MD20700: 0}\nX1: {MD30240: 4, MD34210: 2}\nZ1: {MD30240: 4, MD34210: 2}\n"
-                "Y1: {MD30240: 4, MD34210: 2}")
+ABSOLUTE_X1 = "CHAN1: {MD20700: 0}\nX1: {MD30240: [4], MD34210: [2]}"
+ABSOLUTE_XYZ = ("CHAN1: {MD20700: 0}\nX1: {MD30240: [4], MD34210: [2]}\nZ1: {MD30240: [4], MD34210: [2]}\n"
+                "Y1: {MD30240: [4], MD34210: [2]}")
 
 
 @lru_cache(maxsize=32)

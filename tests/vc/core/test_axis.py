@@ -156,7 +156,7 @@ def test_key_release_brakes_with_md32300() -> None:
 def test_braking_distance_follows_md32300() -> None:
     # MD32300 = 2 m/s^2: 4 mm/s per cycle: 29.333, 25.333 .. 1.333 then 0: 9 cycles;
     # distance 0.002 * sum(33.333 - 4k, k = 1..8) = 0.002 * (8 * 33.333 - 4 * 36) = 0.245333 mm
-    rig = jog_rig("CHAN1: {MD20700: 0}\nX1: {MD30240: 4, MD34210: 2, MD32300: [2.0, 2.0, 2.0, 2.0, 2.0]}")
+    rig = jog_rig("CHAN1: {MD20700: 0}\nX1: {MD30240: [4], MD34210: [2], MD32300: [2.0, 2.0, 2.0, 2.0, 2.0]}")
     hold(rig, "X1", "Plus", 50)
     axis = rig.axis("X1")
     released_at = axis.setpoint
@@ -215,7 +215,7 @@ def test_exact_stop_bits_are_set_only_within_their_windows() -> None:
 
 
 def test_jog_stops_exactly_on_the_plus_software_limit_and_raises_10621() -> None:
-    rig = jog_rig("CHAN1: {MD20700: 0}\nX1: {MD30240: 4, MD34210: 2, MD36110: 152.0}")
+    rig = jog_rig("CHAN1: {MD20700: 0}\nX1: {MD30240: [4], MD34210: [2], MD36110: 152.0}")
     axis = rig.axis("X1")
     hold(rig, "X1", "Plus", 200)  # 2 mm at 33.3 mm/s take 60 ms = 30 cycles
     assert axis.setpoint == 152.0
@@ -230,7 +230,7 @@ def test_jog_stops_exactly_on_the_plus_software_limit_and_raises_10621() -> None
 
 def test_jog_rapid_to_the_software_limit_never_passes_it() -> None:
     # 166.67 mm/s needs 166.67^2 / 8000 = 3.5 mm to stop: braking starts before the limit.
-    rig = jog_rig("CHAN1: {MD20700: 0}\nX1: {MD30240: 4, MD34210: 2, MD36110: 160.0}")
+    rig = jog_rig("CHAN1: {MD20700: 0}\nX1: {MD30240: [4], MD34210: [2], MD36110: 160.0}")
     axis = rig.axis("X1")
     rig.set("X1.basic.out.enableRapidTravers", 1)
     rig.set("X1.basic.out.traversKeyPlus", 1)
@@ -244,7 +244,7 @@ def test_jog_rapid_to_the_software_limit_never_passes_it() -> None:
 
 
 def test_10621_clears_when_the_axis_moves_away_from_the_limit() -> None:
-    rig = jog_rig("CHAN1: {MD20700: 0}\nX1: {MD30240: 4, MD34210: 2, MD36110: 152.0}")
+    rig = jog_rig("CHAN1: {MD20700: 0}\nX1: {MD30240: [4], MD34210: [2], MD36110: 152.0}")
     hold(rig, "X1", "Plus", 200)
     rig.set("X1.basic.out.traversKeyPlus", 0)
     rig.step(10)
@@ -255,7 +255,7 @@ def test_10621_clears_when_the_axis_moves_away_from_the_limit() -> None:
 
 
 def test_jog_stops_exactly_on_the_minus_software_limit() -> None:
-    rig = jog_rig("CHAN1: {MD20700: 0}\nX1: {MD30240: 4, MD34210: 2, MD36100: 148.5}")
+    rig = jog_rig("CHAN1: {MD20700: 0}\nX1: {MD30240: [4], MD34210: [2], MD36100: 148.5}")
     hold(rig, "X1", "Minus", 200)
     assert rig.axis("X1").setpoint == 148.5
     [alarm] = [a for a in rig.sim.alarms() if a.number == 10621]
@@ -405,7 +405,7 @@ def test_exact_stop_fine_with_the_jerk_filter_is_measured_from_the_end_point(mod
     # MD32400 = 1, MD32402 = mode, MD32410 = 16 ms.  The exact-stop windows are increments from the
     # programmed end point (seed 003 §13.8.8, L21204-21273): 60.7 may only show while
     # |actual - 160| <= MD36010 = 0.01 mm, and the block ends only then.
-    rig = Rig(machine(f"CHAN1: {{MD20700: 0}}\nX1: {{MD30240: 4, MD34210: 2, MD32400: 1, MD32402: {mode},"
+    rig = Rig(machine(f"CHAN1: {{MD20700: 0}}\nX1: {{MD30240: [4], MD34210: [2], MD32400: 1, MD32402: {mode},"
                       f" MD32410: 0.016}}"))
     rig.ready_mda("X1")
     axis = rig.axis("X1")
@@ -432,6 +432,6 @@ def test_jerk_filter_moving_average_ends_the_block_about_the_filter_time_later()
         return rig.run_until(lambda: rig.get("CHAN1.basic.in.stateReset") == 1, 1000)
 
     plain = block_cycles(ABSOLUTE_X1)
-    filtered = block_cycles("CHAN1: {MD20700: 0}\nX1: {MD30240: 4, MD34210: 2, MD32400: 1, MD32402: 2,"
+    filtered = block_cycles("CHAN1: {MD20700: 0}\nX1: {MD30240: [4], MD34210: [2], MD32400: 1, MD32402: 2,"
                             " MD32410: 0.016}")
     assert 7 - 2 <= filtered - plain <= 8 + 2

@@ -444,7 +444,8 @@ def test_nc_start_with_unreferenced_axes_and_md20700_raises_10203_and_nothing_mo
 
 
 def test_nc_start_with_md20700_and_every_axis_referenced_runs() -> None:
-    rig = mda_rig("X1: {MD30240: 4, MD34210: 2}\nZ1: {MD30240: 4, MD34210: 2}\nY1: {MD30240: 4, MD34210: 2}")
+    absolute = "{MD30240: [4], MD34210: [2]}"
+    rig = mda_rig(f"X1: {absolute}\nZ1: {absolute}\nY1: {absolute}")
     assert rig.get("CHAN1.basic.in.allAxesReferenced") == 1
     rig.mda("G1 X151 F3000")
     run_to_reset(rig, 300)

@@ -38,7 +38,7 @@ def test_linear_motor_encoder_spacing_is_pitch_times_load_over_motor_revolutions
 
 
 def test_direct_encoder_on_a_spindle_has_one_mark_per_load_revolution() -> None:
-    assert zero_mark_spacing(axis("SP1", "SP1: {MD31040: 1}")) == pytest.approx(360.0)
+    assert zero_mark_spacing(axis("SP1", "SP1: {MD31040: [1]}")) == pytest.approx(360.0)
 
 
 # ------------------------------------------------------------------------------ zero marks crossed
@@ -100,20 +100,20 @@ def test_incremental_encoder_starts_at_zero_and_is_not_referenced() -> None:
 
 def test_calibrated_absolute_encoder_is_referenced_with_actual_equal_to_physical() -> None:
     # MD30240 = 4 (absolute), MD34210 = 2 (calibrated), MD34090 = 0: seed 003 §4.9, §4.10 (L2584-2586).
-    encoder = Encoder.at_power_on(axis("X1", "X1: {MD30240: 4, MD34210: 2}"), 150.0)
+    encoder = Encoder.at_power_on(axis("X1", "X1: {MD30240: [4], MD34210: [2]}"), 150.0)
     assert encoder.referenced
     assert encoder.actual(150.0) == 150.0
 
 
 def test_calibrated_absolute_encoder_adds_the_reference_point_offset_md34090() -> None:
-    encoder = Encoder.at_power_on(axis("X1", "X1: {MD30240: 4, MD34210: 2, MD34090: -12.5}"), 150.0)
+    encoder = Encoder.at_power_on(axis("X1", "X1: {MD30240: [4], MD34210: [2], MD34090: [-12.5]}"), 150.0)
     assert encoder.referenced
     assert encoder.actual(150.0) == pytest.approx(137.5)
 
 
 @pytest.mark.parametrize("state", [0, 1])
 def test_absolute_encoder_not_calibrated_is_not_referenced(state: int) -> None:
-    encoder = Encoder.at_power_on(axis("X1", f"X1: {{MD30240: 4, MD34210: {state}}}"), 150.0)
+    encoder = Encoder.at_power_on(axis("X1", f"X1: {{MD30240: [4], MD34210: [{state}]}}"), 150.0)
     assert not encoder.referenced
 
 

@@ -22,7 +22,7 @@ TURN_MILL = str(ROOT / "scenarios" / "machines" / "turn_mill.yaml")
 
 @pytest.fixture(scope="module")
 def config() -> MachineConfig:
-    overrides, problems = load_text("CHAN1: {MD20700: 0}\nX1: {MD30240: 4, MD34210: 2}", "<test>")
+    overrides, problems = load_text("CHAN1: {MD20700: 0}\nX1: {MD30240: [4], MD34210: [2]}", "<test>")
     assert not problems
     return load_machine(TURN_MILL, overrides, "<test>")
 
