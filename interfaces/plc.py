@@ -18,9 +18,9 @@ scan.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Protocol
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any, Protocol
 
 from interfaces.image import ProcessImage
 from interfaces.plant_io import PlantIoMap
@@ -32,6 +32,7 @@ class PlcEnvironment:
     catalog: ExpandedCatalog  # the interface of this machine (every DB instance)
     plant_io: PlantIoMap  # the machine's I/O list
     scan_time_s: float  # OB1 period
+    parameters: Mapping[str, Any] = field(default_factory=dict)  # the machine file's ``plc:`` section
 
 
 class SoftPlc(Protocol):

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from interfaces.plc import PlcEnvironment, PlcFactory, SoftPlc
 from plc_stub.programs.basic_machine import BasicMachine
+from plc_stub.programs.referencing import Referencing
 from plc_stub.runtime import ScanCycleRuntime
 
 
@@ -15,6 +16,11 @@ def _basic_machine(environment: PlcEnvironment) -> SoftPlc:
     return ScanCycleRuntime(environment, BasicMachine)
 
 
+def _referencing(environment: PlcEnvironment) -> SoftPlc:
+    return ScanCycleRuntime(environment, Referencing)
+
+
 REGISTRY: dict[str, PlcFactory] = {
     "basic_machine": _basic_machine,
+    "referencing": _referencing,
 }

@@ -12,10 +12,10 @@ Networks (one method each, called in this order from OB1):
 3. Channel: NC start / NC stop / reset keys to DB21.DBX7.1 / 7.3 / 7.7; feed stop and
    feed start keys latch the channel feed disable DB21.DBX6.0; the override switches to
    DB21.DBB4 (feed) and DBB5 (rapid) with their enables.
-4. Axes: controller and pulse enable once the drives are ready (follow-up mode while the
-   enable is off), the axis override, the traverse keys to DB31.DBX4.6/4.7, the rapid
-   traverse key, the reference cam to DB31.DBX12.7 and the hardware limit switches
-   (normally closed) to DB31.DBX12.0/12.1.
+4. Axes: measuring system 1 selected (DB31.DBX1.5), controller and pulse enable once the
+   drives are ready (follow-up mode while the enable is off), the axis override, the
+   traverse keys to DB31.DBX4.6/4.7, the rapid traverse key, the reference cam to
+   DB31.DBX12.7 and the hardware limit switches (normally closed) to DB31.DBX12.0/12.1.
 
 Everything is derived from the machine's I/O list: an axis without a cam simply has no
 cam network.
@@ -34,6 +34,7 @@ KEY_MODES = ("auto", "mda", "jog")
 
 @dataclass(slots=True)
 class _AxisIo:
+    measuring_system_1: Bool
     controller_enable: Bool
     pulse_enable: Bool
     follow_up_mode: Bool
@@ -121,6 +122,7 @@ class BasicMachine:
         # Network 4
         self.axes = [
             _AxisIo(
+                measuring_system_1=io.output(f"{name}.basic.out.enc1Activation"),
                 controller_enable=io.output(f"{name}.basic.out.enableCtrl"),
                 pulse_enable=io.output(f"{name}.drive.out.enablePulses"),
                 follow_up_mode=io.output(f"{name}.basic.out.followUpMode"),
@@ -197,6 +199,7 @@ class BasicMachine:
         feed = self.feed_switch.value if self.feed_switch is not None else 100
         rapid = self.key_rapid.value if self.key_rapid is not None else False
         for axis in self.axes:
+            axis.measuring_system_1.value = True
             axis.controller_enable.value = ready
             axis.pulse_enable.value = ready
             axis.follow_up_mode.value = not ready

@@ -23,6 +23,8 @@ sit on the slides of the simulated machine, and the I/O list wired to the PLC::
         plant: {ref_cam: [280.0, 295.0], hw_limits: [-12.0, 312.0]}
     plant_io:                      # address: plant function (interfaces/plant_io.py)
       I0.0: MCP.auto
+    plc:                           # parameters of the machine's PLC program (it checks them)
+      referencing_order: [[Y1], [X1], [Z1]]
 
 Rules:
 
@@ -35,8 +37,10 @@ Rules:
   written (plus MD10000 and MD20070, which the ``axes:`` keys and the channels' axes lists
   state, so they are not written as machine data).
 * ``sim`` holds what the control cannot know: ``start_position`` (where the slide stands at
-  power-on) and ``zero_mark_offset`` (physical position of one encoder zero mark; further
-  marks follow every MD31030 LEADSCREW_PITCH).  ``plant`` holds switches:
+  power-on), ``zero_mark_offset`` / ``zero_mark_offset_2`` (measuring system 1 / 2: physical
+  position of one zero mark, of the first distance-coded mark, or of an absolute encoder's
+  zero; see vc/core/encoder.py) and ``encoder_serial`` / ``encoder_serial_2`` (the serial
+  numbers of the mounted encoders, which the control compares with MD34230).  ``plant`` holds switches:
   ``ref_cam: [start, end]`` and ``hw_limits: [minus, plus]`` (``null`` = no switch there).
 * Every machine axis belongs to exactly one channel.  A channel axis without a name in
   MD20080 is called by its machine axis name in part programs.
@@ -72,8 +76,9 @@ from vc.config.machine_data import (
 from vc.config.model import AxisConfig, AxisPlant, AxisSimulation, ChannelConfig, MachineConfig
 from vc.located_yaml import LocatedMap, Mark, Problems, load_file
 
-TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", "axes", "plant_io")
-SIM_KEYS = ("start_position", "zero_mark_offset")
+TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", "axes", "plant_io", "plc")
+SIM_KEYS = ("start_position", "zero_mark_offset", "zero_mark_offset_2", "encoder_serial", "encoder_serial_2")
+_WHOLE_SIM_KEYS = ("encoder_serial", "encoder_serial_2")
 PLANT_KEYS = ("ref_cam", "hw_limits")
 NCK_INSTANCE = "NC"
 # Instance names the interface and the plant I/O vocabulary already use.
@@ -229,6 +234,7 @@ class _MachineReader:
         self.axes: dict[str, _AxisEntry] = {}
         self.channels: dict[str, _ChannelEntry] = {}
         self.plant_io = PlantIoMap(())
+        self.plc_parameters: dict[str, Any] = {}
         self.channel_lists_complete = True  # every channel's axes list could be read
 
     def add(self, mark: Mark, message: str) -> None:
@@ -257,6 +263,10 @@ class _MachineReader:
         self._read_channels(document)
         if "plant_io" in document:
             self._read_plant_io(document["plant_io"], document.mark_of("plant_io"))
+        if "plc" in document:
+            parameters = self._mapping(document["plc"], document.mark_of("plc"), "plc")
+            if parameters is not None:
+                self.plc_parameters = dict(parameters)
 
     def _read_name(self, document: LocatedMap) -> None:
         if "machine" not in document:
@@ -343,16 +353,23 @@ class _MachineReader:
         block = self._mapping(raw, mark, f"axes.{axis}.sim")
         if block is None:
             return AxisSimulation()
-        values: dict[str, float] = {}
+        values: dict[str, float | int] = {}
         for key, value, value_mark in block.located_items():
             if key not in SIM_KEYS:
                 self.add(block.mark_of_key(key),
                          f"unknown key '{key}' in sim; allowed: {', '.join(SIM_KEYS)}")
                 continue
             number = self._number(value, value_mark, f"sim.{key}")
-            if number is not None:
+            if number is None:
+                continue
+            if key in _WHOLE_SIM_KEYS:
+                if not float(number).is_integer() or number < 0:
+                    self.add(value_mark, f"sim.{key} is a serial number: a whole number >= 0, got {value!r}")
+                    continue
+                values[key] = int(number)
+            else:
                 values[key] = number
-        return AxisSimulation(**values)
+        return AxisSimulation(**values)  # type: ignore[arg-type]
 
     def _read_plant(self, raw: Any, mark: Mark, axis: str) -> AxisPlant:
         block = self._mapping(raw, mark, f"axes.{axis}.plant")
@@ -634,6 +651,7 @@ class _MachineReader:
             channels=channels,
             axes=tuple(axes.values()),
             plant_io=self.plant_io,
+            plc_parameters=self.plc_parameters,
             plc_cycle_ipo=self.plc_cycle_ipo,
         )
 

@@ -8,7 +8,9 @@ limit switches and zero marks physically are) lives in the ``sim`` and ``plant``
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import InterfaceLayout
@@ -21,7 +23,11 @@ class AxisSimulation:
     """Physical facts of the simulated axis that the control does not know."""
 
     start_position: float = 0.0  # where the slide stands at power-on (machine coordinates, mm or deg)
-    zero_mark_offset: float = 0.0  # physical position of one encoder zero mark
+    zero_mark_offset: float = 0.0  # measuring system 1: physical position of one zero mark, of the first
+    #                                distance-coded mark, or of an absolute encoder's zero
+    zero_mark_offset_2: float = 0.0  # the same for measuring system 2
+    encoder_serial: int = 0  # serial numbers of the mounted encoders (compared with MD34230)
+    encoder_serial_2: int = 0
 
 
 @dataclass(frozen=True, slots=True)
@@ -86,6 +92,7 @@ class MachineConfig:
     axes: tuple[AxisConfig, ...]
     plant_io: PlantIoMap
     plc_cycle_ipo: int  # OB1 period in IPO cycles
+    plc_parameters: Mapping[str, Any] = field(default_factory=dict)  # ``plc:``, for the PLC program to check
 
     @property
     def layout(self) -> InterfaceLayout:

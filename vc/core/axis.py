@@ -13,7 +13,11 @@ Motion owners (one at a time)::
 
     NONE ──key held in JOG──▶ JOG ──key released, stopped──▶ NONE
     NONE ──block with this axis──▶ PATH ──block end──▶ NONE
+    NONE ──referencing started──▶ REF ──referenced, aborted──▶ NONE
     any ──e-stop, enable removed, hardware limit──▶ BRAKE ──standstill──▶ NONE
+
+Measuring systems: one or two (MD30200); DB31.DBX1.5 / 1.6 select which one is active.
+With neither selected the axis is "parked": no actual value, no position control.
 """
 
 from __future__ import annotations
@@ -25,7 +29,7 @@ from enum import Enum
 from vc.config import md_dictionary as MD
 from vc.config.model import AxisConfig
 from vc.core.alarms import AlarmList
-from vc.core.encoder import Encoder
+from vc.core.encoder import MeasuringSystem
 from vc.core.interface_map import SignalTable
 from vc.core.motion import JerkFilter, ramp, stopping_velocity
 
@@ -37,6 +41,7 @@ class Owner(Enum):
     NONE = "none"
     JOG = "jog"
     PATH = "path"
+    REF = "ref"
     BRAKE = "brake"
 
 
@@ -117,8 +122,12 @@ class AxisSignals:
         self.hw_limit_minus = table.bit("basic.out.hwLimitSwitchMinus")
         self.hw_limit_plus = table.bit("basic.out.hwLimitSwitchPlus")
         self.pulse_enable = table.bit("drive.out.enablePulses")
+        self.ref_cam = table.bit("basic.out.refPointApproachCam")
+        self.ref_point_selection = table.field("basic.out.refPointSelection")
+        self.encoder_activation = (table.bit("basic.out.enc1Activation"), table.bit("basic.out.enc2Activation"))
         self.spindle_mode = table.bit("basic.in.spindleModeActive")
-        self.referenced = table.bit("basic.in.enc1Synchronized")
+        self.referenced = (table.bit("basic.in.enc1Synchronized"), table.bit("basic.in.enc2Synchronized"))
+        self.restored = (table.bit("basic.in.enc1Restored"), table.bit("basic.in.enc2Restored"))
         self.exact_coarse = table.bit("basic.in.posCoarseReached")
         self.exact_fine = table.bit("basic.in.posFineReached")
         self.follow_up_active = table.bit("basic.in.followUpModeActive")
@@ -147,12 +156,16 @@ class AxisInputs:
     hw_limit_minus: bool = False
     hw_limit_plus: bool = False
     reset_movement: bool = False
+    ref_cam: bool = False  # DB31.DBX12.7: the reference cam as the PLC copied it
+    ref_point_selection: int = 0  # DB31.DBX2.4..2.7: one bit per reference point value 1..4
+    encoder_selected: int | None = None  # DB31.DBX1.5 / 1.6: 0 or 1; None = parked
 
 
 class MachineAxis:
     """One machine axis or spindle of the simulated control."""
 
-    def __init__(self, config: AxisConfig, signals: AxisSignals, area: bytearray, dt: float, channel: str):
+    def __init__(self, config: AxisConfig, signals: AxisSignals, area: bytearray, dt: float, channel: str,
+                 physical: float | None = None):
         self.config = config
         self.name = config.name
         self.area_key = f"DB{config.db}"
@@ -162,9 +175,13 @@ class MachineAxis:
         self._area = area
         self._dt = dt
         self.inputs = AxisInputs()
-        self.physical = config.sim.start_position
-        self.encoder = Encoder.at_power_on(config, self.physical)
+        self.physical = config.sim.start_position if physical is None else physical
+        phases = (config.sim.zero_mark_offset, config.sim.zero_mark_offset_2)
+        self.encoders = [MeasuringSystem.for_axis(config, index, self.physical, phases[index])
+                         for index in range(max(1, config.md.int(MD.NUM_ENCS)))]
+        self.active_encoder: int | None = 0  # until the PLC selects (power-on: measuring system 1)
         self.actual = self.encoder.actual(self.physical)
+        self.external_velocity = 0.0  # the slide moved by hand while the servo is off (physical units/s)
         self.setpoint = self.actual  # interpolated position setpoint (before the jerk filter)
         self.command_velocity = 0.0  # velocity of the interpolated setpoint, signed, per second
         self.velocity = 0.0  # actual velocity of the slide, signed, per second
@@ -206,12 +223,57 @@ class MachineAxis:
         inp.hw_limit_minus = bool(area[sig.hw_limit_minus.byte] & sig.hw_limit_minus.mask)
         inp.hw_limit_plus = bool(area[sig.hw_limit_plus.byte] & sig.hw_limit_plus.mask)
         inp.reset_movement = bool(area[sig.reset_movement.byte] & sig.reset_movement.mask)
+        inp.ref_cam = bool(area[sig.ref_cam.byte] & sig.ref_cam.mask)
+        inp.ref_point_selection = sig.ref_point_selection.get(area)
+        first, second = (bit.get(area) for bit in sig.encoder_activation)
+        inp.encoder_selected = 0 if first else (1 if second and len(self.encoders) > 1 else None)
         self.resting = False
+        if inp.encoder_selected != self.active_encoder:
+            self._select_encoder(inp.encoder_selected)
+
+    def _select_encoder(self, selected: int | None) -> None:
+        """Measuring-system switch-over: the new actual value is taken over, nothing moves."""
+        self.active_encoder = selected
+        if selected is None:
+            return  # parked: the last actual value stands, position control is off
+        new_actual = self.encoders[selected].actual(self.physical)
+        self.shift(new_actual - self.actual)
 
     @property
+    def encoder(self) -> MeasuringSystem:
+        """The active measuring system (the last one while parked)."""
+        return self.encoders[self.active_encoder if self.active_encoder is not None else 0]
+
+    def stand_at(self, actual: float) -> None:
+        """Power-on: the axis stands still at ``actual``; every setpoint stage agrees with it."""
+        self.actual = self.setpoint = self._loop_setpoint = self._model_position = actual
+        self._model_velocity = 0.0
+        if self.jerk_filter:
+            self.jerk_filter.reset(actual)
+        self.resting = False
+
+    def shift(self, delta: float) -> None:
+        """Move the NC coordinates by ``delta`` (the actual value system was set anew)."""
+        if delta == 0.0:
+            return
+        self.actual += delta
+        self.setpoint += delta
+        self._loop_setpoint += delta
+        self._model_position += delta
+        if self.jerk_filter:
+            self.jerk_filter.reset(self._loop_setpoint)
+        self.resting = False
+
+    def synchronise(self, encoder: MeasuringSystem, physical: float, actual: float) -> None:
+        """Referencing done: ``encoder`` reads ``actual`` at the physical position ``physical``."""
+        encoder.set_actual(physical, actual)
+        if encoder is self.encoder:
+            self.shift(encoder.actual(self.physical) - self.actual)
+        self.resting = False
+    @property
     def drive_ready(self) -> bool:
-        """Controller and pulse enable present: the axis can be moved under position control."""
-        return self.inputs.controller_enable and self.inputs.pulse_enable
+        """Controller and pulse enable present and a measuring system active: position control possible."""
+        return self.inputs.controller_enable and self.inputs.pulse_enable and self.active_encoder is not None
 
     @property
     def referenced(self) -> bool:
@@ -331,7 +393,8 @@ class MachineAxis:
         """
         if self.owner is Owner.BRAKE:
             self._brake_cycle()
-        if self.resting and self.command_velocity == 0.0 and self.owner is Owner.NONE:
+        if self.resting and self.command_velocity == 0.0 and self.owner is Owner.NONE \
+                and not self.external_velocity:
             return False
         inp = self.inputs
         self._update_servo_state(cycle, alarms)
@@ -347,9 +410,11 @@ class MachineAxis:
             self.velocity = self.command_velocity
             self.actual = self._loop_setpoint if self.servo_on else self.actual
         else:
-            self.physical += self._drive_velocity * dt
-            self.velocity = self._drive_velocity
-            self.actual = self.encoder.actual(self.physical)
+            slide_velocity = self._drive_velocity if self.servo_on else self._drive_velocity + self.external_velocity
+            self.physical += slide_velocity * dt
+            self.velocity = slide_velocity
+            if self.active_encoder is not None:
+                self.actual = self.encoder.actual(self.physical)
         if not self.servo_on and (self.follow_up or self._tracking):
             self.setpoint = self._loop_setpoint = self._model_position = self.actual
             self._model_velocity = 0.0
@@ -463,7 +528,10 @@ class MachineAxis:
             no_motion and abs(self.velocity) <= dyn.standstill_velocity,
             self.servo_on and not self.is_spindle,
             self.follow_up,
-            self.encoder.referenced,
+            self.encoders[0].referenced,
+            len(self.encoders) > 1 and self.encoders[1].referenced,
+            self.encoders[0].restored,
+            len(self.encoders) > 1 and self.encoders[1].restored,
             self.inputs.disable,
             self.command_velocity > _TINY,
             self.command_velocity < -_TINY,
@@ -472,13 +540,17 @@ class MachineAxis:
             return
         self._status = status
         area, sig = self._area, self._signals
-        coarse, fine, stationary, position_control, follow_up, referenced, disabled, plus, minus = status
+        (coarse, fine, stationary, position_control, follow_up, referenced_1, referenced_2, restored_1, restored_2,
+         disabled, plus, minus) = status
         sig.exact_coarse.put(area, coarse)
         sig.exact_fine.put(area, fine)
         sig.stationary.put(area, stationary)
         sig.position_control.put(area, position_control)
         sig.follow_up_active.put(area, follow_up)
-        sig.referenced.put(area, referenced)
+        sig.referenced[0].put(area, referenced_1)
+        sig.referenced[1].put(area, referenced_2)
+        sig.restored[0].put(area, restored_1)
+        sig.restored[1].put(area, restored_2)
         sig.disabled.put(area, disabled)
         sig.command_plus.put(area, plus)
         sig.command_minus.put(area, minus)

@@ -12,12 +12,17 @@ Block execution, one phase at a time::
 
     DECODE ──motion block──▶ INTERPOLATE ──path at its end──▶ BLOCK_END (exact stop window)
     DECODE ──G4──▶ DWELL ──time elapsed──▶ next block
+    DECODE ──G74──▶ REFERENCE ──the programmed axes referenced──▶ BLOCK_END
     BLOCK_END ──window reached, read-in not disabled──▶ DECODE (next block)
     INTERPOLATE ──an axis braked off the path (e-stop, limit switch)──▶ CONTOUR_LOST ──RESET──▶ DECODE
 
 A block is decoded only when it is about to run, so a faulty block raises its alarm when
 execution reaches it, and a software limit switch in the block stops the program before
 the block moves.
+
+Channel-specific referencing (seed 003 §4.3): DB21.DBX1.0 in JOG-REF or MDA-REF references
+the channel's axes in the order of MD34110 (ascending; equal numbers together; 0 and -1
+take no part) and reports DB21.DBX33.0 while it runs.
 """
 
 from __future__ import annotations
@@ -41,6 +46,8 @@ from vc.core.interpreter import (
 from vc.core.overrides import OverrideCoding
 from vc.core.path import PathSegment
 from vc.core.program import Block, parse_program
+from vc.core.referencing import Source, State
+from vc.core.referencing_control import ReferencingControl
 
 
 class ChannelState(Enum):
@@ -62,6 +69,7 @@ class Phase(Enum):
     INTERPOLATE = "interpolate"
     BLOCK_END = "block_end"
     DWELL = "dwell"
+    REFERENCE = "reference"  # G74: waiting until the programmed axes are referenced
     CONTOUR_LOST = "contour_lost"  # an axis was braked off the path: NC start cannot continue
 
 
@@ -81,6 +89,8 @@ class ChannelSignals:
         self.feed_disable = table.bit("basic.out.disableFeed")
         self.read_in_disable = table.bit("basic.out.disableReadIn")
         self.delete_distance_to_go = table.bit("basic.out.deleteDistanceToGo")
+        self.reference_start = table.bit("basic.out.refPointApproach")
+        self.reference_active = table.bit("basic.in.refActive")
         self.feed_override = table.field("basic.out.pathFeedrateOvrFactor")
         self.feed_override_active = table.bit("basic.out.pathFeedrateOvr")
         self.rapid_override = table.field("basic.out.pathRapidTraversOvrFactor")
@@ -106,6 +116,7 @@ class ChannelInputs:
     nc_stop: bool = False
     nc_stop_all: bool = False
     reset: bool = False
+    reference_start: bool = False
     feed_disable: bool = False
     read_in_disable: bool = False
     delete_distance_to_go: bool = False
@@ -119,6 +130,7 @@ class Edges:
     nc_stop: bool = False
     reset: bool = False
     delete_distance_to_go: bool = False
+    reference_start: bool = False
 
 
 class Channel:
@@ -132,6 +144,7 @@ class Channel:
         feed_coding: OverrideCoding,
         rapid_coding: OverrideCoding,
         dt: float,
+        referencing: ReferencingControl,
     ):
         self.config = config
         self.name = config.name
@@ -144,6 +157,10 @@ class Channel:
         self._feed_coding = feed_coding
         self._rapid_coding = rapid_coding
         self._dt = dt
+        self._referencing = referencing
+        self.reference_groups: list[list[str]] = []  # channel referencing: groups still to do, MD34110 order
+        self._group_started = False
+        self._g74_axes: list[str] = []
         self.inputs = ChannelInputs()
         self.edges = Edges()
         self.state = ChannelState.RESET
@@ -177,6 +194,9 @@ class Channel:
         nc_stop_all = sig.nc_stop_all.get(area)
         reset = sig.reset.get(area)
         delete = sig.delete_distance_to_go.get(area)
+        reference_start = sig.reference_start.get(area)
+        edges.reference_start = reference_start and not inp.reference_start
+        inp.reference_start = reference_start
         edges.nc_start = nc_start and not inp.nc_start
         edges.nc_stop = (nc_stop and not inp.nc_stop) or (nc_stop_all and not inp.nc_stop_all)
         edges.reset = reset and not inp.reset
@@ -191,7 +211,8 @@ class Channel:
                                                        sig.rapid_override_active.get(area))
 
     def clear_edges(self) -> None:
-        self.edges.nc_start = self.edges.nc_stop = self.edges.reset = self.edges.delete_distance_to_go = False
+        edges = self.edges
+        edges.nc_start = edges.nc_stop = edges.reset = edges.delete_distance_to_go = edges.reference_start = False
 
     # ------------------------------------------------------------------ commands
     @property
@@ -204,6 +225,7 @@ class Channel:
         if self._segment is not None and not self._segment.finished:
             self._aborting = True
         self._end_program()
+        self.reference_groups = []
         for axis in self.axes:
             if axis.owner is Owner.JOG:
                 axis.brake()
@@ -239,7 +261,7 @@ class Channel:
             return
         if self.state is not ChannelState.RESET:
             return
-        if not self._references_allow_start(cycle):
+        if not self._references_allow_start(cycle, mode):
             return
         text = self.mda_text if mode is Mode.MDA else (self.selected_program[1] if self.selected_program else "")
         self._blocks = parse_program(text)
@@ -250,11 +272,14 @@ class Channel:
         self.state = ChannelState.ACTIVE
         self.program_state = ProgramState.RUNNING
 
-    def _references_allow_start(self, cycle: int) -> bool:
-        """MD20700 REFP_NC_START_LOCK: no program start with unreferenced axes (seed 003 L2218-2231)."""
-        if self.config.md.int(MD.REFP_NC_START_LOCK) == 0:
+    def _references_allow_start(self, cycle: int, mode: Mode) -> bool:
+        """MD20700 REFP_NC_START_LOCK: no program start with unreferenced axes (seed 003 L2218-2231);
+        with 2, restored positions count as well in MDA (L2726-2752)."""
+        lock = self.config.md.int(MD.REFP_NC_START_LOCK)
+        if lock == 0:
             return True
-        if all(axis.referenced for axis in self._needs_reference):
+        restored_allowed = lock == 2 and mode is Mode.MDA
+        if all(axis.referenced or (restored_allowed and axis.encoder.restored) for axis in self._needs_reference):
             return True
         self._alarms.raise_alarm(10203, cycle, self.name, 1, channel=self.name)
         return False
@@ -274,6 +299,8 @@ class Channel:
     # ------------------------------------------------------------------ cycle
     def program_cycle(self, cycle: int) -> None:
         """Interpolation and block change for one IPO cycle."""
+        if self.reference_groups:
+            self._channel_referencing(cycle)
         reactions = self._alarms.reactions(self.name)
         if reactions & CHANNEL_INTERRUPT and self.state is ChannelState.ACTIVE:
             self.stop()
@@ -285,6 +312,8 @@ class Channel:
         hold = self.state is not ChannelState.ACTIVE or bool(reactions & STOP_AXES)
         if self._phase is Phase.INTERPOLATE:
             self._interpolate(hold)
+        elif self._phase is Phase.REFERENCE:
+            self._g74(cycle)
         elif self._phase is Phase.DWELL and not hold:
             self._dwell_cycles -= 1
             if self._dwell_cycles <= 0:
@@ -373,6 +402,15 @@ class Channel:
             self.stop()
             return
         self._plan = plan
+        if plan.reference_axes:
+            self._g74_axes = list(plan.reference_axes)
+            self._phase = Phase.REFERENCE
+            for name in self._g74_axes:
+                if not self._referencing.start(name, Source.G74, 0, cycle):
+                    self._alarms.raise_alarm(20005, cycle, self.name, name, channel=self.name, axis=name)
+                    self.stop()
+                    return
+            return
         if plan.dwell > 0.0:
             self._phase = Phase.DWELL
             self._dwell_cycles = max(1, math.ceil(plan.dwell / self._dt - 1e-9))
@@ -397,6 +435,52 @@ class Channel:
         self._phase = Phase.INTERPOLATE
         self._interpolate(False)
 
+    # ------------------------------------------------------------------ referencing
+    @property
+    def reference_active(self) -> bool:
+        return bool(self.reference_groups)
+
+    def start_channel_referencing(self, cycle: int) -> None:
+        """DB21.DBX1.0: reference the channel's axes in the order of MD34110 (seed 003 L667-683)."""
+        if self.state is not ChannelState.RESET or self.reference_groups:
+            return
+        numbers: dict[int, list[str]] = {}
+        for axis in self.axes:
+            number = axis.config.md.int(MD.REFP_CYCLE_NR)
+            if not axis.is_spindle and number > 0:
+                numbers.setdefault(number, []).append(axis.name)
+        self.reference_groups = [numbers[number] for number in sorted(numbers)]
+        self._group_started = False
+
+    def _channel_referencing(self, cycle: int) -> None:
+        group = self.reference_groups[0]
+        procedures = [self._referencing.of[name] for name in group]
+        if not self._group_started:
+            for name, procedure in zip(group, procedures, strict=True):
+                if not procedure.active and not self._referencing.start(name, Source.CHANNEL, 0, cycle):
+                    if self._alarms.reactions(self.name) & STOP_AXES:
+                        self.reference_groups = []  # the order rule (or another alarm) ends it
+                    return  # wait for the enables
+            self._group_started = True
+            return
+        if any(procedure.state is State.IDLE for procedure in procedures):
+            self.reference_groups = []  # aborted (alarm or reset): the channel referencing ends
+            return
+        if all(procedure.state is State.DONE for procedure in procedures):
+            self.reference_groups.pop(0)
+            self._group_started = False
+
+    def _g74(self, cycle: int) -> None:
+        """G74: the block ends when every programmed axis is referenced (seed 003 §4.4)."""
+        procedures = [self._referencing.of[name] for name in self._g74_axes]
+        if any(procedure.state is State.IDLE for procedure in procedures):
+            self.stop()  # aborted with an alarm: the program stops
+            self._phase = Phase.CONTOUR_LOST
+            return
+        if all(procedure.state is State.DONE for procedure in procedures):
+            self._phase = Phase.BLOCK_END
+            self._block_end()
+
     # ------------------------------------------------------------------ outputs
     def write_status(self, alarm_present: bool, alarm_with_stop: bool) -> None:
         """Channel and program state and the alarm bits (written when they change)."""
@@ -412,6 +496,7 @@ class Channel:
         sig.state_reset.put(area, state is ChannelState.RESET)
         sig.alarm_active.put(area, alarm_present)
         sig.alarm_with_stop.put(area, alarm_with_stop)
+        sig.reference_active.put(area, self.reference_active)
 
     def write_axis_summary(self) -> None:
         """All axes referenced / all axes stationary (written when they change)."""

@@ -1,67 +1,162 @@
-"""The position measuring system of an axis: actual value, reference state, zero marks.
+"""Position measuring systems: actual value, reference state, zero marks, distance-coded marks.
 
-The encoder sees the slide's physical position.  The NC's actual value is the physical
-position plus an offset that only referencing makes meaningful: an incremental encoder
-starts at 0 wherever the slide stands at power-on (not referenced); a calibrated absolute
-encoder (MD30240 = 4, MD34210 = 2) is referenced at once (seed 003 §4.9, §4.10).
+An encoder sees the slide's physical position; the NC's actual value is the physical
+position plus an offset that referencing (or a calibrated absolute encoder) makes right.
 
-Zero marks: one per encoder revolution.  A motor encoder (MD31040 = 0) on a linear axis
-turns once per ``MD31030 * MD31050 / MD31060`` of travel; a rotary axis or spindle once
-per ``360 * MD31050 / MD31060`` degrees; a direct encoder on a rotary axis once per turn.
+Kinds (MD30240 ENC_TYPE, MD34200 ENC_REFP_MODE):
+
+* incremental (ENC_TYPE 0 or 1), MD34200 = 1: equidistant zero marks.  A motor encoder
+  (MD31040 = 0) gives one per motor revolution: every ``MD31030 * MD31050 / MD31060`` on a
+  linear axis, every ``360 * MD31050 / MD31060`` degrees on a rotary axis; a direct
+  encoder gives one per turn of a rotary axis, or every MD34300 on a linear scale.
+* distance-coded (MD34200 = 3 or 8): reference marks whose spacing tells where they are.
+  Layout used here, counted from the scale's first mark (``sim.zero_mark_offset``):
+  mark 2k at ``k*B``, mark 2k+1 at ``k*B + B/2 + (k+1)*I`` with B = MD34300 (basic
+  distance) and I = MD34310 (interval increment).  Adjacent marks are therefore
+  ``B/2 + (k+1)*I`` or ``B/2 - (k+1)*I`` apart, and one measured gap identifies k: two
+  crossed marks give the absolute position (seed 003 §4.6, L1376-1384).
+* absolute (ENC_TYPE 4): the encoder reports its position (its zero at the slide's physical
+  zero); MD34090 is the offset from the encoder's zero to machine zero, valid once
+  calibrated (MD34210 = 2).
+
+Faults the plant can inject: zero marks that are not seen (dirty or broken track) and
+distance-coded marks missing in a range.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from vc.config import md_dictionary as MD
 from vc.config.model import AxisConfig
 
 ENC_TYPE_ABSOLUTE = 4
-ENC_STATE_CALIBRATED = 2
+ENC_STATE_NOT_CALIBRATED = 0
+ENC_STATE_CALIBRATION_ENABLED = 1  # absolute; for incremental: automatic referencing enabled
+ENC_STATE_CALIBRATED = 2  # absolute; for incremental: referenced, restore at the next power-on
+ENC_STATE_RESTORE = 3  # incremental: restore the buffered position without referencing
+REFP_MODE_ZERO_MARK = 1
+DISTANCE_CODED_MODES = (3, 8)
 
 
-def zero_mark_spacing(axis: AxisConfig) -> float:
+def zero_mark_spacing(axis: AxisConfig, encoder: int = 0) -> float:
     md = axis.md
     ratio = md.int(MD.DRIVE_AX_RATIO_DENOM, 0) / md.int(MD.DRIVE_AX_RATIO_NUMERA, 0)
+    direct = md.bool(MD.ENC_IS_DIRECT, encoder)
     if axis.is_rotary:
-        return 360.0 if md.bool(MD.ENC_IS_DIRECT) else abs(360.0 * ratio)
+        return 360.0 if direct else abs(360.0 * ratio)
+    if direct:
+        return md.float(MD.ENC_REFP_MARKER_DIST, encoder)  # a linear scale with equidistant marks
     return abs(md.float(MD.LEADSCREW_PITCH) * ratio)
 
 
+@dataclass(frozen=True, slots=True)
+class DistanceCode:
+    """The distance-coded mark layout of a scale (see the module docstring)."""
+
+    basic: float  # B = MD34300
+    increment: float  # I = MD34310
+    first_mark: float  # physical position of mark 0
+
+    def position(self, index: int) -> float:
+        """Physical position of mark ``index``."""
+        k, odd = divmod(index, 2)
+        offset = k * self.basic + (self.basic / 2 + (k + 1) * self.increment if odd else 0.0)
+        return self.first_mark + offset
+
+    def marks_between(self, start: float, end: float) -> list[int]:
+        """Indices of the marks passed moving from ``start`` to ``end`` (end included), in order."""
+        low, high = (start, end) if end >= start else (end, start)
+        first = max(0, 2 * math.floor((low - self.first_mark) / self.basic) - 2)
+        found = []
+        index = first
+        while True:
+            position = self.position(index)
+            if position > high:
+                break
+            if (low < position <= high) if end >= start else (low <= position < high):
+                found.append(index)
+            index += 1
+        return found if end >= start else found[::-1]
+
+    def identify(self, gap: float, direction: int) -> int | None:
+        """Index of the first of two adjacent marks crossed in ``direction``, from their distance.
+
+        Moving plus, the first mark is the lower one; moving minus, the higher one.
+        None if the distance fits no pair of this scale.
+        """
+        half = self.basic / 2
+        k = round(abs(gap - half) / self.increment) - 1
+        if k < 0 or abs(abs(gap - half) - (k + 1) * self.increment) > self.increment / 4:
+            return None
+        if (k + 1) * self.increment >= half:
+            return None  # no pair of a real scale is that far from B/2
+        lower = 2 * k if gap > half else 2 * k + 1  # B/2 + .. follows an even mark, B/2 - .. an odd one
+        return lower if direction > 0 else lower + 1
+
+
 @dataclass(slots=True)
-class Encoder:
-    spacing: float  # distance between two zero marks
-    zero_mark_phase: float  # physical position of one zero mark
+class MeasuringSystem:
+    """One encoder of an axis (index 0 = measuring system 1, 1 = measuring system 2)."""
+
+    index: int
+    absolute: bool
+    mode: int  # MD34200
+    spacing: float  # zero-mark spacing (mode 1)
+    zero_mark_phase: float  # physical position of one zero mark / the first distance-coded mark / encoder zero
+    distance_code: DistanceCode | None
     offset: float  # NC actual value minus physical position
-    referenced: bool
+    referenced: bool = False
+    restored: bool = False  # position restored after power-on, not referenced (DB31.DBX71.4/71.5)
+    zero_marks_visible: bool = True  # a fault can make the zero-mark track invisible
+    missing_marks: list[tuple[float, float]] = field(default_factory=list)  # physical ranges without marks
 
     @classmethod
-    def at_power_on(cls, axis: AxisConfig, physical: float) -> Encoder:
-        absolute_calibrated = (axis.md.int(MD.ENC_TYPE) == ENC_TYPE_ABSOLUTE
-                               and axis.md.int(MD.ENC_REFP_STATE) == ENC_STATE_CALIBRATED)
-        # A calibrated absolute encoder knows the machine zero (MD34090 offset); an incremental
-        # encoder counts from 0 wherever the slide stands at power-on.
-        offset = axis.md.float(MD.REFP_MOVE_DIST_CORR) if absolute_calibrated else -physical
-        return cls(zero_mark_spacing(axis), axis.sim.zero_mark_offset, offset, absolute_calibrated)
+    def for_axis(cls, axis: AxisConfig, index: int, physical: float, phase: float) -> MeasuringSystem:
+        md = axis.md
+        absolute = md.int(MD.ENC_TYPE, index) == ENC_TYPE_ABSOLUTE
+        mode = md.int(MD.ENC_REFP_MODE, index)
+        code = None
+        if mode in DISTANCE_CODED_MODES:
+            code = DistanceCode(md.float(MD.ENC_REFP_MARKER_DIST, index), md.float(MD.ENC_MARKER_INC, index), phase)
+        return cls(index, absolute, mode, zero_mark_spacing(axis, index), phase, code, -physical)
 
     def actual(self, physical: float) -> float:
         return physical + self.offset
 
+    def set_actual(self, physical: float, actual: float) -> None:
+        """Synchronise: the actual value becomes ``actual`` at ``physical``; the encoder is referenced."""
+        self.offset = actual - physical
+        self.referenced = True
+        self.restored = False
+
+    def _visible(self, position: float) -> bool:
+        return not any(low <= position <= high for low, high in self.missing_marks)
+
     def zero_mark_between(self, start: float, end: float) -> float | None:
         """Physical position of the first zero mark passed moving from ``start`` to ``end`` (end included)."""
-        if start == end or self.spacing <= 0.0:
+        if start == end or self.spacing <= 0.0 or not self.zero_marks_visible:
             return None
         if end > start:
             index = math.floor((start - self.zero_mark_phase) / self.spacing) + 1
             mark = self.zero_mark_phase + index * self.spacing
-            return mark if mark <= end else None
+            return mark if mark <= end and self._visible(mark) else None
         index = math.ceil((start - self.zero_mark_phase) / self.spacing) - 1
         mark = self.zero_mark_phase + index * self.spacing
-        return mark if mark >= end else None
+        return mark if mark >= end and self._visible(mark) else None
 
-    def set_actual(self, physical: float, actual: float) -> None:
-        """Synchronise: the actual value becomes ``actual`` at the current physical position."""
-        self.offset = actual - physical
-        self.referenced = True
+    def coded_marks_between(self, start: float, end: float) -> list[float]:
+        """Physical positions of the distance-coded marks passed from ``start`` to ``end``, in order."""
+        if self.distance_code is None or start == end:
+            return []
+        code = self.distance_code
+        return [p for p in (code.position(i) for i in code.marks_between(start, end)) if self._visible(p)]
+
+    def absolute_reading(self, physical: float) -> float:
+        """What an absolute encoder reports: its position counted from its own zero.
+
+        The simulated absolute encoder has its zero at the physical zero of the slide, so a
+        calibration with MD34090 = 0 gives actual values equal to physical positions.
+        """
+        return physical

@@ -47,6 +47,7 @@ class BlockPlan:
     program_stop: bool = False  # M0
     program_end: bool = False  # M2 / M30
     block_end: str = EXACT_STOP_FINE
+    reference_axes: tuple[str, ...] = ()  # G74: machine axes to reference
 
 
 @dataclass(frozen=True, slots=True)
@@ -65,6 +66,7 @@ class _Decoder:
         self.plan = BlockPlan()
         self.alarm: DecodeAlarm | None = None
         self.dwell_requested = False
+        self.reference_requested = False  # G74
         self.dwell_value: float | None = None
         self.feed_word: float | None = None
 
@@ -104,6 +106,8 @@ def _g_word(decoder: _Decoder, value: float) -> None:
         modal.rapid = False
     elif code == 4:
         decoder.dwell_requested = True
+    elif code == 74:
+        decoder.reference_requested = True
     elif code == 90:
         modal.absolute = True
     elif code == 91:
@@ -178,6 +182,15 @@ def _decode_item(decoder: _Decoder, item: Item) -> None:
 
 def _finish(decoder: _Decoder) -> None:
     modal, plan, channel = decoder.modal, decoder.plan, decoder.channel
+    if decoder.reference_requested:
+        # G74 <axis>=0 ...: reference these axes; the values are not used.  G74 stands in a block of
+        # its own (seed 003 L764-781): anything else with it is refused.
+        if not plan.targets or decoder.dwell_requested or decoder.feed_word is not None or \
+                plan.program_stop or plan.program_end:
+            decoder.fail(12080, channel.name, decoder.block.label, "G74")
+        plan.reference_axes = tuple(plan.targets)
+        plan.targets = {}
+        return
     if decoder.dwell_requested:
         # G4 F<seconds>: the F of a dwell block is a time and does not change the modal feed.
         if decoder.feed_word is None or decoder.feed_word < 0 or plan.targets:

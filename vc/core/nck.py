@@ -5,15 +5,17 @@ operations of one IPO cycle::
 
     latch PLC->NC signals -> edges -> NCK functions (emergency stop)
     -> mode group and channel commands (reset, NC start/stop, mode, REF)
-    -> program interpreter and path interpolation -> JOG
-    -> position control, drive, encoder, monitoring -> reactions to new alarms
-    -> NC->PLC outputs
+    -> program interpreter and path interpolation (incl. channel referencing, G74)
+    -> JOG or, in JOG-REF / MDA-REF, referencing with the traverse keys
+    -> referencing procedures -> position control, drive, encoder, monitoring
+    -> reactions to new alarms -> NC->PLC outputs
 
 The NCK owns its own process image of all interface data blocks.  It reads the PLC's
 outputs from ``plc_side`` at the start of the cycle (only when that image changed) and
 writes its outputs into its own image at the end; a link moves those bytes to the PLC.
 No I/O, no wall clock, no global state: same configuration and same inputs give the
-same outputs, byte for byte.
+same outputs, byte for byte.  What the control keeps over power-off (machine data it
+writes, buffered positions) is an :class:`NcMemory` handed in by whoever powers it on.
 """
 
 from __future__ import annotations
@@ -27,7 +29,10 @@ from vc.core.axis import AxisSignals, MachineAxis, Owner
 from vc.core.channel import Channel, ChannelSignals, Mode
 from vc.core.interface_map import SignalTable
 from vc.core.mode_group import ModeGroup, ModeGroupSignals
+from vc.core.nc_memory import NcMemory
 from vc.core.overrides import OverrideCoding
+from vc.core.referencing import buffer_at_power_off, encoder_slip, restore_at_power_on
+from vc.core.referencing_control import ReferencingControl
 
 EMERGENCY_STOP_ALARM = 3000
 
@@ -42,8 +47,12 @@ class NckSignals:
 
 
 class Nck:
-    def __init__(self, machine: MachineConfig, catalog: Catalog):
+    def __init__(self, machine: MachineConfig, catalog: Catalog, memory: NcMemory | None = None,
+                 physical: dict[str, float] | None = None):
+        """Power on.  ``memory`` is what the control kept from before; ``physical`` where the
+        slides stand now (default: the start positions of the machine file)."""
         self.machine = machine
+        self.memory = memory if memory is not None else NcMemory()
         self.cycle_us = machine_ipo_cycle_us(machine)
         self.dt = self.cycle_us / 1_000_000
         self.cycle = 0
@@ -61,12 +70,16 @@ class Nck:
                                     self.image.area("DB11"))
         axis_signals = AxisSignals(SignalTable(catalog, InstanceKind.AXIS))
         channel_of_axis = {axis: channel.name for channel in machine.channels for axis in channel.axes}
+        positions = physical or {}
         self.axes = [
             MachineAxis(axis, axis_signals, self.image.area(f"DB{axis.db}"), self.dt,
-                        channel_of_axis.get(axis.name, ""))
+                        channel_of_axis.get(axis.name, ""), positions.get(axis.name))
             for axis in machine.axes
         ]
         self.axes_by_name = {axis.name: axis for axis in self.axes}
+        for axis in self.axes:
+            restore_at_power_on(axis, self.memory, self.alarms)
+        self.referencing = ReferencingControl(machine, self.axes, self.memory, self.dt, self.alarms)
         nck = machine.nck
         feed_coding = OverrideCoding(nck.bool(MD.OVR_FEED_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_FEEDRATE),
                                      nck.float(MD.OVR_FACTOR_LIMIT_BIN))
@@ -78,7 +91,7 @@ class Nck:
         self.channels = [
             Channel(channel, channel_signals, self.image.area(f"DB{channel.db}"),
                     [self.axes_by_name[name] for name in channel.axes], self.alarms, feed_coding, rapid_coding,
-                    self.dt)
+                    self.dt, self.referencing)
             for channel in machine.channels
         ]
         self.channels_by_name = {channel.name: channel for channel in self.channels}
@@ -106,7 +119,10 @@ class Nck:
         self._mode_group_and_channel_commands()
         for channel in self.channels:
             channel.program_cycle(self.cycle)
-        self._jog()
+        self._manual_functions()
+        if self.referencing.any_active:
+            self.referencing.run(self.cycle, {c.name: c.inputs.feed_disable for c in self.channels},
+                                 {c.name: c.inputs.nc_stop or c.inputs.nc_stop_all for c in self.channels})
         moved = False
         for axis in self.axes:
             if axis.resting and axis.owner is Owner.NONE:
@@ -192,29 +208,39 @@ class Nck:
 
     def _mode_group_and_channel_commands(self) -> None:
         mode_group = self.mode_group
+        had_reference_function = mode_group.reference_function
         if mode_group.update(any(channel.is_active for channel in self.channels)):
             for channel in self.channels:
                 channel.mode_changed()
+        if had_reference_function and not mode_group.reference_function:
+            self.referencing.abort_key_started()
         for channel in self.channels:
             edges = channel.edges
             if edges.reset or mode_group.reset_edge:
                 channel.reset(self.cycle)
+                self.referencing.abort_channel(channel.name)
                 continue
+            if edges.reference_start and mode_group.reference_function and mode_group.mode is not Mode.AUTO \
+                    and not self.emergency_stop:
+                channel.start_channel_referencing(self.cycle)
             if edges.nc_stop or channel.inputs.nc_stop or channel.inputs.nc_stop_all:
                 channel.stop()
             if edges.nc_start and not self.emergency_stop:
                 channel.nc_start(self.cycle, mode_group.mode, mode_group.reference_function)
 
-    def _jog(self) -> None:
+    def _manual_functions(self) -> None:
+        """JOG with the traverse keys, or in JOG-REF / MDA-REF referencing with them."""
         mode_group = self.mode_group
-        jog_mode = mode_group.mode is Mode.JOG and not mode_group.reference_function and not self.emergency_stop
+        reference_keys = mode_group.reference_function and mode_group.mode in (Mode.JOG, Mode.MDA)
+        jog_mode = mode_group.mode is Mode.JOG and not mode_group.reference_function
         for channel in self.channels:
-            allowed = jog_mode and not channel.is_active and \
+            allowed = not self.emergency_stop and not channel.is_active and \
                 not self.alarms.reactions(channel.name) & STOP_AXES
+            self.referencing.traverse_keys(channel.axes, allowed and reference_keys, self.cycle)
             feed_disable = channel.inputs.feed_disable
             for axis in channel.axes:
                 if not axis.is_spindle:
-                    axis.jog_cycle(allowed, feed_disable)
+                    axis.jog_cycle(allowed and jog_mode, feed_disable)
 
     def _react_to_new_alarms(self) -> None:
         """Axis alarms whose reaction is a rapid stop put the axis into follow-up (servo off)."""
@@ -229,7 +255,7 @@ class Nck:
         """What the NCK, mode-group and channel outputs depend on besides the axes."""
         mode_group = self.mode_group
         return (self.alarms.version, self.emergency_stop, mode_group.mode, mode_group.reference_function,
-                *((channel.state, channel.program_state) for channel in self.channels))
+                *((channel.state, channel.program_state, channel.reference_active) for channel in self.channels))
 
     def _write_status(self) -> None:
         present = self.alarms.present
@@ -242,6 +268,20 @@ class Nck:
             channel_alarms = [a for a in present if a.channel in ("", channel.name)] if present else []
             with_stop = any(Reaction.STOP_AXES in a.reaction for a in channel_alarms)
             channel.write_status(bool(channel_alarms), with_stop)
+
+    # ------------------------------------------------------------------ power off, plant faults
+    def power_off(self) -> NcMemory:
+        """Switch off: buffer what the control keeps, and hand its memory to the next power-on."""
+        for axis in self.axes:
+            buffer_at_power_off(axis, self.memory)
+        return self.memory
+
+    def physical_positions(self) -> dict[str, float]:
+        return {axis.name: axis.physical for axis in self.axes}
+
+    def encoder_slip(self, axis: str, encoder: int, amount: float) -> None:
+        """A fault of the machine: the measuring system miscounts by ``amount``."""
+        encoder_slip(self.axes_by_name[axis], encoder, amount, self.memory, self.alarms)
 
     # ------------------------------------------------------------------ operator access (HMI)
     def load_mda(self, channel: str, text: str) -> None:

@@ -22,43 +22,67 @@ from interfaces.links.inprocess import plc_program
 from interfaces.plant_io import Owner
 from interfaces.plc import PlcEnvironment, SoftPlc
 from interfaces.signals import Direction, SignalRef
+from vc.config.machine_data import MachineData
+from vc.config.md_dictionary import BY_NUMBER
 from vc.config.model import MachineConfig
 from vc.core.alarms import Alarm
+from vc.core.nc_memory import NcMemory
 from vc.core.nck import Nck
 from vc.plant.plant import Plant
-
-AXIS_QUANTITIES = ("position", "setpoint", "velocity", "followingError", "physical")
+from vc.scenario.target import AXIS_QUANTITIES, FAULTS
 
 
 class Simulation:
     def __init__(self, machine: MachineConfig, plc: str | None = "basic_machine"):
-        catalog = load_catalog()
+        self._catalog = load_catalog()
         self.machine = machine
-        self.nck = Nck(machine, catalog)
-        self.catalog = self.nck.catalog
         self.plant_io = machine.plant_io
-        self.interface = ProcessImage(self.catalog.area_sizes)
-        self.plant_image = ProcessImage(machine.plant_io.area_sizes())
-        self.plant = Plant(machine, self.nck.cycle_us, self.nck.axes)
         self.plc_name = plc
-        self.plc: SoftPlc | None = None
         self.plc_period = machine.plc_cycle_ipo
-        if plc is not None:
-            scan_time = self.plc_period * self.nck.cycle_us / 1_000_000
-            environment = PlcEnvironment(self.catalog, machine.plant_io, scan_time)
-            self.plc = plc_program(plc)(environment)
-        self._observed = ProcessImage({**self.catalog.area_sizes, **machine.plant_io.area_sizes()})
-        self._observed_cycle = -1
+        self._cycles_before = 0  # IPO cycles of earlier power-ons and of the time switched off
         self._forces: dict[SignalRef, Value] = {}
         self._underlying: dict[SignalRef, Value] = {}  # what the owner wrote while a force held
         self._forces_by_direction: dict[Direction, list[tuple[SignalRef, Value]]] = {d: [] for d in Direction}
-        self.plant.power_on(self.plant_image)
+        self.plant_image = ProcessImage(machine.plant_io.area_sizes())
+        self._power_on(NcMemory(), None, first=True)
+
+    def _power_on(self, memory: NcMemory, physical: dict[str, float] | None, first: bool) -> None:
+        """The control, the PLC and the plant start: a fresh NC with the kept memory, a PLC
+        restart, the slides where they stand, the panel as the operator left it."""
+        machine = self.machine
+        self.nck = Nck(machine, self._catalog, memory, physical)
+        self.catalog = self.nck.catalog
+        self.interface = ProcessImage(self.catalog.area_sizes)
+        self.plant = Plant(machine, self.nck.cycle_us, self.nck.axes)
+        self.plc: SoftPlc | None = None
+        if self.plc_name is not None:
+            scan_time = self.plc_period * self.nck.cycle_us / 1_000_000
+            environment = PlcEnvironment(self.catalog, machine.plant_io, scan_time, machine.plc_parameters)
+            self.plc = plc_program(self.plc_name)(environment)
+        self._observed = ProcessImage({**self.catalog.area_sizes, **machine.plant_io.area_sizes()})
+        self._observed_cycle = -1
+        if first:
+            self.plant.power_on(self.plant_image)
+        else:
+            self.plant_image.areas["Q"][:] = bytes(len(self.plant_image.areas["Q"]))  # outputs dropped
+            self.plant.refresh(self.plant_image)
+        for ref, value in self._forces.items():
+            if ref.direction is not Direction.NC_TO_PLC:
+                self._image_of(ref).write(ref, value)
         self._plc_cycle()
+
+    def power_cycle(self, off_seconds: float = 1.0) -> None:
+        """Switch the machine off and on again after ``off_seconds``: what the NC keeps (machine
+        data it wrote, buffered positions) survives, the PLC restarts, the slides stay."""
+        memory = self.nck.power_off()
+        physical = self.nck.physical_positions()
+        self._cycles_before += self.nck.cycle + round(off_seconds * 1_000_000 / self.nck.cycle_us)
+        self._power_on(memory, physical, first=False)
 
     # ------------------------------------------------------------------ time
     @property
     def cycle(self) -> int:
-        return self.nck.cycle
+        return self._cycles_before + self.nck.cycle
 
     @property
     def ipo_cycle_us(self) -> int:
@@ -66,7 +90,7 @@ class Simulation:
 
     @property
     def time_s(self) -> float:
-        return self.nck.cycle * self.nck.cycle_us / 1_000_000
+        return self.cycle * self.nck.cycle_us / 1_000_000
 
     def step(self, cycles: int = 1) -> None:
         nck, plant, interface, plant_image = self.nck, self.plant, self.interface, self.plant_image
@@ -174,6 +198,52 @@ class Simulation:
 
     def alarm_history(self) -> Sequence[Alarm]:
         return list(self.nck.alarms.history)
+
+    def machine_datum(self, instance: str, number: int, index: int | None = None) -> float:
+        """A machine datum as the control has it now (with what it wrote itself, e.g. MD34090)."""
+        md = BY_NUMBER[number]
+        base = self._machine_data_of(instance)
+        value = self.nck.memory.view(instance, base).value(md)
+        if isinstance(value, tuple):
+            value = value[index or 0]
+        return float(value)
+
+    def _machine_data_of(self, instance: str) -> MachineData:
+        if instance == "NC":
+            return self.machine.nck
+        for channel in self.machine.channels:
+            if channel.name == instance:
+                return channel.md
+        return self.machine.axis(instance).md
+
+    # ------------------------------------------------------------------ faults of the machine, manual motion
+    def inject_fault(self, axis: str, kind: str, start: float = 0.0, end: float = 0.0, amount: float = 0.0,
+                     encoder: int = 1) -> None:
+        """A fault of the simulated machine (see FAULTS)."""
+        item = self.nck.axes_by_name[axis]
+        measuring_system = item.encoders[encoder - 1]
+        if kind == "zero_marks_missing":
+            measuring_system.zero_marks_visible = False
+        elif kind == "reference_marks_missing":
+            measuring_system.missing_marks.append((min(start, end), max(start, end)))
+        elif kind == "encoder_slip":
+            self.nck.encoder_slip(axis, encoder - 1, amount)
+        else:
+            raise KeyError(f"unknown fault '{kind}' (known: {', '.join(FAULTS)})")
+
+    def clear_faults(self, axis: str) -> None:
+        for measuring_system in self.nck.axes_by_name[axis].encoders:
+            measuring_system.zero_marks_visible = True
+            measuring_system.missing_marks.clear()
+
+    def move_by_hand(self, axis: str, velocity: float) -> None:
+        """Someone moves the slide from outside at ``velocity`` (mm/min or rev/min; 0 stops).
+
+        Only a slide without position control moves (servo off, follow-up or hold); a
+        position-controlled axis holds its position against it."""
+        item = self.nck.axes_by_name[axis]
+        item.external_velocity = velocity / item.dyn.display_velocity_factor
+        item.resting = False
 
     def load_mda(self, channel: str, text: str) -> None:
         self.nck.load_mda(channel, text)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import difflib
 import os
 from collections.abc import Callable, Collection, Iterable, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +29,7 @@ from vc.scenario.durations import Duration, DurationError, parse_duration
 from vc.scenario.expressions import Expression, ExpressionError, parse_expression
 from vc.scenario.model import (
     NO_PLC,
+    ClearFaults,
     EdgeKind,
     Event,
     ExpectAlarm,
@@ -36,8 +38,11 @@ from vc.scenario.model import (
     ExpectTiming,
     ExpectValues,
     Hold,
+    InjectFault,
     Invariant,
     LoadMda,
+    MoveByHand,
+    PowerCycle,
     Press,
     Release,
     Scenario,
@@ -48,12 +53,15 @@ from vc.scenario.model import (
     WaitUntil,
 )
 from vc.scenario.quantities import NameResolver, Quantity, QuantityKind
+from vc.scenario.target import FAULTS
 from vc.scenario.values import ExpectedValue, ExpectedValueError, parse_expected
 
-TOP_KEYS = ("name", "description", "machine", "plc", "machine_data", "timeout", "invariants", "steps")
+TOP_KEYS = ("name", "description", "machine", "plc", "machine_data", "plc_parameters", "timeout", "invariants",
+            "steps")
 REQUIRED_TOP_KEYS = ("name", "machine", "plc", "steps")
 STEP_KINDS = ("press", "hold", "release", "set", "force", "pulse", "mda", "program", "wait", "expect",
-              "expect_alarm", "expect_no_alarm", "expect_order", "expect_timing")
+              "expect_alarm", "expect_no_alarm", "expect_order", "expect_timing", "power_cycle", "fault",
+              "clear_faults", "move_by_hand")
 STEP_EXAMPLES = {
     "press": "press: MCP.jog", "hold": "hold: MCP.plus.X1", "release": "release: MCP.plus.X1",
     "set": "set: {MCP.feedOverride: 50}", "force": "force: {X1.basic.out.enableCtrl: 0}",
@@ -62,7 +70,10 @@ STEP_EXAMPLES = {
     "expect": 'expect: {X1.position: "100 +- 0.001"}', "expect_alarm": "expect_alarm: 10621",
     "expect_no_alarm": "expect_no_alarm: all", "expect_order": "expect_order: [MCP.jog rises, MCP.jog falls]",
     "expect_timing": "expect_timing: {from: MCP.jog rises, to: MCP.jog falls, max: 1s}",
+    "power_cycle": "power_cycle: 2s", "fault": "fault: {axis: X1, kind: zero_marks_missing}",
+    "clear_faults": "clear_faults: X1", "move_by_hand": "move_by_hand: {axis: X1, velocity: 600}",
 }
+DEFAULT_POWER_OFF = Duration(1_000_000)
 DEFAULT_TIMEOUT = Duration(300_000_000)
 DEFAULT_PRESS = Duration(100_000)
 SCENARIO_SUFFIXES = (".yaml", ".yml")
@@ -291,6 +302,14 @@ class _ScenarioChecker:
                 self.machine = self.machines.load(machine_file, None, self.path)
             except SourceError:
                 return machine_file
+        parameters = document.get("plc_parameters")
+        if parameters is not None:
+            if isinstance(parameters, LocatedMap):
+                # parameters of the PLC program over the machine file's plc: section (the program checks them)
+                self.machine = replace(self.machine, plc_parameters={**self.machine.plc_parameters, **parameters})
+            else:
+                self.add(document.mark_of("plc_parameters"), "plc_parameters is a mapping of the PLC program's"
+                         " parameters, e.g. {referencing_order: [[Z1], [X1]]}")
         catalog = self.catalog if self.catalog is not None else default_catalog()
         machine = self.machine
         self.resolver = NameResolver(expand(catalog, machine.layout), machine.plant_io,
@@ -478,6 +497,85 @@ class _ScenarioChecker:
             return None
         return SelectProgram(index, "program", mark, channel, name, text)
 
+    def step_power_cycle(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        off = DEFAULT_POWER_OFF
+        if isinstance(value, LocatedMap):
+            if not self.check_keys(value, ("off",), ("off",), "power_cycle"):
+                return None
+            value, value_mark = value["off"], value.mark_of("off")
+        if value is not None:
+            parsed = self.duration(value, value_mark, positive=True)
+            if parsed is None:
+                return None
+            off = parsed
+        return PowerCycle(index, "power_cycle", mark, off)
+
+    def step_fault(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        if not isinstance(value, LocatedMap):
+            self.add(value_mark, f"fault takes a mapping, e.g. {STEP_EXAMPLES['fault']}")
+            return None
+        if not self.check_keys(value, ("axis", "kind", "from", "to", "by", "encoder"), ("axis", "kind"), "fault"):
+            return None
+        axis = self.machine_axis(value["axis"], value.mark_of("axis"))
+        kind = value["kind"]
+        if kind not in FAULTS:
+            hint = _suggest(str(kind), FAULTS) or f" (faults: {', '.join(FAULTS)})"
+            self.add(value.mark_of("kind"), f"unknown fault '{kind}'{hint}")
+            return None
+        needed = {"reference_marks_missing": ("from", "to"), "encoder_slip": ("by",)}.get(kind, ())
+        numbers: dict[str, float] = {}
+        for key in ("from", "to", "by", "encoder"):
+            if key in value:
+                if key not in (*needed, "encoder"):
+                    self.add(value.mark_of_key(key), f"a {kind} fault takes no '{key}'")
+                    return None
+                number = value[key]
+                if isinstance(number, bool) or not isinstance(number, (int, float)):
+                    self.add(value.mark_of(key), f"{key} must be a number, not {_kind_of_value(number)}")
+                    return None
+                numbers[key] = float(number)
+        missing = [key for key in needed if key not in numbers]
+        if missing:
+            self.add(value.mark, f"a {kind} fault needs {' and '.join(missing)}")
+            return None
+        encoder = int(numbers.get("encoder", 1))
+        if encoder not in (1, 2):
+            self.add(value.mark_of("encoder"), "encoder is the measuring system 1 or 2")
+            return None
+        if axis is None:
+            return None
+        return InjectFault(index, "fault", mark, axis, str(kind), numbers.get("from", 0.0), numbers.get("to", 0.0),
+                           numbers.get("by", 0.0), encoder)
+
+    def step_clear_faults(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        axis = self.machine_axis(value, value_mark)
+        return ClearFaults(index, "clear_faults", mark, axis) if axis is not None else None
+
+    def step_move_by_hand(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        if not isinstance(value, LocatedMap):
+            self.add(value_mark, f"move_by_hand takes a mapping, e.g. {STEP_EXAMPLES['move_by_hand']}")
+            return None
+        if not self.check_keys(value, ("axis", "velocity"), ("axis", "velocity"), "move_by_hand"):
+            return None
+        axis = self.machine_axis(value["axis"], value.mark_of("axis"))
+        velocity = value["velocity"]
+        if isinstance(velocity, bool) or not isinstance(velocity, (int, float)):
+            self.add(value.mark_of("velocity"), f"velocity is a number (mm/min or rev/min), not"
+                     f" {_kind_of_value(velocity)}")
+            return None
+        return MoveByHand(index, "move_by_hand", mark, axis, float(velocity)) if axis is not None else None
+
+    def machine_axis(self, value: Any, mark: Mark) -> str | None:
+        """A machine axis of the scenario's machine, or None (reported)."""
+        if self.machine is None:
+            return None
+        names = [axis.name for axis in self.machine.axes]
+        if not isinstance(value, str) or value not in names:
+            hint = _suggest(str(value), names) or f" (axes: {', '.join(names)})"
+            self.add(mark, f"'{value}' is not a machine axis of this machine{hint}")
+            return None
+        return value
+
     def step_wait(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
         if not isinstance(value, LocatedMap):
             duration = self.duration(value, value_mark)
@@ -642,7 +740,8 @@ class _ScenarioChecker:
     def signal_refusal(self, quantity: Quantity, kind: str) -> str:
         if quantity.kind is QuantityKind.SIGNAL:
             return ""
-        what = "the simulated axis" if quantity.kind is QuantityKind.AXIS else "the simulation"
+        what = {QuantityKind.AXIS: "the simulated axis", QuantityKind.MACHINE_DATUM: "the control's machine data"}.get(
+            quantity.kind, "the simulation")
         return f"cannot {kind} {quantity.label}: it is a quantity of {what}, not a signal"
 
     def write_refusal(self, quantity: Quantity, kind: str) -> str:

@@ -185,6 +185,38 @@ class ExpectTiming(Step):
 
 
 @dataclass(frozen=True, slots=True)
+class PowerCycle(Step):
+    """Switch the machine off and on again after ``off``: the NC keeps its memory, the PLC restarts."""
+
+    off: Duration
+
+
+@dataclass(frozen=True, slots=True)
+class InjectFault(Step):
+    """A fault of the simulated machine on one axis (``FAULTS`` in target.py)."""
+
+    axis: str
+    fault: str
+    start: float  # reference_marks_missing: the range without marks
+    end: float
+    amount: float  # encoder_slip: by how much the measuring system miscounts
+    encoder: int  # measuring system 1 or 2
+
+
+@dataclass(frozen=True, slots=True)
+class ClearFaults(Step):
+    axis: str
+
+
+@dataclass(frozen=True, slots=True)
+class MoveByHand(Step):
+    """The slide is moved from outside at ``velocity`` (mm/min or rev/min; 0 = stops)."""
+
+    axis: str
+    velocity: float
+
+
+@dataclass(frozen=True, slots=True)
 class Invariant:
     condition: Expression
     mark: Mark

@@ -6,12 +6,15 @@ Names are resolved once, when the file is loaded, in this order:
    absolute address (``DB31.DBX60.4``, ``DB21.DBB4``, ``DB31.DBD88``),
 2. the machine's plant I/O, by function name (``MCP.jog``) or address (``I0.3``),
 3. ``<axis>.<quantity>`` for a machine axis or spindle (``X1.position``; see ``AXIS_QUANTITIES``),
-4. ``time``: simulated seconds since the scenario started.
+4. ``<instance>.MD<number>[<index>]``: a machine datum as the control holds it now, with the
+   values it wrote itself (``X1.MD34210``, ``X1.MD34090[1]``, ``CHAN1.MD20700``, ``NC.MD10192``),
+5. ``time``: simulated seconds since the scenario started.
 """
 
 from __future__ import annotations
 
 import difflib
+import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 from enum import Enum
@@ -27,6 +30,8 @@ from interfaces.signals import (
     SignalType,
     UnknownSignalError,
 )
+from vc.config.machine_data import MdLevel
+from vc.config.md_dictionary import BY_NUMBER, level_text
 from vc.scenario.target import AXIS_QUANTITIES
 
 TIME = "time"
@@ -35,6 +40,7 @@ TIME = "time"
 class QuantityKind(Enum):
     SIGNAL = "signal"  # interface signal or plant I/O point
     AXIS = "axis"  # a quantity of a machine axis or spindle
+    MACHINE_DATUM = "machine datum"  # a machine datum as the control holds it now (X1.MD34210)
     TIME = "time"
 
 
@@ -45,8 +51,9 @@ class Quantity:
     name: str  # as shown in messages and traces
     kind: QuantityKind
     ref: SignalRef | None = None
-    axis: str = ""
-    quantity: str = ""
+    axis: str = ""  # the axis (or, for a machine datum, the instance: axis, channel or NC)
+    quantity: str = ""  # the axis quantity, or the machine datum's number
+    index: int | None = None  # the array index of a machine datum
 
     @property
     def is_integer(self) -> bool:
@@ -62,6 +69,8 @@ class Quantity:
         """Where the quantity belongs: NC, MODEGROUP, CHAN1, X1 (interface), PLANT, AXES, SIM."""
         if self.kind is QuantityKind.AXIS:
             return "AXES"
+        if self.kind is QuantityKind.MACHINE_DATUM:
+            return "MD"
         if self.kind is QuantityKind.TIME:
             return "SIM"
         assert self.ref is not None
@@ -90,6 +99,9 @@ def axis_quantity(axis: str, quantity: str) -> Quantity:
 
 
 TIME_QUANTITY = Quantity(TIME, QuantityKind.TIME)
+
+_MACHINE_DATUM = re.compile(r"^MD(\d+)(?:\[(\d+)\])?$")
+_LEVEL_OF = {"axis": MdLevel.AXIS, "channel": MdLevel.CHANNEL, "nck": MdLevel.NCK}
 
 
 class NameResolver:
@@ -123,9 +135,26 @@ class NameResolver:
         head, _, tail = text.partition(".")
         if head in self.axes and tail in AXIS_QUANTITIES:
             return axis_quantity(head, tail)
+        datum = _MACHINE_DATUM.match(tail)
+        if datum is not None and head in (NCK_INSTANCE, *self.axes, *self.channels):
+            return self._machine_datum(text, head, int(datum.group(1)), datum.group(2))
         if text == TIME:
             return TIME_QUANTITY
         raise UnknownSignalError(self._unknown_message(text, head, tail, catalog_error, plant_error))
+
+    def _machine_datum(self, text: str, instance: str, number: int, index_text: str | None) -> Quantity:
+        md = BY_NUMBER.get(number)
+        if md is None:
+            raise UnknownSignalError(f"'{text}': unknown machine datum MD{number}")
+        kind = "nck" if instance == NCK_INSTANCE else ("axis" if instance in self.axes else "channel")
+        if md.level is not _LEVEL_OF[kind]:
+            what = "the NCK" if kind == "nck" else f"a {kind}"
+            raise UnknownSignalError(f"'{text}': {md.label} is {level_text(md.level)}, {instance} is {what}")
+        index = int(index_text) if index_text is not None else None
+        if index is not None and not (md.length and index < md.length):
+            indices = f"indices 0..{md.length - 1}" if md.length else "no index"
+            raise UnknownSignalError(f"'{text}': {md.label} has {indices}")
+        return Quantity(text, QuantityKind.MACHINE_DATUM, axis=instance, quantity=str(number), index=index)
 
     def _unknown_message(self, text: str, head: str, tail: str, catalog_error: UnknownSignalError,
                          plant_error: UnknownSignalError) -> str:

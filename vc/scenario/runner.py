@@ -24,6 +24,7 @@ from vc.located_yaml import Mark
 from vc.scenario.durations import Duration, format_seconds
 from vc.scenario.expressions import EvaluationError, Evaluator, Expression
 from vc.scenario.model import (
+    ClearFaults,
     EdgeKind,
     Event,
     ExpectAlarm,
@@ -32,7 +33,10 @@ from vc.scenario.model import (
     ExpectTiming,
     ExpectValues,
     Hold,
+    InjectFault,
     LoadMda,
+    MoveByHand,
+    PowerCycle,
     Press,
     Release,
     Scenario,
@@ -134,6 +138,9 @@ class _Probe:
         if quantity.kind is QuantityKind.AXIS:
             axis_value, axis, name = target.axis_quantity, quantity.axis, quantity.quantity
             return lambda: axis_value(axis, name)
+        if quantity.kind is QuantityKind.MACHINE_DATUM:
+            datum, instance, number, index = target.machine_datum, quantity.axis, int(quantity.quantity), quantity.index
+            return lambda: datum(instance, number, index)
         start, seconds_per_cycle = self.start_cycle, target.ipo_cycle_us / 1e6
         return lambda: (target.cycle - start) * seconds_per_cycle
 
@@ -318,6 +325,15 @@ class _Run:
             self.expect_order(step)
         elif isinstance(step, ExpectTiming):
             self.expect_timing(step)
+        elif isinstance(step, PowerCycle):
+            target.power_cycle(step.off.seconds)
+            self.after_cycle()
+        elif isinstance(step, InjectFault):
+            target.inject_fault(step.axis, step.fault, step.start, step.end, step.amount, step.encoder)
+        elif isinstance(step, ClearFaults):
+            target.clear_faults(step.axis)
+        elif isinstance(step, MoveByHand):
+            target.move_by_hand(step.axis, step.velocity)
         else:  # pragma: no cover - the loader builds only the kinds above
             raise TypeError(f"unknown step {step!r}")
         self.steps_done += 1

@@ -24,6 +24,12 @@ from vc.core.alarms import Alarm
 #   physical        true position of the slide in the simulated machine (plant), mm or degrees
 AXIS_QUANTITIES = ("position", "setpoint", "velocity", "followingError", "physical")
 
+# Faults of the simulated machine a scenario can inject:
+#   zero_marks_missing       the encoder's zero-mark track is not seen (dirty, broken)
+#   reference_marks_missing  distance-coded reference marks missing between two positions
+#   encoder_slip             the measuring system miscounts by an amount (zero-mark monitoring responds)
+FAULTS = ("zero_marks_missing", "reference_marks_missing", "encoder_slip")
+
 
 class ScenarioTarget(Protocol):
     machine: MachineConfig
@@ -69,3 +75,19 @@ class ScenarioTarget(Protocol):
 
     def select_program(self, channel: str, name: str, text: str) -> None:
         """Select a part program for AUTOMATIC in ``channel`` (as the operator does on the HMI)."""
+
+    def machine_datum(self, instance: str, number: int, index: int | None = None) -> float:
+        """A machine datum as the control holds it now (including what it wrote itself)."""
+
+    def power_cycle(self, off_seconds: float = 1.0) -> None:
+        """Switch the machine off and on again: the NC keeps its memory, the PLC restarts."""
+
+    def inject_fault(self, axis: str, kind: str, start: float = 0.0, end: float = 0.0, amount: float = 0.0,
+                     encoder: int = 1) -> None:
+        """A fault of the simulated machine: ``FAULTS``."""
+
+    def clear_faults(self, axis: str) -> None:
+        """The machine's faults on ``axis`` are repaired."""
+
+    def move_by_hand(self, axis: str, velocity: float) -> None:
+        """Someone moves the slide from outside (only a slide without position control moves)."""

@@ -127,6 +127,7 @@ class Recorder:
             self._add(quantity)
         self._signals = [h for h in self._histories.values() if h.quantity.kind is QuantityKind.SIGNAL]
         self._axes = [h for h in self._histories.values() if h.quantity.kind is QuantityKind.AXIS]
+        self._data = [h for h in self._histories.values() if h.quantity.kind is QuantityKind.MACHINE_DATUM]
         self._by_byte = {}
         for history in self._signals:
             ref = history.quantity.ref
@@ -201,6 +202,11 @@ class Recorder:
             value = axis_value(quantity.axis, quantity.quantity)
             if abs(value - history.last) > AXIS_DEADBAND:
                 history.add(cycle, value)
+        for history in self._data:
+            quantity = history.quantity
+            value = self.target.machine_datum(quantity.axis, int(quantity.quantity), quantity.index)
+            if value != history.last or not len(history):
+                history.add(cycle, value)
 
     def note_writes(self, quantities: Iterable[Quantity]) -> None:
         """Record, at the current cycle, what the scenario wrote between two cycles: every
@@ -263,6 +269,8 @@ class Recorder:
     def _read(self, quantity: Quantity) -> Value:
         if quantity.kind is QuantityKind.AXIS:
             return self.target.axis_quantity(quantity.axis, quantity.quantity)
+        if quantity.kind is QuantityKind.MACHINE_DATUM:
+            return self.target.machine_datum(quantity.axis, int(quantity.quantity), quantity.index)
         assert quantity.ref is not None
         return self.target.read(quantity.ref)
 

@@ -111,8 +111,9 @@ class Rig:
 
     # ------------------------------------------------------------------ the test as PLC
     def enable_axes(self, *axes: str, override: int = 100) -> None:
-        """Controller and pulse enable, axis override active at ``override`` percent."""
+        """Measuring system 1, controller and pulse enable, axis override active at ``override`` percent."""
         for axis in axes or tuple(a.name for a in self.nck.axes):
+            self.set(f"{axis}.basic.out.enc1Activation", 1)
             self.set(f"{axis}.basic.out.enableCtrl", 1)
             self.set(f"{axis}.drive.out.enablePulses", 1)
             self.set(f"{axis}.basic.out.enableOvr", 1)

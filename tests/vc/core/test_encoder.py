@@ -1,4 +1,5 @@
-"""Position measuring system: zero-mark spacing, zero marks crossed, actual value at power-on.
+"""Position measuring system: zero-mark spacing, zero marks crossed, distance-coded marks,
+actual value at power-on.
 
 Turn-mill X1: MD31030 = 10 mm pitch, motor encoder, ratio 1:1, zero marks at ... 265, 275,
 285 ... (sim zero_mark_offset 275), slide at 150 at power-on.
@@ -7,10 +8,12 @@ Turn-mill X1: MD31030 = 10 mm pitch, motor encoder, ratio 1:1, zero marks at ...
 from __future__ import annotations
 
 import pytest
-from core_rig import machine
+from core_rig import Rig, machine
+from hypothesis import given
+from hypothesis import strategies as st
 
 from vc.config.model import AxisConfig
-from vc.core.encoder import Encoder, zero_mark_spacing
+from vc.core.encoder import DistanceCode, MeasuringSystem, zero_mark_spacing
 
 
 def axis(name: str, overrides: str = "") -> AxisConfig:
@@ -45,8 +48,8 @@ def test_direct_encoder_on_a_spindle_has_one_mark_per_load_revolution() -> None:
 
 
 @pytest.fixture
-def x1_encoder() -> Encoder:
-    return Encoder.at_power_on(axis("X1"), 150.0)
+def x1_encoder() -> MeasuringSystem:
+    return MeasuringSystem.for_axis(axis("X1"), 0, 150.0, 275.0)
 
 
 @pytest.mark.parametrize(("start", "end", "mark"), [
@@ -58,7 +61,7 @@ def x1_encoder() -> Encoder:
     (280.0, 275.0, 275.0),
     (-7.0, -3.0, -5.0),  # marks continue below zero: ..., -5, 5, ...
 ])
-def test_first_zero_mark_passed(x1_encoder: Encoder, start: float, end: float, mark: float) -> None:
+def test_first_zero_mark_passed(x1_encoder: MeasuringSystem, start: float, end: float, mark: float) -> None:
     assert x1_encoder.zero_mark_between(start, end) == pytest.approx(mark)
 
 
@@ -69,11 +72,11 @@ def test_first_zero_mark_passed(x1_encoder: Encoder, start: float, end: float, m
     (275.0, 270.0),
     (275.0, 275.0),  # no motion
 ])
-def test_no_zero_mark_passed(x1_encoder: Encoder, start: float, end: float) -> None:
+def test_no_zero_mark_passed(x1_encoder: MeasuringSystem, start: float, end: float) -> None:
     assert x1_encoder.zero_mark_between(start, end) is None
 
 
-def test_each_mark_is_found_once_when_moving_cycle_by_cycle(x1_encoder: Encoder) -> None:
+def test_each_mark_is_found_once_when_moving_cycle_by_cycle(x1_encoder: MeasuringSystem) -> None:
     # 0.0667 mm per cycle (2000 mm/min, 2 ms) from 250 to 300 passes 255, 265, 275, 285, 295 once each,
     # in both directions.
     for step in (2000.0 / 60.0 * 0.002, -2000.0 / 60.0 * 0.002):
@@ -88,37 +91,73 @@ def test_each_mark_is_found_once_when_moving_cycle_by_cycle(x1_encoder: Encoder)
         assert found == (expected if step > 0 else expected[::-1])
 
 
+# ------------------------------------------------------------------------------ distance-coded marks
+
+# Basic distance B = 20 mm, increment I = 0.02 mm, first mark at 100: marks at 100 (0), 110.02 (1),
+# 120 (2), 130.04 (3), 140 (4), 150.06 (5) ...: mark 2k at 100 + 20k, mark 2k+1 at 100 + 20k + 10 + 0.02(k+1).
+CODE = DistanceCode(20.0, 0.02, 100.0)
+
+
+def test_distance_coded_layout() -> None:
+    assert [round(CODE.position(i), 6) for i in range(6)] == [100.0, 110.02, 120.0, 130.04, 140.0, 150.06]
+    # adjacent gaps: 10.02, 9.98, 10.04, 9.96, 10.06: pairs sum to B
+    assert CODE.marks_between(105.0, 131.0) == [1, 2, 3]
+    assert CODE.marks_between(131.0, 105.0) == [3, 2, 1]
+    assert CODE.marks_between(110.02, 120.0) == [2]  # start excluded, end included
+
+
+@given(st.integers(min_value=0, max_value=400), st.sampled_from([1, -1]))
+def test_two_adjacent_marks_identify_their_place_in_both_directions(first: int, direction: int) -> None:
+    lower, upper = CODE.position(first), CODE.position(first + 1)
+    crossed_first = first if direction > 0 else first + 1
+    assert CODE.identify(upper - lower, direction) == crossed_first
+
+
+def test_a_gap_that_fits_no_pair_is_not_identified() -> None:
+    assert CODE.identify(10.0, 1) is None  # exactly B/2: no pair has it
+    assert CODE.identify(10.031, 1) is None  # between 10.02 and 10.04
+    assert CODE.identify(25.0, 1) is None
+
+
+def test_missing_marks_are_not_seen() -> None:
+    encoder = MeasuringSystem.for_axis(axis("X1", "X1: {MD34200: [3], MD34300: [20.0], MD34310: [0.02]}"),
+                                       0, 150.0, 100.0)
+    assert [round(p, 3) for p in encoder.coded_marks_between(105.0, 131.0)] == [110.02, 120.0, 130.04]
+    encoder.missing_marks.append((115.0, 125.0))
+    assert [round(p, 3) for p in encoder.coded_marks_between(105.0, 131.0)] == [110.02, 130.04]
+
+
 # ------------------------------------------------------------------------------ actual value at power-on
 
 
 def test_incremental_encoder_starts_at_zero_and_is_not_referenced() -> None:
-    encoder = Encoder.at_power_on(axis("X1"), 150.0)
-    assert not encoder.referenced
-    assert encoder.actual(150.0) == 0.0
-    assert encoder.actual(160.0) == pytest.approx(10.0)
+    x1 = Rig(machine()).axis("X1")
+    assert not x1.encoder.referenced
+    assert x1.actual == 0.0
+    assert x1.encoder.actual(160.0) == pytest.approx(10.0)
 
 
 def test_calibrated_absolute_encoder_is_referenced_with_actual_equal_to_physical() -> None:
     # MD30240 = 4 (absolute), MD34210 = 2 (calibrated), MD34090 = 0: seed 003 §4.9, §4.10 (L2584-2586).
-    encoder = Encoder.at_power_on(axis("X1", "X1: {MD30240: [4], MD34210: [2]}"), 150.0)
-    assert encoder.referenced
-    assert encoder.actual(150.0) == 150.0
+    x1 = Rig(machine("X1: {MD30240: [4], MD34210: [2]}")).axis("X1")
+    assert x1.encoder.referenced
+    assert x1.actual == 150.0
 
 
 def test_calibrated_absolute_encoder_adds_the_reference_point_offset_md34090() -> None:
-    encoder = Encoder.at_power_on(axis("X1", "X1: {MD30240: [4], MD34210: [2], MD34090: [-12.5]}"), 150.0)
-    assert encoder.referenced
-    assert encoder.actual(150.0) == pytest.approx(137.5)
+    x1 = Rig(machine("X1: {MD30240: [4], MD34210: [2], MD34090: [-12.5]}")).axis("X1")
+    assert x1.encoder.referenced
+    assert x1.actual == pytest.approx(137.5)
 
 
 @pytest.mark.parametrize("state", [0, 1])
 def test_absolute_encoder_not_calibrated_is_not_referenced(state: int) -> None:
-    encoder = Encoder.at_power_on(axis("X1", f"X1: {{MD30240: [4], MD34210: [{state}]}}"), 150.0)
-    assert not encoder.referenced
+    x1 = Rig(machine(f"X1: {{MD30240: [4], MD34210: [{state}]}}")).axis("X1")
+    assert not x1.encoder.referenced
 
 
 def test_synchronising_sets_the_actual_value_at_the_current_position() -> None:
-    encoder = Encoder.at_power_on(axis("X1"), 150.0)
+    encoder = MeasuringSystem.for_axis(axis("X1"), 0, 150.0, 275.0)
     encoder.set_actual(277.0, 273.0)
     assert encoder.referenced
     assert encoder.actual(277.0) == pytest.approx(273.0)

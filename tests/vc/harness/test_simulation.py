@@ -92,6 +92,7 @@ def test_nc_outputs_reach_the_interface_only_at_the_plc_cycle(config: MachineCon
     sim = Simulation(config, plc=None)
     set_signal(sim, "X1.basic.out.enableCtrl", 1)
     set_signal(sim, "X1.drive.out.enablePulses", 1)
+    set_signal(sim, "X1.basic.out.enc1Activation", 1)  # measuring system 1, else the axis is parked
     set_signal(sim, "X1.basic.out.feedrateOvrFactor", 100)  # binary 0 would be 0 % even when inactive
     set_signal(sim, "MODEGROUP.basic.out.jogMode", 1)
     sim.step(5)
@@ -113,6 +114,7 @@ def test_without_plc_the_test_writes_the_plc_outputs(config: MachineConfig) -> N
     assert signal(sim, "X1.basic.out.enableCtrl") == 0  # nobody gives the enables
     set_signal(sim, "X1.basic.out.enableCtrl", 1)
     set_signal(sim, "X1.drive.out.enablePulses", 1)
+    set_signal(sim, "X1.basic.out.enc1Activation", 1)  # measuring system 1, else the axis is parked
     sim.step(1)
     assert signal(sim, "X1.basic.in.posCtrlActive") == 1
 
@@ -222,6 +224,7 @@ def test_alarm_history_keeps_alarms_that_are_gone(config: MachineConfig) -> None
     sim = Simulation(config, plc=None)
     set_signal(sim, "X1.basic.out.enableCtrl", 1)
     set_signal(sim, "X1.drive.out.enablePulses", 1)
+    set_signal(sim, "X1.basic.out.enc1Activation", 1)  # measuring system 1, else the axis is parked
     set_signal(sim, "MODEGROUP.basic.out.mdaMode", 1)
     sim.step(2)
     sim.load_mda("CHAN1", "G1 X160")  # no feed: alarm 10860
@@ -239,6 +242,7 @@ def test_selected_program_runs_in_auto(config: MachineConfig) -> None:
     sim = Simulation(config, plc=None)
     set_signal(sim, "X1.basic.out.enableCtrl", 1)
     set_signal(sim, "X1.drive.out.enablePulses", 1)
+    set_signal(sim, "X1.basic.out.enc1Activation", 1)  # measuring system 1, else the axis is parked
     set_signal(sim, "CHAN1.basic.out.pathFeedrateOvr", 1)
     set_signal(sim, "CHAN1.basic.out.pathFeedrateOvrFactor", 100)
     set_signal(sim, "MODEGROUP.basic.out.autoMode", 1)

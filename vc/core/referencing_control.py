@@ -1,0 +1,113 @@
+"""Which referencing runs when: traverse keys, channel-specific referencing, G74, aborts.
+
+The NCK holds one :class:`ReferencingControl`.  It owns the :class:`AxisReferencing` of every
+axis (spindles synchronise on their own, chapter 13), starts procedures from the traverse
+keys in JOG-REF and MDA-REF (the key of the MD34010 direction; either key for distance-coded
+systems), gives each running procedure its cycle conditions (feed stop, NC stop, the held
+key) and aborts them on reset or when REF is left.
+
+Inclined-axis control (seed 000): the orthogonal axis may be referenced only once the
+inclined axis is; the other order raises alarm 65820 and the orthogonal axis does not start
+(seed 000 L62-66, L375, L381).  The pair comes from MD62800/62805/62806.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from vc.config import md_dictionary as MD
+from vc.config.model import ChannelConfig, MachineConfig
+from vc.core.alarms import AlarmList
+from vc.core.axis import MachineAxis
+from vc.core.nc_memory import NcMemory
+from vc.core.referencing import AxisReferencing, CycleConditions, Source
+
+ALARM_INCLINED_ORDER = 65820
+
+
+class ReferencingControl:
+    def __init__(self, machine: MachineConfig, axes: Sequence[MachineAxis], memory: NcMemory, dt: float,
+                 alarms: AlarmList):
+        hold_mode = machine.nck.bool(MD.JOG_INC_MODE_LEVELTRIGGRD)
+        self._alarms = alarms
+        self.of: dict[str, AxisReferencing] = {
+            axis.name: AxisReferencing(axis, memory, hold_mode, dt, alarms) for axis in axes if not axis.is_spindle
+        }
+        self._axes = {axis.name: axis for axis in axes}
+        self._keys = {name: (False, False) for name in self.of}
+        self._key_direction = {name: 0 for name in self.of}
+        self._inclined_before: dict[str, str] = {}  # orthogonal axis -> inclined axis that must come first
+        for channel in machine.channels:
+            pair = inclined_pair(channel)
+            if pair is not None:
+                inclined, orthogonal = pair
+                self._inclined_before[orthogonal] = inclined
+
+    @property
+    def any_active(self) -> bool:
+        return any(procedure.active for procedure in self.of.values())
+
+    def start(self, axis: str, source: Source, direction: int, cycle: int) -> bool:
+        """Start referencing ``axis``; False if it cannot start now (order, enable, wrong key)."""
+        inclined = self._inclined_before.get(axis)
+        if inclined is not None and not self._axes[inclined].referenced:
+            channel = self._axes[axis].channel
+            self._alarms.raise_alarm(ALARM_INCLINED_ORDER, cycle, channel, axis, inclined, channel=channel, axis=axis)
+            return False
+        started = self.of[axis].start(source, direction)
+        if started:
+            self._key_direction[axis] = direction
+        return started
+
+    def traverse_keys(self, axes: Sequence[MachineAxis], allowed: bool, cycle: int) -> None:
+        """JOG-REF / MDA-REF: a traverse key starts referencing of its axis (rising edge)."""
+        for axis in axes:
+            procedure = self.of.get(axis.name)
+            if procedure is None:
+                continue
+            plus, minus = axis.inputs.key_plus, axis.inputs.key_minus
+            was_plus, was_minus = self._keys[axis.name]
+            self._keys[axis.name] = (plus, minus)
+            if not allowed or procedure.active:
+                continue
+            direction = 1 if plus and not was_plus else (-1 if minus and not was_minus else 0)
+            if direction:
+                self.start(axis.name, Source.KEY, direction, cycle)
+
+    def run(self, cycle: int, channel_feed_disable: dict[str, bool], channel_nc_stop: dict[str, bool]) -> None:
+        """One cycle of every running procedure (before the axes' control loops)."""
+        for name, procedure in self.of.items():
+            if not procedure.active:
+                continue
+            axis = procedure.axis
+            key = self._key_direction[name]
+            conditions = CycleConditions(
+                feed_stop=axis.inputs.feed_stop or channel_feed_disable.get(axis.channel, False),
+                nc_stop=channel_nc_stop.get(axis.channel, False),
+                key_held=(axis.inputs.key_plus if key > 0 else axis.inputs.key_minus) if key else False,
+            )
+            procedure.cycle(cycle, conditions)
+
+    def abort_channel(self, channel: str) -> None:
+        """Channel or mode-group reset: unfinished axes stay unreferenced (seed 003 L614-626)."""
+        for procedure in self.of.values():
+            if procedure.axis.channel == channel:
+                procedure.abort()
+
+    def abort_key_started(self) -> None:
+        """REF was left: referencing started with the keys ends."""
+        for procedure in self.of.values():
+            if procedure.source is Source.KEY:
+                procedure.abort()
+
+
+def inclined_pair(channel: ChannelConfig) -> tuple[str, str] | None:
+    """(inclined, orthogonal) machine axes of the channel's inclined-axis control, or None."""
+    md = channel.md
+    if not md.bool(MD.INCL_AXIS_ENABLE):
+        return None
+    inclined, orthogonal = md.int(MD.INCL_AXIS_INCLINED), md.int(MD.INCL_AXIS_ORTHOGONAL)
+    count = len(channel.axes)
+    if not (1 <= inclined <= count and 1 <= orthogonal <= count) or inclined == orthogonal:
+        return None
+    return channel.axes[inclined - 1], channel.axes[orthogonal - 1]
