@@ -46,7 +46,8 @@ Rules:
   MD20080 is called by its machine axis name in part programs.
 * Scenario overrides (``load_machine(..., overrides=...)``) are ``{instance: {key: value}}``
   with instance = an axis name, a channel name or ``NC``.  They are checked exactly like the
-  file and replace the file's values index by index.
+  file and replace the file's values index by index.  An axis may also carry ``sim:`` and
+  ``plant:``; the keys written replace the file's (``hw_limits`` as a pair).
 
 Every problem of the file and of the overrides is collected with ``file:line:column`` and
 reported at once in one :class:`~vc.located_yaml.SourceError`; no half-checked configuration
@@ -55,6 +56,7 @@ is returned.  Pure apart from reading the one file.
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -334,10 +336,7 @@ class _MachineReader:
             if block is None:
                 continue
             self._write_block(block, entry.data, _PLACE_IN_FILE, extra_keys=("sim", "plant"))
-            if "sim" in block:
-                entry.sim = self._read_sim(block["sim"], block.mark_of("sim"), name)
-            if "plant" in block:
-                entry.plant = self._read_plant(block["plant"], block.mark_of("plant"), name)
+            self._apply_sim_and_plant(entry, block, f"axes.{name}")
         self.nck.set_derived(mdd.AXCONF_MACHAX_NAME_TAB, self._padded(mdd.AXCONF_MACHAX_NAME_TAB,
                                                                       tuple(self.axes)), self.nck.mark)
 
@@ -349,15 +348,14 @@ class _MachineReader:
         rest = md.default[len(items):] if filler is None else (filler,) * (md.length - len(items))
         return items + tuple(rest)
 
-    def _read_sim(self, raw: Any, mark: Mark, axis: str) -> AxisSimulation:
-        block = self._mapping(raw, mark, f"axes.{axis}.sim")
-        if block is None:
-            return AxisSimulation()
-        values: dict[str, float | int] = {}
-        for key, value, value_mark in block.located_items():
+    def _read_sim(self, raw: Any, mark: Mark, where: str) -> dict[str, Any]:
+        """The ``sim:`` keys written in ``raw``, checked: AxisSimulation field -> value."""
+        values: dict[str, Any] = {}
+        block = self._any_mapping(raw, mark, where)
+        for key, value in block.items():
+            key_mark, value_mark = self.marks.key(block, key), self.marks.value(block, key)
             if key not in SIM_KEYS:
-                self.add(block.mark_of_key(key),
-                         f"unknown key '{key}' in sim; allowed: {', '.join(SIM_KEYS)}")
+                self.add(key_mark, f"unknown key '{key}' in sim; allowed: {', '.join(SIM_KEYS)}")
                 continue
             number = self._number(value, value_mark, f"sim.{key}")
             if number is None:
@@ -369,15 +367,14 @@ class _MachineReader:
                 values[key] = int(number)
             else:
                 values[key] = number
-        return AxisSimulation(**values)  # type: ignore[arg-type]
+        return values
 
-    def _read_plant(self, raw: Any, mark: Mark, axis: str) -> AxisPlant:
-        block = self._mapping(raw, mark, f"axes.{axis}.plant")
-        if block is None:
-            return AxisPlant()
-        ref_cam: tuple[float, float] | None = None
-        limits: tuple[float | None, float | None] = (None, None)
-        for key, value, value_mark in block.located_items():
+    def _read_plant(self, raw: Any, mark: Mark, where: str) -> dict[str, Any]:
+        """The ``plant:`` keys written in ``raw``, checked: AxisPlant field -> value."""
+        values: dict[str, Any] = {}
+        block = self._any_mapping(raw, mark, where)
+        for key, value in block.items():
+            key_mark, value_mark = self.marks.key(block, key), self.marks.value(block, key)
             if key == "ref_cam":
                 pair = self._pair(value, value_mark, "plant.ref_cam", "[start, end]", allow_null=False)
                 if pair is not None:
@@ -387,7 +384,7 @@ class _MachineReader:
                         self.add(value_mark, f"plant.ref_cam [{start}, {end}]: the start of the cam must be"
                                              " below its end")
                     else:
-                        ref_cam = (start, end)
+                        values["ref_cam"] = (start, end)
             elif key == "hw_limits":
                 pair = self._pair(value, value_mark, "plant.hw_limits", "[minus, plus]", allow_null=True)
                 if pair is not None:
@@ -396,11 +393,28 @@ class _MachineReader:
                         self.add(value_mark, f"plant.hw_limits [{minus}, {plus}]: the minus limit switch must"
                                              " be below the plus limit switch")
                     else:
-                        limits = pair
+                        values["hw_limit_minus"], values["hw_limit_plus"] = minus, plus
             else:
-                self.add(block.mark_of_key(key),
-                         f"unknown key '{key}' in plant; allowed: {', '.join(PLANT_KEYS)}")
-        return AxisPlant(ref_cam, limits[0], limits[1])
+                self.add(key_mark, f"unknown key '{key}' in plant; allowed: {', '.join(PLANT_KEYS)}")
+        return values
+
+    def _any_mapping(self, raw: Any, mark: Mark, where: str) -> Mapping[str, Any]:
+        """``raw`` as a mapping (located or built in code); a problem and an empty one otherwise."""
+        if raw is None:
+            return {}
+        if not isinstance(raw, dict):
+            self.add(mark, f"{where}: expected a mapping, got {shown(raw)}")
+            return {}
+        return raw
+
+    def _apply_sim_and_plant(self, entry: _AxisEntry, block: Mapping[str, Any], where: str) -> None:
+        """Read an axis block's ``sim:`` and ``plant:``; the keys written replace the entry's values."""
+        if "sim" in block:
+            sim = self._read_sim(block["sim"], self.marks.value(block, "sim"), f"{where}.sim")
+            entry.sim = dataclasses.replace(entry.sim, **sim)
+        if "plant" in block:
+            plant = self._read_plant(block["plant"], self.marks.value(block, "plant"), f"{where}.plant")
+            entry.plant = dataclasses.replace(entry.plant, **plant)
 
     def _number(self, raw: Any, mark: Mark, what: str) -> float | None:
         number = as_number(raw)
@@ -620,7 +634,13 @@ class _MachineReader:
                     continue
                 block: Mapping[str, Any] = raw or {}
                 scratch = _Instance(instance.level, name, marks.key(overrides, name))
-                self._write_block(block, scratch, _PLACE_IN_OVERRIDES)
+                axis_entry = self.axes.get(name)
+                self._write_block(block, scratch, _PLACE_IN_OVERRIDES,
+                                  extra_keys=("sim", "plant") if axis_entry is not None else ())
+                if axis_entry is not None:
+                    # the slide and the switches of this one test: where the cam sits, where the
+                    # scale's first mark is, where the slide stands at power-on
+                    self._apply_sim_and_plant(axis_entry, block, f"machine_data.{name}")
                 for number, entries in scratch.written.items():
                     instance.written.setdefault(number, {}).update(entries)
         finally:

@@ -222,6 +222,46 @@ def test_overrides_built_in_code_use_the_scenario_file_name() -> None:
         "built.yaml:1:1: MD32000 MAX_AX_VELO = -1: below the minimum 0.0 mm/min"]
 
 
+def test_axis_overrides_may_move_the_slide_and_the_switches(turn_mill: MachineConfig) -> None:
+    overrides = _overrides(
+        "machine_data:\n"
+        "  X1:\n"
+        "    MD34320: [false, true]\n"
+        "    sim: {zero_mark_offset_2: 320.0, start_position: 100}\n"
+        "    plant: {ref_cam: [250.0, 260.0]}\n"
+    )
+    x1 = load_machine(TURN_MILL, overrides, "scenario.yaml").axis("X1")
+    shipped = turn_mill.axis("X1")
+    assert (x1.sim.zero_mark_offset_2, x1.sim.start_position) == (320.0, 100.0)
+    assert x1.sim.zero_mark_offset == shipped.sim.zero_mark_offset  # not written: kept
+    assert x1.plant.ref_cam == (250.0, 260.0)
+    assert (x1.plant.hw_limit_minus, x1.plant.hw_limit_plus) == (shipped.plant.hw_limit_minus,
+                                                                 shipped.plant.hw_limit_plus)
+    assert turn_mill.axis("X1").sim == shipped.sim  # the shipped machine is not touched
+
+
+def test_bad_sim_and_plant_overrides_are_reported_with_the_scenario_marks() -> None:
+    overrides = _overrides(
+        "machine_data:\n"
+        "  X1:\n"
+        "    sim: {start_position: far, encoder_serial: -3, height: 2}\n"
+        "    plant: {ref_cam: [260.0, 250.0], door: 1}\n"
+        "  CHAN1: {sim: {start_position: 1}}\n"
+    )
+    with pytest.raises(SourceError) as error:
+        load_machine(TURN_MILL, overrides, "scenario.yaml")
+    messages = [str(problem) for problem in error.value.problems]
+    assert messages == [
+        "scenario.yaml:3:27: sim.start_position: expected a number, got 'far'",
+        "scenario.yaml:3:48: sim.encoder_serial is a serial number: a whole number >= 0, got -3",
+        "scenario.yaml:3:52: unknown key 'height' in sim; allowed: start_position, zero_mark_offset,"
+        " zero_mark_offset_2, encoder_serial, encoder_serial_2",
+        "scenario.yaml:4:22: plant.ref_cam [260.0, 250.0]: the start of the cam must be below its end",
+        "scenario.yaml:4:38: unknown key 'door' in plant; allowed: ref_cam, hw_limits",
+        "scenario.yaml:5:11: unknown key 'sim'; CHAN1 takes machine data",  # sim and plant are axis keys
+    ]
+
+
 def test_a_missing_file_is_a_problem() -> None:
     with pytest.raises(SourceError) as error:
         load_machine(str(CORPUS / "no_such_machine.yaml"))
