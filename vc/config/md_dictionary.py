@@ -350,7 +350,10 @@ ENC_REFP_MARKER_DIST = MdDef(34300, "ENC_REFP_MARKER_DIST", A, FLOAT, (20.0,) * 
                              "reference mark spacing of a distance-coded scale",
                              "seed 003 L1550-1561; [control] default", "mm", 0.0, 1.0e6, length=2)
 ENC_INVERS = MdDef(34320, "ENC_INVERS", A, BOOL, (False,) * 2,
-                   "length measuring system runs opposite to the machine coordinate system",
+                   "length measuring system runs opposite to the machine coordinate system; the actual"
+                   " value is MD34090 + (or, inverted, -) the scale's distance from its first mark, so the"
+                   " calibration is MD34090 = measured - displayed in both orientations [control]: the"
+                   " seed's table (same: measured + displayed) fits no additive offset",
                    "seed 003 L1404-1407, L1431-1437; [control] default", length=2)
 REFP_STOP_AT_ABS_MARKER = MdDef(34330, "REFP_STOP_AT_ABS_MARKER", A, BOOL, True,
                                 "distance-coded / absolute: 0 = travel to the reference position MD34100,"

@@ -281,7 +281,8 @@ class MachineAxis:
 
     @property
     def software_limits_active(self) -> bool:
-        return self.encoder.referenced and not self.is_spindle
+        """After referencing, and also with a restored position (seed 003 L2777-2778)."""
+        return (self.encoder.referenced or self.encoder.restored) and not self.is_spindle
 
     @property
     def following_error(self) -> float:

@@ -53,37 +53,50 @@ def zero_mark_spacing(axis: AxisConfig, encoder: int = 0) -> float:
 
 @dataclass(frozen=True, slots=True)
 class DistanceCode:
-    """The distance-coded mark layout of a scale (see the module docstring)."""
+    """The distance-coded mark layout of a scale (see the module docstring).
+
+    A scale mounted against the machine coordinates (MD34320 ENC_INVERS = 1) counts its marks
+    from the first mark towards minus: ``orientation`` -1.
+    """
 
     basic: float  # B = MD34300
     increment: float  # I = MD34310
     first_mark: float  # physical position of mark 0
+    orientation: int = 1  # +1: marks counted towards plus; -1: towards minus (inverted scale)
+
+    def scale_offset(self, index: int) -> float:
+        """Distance of mark ``index`` from the first mark, along the scale."""
+        k, odd = divmod(index, 2)
+        return k * self.basic + (self.basic / 2 + (k + 1) * self.increment if odd else 0.0)
 
     def position(self, index: int) -> float:
         """Physical position of mark ``index``."""
-        k, odd = divmod(index, 2)
-        offset = k * self.basic + (self.basic / 2 + (k + 1) * self.increment if odd else 0.0)
-        return self.first_mark + offset
+        return self.first_mark + self.orientation * self.scale_offset(index)
 
     def marks_between(self, start: float, end: float) -> list[int]:
-        """Indices of the marks passed moving from ``start`` to ``end`` (end included), in order."""
-        low, high = (start, end) if end >= start else (end, start)
-        first = max(0, 2 * math.floor((low - self.first_mark) / self.basic) - 2)
+        """Indices of the marks passed moving from ``start`` to ``end`` (end included), in order of passing."""
+        if start == end:
+            return []
+        # The search runs in scale coordinates; the test itself in physical ones, where the
+        # positions were computed the same way as position() computes them (no rounding skew).
+        along_low = min((start - self.first_mark) * self.orientation, (end - self.first_mark) * self.orientation)
+        along_high = max((start - self.first_mark) * self.orientation, (end - self.first_mark) * self.orientation)
+        forward = end > start
         found = []
-        index = first
-        while True:
-            position = self.position(index)
-            if position > high:
-                break
-            if (low < position <= high) if end >= start else (low <= position < high):
+        index = max(0, 2 * math.floor(along_low / self.basic) - 2)
+        while self.scale_offset(index) <= along_high + self.basic:
+            mark = self.position(index)
+            if (start < mark <= end) if forward else (end <= mark < start):
                 found.append(index)
             index += 1
-        return found if end >= start else found[::-1]
+        found.sort(key=self.position, reverse=not forward)
+        return found
 
     def identify(self, gap: float, direction: int) -> int | None:
-        """Index of the first of two adjacent marks crossed in ``direction``, from their distance.
+        """Index of the first of two adjacent marks crossed in ``direction`` (machine coordinates),
+        from their distance.
 
-        Moving plus, the first mark is the lower one; moving minus, the higher one.
+        Moving along the scale, the first mark is the lower one; against it, the higher one.
         None if the distance fits no pair of this scale.
         """
         half = self.basic / 2
@@ -93,7 +106,7 @@ class DistanceCode:
         if (k + 1) * self.increment >= half:
             return None  # no pair of a real scale is that far from B/2
         lower = 2 * k if gap > half else 2 * k + 1  # B/2 + .. follows an even mark, B/2 - .. an odd one
-        return lower if direction > 0 else lower + 1
+        return lower if direction * self.orientation > 0 else lower + 1
 
 
 @dataclass(slots=True)
@@ -119,7 +132,9 @@ class MeasuringSystem:
         mode = md.int(MD.ENC_REFP_MODE, index)
         code = None
         if mode in DISTANCE_CODED_MODES:
-            code = DistanceCode(md.float(MD.ENC_REFP_MARKER_DIST, index), md.float(MD.ENC_MARKER_INC, index), phase)
+            orientation = -1 if md.bool(MD.ENC_INVERS, index) else 1
+            code = DistanceCode(md.float(MD.ENC_REFP_MARKER_DIST, index), md.float(MD.ENC_MARKER_INC, index), phase,
+                                orientation)
         return cls(index, absolute, mode, zero_mark_spacing(axis, index), phase, code, -physical)
 
     def actual(self, physical: float) -> float:

@@ -67,6 +67,7 @@ class _Decoder:
         self.alarm: DecodeAlarm | None = None
         self.dwell_requested = False
         self.reference_requested = False  # G74
+        self.other_g_words = False  # G words besides G74 (a G74 block stands alone)
         self.dwell_value: float | None = None
         self.feed_word: float | None = None
 
@@ -100,6 +101,8 @@ class _Decoder:
 def _g_word(decoder: _Decoder, value: float) -> None:
     code = round(value * 10) / 10
     modal = decoder.modal
+    if code != 74:
+        decoder.other_g_words = True
     if code == 0:
         modal.rapid = True
     elif code == 1:
@@ -185,7 +188,7 @@ def _finish(decoder: _Decoder) -> None:
     if decoder.reference_requested:
         # G74 <axis>=0 ...: reference these axes; the values are not used.  G74 stands in a block of
         # its own (seed 003 L764-781): anything else with it is refused.
-        if not plan.targets or decoder.dwell_requested or decoder.feed_word is not None or \
+        if not plan.targets or decoder.other_g_words or decoder.feed_word is not None or \
                 plan.program_stop or plan.program_end:
             decoder.fail(12080, channel.name, decoder.block.label, "G74")
         plan.reference_axes = tuple(plan.targets)

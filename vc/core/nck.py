@@ -120,9 +120,12 @@ class Nck:
         for channel in self.channels:
             channel.program_cycle(self.cycle)
         self._manual_functions()
+        for watcher in self.referencing.passive_watchers:
+            watcher.cycle()
         if self.referencing.any_active:
             self.referencing.run(self.cycle, {c.name: c.inputs.feed_disable for c in self.channels},
-                                 {c.name: c.inputs.nc_stop or c.inputs.nc_stop_all for c in self.channels})
+                                 {c.name: (c.edges.nc_stop, c.inputs.nc_stop or c.inputs.nc_stop_all, c.edges.nc_start)
+                                  for c in self.channels})
         moved = False
         for axis in self.axes:
             if axis.resting and axis.owner is Owner.NONE:
@@ -236,7 +239,7 @@ class Nck:
         for channel in self.channels:
             allowed = not self.emergency_stop and not channel.is_active and \
                 not self.alarms.reactions(channel.name) & STOP_AXES
-            self.referencing.traverse_keys(channel.axes, allowed and reference_keys, self.cycle)
+            self.referencing.traverse_keys(channel.name, channel.axes, allowed and reference_keys, self.cycle)
             feed_disable = channel.inputs.feed_disable
             for axis in channel.axes:
                 if not axis.is_spindle:

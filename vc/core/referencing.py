@@ -17,8 +17,8 @@ Incremental measuring system with zero marks (MD34200 = 1), phases of §4.5::
                  ─cam falls, MD34050=1 (rising edge)─▶ P2_BRAKE_OFF_CAM ─▶ P2_RETURN_TO_CAM
     P2_RETURN_TO_CAM ─cam rises─▶ P2_ZERO_MARK
     P2_ZERO_MARK ─zero mark (after the cam shift MD34092)─▶ P3_TO_POINT
-    P3_TO_POINT ─at zero mark + MD34080 + MD34090 (braking and returning if it is too
-                 close or behind)─▶ SETTLE ─exact stop fine─▶ actual := MD34100[n], DONE
+    P2_ZERO_MARK ─MD34080 + MD34090 shorter than the braking distance at MD34070─▶ P3_STOP ─▶ P3_TO_POINT
+    P3_TO_POINT ─at zero mark + MD34080 + MD34090─▶ SETTLE ─exact stop fine─▶ actual := MD34100[n], DONE
 
 Distance-coded (MD34200 = 3 / 8, §4.6)::
 
@@ -53,7 +53,7 @@ from vc.core.encoder import (
     ENC_STATE_RESTORE,
     MeasuringSystem,
 )
-from vc.core.motion import ramp, stopping_velocity
+from vc.core.motion import braking_distance, ramp, stopping_velocity
 from vc.core.nc_memory import BufferedEncoder, NcMemory
 
 ALARM_CAM_NOT_REACHED = 20000
@@ -80,6 +80,7 @@ class State(Enum):
     P2_BRAKE_OFF_CAM = "phase 2: braking off the cam"
     P2_RETURN_TO_CAM = "phase 2: back to the cam"
     P2_ZERO_MARK = "phase 2: waiting for the zero mark"
+    P3_STOP = "phase 3: stopping after the zero mark (reference point too close)"
     P3_TO_POINT = "phase 3: to the reference point"
     DC_SEARCH = "distance-coded: crossing reference marks"
     DC_REVERSE = "distance-coded: reversing"
@@ -93,7 +94,7 @@ class State(Enum):
 _PHASE = {
     State.P1_TO_CAM: 1, State.P1_BRAKE: 1,
     State.P2_LEAVE_CAM: 2, State.P2_BRAKE_OFF_CAM: 2, State.P2_RETURN_TO_CAM: 2, State.P2_ZERO_MARK: 2,
-    State.P3_TO_POINT: 3, State.SETTLE: 3,
+    State.P3_STOP: 3, State.P3_TO_POINT: 3, State.SETTLE: 3,
     State.DC_SEARCH: 1, State.DC_REVERSE: 1, State.DC_BRAKE: 1, State.TO_TARGET: 3,
 }
 
@@ -147,7 +148,7 @@ class CycleConditions:
     """What the NC tells the referencing of one axis in this cycle."""
 
     feed_stop: bool  # channel feed disable or axis feed stop
-    nc_stop: bool  # NC stop of the channel (acts in phases 1 and 3)
+    nc_stop: bool  # NC stop of the channel is held (latched in phases 1 and 3 until NC start)
     key_held: bool  # the traverse key of the started direction (hold mode)
 
 
@@ -199,7 +200,11 @@ class AxisReferencing:
 
     @property
     def phase(self) -> int:
-        return _PHASE.get(self.state, 0)
+        """The phase whose properties apply (override, NC stop): §4.5.4-4.5.6, §4.6.5."""
+        phase = _PHASE.get(self.state, 0)
+        if phase == 3 and self.encoder.mode in DISTANCE_CODED_MODES and self._data.with_cam:
+            return 2  # distance-coded with a cam: the travel to the target behaves like phase 2 (L1633-1646)
+        return phase
 
     # ------------------------------------------------------------------ start and abort
     def start(self, source: Source, key_direction: int = 0) -> bool:
@@ -221,6 +226,8 @@ class AxisReferencing:
         self._calibrating = False
         self._last_physical = axis.physical
         if axis.follow_up and data.in_follow_up:
+            if encoder.referenced and source is not Source.G74:
+                return False  # a referenced system is referenced again in follow-up only with G74 (L1892-1896)
             self._begin(State.FOLLOW_UP, take=False)
             self._direction = key_direction or data.direction
             return True
@@ -452,6 +459,11 @@ class AxisReferencing:
             reference_point = mark + direction * data.move_distance
             self._target = reference_point + self.encoder.offset
             self._target_actual = data.set_positions[self._selection]
+            if data.move_distance < braking_distance(data.positioning_velocity, self.axis.dyn.max_accel):
+                # L1341-1351: MD34080 + MD34090 shorter than the braking distance at MD34070 (or the
+                # reference point behind): the axis stops after the zero mark, then travels to the point.
+                self.state = State.P3_STOP
+                return
             self.state = State.P3_TO_POINT
             self._p3_to_point(moved_from, physical, hold, 1.0)
             return
@@ -459,6 +471,11 @@ class AxisReferencing:
             self.abort(ALARM_ZERO_MARK_MISSING)
             return
         self._run(direction, data.creep_velocity, hold)
+
+    def _p3_stop(self, moved_from: float, physical: float, hold: bool, override: float) -> None:
+        """Phase 3, special case: brake to standstill after the zero mark before positioning."""
+        if self._brake():
+            self.state = State.P3_TO_POINT
 
     def _p3_to_point(self, moved_from: float, physical: float, hold: bool, override: float) -> None:
         """Phase 3: travel MD34080 + MD34090 from the zero mark at MD34070 and stop there."""
@@ -489,7 +506,7 @@ class AxisReferencing:
         encoder.restored = False
         if self._data.sync_encoders:
             for other in axis.encoders:
-                if other is not encoder:
+                if other is not encoder and not passive_distance_coded(axis, other, self.md):
                     other.set_actual(axis.physical, encoder.actual(axis.physical))  # MD34102 (§4.7)
         index = self._encoder_index()
         if not encoder.absolute and self.md.int(MD.ENC_REFP_STATE, index) == ENC_STATE_CALIBRATION_ENABLED:
@@ -557,21 +574,10 @@ class AxisReferencing:
 
     def _decode_marks(self) -> bool:
         """Absolute position from the crossed marks; False if they do not fit the scale."""
-        code = self.encoder.distance_code
-        assert code is not None
-        direction = self._direction
-        first = code.identify(abs(self._marks[1] - self._marks[0]), direction)
-        if first is None:
+        value = decode_marks(self.encoder, self._marks, self._direction, self.md)
+        if value is None:
             return False
-        step = 1 if direction > 0 else -1
-        for number, mark in enumerate(self._marks):
-            if abs(code.position(first + number * step) - mark) > code.increment / 4:
-                return False  # the 4-mark plausibility check (MD34200 = 8)
         encoder = self.encoder
-        index = self._encoder_index()
-        inverted = self.md.bool(MD.ENC_INVERS, index)
-        scale_position = self._marks[0] - code.first_mark
-        value = (-scale_position if inverted else scale_position) + self.md.float(MD.REFP_MOVE_DIST_CORR, index)
         encoder.offset = value - self._marks[0]  # the actual value system is synchronised (L1570-1572)
         if encoder is self.axis.encoder:
             self.axis.shift(encoder.actual(self.axis.physical) - self.axis.actual)
@@ -592,6 +598,9 @@ class AxisReferencing:
         """§4.8: the slide is moved from outside (servo off); crossing the marks references the encoder."""
         encoder = self.encoder
         data = self._data
+        if not self.axis.follow_up:
+            self.state = State.IDLE  # follow-up cancelled: the procedure ends, not referenced (L1884-1890)
+            return
         if physical == moved_from:
             return
         direction = 1 if physical > moved_from else -1
@@ -621,6 +630,7 @@ _HANDLERS = {
     State.P2_BRAKE_OFF_CAM: AxisReferencing._p2_brake_off_cam,
     State.P2_RETURN_TO_CAM: AxisReferencing._p2_return_to_cam,
     State.P2_ZERO_MARK: AxisReferencing._p2_zero_mark,
+    State.P3_STOP: AxisReferencing._p3_stop,
     State.P3_TO_POINT: AxisReferencing._p3_to_point,
     State.TO_TARGET: AxisReferencing._to_target,
     State.SETTLE: AxisReferencing._settle,
@@ -706,3 +716,68 @@ def encoder_slip(axis: MachineAxis, encoder_index: int, amount: float, memory: N
                            channel=axis.channel, axis=axis.name)
     if encoder is axis.encoder:
         axis.shift(encoder.actual(axis.physical) - axis.actual)
+
+
+# ---------------------------------------------------------------------------------- passive scales
+PASSIVE_REFERENCED_BY_MARKS = 2  # MD30242: a passive encoder, not independent
+
+
+def passive_distance_coded(axis: MachineAxis, encoder: MeasuringSystem, md: MachineData) -> bool:
+    """A passive distance-coded measuring system that references itself by crossing its marks
+    (MD30242 = 2, MD34200 = 3 or 8; seed 003 L1727-1780, L5931-5943)."""
+    return (encoder is not axis.encoder and encoder.mode in DISTANCE_CODED_MODES
+            and md.int(MD.ENC_IS_INDEPENDENT, encoder.index) == PASSIVE_REFERENCED_BY_MARKS)
+
+
+class PassiveMarkWatcher:
+    """Watches a passive distance-coded scale while the axis moves for any reason; once it has
+    crossed its marks (2 or 4, in one direction) the scale knows its position: referenced.
+
+    The seed's sequence (L1766-1780): first the active system is referenced (60.4 = 1, 60.5 = 0),
+    then traversing the marks references the passive one; so the watcher counts marks only
+    while the active system is referenced."""
+
+    def __init__(self, axis: MachineAxis, encoder: MeasuringSystem, md: MachineData):
+        self.axis = axis
+        self.encoder = encoder
+        self._md = md
+        self._last = axis.physical
+        self._direction = 0
+        self._marks: list[float] = []
+
+    def cycle(self) -> None:
+        encoder, physical = self.encoder, self.axis.physical
+        moved_from, self._last = self._last, physical
+        if encoder.referenced or physical == moved_from or encoder is self.axis.encoder:
+            return
+        if not self.axis.encoder.referenced:
+            self._marks = []
+            return
+        direction = 1 if physical > moved_from else -1
+        if direction != self._direction:
+            self._direction, self._marks = direction, []
+        for mark in encoder.coded_marks_between(moved_from, physical):
+            self._marks.append(mark)
+            if len(self._marks) == (4 if encoder.mode == 8 else 2):
+                value = decode_marks(encoder, self._marks, direction, self._md)
+                if value is not None:
+                    encoder.set_actual(self._marks[0], value)
+                self._marks = []
+                return
+
+
+def decode_marks(encoder: MeasuringSystem, marks: list[float], direction: int, md: MachineData) -> float | None:
+    """The actual value at the first of ``marks`` (crossed in ``direction``), or None if they do not fit."""
+    code = encoder.distance_code
+    assert code is not None
+    first = code.identify(abs(marks[1] - marks[0]), direction)
+    if first is None:
+        return None
+    step = 1 if direction * code.orientation > 0 else -1
+    for number, mark in enumerate(marks):
+        if abs(code.position(first + number * step) - mark) > code.increment / 4:
+            return None  # the 4-mark plausibility check (MD34200 = 8)
+    # The scale reads its distance from its first mark; counted against the machine coordinates
+    # (MD34320) it enters the actual value with a minus sign (seed 003 L1404-1407, L1431-1437).
+    scale_position = code.scale_offset(first)
+    return code.orientation * scale_position + md.float(MD.REFP_MOVE_DIST_CORR, encoder.index)

@@ -20,7 +20,13 @@ from vc.config.model import ChannelConfig, MachineConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis import MachineAxis
 from vc.core.nc_memory import NcMemory
-from vc.core.referencing import AxisReferencing, CycleConditions, Source
+from vc.core.referencing import (
+    AxisReferencing,
+    CycleConditions,
+    PassiveMarkWatcher,
+    Source,
+    passive_distance_coded,
+)
 
 ALARM_INCLINED_ORDER = 65820
 
@@ -34,8 +40,16 @@ class ReferencingControl:
             axis.name: AxisReferencing(axis, memory, hold_mode, dt, alarms) for axis in axes if not axis.is_spindle
         }
         self._axes = {axis.name: axis for axis in axes}
-        self._keys = {name: (False, False) for name in self.of}
+        self._running: list[AxisReferencing] = []  # procedures started and not yet ended
+        self._keys = {name: (True, True) for name in self.of}  # as if held: a key must be pressed anew
+        self._keys_followed: set[str] = set()  # channels whose keys are followed (REF allows them)
         self._key_direction = {name: 0 for name in self.of}
+        self._nc_stopped: set[str] = set()  # axes held by NC stop until NC start (phases 1 and 3)
+        self.passive_watchers = [
+            PassiveMarkWatcher(axis, encoder, memory.view(axis.name, axis.config.md))
+            for axis in axes for encoder in axis.encoders
+            if passive_distance_coded(axis, encoder, memory.view(axis.name, axis.config.md))
+        ]
         self._inclined_before: dict[str, str] = {}  # orthogonal axis -> inclined axis that must come first
         for channel in machine.channels:
             pair = inclined_pair(channel)
@@ -45,7 +59,7 @@ class ReferencingControl:
 
     @property
     def any_active(self) -> bool:
-        return any(procedure.active for procedure in self.of.values())
+        return bool(self._running)
 
     def start(self, axis: str, source: Source, direction: int, cycle: int) -> bool:
         """Start referencing ``axis``; False if it cannot start now (order, enable, wrong key)."""
@@ -54,13 +68,28 @@ class ReferencingControl:
             channel = self._axes[axis].channel
             self._alarms.raise_alarm(ALARM_INCLINED_ORDER, cycle, channel, axis, inclined, channel=channel, axis=axis)
             return False
-        started = self.of[axis].start(source, direction)
+        procedure = self.of[axis]
+        started = procedure.start(source, direction)
         if started:
             self._key_direction[axis] = direction
+            if procedure.active and procedure not in self._running:
+                self._running.append(procedure)
         return started
 
-    def traverse_keys(self, axes: Sequence[MachineAxis], allowed: bool, cycle: int) -> None:
-        """JOG-REF / MDA-REF: a traverse key starts referencing of its axis (rising edge)."""
+    def traverse_keys(self, channel: str, axes: Sequence[MachineAxis], allowed: bool, cycle: int) -> None:
+        """JOG-REF / MDA-REF: a traverse key starts referencing of its axis (rising edge).
+
+        Outside REF the keys are not followed; a key already held when REF comes must be
+        pressed anew to start referencing.
+        """
+        if not allowed:
+            if channel in self._keys_followed:
+                self._keys_followed.discard(channel)
+                for axis in axes:
+                    if axis.name in self._keys:
+                        self._keys[axis.name] = (True, True)
+            return
+        self._keys_followed.add(channel)
         for axis in axes:
             procedure = self.of.get(axis.name)
             if procedure is None:
@@ -68,25 +97,40 @@ class ReferencingControl:
             plus, minus = axis.inputs.key_plus, axis.inputs.key_minus
             was_plus, was_minus = self._keys[axis.name]
             self._keys[axis.name] = (plus, minus)
-            if not allowed or procedure.active:
+            if procedure.active:
                 continue
             direction = 1 if plus and not was_plus else (-1 if minus and not was_minus else 0)
             if direction:
                 self.start(axis.name, Source.KEY, direction, cycle)
 
-    def run(self, cycle: int, channel_feed_disable: dict[str, bool], channel_nc_stop: dict[str, bool]) -> None:
-        """One cycle of every running procedure (before the axes' control loops)."""
-        for name, procedure in self.of.items():
+    def run(self, cycle: int, channel_feed_disable: dict[str, bool],
+            channel_nc_stop: dict[str, tuple[bool, bool, bool]]) -> None:
+        """One cycle of every running procedure (before the axes' control loops).
+
+        ``channel_nc_stop`` per channel: (NC stop edge, NC stop level, NC start edge).  NC stop
+        acts in phases 1 and 3 only and holds the axis until NC start (seed 003 L1044, L1339).
+        """
+        for procedure in list(self._running):
             if not procedure.active:
+                self._running.remove(procedure)
+                self._nc_stopped.discard(procedure.axis.name)
                 continue
             axis = procedure.axis
-            key = self._key_direction[name]
+            key = self._key_direction[axis.name]
+            stop_edge, stop_level, start_edge = channel_nc_stop.get(axis.channel, (False, False, False))
+            if stop_edge and procedure.phase in (1, 3):
+                self._nc_stopped.add(axis.name)
+            elif start_edge and not stop_level:
+                self._nc_stopped.discard(axis.name)
             conditions = CycleConditions(
                 feed_stop=axis.inputs.feed_stop or channel_feed_disable.get(axis.channel, False),
-                nc_stop=channel_nc_stop.get(axis.channel, False),
+                nc_stop=axis.name in self._nc_stopped and procedure.phase in (1, 3),
                 key_held=(axis.inputs.key_plus if key > 0 else axis.inputs.key_minus) if key else False,
             )
             procedure.cycle(cycle, conditions)
+            if not procedure.active:
+                self._running.remove(procedure)
+                self._nc_stopped.discard(axis.name)
 
     def abort_channel(self, channel: str) -> None:
         """Channel or mode-group reset: unfinished axes stay unreferenced (seed 003 L614-626)."""

@@ -1,7 +1,7 @@
 """Scenarios: YAML files that drive a simulated machine headless and check what it does.
 
 A scenario names a machine and a PLC, then lists steps that run one after the other.  Time
-passes only in steps that take time (``press``, ``pulse``, ``wait``); everything else happens
+passes only in steps that take time (``press``, ``pulse``, ``wait``, ``power_cycle``); everything else happens
 between two IPO cycles.  Every file of a run is checked completely before anything runs.
 User documentation with examples: ``docs/scenarios.md``.
 
@@ -12,6 +12,7 @@ File grammar (``[...]`` = optional)::
     machine: PATH                     required; machine file, relative to this file
     plc: PROGRAM | none               required; a built-in PLC program, or none = the steps act as the PLC
     [machine_data: {INSTANCE: {MD: VALUE}}]   INSTANCE = axis, channel or NC (checked like the machine file)
+    [plc_parameters: {NAME: VALUE}]   over the machine file's plc: section; the PLC program checks them
     [timeout: DURATION]               limit of simulated time for the whole scenario, default 300 s
     [invariants: [CONDITION, ...]]    must hold after every IPO cycle
     steps: [STEP, ...]                required, at least one
@@ -31,11 +32,16 @@ File grammar (``[...]`` = optional)::
       expect_no_alarm: NUMBER | all | {number: NUMBER, axis: AXIS | channel: CHANNEL}
       expect_order: [EVENT, EVENT, ...]                  two or more
       expect_timing: {from: EVENT, to: EVENT, min: DURATION, max: DURATION}    min, max or both
+      power_cycle: DURATION | {off: DURATION}            machine off and on again (default 1 s off)
+      fault: {axis: AXIS, kind: FAULT, [from: X, to: X], [by: X], [encoder: 1|2]}   vc.scenario.target.FAULTS
+      clear_faults: AXIS
+      move_by_hand: {axis: AXIS, velocity: NUMBER}       the slide moved from outside (servo off); 0 stops
 
     KEYS, NAMES   a name or a list of names
     NAME          signal symbol (X1.basic.in.enc1Synchronized) or absolute address (DB31.DBX60.4,
                   DB21.DBB4, DB31.DBD88); plant I/O name (MCP.jog) or address (I0.3);
-                  AXIS.QUANTITY (X1.position, see vc.scenario.target.AXIS_QUANTITIES); time
+                  AXIS.QUANTITY (X1.position, see vc.scenario.target.AXIS_QUANTITIES);
+                  INSTANCE.MD<number>[<index>] (X1.MD34210: as the control holds it now); time
     DURATION      20ms, 2s, 1.5 s, 1min, 500us, or a number of seconds
     VALUE         a number, true or false; checked against the signal's type
     EXPECTED      1, true (exact); 99.5 (within 1e-9); "100 +- 0.001" or "100 ± 0.001" (bounds
