@@ -171,6 +171,8 @@ ROT_IS_MODULO = MdDef(30310, "ROT_IS_MODULO", A, BOOL, False, "modulo conversion
 MODULO_RANGE = MdDef(30330, "MODULO_RANGE", A, FLOAT, 360.0, "size of the modulo range",
                      "seed 003 L1662-1663",
                      "deg", 1.0, 360000.0)
+MODULO_RANGE_START = MdDef(30340, "MODULO_RANGE_START", A, FLOAT, 0.0, "start of the modulo range",
+                           "seed 003 L1662-1663; [control] default", "deg", -360000.0, 360000.0)
 ENC_TYPE = MdDef(30240, "ENC_TYPE", A, INT, (1,) * 2, "encoder type: 0 = simulated, 1 = incremental, 4 = absolute",
                  "seed 003 L2363-2365, L5881-5883", "", 0, 4, allowed=(0, 1, 4), length=2)
 ENC_RESOL = MdDef(31020, "ENC_RESOL", A, INT, (2048,) * 2, "encoder lines per revolution", "seed 003 L2533", "",

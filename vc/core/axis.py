@@ -171,6 +171,9 @@ class MachineAxis:
         self.area_key = f"DB{config.db}"
         self.channel = channel
         self.dyn = dynamics_of(config)
+        md = config.md
+        self.modulo_range = ((md.float(MD.MODULO_RANGE_START), md.float(MD.MODULO_RANGE))
+                             if config.is_rotary and md.bool(MD.ROT_IS_MODULO) else None)
         self._signals = signals
         self._area = area
         self._dt = dt
@@ -298,6 +301,15 @@ class MachineAxis:
     @property
     def display_velocity(self) -> float:
         return self.velocity * self.dyn.display_velocity_factor
+
+    def shown(self, position: float) -> float:
+        """A position as the NC shows it: on a modulo rotary axis (MD30310) inside the modulo
+        range MD30340 .. MD30340 + MD30330.  The NC itself counts on without a jump, so a move
+        across the range end stays one continuous move."""
+        if self.modulo_range is None:
+            return position
+        start, size = self.modulo_range
+        return start + (position - start) % size
 
     @property
     def at_rest(self) -> bool:

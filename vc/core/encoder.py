@@ -14,7 +14,9 @@ Kinds (MD30240 ENC_TYPE, MD34200 ENC_REFP_MODE):
   mark 2k at ``k*B``, mark 2k+1 at ``k*B + B/2 + (k+1)*I`` with B = MD34300 (basic
   distance) and I = MD34310 (interval increment).  Adjacent marks are therefore
   ``B/2 + (k+1)*I`` or ``B/2 - (k+1)*I`` apart, and one measured gap identifies k: two
-  crossed marks give the absolute position (seed 003 §4.6, L1376-1384).
+  crossed marks give the absolute position (seed 003 §4.6, L1376-1384).  A rotary encoder
+  repeats the code every turn of the encoder (360 degrees direct, ``360 * MD31050 / MD31060``
+  on the motor); B should divide that turn, as it does on real encoders.
 * absolute (ENC_TYPE 4): the encoder reports its position (its zero at the slide's physical
   zero); MD34090 is the offset from the encoder's zero to machine zero, valid once
   calibrated (MD34210 = 2).
@@ -53,21 +55,38 @@ def zero_mark_spacing(axis: AxisConfig, encoder: int = 0) -> float:
 
 @dataclass(frozen=True, slots=True)
 class DistanceCode:
-    """The distance-coded mark layout of a scale (see the module docstring).
+    """The distance-coded mark layout of a scale or a rotary encoder (see the module docstring).
 
     A scale mounted against the machine coordinates (MD34320 ENC_INVERS = 1) counts its marks
-    from the first mark towards minus: ``orientation`` -1.
+    from the first mark towards minus: ``orientation`` -1.  A rotary encoder repeats its code
+    every turn (``period``, degrees of the axis), so its marks tell the position within one turn
+    only (seed 003 L1653-1656); a linear scale has no period and no marks before its first.
     """
 
     basic: float  # B = MD34300
     increment: float  # I = MD34310
     first_mark: float  # physical position of mark 0
     orientation: int = 1  # +1: marks counted towards plus; -1: towards minus (inverted scale)
+    period: float | None = None  # one encoder turn on a rotary axis; None: a linear scale
+
+    @property
+    def marks_per_period(self) -> int:
+        assert self.period is not None
+        return 2 * max(1, round(self.period / self.basic))
 
     def scale_offset(self, index: int) -> float:
-        """Distance of mark ``index`` from the first mark, along the scale."""
+        """Distance of mark ``index`` from the first mark, along the scale (or the turns of the encoder)."""
+        turns = 0
+        if self.period is not None:
+            turns, index = divmod(index, self.marks_per_period)
         k, odd = divmod(index, 2)
-        return k * self.basic + (self.basic / 2 + (k + 1) * self.increment if odd else 0.0)
+        within = k * self.basic + (self.basic / 2 + (k + 1) * self.increment if odd else 0.0)
+        return within + turns * self.period if self.period is not None else within
+
+    def reading(self, index: int) -> float:
+        """What the encoder knows at mark ``index``: its distance from the first mark within one turn."""
+        offset = self.scale_offset(index)
+        return offset % self.period if self.period is not None else offset
 
     def position(self, index: int) -> float:
         """Physical position of mark ``index``."""
@@ -83,7 +102,13 @@ class DistanceCode:
         along_high = max((start - self.first_mark) * self.orientation, (end - self.first_mark) * self.orientation)
         forward = end > start
         found = []
-        index = max(0, 2 * math.floor(along_low / self.basic) - 2)
+        index = 2 * math.floor(along_low / self.basic) - 2
+        if self.period is None:
+            index = max(0, index)
+        else:
+            turns = math.floor(along_low / self.period)
+            index = turns * self.marks_per_period + max(0, 2 * math.floor((along_low - turns * self.period)
+                                                                            / self.basic) - 2)
         while self.scale_offset(index) <= along_high + self.basic:
             mark = self.position(index)
             if (start < mark <= end) if forward else (end <= mark < start):
@@ -105,6 +130,8 @@ class DistanceCode:
             return None
         if (k + 1) * self.increment >= half:
             return None  # no pair of a real scale is that far from B/2
+        if self.period is not None and 2 * k + 1 >= self.marks_per_period:
+            return None  # more pairs than one turn of the encoder holds
         lower = 2 * k if gap > half else 2 * k + 1  # B/2 + .. follows an even mark, B/2 - .. an odd one
         return lower if direction * self.orientation > 0 else lower + 1
 
@@ -134,7 +161,7 @@ class MeasuringSystem:
         if mode in DISTANCE_CODED_MODES:
             orientation = -1 if md.bool(MD.ENC_INVERS, index) else 1
             code = DistanceCode(md.float(MD.ENC_REFP_MARKER_DIST, index), md.float(MD.ENC_MARKER_INC, index), phase,
-                                orientation)
+                                orientation, zero_mark_spacing(axis, index) if axis.is_rotary else None)
         return cls(index, absolute, mode, zero_mark_spacing(axis, index), phase, code, -physical)
 
     def actual(self, physical: float) -> float:

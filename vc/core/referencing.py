@@ -64,6 +64,7 @@ ALARM_REFERENCE_MARK_MISSING = 20004
 ALARM_APPROACH_ABORTED = 20005
 ALARM_ZERO_MARK_MONITORING = 25020
 ALARM_ENCODER_WARNING = 25022
+MISC_MODULO_REFERENCE = 1 << 1  # MD30455 bit 1: distance-coded rotary reference into the modulo range
 
 
 class Source(Enum):
@@ -775,9 +776,22 @@ def decode_marks(encoder: MeasuringSystem, marks: list[float], direction: int, m
         return None
     step = 1 if direction * code.orientation > 0 else -1
     for number, mark in enumerate(marks):
-        if abs(code.position(first + number * step) - mark) > code.increment / 4:
+        expected = code.position(first + number * step) - code.position(first)
+        if abs(expected - (mark - marks[0])) > code.increment / 4:
             return None  # the 4-mark plausibility check (MD34200 = 8)
     # The scale reads its distance from its first mark; counted against the machine coordinates
     # (MD34320) it enters the actual value with a minus sign (seed 003 L1404-1407, L1431-1437).
-    scale_position = code.scale_offset(first)
-    return code.orientation * scale_position + md.float(MD.REFP_MOVE_DIST_CORR, encoder.index)
+    value = code.orientation * code.reading(first) + md.float(MD.REFP_MOVE_DIST_CORR, encoder.index)
+    return modulo_reference_position(value, md)
+
+
+def modulo_reference_position(value: float, md: MachineData) -> float:
+    """A rotary encoder knows its position within one turn only; on a modulo rotary axis
+    (MD30310) or with MD30455 bit 1 the NC maps it into the modulo range MD30330/MD30340
+    (seed 003 L1653-1670).  Elsewhere the value stands as decoded."""
+    if not md.bool(MD.IS_ROT_AX):
+        return value
+    if not (md.bool(MD.ROT_IS_MODULO) or md.int(MD.MISC_FUNCTION_MASK) & MISC_MODULO_REFERENCE):
+        return value
+    start, size = md.float(MD.MODULO_RANGE_START), md.float(MD.MODULO_RANGE)
+    return start + (value - start) % size

@@ -182,9 +182,9 @@ class Simulation:
     def axis_quantity(self, axis: str, quantity: str) -> float:
         item = self.nck.axes_by_name[axis]
         if quantity == "position":
-            return item.actual
+            return item.shown(item.actual)
         if quantity == "setpoint":
-            return item.setpoint
+            return item.shown(item.setpoint)
         if quantity == "velocity":
             return item.display_velocity
         if quantity == "followingError":

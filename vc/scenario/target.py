@@ -17,8 +17,9 @@ from vc.config.model import MachineConfig
 from vc.core.alarms import Alarm
 
 # Quantities of an axis or spindle that scenarios may read besides interface signals:
-#   position        actual position the NC shows (machine coordinate system), mm or degrees
-#   setpoint        position setpoint of the interpolator
+#   position        actual position the NC shows (machine coordinate system), mm or degrees;
+#                   a modulo rotary axis (MD30310) shows it inside its modulo range
+#   setpoint        position setpoint of the interpolator, shown like position
 #   velocity        actual velocity, mm/min (linear) or rev/min (rotary and spindles)
 #   followingError  setpoint minus actual position
 #   physical        true position of the slide in the simulated machine (plant), mm or degrees

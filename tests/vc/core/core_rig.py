@@ -30,6 +30,7 @@ from vc.located_yaml import load_text
 ROOT = Path(__file__).resolve().parents[3]
 TURN_MILL = str(ROOT / "scenarios" / "machines" / "turn_mill.yaml")
 MILL = str(ROOT / "scenarios" / "machines" / "mill_3axis.yaml")
+FIVE_AXIS = str(ROOT / "scenarios" / "machines" / "mill_5axis.yaml")
 
 DT = 0.002  # s, IPO cycle of both shipped machines (MD10050 x MD10070)
 # No NC start lock, X1 with a calibrated absolute encoder: referenced at power-on.

@@ -12,7 +12,7 @@ the built-in basic_machine PLC so that the switch travels plant -> PLC -> DB31.D
 from __future__ import annotations
 
 import pytest
-from core_rig import ABSOLUTE_X1, DT, Rig, machine, with_start_position
+from core_rig import ABSOLUTE_X1, DT, FIVE_AXIS, Rig, machine, with_start_position
 
 JOG_V = 2000.0 / 60.0  # mm/s, MD32020
 A = 4000.0  # mm/s^2, MD32300
@@ -435,3 +435,29 @@ def test_jerk_filter_moving_average_ends_the_block_about_the_filter_time_later()
     filtered = block_cycles("CHAN1: {MD20700: 0}\nX1: {MD30240: [4], MD34210: [2], MD32400: 1, MD32402: 2,"
                             " MD32410: 0.016}")
     assert 7 - 2 <= filtered - plain <= 8 + 2
+
+
+# ------------------------------------------------------------------------------ modulo rotary axis
+
+
+def test_a_modulo_rotary_axis_shows_its_position_inside_the_modulo_range() -> None:
+    # mill_5axis C1: MD30310 = 1, 0 .. 360; JOG at MD32020 = 5 rev/min = 30 deg/s from 350
+    rig = Rig(machine("CHAN1: {MD20700: 0}\nC1: {sim: {start_position: 350.0}}", FIVE_AXIS))
+    rig.enable_axes()
+    rig.select_mode("jog")
+    rig.step(3)
+    c1 = rig.axis("C1")
+    c1.synchronise(c1.encoder, c1.physical, 350.0)
+    hold(rig, "C1", "Plus", 500)  # 1 s: 30 deg
+    assert c1.actual > 360.0  # the NC counts on: one continuous move
+    assert rig.sim.axis_quantity("C1", "position") == pytest.approx(c1.actual - 360.0)
+    assert 0.0 <= rig.sim.axis_quantity("C1", "setpoint") < 360.0
+    assert rig.sim.axis_quantity("C1", "physical") == pytest.approx(c1.physical)
+
+
+def test_a_rotary_axis_without_modulo_shows_its_position_as_it_is() -> None:
+    rig = Rig(machine("", FIVE_AXIS))
+    a1 = rig.axis("A1")
+    assert a1.modulo_range is None
+    assert a1.shown(725.0) == 725.0
+    assert rig.axis("C1").shown(-10.0) == pytest.approx(350.0)

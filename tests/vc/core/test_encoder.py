@@ -8,7 +8,7 @@ Turn-mill X1: MD31030 = 10 mm pitch, motor encoder, ratio 1:1, zero marks at ...
 from __future__ import annotations
 
 import pytest
-from core_rig import Rig, machine
+from core_rig import FIVE_AXIS, Rig, machine
 from hypothesis import given
 from hypothesis import strategies as st
 
@@ -117,6 +117,51 @@ def test_a_gap_that_fits_no_pair_is_not_identified() -> None:
     assert CODE.identify(10.0, 1) is None  # exactly B/2: no pair has it
     assert CODE.identify(10.031, 1) is None  # between 10.02 and 10.04
     assert CODE.identify(25.0, 1) is None
+
+
+# A rotary encoder with 36 marks a turn (B = 20 deg, I = 0.02 deg), first mark at 200 deg.
+ROTARY = DistanceCode(20.0, 0.02, 200.0, period=360.0)
+
+
+def test_a_rotary_code_repeats_every_turn() -> None:
+    assert ROTARY.marks_per_period == 36
+    assert ROTARY.position(26) == pytest.approx(460.0)  # 13 x 20 from the first mark
+    assert ROTARY.position(26 + 36) == pytest.approx(820.0)  # the same mark one turn on
+    assert ROTARY.position(26 - 36) == pytest.approx(100.0)  # ... and one turn back
+    assert ROTARY.position(26 - 72) == pytest.approx(-260.0)  # ... and two
+    assert ROTARY.reading(26 - 72) == pytest.approx(260.0)  # the encoder cannot tell the turns apart
+    # the last mark of a turn (35: 340 + 10 + 18 x 0.02 = 350.36) and the first of the next
+    assert ROTARY.position(35) == pytest.approx(550.36)
+    assert ROTARY.position(36) == pytest.approx(560.0)
+    assert ROTARY.marks_between(95.0, 111.0) == [-10, -9]  # 100 and 110.28
+    assert ROTARY.marks_between(111.0, 95.0) == [-9, -10]
+    assert ROTARY.marks_between(545.0, 565.0) == [35, 36]
+
+
+@given(st.integers(min_value=-200, max_value=200), st.sampled_from([1, -1]))
+def test_rotary_marks_identify_their_place_in_the_turn_across_turn_ends(first: int, direction: int) -> None:
+    lower, upper = ROTARY.position(first), ROTARY.position(first + 1)
+    crossed_first = first if direction > 0 else first + 1
+    identified = ROTARY.identify(upper - lower, direction)
+    assert identified is not None
+    assert ROTARY.reading(identified) == pytest.approx(ROTARY.reading(crossed_first))
+
+
+def test_a_gap_of_more_pairs_than_one_turn_holds_is_not_identified() -> None:
+    # 18 pairs a turn: B/2 + 18 I = 10.36 is the widest; 10.38 would be pair 19
+    assert ROTARY.identify(10.36, 1) == 34
+    assert ROTARY.identify(10.38, 1) is None
+    assert DistanceCode(20.0, 0.02, 200.0).identify(10.38, 1) == 36  # a linear scale goes on
+
+
+def test_a_rotary_distance_coded_encoder_gets_the_period_of_one_encoder_turn() -> None:
+    direct = machine("", FIVE_AXIS).axis("C1")  # MD31040 = 1: on the table
+    assert MeasuringSystem.for_axis(direct, 0, 95.0, 200.0).distance_code == DistanceCode(
+        20.0, 0.02, 200.0, 1, 360.0)
+    # a motor encoder behind 3:1 turns once for 120 deg of the axis
+    geared = machine("C1: {MD31040: [0], MD31060: [3, 3, 3, 3, 3, 3]}", FIVE_AXIS).axis("C1")
+    code = MeasuringSystem.for_axis(geared, 0, 95.0, 200.0).distance_code
+    assert code is not None and code.period == pytest.approx(120.0)
 
 
 def test_missing_marks_are_not_seen() -> None:

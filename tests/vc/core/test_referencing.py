@@ -14,7 +14,7 @@ import dataclasses
 import itertools
 
 import pytest
-from core_rig import DT, Rig, machine
+from core_rig import DT, FIVE_AXIS, Rig, machine
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -23,7 +23,7 @@ from vc.core.alarms import AlarmList
 from vc.core.axis import MachineAxis, Owner
 from vc.core.encoder import DistanceCode
 from vc.core.nc_memory import BufferedEncoder, NcMemory
-from vc.core.referencing import AxisReferencing, encoder_slip, restore_at_power_on
+from vc.core.referencing import AxisReferencing, encoder_slip, modulo_reference_position, restore_at_power_on
 
 SCALE = DistanceCode(20.0, 0.02, -20.0)  # measuring system 2 of X1
 
@@ -159,6 +159,22 @@ def test_the_calibration_of_an_inverted_scale_gives_machine_positions() -> None:
     assert decode(procedure, marks, -1)
     assert procedure.encoder.actual(149.82) == pytest.approx(149.82)
     assert procedure.encoder.actual(12.5) == pytest.approx(12.5)
+
+
+@pytest.mark.parametrize(("overrides", "decoded", "expected"), [
+    ("", 460.0, 100.0),  # modulo rotary axis (MD30310 = 1): into 0 .. 360
+    ("C1: {MD30340: -180.0}", 460.0, 100.0),  # into -180 .. 180
+    ("C1: {MD30340: -180.0}", 250.0, -110.0),
+    ("C1: {MD30330: 720.0}", 1000.0, 280.0),
+    ("C1: {MD30310: 0}", 460.0, 460.0),  # not modulo: as decoded (seed 003 L1653-1656)
+    ("C1: {MD30310: 0, MD30455: 2}", 460.0, 100.0),  # MD30455 bit 1: the virtual modulo range
+    ("C1: {MD30310: 0, MD30455: 1}", 460.0, 460.0),  # another bit does not map
+    ("C1: {MD30300: 0, MD30310: 0, MD30455: 2}", 460.0, 460.0),  # a linear axis is never mapped
+])
+def test_the_reference_position_of_a_rotary_encoder_is_mapped_into_the_modulo_range(
+        overrides: str, decoded: float, expected: float) -> None:
+    md = machine(overrides, FIVE_AXIS).axis("C1").md
+    assert modulo_reference_position(decoded, md) == pytest.approx(expected)
 
 
 # ------------------------------------------------------------------------------ restore at power-on
