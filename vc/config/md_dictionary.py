@@ -485,11 +485,13 @@ PARAMSET_CHANGE_ENABLE = MdDef(35590, "PARAMSET_CHANGE_ENABLE", A, INT, 0,
                                " (DB31.DBX9.0-2),"
                                " 2 = external only", "seed 003 L18927-18958; [control] default", "", 0, 2,
                                allowed=(0, 1, 2))
-ENC_FREQ_LIMIT = MdDef(36300, "ENC_FREQ_LIMIT", A, FLOAT, 300000.0, "encoder limit frequency",
-                       "seed 003 L2485-2499, L16733-16736; [control] default", "Hz", 0.0, 1.0e8)
-ENC_FREQ_LIMIT_LOW = MdDef(36302, "ENC_FREQ_LIMIT_LOW", A, FLOAT, 99.9,
+ENC_FREQ_LIMIT = MdDef(36300, "ENC_FREQ_LIMIT", A, FLOAT, (300000.0,) * 2,
+                       "encoder limit frequency, per measuring system",
+                       "seed 003 L2485-2499, L16733-16736; [control] default", "Hz", 0.0, 1.0e8, length=2)
+ENC_FREQ_LIMIT_LOW = MdDef(36302, "ENC_FREQ_LIMIT_LOW", A, FLOAT, (99.9,) * 2,
                            "encoder limit frequency for resynchronisation, in percent of MD36300",
-                           "seed 003 L2440-2443, L16733-16736; [control] unit and default", "%", 0.0, 100.0)
+                           "seed 003 L2440-2443, L16733-16736; [control] unit and default", "%", 0.0, 100.0,
+                           length=2)
 
 # ---------------------------------------------------------------------------------- axis: coupling
 COUPLE_POS_TOL_COARSE = MdDef(37200, "COUPLE_POS_TOL_COARSE", A, FLOAT, 1.0,

@@ -127,6 +127,8 @@ class AxisSignals:
         self.encoder_activation = (table.bit("basic.out.enc1Activation"), table.bit("basic.out.enc2Activation"))
         self.spindle_mode = table.bit("basic.in.spindleModeActive")
         self.referenced = (table.bit("basic.in.enc1Synchronized"), table.bit("basic.in.enc2Synchronized"))
+        self.frequency_exceeded = (table.bit("basic.in.enc1FreqLimitExceeded"),
+                                   table.bit("basic.in.enc2FreqLimitExceeded"))
         self.restored = (table.bit("basic.in.enc1Restored"), table.bit("basic.in.enc2Restored"))
         self.exact_coarse = table.bit("basic.in.posCoarseReached")
         self.exact_fine = table.bit("basic.in.posFineReached")
@@ -183,6 +185,8 @@ class MachineAxis:
         self.encoders = [MeasuringSystem.for_axis(config, index, self.physical, phases[index])
                          for index in range(max(1, config.md.int(MD.NUM_ENCS)))]
         self.active_encoder: int | None = 0  # until the PLC selects (power-on: measuring system 1)
+        self._lowest_limit_velocity = min(encoder.limit_velocity for encoder in self.encoders)
+        self._frequency_exceeded_somewhere = False
         self.actual = self.encoder.actual(self.physical)
         self.external_velocity = 0.0  # the slide moved by hand while the servo is off (physical units/s)
         self.setpoint = self.actual  # interpolated position setpoint (before the jerk filter)
@@ -434,6 +438,8 @@ class MachineAxis:
             self.command_velocity = 0.0
             if self.jerk_filter:
                 self.jerk_filter.reset(self.actual)
+        if abs(self.velocity) > self._lowest_limit_velocity or self._frequency_exceeded_somewhere:
+            self._monitor_encoder_frequency(cycle, alarms)
         self._monitor(cycle, alarms)
         self._write_outputs()
         return True
@@ -501,6 +507,32 @@ class MachineAxis:
         self._servo_off_countdown = -1
         self.resting = False
 
+    def _monitor_encoder_frequency(self, cycle: int, alarms: AlarmList) -> None:
+        """Above its limit frequency MD36300 an encoder loses counts: the measuring system loses
+        its reference (seed 003 L758-761: G74 again) and shows DB31.DBX60.2 / 60.3.  On an axis the
+        active one raises alarm 21610 [control]; a spindle resynchronises (L21129-21180)."""
+        speed = abs(self.velocity)
+        for encoder in self.encoders:
+            if speed > encoder.limit_velocity:
+                if not encoder.frequency_exceeded:
+                    encoder.frequency_exceeded = True
+                    encoder.referenced = encoder.restored = False
+                    if encoder is self.encoder and not self.is_spindle:
+                        alarms.raise_alarm(21610, cycle, self.channel, self.name, encoder.index + 1,
+                                           channel=self.channel, axis=self.name)
+            elif encoder.frequency_exceeded and speed < encoder.resync_velocity:
+                encoder.frequency_exceeded = False
+        self._frequency_exceeded_somewhere = any(encoder.frequency_exceeded for encoder in self.encoders)
+
+    def preset_actual(self, value: float) -> None:
+        """PRESETON: the actual value becomes ``value`` where the axis stands; every measuring
+        system is moved with it and loses its reference (seed 003 L758-761, L2007, L2045)."""
+        delta = value - self.actual
+        for encoder in self.encoders:
+            encoder.offset += delta
+            encoder.referenced = encoder.restored = False
+        self.shift(delta)
+
     def _monitor(self, cycle: int, alarms: AlarmList) -> None:
         dyn = self.dyn
         error = abs(self.setpoint - self.actual)  # exact stop windows count from the end point
@@ -545,6 +577,8 @@ class MachineAxis:
             len(self.encoders) > 1 and self.encoders[1].referenced,
             self.encoders[0].restored,
             len(self.encoders) > 1 and self.encoders[1].restored,
+            self.encoders[0].frequency_exceeded,
+            len(self.encoders) > 1 and self.encoders[1].frequency_exceeded,
             self.inputs.disable,
             self.command_velocity > _TINY,
             self.command_velocity < -_TINY,
@@ -554,7 +588,7 @@ class MachineAxis:
         self._status = status
         area, sig = self._area, self._signals
         (coarse, fine, stationary, position_control, follow_up, referenced_1, referenced_2, restored_1, restored_2,
-         disabled, plus, minus) = status
+         frequency_1, frequency_2, disabled, plus, minus) = status
         sig.exact_coarse.put(area, coarse)
         sig.exact_fine.put(area, fine)
         sig.stationary.put(area, stationary)
@@ -564,6 +598,8 @@ class MachineAxis:
         sig.referenced[1].put(area, referenced_2)
         sig.restored[0].put(area, restored_1)
         sig.restored[1].put(area, restored_2)
+        sig.frequency_exceeded[0].put(area, frequency_1)
+        sig.frequency_exceeded[1].put(area, frequency_2)
         sig.disabled.put(area, disabled)
         sig.command_plus.put(area, plus)
         sig.command_minus.put(area, minus)

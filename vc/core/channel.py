@@ -402,6 +402,8 @@ class Channel:
             self.stop()
             return
         self._plan = plan
+        for name, value in plan.preset.items():
+            self.axes_by_name[name].preset_actual(value)
         if plan.reference_axes:
             self._g74_axes = list(plan.reference_axes)
             self._phase = Phase.REFERENCE

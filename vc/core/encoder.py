@@ -42,15 +42,34 @@ REFP_MODE_ZERO_MARK = 1
 DISTANCE_CODED_MODES = (3, 8)
 
 
-def zero_mark_spacing(axis: AxisConfig, encoder: int = 0) -> float:
+def travel_per_encoder_turn(axis: AxisConfig, encoder: int = 0) -> float | None:
+    """Axis travel (mm or degrees) per revolution of a rotary encoder; None for a linear scale."""
     md = axis.md
     ratio = md.int(MD.DRIVE_AX_RATIO_DENOM, 0) / md.int(MD.DRIVE_AX_RATIO_NUMERA, 0)
     direct = md.bool(MD.ENC_IS_DIRECT, encoder)
     if axis.is_rotary:
         return 360.0 if direct else abs(360.0 * ratio)
-    if direct:
-        return md.float(MD.ENC_REFP_MARKER_DIST, encoder)  # a linear scale with equidistant marks
+    if direct or md.bool(MD.ENC_IS_LINEAR, encoder):
+        return None
     return abs(md.float(MD.LEADSCREW_PITCH) * ratio)
+
+
+def zero_mark_spacing(axis: AxisConfig, encoder: int = 0) -> float:
+    turn = travel_per_encoder_turn(axis, encoder)
+    if turn is None:
+        return axis.md.float(MD.ENC_REFP_MARKER_DIST, encoder)  # a linear scale with equidistant marks
+    return turn
+
+
+def frequency_limit_velocity(axis: AxisConfig, encoder: int = 0) -> float:
+    """Axis velocity (per second) at which the encoder's signal reaches its limit frequency MD36300.
+
+    One signal period is a line of a rotary encoder (MD31020 lines per turn) or the grid of a
+    linear scale (MD31010)."""
+    md = axis.md
+    turn = travel_per_encoder_turn(axis, encoder)
+    period = md.float(MD.ENC_GRID_POINT_DIST, encoder) if turn is None else turn / md.int(MD.ENC_RESOL, encoder)
+    return md.float(MD.ENC_FREQ_LIMIT, encoder) * period
 
 
 @dataclass(frozen=True, slots=True)
@@ -151,6 +170,9 @@ class MeasuringSystem:
     restored: bool = False  # position restored after power-on, not referenced (DB31.DBX71.4/71.5)
     zero_marks_visible: bool = True  # a fault can make the zero-mark track invisible
     missing_marks: list[tuple[float, float]] = field(default_factory=list)  # physical ranges without marks
+    limit_velocity: float = math.inf  # above it the signal exceeds the encoder limit frequency MD36300
+    resync_velocity: float = math.inf  # MD36302: below it the encoder counts reliably again
+    frequency_exceeded: bool = False  # DB31.DBX60.2 / 60.3
 
     @classmethod
     def for_axis(cls, axis: AxisConfig, index: int, physical: float, phase: float) -> MeasuringSystem:
@@ -162,7 +184,10 @@ class MeasuringSystem:
             orientation = -1 if md.bool(MD.ENC_INVERS, index) else 1
             code = DistanceCode(md.float(MD.ENC_REFP_MARKER_DIST, index), md.float(MD.ENC_MARKER_INC, index), phase,
                                 orientation, zero_mark_spacing(axis, index) if axis.is_rotary else None)
-        return cls(index, absolute, mode, zero_mark_spacing(axis, index), phase, code, -physical)
+        return cls(index, absolute, mode, zero_mark_spacing(axis, index), phase, code, -physical,
+                   limit_velocity=frequency_limit_velocity(axis, index),
+                   resync_velocity=frequency_limit_velocity(axis, index) * md.float(MD.ENC_FREQ_LIMIT_LOW, index)
+                   / 100.0)
 
     def actual(self, physical: float) -> float:
         return physical + self.offset
@@ -194,6 +219,10 @@ class MeasuringSystem:
             return []
         code = self.distance_code
         return [p for p in (code.position(i) for i in code.marks_between(start, end)) if self._visible(p)]
+
+    def calibrated_actual(self, physical: float, correction: float) -> float:
+        """The actual value of an absolute encoder calibrated with MD34090 = ``correction``."""
+        return self.absolute_reading(physical) + correction
 
     def absolute_reading(self, physical: float) -> float:
         """What an absolute encoder reports: its position counted from its own zero.

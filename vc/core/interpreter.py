@@ -48,6 +48,7 @@ class BlockPlan:
     program_end: bool = False  # M2 / M30
     block_end: str = EXACT_STOP_FINE
     reference_axes: tuple[str, ...] = ()  # G74: machine axes to reference
+    preset: dict[str, float] = field(default_factory=dict)  # PRESETON: machine axis -> new actual value
 
 
 @dataclass(frozen=True, slots=True)
@@ -78,9 +79,14 @@ class _Decoder:
     def unknown(self, text: str) -> None:
         self.fail(12550, self.channel.name, self.block.label, text)
 
-    def axis_value(self, name: str, value: object) -> None:
+    def machine_axis(self, name: str) -> str | None:
+        """The machine axis of this channel that ``name`` (geometry, channel or machine axis name) means."""
         machine_axis = self.channel.axis_for_program_name(name)
-        if machine_axis is None or machine_axis not in self.axes:
+        return machine_axis if machine_axis in self.axes else None
+
+    def axis_value(self, name: str, value: object) -> None:
+        machine_axis = self.machine_axis(name)
+        if machine_axis is None:
             self.unknown(name)
             return
         axis = self.axes[machine_axis]
@@ -141,8 +147,28 @@ def _f_word(decoder: _Decoder, value: float) -> None:
     decoder.feed_word = value
 
 
+def _preseton(decoder: _Decoder, call: Call) -> None:
+    """PRESETON(axis, value, ...): set the actual value of machine axes where they stand.
+
+    The axes lose their reference (seed 003 L758-761: G74 references them again).  Pairs of a
+    machine axis (or channel axis name) and a value; like the real control's it stands in a
+    block of its own, which is checked in ``_finish`` [control].
+    """
+    arguments = call.arguments
+    if not arguments or len(arguments) % 2:
+        decoder.fail(12080, decoder.channel.name, decoder.block.label, "PRESETON")
+        return
+    for name, value in zip(arguments[::2], arguments[1::2], strict=True):
+        machine_axis = decoder.machine_axis(str(name))
+        if machine_axis is None or decoder.axes[machine_axis].is_spindle or not isinstance(value, float):
+            decoder.fail(12080, decoder.channel.name, decoder.block.label, f"PRESETON({name},{value})")
+            return
+        decoder.plan.preset[machine_axis] = value
+
+
 _WORD_HANDLERS: dict[str, Callable[[_Decoder, float], None]] = {"G": _g_word, "M": _m_word, "F": _f_word}
 _KEYWORD_HANDLERS: dict[str, Callable[[_Decoder], None]] = {}
+_CALL_HANDLERS: dict[str, Callable[[_Decoder, Call], None]] = {"PRESETON": _preseton}
 
 
 def decode(
@@ -178,13 +204,22 @@ def _decode_item(decoder: _Decoder, item: Item) -> None:
         else:
             keyword_handler(decoder)
     elif isinstance(item, Call):
-        decoder.unknown(item.name)
+        call_handler = _CALL_HANDLERS.get(item.name)
+        if call_handler is None:
+            decoder.unknown(item.name)
+        else:
+            call_handler(decoder, item)
     elif isinstance(item, Label):
         pass
 
 
 def _finish(decoder: _Decoder) -> None:
     modal, plan, channel = decoder.modal, decoder.plan, decoder.channel
+    if plan.preset:
+        if plan.targets or decoder.reference_requested or decoder.dwell_requested or plan.program_stop or \
+                plan.program_end:
+            decoder.fail(12080, channel.name, decoder.block.label, "PRESETON")
+        return
     if decoder.reference_requested:
         # G74 <axis>=0 ...: reference these axes; the values are not used.  G74 stands in a block of
         # its own (seed 003 L764-781): anything else with it is refused.

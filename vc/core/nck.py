@@ -64,6 +64,8 @@ class Nck:
         self._seen_version = -1
         self.alarms = AlarmList()
         self._alarm_count = 0
+        self._servo_held_by_alarm: set[str] = set()  # axes an alarm took the controller enable from
+        self._servo_check_version = -1
         self._nck_signals = NckSignals(SignalTable(catalog, InstanceKind.NCK))
         self._nck_area = self.image.area("DB10")
         self.mode_group = ModeGroup(ModeGroupSignals(SignalTable(catalog, InstanceKind.MODE_GROUP)),
@@ -246,12 +248,21 @@ class Nck:
                     axis.jog_cycle(allowed and jog_mode, feed_disable)
 
     def _react_to_new_alarms(self) -> None:
-        """Axis alarms whose reaction is a rapid stop put the axis into follow-up (servo off)."""
+        """Axis alarms whose reaction is a rapid stop put the axis into follow-up (servo off);
+        when the last of them is cleared (reset), the NC gives the axis its controller enable back."""
         history = self.alarms.history
         for alarm in history[self._alarm_count:]:
             if Reaction.RAPID_STOP in alarm.reaction and alarm.axis and alarm.number != 21612:
                 self.axes_by_name[alarm.axis].rapid_stop(then_servo_off=True)
+                self._servo_held_by_alarm.add(alarm.axis)
         self._alarm_count = len(history)
+        if self._servo_held_by_alarm and self.alarms.version != self._servo_check_version \
+                and not self.emergency_stop:  # the e-stop acknowledgement gives every enable back
+            self._servo_check_version = self.alarms.version
+            holding = {alarm.axis for alarm in self.alarms.present if Reaction.RAPID_STOP in alarm.reaction}
+            for name in sorted(self._servo_held_by_alarm - holding):
+                self.axes_by_name[name].restore_servo()
+            self._servo_held_by_alarm &= holding
 
     # ------------------------------------------------------------------ outputs
     def _status_signature(self) -> tuple[object, ...]:

@@ -267,6 +267,10 @@ class AxisReferencing:
             self.state = State.DONE
             return True
         if state == ENC_STATE_CALIBRATED:
+            # The encoder is read anew: after PRESETON the actual value was set by hand (L758-761).
+            physical = self.axis.physical
+            self.axis.synchronise(encoder, physical, encoder.calibrated_actual(
+                physical, md.float(MD.REFP_MOVE_DIST_CORR, index)))
             if self._data.stop_at_target:
                 self.state = State.DONE  # §4.9.6: MD34330 = 1, referencing ends at once
                 return True
@@ -669,7 +673,7 @@ def restore_at_power_on(axis: MachineAxis, memory: NcMemory, alarms: AlarmList) 
                     alarms.raise_alarm(ALARM_ENCODER_WARNING, 0, axis.name, index + 1, 0,
                                        channel=axis.channel, axis=axis.name)
                 md = memory.view(axis.name, base)
-            encoder.offset = md.float(MD.REFP_MOVE_DIST_CORR, index) + encoder.absolute_reading(physical) - physical
+            encoder.offset = encoder.calibrated_actual(physical, md.float(MD.REFP_MOVE_DIST_CORR, index)) - physical
             encoder.referenced = md.int(MD.ENC_REFP_STATE, index) == ENC_STATE_CALIBRATED
             continue
         buffered = memory.buffered.get((axis.name, index))

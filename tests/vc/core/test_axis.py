@@ -461,3 +461,32 @@ def test_a_rotary_axis_without_modulo_shows_its_position_as_it_is() -> None:
     assert a1.modulo_range is None
     assert a1.shown(725.0) == 725.0
     assert rig.axis("C1").shown(-10.0) == pytest.approx(350.0)
+
+
+# ------------------------------------------------------------------------------ encoder limit frequency
+
+
+def test_above_the_encoder_limit_frequency_the_axis_loses_its_reference_and_raises_21610() -> None:
+    # X1 motor encoder: 2048 lines on 10 mm = 204.8 periods/mm; MD36300 = 20 kHz: 97.66 mm/s limit
+    rig = jog_rig("CHAN1: {MD20700: 0}\nX1: {MD30240: [4], MD34210: [2], MD36300: [20000.0]}")
+    x1 = rig.axis("X1")
+    assert x1.encoder.limit_velocity == pytest.approx(20000.0 / 204.8)
+    hold(rig, "X1", "Plus", 100)  # JOG 33.3 mm/s
+    assert x1.referenced and rig.alarm_numbers() == []
+    rig.set("X1.basic.out.enableRapidTravers", 1)  # 166.7 mm/s
+    rig.run_until(lambda: abs(x1.velocity) > 97.66, 200)
+    rig.step(1)
+    assert not x1.referenced
+    assert rig.get("X1.basic.in.enc1FreqLimitExceeded") == 1
+    assert rig.get("X1.basic.in.enc1Synchronized") == 0
+    assert rig.alarm_numbers() == [21610]
+    rig.set("X1.basic.out.traversKeyPlus", 0)
+    rig.run_until(lambda: x1.velocity == 0.0, 500)
+    assert rig.get("X1.basic.in.enc1FreqLimitExceeded") == 0  # below MD36302 = 99.9 % again
+
+
+def test_a_linear_scale_counts_its_grid_periods() -> None:
+    # X1 measuring system 2: a linear scale, MD31010 = 0.01 mm grid: 300 kHz x 0.01 mm = 3000 mm/s
+    x1 = Rig(machine()).axis("X1")
+    assert x1.encoders[1].limit_velocity == pytest.approx(3000.0)
+    assert x1.encoders[1].resync_velocity == pytest.approx(3000.0 * 0.999)

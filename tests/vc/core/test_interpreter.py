@@ -201,3 +201,33 @@ def test_unreferenced_axis_has_no_software_limit_check() -> None:
     # Incremental encoders (the file's default): not referenced, software limits inactive.
     dec = Decoder("CHAN1: {MD20700: 0}")
     assert dec("G0 X1000")[1] is None
+
+
+# ------------------------------------------------------------------------------ G74 and PRESETON
+
+
+def test_g74_names_the_axes_to_reference_and_stands_alone(dec: Decoder) -> None:
+    assert dec.ok("G74 X1=0 Z=0").reference_axes == ("X1", "Z1")
+    for text in ("G74 G1 X1=0", "G74 X1=0 F100", "G74", "G74 X1=0 M30"):
+        _, alarm = dec(text)
+        assert alarm is not None and alarm.number == 12080, text
+
+
+def test_preseton_gives_machine_axes_their_new_actual_values(dec: Decoder) -> None:
+    plan = dec.ok("PRESETON(X1, 10.5, Y, -2)")  # machine or program names
+    assert plan.preset == {"X1": 10.5, "Y1": -2.0}
+    assert plan.targets == {}
+
+
+@pytest.mark.parametrize("text", [
+    "PRESETON()",
+    "PRESETON(X1)",  # a value missing
+    "PRESETON(X1, 1, Z1)",
+    "PRESETON(Q7, 1)",  # no such axis in the channel
+    "PRESETON(SP1, 0)",  # a spindle
+    "PRESETON(X1, 1) G1 X20 F100",  # a block of its own
+    "PRESETON(X1, 1) M30",
+])
+def test_preseton_is_refused_with_a_syntax_alarm_when_it_does_not_fit(dec: Decoder, text: str) -> None:
+    _, alarm = dec(text)
+    assert alarm is not None and alarm.number == 12080

@@ -289,3 +289,35 @@ def test_a_different_input_gives_different_images() -> None:
     second.press("MCP.feedOverride", 64)  # one percent more override
     drive(second)
     assert [a.physical for a in first.nck.axes] != [a.physical for a in second.nck.axes]
+
+
+# ------------------------------------------------------------------------------ axis alarms with a rapid stop
+
+
+@pytest.mark.parametrize("number", [21610, 25040, 25050, 25080])
+def test_an_axis_alarm_takes_the_controller_enable_and_reset_gives_it_back(number: int) -> None:
+    rig = Rig(machine(ABSOLUTE_X1))
+    rig.enable_axes()
+    rig.step(5)
+    assert rig.get("X1.basic.in.posCtrlActive") == 1
+    rig.nck.alarms.raise_alarm(number, rig.nck.cycle, "CHAN1", "X1", 1, channel="CHAN1", axis="X1")
+    rig.step(50 + 5)  # MD36620 = 0.1 s after the rapid stop
+    assert rig.get("X1.basic.in.posCtrlActive") == 0
+    assert rig.get("X1.basic.in.followUpModeActive") == 1
+    assert rig.get("Z1.basic.in.posCtrlActive") == 1  # the alarm belongs to X1 alone
+    rig.pulse("CHAN1.basic.out.reset")
+    rig.step(3)
+    assert rig.alarm_numbers() == []
+    assert rig.get("X1.basic.in.posCtrlActive") == 1
+
+
+def test_reset_does_not_give_the_enable_back_while_the_emergency_stop_is_on() -> None:
+    rig = Rig(machine(ABSOLUTE_X1), plc="basic_machine")
+    rig.step(60)
+    rig.nck.alarms.raise_alarm(25050, rig.nck.cycle, "X1", channel="CHAN1", axis="X1")
+    rig.press("EStop.chainOk", 0)
+    rig.step(80)
+    rig.pulse("CHAN1.basic.out.reset")  # clears 25050, not 3000: the chain is still open
+    rig.step(5)
+    assert rig.alarm_numbers() == [3000]
+    assert rig.get("X1.basic.in.posCtrlActive") == 0
