@@ -153,7 +153,7 @@ class ConsoleReport:
         style = "green" if passed == len(results) else "red"
         self.console.print(
             f"[{style}]{passed} passed, {failed} failed, {errors} errors[/] of {len(results)} scenarios"
-            f" ({format_seconds(simulated)} simulated, {wall:.2f} s wall)", highlight=False)
+            f" ({format_seconds(simulated)} simulated, {wall:.2f} s wall)", highlight=False, soft_wrap=True)
 
     def print_problems(self, error: SourceError) -> None:
         for problem in error.problems:
@@ -163,7 +163,7 @@ class ConsoleReport:
         plural = "s" if count != 1 else ""
         files_plural = "s" if files != 1 else ""
         self.console.print(f"[bold red]{count} problem{plural} in {files} file{files_plural};"
-                           " nothing ran.[/]", highlight=False)
+                           " nothing ran.[/]", highlight=False, soft_wrap=True)
 
 
 def write_junit(results: Sequence[ScenarioResult], path: str | Path, suite_name: str = "vc run") -> None:
