@@ -33,11 +33,25 @@ class PlcEnvironment:
     plant_io: PlantIoMap  # the machine's I/O list
     scan_time_s: float  # OB1 period
     parameters: Mapping[str, Any] = field(default_factory=dict)  # the machine file's ``plc:`` section
+    machine: str = ""  # the machine's name, for links that describe the interface to a remote PLC
+    ipo_cycle_us: int = 0  # the NC's IPO cycle ...
+    plc_cycle_ipo: int = 0  # ... and the PLC period in IPO cycles (scan_time_s = their product)
 
 
 class SoftPlc(Protocol):
     def scan(self, interface: ProcessImage, plant: ProcessImage) -> None:
         """One OB1 scan: publish the previous outputs, read the inputs, run the program."""
 
+    @property
+    def sign_of_life(self) -> int:
+        """A number that changes with every scan while the PLC runs (the NC watches it)."""
+
 
 PlcFactory = Callable[[PlcEnvironment], SoftPlc]
+
+
+class PlcConnector(Protocol):
+    """Where the harness gets its PLC from at every power-on: the built-in programs in-process,
+    or a link to a PLC in another process (Modbus TCP, S7)."""
+
+    def connect(self, environment: PlcEnvironment, program: str) -> SoftPlc: ...

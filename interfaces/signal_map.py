@@ -1,8 +1,18 @@
 """The expanded signal map of a machine as CSV, JSON or Markdown (``vc map``).
 
-One row per signal of every DB instance, followed by the machine's plant I/O.  The CSV
-columns start with ``symbol,address,direction,type``; links add their own columns later
-(Modbus table and address, CAN identifier) without changing these.
+One row per signal of every DB instance, then the machine's plant I/O, then the registers of
+the Modbus link block.  The CSV columns start with
+``symbol,address,direction,type,modbus_table,modbus_address,bit``:
+
+* a bit signal is listed as a coil (PLC writes) or discrete input (PLC reads): ``modbus_address``
+  is its 0-based bit number, ``bit`` is empty; ``register`` and ``register_bit`` give the same
+  bit inside its holding or input register;
+* a byte, word or double word is listed as holding or input register(s): ``modbus_address`` is
+  the first register, ``bit`` the lowest bit of the value in it (8 for a byte in the high half);
+* ``modbus_number`` is the 1-based display number (0xxxx coil, 1xxxx discrete input, 3xxxx input
+  register, 4xxxx holding register).
+
+The convention itself is documented in :mod:`interfaces.codec_modbus`.
 """
 
 from __future__ import annotations
@@ -13,11 +23,51 @@ import json
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 
+from interfaces.codec_modbus import (
+    DESCRIPTION_REGISTER,
+    REG_DESCRIPTION_BYTES,
+    REG_DESCRIPTION_START,
+    REG_IPO_CYCLE_US,
+    REG_MODE,
+    REG_NC_CYCLE_HIGH,
+    REG_NC_TO_PLC_REGISTERS,
+    REG_PLC_CYCLE_IPO,
+    REG_PLC_TO_NC_REGISTERS,
+    REG_SCAN_DONE,
+    REG_SCAN_GRANT,
+    REG_SESSION,
+    REG_SESSION_READY,
+    REG_VERSION,
+    Location,
+    RegisterMap,
+    display_number,
+)
 from interfaces.plant_io import PlantIoMap
-from interfaces.signals import ExpandedCatalog
+from interfaces.signals import ExpandedCatalog, SignalRef
 
-COLUMNS = ("symbol", "address", "direction", "type", "bits", "trigger", "bp_symbol", "instance", "meaning",
-           "source", "origin", "note")
+COLUMNS = ("symbol", "address", "direction", "type", "modbus_table", "modbus_address", "bit", "modbus_number",
+           "register", "register_bit", "bits", "trigger", "bp_symbol", "instance", "meaning", "source", "origin",
+           "note")
+
+# The link block (interfaces/codec_modbus.py): (symbol, table kind, register, registers, meaning)
+LINK_ROWS = (
+    ("LINK.version", "input_register", REG_VERSION, 1, "link protocol version (1); 0 = no machine powered on yet"),
+    ("LINK.session", "input_register", REG_SESSION, 1, "session: counts the harness's power-ons; a new one"
+     " restarts the PLC program"),
+    ("LINK.mode", "input_register", REG_MODE, 1, "1 = lockstep, 2 = free-running (real time)"),
+    ("LINK.scanGrant", "input_register", REG_SCAN_GRANT, 1, "lockstep: the number of the scan the PLC may run"),
+    ("LINK.ncCycle", "input_register", REG_NC_CYCLE_HIGH, 2, "NC IPO cycles at the last exchange, high word first"),
+    ("LINK.ipoCycleUs", "input_register", REG_IPO_CYCLE_US, 1, "IPO cycle in microseconds"),
+    ("LINK.plcCycleIpo", "input_register", REG_PLC_CYCLE_IPO, 1, "PLC period in IPO cycles"),
+    ("LINK.descriptionStart", "input_register", REG_DESCRIPTION_START, 1, "first register of the description"),
+    ("LINK.descriptionBytes", "input_register", REG_DESCRIPTION_BYTES, 1, "length of the description in bytes"),
+    ("LINK.ncToPlcRegisters", "input_register", REG_NC_TO_PLC_REGISTERS, 1, "size of the NC-to-PLC table"),
+    ("LINK.plcToNcRegisters", "input_register", REG_PLC_TO_NC_REGISTERS, 1, "size of the PLC-to-NC table"),
+    ("LINK.scanDone", "holding_register", REG_SCAN_DONE, 1, "lockstep: the granted scan the PLC finished;"
+     " free-running: a counter the PLC changes every scan (its sign of life)"),
+    ("LINK.sessionReady", "holding_register", REG_SESSION_READY, 1, "the session the PLC has started its program"
+     " for"),
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -26,6 +76,12 @@ class MapRow:
     address: str
     direction: str
     type: str
+    modbus_table: str
+    modbus_address: int | str
+    bit: int | str
+    modbus_number: str
+    register: int | str
+    register_bit: int | str
     bits: int
     trigger: str
     bp_symbol: str
@@ -36,18 +92,41 @@ class MapRow:
     note: str
 
 
+def _modbus_columns(location: Location | None) -> tuple[str, int | str, int | str, str, int | str, int | str]:
+    if location is None:
+        return ("", "", "", "", "", "")
+    if location.coil is not None:
+        assert location.register_bit is not None
+        return (location.bit_kind, location.coil, "", display_number(location.bit_kind, location.coil),
+                location.register, location.register_bit)
+    return (location.register_kind, location.register, location.byte_bit,
+            display_number(location.register_kind, location.register), "", "")
+
+
 def map_rows(catalog: ExpandedCatalog, plant_io: PlantIoMap) -> list[MapRow]:
+    register_map = RegisterMap.build(catalog, plant_io.area_sizes())
     rows = []
     for item in catalog.signals:
         d = item.definition
-        rows.append(MapRow(item.symbol, str(item.address), d.direction.value, d.type.value, d.bits,
-                           d.trigger.value, d.bp_symbol, item.instance, d.meaning, d.source, d.origin.value,
-                           d.note))
+        ref = SignalRef(item.symbol, item.address, d.type, d.bits, d.direction, item)
+        rows.append(MapRow(item.symbol, str(item.address), d.direction.value, d.type.value,
+                           *_modbus_columns(register_map.location(ref)), d.bits, d.trigger.value, d.bp_symbol,
+                           item.instance, d.meaning, d.source, d.origin.value, d.note))
     for point in plant_io.points:
         bits = 1 if point.address.is_bit else 8 * point.address.size
-        rows.append(MapRow(point.name, str(point.address), point.direction.value, point.type.value, bits,
-                           "level", "-", "PLANT", point.meaning, "machine file plant_io", "project",
+        rows.append(MapRow(point.name, str(point.address), point.direction.value, point.type.value,
+                           *_modbus_columns(register_map.location(plant_io.resolve(point.name))), bits, "level",
+                           "-", "PLANT", point.meaning, "machine file plant_io", "project",
                            f"driven by the {point.owner.value}"))
+    for symbol, kind, register, count, meaning in LINK_ROWS:
+        direction = "nc_to_plc" if kind == "input_register" else "plc_to_nc"
+        rows.append(MapRow(symbol, "-", direction, "dword" if count == 2 else "word", kind, register, 0,
+                           display_number(kind, register), "", "", 16 * count, "level", "-", "LINK", meaning,
+                           "interfaces/codec_modbus.py", "project", "Modbus link block"))
+    rows.append(MapRow("LINK.description", "-", "nc_to_plc", "text", "input_register", DESCRIPTION_REGISTER, 0,
+                       display_number("input_register", DESCRIPTION_REGISTER), "", "", 0, "level", "-", "LINK",
+                       "interface description, UTF-8 JSON, LINK.descriptionBytes long",
+                       "interfaces/link_description.py", "project", "Modbus link block"))
     return rows
 
 
@@ -65,17 +144,23 @@ def to_json(rows: Sequence[MapRow]) -> str:
 
 
 def to_markdown(rows: Sequence[MapRow]) -> str:
-    shown = ("symbol", "address", "direction", "type", "trigger", "bp_symbol", "meaning")
+    shown = ("symbol", "address", "direction", "type", "modbus_table", "modbus_address", "bit", "register",
+             "register_bit", "trigger", "meaning")
     lines: list[str] = []
     instance = None
     for row in rows:
         if row.instance != instance:
             instance = row.instance
-            title = "Plant I/O" if instance == "PLANT" else f"{instance} ({row.address.split('.')[0]})"
+            title = {"PLANT": "Plant I/O", "LINK": "Modbus link block"}.get(
+                instance, f"{instance} ({row.address.split('.')[0]})")
             lines += ["", f"## {title}", "", "| " + " | ".join(shown) + " |", "|" + "---|" * len(shown)]
         cells = [str(getattr(row, column)).replace("|", "\\|").replace("\n", " ") for column in shown]
         lines.append("| " + " | ".join(cells) + " |")
-    return "# Signal map" + "\n".join(lines) + "\n"
+    convention = ("\n\nModbus: bit signals are coils (PLC writes) or discrete inputs (PLC reads) with number"
+                  " = table byte x 8 + bit, and the same bit in its holding or input register (S7 byte order:"
+                  " an even table byte is the high byte). The convention: interfaces/codec_modbus.py;"
+                  " connecting a PLC: docs/modbus.md.\n")
+    return "# Signal map" + convention + "\n".join(lines) + "\n"
 
 
 FORMATTERS = {"csv": to_csv, "json": to_json, "md": to_markdown}

@@ -46,3 +46,7 @@ class ScanCycleRuntime:
         image.copy_from(plant, self._plant_inputs)
         self.program.ob1()
         self.scans += 1
+
+    @property
+    def sign_of_life(self) -> int:
+        return self.scans & 0xFFFF

@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from functools import lru_cache
 from importlib.metadata import entry_points
 
-from interfaces.plc import PlcFactory
+from interfaces.plc import PlcEnvironment, PlcFactory, SoftPlc
 
 ENTRY_POINT_GROUP = "vc_harness.plc_programs"
 
@@ -39,3 +39,10 @@ def plc_program(name: str) -> PlcFactory:
     except KeyError:
         known = ", ".join(sorted(programs)) or "none installed"
         raise UnknownPlcProgram(f"no PLC program '{name}' (known: {known})") from None
+
+
+class InProcessConnector:
+    """The built-in programs, run in the harness's own process in lockstep."""
+
+    def connect(self, environment: PlcEnvironment, program: str) -> SoftPlc:
+        return plc_program(program)(environment)

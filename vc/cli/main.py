@@ -3,6 +3,8 @@
     vc run PATH... [--junit FILE] [--trace-dir DIR] [--golden DIR [--update-golden]]
                                                       run scenario files or directories
     vc map --machine M.yaml [--format md|csv|json]    the machine's expanded signal map
+    vc serve [--machine M.yaml] [--modbus HOST:PORT] [--s7 HOST:PORT] [--realtime [--speed F]]
+             [--scenario FILE] [--duration S]         the NC as a server for a PLC in another process
     vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle
 
 Problems in input files are reported with file, line and column and exit with code 2;
@@ -52,7 +54,43 @@ def _run(arguments: argparse.Namespace) -> int:
         print("--update-golden needs --golden DIR", file=sys.stderr)
         return EXIT_PROBLEMS
     return run_scenario_files(arguments.paths, junit=arguments.junit, trace_dir=arguments.trace_dir,
-                              golden=arguments.golden, update_golden=arguments.update_golden)
+                              golden=arguments.golden, update_golden=arguments.update_golden, link=arguments.link)
+
+
+def _serve(arguments: argparse.Namespace) -> int:
+    from interfaces.links.modbus_tcp import LinkError
+    from vc.harness.plc_link import Endpoint
+    from vc.harness.serve import ServeOptions, serve
+
+    try:
+        options = ServeOptions(
+            machine_path=arguments.machine,
+            modbus=Endpoint.parse(arguments.modbus, 5020) if arguments.modbus else None,
+            s7=Endpoint.parse(arguments.s7, 102) if arguments.s7 else None,
+            allow_remote=arguments.allow_remote,
+            allowed_clients=tuple(item for text in arguments.allow for item in text.split(",") if item.strip()),
+            realtime=arguments.realtime,
+            speed=None if arguments.speed == "max" else _speed(arguments.speed),
+            program=arguments.program,
+            scenario=arguments.scenario,
+            duration_s=arguments.duration,
+            stats_every_s=arguments.stats,
+            say=lambda text: print(text, flush=True),
+        )
+        return serve(options)
+    except (LinkError, ValueError) as error:
+        print(f"vc serve: {error}", file=sys.stderr)
+        return EXIT_PROBLEMS
+
+
+def _speed(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise ValueError(f"--speed {text}: a factor such as 0.5 or 2, or max") from None
+    if not 0.01 <= value <= 100:
+        raise ValueError(f"--speed {text}: between 0.01 and 100, or max")
+    return value
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -66,12 +104,36 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--golden", metavar="DIR",
                      help="compare each scenario with its golden trace in DIR (regression check)")
     run.add_argument("--update-golden", action="store_true", help="write the golden traces of --golden DIR anew")
+    run.add_argument("--link", choices=("inprocess", "modbus"), default="inprocess",
+                     help="where the PLC programs run: in this process (default) or in their own process"
+                          " over a lockstep Modbus TCP link")
     run.set_defaults(handler=_run)
 
     signal_map = commands.add_parser("map", help="print the expanded signal catalogue of a machine")
     signal_map.add_argument("--machine", required=True, help="machine YAML file")
     signal_map.add_argument("--format", choices=sorted(FORMATTERS), default="md")
     signal_map.set_defaults(handler=_map)
+
+    serve = commands.add_parser("serve", help="serve the NC and the plant to a PLC over Modbus TCP and/or S7")
+    serve.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")
+    serve.add_argument("--modbus", nargs="?", const="127.0.0.1:5020", metavar="HOST:PORT",
+                       help="serve Modbus TCP (default 127.0.0.1:5020; the default when no --s7 is given)")
+    serve.add_argument("--s7", metavar="HOST:PORT", help="serve the data blocks over S7 (python-snap7)")
+    serve.add_argument("--allow-remote", action="store_true",
+                       help="allow binding to an interface other than loopback")
+    serve.add_argument("--allow", action="append", default=[], metavar="IP[,NET]",
+                       help="only these clients may connect (addresses or networks, repeatable)")
+    serve.add_argument("--realtime", action="store_true",
+                       help="tie the IPO cycles to the wall clock; the PLC scans on its own clock")
+    serve.add_argument("--speed", default="1", metavar="FACTOR",
+                       help="real-time factor with --realtime: 0.5, 2 ... or max (default 1)")
+    serve.add_argument("--program", default="basic_machine",
+                       help="the PLC program a PLC that follows the harness runs (default basic_machine)")
+    serve.add_argument("--scenario", metavar="FILE", help="a scenario that plays the operator (its machine is used)")
+    serve.add_argument("--duration", type=float, metavar="S", help="stop after S simulated seconds")
+    serve.add_argument("--stats", type=float, default=10.0, metavar="S",
+                       help="print real-time statistics every S seconds (default 10)")
+    serve.set_defaults(handler=_serve)
 
     bench = commands.add_parser("bench", help="measure the real-time factor of the simulation")
     bench.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")

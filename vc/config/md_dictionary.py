@@ -43,6 +43,12 @@ SYSCLOCK_CYCLE_TIME = MdDef(10050, "SYSCLOCK_CYCLE_TIME", N, FLOAT, 0.002, "basi
 IPO_SYSCLOCK_TIME_RATIO = MdDef(10070, "IPO_SYSCLOCK_TIME_RATIO", N, INT, 1,
                                 "IPO cycle as a multiple of the system clock cycle",
                                 "seed 003 L2518-2535; [control] default 1 gives IPO = 2 ms", "", 1, 100)
+PLC_CYCLIC_TIMEOUT = MdDef(10100, "PLC_CYCLIC_TIMEOUT", N, FLOAT, 0.1,
+                           "longest time without a sign of life of the PLC before alarm 2000",
+                           "[control] number, name and default (not in the seeds)", "s", 0.0, 100.0)
+PLC_RUNNINGUP_TIMEOUT = MdDef(10120, "PLC_RUNNINGUP_TIMEOUT", N, FLOAT, 50.0,
+                              "longest time from power-on to the PLC's first scan before alarm 2001",
+                              "[control] number, name and default (not in the seeds)", "s", 0.0, 1000.0)
 GEAR_CHANGE_WAIT_TIME = MdDef(10192, "GEAR_CHANGE_WAIT_TIME", N, FLOAT, 10.0,
                               "longest wait for the PLC's gear-change acknowledgement",
                               "seed 003 L19127-19147; [control] default", "s", 0.0, 1.0e5)

@@ -72,6 +72,11 @@ CHANNEL_INTERRUPT = Reaction.CHANNEL_INTERRUPT.value
 ALARM_TEXTS: dict[int, AlarmDefinition] = {
     definition.number: definition
     for definition in (
+        AlarmDefinition(2000, "PLC sign-of-life monitoring", Reaction.RAPID_STOP | _STOP | Reaction.MODE_GROUP,
+                        Clear.RESET, "[control] number and text; the real control needs power-on, here a"
+                        " reset clears it once the PLC shows its sign of life again"),
+        AlarmDefinition(2001, "PLC has not started up", Reaction.RAPID_STOP | _STOP | Reaction.MODE_GROUP,
+                        Clear.RESET, "[control] number and text; cleared by a reset once the PLC runs"),
         AlarmDefinition(3000, "Emergency stop", Reaction.RAPID_STOP | _STOP | Reaction.MODE_GROUP,
                         Clear.EMERGENCY_STOP_ACK, "[control]"),
         AlarmDefinition(10203, "Channel %1 NC start without reference point (action=%2)",

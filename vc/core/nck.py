@@ -35,6 +35,8 @@ from vc.core.referencing import buffer_at_power_off, encoder_slip, restore_at_po
 from vc.core.referencing_control import ReferencingControl
 
 EMERGENCY_STOP_ALARM = 3000
+PLC_SIGN_OF_LIFE_ALARM = 2000
+PLC_NOT_STARTED_ALARM = 2001
 
 
 class NckSignals:
@@ -98,6 +100,11 @@ class Nck:
         ]
         self.channels_by_name = {channel.name: channel for channel in self.channels}
         self.emergency_stop = False
+        self._plc_life: int | None = None  # the PLC's last sign of life; None while no PLC is attached
+        self._plc_started = False  # the sign of life has changed once: the PLC scans
+        self._plc_life_cycle = 0
+        self._plc_timeout_cycles = max(1, round(machine.nck.float(MD.PLC_CYCLIC_TIMEOUT) / self.dt))
+        self._plc_startup_cycles = max(1, round(machine.nck.float(MD.PLC_RUNNINGUP_TIMEOUT) / self.dt))
         self._emergency_stop_level = False
         self._emergency_stop_ack = False
         self._hw_limits = {axis.name: (False, False) for axis in self.axes}
@@ -118,6 +125,8 @@ class Nck:
             if changed:
                 self._decode_inputs(changed)
         self._emergency_stop_function()
+        if self._plc_life is not None:
+            self._watch_plc()
         self._mode_group_and_channel_commands()
         for channel in self.channels:
             channel.program_cycle(self.cycle)
@@ -252,14 +261,19 @@ class Nck:
         when the last of them is cleared (reset), the NC gives the axis its controller enable back."""
         history = self.alarms.history
         for alarm in history[self._alarm_count:]:
-            if Reaction.RAPID_STOP in alarm.reaction and alarm.axis and alarm.number != 21612:
-                self.axes_by_name[alarm.axis].rapid_stop(then_servo_off=True)
-                self._servo_held_by_alarm.add(alarm.axis)
+            if Reaction.RAPID_STOP not in alarm.reaction or alarm.number in (21612, EMERGENCY_STOP_ALARM):
+                continue  # 21612 brakes on its own; the emergency stop has its own function
+            for axis in (self.axes_by_name[alarm.axis],) if alarm.axis else self.axes:
+                axis.rapid_stop(then_servo_off=True)
+                self._servo_held_by_alarm.add(axis.name)
         self._alarm_count = len(history)
         if self._servo_held_by_alarm and self.alarms.version != self._servo_check_version \
                 and not self.emergency_stop:  # the e-stop acknowledgement gives every enable back
             self._servo_check_version = self.alarms.version
-            holding = {alarm.axis for alarm in self.alarms.present if Reaction.RAPID_STOP in alarm.reaction}
+            holding = set()
+            for alarm in self.alarms.present:
+                if Reaction.RAPID_STOP in alarm.reaction:
+                    holding |= {alarm.axis} if alarm.axis else set(self.axes_by_name)
             for name in sorted(self._servo_held_by_alarm - holding):
                 self.axes_by_name[name].restore_servo()
             self._servo_held_by_alarm &= holding
@@ -284,6 +298,24 @@ class Nck:
             channel.write_status(bool(channel_alarms), with_stop)
 
     # ------------------------------------------------------------------ power off, plant faults
+    def plc_sign_of_life(self, counter: int) -> None:
+        """The PLC's sign of life as the link sees it (a number that changes with every scan).
+        Once a PLC is attached the NC watches it: no change within MD10120 of power-on raises
+        alarm 2001, later no change for longer than MD10100 alarm 2000 (axes stop, NC start
+        disabled, cleared by a reset when the PLC scans again)."""
+        if self._plc_life is None:
+            self._plc_life, self._plc_life_cycle = counter, self.cycle
+        elif counter != self._plc_life:
+            self._plc_life, self._plc_life_cycle = counter, self.cycle
+            self._plc_started = True
+
+    def _watch_plc(self) -> None:
+        if not self._plc_started:
+            if self.cycle > self._plc_startup_cycles:
+                self.alarms.raise_alarm(PLC_NOT_STARTED_ALARM, self.cycle)
+        elif self.cycle - self._plc_life_cycle > self._plc_timeout_cycles:
+            self.alarms.raise_alarm(PLC_SIGN_OF_LIFE_ALARM, self.cycle)
+
     def power_off(self) -> NcMemory:
         """Switch off: buffer what the control keeps, and hand its memory to the next power-on."""
         for axis in self.axes:

@@ -16,6 +16,14 @@ def simulation_for(scenario: Scenario) -> Simulation:
 
 
 def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_dir: str | None = None,
-                       golden: str | None = None, update_golden: bool = False) -> int:
+                       golden: str | None = None, update_golden: bool = False, link: str = "inprocess") -> int:
+    """``link``: ``inprocess`` runs the PLC programs in lockstep in this process; ``modbus`` runs
+    them in a ``python -m plc_stub`` process over a lockstep Modbus TCP link."""
+    if link == "modbus":
+        from vc.harness.external_plc import PlcProcess
+
+        with PlcProcess() as process:
+            return run_command(paths, process.target_factory(), plc_programs().keys(), junit=junit,
+                               trace_dir=trace_dir, golden=golden, update_golden=update_golden)
     return run_command(paths, simulation_for, plc_programs().keys(), junit=junit, trace_dir=trace_dir,
                        golden=golden, update_golden=update_golden)

@@ -15,16 +15,17 @@ their owner writes, so a forced value is what the reader sees.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Protocol
 
 from interfaces.catalog import load_catalog
 from interfaces.image import ProcessImage, Value
-from interfaces.links.inprocess import plc_program
+from interfaces.links.inprocess import InProcessConnector
 from interfaces.plant_io import Owner
-from interfaces.plc import PlcEnvironment, SoftPlc
+from interfaces.plc import PlcConnector, PlcEnvironment, SoftPlc
 from interfaces.signals import Direction, SignalRef
 from vc.config.machine_data import MachineData
 from vc.config.md_dictionary import BY_NUMBER
-from vc.config.model import MachineConfig
+from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import Alarm
 from vc.core.nc_memory import NcMemory
 from vc.core.nck import Nck
@@ -32,13 +33,24 @@ from vc.plant.plant import Plant
 from vc.scenario.target import AXIS_QUANTITIES, FAULTS
 
 
+class Pacer(Protocol):
+    def wait_next_cycle(self) -> None:
+        """Return when the next IPO cycle may start (real time); the links are served meanwhile."""
+
+
 class Simulation:
-    def __init__(self, machine: MachineConfig, plc: str | None = "basic_machine"):
+    def __init__(self, machine: MachineConfig, plc: str | None = "basic_machine",
+                 connector: PlcConnector | None = None, pacer: Pacer | None = None):
+        """``plc`` names the PLC program (None: the scenario acts as the PLC); ``connector`` says
+        where it runs (default: in this process, in lockstep); ``pacer`` ties the IPO cycles to
+        the wall clock (default: as fast as possible)."""
         self._catalog = load_catalog()
         self.machine = machine
         self.plant_io = machine.plant_io
         self.plc_name = plc
         self.plc_period = machine.plc_cycle_ipo
+        self.connector: PlcConnector = connector or InProcessConnector()
+        self.pacer = pacer
         self._cycles_before = 0  # IPO cycles of earlier power-ons and of the time switched off
         self._forces: dict[SignalRef, Value] = {}
         self._underlying: dict[SignalRef, Value] = {}  # what the owner wrote while a force held
@@ -57,8 +69,9 @@ class Simulation:
         self.plc: SoftPlc | None = None
         if self.plc_name is not None:
             scan_time = self.plc_period * self.nck.cycle_us / 1_000_000
-            environment = PlcEnvironment(self.catalog, machine.plant_io, scan_time, machine.plc_parameters)
-            self.plc = plc_program(self.plc_name)(environment)
+            environment = PlcEnvironment(self.catalog, machine.plant_io, scan_time, machine.plc_parameters,
+                                         machine.name, self.nck.cycle_us, self.plc_period)
+            self.plc = self.connector.connect(environment, self.plc_name)
         self._observed = ProcessImage({**self.catalog.area_sizes, **machine.plant_io.area_sizes()})
         self._observed_cycle = -1
         if first:
@@ -89,13 +102,24 @@ class Simulation:
         return self.nck.cycle_us
 
     @property
+    def ipo_cycle_s(self) -> float:
+        return self.nck.cycle_us / 1_000_000
+
+    @staticmethod
+    def ipo_seconds(machine: MachineConfig) -> float:
+        return machine_ipo_cycle_us(machine) / 1_000_000
+
+    @property
     def time_s(self) -> float:
         return self.cycle * self.nck.cycle_us / 1_000_000
 
     def step(self, cycles: int = 1) -> None:
         nck, plant, interface, plant_image = self.nck, self.plant, self.interface, self.plant_image
         plant_forces = self._forces_by_direction[Direction.PLANT_TO_PLC]
+        pacer = self.pacer
         for _ in range(cycles):
+            if pacer is not None:
+                pacer.wait_next_cycle()
             nck.step(interface)
             plant.step(plant_image)
             if plant_forces:
@@ -109,6 +133,7 @@ class Simulation:
         self._apply(self._forces_by_direction[Direction.NC_TO_PLC], self.interface)
         if self.plc is not None:
             self.plc.scan(self.interface, self.plant_image)
+            self.nck.plc_sign_of_life(self.plc.sign_of_life)
             self._apply(self._forces_by_direction[Direction.PLC_TO_NC], self.interface)
             self._apply(self._forces_by_direction[Direction.PLC_TO_PLANT], self.plant_image)
 

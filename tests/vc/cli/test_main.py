@@ -18,7 +18,7 @@ MACHINE = str(ROOT / "scenarios" / "machines" / "turn_mill.yaml")
 def test_map_csv_starts_with_the_required_columns_and_lists_every_instance(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["map", "--machine", MACHINE, "--format", "csv"]) == 0
     rows = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
-    assert list(rows[0])[:4] == ["symbol", "address", "direction", "type"]
+    assert list(rows[0])[:7] == ["symbol", "address", "direction", "type", "modbus_table", "modbus_address", "bit"]
     by_symbol = {row["symbol"]: row for row in rows}
     # turn_mill: X1 is machine axis 1 (DB31), SP3 machine axis 6 (DB36); one channel (DB21)
     assert by_symbol["X1.basic.in.enc1Synchronized"]["address"] == "DB31.DBX60.4"
@@ -27,7 +27,15 @@ def test_map_csv_starts_with_the_required_columns_and_lists_every_instance(capsy
     assert by_symbol["MODEGROUP.basic.out.jogMode"]["direction"] == "plc_to_nc"
     assert by_symbol["MCP.jog"]["direction"] == "plant_to_plc"
     instances = {row["instance"] for row in rows}
-    assert instances == {"NC", "MODEGROUP", "CHAN1", "X1", "Z1", "Y1", "SP1", "SP2", "SP3", "PLANT"}
+    assert instances == {"NC", "MODEGROUP", "CHAN1", "X1", "Z1", "Y1", "SP1", "SP2", "SP3", "PLANT", "LINK"}
+    referenced = by_symbol["X1.basic.in.enc1Synchronized"]
+    assert (referenced["modbus_table"], referenced["bit"]) == ("discrete_input", "")
+    register, register_bit = int(referenced["register"]), int(referenced["register_bit"])
+    assert int(referenced["modbus_address"]) == 16 * register + (register_bit + 8) % 16
+    assert referenced["modbus_number"] == f"1{int(referenced['modbus_address']) + 1:04d}"
+    override = by_symbol["CHAN1.basic.out.pathFeedrateOvrFactor"]  # DB21.DBB4: an even byte, the high half
+    assert (override["modbus_table"], override["bit"]) == ("holding_register", "8")
+    assert by_symbol["LINK.scanDone"]["modbus_address"] == "0"
 
 
 def test_map_json_and_markdown(capsys: pytest.CaptureFixture[str]) -> None:

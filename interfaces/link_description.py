@@ -1,0 +1,100 @@
+"""The interface description a link server publishes, so that a PLC configures itself.
+
+What a PLC needs to know about the machine it controls, and nothing of the NC: the channel
+and axis names that number the DB instances, the plant I/O list, the PLC period, the
+machine builder's PLC parameters and the PLC program the harness asks for (a PLC that runs a
+fixed program ignores it).  It travels as UTF-8 JSON (input registers from 4096 over Modbus)::
+
+    {"format": 1, "machine": "turn_mill", "channels": ["CHAN1"], "axes": ["X1", "Z1", ...],
+     "plant_io": {"I0.0": "EStop.chainOk", ...}, "ipo_cycle_us": 2000, "plc_cycle_ipo": 5,
+     "program": "basic_machine", "parameters": {...},
+     "nc_to_plc_registers": 323, "plc_to_nc_registers": 132}
+
+The register counts let a client check that it computes the same layout as the server.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from interfaces.catalog import load_catalog
+from interfaces.codec_modbus import RegisterMap, Table
+from interfaces.plant_io import PlantIoError, PlantIoMap
+from interfaces.plc import PlcEnvironment
+from interfaces.signals import InterfaceLayout, expand
+
+FORMAT = 1
+
+
+class DescriptionError(ValueError):
+    """A description that cannot be read or does not fit this side's catalogue."""
+
+
+@dataclass(frozen=True, slots=True)
+class LinkDescription:
+    machine: str
+    channels: tuple[str, ...]
+    axes: tuple[str, ...]
+    plant_io: Mapping[str, str]  # address -> function, as in the machine file
+    ipo_cycle_us: int
+    plc_cycle_ipo: int
+    program: str | None  # the program the harness asks for; None when the PLC is the user's
+    parameters: Mapping[str, Any] = field(default_factory=dict)
+    nc_to_plc_registers: int = 0
+    plc_to_nc_registers: int = 0
+
+    @classmethod
+    def of(cls, environment: PlcEnvironment, program: str | None, register_map: RegisterMap) -> LinkDescription:
+        layout = environment.catalog.layout
+        entries = {str(point.address): point.name for point in environment.plant_io.points}
+        return cls(environment.machine, layout.channels, layout.axes, entries, environment.ipo_cycle_us,
+                   environment.plc_cycle_ipo, program, dict(environment.parameters),
+                   register_map.registers(Table.NC_TO_PLC), register_map.registers(Table.PLC_TO_NC))
+
+    def to_json(self) -> bytes:
+        document = {
+            "format": FORMAT, "machine": self.machine, "channels": list(self.channels), "axes": list(self.axes),
+            "plant_io": dict(self.plant_io), "ipo_cycle_us": self.ipo_cycle_us, "plc_cycle_ipo": self.plc_cycle_ipo,
+            "program": self.program, "parameters": dict(self.parameters),
+            "nc_to_plc_registers": self.nc_to_plc_registers, "plc_to_nc_registers": self.plc_to_nc_registers,
+        }
+        return json.dumps(document, separators=(",", ":"), sort_keys=True).encode()
+
+    @classmethod
+    def from_json(cls, text: bytes) -> LinkDescription:
+        try:
+            document = json.loads(text.decode())
+            if document.get("format") != FORMAT:
+                raise DescriptionError(f"description format {document.get('format')!r}; this side reads {FORMAT}")
+            return cls(str(document["machine"]), tuple(document["channels"]), tuple(document["axes"]),
+                       dict(document["plant_io"]), int(document["ipo_cycle_us"]), int(document["plc_cycle_ipo"]),
+                       document.get("program"), dict(document.get("parameters") or {}),
+                       int(document["nc_to_plc_registers"]), int(document["plc_to_nc_registers"]))
+        except (UnicodeDecodeError, ValueError, KeyError, TypeError, AttributeError) as error:
+            if isinstance(error, DescriptionError):
+                raise
+            raise DescriptionError(f"unreadable interface description: {error}") from None
+
+    @property
+    def scan_time_s(self) -> float:
+        return self.ipo_cycle_us * self.plc_cycle_ipo / 1_000_000
+
+    def environment(self) -> tuple[PlcEnvironment, RegisterMap]:
+        """The PLC's environment and the register layout, checked against the server's counts."""
+        catalog = expand(load_catalog(), InterfaceLayout(self.channels, self.axes))
+        try:
+            plant_io = PlantIoMap.from_mapping(self.plant_io, self.axes)
+        except PlantIoError as error:
+            raise DescriptionError(f"plant I/O of the description: {error}") from None
+        register_map = RegisterMap.build(catalog, plant_io.area_sizes())
+        counts = (register_map.registers(Table.NC_TO_PLC), register_map.registers(Table.PLC_TO_NC))
+        if counts != (self.nc_to_plc_registers, self.plc_to_nc_registers):
+            raise DescriptionError(f"the server's tables have {self.nc_to_plc_registers} and"
+                                   f" {self.plc_to_nc_registers} registers, this side computes {counts[0]} and"
+                                   f" {counts[1]}: the two sides use different catalogues")
+        environment = PlcEnvironment(catalog, plant_io, self.scan_time_s, self.parameters, self.machine,
+                                     self.ipo_cycle_us, self.plc_cycle_ipo)
+        return environment, register_map

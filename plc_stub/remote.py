@@ -1,0 +1,214 @@
+"""The built-in programs as a PLC in its own process, a Modbus TCP client of the harness.
+
+The client configures itself from the server (the link block and the interface description
+of :mod:`interfaces.codec_modbus`) and follows the server's mode:
+
+* **lockstep**: poll the link block; when the harness grants a scan, read the NC->PLC table,
+  run one scan, write the PLC->NC table, then report the scan done.  The order inside the scan
+  is the in-process one (:class:`plc_stub.runtime.ScanCycleRuntime`), so the trace is the same.
+* **free-running**: scan every PLC period of the wall clock (or ``period_s``): read, scan,
+  write, and count the scan-done register up as the sign of life.
+
+A new session (the harness powered the machine on again, or started the next scenario) means
+a PLC restart: the description is read again and the program starts from its initial state.
+"""
+
+from __future__ import annotations
+
+import math
+import struct
+import time as wallclock
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from interfaces.codec_modbus import (
+    LINK_REGISTERS,
+    LINK_VERSION,
+    MODE_LOCKSTEP,
+    REG_DESCRIPTION_BYTES,
+    REG_DESCRIPTION_START,
+    REG_MODE,
+    REG_SCAN_DONE,
+    REG_SCAN_GRANT,
+    REG_SESSION,
+    REG_SESSION_READY,
+    REG_VERSION,
+    RegisterMap,
+    Table,
+    read_registers,
+    registers_text,
+)
+from interfaces.image import ProcessImage
+from interfaces.link_description import DescriptionError, LinkDescription
+from interfaces.links.modbus_tcp import READ_LIMIT, LinkError, ModbusLinkClient
+from interfaces.plc import SoftPlc
+from plc_stub.programs import REGISTRY
+
+_WORD = struct.Struct(">H")
+
+
+class RemoteSetupError(Exception):
+    """The PLC cannot run what the server describes (unknown program, other catalogue)."""
+
+
+@dataclass(slots=True)
+class _Session:
+    number: int
+    lockstep: bool
+    description: LinkDescription
+    register_map: RegisterMap
+    plc: SoftPlc
+    interface: ProcessImage
+    plant: ProcessImage
+    nc_to_plc: bytearray
+    plc_to_nc: bytearray
+    last_grant: int = 0
+    life: int = 0
+
+    @property
+    def areas(self) -> dict[str, bytearray]:
+        return {**self.interface.areas, **self.plant.areas}
+
+
+class RemotePlc:
+    """One PLC process: ``run`` until stopped (``should_stop``) or the server goes away for good."""
+
+    def __init__(self, client: ModbusLinkClient, program: str | None = None, period_s: float | None = None,
+                 log: Callable[[str], None] = lambda text: None):
+        self.client = client
+        self.program = program
+        self.period_s = period_s
+        self.log = log
+        self.session: _Session | None = None
+        self.scans = 0
+
+    # ------------------------------------------------------------------ one poll
+    def poll(self) -> bool:
+        """Read the link block and do what it asks; True if a scan ran."""
+        head = self.client.read_input_registers(0, self._poll_count())
+        if head[REG_VERSION] == 0:  # the harness has not powered a machine on yet
+            wallclock.sleep(0.01)
+            return False
+        if head[REG_VERSION] != LINK_VERSION:
+            raise RemoteSetupError(f"the server speaks link version {head[REG_VERSION]}, this PLC {LINK_VERSION}")
+        session = self.session
+        if session is None or session.number != head[REG_SESSION]:
+            session = self._start_session(head)
+            head = self.client.read_input_registers(0, self._poll_count())
+        if session.lockstep:
+            grant = head[REG_SCAN_GRANT]
+            if grant == 0 or grant == session.last_grant:
+                return False
+            self._scan(session, head, grant)
+            session.last_grant = grant
+            return True
+        session.life = session.life % 0xFFFF + 1
+        self._scan(session, head, session.life)
+        return True
+
+    def _poll_count(self) -> int:
+        if self.session is None:
+            return LINK_REGISTERS
+        return min(READ_LIMIT, self.session.register_map.registers(Table.NC_TO_PLC))
+
+    def _start_session(self, head: list[int]) -> _Session:
+        length = head[REG_DESCRIPTION_BYTES]
+        text = registers_text(self.client.read_input_registers(head[REG_DESCRIPTION_START], math.ceil(length / 2)),
+                              length)
+        try:
+            description = LinkDescription.from_json(text)
+            environment, register_map = description.environment()
+        except DescriptionError as error:
+            raise RemoteSetupError(str(error)) from None
+        name = self.program or description.program
+        if name is None:
+            raise RemoteSetupError("the server asks for no program: start the PLC with --program NAME")
+        factory = REGISTRY.get(name)
+        if factory is None:
+            raise RemoteSetupError(f"no PLC program '{name}' (known: {', '.join(sorted(REGISTRY))})")
+        sizes = register_map.table_bytes
+        self.session = _Session(
+            head[REG_SESSION], head[REG_MODE] == MODE_LOCKSTEP, description, register_map, factory(environment),
+            ProcessImage(environment.catalog.area_sizes), ProcessImage(environment.plant_io.area_sizes()),
+            bytearray(sizes[Table.NC_TO_PLC]), bytearray(sizes[Table.PLC_TO_NC]))
+        self.client.write_registers(REG_SESSION_READY, [self.session.number])
+        self.log(f"session {self.session.number}: machine {description.machine}, program {name},"
+                 f" {'lockstep' if self.session.lockstep else 'free-running'}")
+        return self.session
+
+    def _scan(self, session: _Session, head: list[int], done: int) -> None:
+        """Inputs from the server, one scan, outputs and scan-done ``done`` to the server
+        (``head``: the registers just read)."""
+        total = session.register_map.registers(Table.NC_TO_PLC)
+        registers = head[:total]
+        if len(registers) < total:
+            registers += self.client.read_input_registers(len(registers), total - len(registers))
+        buffer = session.nc_to_plc
+        buffer[:] = struct.pack(f">{len(registers)}H", *registers)
+        areas = session.areas
+        session.register_map.fill_areas(Table.NC_TO_PLC, buffer, areas)
+        session.plc.scan(session.interface, session.plant)
+        outputs = session.plc_to_nc
+        session.register_map.fill_table(Table.PLC_TO_NC, areas, outputs)
+        _WORD.pack_into(outputs, 2 * REG_SCAN_DONE, done)
+        _WORD.pack_into(outputs, 2 * REG_SESSION_READY, session.number)
+        # The whole table from register 0, the chunk with register 0 last: the scan-done word
+        # reaches the server after every output of the scan.
+        values = read_registers(outputs, 0, session.register_map.registers(Table.PLC_TO_NC))
+        self.client.write_registers_last_first(0, values)
+        self.scans += 1
+
+    # ------------------------------------------------------------------ the loop
+    def run(self, should_stop: Callable[[], bool] = lambda: False) -> None:
+        """Poll (lockstep) or scan on the clock (free-running) until ``should_stop``; a lost
+        connection raises :class:`LinkError` to the caller, which may reconnect."""
+        next_scan = wallclock.perf_counter()
+        while not should_stop():
+            session = self.session
+            if session is None or session.lockstep:
+                self.poll()
+                continue
+            period = self.period_s or session.description.scan_time_s
+            now = wallclock.perf_counter()
+            if now < next_scan:
+                wallclock.sleep(next_scan - now)
+            next_scan = max(next_scan + period, wallclock.perf_counter() - period)
+            self.poll()
+
+    def restart(self) -> None:
+        """After a reconnect: the next poll sets the session up again (a PLC restart)."""
+        self.session = None
+
+
+def run_forever(host: str, port: int, program: str | None, period_s: float | None, connect_timeout_s: float,
+                log: Callable[[str], None], should_stop: Callable[[], bool] = lambda: False) -> int:
+    """Connect (and reconnect) to the harness and run; the exit code of ``python -m plc_stub``."""
+    client = ModbusLinkClient(host, port)
+    plc = RemotePlc(client, program, period_s, log)
+    deadline = wallclock.monotonic() + connect_timeout_s
+    connected = False
+    try:
+        while not should_stop():
+            if not client.connect():
+                if wallclock.monotonic() > deadline:
+                    log(f"no Modbus server at {host}:{port} after {connect_timeout_s:.0f} s")
+                    return 1
+                wallclock.sleep(0.1)
+                continue
+            if not connected:
+                log(f"connected to {host}:{port}")
+                connected = True
+            try:
+                plc.run(should_stop)
+            except LinkError as error:
+                log(f"link lost: {error}; reconnecting")
+                client.close()
+                plc.restart()
+                connected = False
+                deadline = wallclock.monotonic() + connect_timeout_s
+            except RemoteSetupError as error:
+                log(f"cannot run: {error}")
+                return 2
+    finally:
+        client.close()
+    return 0

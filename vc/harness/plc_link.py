@@ -1,0 +1,281 @@
+"""The harness's end of a PLC in another process: Modbus TCP (and S7) servers and the exchange.
+
+:class:`PlcLink` is a :class:`~interfaces.plc.PlcConnector`: at every power-on of the
+simulation it opens a new *session* (new tables for the machine, the interface description,
+the session number in the link block) and hands the simulation a :class:`LinkedPlc` whose
+``scan`` exchanges the interface with the remote PLC once per PLC period:
+
+* **lockstep**: publish the NC->PLC bytes and the plant inputs, grant the next scan (input
+  register 3), then run the event loop until the PLC reports that scan done (holding register
+  0) for this session (holding register 1), and take its outputs.  Simulated time stands while
+  the PLC works, so a PLC that can be stepped gives the same trace as in-process.
+* **free-running** (real time): publish the inputs, take the outputs the PLC wrote since the
+  last exchange; the PLC scans on its own clock and its scan counter is its sign of life.
+
+The servers share one asyncio loop with the pacer, run only while the harness waits; see
+:mod:`interfaces.links.modbus_tcp` for the threading argument.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import struct
+import time as wallclock
+from collections.abc import Callable, Collection, Mapping
+from dataclasses import dataclass
+from enum import StrEnum
+
+from interfaces.codec_modbus import (
+    DESCRIPTION_REGISTER,
+    LINK_VERSION,
+    MODE_FREE_RUNNING,
+    MODE_LOCKSTEP,
+    REG_DESCRIPTION_BYTES,
+    REG_DESCRIPTION_START,
+    REG_IPO_CYCLE_US,
+    REG_MODE,
+    REG_NC_CYCLE_HIGH,
+    REG_NC_TO_PLC_REGISTERS,
+    REG_PLC_CYCLE_IPO,
+    REG_PLC_TO_NC_REGISTERS,
+    REG_SCAN_DONE,
+    REG_SCAN_GRANT,
+    REG_SESSION,
+    REG_SESSION_READY,
+    REG_VERSION,
+    RegisterMap,
+    Table,
+)
+from interfaces.image import ProcessImage
+from interfaces.link_description import LinkDescription
+from interfaces.links.modbus_tcp import LinkError, ModbusServerLink, ModbusTables
+from interfaces.links.s7 import S7ServerLink
+from interfaces.plc import PlcEnvironment
+
+_WORD = struct.Struct(">H")
+
+
+class LinkMode(StrEnum):
+    LOCKSTEP = "lockstep"
+    FREE_RUNNING = "free_running"
+
+
+@dataclass(frozen=True, slots=True)
+class Endpoint:
+    host: str
+    port: int
+
+    @classmethod
+    def parse(cls, text: str, default_port: int) -> Endpoint:
+        """``127.0.0.1:5020``, ``127.0.0.1`` (default port) or ``:5020`` (loopback)."""
+        host, _, port = text.rpartition(":") if ":" in text else (text, "", "")
+        try:
+            number = int(port) if port else default_port
+        except ValueError:
+            raise LinkError(f"'{text}': the port must be a number (e.g. 127.0.0.1:{default_port})") from None
+        if not 0 <= number <= 65535:
+            raise LinkError(f"'{text}': port {number} is outside 0..65535")
+        return cls(host or "127.0.0.1", number)
+
+    def __str__(self) -> str:
+        return f"{self.host}:{self.port}"
+
+
+LOOPBACK = ("127.0.0.1", "localhost", "::1")
+
+
+def check_bind(endpoint: Endpoint, allow_remote: bool) -> None:
+    """A server listens on loopback unless remote access is asked for explicitly."""
+    if endpoint.host not in LOOPBACK and not allow_remote:
+        raise LinkError(f"{endpoint.host} is not the loopback interface: binding there lets other machines"
+                        " write into the NC; add --allow-remote to do so")
+
+
+class PlcLink:
+    """Servers for a remote PLC and the sessions of one harness run (see the module docstring)."""
+
+    def __init__(self, mode: LinkMode, *, modbus: Endpoint | None = None, s7: Endpoint | None = None,
+                 allowed_clients: Collection[str] = (), first_scan_timeout_s: float | None = 30.0,
+                 scan_timeout_s: float | None = 10.0, on_wait: Callable[[str], None] | None = None,
+                 peer_ended: Callable[[], str | None] = lambda: None):
+        """``peer_ended`` tells why the PLC process the harness started is gone (None while it runs),
+        so that lockstep stops waiting for a PLC that cannot answer any more."""
+        if modbus is None and s7 is None:
+            raise LinkError("a PLC link needs a Modbus TCP or an S7 endpoint")
+        if mode is LinkMode.LOCKSTEP and modbus is None:
+            raise LinkError("lockstep needs the Modbus handshake registers: give a Modbus endpoint,"
+                            " or run the S7 link in real time")
+        self.mode = mode
+        self.first_scan_timeout_s = first_scan_timeout_s
+        self.scan_timeout_s = scan_timeout_s
+        self.on_wait = on_wait
+        self.peer_ended = peer_ended
+        self.loop = asyncio.new_event_loop()
+        self.tables = ModbusTables(on_write=self._modbus_written)
+        self.session = 0
+        self.outputs_written = False  # a Modbus client wrote PLC-to-NC registers since the last exchange
+        self._handshake = asyncio.Event()
+        self.modbus: ModbusServerLink | None = None
+        self.s7: S7ServerLink | None = None
+        try:
+            if modbus is not None:
+                self.modbus = ModbusServerLink(self.tables, modbus.host, modbus.port, self.loop, allowed_clients)
+                self.modbus.start()
+            if s7 is not None:
+                self.s7 = S7ServerLink(s7.host, s7.port, allowed_clients)
+                self.s7.start()
+        except LinkError:
+            self.close()
+            raise
+
+    # ------------------------------------------------------------------ sessions
+    def connect(self, environment: PlcEnvironment, program: str) -> LinkedPlc:
+        """A power-on: new tables and description; the PLC (re)starts its program for them."""
+        self.session = self.session % 0xFFFF + 1
+        register_map = RegisterMap.build(environment.catalog, environment.plant_io.area_sizes())
+        description = LinkDescription.of(environment, program, register_map)
+        tables = self.tables
+        tables.nc_to_plc = bytearray(register_map.table_bytes[Table.NC_TO_PLC])
+        tables.plc_to_nc = bytearray(register_map.table_bytes[Table.PLC_TO_NC])
+        tables.writable = register_map.writable
+        tables.set_description(description.to_json())
+        self.outputs_written = False
+        block = {
+            REG_VERSION: LINK_VERSION, REG_SESSION: self.session,
+            REG_MODE: MODE_LOCKSTEP if self.mode is LinkMode.LOCKSTEP else MODE_FREE_RUNNING,
+            REG_IPO_CYCLE_US: environment.ipo_cycle_us, REG_PLC_CYCLE_IPO: environment.plc_cycle_ipo,
+            REG_DESCRIPTION_START: DESCRIPTION_REGISTER, REG_DESCRIPTION_BYTES: len(tables.description),
+            REG_NC_TO_PLC_REGISTERS: register_map.registers(Table.NC_TO_PLC),
+            REG_PLC_TO_NC_REGISTERS: register_map.registers(Table.PLC_TO_NC),
+        }
+        for register, value in block.items():
+            self.set_input_register(register, value)
+        if self.s7 is not None:
+            self.s7.open_session(environment.catalog, environment.plant_io.area_sizes())
+        return LinkedPlc(self, register_map, environment)
+
+    # ------------------------------------------------------------------ registers of the link block
+    def set_input_register(self, register: int, value: int) -> None:
+        _WORD.pack_into(self.tables.nc_to_plc, 2 * register, value & 0xFFFF)
+
+    def holding_register(self, register: int) -> int:
+        return int(_WORD.unpack_from(self.tables.plc_to_nc, 2 * register)[0])
+
+    def _modbus_written(self, first: int, count: int) -> None:
+        self.outputs_written = True
+        if first <= REG_SESSION_READY:
+            self._handshake.set()  # scan done or session ready may have changed
+
+    # ------------------------------------------------------------------ waiting
+    def wait_for_scan(self, grant: int, first: bool) -> None:
+        """Serve the clients until the PLC reports scan ``grant`` of this session done."""
+        def done() -> bool:
+            return self.holding_register(REG_SESSION_READY) == self.session and \
+                self.holding_register(REG_SCAN_DONE) == grant
+
+        if done():
+            return
+        timeout = self.first_scan_timeout_s if first else self.scan_timeout_s
+        announce_after = 1.0 if first or self.scan_timeout_s is None else self.scan_timeout_s / 2
+        began = wallclock.monotonic()
+        announced = False
+
+        async def until_done() -> None:
+            nonlocal announced
+            while not done():
+                self._handshake.clear()
+                with contextlib.suppress(TimeoutError):
+                    await asyncio.wait_for(self._handshake.wait(), 0.5)
+                waited = wallclock.monotonic() - began
+                ended = self.peer_ended()
+                if ended is not None:
+                    raise LinkError(f"{self._silence(grant, first, waited)}: {ended}")
+                if timeout is not None and waited > timeout:
+                    raise LinkError(self._silence(grant, first, waited))
+                if not announced and waited > announce_after and self.on_wait is not None:
+                    announced = True
+                    self.on_wait(self._silence(grant, first, waited))
+
+        self.loop.run_until_complete(until_done())
+
+    def _silence(self, grant: int, first: bool, waited: float) -> str:
+        where = ", ".join(str(server) for server in (self.modbus_endpoint,) if server) or "the link"
+        if first:
+            return (f"no PLC has started session {self.session} on {where} after {waited:.0f} s"
+                    f" ({self.modbus.clients if self.modbus else 0} client(s) connected)")
+        return f"the PLC on {where} has not finished scan {grant} after {waited:.0f} s"
+
+    @property
+    def modbus_endpoint(self) -> str:
+        return f"modbus {self.modbus.host}:{self.modbus.port}" if self.modbus else ""
+
+    def serve(self) -> None:
+        """Let the servers answer what has arrived (one pass of the event loop)."""
+        self.loop.run_until_complete(asyncio.sleep(0))
+
+    def close(self) -> None:
+        if self.modbus is not None:
+            self.modbus.close()
+            self.modbus = None
+        if self.s7 is not None:
+            self.s7.close()
+            self.s7 = None
+        if not self.loop.is_closed():
+            pending = asyncio.all_tasks(self.loop)
+            for task in pending:
+                task.cancel()
+            if pending:
+                self.loop.run_until_complete(asyncio.gather(*pending, return_exceptions=True))
+            self.loop.close()
+
+
+class LinkedPlc:
+    """The simulation's PLC for one session of a :class:`PlcLink`."""
+
+    def __init__(self, link: PlcLink, register_map: RegisterMap, environment: PlcEnvironment):
+        self.link = link
+        self.register_map = register_map
+        self.session = link.session
+        self.plc_cycle_ipo = environment.plc_cycle_ipo
+        self.scans = 0
+        self._life = 0
+
+    @property
+    def sign_of_life(self) -> int:
+        return self._life
+
+    def scan(self, interface: ProcessImage, plant: ProcessImage) -> None:
+        link, register_map = self.link, self.register_map
+        if link.session != self.session:
+            raise LinkError(f"session {self.session} was replaced by session {link.session}")
+        areas: Mapping[str, bytearray] = {**interface.areas, **plant.areas}
+        register_map.fill_table(Table.NC_TO_PLC, areas, link.tables.nc_to_plc)
+        cycle = self.scans * self.plc_cycle_ipo
+        link.set_input_register(REG_NC_CYCLE_HIGH, cycle >> 16)
+        link.set_input_register(REG_NC_CYCLE_HIGH + 1, cycle)
+        if link.s7 is not None:
+            link.s7.publish(areas)
+        self.scans += 1
+        if link.mode is LinkMode.LOCKSTEP:
+            grant = (self.scans - 1) % 0xFFFF + 1
+            link.set_input_register(REG_SCAN_GRANT, grant)
+            link.wait_for_scan(grant, first=self.scans == 1)
+            self._life = grant
+            self._take_modbus(areas, interface, plant)
+            return
+        self._life = link.holding_register(REG_SCAN_DONE)
+        if link.outputs_written:
+            self._take_modbus(areas, interface, plant)
+            if link.s7 is not None:
+                link.s7.mirror_outputs(areas)
+        elif link.s7 is not None and link.s7.take_outputs(areas):
+            interface.touch()
+            plant.touch()
+            self.register_map.fill_table(Table.PLC_TO_NC, areas, link.tables.plc_to_nc)
+
+    def _take_modbus(self, areas: Mapping[str, bytearray], interface: ProcessImage, plant: ProcessImage) -> None:
+        self.register_map.fill_areas(Table.PLC_TO_NC, self.link.tables.plc_to_nc, areas)
+        self.link.outputs_written = False
+        interface.touch()
+        plant.touch()

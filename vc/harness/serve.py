@@ -1,0 +1,141 @@
+"""``vc serve``: the NC and the plant as a server a PLC in another process connects to.
+
+Lockstep (default): the NC advances one PLC period per scan the PLC reports done, so a PLC
+that can be stepped (``python -m plc_stub``) runs deterministically; time stands while no PLC
+answers.  Real time (``--realtime``): the IPO cycles follow the wall clock (``--speed`` scales
+it), the PLC scans on its own clock, and the NC watches the PLC's sign of life (alarm 2000
+after MD10100 without one).  A scenario (``--scenario``) plays the operator; afterwards the
+machine keeps running until Ctrl-C or ``--duration``.
+"""
+
+from __future__ import annotations
+
+import time as wallclock
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from interfaces.links.inprocess import plc_programs
+from vc.config.loader import load_machine
+from vc.config.model import MachineConfig
+from vc.harness.pacer import RealtimePacer
+from vc.harness.plc_link import Endpoint, LinkMode, PlcLink, check_bind
+from vc.harness.simulation import Simulation
+from vc.scenario.command import EXIT_PASSED, run_command
+from vc.scenario.model import Scenario
+
+
+@dataclass(slots=True)
+class ServeOptions:
+    machine_path: str
+    modbus: Endpoint | None = None
+    s7: Endpoint | None = None
+    allow_remote: bool = False
+    allowed_clients: tuple[str, ...] = ()
+    realtime: bool = False
+    speed: float | None = 1.0  # None: as fast as possible
+    program: str = "basic_machine"  # what the harness asks a PLC that follows it (plc_stub) to run
+    scenario: str | None = None
+    duration_s: float | None = None  # simulated seconds, then stop
+    stats_every_s: float = 10.0
+    say: Callable[[str], None] = field(default=print)
+
+
+class AlarmWatch:
+    """Prints alarms as they come and go (the operator's alarm line)."""
+
+    def __init__(self, simulation: Simulation, say: Callable[[str], None]):
+        self.simulation = simulation
+        self.say = say
+        self._version = -1
+        self._shown: set[tuple[int, str, str]] = set()
+
+    def check(self) -> None:
+        alarms = self.simulation.nck.alarms
+        if alarms.version == self._version:
+            return
+        self._version = alarms.version
+        present = {(alarm.number, alarm.channel, alarm.axis): alarm for alarm in alarms.present}
+        at = f"{self.simulation.time_s:9.3f} s"
+        for key in sorted(present.keys() - self._shown):
+            self.say(f"{at}  alarm {present[key]}")
+        for key in sorted(self._shown - present.keys()):
+            self.say(f"{at}  alarm {key[0]} cleared")
+        self._shown = set(present)
+
+
+def serve(options: ServeOptions) -> int:
+    say = options.say
+    modbus = options.modbus if options.modbus or options.s7 else Endpoint("127.0.0.1", 5020)
+    for endpoint in (modbus, options.s7):
+        if endpoint is not None:
+            check_bind(endpoint, options.allow_remote)
+    machine, program, scenario_path = _machine_and_program(options)
+    mode = LinkMode.FREE_RUNNING if options.realtime else LinkMode.LOCKSTEP
+    link = PlcLink(mode, modbus=modbus, s7=options.s7, allowed_clients=options.allowed_clients,
+                   first_scan_timeout_s=None, scan_timeout_s=None, on_wait=lambda text: say(f"waiting: {text}"))
+    try:
+        ipo_s = Simulation.ipo_seconds(machine)
+        pacer = RealtimePacer(link.loop, ipo_s, options.speed) if options.realtime else None
+        _banner(options, machine, link, program, mode, say)
+        simulations: list[Simulation] = []
+
+        def power_on(scenario: Scenario | None = None) -> Simulation:
+            simulation = Simulation(scenario.machine if scenario else machine, program, connector=link, pacer=pacer)
+            simulations.append(simulation)
+            return simulation
+
+        code = EXIT_PASSED
+        try:
+            if scenario_path is not None:
+                code = run_command([scenario_path], power_on, plc_programs().keys())
+                say("scenario done; the machine keeps running (Ctrl-C ends)")
+            simulation = simulations[-1] if simulations else power_on()
+            _keep_running(simulation, pacer, link, options)
+        except KeyboardInterrupt:
+            say("stopped")
+        if pacer is not None:
+            say(f"real time: {pacer.stats()}")
+        return code
+    finally:
+        link.close()
+
+
+def _machine_and_program(options: ServeOptions) -> tuple[MachineConfig, str, str | None]:
+    if options.scenario is None:
+        return load_machine(options.machine_path), options.program, None
+    from vc.scenario.loader import load_scenarios
+
+    (scenario,) = load_scenarios([options.scenario], plc_programs().keys())
+    return scenario.machine, scenario.plc_program or options.program, options.scenario
+
+
+def _banner(options: ServeOptions, machine: MachineConfig, link: PlcLink, program: str, mode: LinkMode,
+            say: Callable[[str], None]) -> None:
+    say(f"machine {machine.name} ({machine.source})")
+    if link.modbus is not None:
+        say(f"Modbus TCP on {link.modbus.host}:{link.modbus.port} (register map: vc map --machine"
+            f" {machine.source} --format csv)")
+    if link.s7 is not None:
+        say(f"S7 on {link.s7.host}:{link.s7.port} (DB10, DB11, DB21.., DB31.., inputs PE, outputs PA)")
+    if mode is LinkMode.LOCKSTEP:
+        say(f"lockstep: the NC advances one PLC period per scan the PLC reports done; a PLC that follows"
+            f" the harness runs '{program}' (python -m plc_stub --modbus ...)")
+    else:
+        speed = "as fast as possible" if options.speed is None else f"{options.speed:g} x real time"
+        say(f"real time, {speed}; the NC watches the PLC's sign of life (alarm 2000)")
+
+
+def _keep_running(simulation: Simulation, pacer: RealtimePacer | None, link: PlcLink,
+                  options: ServeOptions) -> None:
+    alarms = AlarmWatch(simulation, options.say)
+    stop_cycle = None if options.duration_s is None else round(options.duration_s / simulation.ipo_cycle_s)
+    next_stats = wallclock.monotonic() + options.stats_every_s
+    reported = 0
+    while stop_cycle is None or simulation.cycle < stop_cycle:
+        simulation.step(1)
+        alarms.check()
+        if pacer is not None and wallclock.monotonic() >= next_stats:
+            next_stats += options.stats_every_s
+            clients = link.modbus.clients if link.modbus is not None else 0
+            options.say(f"{simulation.time_s:9.3f} s  {pacer.stats(reported)}; {clients} Modbus client(s)")
+            reported = len(pacer.errors)
