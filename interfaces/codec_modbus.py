@@ -5,14 +5,16 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
 * **Two tables.** The *NC-to-PLC table* holds what the PLC reads: the plant inputs ``I`` and every
   NC->PLC byte range of the data blocks. A client reads it as input registers (FC 4) or as
   discrete inputs (FC 2) and cannot write it. The *PLC-to-NC table* holds what the PLC writes:
-  the plant outputs ``Q`` and every PLC->NC byte range; holding registers (FC 3, 6, 16, 23) and
+  the plant outputs ``Q`` and every PLC->NC byte range; holding registers (FC 3, 6, 16, 22, 23) and
   coils (FC 1, 5, 15).
 * **Registers are S7 words.** Table byte ``2r`` is the high byte of register ``r`` and byte
   ``2r + 1`` its low byte (big-endian). A data-block byte keeps its parity in the table: an
   even DB byte is always a high byte, so ``DBW n`` and ``DBD n`` (n even) are whole registers in
   S7 order, and a bit ``DBX n.b`` is bit ``8 + b`` (n even) or ``b`` (n odd) of its register.
-* **Bits.** Table byte ``t``, bit ``b`` is coil / discrete input number ``t * 8 + b``: the
-  ``%QXt.b`` / ``%IXt.b`` arithmetic of OpenPLC.
+* **Bits.** Table byte ``t``, bit ``b`` is coil / discrete input number ``t * 8 + b`` (the
+  ``%QXt.b`` arithmetic OpenPLC uses as a Modbus server).  The two views of a register differ
+  inside the word: coil ``16r + k`` is bit ``(k + 8) mod 16`` of register ``r``, because the
+  even byte is the high byte.
 * **Layout.** Registers 0..15 of each table are the link block (below). The data follow from
   register 16: first the plant area (``I`` or ``Q``), then the byte ranges of DB10, DB11, DB21..,
   DB31.. in catalogue order. Each range starts on a new register; a range that begins at an odd
@@ -42,7 +44,14 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
       0  scan done: the number of the granted scan the PLC finished (lockstep); in
          free-running mode a counter the PLC changes every scan (its sign of life)
       1  session ready: the session the PLC has (re)started its program for
-      2..15  reserved, read 0
+      2..15  reserved, read 0 (register writes there are dropped, coil writes refused)
+
+  Lockstep, as a PLC implements it: when input register 1 (session) changes, read the
+  description, restart the program, forget the last grant and write the session into holding
+  register 1.  When input register 3 (grant; 1..65535, never 0, from 1 again in every session)
+  differs from the last one handled: read the NC-to-PLC table, run one scan, write the
+  PLC-to-NC table, and write the grant into holding register 0 last.  The harness takes the
+  outputs when holding register 1 equals the session and holding register 0 the grant.
 
 * **Description.** Input registers from 4096 hold the interface description as UTF-8 JSON
   (see :mod:`interfaces.link_description`), two bytes a register, so a client that can be

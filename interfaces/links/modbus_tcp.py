@@ -7,8 +7,9 @@ Server: pymodbus answers the protocol (framing, function codes, malformed and ov
 requests, exception responses); a request action hands every data access to
 :class:`ModbusTables`, the bytes the harness shares with the simulation.  pymodbus's own store
 is sized to the largest tables the convention allows and only buffers the answer: what the
-tables do not hold (outside the current map, a write to the read-only table, a coil in
-padding) gets exception 02 (illegal data address).
+tables do not hold (an address outside the current map, a coil in padding or in the reserved
+link registers) gets exception 02 (illegal data address).  Modbus itself has no function that
+writes input registers or discrete inputs: the NC-to-PLC table is read-only by construction.
 
 The server runs on an asyncio loop the harness owns and runs whenever it waits (for the PLC's
 acknowledgement in lockstep, for the next cycle in real time): one thread, no hand-off.
@@ -248,6 +249,35 @@ class ModbusServerLink:
             with contextlib.suppress(Exception):
                 self.loop.run_until_complete(self._server.shutdown())
             self._server = None
+
+
+def start_plain_register_server(loop: asyncio.AbstractEventLoop, input_registers: int,
+                                holding_registers: int) -> tuple[int, Callable[[], None]]:
+    """A plain pymodbus server on its own store (no link tables, no request action) on an ephemeral
+    loopback port: the yardstick the exchange benchmark compares the link's server with.
+    Returns the port and a function that shuts it down."""
+    # A bits entry takes its size from a list of values (a count would be applied twice).
+    device = SimDevice(id=0, simdata=(
+        [SimData(0, values=[False] * (16 * holding_registers), datatype=DataType.BITS)],
+        [SimData(0, values=[False] * (16 * input_registers), datatype=DataType.BITS)],
+        [SimData(0, count=holding_registers, values=0, datatype=DataType.REGISTERS)],
+        [SimData(0, count=input_registers, values=0, datatype=DataType.REGISTERS)],
+    ))
+
+    async def listen() -> ModbusTcpServer:
+        server = ModbusTcpServer(device, address=("127.0.0.1", 0))
+        await server.serve_forever(background=True)
+        return server
+
+    server = loop.run_until_complete(listen())
+    sockets = getattr(server.transport, "sockets", None)
+    if not sockets:
+        raise LinkError("the plain pymodbus server has no listening socket")
+
+    def stop() -> None:
+        loop.run_until_complete(server.shutdown())
+
+    return int(sockets[0].getsockname()[1]), stop
 
 
 class ModbusLinkClient:

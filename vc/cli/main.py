@@ -2,10 +2,13 @@
 
     vc run PATH... [--junit FILE] [--trace-dir DIR] [--golden DIR [--update-golden]]
                                                       run scenario files or directories
-    vc map --machine M.yaml [--format md|csv|json]    the machine's expanded signal map
+    vc map --machine M.yaml [--format md|csv|json|guide]
+                                                      the machine's expanded signal map, or the guide
+                                                      for connecting OpenPLC / CODESYS over Modbus TCP
     vc serve [--machine M.yaml] [--modbus HOST:PORT] [--s7 HOST:PORT] [--realtime [--speed F]]
              [--scenario FILE] [--duration S]         the NC as a server for a PLC in another process
     vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle
+    vc bench --link modbus [--seconds S]              what the Modbus TCP link costs (bench/README.md)
 
 Problems in input files are reported with file, line and column and exit with code 2;
 a failed scenario exits with 1.
@@ -25,26 +28,64 @@ from vc.config.loader import load_machine
 from vc.located_yaml import SourceError
 
 DEFAULT_MACHINE = "scenarios/machines/turn_mill.yaml"
+GUIDE_FORMAT = "guide"  # vc map --format guide: docs/modbus.md for the machine
+DEFAULT_BENCH_SECONDS = 30.0  # simulated, in process
+DEFAULT_REALTIME_BENCH_SECONDS = 60.0  # wall-clock, the real-time measurement of --link modbus
 EXIT_PROBLEMS = 2
 
 
 def _map(arguments: argparse.Namespace) -> int:
     machine = load_machine(arguments.machine)
-    rows = map_rows(expand(load_catalog(), machine.layout), machine.plant_io)
+    catalog = expand(load_catalog(), machine.layout)
+    if arguments.format == GUIDE_FORMAT:
+        from vc.cli.modbus_guide import modbus_guide  # it imports the NC core: only for this format
+
+        sys.stdout.write(modbus_guide(machine.name, machine.source, catalog, machine.plant_io))
+        return 0
+    rows = map_rows(catalog, machine.plant_io)
     sys.stdout.write(FORMATTERS[arguments.format](rows))
     return 0
 
 
 def _bench(arguments: argparse.Namespace) -> int:
+    if arguments.link == "modbus":
+        return _bench_modbus(arguments)
     from vc.harness.benchmark import run_benchmark
 
-    result = run_benchmark(arguments.machine, arguments.seconds)
+    seconds = DEFAULT_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
+    result = run_benchmark(arguments.machine, seconds)
     print(f"machine {result.machine}, IPO cycle {result.ipo_cycle_us} us, built-in PLC basic_machine")
     print(f"simulated {result.simulated_s:.2f} s ({result.cycles} IPO cycles) in {result.wall_s:.3f} s wall time")
     print(f"real-time factor {result.realtime_factor:.1f}x, {result.us_per_cycle:.1f} us per IPO cycle")
     print(json.dumps({"realtime_factor": round(result.realtime_factor, 1),
                       "us_per_cycle": round(result.us_per_cycle, 2)}))
     return 0
+
+
+def _bench_modbus(arguments: argparse.Namespace) -> int:
+    from interfaces.links.modbus_tcp import LinkError
+    from vc.harness.link_benchmark import run_link_benchmark
+
+    seconds = DEFAULT_REALTIME_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
+    try:
+        result = run_link_benchmark(arguments.machine, realtime_seconds=seconds,
+                                    lockstep_seconds=arguments.lockstep_seconds, exchanges=arguments.exchanges,
+                                    say=lambda text: print(text, flush=True))
+    except (LinkError, ValueError) as error:
+        print(f"vc bench: {error}", file=sys.stderr)
+        return EXIT_PROBLEMS
+    print(json.dumps(result.figures()))
+    return 0
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"{text}: must be greater than 0")
+    return value
 
 
 def _run(arguments: argparse.Namespace) -> int:
@@ -111,7 +152,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     signal_map = commands.add_parser("map", help="print the expanded signal catalogue of a machine")
     signal_map.add_argument("--machine", required=True, help="machine YAML file")
-    signal_map.add_argument("--format", choices=sorted(FORMATTERS), default="md")
+    signal_map.add_argument("--format", choices=[*sorted(FORMATTERS), GUIDE_FORMAT], default="md")
     signal_map.set_defaults(handler=_map)
 
     serve = commands.add_parser("serve", help="serve the NC and the plant to a PLC over Modbus TCP and/or S7")
@@ -135,9 +176,20 @@ def build_parser() -> argparse.ArgumentParser:
                        help="print real-time statistics every S seconds (default 10)")
     serve.set_defaults(handler=_serve)
 
-    bench = commands.add_parser("bench", help="measure the real-time factor of the simulation")
+    bench = commands.add_parser("bench", help="measure the real-time factor of the simulation or the Modbus link")
     bench.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")
-    bench.add_argument("--seconds", type=float, default=30.0, help="simulated seconds to run (default 30)")
+    bench.add_argument("--link", choices=("inprocess", "modbus"), default="inprocess",
+                       help="inprocess (default): the simulation with the PLC in this process; modbus: exchange"
+                            " round trip against a bare pymodbus server, lockstep rate and real-time jitter with"
+                            " plc_stub in its own process")
+    bench.add_argument("--seconds", type=_positive, default=None,
+                       help=f"inprocess: simulated seconds to run (default {DEFAULT_BENCH_SECONDS:g});"
+                            f" modbus: wall seconds of the real-time measurement"
+                            f" (default {DEFAULT_REALTIME_BENCH_SECONDS:g})")
+    bench.add_argument("--lockstep-seconds", type=_positive, default=10.0, metavar="S",
+                       help="modbus: simulated seconds of the lockstep measurement (default 10)")
+    bench.add_argument("--exchanges", type=int, default=2000, metavar="N",
+                       help="modbus: full interface exchanges per server, in 10 rounds (default 2000)")
     bench.set_defaults(handler=_bench)
     return parser
 

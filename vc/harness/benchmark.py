@@ -13,6 +13,7 @@ import time
 from dataclasses import dataclass
 
 from vc.config.loader import load_machine
+from vc.config.model import MachineConfig
 from vc.harness.simulation import Simulation
 from vc.located_yaml import LocatedMap, load_text
 
@@ -51,27 +52,45 @@ def _overrides(channel: str) -> LocatedMap:
     return document
 
 
-def run_benchmark(machine_path: str, simulated_seconds: float = 20.0) -> BenchmarkResult:
+def benchmark_machine(machine_path: str) -> MachineConfig:
+    """The machine of the workload: NC start lock off, the program starts without referencing."""
     first_channel = load_machine(machine_path).channels[0]
-    machine = load_machine(machine_path, _overrides(first_channel.name), "<benchmark>")
-    channel = machine.channels[0]
-    axes = [name for name in channel.geometry_names if channel.axis_for_program_name(name)][:2]
+    return load_machine(machine_path, _overrides(first_channel.name), "<benchmark>")
+
+
+class Workload:
+    """The operator of the benchmark: MDA, the program loaded, NC start again whenever it ended."""
+
+    def __init__(self, simulation: Simulation):
+        self.simulation = simulation
+        channel = simulation.machine.channels[0]
+        axes = [name for name in channel.geometry_names if channel.axis_for_program_name(name)][:2]
+        simulation.load_mda(channel.name, _PROGRAM.format(a=axes[0], b=axes[1]))
+        _press(simulation, "MCP.mda")
+        self._start_key = simulation.plant_io.resolve("MCP.ncStart")
+        self._state_reset = simulation.catalog.resolve(f"{channel.name}.basic.in.stateReset")
+
+    def run(self, cycles: int) -> int:
+        """At least ``cycles`` IPO cycles of the workload; returns how many ran."""
+        simulation = self.simulation
+        start_cycle = simulation.cycle
+        while simulation.cycle - start_cycle < cycles:
+            if simulation.read(self._state_reset):
+                simulation.write(self._start_key, 1)
+                simulation.step(20)
+                simulation.write(self._start_key, 0)
+            simulation.step(100)
+        return simulation.cycle - start_cycle
+
+
+def run_benchmark(machine_path: str, simulated_seconds: float = 20.0) -> BenchmarkResult:
+    machine = benchmark_machine(machine_path)
     simulation = Simulation(machine, "basic_machine")
-    simulation.load_mda(channel.name, _PROGRAM.format(a=axes[0], b=axes[1]))
-    _press(simulation, "MCP.mda")
+    workload = Workload(simulation)
     cycles = round(simulated_seconds * 1_000_000 / simulation.ipo_cycle_us)
-    start_cycle = simulation.cycle
     started = time.perf_counter()
-    start_key = simulation.plant_io.resolve("MCP.ncStart")
-    state_reset = simulation.catalog.resolve(f"{channel.name}.basic.in.stateReset")
-    while simulation.cycle - start_cycle < cycles:
-        if simulation.read(state_reset):
-            simulation.write(start_key, 1)
-            simulation.step(20)
-            simulation.write(start_key, 0)
-        simulation.step(100)
+    done = workload.run(cycles)
     wall = time.perf_counter() - started
-    done = simulation.cycle - start_cycle
     return BenchmarkResult(machine.name, simulation.ipo_cycle_us, done * simulation.ipo_cycle_us / 1e6, wall, done)
 
 

@@ -19,11 +19,13 @@ from vc.scenario.model import Scenario
 
 
 class PlcProcess:
-    """A ``python -m plc_stub`` process connected to a lockstep link; a context manager."""
+    """A ``python -m plc_stub`` process connected to a link (lockstep unless told otherwise) on a
+    loopback server with an ephemeral port; a context manager."""
 
-    def __init__(self, first_scan_timeout_s: float = 30.0, scan_timeout_s: float = 10.0):
+    def __init__(self, mode: LinkMode = LinkMode.LOCKSTEP, first_scan_timeout_s: float = 30.0,
+                 scan_timeout_s: float = 10.0):
         self.process: subprocess.Popen[bytes] | None = None
-        self.link = PlcLink(LinkMode.LOCKSTEP, modbus=Endpoint("127.0.0.1", 0),
+        self.link = PlcLink(mode, modbus=Endpoint("127.0.0.1", 0),
                             first_scan_timeout_s=first_scan_timeout_s, scan_timeout_s=scan_timeout_s,
                             peer_ended=self._ended)
         assert self.link.modbus is not None

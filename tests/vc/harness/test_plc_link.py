@@ -1,0 +1,177 @@
+"""The PLC in its own process: lockstep gives the in-process trace, sessions restart the PLC,
+a PLC that goes away is reported; in real time the NC watches the PLC's sign of life.
+
+Every test runs ``python -m plc_stub`` against a server on 127.0.0.1 with an ephemeral port.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from interfaces.links.modbus_tcp import LinkError
+from vc.config.loader import load_machine
+from vc.config.model import MachineConfig
+from vc.harness.external_plc import PlcProcess
+from vc.harness.pacer import RealtimePacer
+from vc.harness.plc_link import Endpoint, LinkMode, PlcLink, check_bind
+from vc.harness.simulation import Simulation
+from vc.located_yaml import LocatedMap, load_text
+
+ROOT = Path(__file__).resolve().parents[3]
+TURN_MILL = load_machine(str(ROOT / "scenarios" / "machines" / "turn_mill.yaml"))
+FIVE_AXIS = load_machine(str(ROOT / "scenarios" / "machines" / "mill_5axis.yaml"))
+TURN_MILL_IPO_S = Simulation.ipo_seconds(TURN_MILL)
+
+
+def _overrides(text: str) -> LocatedMap:
+    document, problems = load_text(text, "<test>")
+    assert not problems and isinstance(document, LocatedMap)
+    return document
+
+
+@pytest.fixture(scope="module")
+def process() -> Iterator[PlcProcess]:
+    with PlcProcess(first_scan_timeout_s=30.0, scan_timeout_s=10.0) as running:
+        yield running
+
+
+def operate(simulation: Simulation) -> None:
+    """JOG, REF and the plus key of X1 from the panel: the PLC enables, selects and references."""
+    simulation.step(100)  # the drives come ready
+    for key, cycles in (("MCP.jog", 20), ("MCP.ref", 20)):
+        simulation.write(simulation.plant_io.resolve(key), 1)
+        simulation.step(cycles)
+        simulation.write(simulation.plant_io.resolve(key), 0)
+    simulation.write(simulation.plant_io.resolve("MCP.plus.X1"), 1)
+    simulation.step(1500)
+
+
+def images(simulation: Simulation) -> tuple[dict[str, bytes], dict[str, bytes], dict[str, bytes]]:
+    return simulation.nck.image.snapshot(), simulation.interface.snapshot(), simulation.plant_image.snapshot()
+
+
+@pytest.mark.parametrize("machine", [TURN_MILL, FIVE_AXIS], ids=["turn_mill", "mill_5axis"])
+def test_lockstep_over_modbus_gives_the_in_process_images_cycle_for_cycle(process: PlcProcess,
+                                                                         machine: MachineConfig) -> None:
+    linked = Simulation(machine, "basic_machine", connector=process.link)
+    local = Simulation(machine, "basic_machine")
+    operate(linked)
+    operate(local)
+    assert images(linked) == images(local)
+    assert linked.nck.axes_by_name["X1"].physical == local.nck.axes_by_name["X1"].physical
+    assert linked.nck.axes_by_name["X1"].physical > machine.axis("X1").sim.start_position + 100  # referencing runs
+
+
+def test_a_power_cycle_opens_a_new_session_and_the_plc_restarts(process: PlcProcess) -> None:
+    linked = Simulation(TURN_MILL, "referencing", connector=process.link)
+    local = Simulation(TURN_MILL, "referencing")
+    for simulation in (linked, local):
+        simulation.step(100)
+        simulation.power_cycle(0.5)
+        operate(simulation)
+    assert images(linked) == images(local)
+    assert process.link.session >= 2
+
+
+def test_a_plc_process_that_ends_is_reported_instead_of_waited_for() -> None:
+    with PlcProcess(first_scan_timeout_s=20.0, scan_timeout_s=20.0) as running:
+        simulation = Simulation(TURN_MILL, "basic_machine", connector=running.link)
+        simulation.step(50)
+        assert running.process is not None
+        running.process.kill()
+        running.process.wait()
+        with pytest.raises(LinkError, match="the PLC process ended"):
+            simulation.step(50)
+
+
+def test_a_plc_that_cannot_run_the_program_ends_with_a_reason() -> None:
+    with PlcProcess(first_scan_timeout_s=20.0) as running, \
+            pytest.raises(LinkError, match="no PLC program 'no_such_program'"):
+        Simulation(TURN_MILL, "no_such_program", connector=running.link)
+
+
+def test_binding_beyond_loopback_needs_the_explicit_flag() -> None:
+    with pytest.raises(LinkError, match="--allow-remote"):
+        check_bind(Endpoint.parse("0.0.0.0:5020", 5020), allow_remote=False)
+    check_bind(Endpoint.parse("0.0.0.0:5020", 5020), allow_remote=True)
+    check_bind(Endpoint.parse(":5020", 5020), allow_remote=False)  # loopback
+    with pytest.raises(LinkError, match="port must be a number"):
+        Endpoint.parse("127.0.0.1:http", 5020)
+
+
+def test_lockstep_needs_the_modbus_handshake() -> None:
+    with pytest.raises(LinkError, match="lockstep needs the Modbus handshake"):
+        PlcLink(LinkMode.LOCKSTEP, s7=Endpoint("127.0.0.1", 0))
+
+
+# ------------------------------------------------------------------------------ real time
+
+
+def _plc(port: int) -> subprocess.Popen[bytes]:
+    return subprocess.Popen([sys.executable, "-m", "plc_stub", "--modbus", f"127.0.0.1:{port}", "--connect-timeout",
+                             "20"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def _stop(plc: subprocess.Popen[bytes]) -> None:
+    if plc.poll() is None:
+        plc.kill()
+    plc.wait()
+
+
+def _run_until(simulation: Simulation, condition: str, seconds: float) -> bool:
+    ref = simulation.catalog.resolve(condition)
+    for _ in range(round(seconds / simulation.ipo_cycle_s)):
+        simulation.step(1)
+        if simulation.read(ref):
+            return True
+    return False
+
+
+def test_real_time_a_silent_plc_raises_2000_and_after_its_return_a_reset_clears_it() -> None:
+    link = PlcLink(LinkMode.FREE_RUNNING, modbus=Endpoint("127.0.0.1", 0))
+    assert link.modbus is not None
+    pacer = RealtimePacer(link.loop, TURN_MILL_IPO_S, speed=1.0)
+    plc = _plc(link.modbus.port)
+    try:
+        simulation = Simulation(TURN_MILL, "basic_machine", connector=link, pacer=pacer)
+        # the PLC starts, scans on its own clock and gives the drives their enables
+        assert _run_until(simulation, "X1.basic.in.posCtrlActive", 10.0)
+        assert simulation.nck.alarms.history == []
+        _stop(plc)
+        # MD10100 = 0.1 s without a sign of life: alarm 2000, the axes lose position control
+        simulation.step(round(0.3 / TURN_MILL_IPO_S))
+        assert [alarm.number for alarm in simulation.nck.alarms.present] == [2000]
+        assert simulation.read(simulation.catalog.resolve("X1.basic.in.posCtrlActive")) == 0
+        plc = _plc(link.modbus.port)  # the PLC comes back ...
+        simulation.step(round(3.0 / TURN_MILL_IPO_S))
+        assert [alarm.number for alarm in simulation.nck.alarms.present] == [2000]  # ... the alarm stays
+        reset = simulation.plant_io.resolve("MCP.reset")
+        simulation.write(reset, 1)
+        simulation.step(round(0.1 / TURN_MILL_IPO_S))
+        simulation.write(reset, 0)
+        assert _run_until(simulation, "X1.basic.in.posCtrlActive", 2.0)
+        assert simulation.nck.alarms.present == []
+        assert pacer.stats().cycles > 0
+    finally:
+        _stop(plc)
+        link.close()
+
+
+def test_real_time_without_any_plc_the_nc_reports_2001_after_md10120() -> None:
+    config = load_machine(str(ROOT / "scenarios" / "machines" / "turn_mill.yaml"), _overrides("NC: {MD10120: 0.2}"))
+    link = PlcLink(LinkMode.FREE_RUNNING, modbus=Endpoint("127.0.0.1", 0))
+    try:
+        simulation = Simulation(config, "basic_machine", connector=link,
+                                pacer=RealtimePacer(link.loop, TURN_MILL_IPO_S, speed=None))
+        simulation.step(round(0.15 / TURN_MILL_IPO_S))
+        assert simulation.nck.alarms.present == []
+        simulation.step(round(0.1 / TURN_MILL_IPO_S))
+        assert [alarm.number for alarm in simulation.nck.alarms.present] == [2001]
+    finally:
+        link.close()
+

@@ -1,0 +1,155 @@
+"""``vc serve`` as a user runs it: a second terminal's ``python -m plc_stub`` references X1 over
+Modbus TCP, independent clients read the referenced bit at the address ``vc map`` documents,
+and a write to a read-only address gets exception 02."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import queue
+import shutil
+import socket
+import subprocess
+import sys
+import threading
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+import snap7
+from pyModbusTCP.client import ModbusClient
+
+from interfaces.catalog import load_catalog
+from interfaces.signal_map import map_rows
+from interfaces.signals import expand
+from vc.config.loader import load_machine
+
+ROOT = Path(__file__).resolve().parents[3]
+MACHINE = str(ROOT / "scenarios" / "machines" / "turn_mill.yaml")
+SCENARIO = str(ROOT / "scenarios" / "referencing" / "incremental_jog_ref_falling_edge.yaml")
+TIMEOUT = 60.0
+
+
+def free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return int(probe.getsockname()[1])
+
+
+class Lines:
+    """The output of a process, line by line, readable with a time-out."""
+
+    def __init__(self, process: subprocess.Popen[str]):
+        self.process = process
+        self.seen: list[str] = []
+        self._queue: queue.Queue[str] = queue.Queue()
+        assert process.stdout is not None
+        threading.Thread(target=self._pump, args=(process.stdout,), daemon=True).start()
+
+    def _pump(self, stream) -> None:  # type: ignore[no-untyped-def]
+        for line in stream:
+            self._queue.put(line.rstrip("\n"))
+
+    def wait_for(self, text: str, timeout: float = TIMEOUT) -> str:
+        while True:
+            try:
+                line = self._queue.get(timeout=timeout)
+            except queue.Empty:
+                raise AssertionError(f"no line with {text!r} within {timeout} s; seen: {self.seen}") from None
+            self.seen.append(line)
+            if text in line:
+                return line
+
+
+def spawn(*arguments: str) -> subprocess.Popen[str]:
+    return subprocess.Popen([sys.executable, *arguments], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            cwd=ROOT)
+
+
+def stop(process: subprocess.Popen[str]) -> None:
+    if process.poll() is None:
+        process.terminate()
+        try:
+            process.wait(10)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+
+
+@pytest.fixture
+def serving() -> Iterator[tuple[int, Lines]]:
+    port = free_port()
+    server = spawn("-m", "vc.cli.main", "serve", "--modbus", f"127.0.0.1:{port}", "--scenario", SCENARIO,
+                   "--duration", "600")
+    plc = spawn("-m", "plc_stub", "--modbus", f"127.0.0.1:{port}", "--connect-timeout", "30")
+    try:
+        yield port, Lines(server)
+    finally:
+        stop(plc)
+        stop(server)
+
+
+def documented(symbol: str) -> dict[str, str]:
+    machine = load_machine(MACHINE)
+    rows = map_rows(expand(load_catalog(), machine.layout), machine.plant_io)
+    (row,) = [row for row in rows if row.symbol == symbol]
+    return {key: str(value) for key, value in dataclasses.asdict(row).items()}
+
+
+def test_serve_and_a_plc_process_reference_x1_and_clients_read_the_documented_bit(serving: tuple[int, Lines]) -> None:
+    port, output = serving
+    output.wait_for("PASS")
+    output.wait_for("the machine keeps running")
+    referenced = documented("X1.basic.in.enc1Synchronized")
+    assert referenced["modbus_table"] == "discrete_input"
+    client = ModbusClient(host="127.0.0.1", port=port, timeout=5, auto_open=True)
+    assert client.read_discrete_inputs(int(referenced["modbus_address"]), 1) == [True]
+    (register,) = client.read_input_registers(int(referenced["register"]), 1)
+    assert register >> int(referenced["register_bit"]) & 1
+    # the same number written as a coil: outside the PLC-to-NC table
+    assert not client.write_single_coil(int(referenced["modbus_address"]), True)
+    assert client.last_except == 2
+    client.close()
+    mbpoll = shutil.which("mbpoll")
+    if mbpoll is None and not os.environ.get("VC_REQUIRE_MBPOLL"):
+        pytest.skip("mbpoll is not installed (.ci/run installs it)")
+    assert mbpoll is not None
+    reference = str(int(referenced["modbus_address"]) + 1)  # mbpoll counts from 1
+    read = subprocess.run([mbpoll, "-m", "tcp", "-p", str(port), "-t", "1", "-r", reference, "-c", "1", "-1",
+                           "127.0.0.1"], capture_output=True, text=True, timeout=10)
+    assert read.returncode == 0 and f"[{reference}]: \t1" in read.stdout
+    refused = subprocess.run([mbpoll, "-m", "tcp", "-p", str(port), "-t", "0", "-r", reference, "-1", "127.0.0.1",
+                              "1"], capture_output=True, text=True, timeout=10)
+    assert refused.returncode != 0 and "Illegal data address" in refused.stdout + refused.stderr
+
+
+def test_serve_in_real_time_with_s7_a_client_reads_the_data_blocks() -> None:
+    modbus, s7 = free_port(), free_port()
+    server = spawn("-m", "vc.cli.main", "serve", "--modbus", f"127.0.0.1:{modbus}", "--s7", f"127.0.0.1:{s7}",
+                   "--realtime", "--duration", "20", "--stats", "1")
+    plc = spawn("-m", "plc_stub", "--modbus", f"127.0.0.1:{modbus}", "--connect-timeout", "30")
+    try:
+        output = Lines(server)
+        output.wait_for("S7 on")
+        output.wait_for("Modbus client(s)")  # a statistics line: the cycles run
+        client = snap7.client.Client()
+        client.connect("127.0.0.1", 0, 1, s7)
+        # basic_machine gives the controller enables: DB31.DBX61.5 position control active
+        for _ in range(50):
+            if client.db_read(31, 61, 1)[0] >> 5 & 1:
+                break
+            output.wait_for("Modbus client(s)", timeout=5)
+        assert client.db_read(31, 61, 1)[0] >> 5 & 1
+        with pytest.raises(Exception, match=r"0x84|cannot be performed"):
+            client.db_write(31, 61, bytearray([0]))  # NC-to-PLC: refused
+        client.disconnect()
+    finally:
+        stop(plc)
+        stop(server)
+
+
+def test_serve_refuses_a_remote_bind_without_the_flag() -> None:
+    result = subprocess.run([sys.executable, "-m", "vc.cli.main", "serve", "--modbus", "0.0.0.0:5020"],
+                            capture_output=True, text=True, timeout=30, cwd=ROOT)
+    assert result.returncode == 2
+    assert "--allow-remote" in result.stderr
