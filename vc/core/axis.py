@@ -14,6 +14,7 @@ Motion owners (one at a time)::
     NONE ──key held in JOG──▶ JOG ──key released, stopped──▶ NONE
     NONE ──block with this axis──▶ PATH ──block end──▶ NONE
     NONE ──referencing started──▶ REF ──referenced, aborted──▶ NONE
+    NONE ──spindle turns (M3/M4, SPOS, oscillation)──▶ SPINDLE ──stands──▶ NONE
     any ──e-stop, enable removed, hardware limit──▶ BRAKE ──standstill──▶ NONE
 
 Measuring systems: one or two (MD30200); DB31.DBX1.5 / 1.6 select which one is active.
@@ -22,6 +23,7 @@ With neither selected the axis is "parked": no actual value, no position control
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from enum import Enum
@@ -43,6 +45,7 @@ class Owner(Enum):
     PATH = "path"
     REF = "ref"
     BRAKE = "brake"
+    SPINDLE = "spindle"  # a spindle turning, oscillating or positioning on its own (vc/core/spindle.py)
 
 
 @dataclass(frozen=True, slots=True)
@@ -125,7 +128,6 @@ class AxisSignals:
         self.ref_cam = table.bit("basic.out.refPointApproachCam")
         self.ref_point_selection = table.field("basic.out.refPointSelection")
         self.encoder_activation = (table.bit("basic.out.enc1Activation"), table.bit("basic.out.enc2Activation"))
-        self.spindle_mode = table.bit("basic.in.spindleModeActive")
         self.referenced = (table.bit("basic.in.enc1Synchronized"), table.bit("basic.in.enc2Synchronized"))
         self.frequency_exceeded = (table.bit("basic.in.enc1FreqLimitExceeded"),
                                    table.bit("basic.in.enc2FreqLimitExceeded"))
@@ -138,7 +140,6 @@ class AxisSignals:
         self.disabled = table.bit("basic.in.disabled")
         self.command_minus = table.bit("basic.in.traversMinusCommandActive")
         self.command_plus = table.bit("basic.in.traversPlusCommandActive")
-        self.control_mode = table.bit("spindle.in.ctrlModeActive")
 
 
 @dataclass(slots=True)
@@ -213,6 +214,9 @@ class MachineAxis:
         self.resting = False  # at rest and no input changed since: the cycle may skip the axis
         self._status: tuple[bool, ...] = ()  # the status bits last written
         self.is_spindle = config.is_spindle
+        # DB31.DBX61.5: a spindle in speed control runs without position control (L16163-16167)
+        self.position_control = not config.is_spindle
+        self.axis_mode = False  # a spindle in axis mode (M70) is programmed like a rotary axis
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -502,6 +506,11 @@ class MachineAxis:
         self.servo_on = wanted
         self.follow_up = not wanted and (inp.follow_up_mode or forced_off)
 
+    def set_loop_gain(self, kv: float) -> None:
+        """The servo gain of the active parameter set (MD32200[n], e.g. a spindle's gear stage)."""
+        if kv != self.dyn.kv:
+            self.dyn = dataclasses.replace(self.dyn, kv=kv)
+
     def restore_servo(self) -> None:
         """After an acknowledged emergency stop: the NC gives the controller enable back."""
         self._servo_off_countdown = -1
@@ -571,7 +580,7 @@ class MachineAxis:
             no_motion and error <= dyn.coarse_window,
             no_motion and error <= dyn.fine_window,
             no_motion and abs(self.velocity) <= dyn.standstill_velocity,
-            self.servo_on and not self.is_spindle,
+            self.servo_on and self.position_control,
             self.follow_up,
             self.encoders[0].referenced,
             len(self.encoders) > 1 and self.encoders[1].referenced,
@@ -603,5 +612,3 @@ class MachineAxis:
         sig.disabled.put(area, disabled)
         sig.command_plus.put(area, plus)
         sig.command_minus.put(area, minus)
-        sig.spindle_mode.put(area, self.is_spindle)
-        sig.control_mode.put(area, self.is_spindle)

@@ -13,6 +13,7 @@ Block execution, one phase at a time::
     DECODE ──motion block──▶ INTERPOLATE ──path at its end──▶ BLOCK_END (exact stop window)
     DECODE ──G4──▶ DWELL ──time elapsed──▶ next block
     DECODE ──G74──▶ REFERENCE ──the programmed axes referenced──▶ BLOCK_END
+    DECODE ──spindle gear change or M70 in the block──▶ SPINDLE ──done──▶ (motion, dwell, BLOCK_END)
     BLOCK_END ──window reached, read-in not disabled──▶ DECODE (next block)
     INTERPOLATE ──an axis braked off the path (e-stop, limit switch)──▶ CONTOUR_LOST ──RESET──▶ DECODE
 
@@ -48,6 +49,7 @@ from vc.core.path import PathSegment
 from vc.core.program import Block, parse_program
 from vc.core.referencing import Source, State
 from vc.core.referencing_control import ReferencingControl
+from vc.core.spindle import SUPPRESS_IN_DRY_RUN, SUPPRESS_IN_PROGRAM_TEST, Spindle
 
 
 class ChannelState(Enum):
@@ -70,6 +72,7 @@ class Phase(Enum):
     BLOCK_END = "block_end"
     DWELL = "dwell"
     REFERENCE = "reference"  # G74: waiting until the programmed axes are referenced
+    SPINDLE = "spindle"  # the block's gear change, M70, or the spindle speed before machining
     CONTOUR_LOST = "contour_lost"  # an axis was braked off the path: NC start cannot continue
 
 
@@ -103,6 +106,8 @@ class ChannelSignals:
         self.state_active = table.bit("basic.in.stateActive")
         self.state_interrupted = table.bit("basic.in.stateInterrupted")
         self.state_reset = table.bit("basic.in.stateReset")
+        self.dry_run = table.bit("basic.out.dryRunFeedrate")
+        self.program_test = table.bit("basic.out.progTest")
         self.all_referenced = table.bit("basic.in.allAxesReferenced")
         self.all_stationary = table.bit("basic.in.allAxesStationary")
         self.alarm_active = table.bit("basic.in.alarmActive")
@@ -122,6 +127,8 @@ class ChannelInputs:
     delete_distance_to_go: bool = False
     feed_override: float = 1.0
     rapid_override: float = 1.0
+    dry_run: bool = False
+    program_test: bool = False
 
 
 @dataclass(slots=True)
@@ -185,6 +192,7 @@ class Channel:
             axis for axis in axes
             if not axis.is_spindle and axis.config.md.int(MD.REFP_CYCLE_NR) != -1
         ]
+        self.spindles: dict[str, Spindle] = {}  # machine axis -> spindle, given by the NCK
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -206,6 +214,8 @@ class Channel:
         inp.nc_start_disable = sig.nc_start_disable.get(area)
         inp.feed_disable = sig.feed_disable.get(area)
         inp.read_in_disable = sig.read_in_disable.get(area)
+        inp.dry_run = sig.dry_run.get(area)
+        inp.program_test = sig.program_test.get(area)
         inp.feed_override = self._feed_coding.factor(sig.feed_override.get(area), sig.feed_override_active.get(area))
         inp.rapid_override = self._rapid_coding.factor(sig.rapid_override.get(area),
                                                        sig.rapid_override_active.get(area))
@@ -230,6 +240,8 @@ class Channel:
             if axis.owner is Owner.JOG:
                 axis.brake()
             axis.at_software_limit = 0
+        for spindle in self.spindles.values():
+            spindle.reset(program_end=False)
 
     def _end_program(self) -> None:
         self.state = ChannelState.RESET
@@ -268,6 +280,8 @@ class Channel:
         self._block_index = 0
         self._phase = Phase.DECODE
         self.modal.reset()
+        for spindle in self.spindles.values():
+            spindle.program_start()
         self.started_in = mode
         self.state = ChannelState.ACTIVE
         self.program_state = ProgramState.RUNNING
@@ -314,6 +328,9 @@ class Channel:
             self._interpolate(hold)
         elif self._phase is Phase.REFERENCE:
             self._g74(cycle)
+        elif self._phase is Phase.SPINDLE and not hold:
+            if self._spindles_ready():
+                self._start_block_body(cycle)
         elif self._phase is Phase.DWELL and not hold:
             self._dwell_cycles -= 1
             if self._dwell_cycles <= 0:
@@ -366,6 +383,8 @@ class Channel:
     def _block_end(self) -> None:
         plan = self._plan
         assert plan is not None
+        if any(self.spindles[name].holds_block_end for name in plan.spindles):
+            return  # SPOS / M19: the block ends when the spindle is in position (L16475-16496)
         if plan.block_end in (EXACT_STOP_FINE, EXACT_STOP_COARSE):
             fine = plan.block_end == EXACT_STOP_FINE
             for name in plan.targets:
@@ -386,6 +405,8 @@ class Channel:
         self._plan = None
         self._block_index += 1
         if plan is not None and plan.program_end:
+            for spindle in self.spindles.values():
+                spindle.reset(program_end=True)
             self._end_program()
         elif plan is not None and plan.program_stop:
             self.stop()
@@ -404,6 +425,40 @@ class Channel:
         self._plan = plan
         for name, value in plan.preset.items():
             self.axes_by_name[name].preset_actual(value)
+        suppress = self._gear_change_suppressed
+        for name, command in plan.spindles.items():
+            self.spindles[name].program(command, cycle, self._alarms, block.label, suppress(self.spindles[name]))
+        if plan.spindles or plan.targets:
+            self._phase = Phase.SPINDLE
+            if not self._spindles_ready():
+                return
+        self._start_block_body(cycle)
+
+    def _gear_change_suppressed(self, spindle: Spindle) -> bool:
+        """MD35035 bits 0 / 1: no gear change in dry run / program test (L19956-19993)."""
+        mask = spindle.md.int(MD.SPIND_FUNCTION_MASK)
+        return (self.inputs.dry_run and bool(mask & SUPPRESS_IN_DRY_RUN)) or \
+            (self.inputs.program_test and bool(mask & SUPPRESS_IN_PROGRAM_TEST))
+
+    def _spindles_ready(self) -> bool:
+        """Block change interlocks of the spindles (L18540-18548, L16517-16540): the block's gear
+        change and M70 first; a machining block (not G0) starts only with every turning spindle at
+        its speed (DB31.DBX83.5) when MD35500 asks for it."""
+        plan = self._plan
+        assert plan is not None
+        if any(self.spindles[name].holds_motion for name in plan.spindles):
+            return False
+        if plan.targets and not plan.rapid:
+            for spindle in self.spindles.values():
+                if spindle.md.int(MD.SPIND_ON_SPEED_AT_IPO_START) and spindle.direction and \
+                        not spindle.speed_reached():
+                    return False
+        return True
+
+    def _start_block_body(self, cycle: int = 0) -> None:
+        """After the spindle interlocks: referencing, dwell, motion or the block end."""
+        plan = self._plan
+        assert plan is not None
         if plan.reference_axes:
             self._g74_axes = list(plan.reference_axes)
             self._phase = Phase.REFERENCE
@@ -501,9 +556,11 @@ class Channel:
         sig.reference_active.put(area, self.reference_active)
 
     def write_axis_summary(self) -> None:
-        """All axes referenced / all axes stationary (written when they change)."""
+        """All axes referenced / all axes stationary (written when they change); spindles count
+        as axes only in axis mode."""
         summary = (all(axis.referenced for axis in self._needs_reference),
-                   all(axis.at_rest and abs(axis.velocity) <= axis.dyn.standstill_velocity for axis in self.axes))
+                   all(axis.at_rest and abs(axis.velocity) <= axis.dyn.standstill_velocity for axis in self.axes
+                       if not axis.is_spindle or axis.axis_mode))
         if summary != self._summary:
             self._summary = summary
             self._signals.all_referenced.put(self._area, summary[0])

@@ -9,9 +9,11 @@ available", as on a control without the function.  Later NC functions add handle
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.axis import MachineAxis
 from vc.core.program import Assignment, Block, Call, Item, Keyword, Label, ValueFunction, Word
@@ -39,6 +41,19 @@ class ModalState:
 
 
 @dataclass(slots=True)
+class SpindleCommand:
+    """What one block asks of one spindle (seed 003 chapter 13)."""
+
+    speed: float | None = None  # S, rev/min
+    direction: int | None = None  # M3, M4 or M5
+    gear: int | None = None  # M40 .. M45
+    position: tuple[str, float] | None = None  # SPOS / SPOSA / M19: (AC|IC|DC|ACP|ACN, degrees)
+    wait_for_position: bool = True  # SPOS and M19 hold the block; SPOSA does not
+    axis_mode: bool = False  # M70, or the spindle programmed by its axis name
+    m_function: int | None = None  # the M function shown in DB31.DBB86
+
+
+@dataclass(slots=True)
 class BlockPlan:
     targets: dict[str, float] = field(default_factory=dict)  # machine axis -> end position
     rapid: bool = True
@@ -49,6 +64,7 @@ class BlockPlan:
     block_end: str = EXACT_STOP_FINE
     reference_axes: tuple[str, ...] = ()  # G74: machine axes to reference
     preset: dict[str, float] = field(default_factory=dict)  # PRESETON: machine axis -> new actual value
+    spindles: dict[str, SpindleCommand] = field(default_factory=dict)  # machine axis -> its part of the block
 
 
 @dataclass(frozen=True, slots=True)
@@ -79,6 +95,16 @@ class _Decoder:
     def unknown(self, text: str) -> None:
         self.fail(12550, self.channel.name, self.block.label, text)
 
+    def spindle(self, number: int | None) -> SpindleCommand | None:
+        """The command of spindle ``number`` (None: the channel's master spindle, MD20090)."""
+        if number is None:
+            number = self.channel.md.int(MD.SPIND_DEF_MASTER_SPIND)
+        for name, axis in self.axes.items():
+            if axis.config.spindle_number == number:
+                return self.plan.spindles.setdefault(name, SpindleCommand())
+        self.fail(16105, self.channel.name, self.block.label, number)
+        return None
+
     def machine_axis(self, name: str) -> str | None:
         """The machine axis of this channel that ``name`` (geometry, channel or machine axis name) means."""
         machine_axis = self.channel.axis_for_program_name(name)
@@ -90,9 +116,9 @@ class _Decoder:
             self.unknown(name)
             return
         axis = self.axes[machine_axis]
-        if axis.is_spindle:
-            self.unknown(name)  # axis mode of a spindle (M70) is not part of this control yet
-            return
+        if axis.is_spindle and not axis.axis_mode:
+            # the axis name of a spindle switches it to axis mode: an implicit M70 (L17421-17462)
+            self.plan.spindles.setdefault(machine_axis, SpindleCommand()).axis_mode = True
         if isinstance(value, ValueFunction) and value.name in ("AC", "IC"):
             absolute, number = value.name == "AC", value.value
         elif isinstance(value, float):
@@ -132,7 +158,61 @@ def _g_word(decoder: _Decoder, value: float) -> None:
         decoder.unknown(f"G{value:g}")
 
 
+_SPINDLE_M = {3, 4, 5, 19, 40, 41, 42, 43, 44, 45, 70}
+_POSITION_MODES = ("AC", "IC", "DC", "ACP", "ACN")
+
+
+def spindle_m(decoder: _Decoder, value: float, number: int | None) -> bool:
+    """M3/M4/M5/M19/M40..M45/M70 for a spindle; False when ``value`` is no spindle function."""
+    code = round(value)
+    if value != code or code not in _SPINDLE_M:
+        return False
+    command = decoder.spindle(number)
+    if command is None:
+        return True
+    command.m_function = code
+    if code in (3, 4, 5):
+        command.direction = code
+    elif code == 19:
+        # M19 positions to SD43240 M19_SPOS with SD43250 (L16381-16391); the setting data are not
+        # part of this control: 0 degrees, shortest way [control: their defaults]
+        command.position = ("DC", 0.0)
+        command.wait_for_position = True
+    elif code == 70:
+        command.axis_mode = True
+    else:
+        command.gear = code
+    return True
+
+
+def _s_word(decoder: _Decoder, value: float, number: int | None = None) -> None:
+    command = decoder.spindle(number)
+    if command is not None:
+        command.speed = value
+
+
+def _spos(decoder: _Decoder, name: str, index: str, value: object) -> None:
+    """SPOS[n]= / SPOSA[n]= with AC, IC, DC, ACP, ACN (L16335-16349); plain = DC."""
+    number = int(index) if index.isdigit() else None
+    if index and number is None:
+        decoder.unknown(f"{name}[{index}]")
+        return
+    if isinstance(value, ValueFunction) and value.name in _POSITION_MODES:
+        mode, degrees = value.name, value.value
+    elif isinstance(value, float):
+        mode, degrees = "DC", value
+    else:
+        decoder.unknown(f"{name}={value}")
+        return
+    command = decoder.spindle(number)
+    if command is not None:
+        command.position = (mode, degrees)
+        command.wait_for_position = name == "SPOS"
+
+
 def _m_word(decoder: _Decoder, value: float) -> None:
+    if spindle_m(decoder, value, None):
+        return
     if value == 0:
         decoder.plan.program_stop = True
     elif value == 1:
@@ -166,7 +246,9 @@ def _preseton(decoder: _Decoder, call: Call) -> None:
         decoder.plan.preset[machine_axis] = value
 
 
-_WORD_HANDLERS: dict[str, Callable[[_Decoder, float], None]] = {"G": _g_word, "M": _m_word, "F": _f_word}
+_WORD_HANDLERS: dict[str, Callable[[_Decoder, float], None]] = {"G": _g_word, "M": _m_word, "F": _f_word,
+                                                                  "S": _s_word}
+_ADDRESS_EXTENSION = re.compile(r"([MS])(\d+)$")  # M2=3, S2=500: the function of spindle 2
 _KEYWORD_HANDLERS: dict[str, Callable[[_Decoder], None]] = {}
 _CALL_HANDLERS: dict[str, Callable[[_Decoder, Call], None]] = {"PRESETON": _preseton}
 
@@ -193,10 +275,7 @@ def _decode_item(decoder: _Decoder, item: Item) -> None:
         else:
             decoder.axis_value(item.address, item.value)
     elif isinstance(item, Assignment):
-        if item.index:
-            decoder.unknown(f"{item.name}[{item.index}]")
-        else:
-            decoder.axis_value(item.name, item.value)
+        _assignment(decoder, item)
     elif isinstance(item, Keyword):
         keyword_handler = _KEYWORD_HANDLERS.get(item.name)
         if keyword_handler is None:
@@ -213,18 +292,40 @@ def _decode_item(decoder: _Decoder, item: Item) -> None:
         pass
 
 
+def _assignment(decoder: _Decoder, item: Assignment) -> None:
+    if item.name in ("SPOS", "SPOSA"):
+        _spos(decoder, item.name, item.index, item.value)
+        return
+    extended = _ADDRESS_EXTENSION.match(item.name)
+    if extended and not item.index and isinstance(item.value, float) and \
+            decoder.channel.axis_for_program_name(item.name) is None:
+        address, number = extended.group(1), int(extended.group(2))
+        if address == "S":
+            _s_word(decoder, item.value, number)
+        elif not spindle_m(decoder, item.value, number):
+            decoder.unknown(f"{item.name}={item.value:g}")
+        return
+    if item.name == "S" and not item.index and isinstance(item.value, float):
+        _s_word(decoder, item.value)
+        return
+    if item.index:
+        decoder.unknown(f"{item.name}[{item.index}]")
+    else:
+        decoder.axis_value(item.name, item.value)
+
+
 def _finish(decoder: _Decoder) -> None:
     modal, plan, channel = decoder.modal, decoder.plan, decoder.channel
     if plan.preset:
         if plan.targets or decoder.reference_requested or decoder.dwell_requested or plan.program_stop or \
-                plan.program_end:
+                plan.program_end or plan.spindles:
             decoder.fail(12080, channel.name, decoder.block.label, "PRESETON")
         return
     if decoder.reference_requested:
         # G74 <axis>=0 ...: reference these axes; the values are not used.  G74 stands in a block of
         # its own (seed 003 L764-781): anything else with it is refused.
         if not plan.targets or decoder.other_g_words or decoder.feed_word is not None or \
-                plan.program_stop or plan.program_end:
+                plan.program_stop or plan.program_end or plan.spindles:
             decoder.fail(12080, channel.name, decoder.block.label, "G74")
         plan.reference_axes = tuple(plan.targets)
         plan.targets = {}

@@ -26,13 +26,14 @@ from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import STOP_AXES, Alarm, AlarmList, Clear, Reaction
 from vc.core.axis import AxisSignals, MachineAxis, Owner
-from vc.core.channel import Channel, ChannelSignals, Mode
+from vc.core.channel import Channel, ChannelSignals, ChannelState, Mode
 from vc.core.interface_map import SignalTable
 from vc.core.mode_group import ModeGroup, ModeGroupSignals
 from vc.core.nc_memory import NcMemory
 from vc.core.overrides import OverrideCoding
 from vc.core.referencing import buffer_at_power_off, encoder_slip, restore_at_power_on
 from vc.core.referencing_control import ReferencingControl
+from vc.core.spindle import Spindle, SpindleSignals
 
 EMERGENCY_STOP_ALARM = 3000
 PLC_SIGN_OF_LIFE_ALARM = 2000
@@ -99,6 +100,22 @@ class Nck:
             for channel in machine.channels
         ]
         self.channels_by_name = {channel.name: channel for channel in self.channels}
+        spindle_signals = SpindleSignals(SignalTable(catalog, InstanceKind.AXIS))
+        spindle_coding = OverrideCoding(nck.bool(MD.OVR_SPIND_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_SPIND_SPEED),
+                                        nck.float(MD.OVR_FACTOR_LIMIT_BIN))
+        self.spindles: list[Spindle] = []
+        for channel in self.channels:
+            for axis in channel.axes:
+                if axis.is_spindle:
+                    spindle = Spindle(axis, spindle_signals, self.image.area(f"DB{axis.config.db}"), channel.name,
+                                      spindle_coding, self._axis_coding, self.dt, nck.int(MD.SUPPRESS_ALARM_MASK),
+                                      nck.float(MD.GEAR_CHANGE_WAIT_TIME))
+                    channel.spindles[axis.name] = spindle
+                    self.spindles.append(spindle)
+        self._spindle_of = {spindle.name: spindle for spindle in self.spindles}
+        for spindle in self.spindles:
+            spindle.write_outputs()  # the power-on state
+        self._spindle_resets = {spindle.name: False for spindle in self.spindles}
         self.emergency_stop = False
         self._plc_life: int | None = None  # the PLC's last sign of life; None while no PLC is attached
         self._plc_started = False  # the sign of life has changed once: the PLC scans
@@ -131,6 +148,11 @@ class Nck:
         for channel in self.channels:
             channel.program_cycle(self.cycle)
         self._manual_functions()
+        alarm_version = self.alarms.version
+        for spindle in self.spindles:
+            if spindle.needs_cycle(alarm_version):
+                channel = self.channels_by_name[spindle.channel]
+                spindle.cycle(self.cycle, self.alarms, channel.state is ChannelState.RESET)
         for watcher in self.referencing.passive_watchers:
             watcher.cycle()
         if self.referencing.any_active:
@@ -182,6 +204,13 @@ class Nck:
                 axis.decode_inputs()
                 axis.override = self._axis_coding.factor(axis.inputs.override_raw, axis.inputs.override_active)
                 self._hardware_limit_switches(axis)
+                spindle = self._spindle_of.get(axis.name)
+                if spindle is not None:
+                    spindle.decode_inputs()
+                    reset = axis.inputs.reset_movement
+                    if reset and not self._spindle_resets[axis.name]:
+                        spindle.spindle_reset()  # DB31.DBX2.2 on its rising edge
+                    self._spindle_resets[axis.name] = reset
 
     def _hardware_limit_switches(self, axis: MachineAxis) -> None:
         """An actuated hardware limit switch stops the axis and raises alarm 21614 (on its edge)."""
@@ -209,6 +238,8 @@ class Nck:
             self.alarms.raise_alarm(EMERGENCY_STOP_ALARM, self.cycle)
             for axis in self.axes:
                 axis.rapid_stop(then_servo_off=True)
+            for spindle in self.spindles:
+                spindle.emergency_stop()
             for channel in self.channels:
                 channel.stop()
             return

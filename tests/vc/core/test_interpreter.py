@@ -231,3 +231,48 @@ def test_preseton_gives_machine_axes_their_new_actual_values(dec: Decoder) -> No
 def test_preseton_is_refused_with_a_syntax_alarm_when_it_does_not_fit(dec: Decoder, text: str) -> None:
     _, alarm = dec(text)
     assert alarm is not None and alarm.number == 12080
+
+
+# ------------------------------------------------------------------------------ spindle words
+
+
+def test_s_and_m3_address_the_master_spindle_and_extensions_another(dec: Decoder) -> None:
+    plan = dec.ok("M3 S500 S2=800 M2=4")
+    first, second = plan.spindles["SP1"], plan.spindles["SP2"]
+    assert (first.speed, first.direction, first.m_function) == (500.0, 3, 3)
+    assert (second.speed, second.direction, second.m_function) == (800.0, 4, 4)
+
+
+@pytest.mark.parametrize(("text", "mode", "value", "wait"), [
+    ("SPOS=90", "DC", 90.0, True),  # plain = DC (L16335-16349)
+    ("SPOS=AC(45)", "AC", 45.0, True),
+    ("SPOS[1]=IC(-720)", "IC", -720.0, True),
+    ("SPOSA=ACP(10)", "ACP", 10.0, False),
+    ("SPOSA[2]=ACN(350)", "ACN", 350.0, False),
+    ("M19", "DC", 0.0, True),
+])
+def test_spindle_positioning_forms(dec: Decoder, text: str, mode: str, value: float, wait: bool) -> None:
+    plan = dec.ok(text)
+    (command,) = plan.spindles.values()
+    assert command.position == (mode, value)
+    assert command.wait_for_position is wait
+
+
+def test_gear_stages_and_axis_mode(dec: Decoder) -> None:
+    assert dec.ok("M40 S1200").spindles["SP1"].gear == 40
+    assert dec.ok("M1=43").spindles["SP1"].gear == 43
+    assert dec.ok("M70").spindles["SP1"].axis_mode
+    implicit = dec.ok("SP1=90")  # the axis name of a spindle: an implicit M70 (L17421-17462)
+    assert implicit.spindles["SP1"].axis_mode and implicit.targets == {"SP1": 90.0}
+
+
+@pytest.mark.parametrize("text", ["S7=100", "M9=3", "SPOS[9]=0"])
+def test_a_spindle_number_that_does_not_exist_raises_16105(dec: Decoder, text: str) -> None:
+    _, alarm = dec(text)
+    assert alarm is not None and alarm.number == 16105
+
+
+def test_spindle_words_are_refused_beside_g74_and_preseton(dec: Decoder) -> None:
+    for text in ("G74 X1=0 M3", "PRESETON(X1, 1) S100"):
+        _, alarm = dec(text)
+        assert alarm is not None and alarm.number == 12080, text
