@@ -49,7 +49,7 @@ from vc.core.path import PathSegment
 from vc.core.program import Block, parse_program
 from vc.core.referencing import Source, State
 from vc.core.referencing_control import ReferencingControl
-from vc.core.spindle import SUPPRESS_IN_DRY_RUN, SUPPRESS_IN_PROGRAM_TEST, Spindle
+from vc.core.spindle import SUPPRESS_IN_DRY_RUN, SUPPRESS_IN_PROGRAM_TEST, Spindle, SpindleMode
 
 
 class ChannelState(Enum):
@@ -453,6 +453,9 @@ class Channel:
                 if spindle.md.int(MD.SPIND_ON_SPEED_AT_IPO_START) and spindle.direction and \
                         not spindle.speed_reached():
                     return False
+                if spindle.md.bool(MD.SPIND_STOPPED_AT_IPO_START) and not spindle.direction and \
+                        spindle.mode is SpindleMode.CONTROL and not spindle.stationary():
+                    return False  # MD35510: after M5 the path waits until the spindle stands (L20792-20798)
         return True
 
     def _start_block_body(self, cycle: int = 0) -> None:

@@ -270,8 +270,13 @@ class Nck:
                 channel.start_channel_referencing(self.cycle)
             if edges.nc_stop or channel.inputs.nc_stop or channel.inputs.nc_stop_all:
                 channel.stop()
+                if channel.inputs.nc_stop_all:
+                    for spindle in channel.spindles.values():
+                        spindle.nc_stop()
             if edges.nc_start and not self.emergency_stop:
                 channel.nc_start(self.cycle, mode_group.mode, mode_group.reference_function)
+                for spindle in channel.spindles.values():
+                    spindle.nc_start()
 
     def _manual_functions(self) -> None:
         """JOG with the traverse keys, or in JOG-REF / MDA-REF referencing with them."""

@@ -89,6 +89,12 @@ class SpindleSignals:
         self.oscillation_ccw = table.bit("spindle.out.oscillSetDirCcw")
         self.override = table.field("spindle.out.ovrFactor")
         self.rapid_stop = table.bit("drive.out.rapidStop")
+        self.resync = (table.bit("spindle.out.resyncEnc1"), table.bit("spindle.out.resyncEnc2"))
+        self.resync_for_positioning = (table.bit("spindle.out.resyncEnc1ForPos"),
+                                       table.bit("spindle.out.resyncEnc2ForPos"))
+        self.plc_stop = table.bit("spindle.out.stop")
+        self.plc_start_cw = table.bit("spindle.out.startCw")
+        self.plc_start_ccw = table.bit("spindle.out.startCcw")
         self.requested_gear = table.field("spindle.in.requestedGearStageNumber")
         self.change_gear = table.bit("spindle.in.gearChangeoverRequested")
         self.speed_limit_exceeded = table.bit("spindle.in.speedLimitationExceeded")
@@ -119,6 +125,11 @@ class SpindleInputs:
     oscillation_ccw: bool = False
     override_raw: int = 0
     rapid_stop: bool = False
+    resync: tuple[bool, bool] = (False, False)
+    resync_for_positioning: tuple[bool, bool] = (False, False)
+    plc_stop: bool = False
+    plc_start_cw: bool = False
+    plc_start_ccw: bool = False
 
 
 @dataclass(slots=True)
@@ -177,6 +188,7 @@ class Spindle:
         self._status: tuple[object, ...] = ()
         self._planned = False  # the positioning's command is a planned profile, not a ramp target
         self.quiet = False  # nothing to do until an input, a command, a reset or an alarm changes
+        self.held = False  # NC stop axes and spindles (DB21.DBX7.4) until NC start
         self._alarm_version = -1
         self._apply_gear_data()
         if md.int(MD.SPIND_DEFAULT_MODE) == 3:
@@ -228,6 +240,30 @@ class Spindle:
         inp.oscillation_ccw = sig.oscillation_ccw.get(area)
         inp.override_raw = sig.override.get(area)
         inp.rapid_stop = sig.rapid_stop.get(area)
+        resync = (sig.resync[0].get(area), sig.resync[1].get(area))
+        for index, (now, before) in enumerate(zip(resync, inp.resync, strict=True)):
+            if now and not before and index < len(self.axis.encoders) and self.mode is SpindleMode.CONTROL:
+                # 16.4 / 16.5 rising: synchronise again at the next zero mark (L18125-18146)
+                self.axis.encoders[index].referenced = False
+        inp.resync = resync
+        inp.resync_for_positioning = (sig.resync_for_positioning[0].get(area),
+                                      sig.resync_for_positioning[1].get(area))
+        self._plc_spindle_keys(sig.plc_stop.get(area), sig.plc_start_cw.get(area), sig.plc_start_ccw.get(area))
+
+    def _plc_spindle_keys(self, stop: bool, start_cw: bool, start_ccw: bool) -> None:
+        """The simple spindle interface DBB30: start CW / CCW with the last S, stop along the
+        braking ramp (L11335, L35586-35606), on their rising edges."""
+        inp = self.inputs
+        if self.change is None and self.mode in (SpindleMode.CONTROL, SpindleMode.POSITIONING):
+            if stop and not inp.plc_stop:
+                self.direction = 0
+            elif start_cw and not inp.plc_start_cw:
+                self.direction = 1
+                self._enter_control_mode()
+            elif start_ccw and not inp.plc_start_ccw:
+                self.direction = -1
+                self._enter_control_mode()
+        inp.plc_stop, inp.plc_start_cw, inp.plc_start_ccw = stop, start_cw, start_ccw
 
     def override(self) -> float:
         axis = self.axis
@@ -330,6 +366,7 @@ class Spindle:
         if self.positioning is not None and not self.positioning.done:
             self._enter_control_mode()  # a running positioning is aborted (L16672-16686)
         self.automatic_gear = True
+        self.held = False
         if not self.md.int(MD.SPIND_ACTIVE_AFTER_RESET):
             self.direction = 0
             self.speed = 0.0
@@ -362,6 +399,17 @@ class Spindle:
         self.speed = 0.0
         if self.mode is SpindleMode.POSITIONING:
             self._enter_control_mode()
+
+    def nc_stop(self) -> None:
+        """DB21.DBX7.4 NC stop axes and spindles: the spindle stops until NC start, but not
+        during a gear change (L18627-18655)."""
+        self.quiet = False
+        if self.change is None:
+            self.held = True
+
+    def nc_start(self) -> None:
+        self.quiet = False
+        self.held = False
 
     def emergency_stop(self) -> None:
         """A fast stop deletes the direction but keeps S (L16215-16217)."""
@@ -406,7 +454,7 @@ class Spindle:
                                f"{self._gear_wait_cycles * self._dt:g}", channel=self.channel, axis=self.name)
         if change.state in (GearState.TO_POSITION, GearState.POSITION_DELAY):
             return self._change_position_cycle(change, cycle, alarms)
-        stationary = self._stationary()
+        stationary = self.stationary()
         if change.state is GearState.REQUESTED and stationary:
             change.state = GearState.AT_STANDSTILL
         if change.simulated and change.state is GearState.AT_STANDSTILL:
@@ -497,6 +545,9 @@ class Spindle:
 
     # ------------------------------------------------------------------ positioning
     def _start_positioning(self, positioning: Positioning, for_change: bool = False) -> None:
+        index = self.axis.encoder.index
+        if self.inputs.resync_for_positioning[index]:
+            self.axis.encoder.referenced = False  # 17.4 / 17.5: synchronise again while positioning (L18035)
         self.positioning = positioning
         if not for_change:
             self.direction = 0
@@ -582,7 +633,7 @@ class Spindle:
             command = self._control_speed()
         else:
             command = None
-        stopped = self.inputs.rapid_stop or bool(alarms.reactions(self.channel) & STOP_AXES) or \
+        stopped = self.inputs.rapid_stop or self.held or bool(alarms.reactions(self.channel) & STOP_AXES) or \
             not axis.drive_ready or axis.inputs.disable
         if stopped and command is not None:
             command = 0.0
@@ -647,7 +698,7 @@ class Spindle:
             return self._gear_float(MD.GEAR_STEP_POSCTRL_ACCEL) * REV_S2
         return self._gear_float(MD.GEAR_STEP_SPEEDCTRL_ACCEL) * REV_S2
 
-    def _stationary(self) -> bool:
+    def stationary(self) -> bool:
         axis = self.axis
         return axis.command_velocity == 0.0 and abs(axis.velocity) <= axis.dyn.standstill_velocity
 
@@ -698,7 +749,7 @@ class Spindle:
         direction = -self.direction if self.inputs.invert_m3_m4 else self.direction
         wanted = direction * self.set_speed
         if wanted == 0.0:
-            return self._stationary()
+            return self.stationary()
         return abs(actual - wanted) <= tolerance * abs(wanted)
 
     def in_position(self) -> bool:

@@ -497,3 +497,50 @@ def test_a_gear_change_drops_the_reference_of_the_motor_encoder_and_changes_its_
     assert bit(rig, "SP1.basic.in.enc1Synchronized") == 0
     assert encoder.spacing == pytest.approx(120.0)  # 360 x 1 / 3
     assert sp1(rig).mode is SpindleMode.CONTROL
+
+
+def test_resync_drops_the_synchronisation_until_the_next_zero_mark() -> None:
+    rig = spindle_rig()
+    rig.mda("M3 S60")  # 60 rev/min = 360 deg/s: a zero mark every 48 degrees, 0.13 s
+    rig.run_until(lambda: bit(rig, "SP1.basic.in.enc1Synchronized") == 1, 500)
+    rig.set("SP1.spindle.out.resyncEnc1", 1)
+    rig.step(1)
+    assert bit(rig, "SP1.basic.in.enc1Synchronized") == 0
+    rig.run_until(lambda: bit(rig, "SP1.basic.in.enc1Synchronized") == 1, 100)
+
+
+def test_the_simple_spindle_interface_starts_and_stops_with_the_last_s() -> None:
+    rig = spindle_rig()
+    rig.mda("M3 S400\nM5")
+    run_seconds(rig, 0.5)
+    assert speed(rig) == 0.0
+    rig.pulse("SP1.spindle.out.startCcw", 5)  # DB31.DBX30.2
+    run_seconds(rig, 0.5)
+    assert speed(rig) == pytest.approx(-400.0)
+    rig.pulse("SP1.spindle.out.stop", 5)  # DB31.DBX30.0
+    run_seconds(rig, 0.5)
+    assert speed(rig) == 0.0
+
+
+def test_nc_stop_axes_and_spindles_holds_the_spindle_until_nc_start() -> None:
+    rig = spindle_rig()
+    rig.mda("M3 S500\nG4 F2")
+    run_seconds(rig, 0.5)
+    rig.pulse("CHAN1.basic.out.ncStopAxesAndSpindles", 5)
+    run_seconds(rig, 0.5)
+    assert speed(rig) == 0.0
+    rig.pulse("CHAN1.basic.out.ncStart", 5)
+    run_seconds(rig, 0.5)
+    assert speed(rig) == pytest.approx(500.0)
+
+
+def test_md35510_a_machining_block_waits_for_the_spindle_to_stand_after_m5() -> None:
+    rig = spindle_rig("SP1: {MD35510: 1}")
+    rig.mda("M3 S800")
+    run_seconds(rig, 0.5)
+    rig.mda("M5\nG91 G1 X1 F600")
+    while not bit(rig, "SP1.basic.in.isStationary"):
+        assert rig.axis("X1").velocity == 0.0
+        rig.step(1)
+    rig.step(20)
+    assert rig.axis("X1").velocity > 0
