@@ -5,11 +5,16 @@ A machine file lists its I/O like an electrical I/O list, address -> function na
     I0.0: MCP.auto          # machine control panel key
     I2.0: X1.refCam         # reference cam switch of X1
     IB4:  MCP.feedOverride  # feed override switch (binary 0..200 %)
+    I9.1: SP1.gearEngaged1  # gear stage 1 engaged sensor of the spindle SP1's gearbox
+    Q2.1: SP1.gearShift1    # shift actuator of SP1's gearbox: into gear stage 1
 
 The function names form a fixed vocabulary (``PLANT_FUNCTIONS``), so the plant model and
 the PLC programs agree on what each point is without knowing its address.  Safety
 contacts (emergency-stop chain, hardware limit switches) are normally closed: the input
-reads 1 while healthy and 0 when actuated or when the wire is broken.
+reads 1 while healthy and 0 when actuated or when the wire is broken.  A spindle gearbox
+has one shift actuator per gear stage (``gearShift1`` .. ``gearShift5``, outputs the PLC
+holds on during a shift), one engaged sensor per stage (``gearEngaged1`` ..) and
+optionally a neutral sensor (``gearNeutral``).
 """
 
 from __future__ import annotations
@@ -59,13 +64,55 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
                   "reference cam switch of the axis: 1 while the axis stands on the cam"),
     PlantFunction(rf"{_AXIS}\.(hwLimitMinus|hwLimitPlus)", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
                   "hardware limit switch, normally closed: 1 = free, 0 = actuated"),
+    PlantFunction(rf"{_AXIS}\.gearEngaged[1-5]", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+                  "gear stage n engaged sensor of the spindle's gearbox: 1 while gear stage n is in mesh"),
+    PlantFunction(rf"{_AXIS}\.gearNeutral", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+                  "neutral sensor of the spindle's gearbox: 1 while no gear stage is engaged"),
     PlantFunction(r"Drives\.on", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
                   "main contactor / infeed on command"),
     PlantFunction(r"Lamp\.[A-Za-z0-9_.]+", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
                   "indicator lamp on the machine control panel"),
+    PlantFunction(rf"{_AXIS}\.gearShift[1-5]", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
+                  "gear-stage shift actuator (valve) of the spindle's gearbox: 1 = move the gearbox into gear"
+                  " stage n; the PLC holds it on until the stage is engaged"),
 )
 
 _COMPILED = tuple((re.compile(f"^{f.pattern}$"), f) for f in PLANT_FUNCTIONS)
+
+MAX_GEAR_STAGES = 5  # MD35090 NUM_GEAR_STEPS: at most five gear stages
+_GEARBOX_POINT = re.compile(rf"^{_AXIS}\.(?P<kind>gearShift|gearEngaged|gearNeutral)(?P<stage>[1-5]?)$")
+
+
+@dataclass(frozen=True, slots=True)
+class GearboxPoint:
+    """What a gearbox I/O name says: whose gearbox, which kind of point, which gear stage."""
+
+    axis: str
+    kind: str  # "gearShift" (actuator), "gearEngaged" (stage sensor) or "gearNeutral" (neutral sensor)
+    stage: int  # 1..5; 0 for the neutral sensor
+
+
+def gearbox_point(name: str) -> GearboxPoint | None:
+    """The gearbox point a plant I/O name is, or None (also for a malformed one, e.g. gearShift6)."""
+    match = _GEARBOX_POINT.match(name)
+    if match is None or (match.group("kind") == "gearNeutral") == bool(match.group("stage")):
+        return None
+    return GearboxPoint(match.group("axis"), match.group("kind"), int(match.group("stage") or 0))
+
+
+def gear_shift(axis: str, stage: int) -> str:
+    """The shift actuator that moves the spindle's gearbox into ``stage``."""
+    return f"{axis}.gearShift{stage}"
+
+
+def gear_engaged(axis: str, stage: int) -> str:
+    """The sensor that reads 1 while ``stage`` of the spindle's gearbox is engaged."""
+    return f"{axis}.gearEngaged{stage}"
+
+
+def gear_neutral(axis: str) -> str:
+    """The sensor that reads 1 while the spindle's gearbox is in no gear stage."""
+    return f"{axis}.gearNeutral"
 
 _TYPE_WIDTH = {SignalType.BOOL: "X", SignalType.BYTE: "B", SignalType.WORD: "W"}
 

@@ -98,3 +98,19 @@ class F_TRIG:
         self.q = self._last and not clk
         self._last = clk
         return self.q
+
+
+class SR:
+    """Bistable, set dominant: S1 sets Q1, R resets it, and S1 wins while both are 1.
+
+    The latch of a stop key and its start key: the stop must win when both are pressed.
+    """
+
+    __slots__ = ("q1",)
+
+    def __init__(self) -> None:
+        self.q1 = False
+
+    def __call__(self, s1: bool, r: bool) -> bool:
+        self.q1 = s1 or (self.q1 and not r)
+        return self.q1

@@ -58,6 +58,27 @@ class Byte:
         self._area[self._byte] = number & 0xFF
 
 
+class BitField:
+    """An unsigned field of a few bits inside one byte (a gear stage in DB31.DBX16.0..16.2)."""
+
+    __slots__ = ("_area", "_byte", "_mask", "_shift", "name")
+
+    def __init__(self, area: bytearray, ref: SignalRef):
+        self._area = area
+        self._byte = ref.address.byte
+        self._shift = ref.address.bit
+        self._mask = ((1 << ref.bits) - 1) << ref.address.bit
+        self.name = ref.name
+
+    @property
+    def value(self) -> int:
+        return (self._area[self._byte] & self._mask) >> self._shift
+
+    @value.setter
+    def value(self, number: int) -> None:
+        self._area[self._byte] = (self._area[self._byte] & ~self._mask & 0xFF) | (number << self._shift & self._mask)
+
+
 class PlcIo:
     def __init__(self, environment: PlcEnvironment):
         self.environment = environment
@@ -90,6 +111,14 @@ class PlcIo:
     def output_byte(self, name: str) -> Byte:
         ref = self._checked(name, _OUTPUTS, SignalType.BYTE)
         return Byte(self.image.area(ref.area_key), ref)
+
+    def input_field(self, name: str) -> BitField:
+        ref = self._checked(name, _INPUTS, SignalType.BITS)
+        return BitField(self.image.area(ref.area_key), ref)
+
+    def output_field(self, name: str) -> BitField:
+        ref = self._checked(name, _OUTPUTS, SignalType.BITS)
+        return BitField(self.image.area(ref.area_key), ref)
 
     def _checked(self, name: str, directions: tuple[Direction, ...], signal_type: SignalType) -> SignalRef:
         ref = self._resolve(name)

@@ -9,6 +9,7 @@ from __future__ import annotations
 from interfaces.plc import PlcEnvironment, PlcFactory, SoftPlc
 from plc_stub.programs.basic_machine import BasicMachine
 from plc_stub.programs.referencing import Referencing
+from plc_stub.programs.spindle import Spindle
 from plc_stub.runtime import ScanCycleRuntime
 
 
@@ -20,7 +21,12 @@ def _referencing(environment: PlcEnvironment) -> SoftPlc:
     return ScanCycleRuntime(environment, Referencing)
 
 
+def _spindle(environment: PlcEnvironment) -> SoftPlc:
+    return ScanCycleRuntime(environment, Spindle)
+
+
 REGISTRY: dict[str, PlcFactory] = {
     "basic_machine": _basic_machine,
     "referencing": _referencing,
+    "spindle": _spindle,
 }

@@ -10,7 +10,8 @@ Networks (one method each, called in this order from OB1):
    DB11.DBX0.0..0.2, held until another key); REF switches the machine function
    REF on (DB11.DBX1.2) and a mode key switches it off.
 3. Channel: NC start / NC stop / reset keys to DB21.DBX7.1 / 7.3 / 7.7; feed stop and
-   feed start keys latch the channel feed disable DB21.DBX6.0; the override switches to
+   feed start keys latch the channel feed disable DB21.DBX6.0 (the stop key wins while both
+   are pressed); the override switches to
    DB21.DBB4 (feed) and DBB5 (rapid) with their enables.
 4. Axes: measuring system 1 selected (DB31.DBX1.5), controller and pulse enable once the
    drives are ready (follow-up mode while the enable is off), the axis override, the
@@ -25,7 +26,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from plc_stub.blocks import R_TRIG, TOF
+from plc_stub.blocks import R_TRIG, SR, TOF
 from plc_stub.io import Bool, Byte, PlcIo
 
 DRIVES_OFF_DELAY_S = 0.5  # infeed kept on after an e-stop: the NC brakes with powered drives
@@ -66,6 +67,8 @@ class _ChannelIo:
 
 
 class BasicMachine:
+    PARAMETERS: tuple[str, ...] = ()  # the machine file's plc: parameters the program reads
+
     def __init__(self, io: PlcIo):
         scan = io.environment.scan_time_s
         layout = io.environment.catalog.layout
@@ -105,7 +108,7 @@ class BasicMachine:
         self.feed_switch = optional_byte("MCP.feedOverride")
         self.rapid_switch = optional_byte("MCP.rapidOverride")
         self.key_rapid = optional_input("MCP.rapid")
-        self.feed_stopped = False
+        self.feed_stop_latch = SR()
         self.channels = [
             _ChannelIo(
                 nc_start=io.output(f"{name}.basic.out.ncStart"),
@@ -153,7 +156,7 @@ class BasicMachine:
     def emergency_stop_and_drives(self) -> None:
         chain_ok = self.chain_ok.value if self.chain_ok is not None else True
         self.emergency_stop.value = not chain_ok
-        reset_pressed = self.key_reset.value if self.key_reset is not None else False
+        reset_pressed = pressed(self.key_reset)
         self.emergency_stop_ack.value = chain_ok and reset_pressed
         if self.drives_on is not None:
             self.drives_on.value = self.drives_off_delay(chain_ok)
@@ -174,20 +177,17 @@ class BasicMachine:
 
     # Network 3 ---------------------------------------------------------------------------
     def channel_control(self) -> None:
-        start = self.key_nc_start.value if self.key_nc_start is not None else False
-        stop = self.key_nc_stop.value if self.key_nc_stop is not None else False
-        reset = self.key_reset.value if self.key_reset is not None else False
-        if self.key_feed_stop is not None and self.key_feed_stop.value:
-            self.feed_stopped = True
-        if self.key_feed_start is not None and self.key_feed_start.value:
-            self.feed_stopped = False
+        start = pressed(self.key_nc_start)
+        stop = pressed(self.key_nc_stop)
+        reset = pressed(self.key_reset)
+        feed_stopped = self.feed_stop_latch(pressed(self.key_feed_stop), pressed(self.key_feed_start))
         feed = self.feed_switch.value if self.feed_switch is not None else 100
         rapid = self.rapid_switch.value if self.rapid_switch is not None else feed
         for channel in self.channels:
             channel.nc_start.value = start
             channel.nc_stop.value = stop
             channel.reset.value = reset
-            channel.feed_disable.value = self.feed_stopped
+            channel.feed_disable.value = feed_stopped
             channel.feed_override_active.value = True
             channel.feed_override.value = feed
             channel.rapid_override_active.value = True
@@ -197,7 +197,7 @@ class BasicMachine:
     def axis_control(self) -> None:
         ready = self.drives_ready.value if self.drives_ready is not None else True
         feed = self.feed_switch.value if self.feed_switch is not None else 100
-        rapid = self.key_rapid.value if self.key_rapid is not None else False
+        rapid = pressed(self.key_rapid)
         for axis in self.axes:
             axis.measuring_system_1.value = True
             axis.controller_enable.value = ready
@@ -205,8 +205,8 @@ class BasicMachine:
             axis.follow_up_mode.value = not ready
             axis.override_active.value = True
             axis.override.value = feed
-            axis.key_minus.value = axis.panel_minus.value if axis.panel_minus is not None else False
-            axis.key_plus.value = axis.panel_plus.value if axis.panel_plus is not None else False
+            axis.key_minus.value = pressed(axis.panel_minus)
+            axis.key_plus.value = pressed(axis.panel_plus)
             axis.rapid.value = rapid
             if axis.cam_input is not None:
                 axis.cam_output.value = axis.cam_input.value
@@ -215,3 +215,8 @@ class BasicMachine:
                 axis.limit_minus_output.value = not axis.limit_minus_input.value
             if axis.limit_plus_input is not None:
                 axis.limit_plus_output.value = not axis.limit_plus_input.value
+
+
+def pressed(key: Bool | None) -> bool:
+    """A panel key's state; a key the machine's panel lacks is never pressed."""
+    return key.value if key is not None else False

@@ -26,7 +26,7 @@ from typing import Any
 
 from plc_stub.blocks import R_TRIG
 from plc_stub.io import Bool, PlcIo
-from plc_stub.programs.basic_machine import BasicMachine
+from plc_stub.programs.basic_machine import BasicMachine, pressed
 
 
 @dataclass(slots=True)
@@ -36,6 +36,8 @@ class _SequencedAxis:
 
 
 class Referencing(BasicMachine):
+    PARAMETERS = (*BasicMachine.PARAMETERS, "referencing_order", "referencing_direction")
+
     def __init__(self, io: PlcIo):
         super().__init__(io)
         layout = io.environment.catalog.layout
@@ -60,8 +62,8 @@ class Referencing(BasicMachine):
 
     # Network 5 ---------------------------------------------------------------------------
     def referencing(self) -> None:
-        start = self.start_key(self.key_nc_start.value if self.key_nc_start is not None else False)
-        reset = self.reset_key(self.key_reset.value if self.key_reset is not None else False)
+        start = self.start_key(pressed(self.key_nc_start))
+        reset = self.reset_key(pressed(self.key_reset))
         in_ref = self.ref_active.value
         if reset or not in_ref:
             self.step = -1

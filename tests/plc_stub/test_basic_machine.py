@@ -1,26 +1,18 @@
 """basic_machine: the basic machine control, scan by scan, against its interface and plant images.
 
-The PLC runs alone here: the test writes its inputs (plant I, NC->PLC bytes) and reads what
-it published (plant Q, PLC->NC bytes).  Outputs computed in a scan reach the images at the
-start of the next scan (``interfaces.plc``: publish, read, run), so a copied input shows one
-scan after the scan that read it.  No ``vc`` import: the PLC meets the NC only through
-``interfaces``.
+The PLC runs alone on the bench (plc_bench.py): the test writes its inputs and reads what it
+published, one scan later.
 """
 
 from __future__ import annotations
 
 import pytest
+from plc_bench import SCAN, PlcBench
 
-from interfaces.catalog import load_catalog
-from interfaces.image import ProcessImage, Value
-from interfaces.plant_io import PlantIoMap
-from interfaces.plc import PlcEnvironment
-from interfaces.signals import InterfaceLayout, expand
+from interfaces.image import Value
 from plc_stub.programs import REGISTRY
 from plc_stub.programs.basic_machine import DRIVES_OFF_DELAY_S, BasicMachine
-from plc_stub.runtime import ScanCycleRuntime
 
-SCAN = 0.01  # s, OB1 period
 AXES = ("X1", "Z1", "SP1")
 IO_LIST = {
     "I0.0": "MCP.auto", "I0.1": "MCP.mda", "I0.2": "MCP.jog", "I0.3": "MCP.ref",
@@ -35,52 +27,15 @@ IO_LIST = {
 }
 
 
-class PlcBench:
-    def __init__(self, io_list: dict[str, str] | None = None):
-        self.plant_io = PlantIoMap.from_mapping(io_list or IO_LIST, AXES)
-        self.catalog = expand(load_catalog(), InterfaceLayout(channels=("CHAN1",), axes=AXES))
-        self.runtime = ScanCycleRuntime(PlcEnvironment(self.catalog, self.plant_io, SCAN), BasicMachine)
-        self.interface = ProcessImage(self.catalog.area_sizes)
-        self.plant = ProcessImage(self.plant_io.area_sizes())
-        # a healthy machine at power-on: e-stop chain closed, drives ready, limit switches free,
-        # override switches at 100 %
-        for name in ("EStop.chainOk", "Drives.ready", "X1.hwLimitMinus", "X1.hwLimitPlus", "Z1.hwLimitMinus",
-                     "Z1.hwLimitPlus"):
-            self.input(name, 1)
-        for switch in ("MCP.feedOverride", "MCP.rapidOverride"):
-            if self.plant_io.by_name(switch) is not None:
-                self.input(switch, 100)
-
-    def input(self, name: str, value: Value) -> None:
-        self.plant.write(self.plant_io.resolve(name), value)
-
-    def nc(self, name: str, value: Value) -> None:
-        """An NC->PLC signal as the NC publishes it."""
-        self.interface.write(self.catalog.resolve(name), value)
-
-    def out(self, name: str) -> Value:
-        """A published PLC output: PLC->NC interface signal or plant output Q."""
-        try:
-            return self.plant.read(self.plant_io.resolve(name))
-        except KeyError:
-            return self.interface.read(self.catalog.resolve(name))
-
-    def scan(self, count: int = 1) -> None:
-        for _ in range(count):
-            self.runtime.scan(self.interface, self.plant)
-
-    def tap(self, name: str) -> None:
-        self.input(name, 1)
-        self.scan()
-        self.input(name, 0)
-        self.scan(2)
+def bench(io_list: dict[str, str] | None = None) -> PlcBench:
+    return PlcBench(BasicMachine, io_list or IO_LIST, AXES)
 
 
 @pytest.fixture
 def plc() -> PlcBench:
-    bench = PlcBench()
-    bench.scan(2)
-    return bench
+    started = bench()
+    started.scan(2)
+    return started
 
 
 def test_basic_machine_is_registered_under_its_name() -> None:
@@ -104,13 +59,13 @@ def test_reference_cam_reaches_db31_dbx12_7_one_scan_later(plc: PlcBench) -> Non
 
 
 def test_axis_without_a_cam_keeps_its_cam_signal_0() -> None:
-    plc = PlcBench()
+    plc = bench()
     plc.scan(3)
     assert plc.out("Z1.basic.out.refPointApproachCam") == 0
 
 
 def test_first_scan_publishes_nothing() -> None:
-    plc = PlcBench()
+    plc = bench()
     plc.scan()
     assert plc.out("X1.basic.out.enableCtrl") == 0
     plc.scan()
@@ -195,6 +150,16 @@ def test_feed_stop_and_feed_start_keys_latch_the_channel_feed_disable(plc: PlcBe
     assert plc.out("CHAN1.basic.out.disableFeed") == 0
 
 
+def test_feed_stop_wins_while_feed_stop_and_feed_start_are_both_pressed(plc: PlcBench) -> None:
+    plc.input("MCP.feedStart", 1)
+    plc.input("MCP.feedStop", 1)
+    plc.scan(2)
+    assert plc.out("CHAN1.basic.out.disableFeed") == 1
+    plc.input("MCP.feedStop", 0)
+    plc.scan(2)
+    assert plc.out("CHAN1.basic.out.disableFeed") == 0  # the start key, still held, releases it
+
+
 def test_override_switches_are_copied_with_their_enables(plc: PlcBench) -> None:
     plc.input("MCP.feedOverride", 73)
     plc.input("MCP.rapidOverride", 25)
@@ -211,7 +176,7 @@ def test_override_switches_are_copied_with_their_enables(plc: PlcBench) -> None:
 def test_without_a_rapid_override_switch_the_feed_override_acts_on_rapid() -> None:
     # Seed 003 (§7.4.2): without a separate rapid override switch DB21.DBB5 = DB21.DBB4.
     io_list = {key: value for key, value in IO_LIST.items() if value != "MCP.rapidOverride"}
-    plc = PlcBench(io_list)
+    plc = bench(io_list)
     plc.input("MCP.feedOverride", 40)
     plc.scan(2)
     assert plc.out("CHAN1.basic.out.pathRapidTraversOvrFactor") == 40

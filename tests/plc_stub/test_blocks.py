@@ -8,7 +8,7 @@ earlier; TOF with PT = 50 ms resets Q in the 6th scan with IN = 0.
 
 from __future__ import annotations
 
-from plc_stub.blocks import F_TRIG, R_TRIG, TOF, TON
+from plc_stub.blocks import F_TRIG, R_TRIG, SR, TOF, TON
 
 SCAN = 0.01  # s, OB1 period
 
@@ -106,3 +106,19 @@ def test_f_trig_is_1_for_exactly_one_scan_per_falling_edge() -> None:
 
 def test_f_trig_sees_no_edge_at_power_on_with_input_0() -> None:
     assert F_TRIG()(False) is False
+
+
+# ------------------------------------------------------------------------------ SR
+
+
+def test_sr_latches_on_set_until_reset() -> None:
+    latch = SR()
+    assert [latch(s1, r) for s1, r in [(False, False), (True, False), (False, False), (False, False),
+                                      (False, True), (False, False)]] == [False, True, True, True, False, False]
+
+
+def test_sr_set_wins_while_both_inputs_are_1() -> None:
+    latch = SR()
+    assert latch(True, True) is True
+    assert latch(False, True) is False
+    assert latch.q1 is False

@@ -21,8 +21,13 @@ sit on the slides of the simulated machine, and the I/O list wired to the PLC::
         MD34100[3]: 5.0                     # ... or one index
         sim: {start_position: 150.0, zero_mark_offset: 2.5}
         plant: {ref_cam: [280.0, 295.0], hw_limits: [-12.0, 312.0]}
+      SP1:
+        MD35090 NUM_GEAR_STEPS: 3
+        plant: {gearbox: {stages: 3, shift_time: 0.4, engaged: 1}}
     plant_io:                      # address: plant function (interfaces/plant_io.py)
       I0.0: MCP.auto
+      I9.0: SP1.gearEngaged1       # one engaged sensor and one shift actuator per gear stage:
+      Q2.0: SP1.gearShift1         # ... gearEngaged2, gearShift2, ... up to the gearbox's stages
     plc:                           # parameters of the machine's PLC program (it checks them)
       referencing_order: [[Y1], [X1], [Z1]]
 
@@ -41,13 +46,18 @@ Rules:
   position of one zero mark, of the first distance-coded mark, or of an absolute encoder's
   zero; see vc/core/encoder.py) and ``encoder_serial`` / ``encoder_serial_2`` (the serial
   numbers of the mounted encoders, which the control compares with MD34230).  ``plant`` holds switches:
-  ``ref_cam: [start, end]`` and ``hw_limits: [minus, plus]`` (``null`` = no switch there).
+  ``ref_cam: [start, end]`` and ``hw_limits: [minus, plus]`` (``null`` = no switch there), and a
+  spindle's load gearbox: ``gearbox: {stages: n, shift_time: s, engaged: k}`` with n = MD35090 gear
+  stages, the seconds the shift actuator must push while the motor turns for the teeth to mesh, and
+  the stage in mesh at power-on (default 1, 0 = neutral).  A gearbox needs its I/O: the shift
+  actuators ``<spindle>.gearShift1..n`` and the engaged sensors ``<spindle>.gearEngaged1..n`` (the
+  neutral sensor ``<spindle>.gearNeutral`` is optional); gearbox I/O without a gearbox is a mistake.
 * Every machine axis belongs to exactly one channel.  A channel axis without a name in
   MD20080 is called by its machine axis name in part programs.
 * Scenario overrides (``load_machine(..., overrides=...)``) are ``{instance: {key: value}}``
   with instance = an axis name, a channel name or ``NC``.  They are checked exactly like the
   file and replace the file's values index by index.  An axis may also carry ``sim:`` and
-  ``plant:``; the keys written replace the file's (``hw_limits`` as a pair).
+  ``plant:``; the keys written replace the file's (``hw_limits`` as a pair, the ``gearbox`` key by key).
 
 Every problem of the file and of the overrides is collected with ``file:line:column`` and
 reported at once in one :class:`~vc.located_yaml.SourceError`; no half-checked configuration
@@ -62,7 +72,14 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from interfaces.plant_io import PlantIoError, PlantIoMap
+from interfaces.plant_io import (
+    MAX_GEAR_STAGES,
+    PlantIoError,
+    PlantIoMap,
+    gear_engaged,
+    gear_shift,
+    gearbox_point,
+)
 from vc.config import md_dictionary as mdd
 from vc.config.machine_data import (
     MachineData,
@@ -75,13 +92,16 @@ from vc.config.machine_data import (
     checked_value,
     shown,
 )
-from vc.config.model import AxisConfig, AxisPlant, AxisSimulation, ChannelConfig, MachineConfig
+from vc.config.model import AxisConfig, AxisPlant, AxisSimulation, ChannelConfig, GearboxPlant, MachineConfig
 from vc.located_yaml import LocatedMap, Mark, Problems, load_file
 
 TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", "axes", "plant_io", "plc")
 SIM_KEYS = ("start_position", "zero_mark_offset", "zero_mark_offset_2", "encoder_serial", "encoder_serial_2")
 _WHOLE_SIM_KEYS = ("encoder_serial", "encoder_serial_2")
-PLANT_KEYS = ("ref_cam", "hw_limits")
+PLANT_KEYS = ("ref_cam", "hw_limits", "gearbox")
+GEARBOX_KEYS = ("stages", "shift_time", "engaged")
+_REQUIRED_GEARBOX_KEYS = {"stages": "the number of gear stages",
+                          "shift_time": "the seconds the shift actuator must push while the motor turns"}
 NCK_INSTANCE = "NC"
 # Instance names the interface and the plant I/O vocabulary already use.
 RESERVED_NAMES = frozenset({"NC", "MODEGROUP", "MCP", "EStop", "Drives", "Lamp"})
@@ -211,8 +231,11 @@ class _AxisEntry:
     mark: Mark
     data: _Instance
     sim: AxisSimulation = field(default_factory=AxisSimulation)
-    plant: AxisPlant = field(default_factory=AxisPlant)
+    plant: AxisPlant = field(default_factory=AxisPlant)  # without the gearbox, which build() makes
     channel: str = ""
+    gearbox: dict[str, _Written] = field(default_factory=dict)  # plant.gearbox keys: file, then overrides
+    gearbox_keys: set[str] = field(default_factory=set)  # every key written, also those with a bad value
+    gearbox_mark: Mark | None = None  # where the gearbox is first declared; None = no gearbox
 
 
 @dataclass(slots=True)
@@ -236,6 +259,7 @@ class _MachineReader:
         self.axes: dict[str, _AxisEntry] = {}
         self.channels: dict[str, _ChannelEntry] = {}
         self.plant_io = PlantIoMap(())
+        self.plant_io_names: dict[str, tuple[str, Mark]] = {}  # function name -> address text, mark
         self.plc_parameters: dict[str, Any] = {}
         self.channel_lists_complete = True  # every channel's axes list could be read
 
@@ -394,9 +418,49 @@ class _MachineReader:
                                              " be below the plus limit switch")
                     else:
                         values["hw_limit_minus"], values["hw_limit_plus"] = minus, plus
+            elif key == "gearbox":
+                values["gearbox"] = self._read_gearbox(value, value_mark, f"{where}.gearbox")
             else:
                 self.add(key_mark, f"unknown key '{key}' in plant; allowed: {', '.join(PLANT_KEYS)}")
         return values
+
+    def _read_gearbox(self, raw: Any, mark: Mark,
+                      where: str) -> tuple[dict[str, _Written], set[str], Mark | None]:
+        """The ``plant.gearbox`` keys written in ``raw`` (checked one by one), every key written,
+        and where the gearbox is declared (None when ``raw`` is no mapping at all).
+
+        The checks that need the whole axis (MD35000, MD35090, the stage engaged at power-on
+        against the stages, the I/O list) come in :meth:`_build_gearbox`, after the overrides.
+        """
+        written: dict[str, _Written] = {}
+        block = self._any_mapping(raw, mark, where)
+        for key, value in block.items():
+            key_mark, value_mark = self.marks.key(block, key), self.marks.value(block, key)
+            if key not in GEARBOX_KEYS:
+                self.add(key_mark, f"unknown key '{key}' in plant.gearbox; allowed: {', '.join(GEARBOX_KEYS)}")
+            elif key == "stages":
+                stages = _whole_number(value, 1, MAX_GEAR_STAGES)
+                if stages is None:
+                    self.add(value_mark, f"plant.gearbox.stages: the number of gear stages, a whole number"
+                                         f" from 1 to {MAX_GEAR_STAGES}, got {shown(value)}")
+                    continue
+                written[key] = _Written(stages, value_mark)
+            elif key == "shift_time":
+                seconds = as_number(value)
+                if seconds is None or seconds <= 0:
+                    self.add(value_mark, "plant.gearbox.shift_time: the seconds the shift actuator must push"
+                                         f" while the motor turns, above 0, got {shown(value)}")
+                    continue
+                written[key] = _Written(float(seconds), value_mark)
+            elif key == "engaged":
+                engaged = _whole_number(value, 0, MAX_GEAR_STAGES)
+                if engaged is None:
+                    self.add(value_mark, "plant.gearbox.engaged: the gear stage in mesh at power-on, a whole"
+                                         f" number from 0 (neutral) to {MAX_GEAR_STAGES}, got {shown(value)}")
+                    continue
+                written[key] = _Written(engaged, value_mark)
+        declared = mark if raw is None or isinstance(raw, dict) else None
+        return written, {key for key in block if key in GEARBOX_KEYS}, declared
 
     def _any_mapping(self, raw: Any, mark: Mark, where: str) -> Mapping[str, Any]:
         """``raw`` as a mapping (located or built in code); a problem and an empty one otherwise."""
@@ -414,6 +478,12 @@ class _MachineReader:
             entry.sim = dataclasses.replace(entry.sim, **sim)
         if "plant" in block:
             plant = self._read_plant(block["plant"], self.marks.value(block, "plant"), f"{where}.plant")
+            if "gearbox" in plant:
+                gearbox, keys, declared = plant.pop("gearbox")
+                entry.gearbox.update(gearbox)
+                entry.gearbox_keys.update(keys)
+                if entry.gearbox_mark is None:
+                    entry.gearbox_mark = declared
             entry.plant = dataclasses.replace(entry.plant, **plant)
 
     def _number(self, raw: Any, mark: Mark, what: str) -> float | None:
@@ -523,6 +593,7 @@ class _MachineReader:
         for key, value, value_mark in block.located_items():
             if isinstance(value, str):
                 entries[key] = value
+                self.plant_io_names.setdefault(value.strip(), (key, block.mark_of_key(key)))
             else:
                 self.add(value_mark,
                          f"plant_io {key}: expected a plant function such as MCP.auto, got {shown(value)}")
@@ -718,9 +789,65 @@ class _MachineReader:
                          f"{entry.name}: MD30550 AXCONF_ASSIGN_MASTER_CHAN = {master}, but {entry.name} is an"
                          f" axis of channel {channel_numbers[entry.channel]} ({entry.channel})")
             values = MachineData(entry.name, data.values())
-            result[entry.name] = AxisConfig(entry.name, number, values, is_rotary, spindle, entry.sim,
-                                            entry.plant)
+            plant = dataclasses.replace(entry.plant, gearbox=self._build_gearbox(entry, spindle))
+            result[entry.name] = AxisConfig(entry.name, number, values, is_rotary, spindle, entry.sim, plant)
+        self._check_gearbox_io()
         return result
+
+    def _build_gearbox(self, entry: _AxisEntry, spindle: int) -> GearboxPlant | None:
+        """The axis's gearbox, checked against its machine data and the I/O list; None without one."""
+        declared = entry.gearbox_mark
+        if declared is None:
+            return None
+        written = entry.gearbox
+        missing = [f"{key} ({meaning})" for key, meaning in _REQUIRED_GEARBOX_KEYS.items()
+                   if key not in entry.gearbox_keys]
+        if missing:
+            self.add(declared, f"{entry.name}: plant.gearbox lacks {' and '.join(missing)}")
+        if not spindle:
+            self.add(declared, f"{entry.name}: plant.gearbox on an axis that is not a spindle"
+                               " (MD35000 SPIND_ASSIGN_TO_MACHAX = 0); only a spindle changes gear stages")
+        if "stages" not in written:
+            return None
+        stages = int(written["stages"].value)
+        configured = int(entry.data.value(mdd.NUM_GEAR_STEPS))
+        if spindle and stages != configured:
+            # at MD35090 where it is written (a scenario may change it), else at the stages
+            if entry.data.is_written(mdd.NUM_GEAR_STEPS):
+                mark, default = entry.data.mark_of(mdd.NUM_GEAR_STEPS), ""
+            else:
+                mark, default = written["stages"].mark, " (the default)"
+            self.add(mark, f"{entry.name}: plant.gearbox.stages = {stages}, but MD35090 NUM_GEAR_STEPS ="
+                           f" {configured}{default}")
+        engaged = written.get("engaged")
+        if engaged is not None and int(engaged.value) > stages:
+            self.add(engaged.mark, f"{entry.name}: plant.gearbox.engaged = {engaged.value}: the gearbox has"
+                                   f" {_count(stages, 'stage', 'stages')} (0 = neutral)")
+        needed = [*(gear_shift(entry.name, stage) for stage in range(1, stages + 1)),
+                  *(gear_engaged(entry.name, stage) for stage in range(1, stages + 1))]
+        unwired = [name for name in needed if name not in self.plant_io_names]
+        if unwired:
+            self.add(declared, f"{entry.name}: the gearbox's I/O is not wired in plant_io: {', '.join(unwired)}")
+        if "shift_time" not in written:
+            return None
+        return GearboxPlant(stages, float(written["shift_time"].value),
+                            int(engaged.value) if engaged is not None else 1)
+
+    def _check_gearbox_io(self) -> None:
+        """Gearbox I/O needs a gearbox with that stage: a sensor no gearbox drives reads 0 for ever."""
+        for name, (key, mark) in self.plant_io_names.items():
+            point = gearbox_point(name)
+            if point is None or point.axis not in self.axes:
+                continue  # not gearbox I/O, or an unknown axis (the I/O list check reports it)
+            entry = self.axes[point.axis]
+            if entry.gearbox_mark is None:
+                self.add(mark, f"plant_io {key}: {name} needs a gearbox on {point.axis}"
+                               " (plant: {gearbox: {stages: n, shift_time: s}})")
+                continue
+            stages = entry.gearbox.get("stages")
+            if stages is not None and point.stage > int(stages.value):
+                self.add(mark, f"plant_io {key}: {name}: the gearbox of {point.axis} has"
+                               f" {_count(int(stages.value), 'stage', 'stages')}")
 
     def _build_channel(self, number: int, entry: _ChannelEntry,
                        axes: Mapping[str, AxisConfig]) -> ChannelConfig:
@@ -827,6 +954,14 @@ class _MachineReader:
         self.add(entry.data.mark_of(md),
                  f"{md.label} = {master}{default}: {entry.name} has no spindle {master}"
                  f" (its spindles: {own})")
+
+
+def _whole_number(raw: Any, lowest: int, highest: int) -> int | None:
+    """``raw`` as a whole number in ``lowest .. highest``, else None."""
+    number = as_number(raw)
+    if number is None or not float(number).is_integer() or not lowest <= number <= highest:
+        return None
+    return int(number)
 
 
 def _count(number: int, singular: str, plural: str) -> str:

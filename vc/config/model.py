@@ -31,12 +31,22 @@ class AxisSimulation:
 
 
 @dataclass(frozen=True, slots=True)
+class GearboxPlant:
+    """The load gearbox of a spindle: the PLC shifts it with one actuator per gear stage."""
+
+    stages: int  # gear stages 1..stages (equals MD35090 NUM_GEAR_STEPS)
+    shift_time_s: float  # how long the actuator must push while the teeth can mesh (the motor turns)
+    engaged_at_power_on: int = 1  # the stage in mesh when the machine is switched on, 0 = neutral
+
+
+@dataclass(frozen=True, slots=True)
 class AxisPlant:
-    """Switches mounted along the axis, in physical machine coordinates."""
+    """Switches mounted along the axis, in physical machine coordinates, and a spindle's gearbox."""
 
     ref_cam: tuple[float, float] | None = None  # the axis stands on the cam inside [start, end]
     hw_limit_minus: float | None = None  # the minus limit switch is actuated at or below this position
     hw_limit_plus: float | None = None  # the plus limit switch is actuated at or above this position
+    gearbox: GearboxPlant | None = None  # spindles only
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,21 +1,24 @@
-"""The machine plant: switches along the axes and the drive line-up, wired to PLC inputs.
+"""The machine plant: switches along the axes, spindle gearboxes and the drive line-up, wired to the PLC.
 
-The plant sees the true (physical) slide positions and drives the plant-owned inputs of
-the I/O list: reference cams (1 while the slide stands on the cam), hardware limit
-switches (normally closed: 0 while actuated), and ``Drives.ready``, which follows the
-PLC's ``Drives.on`` output after the infeed's switch-on delay.  Operator inputs (panel
-keys, the emergency-stop button) are not the plant's: a person (a scenario) sets them.
+The plant sees the true (physical) slide positions and the motor speeds and drives the
+plant-owned inputs of the I/O list: reference cams (1 while the slide stands on the cam),
+hardware limit switches (normally closed: 0 while actuated), the gear stage sensors of
+each spindle gearbox, which the PLC shifts with its actuator outputs (vc/plant/gearbox.py),
+and ``Drives.ready``, which follows the PLC's ``Drives.on`` output after the infeed's
+switch-on delay.  Operator inputs (panel keys, the emergency-stop button) are not the
+plant's: a person (a scenario) sets them.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
 from interfaces.image import ProcessImage
 from interfaces.signals import SignalRef
 from vc.config.model import AxisConfig, MachineConfig
+from vc.plant.gearbox import Gearbox
 
 DRIVE_READY_DELAY_S = 0.1  # infeed switch-on to "ready", a typical line module figure
 # The operator panel as it stands at power-on: e-stop button released, override switches at 100 %.
@@ -24,9 +27,10 @@ PANEL_AT_POWER_ON = {"EStop.chainOk": 1, "MCP.feedOverride": 100, "MCP.rapidOver
 
 
 class Slide(Protocol):
-    """Anything with the true position of a slide (the NC core's machine axis has it)."""
+    """Anything with the true position and speed of a slide or spindle (the NC core's machine axis)."""
 
     physical: float
+    velocity: float  # signed, per second: mm/s, or deg/s on a rotary axis and a spindle
 
 
 @dataclass(slots=True)
@@ -39,10 +43,19 @@ class _AxisSwitches:
 
 
 class Plant:
-    def __init__(self, machine: MachineConfig, ipo_cycle_us: int, slides: Sequence[Slide]):
+    def __init__(self, machine: MachineConfig, ipo_cycle_us: int, slides: Sequence[Slide],
+                 gear_stages: Mapping[str, int] | None = None):
+        """``gear_stages`` are the stages in mesh at power-on by spindle, where they differ from
+        the machine file's (a gearbox keeps its stage while the machine is switched off)."""
         self._io = machine.plant_io
         self._slides = list(slides)  # in machine axis order
         self._axes = [self._switches_of(axis) for axis in machine.axes]
+        kept = gear_stages or {}
+        self._gearboxes = [
+            (gearbox, self._slides[index])
+            for index, axis in enumerate(machine.axes)
+            if (gearbox := Gearbox.of_axis(axis, self._io, ipo_cycle_us, kept.get(axis.name))) is not None
+        ]
         ready = self._io.by_name("Drives.ready")
         on = self._io.by_name("Drives.on")
         self._drives_ready = ready.ref() if ready else None
@@ -81,10 +94,24 @@ class Plant:
             switches.last_position = None
             switches.states = None
         self._ready = None
-        self.step(io)
+        self._switches(io)
+        for gearbox, _ in self._gearboxes:
+            gearbox.forget_sensors()
+            gearbox.write_sensors(io)
+        self._drive_line_up(io)
+
+    def gear_stages(self) -> dict[str, int]:
+        """The stage in mesh of every spindle gearbox (0 = neutral), e.g. to keep it over a power cycle."""
+        return {gearbox.axis: gearbox.engaged for gearbox, _ in self._gearboxes}
 
     def step(self, io: ProcessImage) -> None:
         """Update the plant inputs for one IPO cycle."""
+        self._switches(io)
+        for gearbox, motor in self._gearboxes:
+            gearbox.step(io, motor.velocity)
+        self._drive_line_up(io)
+
+    def _switches(self, io: ProcessImage) -> None:
         for switches, slide in zip(self._axes, self._slides, strict=True):
             position = slide.physical
             if position == switches.last_position:
@@ -107,7 +134,6 @@ class Plant:
                 io.write(minus[0], states[1])
             if plus is not None:
                 io.write(plus[0], states[2])
-        self._drive_line_up(io)
 
     def _drive_line_up(self, io: ProcessImage) -> None:
         if self._drives_ready is None:

@@ -8,7 +8,7 @@ import pytest
 
 from vc.config import md_dictionary as mdd
 from vc.config.loader import load_machine
-from vc.config.model import AxisConfig, MachineConfig, machine_ipo_cycle_us
+from vc.config.model import AxisConfig, GearboxPlant, MachineConfig, machine_ipo_cycle_us
 from vc.located_yaml import LocatedMap, SourceError, load_text
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -88,8 +88,8 @@ def test_sim_and_plant(turn_mill: MachineConfig) -> None:
 
 
 def test_plant_io(turn_mill: MachineConfig, mill: MachineConfig) -> None:
-    assert turn_mill.plant_io.area_sizes() == {"I": 9, "Q": 2}
-    assert len(turn_mill.plant_io.points) == 41
+    assert turn_mill.plant_io.area_sizes() == {"I": 10, "Q": 2}
+    assert len(turn_mill.plant_io.points) == 48
     assert str(turn_mill.plant_io.resolve("X1.refCam").address) == "I7.0"
     assert str(turn_mill.plant_io.resolve("MCP.feedOverride").address) == "IB3"
     assert mill.plant_io.area_sizes() == {"I": 11, "Q": 3}
@@ -257,8 +257,61 @@ def test_bad_sim_and_plant_overrides_are_reported_with_the_scenario_marks() -> N
         "scenario.yaml:3:52: unknown key 'height' in sim; allowed: start_position, zero_mark_offset,"
         " zero_mark_offset_2, encoder_serial, encoder_serial_2",
         "scenario.yaml:4:22: plant.ref_cam [260.0, 250.0]: the start of the cam must be below its end",
-        "scenario.yaml:4:38: unknown key 'door' in plant; allowed: ref_cam, hw_limits",
+        "scenario.yaml:4:38: unknown key 'door' in plant; allowed: ref_cam, hw_limits, gearbox",
         "scenario.yaml:5:11: unknown key 'sim'; CHAN1 takes machine data",  # sim and plant are axis keys
+    ]
+
+
+# ------------------------------------------------------------------------------ spindle gearboxes
+
+
+def test_gearboxes_of_the_shipped_machines_and_their_io(turn_mill: MachineConfig, mill: MachineConfig) -> None:
+    assert turn_mill.axis("SP1").plant.gearbox == GearboxPlant(stages=3, shift_time_s=0.4, engaged_at_power_on=1)
+    assert mill.axis("SP1").plant.gearbox == GearboxPlant(stages=2, shift_time_s=0.4, engaged_at_power_on=1)
+    assert [axis.name for axis in turn_mill.axes if axis.plant.gearbox] == ["SP1"]  # SP2, SP3: motor spindles
+    wired = {name: str(turn_mill.plant_io.resolve(name).address) for name in (
+        "SP1.gearEngaged1", "SP1.gearEngaged2", "SP1.gearEngaged3", "SP1.gearNeutral",
+        "SP1.gearShift1", "SP1.gearShift2", "SP1.gearShift3")}
+    assert wired == {"SP1.gearEngaged1": "I9.0", "SP1.gearEngaged2": "I9.1", "SP1.gearEngaged3": "I9.2",
+                     "SP1.gearNeutral": "I9.3",
+                     "SP1.gearShift1": "Q0.1", "SP1.gearShift2": "Q0.2", "SP1.gearShift3": "Q0.3"}
+    assert str(mill.plant_io.resolve("SP1.gearShift2").address) == "Q1.1"
+
+
+def test_gearbox_overrides_replace_the_file_values_key_by_key(turn_mill: MachineConfig) -> None:
+    overrides = _overrides("machine_data:\n  SP1:\n    plant: {gearbox: {engaged: 0, shift_time: 1.5}}\n")
+    gearbox = load_machine(TURN_MILL, overrides, "scenario.yaml").axis("SP1").plant.gearbox
+    assert gearbox == GearboxPlant(stages=3, shift_time_s=1.5, engaged_at_power_on=0)
+    assert turn_mill.axis("SP1").plant.gearbox == GearboxPlant(3, 0.4, 1)  # the shipped machine is not touched
+
+
+def test_a_gearbox_without_engaged_is_in_stage_1_at_power_on() -> None:
+    overrides = _overrides("machine_data:\n  SP1:\n    plant: {ref_cam: [10.0, 20.0]}\n")
+    config = load_machine(TURN_MILL, overrides, "scenario.yaml")
+    gearbox = config.axis("SP1").plant.gearbox
+    assert gearbox is not None and gearbox.engaged_at_power_on == 1  # other plant keys leave the gearbox alone
+
+
+def test_bad_gearbox_overrides_are_reported_with_the_scenario_marks() -> None:
+    overrides = _overrides(
+        "machine_data:\n"
+        "  SP1:\n"
+        "    MD35090 NUM_GEAR_STEPS: 2\n"
+        "    plant: {gearbox: {engaged: 4}}\n"
+        "  SP2:\n"
+        "    plant: {gearbox: 3}\n"
+        "  X1:\n"
+        "    plant: {gearbox: {stages: 1, shift_time: 0.2}}\n"
+    )
+    with pytest.raises(SourceError) as error:
+        load_machine(TURN_MILL, overrides, "scenario.yaml")
+    assert [str(problem) for problem in error.value.problems] == [
+        "scenario.yaml:3:29: SP1: plant.gearbox.stages = 3, but MD35090 NUM_GEAR_STEPS = 2",
+        "scenario.yaml:4:32: SP1: plant.gearbox.engaged = 4: the gearbox has 3 stages (0 = neutral)",
+        "scenario.yaml:6:22: machine_data.SP2.plant.gearbox: expected a mapping, got 3",
+        "scenario.yaml:8:22: X1: plant.gearbox on an axis that is not a spindle (MD35000 SPIND_ASSIGN_TO_MACHAX"
+        " = 0); only a spindle changes gear stages",
+        "scenario.yaml:8:22: X1: the gearbox's I/O is not wired in plant_io: X1.gearShift1, X1.gearEngaged1",
     ]
 
 

@@ -23,6 +23,7 @@ IPO_US = 2000
 @dataclass
 class Slide:
     physical: float
+    velocity: float = 0.0
 
 
 @pytest.fixture(scope="module")
