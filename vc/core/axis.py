@@ -31,7 +31,7 @@ from enum import Enum
 from vc.config import md_dictionary as MD
 from vc.config.model import AxisConfig
 from vc.core.alarms import AlarmList
-from vc.core.encoder import MeasuringSystem
+from vc.core.encoder import MeasuringSystem, rotary_frequency_limit_velocity
 from vc.core.interface_map import SignalTable
 from vc.core.motion import JerkFilter, ramp, stopping_velocity
 
@@ -505,6 +505,16 @@ class MachineAxis:
             self._tracking = False
         self.servo_on = wanted
         self.follow_up = not wanted and (inp.follow_up_mode or forced_off)
+
+    def set_encoder_turn(self, encoder: MeasuringSystem, turn: float) -> None:
+        """A rotary motor encoder now turns once per ``turn`` of the axis (a spindle's new gear
+        stage, §13.4.4): its zero marks come every ``turn`` and its limit frequency MD36300 is
+        reached at another axis speed (§13.8.7)."""
+        md = self.config.md
+        encoder.spacing = turn
+        encoder.limit_velocity = rotary_frequency_limit_velocity(md, encoder.index, turn)
+        encoder.resync_velocity = encoder.limit_velocity * md.float(MD.ENC_FREQ_LIMIT_LOW, encoder.index) / 100.0
+        self._lowest_limit_velocity = min(each.limit_velocity for each in self.encoders)
 
     def set_loop_gain(self, kv: float) -> None:
         """The servo gain of the active parameter set (MD32200[n], e.g. a spindle's gear stage)."""

@@ -362,16 +362,18 @@ class Channel:
     def _interpolate(self, hold: bool) -> None:
         segment = self._segment
         assert segment is not None and self._plan is not None
-        if any(axis.owner is not Owner.PATH for axis in segment.axes):
-            # A reaction (rapid stop, limit switch) braked an axis off the path: the contour is
-            # lost, the block cannot be finished; the program stops and only RESET ends it.
-            self._release_segment()
-            self._phase = Phase.CONTOUR_LOST
-            self.stop()
-            return
-        # Feed disable, an axis feed stop or a missing enable hold the path; the program keeps
-        # its state "running" (only read-in disable makes it "waiting").
-        axes_hold = any(axis.inputs.feed_stop or not axis.drive_ready for axis in segment.axes)
+        axes_hold = False
+        for axis in segment.axes:
+            if axis.owner is not Owner.PATH:
+                # A reaction (rapid stop, limit switch) braked an axis off the path: the contour is
+                # lost, the block cannot be finished; the program stops and only RESET ends it.
+                self._release_segment()
+                self._phase = Phase.CONTOUR_LOST
+                self.stop()
+                return
+            # Feed disable, an axis feed stop or a missing enable hold the path; the program
+            # keeps its state "running" (only read-in disable makes it "waiting").
+            axes_hold = axes_hold or axis.inputs.feed_stop or not axis.drive_ready
         blocked = hold or self.inputs.feed_disable or axes_hold
         override = self.inputs.rapid_override if segment.rapid else self.inputs.feed_override
         segment.cycle(override, blocked, self._dt)

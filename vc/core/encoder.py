@@ -31,6 +31,7 @@ import math
 from dataclasses import dataclass, field
 
 from vc.config import md_dictionary as MD
+from vc.config.machine_data import MachineData
 from vc.config.model import AxisConfig
 
 ENC_TYPE_ABSOLUTE = 4
@@ -68,8 +69,15 @@ def frequency_limit_velocity(axis: AxisConfig, encoder: int = 0) -> float:
     linear scale (MD31010)."""
     md = axis.md
     turn = travel_per_encoder_turn(axis, encoder)
-    period = md.float(MD.ENC_GRID_POINT_DIST, encoder) if turn is None else turn / md.int(MD.ENC_RESOL, encoder)
-    return md.float(MD.ENC_FREQ_LIMIT, encoder) * period
+    if turn is None:
+        return md.float(MD.ENC_FREQ_LIMIT, encoder) * md.float(MD.ENC_GRID_POINT_DIST, encoder)
+    return rotary_frequency_limit_velocity(axis.md, encoder, turn)
+
+
+def rotary_frequency_limit_velocity(md: MachineData, encoder: int, turn: float) -> float:
+    """As :func:`frequency_limit_velocity` for a rotary encoder whose turn moves the axis by ``turn``
+    (a motor encoder behind a gearbox: the spindle speed at the limit changes with the gear stage)."""
+    return md.float(MD.ENC_FREQ_LIMIT, encoder) * turn / md.int(MD.ENC_RESOL, encoder)
 
 
 @dataclass(frozen=True, slots=True)

@@ -208,6 +208,8 @@ def _spos(decoder: _Decoder, name: str, index: str, value: object) -> None:
     if command is not None:
         command.position = (mode, degrees)
         command.wait_for_position = name == "SPOS"
+        if decoder.channel.md.int(MD.SPOS_TO_VDI) & 1 and command.m_function is None:
+            command.m_function = 19  # MD20850 bit 0: SPOS / SPOSA output M19 to the PLC (L16406-16420)
 
 
 def _m_word(decoder: _Decoder, value: float) -> None:

@@ -20,6 +20,8 @@ writes, buffered positions) is an :class:`NcMemory` handed in by whoever powers 
 
 from __future__ import annotations
 
+import math
+
 from interfaces.image import ProcessImage
 from interfaces.signals import Catalog, Direction, InstanceKind, expand
 from vc.config import md_dictionary as MD
@@ -119,9 +121,9 @@ class Nck:
         self.emergency_stop = False
         self._plc_life: int | None = None  # the PLC's last sign of life; None while no PLC is attached
         self._plc_started = False  # the sign of life has changed once: the PLC scans
-        self._plc_life_cycle = 0
         self._plc_timeout_cycles = max(1, round(machine.nck.float(MD.PLC_CYCLIC_TIMEOUT) / self.dt))
         self._plc_startup_cycles = max(1, round(machine.nck.float(MD.PLC_RUNNINGUP_TIMEOUT) / self.dt))
+        self._plc_deadline = math.inf  # the cycle after which the missing sign of life is an alarm
         self._emergency_stop_level = False
         self._emergency_stop_ack = False
         self._hw_limits = {axis.name: (False, False) for axis in self.axes}
@@ -142,15 +144,16 @@ class Nck:
             if changed:
                 self._decode_inputs(changed)
         self._emergency_stop_function()
-        if self._plc_life is not None:
-            self._watch_plc()
+        if self.cycle > self._plc_deadline:
+            self.alarms.raise_alarm(PLC_SIGN_OF_LIFE_ALARM if self._plc_started else PLC_NOT_STARTED_ALARM,
+                                    self.cycle)
         self._mode_group_and_channel_commands()
         for channel in self.channels:
             channel.program_cycle(self.cycle)
         self._manual_functions()
         alarm_version = self.alarms.version
         for spindle in self.spindles:
-            if spindle.needs_cycle(alarm_version):
+            if not spindle.quiet or spindle.alarm_version != alarm_version or spindle.axis.velocity:
                 channel = self.channels_by_name[spindle.channel]
                 spindle.cycle(self.cycle, self.alarms, channel.state is ChannelState.RESET)
         for watcher in self.referencing.passive_watchers:
@@ -283,14 +286,17 @@ class Nck:
         mode_group = self.mode_group
         reference_keys = mode_group.reference_function and mode_group.mode in (Mode.JOG, Mode.MDA)
         jog_mode = mode_group.mode is Mode.JOG and not mode_group.reference_function
+        keys_followed = reference_keys or jog_mode
         for channel in self.channels:
-            allowed = not self.emergency_stop and not channel.is_active and \
+            allowed = keys_followed and not self.emergency_stop and not channel.is_active and \
                 not self.alarms.reactions(channel.name) & STOP_AXES
             self.referencing.traverse_keys(channel.name, channel.axes, allowed and reference_keys, self.cycle)
             feed_disable = channel.inputs.feed_disable
+            jog_allowed = allowed and jog_mode
             for axis in channel.axes:
-                if not axis.is_spindle:
-                    axis.jog_cycle(allowed and jog_mode, feed_disable)
+                # outside JOG only a jog that is still running out needs its cycle
+                if (jog_allowed or axis.owner is Owner.JOG) and not axis.is_spindle:
+                    axis.jog_cycle(jog_allowed, feed_disable)
 
     def _react_to_new_alarms(self) -> None:
         """Axis alarms whose reaction is a rapid stop put the axis into follow-up (servo off);
@@ -319,7 +325,7 @@ class Nck:
         """What the NCK, mode-group and channel outputs depend on besides the axes."""
         mode_group = self.mode_group
         return (self.alarms.version, self.emergency_stop, mode_group.mode, mode_group.reference_function,
-                *((channel.state, channel.program_state, channel.reference_active) for channel in self.channels))
+                [(channel.state, channel.program_state, channel.reference_active) for channel in self.channels])
 
     def _write_status(self) -> None:
         present = self.alarms.present
@@ -340,17 +346,12 @@ class Nck:
         alarm 2001, later no change for longer than MD10100 alarm 2000 (axes stop, NC start
         disabled, cleared by a reset when the PLC scans again)."""
         if self._plc_life is None:
-            self._plc_life, self._plc_life_cycle = counter, self.cycle
+            self._plc_life = counter
+            self._plc_deadline = self._plc_startup_cycles
         elif counter != self._plc_life:
-            self._plc_life, self._plc_life_cycle = counter, self.cycle
+            self._plc_life = counter
             self._plc_started = True
-
-    def _watch_plc(self) -> None:
-        if not self._plc_started:
-            if self.cycle > self._plc_startup_cycles:
-                self.alarms.raise_alarm(PLC_NOT_STARTED_ALARM, self.cycle)
-        elif self.cycle - self._plc_life_cycle > self._plc_timeout_cycles:
-            self.alarms.raise_alarm(PLC_SIGN_OF_LIFE_ALARM, self.cycle)
+            self._plc_deadline = self.cycle + self._plc_timeout_cycles
 
     def power_off(self) -> NcMemory:
         """Switch off: buffer what the control keeps, and hand its memory to the next power-on."""

@@ -10,6 +10,7 @@ Modes and their status bits (spec B.3, L16008-16100)::
     CONTROL (84.7) ──M40 S / M41..M45 with another gear──▶ OSCILLATION (84.6) ──16.3──▶ CONTROL
     CONTROL ──SPOS / SPOSA / M19──▶ POSITIONING (84.5) ──M3 / M4 / M5──▶ CONTROL
     CONTROL, POSITIONING ──M70 (or its axis name)──▶ AXIS (60.0 = 0) ──M3 / M4 / M5──▶ CONTROL
+    (a turning spindle first brakes like M5, then position control and parameter set 0)
 
 Speed (§13.8): set speed = S x spindle override (DBB19, or the axis override DBB0 with
 DBX17.0), clamped to the gear's MD35130 and MD35100 (83.1) and raised to its MD35140 (83.2,
@@ -21,8 +22,9 @@ speed below MD36060 (the axis reports it).
 Positioning (§13.2.5): from rotation the spindle brakes to MD35300 keeping its direction; an
 unsynchronised spindle turns on (from standstill in the direction MD35350, or the ACP / ACN
 direction) until it passes a zero mark; then position control (61.5) brakes onto the target
-with MD35210.  85.5 "in position" while synchronised, within exact stop fine and on the
-programmed position.
+with MD35210; ACP / ACN against the rotation brake to a stop first and reverse.  85.5 "in
+position" while synchronised, within exact stop fine and on the programmed position (SPOS,
+SPOSA, M19 only, not at the gear-change position).
 
 Synchronisation: a turning spindle whose encoder is not referenced takes the zero mark it
 passes: there its actual value is MD34100[n] - direction x (MD34080 + MD34090), the relation
@@ -61,6 +63,7 @@ from vc.core.overrides import OverrideCoding
 RPM = 6.0  # rev/min -> deg/s
 REV_S2 = 360.0  # rev/s^2 -> deg/s^2
 ALARM_CHUCK_SPEED = 22100
+ALARM_ZERO_MARK_MISSING = 20002  # the positioning's zero-mark search (MD34060) [control: the referencing alarm]
 _ARRIVED = 1e-9
 _STABLE_CYCLES = 10  # a gear reported in reset state is taken once it stood this long (L18603-18606)
 SUPPRESS_IN_DRY_RUN = 1 << 0  # MD35035 bit 0: no gear change in dry run
@@ -139,7 +142,9 @@ class Positioning:
     mode: str  # AC, IC, DC, ACP, ACN
     value: float  # degrees
     wait: bool  # SPOS and M19 hold the block until the target; SPOSA does not
+    programmed: bool = True  # SPOS / SPOSA / M19; False: the approach to the gear-change position
     direction: int = 0  # the direction of the approach, once chosen
+    searched: float = 0.0  # degrees turned looking for a zero mark
     target: float | None = None  # the setpoint where the spindle stops (NC coordinates)
     done: bool = False
 
@@ -176,20 +181,24 @@ class Spindle:
         self.change: GearChange | None = None
         self.positioning: Positioning | None = None
         self.position_control = md.int(MD.SPIND_DEFAULT_MODE) == 1
+        self.braking_for_axis_mode = False  # M70 from rotation: braking like M5 before axis mode
+        self.dialog_forced = False  # stage 0 reported at program start: the next change talks to the PLC
         self.m_function = 0
         self.last_rotation = 0  # direction of the last rotation, for the oscillation start
         self.set_speed = 0.0  # after override and limits, rev/min (monitoring)
         self.limited = False
         self.raised = False
+        self.limits_unreported = False  # a suppressed change's clamping shows no 83.1 / 83.2 (L19996-20001)
         self.at_chuck_limit = False
         self._reported_since = 0
         self._last_report = 0  # the last gear report taken in reset state (DBX16.0-16.2)
         self._last_physical = axis.physical
         self._status: tuple[object, ...] = ()
         self._planned = False  # the positioning's command is a planned profile, not a ramp target
+        self._zero_mark_missing = False
         self.quiet = False  # nothing to do until an input, a command, a reset or an alarm changes
         self.held = False  # NC stop axes and spindles (DB21.DBX7.4) until NC start
-        self._alarm_version = -1
+        self.alarm_version = -1
         self._apply_gear_data()
         if md.int(MD.SPIND_DEFAULT_MODE) == 3:
             self._enter_axis_mode()
@@ -203,18 +212,20 @@ class Spindle:
 
     def _apply_gear_data(self) -> None:
         """The gear's (or axis mode's) parameter set: Kv, and with a motor encoder the zero-mark
-        spacing of the new ratio (§13.4.4, L18960-18995)."""
+        spacing of the new ratio (§13.4.4, L18960-18995) and the spindle speed at which the
+        encoder reaches its limit frequency MD36300 (§13.8.7: a motor speed, the same in every
+        gear stage)."""
         axis, md = self.axis, self.md
-        index = 0 if self.mode is SpindleMode.AXIS else self.gear
+        index = self.parameter_set
         axis.set_loop_gain(md.float(MD.POSCTRL_GAIN, min(index, 5)))
         for encoder in axis.encoders:
             if not md.bool(MD.ENC_IS_DIRECT, encoder.index):
                 ratio = md.int(MD.DRIVE_AX_RATIO_DENOM, index) / md.int(MD.DRIVE_AX_RATIO_NUMERA, index)
-                encoder.spacing = abs(360.0 * ratio)
+                axis.set_encoder_turn(encoder, abs(360.0 * ratio))
 
     @property
     def parameter_set(self) -> int:
-        return 0 if self.mode is SpindleMode.AXIS else self.gear
+        return 0 if self.mode is SpindleMode.AXIS and not self.braking_for_axis_mode else self.gear
 
     @property
     def max_speed(self) -> float:
@@ -294,6 +305,12 @@ class Spindle:
                                    channel=self.channel, axis=self.name)
             elif not suppress_gear_change:
                 self._start_change(target, cycle)
+            else:
+                # dry run / program test: no change, the speed stays in the active stage's range, and
+                # the signals of that limitation are suppressed as well (L19996-20001)
+                self.limits_unreported = True
+        elif command.speed is not None or command.gear is not None:
+            self.limits_unreported = False
         if command.axis_mode and self.mode is not SpindleMode.AXIS:
             used = self.md.int(MD.GEAR_STEP_USED_IN_AXISMODE)
             if used and used != self.gear and self.change is None and self._changes_enabled:
@@ -310,12 +327,15 @@ class Spindle:
     def _requested_gear(self, command: SpindleCommand) -> int | None:
         if not self._changes_enabled:
             return None  # a fixed ratio: the data of gear stage 1 (MD35010 = 0, L18245-18256)
+        # the PLC reported stage 0 (gearbox disengaged) at program start: the next change runs the
+        # dialog whatever the active stage is (L18758-18766)
+        current = 0 if self.dialog_forced else self.gear
         if command.gear is not None and command.gear >= 41:
             wanted = min(command.gear - 40, self.gears)
-            return wanted if wanted != self.gear or self.gear == 0 else None
+            return wanted if wanted != self.gear or current == 0 else None
         if self.automatic_gear and command.speed is not None:
-            chosen = select_gear(self.md, command.speed, self.gear)
-            return chosen if chosen is not None and (chosen != self.gear or self.gear == 0) else None
+            chosen = select_gear(self.md, command.speed, current)
+            return chosen if chosen is not None and (chosen != self.gear or current == 0) else None
         return None
 
     # ------------------------------------------------------------------ block change
@@ -339,19 +359,28 @@ class Spindle:
     # ------------------------------------------------------------------ modes
     def _enter_control_mode(self) -> None:
         self.mode = SpindleMode.CONTROL
+        self.braking_for_axis_mode = False
         self.positioning = None
         self.position_control = self.md.int(MD.SPIND_DEFAULT_MODE) == 1
         self._apply_gear_data()
         self.axis.resting = False
 
     def _enter_axis_mode(self) -> None:
-        """M70: brake like M5, position control on, parameter set of axis mode (L16083-16086)."""
+        """M70: brake like M5, then position control and the parameter set of axis mode
+        (L16083-16086; the steps of the implicit M70: stop the spindle, then position control
+        and the parameter set, L17425-17433)."""
         self.direction = 0
         self.positioning = None
         self.mode = SpindleMode.AXIS
+        self.braking_for_axis_mode = self.axis.owner is Owner.SPINDLE  # still turning
+        if not self.braking_for_axis_mode:
+            self._axis_mode_reached()
+        self.axis.resting = False
+
+    def _axis_mode_reached(self) -> None:
+        self.braking_for_axis_mode = False
         self.position_control = True
         self._apply_gear_data()
-        self.axis.resting = False
 
     @property
     def in_axis_mode(self) -> bool:
@@ -362,7 +391,7 @@ class Spindle:
         (L16196-16214); a running change ends and the reported gear is taken (L18694-18698)."""
         self.quiet = False
         if self.change is not None:
-            self._finish_change(self.inputs.gear_reported or self.gear, None, 0)
+            self._finish_change(self.inputs.gear_reported, None, 0)
         if self.positioning is not None and not self.positioning.done:
             self._enter_control_mode()  # a running positioning is aborted (L16672-16686)
         self.automatic_gear = True
@@ -370,12 +399,16 @@ class Spindle:
         if not self.md.int(MD.SPIND_ACTIVE_AFTER_RESET):
             self.direction = 0
             self.speed = 0.0
+            self.limits_unreported = False
         default_mask = self.md.int(MD.SPIND_DEFAULT_ACT_MASK)
         if default_mask == 2 and program_end:
             self._apply_default_mode()
 
     def program_start(self) -> None:
+        """A part program starts: the NC reads the PLC's actual stage; 0 = disengaged means the next
+        change is made with the full dialog (L18758-18766)."""
         self.quiet = False
+        self.dialog_forced = self._changes_enabled and self.inputs.gear_reported == 0
         if self.md.int(MD.SPIND_DEFAULT_ACT_MASK) >= 1:
             self._apply_default_mode()
 
@@ -394,7 +427,7 @@ class Spindle:
         (L16212-16214, L16676-16678, L18646)."""
         self.quiet = False
         if self.change is not None:
-            self._finish_change(self.inputs.gear_reported or self.gear, None, 0)
+            self._finish_change(self.inputs.gear_reported, None, 0)
         self.direction = 0
         self.speed = 0.0
         if self.mode is SpindleMode.POSITIONING:
@@ -419,13 +452,14 @@ class Spindle:
 
     # ------------------------------------------------------------------ gear change
     def _start_change(self, target: int, cycle: int) -> None:
+        self.dialog_forced = False
         simulated = bool(self.change_enable & GEAR_CHANGE_SIMULATED)
         at_position = bool(self.change_enable & GEAR_CHANGE_AT_POSITION)
         self.change = GearChange(target, GearState.TO_POSITION if at_position else GearState.REQUESTED, cycle,
                                  simulated, self.mode)
         if at_position:
             position = self._gear_float(MD.GEAR_STEP_CHANGE_POSITION)
-            self._start_positioning(Positioning("DC", position, True), for_change=True)
+            self._start_positioning(Positioning("DC", position, True, programmed=False), for_change=True)
         else:
             self._open_dialog()
 
@@ -463,8 +497,10 @@ class Spindle:
         if change.dialog_open and inp.gear_done:
             self._finish_change(inp.gear_reported, alarms, cycle)
             return None
-        if self.position_control:
-            return 0.0  # at the change position: the spindle stands in position control
+        if self.position_control and not inp.oscillation_enable:
+            # at the change position the spindle stands in position control; oscillation is not
+            # needed there, "but in principle it can still be enabled" (L19593-19603)
+            return 0.0
         if change.state is GearState.REQUESTED:
             return 0.0  # braking (the ramp chooses the acceleration)
         if not inp.oscillation_enable or inp.rapid_stop or self.axis.inputs.feed_stop:
@@ -569,9 +605,17 @@ class Spindle:
         direction = positioning.direction
         if not axis.encoder.referenced:
             self.position_control = False
+            positioning.searched += abs(velocity) * self._dt
+            if positioning.mode != "IC" and positioning.searched > self.md.float(MD.REFP_MAX_MARKER_DIST):
+                self._zero_mark_missing = True  # no zero mark within MD34060 (L16912-16915)
+                return 0.0
             return direction * limit  # turn (at most MD35300) until the next zero mark
         if abs(velocity) > limit + 1e-9 and velocity * direction > 0:
             return direction * limit  # brake to the position-control speed first
+        if velocity * direction < 0:
+            # ACP / ACN (or IC) against the rotation: brake to a stop along the ramp of the mode,
+            # then approach from the other side (L18000-18004)
+            return 0.0
         self.position_control = True
         accel = self._gear_float(MD.GEAR_STEP_POSCTRL_ACCEL) * REV_S2
         self._planned = True
@@ -617,7 +661,7 @@ class Spindle:
     def cycle(self, cycle: int, alarms: AlarmList, channel_in_reset: bool) -> None:
         """Synchronise, run the mode, ramp the speed and drive the axis; monitor; outputs."""
         axis = self.axis
-        self._alarm_version = alarms.version
+        self.alarm_version = alarms.version
         self._synchronise()
         if channel_in_reset:
             self.accept_reported_gear()
@@ -629,8 +673,16 @@ class Spindle:
                 command = self._positioning_cycle()
         elif self.mode is SpindleMode.POSITIONING and self.positioning is not None:
             command = self._positioning_cycle()
+            if self._zero_mark_missing:
+                self._zero_mark_missing = False
+                alarms.raise_alarm(ALARM_ZERO_MARK_MISSING, cycle, self.channel, self.name,
+                                   channel=self.channel, axis=self.name)
+                self._enter_control_mode()  # the positioning is aborted: the spindle brakes
+                self.direction = 0
         elif self.mode is SpindleMode.CONTROL:
             command = self._control_speed()
+        elif self.braking_for_axis_mode:
+            command = 0.0  # M70 from rotation: brake along the ramp of the mode, like M5
         else:
             command = None
         stopped = self.inputs.rapid_stop or self.held or bool(alarms.reactions(self.channel) & STOP_AXES) or \
@@ -639,19 +691,16 @@ class Spindle:
             command = 0.0
         if command is not None and axis.owner in (Owner.NONE, Owner.SPINDLE):
             self._drive(command)
+        if self.braking_for_axis_mode and axis.owner is not Owner.SPINDLE:
+            self._axis_mode_reached()  # stands (or another owner took the axis): axis mode proper
         self._monitor(cycle, alarms)
         self.write_outputs()
+        # quiet: stands, nothing asked of it, no input changed: the NCK skips it until an input, a
+        # command, a reset or an alarm changes (most cycles of most spindles)
         self.quiet = (self.change is None and (self.positioning is None or self.positioning.done)
                       and self.inputs.gear_reported == self._last_report
                       and (self.direction == 0 or self.mode is SpindleMode.AXIS) and axis.velocity == 0.0
                       and axis.command_velocity == 0.0 and axis.owner is Owner.NONE)
-
-    def needs_cycle(self, alarm_version: int) -> bool:
-        """False while the spindle stands, nothing is asked of it and no input or alarm changed:
-        its outputs stand too (the NCK skips it then; most cycles of most spindles)."""
-        axis = self.axis
-        return not (self.quiet and axis.velocity == 0.0 and axis.owner is Owner.NONE
-                    and self._alarm_version == alarm_version)
 
     def _control_speed(self) -> float:
         """Speed control: S x override within the gear's limits, in the programmed direction."""
@@ -753,9 +802,11 @@ class Spindle:
         return abs(actual - wanted) <= tolerance * abs(wanted)
 
     def in_position(self) -> bool:
-        """85.5: after SPOS / SPOSA / M19 while synchronised, in exact stop fine, on the target."""
+        """85.5: after SPOS / SPOSA / M19 while synchronised, in exact stop fine, on the target;
+        only for the function "spindle positioning", not at the gear-change position (L17059-17068)."""
         positioning, axis = self.positioning, self.axis
-        return (positioning is not None and positioning.done and self.mode is SpindleMode.POSITIONING
+        return (positioning is not None and positioning.programmed and positioning.done
+                and self.mode is SpindleMode.POSITIONING
                 and axis.encoder.referenced and axis.owner is Owner.NONE
                 and abs(axis.distance_to_end_point) <= axis.dyn.fine_window)
 
@@ -765,8 +816,10 @@ class Spindle:
         requested = change.target if dialog and change is not None else self.acknowledged_gear
         direction_shown = 1 if self.axis.velocity > self.axis.dyn.standstill_velocity else 0
         status = (
-            requested, dialog, self.at_chuck_limit, self.limited and self.mode is SpindleMode.CONTROL,
-            self.raised and self.mode is SpindleMode.CONTROL, self.speed_reached(), direction_shown,
+            requested, dialog, self.at_chuck_limit,
+            self.limited and self.mode is SpindleMode.CONTROL and not self.limits_unreported,
+            self.raised and self.mode is SpindleMode.CONTROL and not self.limits_unreported,
+            self.speed_reached(), direction_shown,
             self.mode, self.in_position(), self.m_function, self.parameter_set, self.position_control,
         )
         if status == self._status:

@@ -25,11 +25,14 @@ IPO = 0.002
 
 
 def spindle_rig(extra: str = "") -> Rig:
+    """The machine in MDA with the overrides at 100 %; the PLC reports SP1's gearbox in stage 1
+    (16.0-16.2), which the NC takes over in reset state."""
     rig = Rig(machine(ABSOLUTE_XYZ + ("\n" + extra if extra else "")))
     rig.ready_mda()
     for name in ("SP1", "SP2"):
         rig.set(f"{name}.spindle.out.ovrFactor", 100)
-    rig.step(5)
+    rig.set("SP1.spindle.out.gearStageSelection", 1)
+    rig.step(12)
     return rig
 
 
@@ -323,9 +326,60 @@ def test_gear_change_at_a_fixed_position_positions_waits_and_then_asks() -> None
     assert waited * IPO == pytest.approx(0.3, abs=0.02)
     assert bit(rig, "SP1.basic.in.posCtrlActive") == 1
     acknowledge(rig, 2)
+    rig.step(2)
+    assert bit(rig, "SP1.basic.in.enc1Synchronized") == 0  # the motor encoder's reference is gone
     run_seconds(rig, 1.5)
     assert speed(rig) == pytest.approx(1300.0)
-    assert bit(rig, "SP1.basic.in.enc1Synchronized") == 0  # the motor encoder's reference is gone
+    # synchronised again at the next zero mark (L19480); 1300 rev/min in gear 2 is a motor speed of
+    # 3900 rev/min, within the encoder's limit frequency
+    assert bit(rig, "SP1.basic.in.enc1Synchronized") == 1
+
+
+def test_the_nc_oscillates_at_the_gear_change_position_when_the_plc_enables_it() -> None:
+    # not needed at the fixed position, "but in principle oscillation can still be enabled"
+    # (L19593-19603): a gearbox whose teeth mesh only while the motor turns needs it
+    rig = spindle_rig("SP1: {MD35010: 2, MD35012: [0, 120, 0, 0], MD35310: [0, 0.1, 0, 0]}")
+    rig.mda("M42")
+    rig.run_until(lambda: bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 1, 3000)
+    run_seconds(rig, 0.1)
+    assert speed(rig) == 0.0 and bit(rig, "SP1.basic.in.posCtrlActive") == 1  # stands without 18.5
+    rig.set("SP1.spindle.out.oscillEnable", 1)
+    run_seconds(rig, 0.3)
+    assert abs(speed(rig)) > 10  # MD35400 = 60 rev/min
+    assert bit(rig, "SP1.basic.in.posCtrlActive") == 1  # the motor encoder keeps position control
+    acknowledge(rig, 2)
+    rig.step(2)
+    assert bit(rig, "SP1.spindle.in.ctrlModeActive") == 1 and rig.alarm_numbers() == []
+
+
+def test_in_position_is_not_reported_at_the_gear_change_position() -> None:
+    # 85.5 belongs to the function "spindle positioning" (SPOS, SPOSA, M19, FC18, DBX30.4) only
+    # (L17059-17068), not to the approach to MD35012
+    rig = spindle_rig("SP1: {MD35010: 2, MD35012: [0, 120, 0, 0], MD35310: [0, 0.3, 0, 0]}")
+    rig.mda("M42")
+    rig.run_until(lambda: bit(rig, "SP1.basic.in.posFineReached") == 1
+                  and bit(rig, "SP1.spindle.in.posModeActive") == 1, 3000)
+    for _ in range(100):
+        rig.step(1)
+        assert bit(rig, "SP1.spindle.in.inPos") == 0
+
+
+def test_the_encoder_limit_frequency_follows_the_gear_ratio_of_the_motor_encoder() -> None:
+    # MD36300 = 300 kHz, MD31020 = 2048 lines: the motor encoder turns once per 48 degrees of the
+    # spindle in gear 1 (7.5:1), once per 120 degrees in gear 2 (3:1) (§13.8.7, L21117-21203)
+    rig = spindle_rig()
+    encoder = rig.axis("SP1").encoder
+    assert encoder.limit_velocity == pytest.approx(300000 * 48 / 2048)  # 7031 deg/s = 1172 rev/min
+    rig.mda("M42")
+    rig.run_until(lambda: bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 1, 200)
+    acknowledge(rig, 2)
+    rig.step(2)
+    rig.set("SP1.spindle.out.gearChangeoverDone", 0)
+    assert encoder.limit_velocity == pytest.approx(300000 * 120 / 2048)  # 17578 deg/s = 2930 rev/min
+    rig.mda("M3 S1300")
+    run_seconds(rig, 1.0)
+    assert speed(rig) == pytest.approx(1300.0)
+    assert bit(rig, "SP1.basic.in.enc1FreqLimitExceeded") == 0 and bit(rig, "SP1.basic.in.enc1Synchronized") == 1
 
 
 def test_a_gear_change_position_not_reached_raises_22020_without_a_dialog() -> None:
@@ -366,6 +420,27 @@ def test_gear_0_means_the_next_change_always_talks_to_the_plc() -> None:
     assert rig.get("SP1.spindle.in.requestedGearStageNumber") == 1
 
 
+def test_stage_0_reported_at_program_start_makes_the_next_change_talk_to_the_plc() -> None:
+    # the NC reads the actual stage at program start; 0 (disengaged): the next change runs the
+    # dialog, also for the stage the NC had active (L18758-18766, example L18808-18843)
+    rig = Rig(machine(ABSOLUTE_XYZ))
+    rig.ready_mda()
+    rig.set("SP1.spindle.out.ovrFactor", 100)
+    rig.step(20)  # the PLC reports 0 in 16.0-16.2 from power-on: the gearbox is disengaged
+    assert sp1(rig).gear == 1  # the NC's stage after power-on; 0 never changed, so not taken over
+    rig.mda("M41")
+    rig.run_until(lambda: bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 1, 100)
+    assert rig.get("SP1.spindle.in.requestedGearStageNumber") == 1
+    acknowledge(rig, 1)
+    rig.step(2)
+    rig.set("SP1.spindle.out.gearChangeoverDone", 0)
+    rig.run_until(lambda: rig.channel.state.value == "reset", 100)
+    rig.mda("M41")  # the PLC reports 1 now: no change
+    for _ in range(50):
+        rig.step(1)
+        assert bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 0
+
+
 def test_dry_run_with_md35035_bit_0_suppresses_the_change() -> None:
     rig = spindle_rig("SP1: {MD35035: 1}")
     rig.set("CHAN1.basic.out.dryRunFeedrate", 1)
@@ -374,6 +449,8 @@ def test_dry_run_with_md35035_bit_0_suppresses_the_change() -> None:
         rig.step(1)
         assert bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 0
     assert sp1(rig).gear == 1 and speed(rig) == pytest.approx(800.0)  # clamped to gear 1
+    # ... and the signal of that limitation is suppressed too (L19996-20001)
+    assert bit(rig, "SP1.spindle.in.speedSetpointAboveMax") == 0
 
 
 def test_a_spindle_without_gears_ignores_m40_and_m41() -> None:
@@ -423,6 +500,24 @@ def test_spos_from_rotation_keeps_the_direction_and_the_block_waits() -> None:
     assert rig.sim.axis_quantity("SP1", "position") == pytest.approx(45.0, abs=0.01)
 
 
+def test_acn_against_the_rotation_brakes_along_the_ramp_before_it_reverses() -> None:
+    # ACN / ACP approach from their side, "reversing the motion before positioning if necessary"
+    # (L18000-18004): from M3 S300 the spindle brakes with MD35200[1] = 3600 rev/min/s, no step
+    rig = spindle_rig()
+    rig.mda("M3 S300\nG4 F0.5\nSPOS=ACN(200)")
+    rig.run_until(lambda: bit(rig, "SP1.spindle.in.posModeActive") == 1, 1000)
+    before = speed(rig)
+    assert before > 290
+    largest_step = 0.0
+    while not bit(rig, "SP1.spindle.in.inPos"):
+        rig.step(1)
+        now = speed(rig)
+        largest_step = max(largest_step, abs(now - before))
+        before = now
+    assert largest_step <= 3600 * IPO + 1e-6  # 7.2 rev/min per IPO cycle at most
+    assert rig.sim.axis_quantity("SP1", "position") == pytest.approx(200.0, abs=0.01)
+
+
 def test_sposa_does_not_hold_the_block() -> None:
     rig = spindle_rig()
     rig.mda("SPOSA=270\nG91 G1 X5 F3000")
@@ -453,6 +548,28 @@ def test_m70_makes_the_spindle_a_rotary_axis_with_parameter_set_0() -> None:
     rig.step(20)
     assert bit(rig, "SP1.basic.in.spindleModeActive") == 1 and bit(rig, "SP1.spindle.in.ctrlModeActive") == 1
     assert rig.get("SP1.drive.in.posCtrlParameterSetNumber") == 1
+
+
+def test_m70_from_rotation_brakes_like_m5_then_switches_to_position_control() -> None:
+    # control -> axis: "the rotating spindle brakes like M5", then position control and parameter
+    # set 0 (L16083-16086, L17425-17433); the axis move of the next block follows
+    rig = spindle_rig()
+    rig.mda("M3 S300\nG4 F0.3\nM70\nG91 G1 SP1=90 F7200")
+    rig.run_until(lambda: bit(rig, "SP1.basic.in.spindleModeActive") == 0, 1000)
+    before = speed(rig)
+    assert before > 290
+    while rig.axis("SP1").owner.value == "spindle":
+        assert rig.get("SP1.drive.in.posCtrlParameterSetNumber") == 1  # still the gear's set
+        assert bit(rig, "SP1.basic.in.posCtrlActive") == 0
+        rig.step(1)
+        assert before - speed(rig) <= 3600 * IPO + 1e-6  # MD35200[1] = 3600 rev/min/s, no step
+        before = speed(rig)
+    rig.step(2)
+    assert rig.get("SP1.drive.in.posCtrlParameterSetNumber") == 0
+    assert bit(rig, "SP1.basic.in.posCtrlActive") == 1
+    start = rig.axis("SP1").setpoint  # where the spindle was brought to a stop
+    rig.run_until(lambda: rig.channel.state.value == "reset", 2000)
+    assert rig.axis("SP1").setpoint - start == pytest.approx(90.0, abs=0.01)  # G91 SP1=90
 
 
 # ------------------------------------------------------------------------------ interface and program
@@ -545,3 +662,30 @@ def test_md35510_a_machining_block_waits_for_the_spindle_to_stand_after_m5() -> 
         rig.step(1)
     rig.step(20)
     assert rig.axis("X1").velocity > 0
+
+
+def test_spos_without_a_zero_mark_within_md34060_raises_20002() -> None:
+    rig = spindle_rig("SP1: {MD34060: 30}")  # gear 1: a zero mark every 48 degrees
+    rig.axis("SP1").encoder.zero_marks_visible = False  # a dirty encoder track
+    rig.mda("SPOS=90")
+    rig.run_until(lambda: rig.alarm_numbers() == [20002], 2000)
+    run_seconds(rig, 0.5)
+    assert speed(rig) == 0.0 and sp1(rig).mode is SpindleMode.CONTROL
+
+
+def test_md20850_outputs_m19_for_spos() -> None:
+    rig = Rig(machine(ABSOLUTE_XYZ.replace("CHAN1: {MD20700: 0}", "CHAN1: {MD20700: 0, MD20850: 1}")))
+    rig.ready_mda()
+    rig.mda("SPOSA=45")
+    rig.step(10)
+    assert rig.get("SP1.spindle.in.mFuncNumber") == 19
+
+
+def test_a_reset_during_a_change_takes_the_reported_stage_even_0() -> None:
+    rig = spindle_rig()
+    rig.mda("M42")
+    rig.run_until(lambda: bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 1, 200)
+    rig.set("SP1.spindle.out.gearStageSelection", 0)  # the gearbox is in neutral
+    rig.pulse("CHAN1.basic.out.reset", 5)
+    rig.step(5)
+    assert sp1(rig).gear == 0 and rig.alarm_numbers() == []
