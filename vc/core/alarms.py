@@ -116,6 +116,8 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         Clear.RESET, "seed 003 L18504-18508 (M40 without control mode)"),
         AlarmDefinition(22010, "Channel %1 block %2 spindle %3 actual gear stage %4 differs from set gear stage %5",
                         Reaction.NONE, Clear.CANCEL, "seed 003 L18401-18405; [control] text and reaction"),
+        AlarmDefinition(22011, "Channel %1 block %2 spindle %3 cannot change to the programmed gear stage", _STOP,
+                        Clear.RESET, "seed 003 L20050-20055 (MD35035 bit 2); [control] reaction"),
         AlarmDefinition(22020, "Channel %1 block %2 spindle %3 gear stage change position not reached",
                         _STOP | Reaction.READ_IN_DISABLED, Clear.RESET, "seed 003 L19697-19701"),
         AlarmDefinition(22100, "Channel %1 block %2 spindle %3 chuck speed exceeded", _STOP, Clear.RESET,

@@ -430,7 +430,12 @@ class Channel:
         suppress = self._gear_change_suppressed
         for name, command in plan.spindles.items():
             self.spindles[name].program(command, cycle, self._alarms, block.label, suppress(self.spindles[name]))
-        if plan.spindles or plan.targets:
+        catching_up = False
+        for spindle in self.spindles.values():
+            if spindle.suppressed_gear is not None and not suppress(spindle):
+                spindle.catch_up_gear(cycle, self._alarms, block.label)
+                catching_up = catching_up or spindle.change is not None
+        if plan.spindles or plan.targets or catching_up:
             self._phase = Phase.SPINDLE
             if not self._spindles_ready():
                 return
@@ -448,8 +453,8 @@ class Channel:
         its speed (DB31.DBX83.5) when MD35500 asks for it."""
         plan = self._plan
         assert plan is not None
-        if any(self.spindles[name].holds_motion for name in plan.spindles):
-            return False
+        if any(spindle.holds_motion for spindle in self.spindles.values()):
+            return False  # the block's own change, M70, or a stage caught up after dry run
         if plan.targets and not plan.rapid:
             for spindle in self.spindles.values():
                 if spindle.md.int(MD.SPIND_ON_SPEED_AT_IPO_START) and spindle.direction and \

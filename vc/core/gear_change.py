@@ -37,6 +37,7 @@ GEAR_CHANGE_AT_POSITION = 1 << 1  # MD35010 bit 1
 GEAR_CHANGE_SIMULATED = 1 << 3  # MD35010 bit 3
 ALARM_GEAR_CHANGE_NOT_POSSIBLE = 22000
 ALARM_WRONG_GEAR = 22010
+ALARM_CATCH_UP_IMPOSSIBLE = 22011  # the programmed stage cannot be caught up (L20054-20055)
 ALARM_POSITION_NOT_REACHED = 22020
 ALARM_NOT_ACKNOWLEDGED = 65830  # project number: the seed names none (spec B.5) [control: an alarm follows]
 SUPPRESS_WRONG_GEAR = 1 << 3  # MD11410 bit 3

@@ -42,6 +42,7 @@ from vc.config.machine_data import MachineData, MdDef
 from vc.core.alarms import STOP_AXES, AlarmList
 from vc.core.axis import MachineAxis, Owner
 from vc.core.gear_change import (
+    ALARM_CATCH_UP_IMPOSSIBLE,
     ALARM_GEAR_CHANGE_NOT_POSSIBLE,
     ALARM_NOT_ACKNOWLEDGED,
     ALARM_POSITION_NOT_REACHED,
@@ -68,6 +69,7 @@ _ARRIVED = 1e-9
 _STABLE_CYCLES = 10  # a gear reported in reset state is taken once it stood this long (L18603-18606)
 SUPPRESS_IN_DRY_RUN = 1 << 0  # MD35035 bit 0: no gear change in dry run
 SUPPRESS_IN_PROGRAM_TEST = 1 << 1  # MD35035 bit 1: ... nor in program test
+CATCH_UP_AFTER_SUPPRESSION = 1 << 2  # MD35035 bit 2: the programmed stage is engaged afterwards
 
 
 class SpindleMode(Enum):
@@ -183,6 +185,7 @@ class Spindle:
         self.position_control = md.int(MD.SPIND_DEFAULT_MODE) == 1
         self.braking_for_axis_mode = False  # M70 from rotation: braking like M5 before axis mode
         self.dialog_forced = False  # stage 0 reported at program start: the next change talks to the PLC
+        self.suppressed_gear: int | None = None  # programmed while changes were suppressed ($P_GEAR)
         self.m_function = 0
         self.last_rotation = 0  # direction of the last rotation, for the oscillation start
         self.set_speed = 0.0  # after override and limits, rev/min (monitoring)
@@ -299,6 +302,9 @@ class Spindle:
             if self.mode in (SpindleMode.POSITIONING, SpindleMode.AXIS):
                 self._enter_control_mode()
         target = self._requested_gear(command)
+        if command.gear is not None or (self.automatic_gear and command.speed is not None):
+            # the block programs a stage: it replaces one a suppressed block left to catch up
+            self.suppressed_gear = target if suppress_gear_change else None
         if target is not None:
             if command.gear == 40 and self.mode is not SpindleMode.CONTROL:
                 alarms.raise_alarm(ALARM_GEAR_CHANGE_NOT_POSSIBLE, cycle, self.channel, block, self.number,
@@ -319,6 +325,22 @@ class Spindle:
         if command.position is not None:
             mode, value = command.position
             self._start_positioning(Positioning(mode, value, command.wait_for_position))
+
+    def catch_up_gear(self, cycle: int, alarms: AlarmList, block: str) -> None:
+        """Dry run / program test deselected: with MD35035 bit 2 the stage programmed meanwhile is
+        engaged now with the full dialog, before the block goes on (the control's REPOS, L20019-20035);
+        in positioning or axis mode that is impossible: alarm 22011 (L20050-20055).  Without bit 2
+        the active stage stays (L20005-20007)."""
+        target, self.suppressed_gear = self.suppressed_gear, None
+        if target is None or not self.md.int(MD.SPIND_FUNCTION_MASK) & CATCH_UP_AFTER_SUPPRESSION:
+            return
+        self.quiet = False
+        if self.mode is not SpindleMode.CONTROL:
+            alarms.raise_alarm(ALARM_CATCH_UP_IMPOSSIBLE, cycle, self.channel, block, self.number,
+                               channel=self.channel, axis=self.name)
+        elif self.change is None and (target != self.gear or self.dialog_forced):
+            self.limits_unreported = False
+            self._start_change(target, cycle)
 
     @property
     def _changes_enabled(self) -> bool:
@@ -395,6 +417,7 @@ class Spindle:
         if self.positioning is not None and not self.positioning.done:
             self._enter_control_mode()  # a running positioning is aborted (L16672-16686)
         self.automatic_gear = True
+        self.suppressed_gear = None
         self.held = False
         if not self.md.int(MD.SPIND_ACTIVE_AFTER_RESET):
             self.direction = 0

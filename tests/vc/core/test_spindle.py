@@ -453,6 +453,34 @@ def test_dry_run_with_md35035_bit_0_suppresses_the_change() -> None:
     assert bit(rig, "SP1.spindle.in.speedSetpointAboveMax") == 0
 
 
+def test_a_later_block_in_dry_run_replaces_the_stage_to_catch_up() -> None:
+    # MD35035 bit 2 catches up the last programmed stage: S1300 wanted gear 2, then S600 fits
+    # gear 1 again, so nothing is left to change when dry run ends (L20012-20015, L20031-20032)
+    rig = spindle_rig("SP1: {MD35035: 5}")
+    rig.set("CHAN1.basic.out.dryRunFeedrate", 1)
+    rig.mda("M3 S1300\nG4 F0.1\nS600\nG4 F0.3\nG4 F0.3")
+    run_seconds(rig, 0.25)
+    assert sp1(rig).suppressed_gear is None
+    rig.set("CHAN1.basic.out.dryRunFeedrate", 0)
+    for _ in range(400):
+        rig.step(1)
+        assert bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 0
+    assert sp1(rig).gear == 1
+
+
+def test_without_md35035_bit_2_the_active_stage_stays_after_dry_run() -> None:
+    rig = spindle_rig("SP1: {MD35035: 1}")
+    rig.set("CHAN1.basic.out.dryRunFeedrate", 1)
+    rig.mda("M3 S1300\nG4 F0.2\nG4 F0.3")
+    run_seconds(rig, 0.1)
+    assert sp1(rig).suppressed_gear == 2  # programmed, never output
+    rig.set("CHAN1.basic.out.dryRunFeedrate", 0)
+    for _ in range(300):
+        rig.step(1)
+        assert bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 0
+    assert sp1(rig).gear == 1 and sp1(rig).suppressed_gear is None
+
+
 def test_a_spindle_without_gears_ignores_m40_and_m41() -> None:
     rig = spindle_rig()
     rig.mda("M2=41 S2=3000 M2=3")
