@@ -432,7 +432,8 @@ GEAR_STEP_MAX_VELO_LIMIT = MdDef(35130, "GEAR_STEP_MAX_VELO_LIMIT", A, FLOAT,
                                  "seed 003 L18224, L20903-20910; [control] defaults", "rev/min",
                                  0.0, 1.0e6, 6)
 GEAR_STEP_PC_MAX_VELO_LIMIT = MdDef(35135, "GEAR_STEP_PC_MAX_VELO_LIMIT", A, FLOAT, _repeat(0.0, 6),
-                                    "maximum speed of the gear stage in position control (0 = from MD35130)",
+                                    "maximum speed of the gear stage in position control"
+                                    " (0: 90 % of MD35130 and of the encoder limit)",
                                     "seed 003 L18226-18228; [control] default", "rev/min", 0.0, 1.0e6, 6)
 GEAR_STEP_MIN_VELO_LIMIT = MdDef(35140, "GEAR_STEP_MIN_VELO_LIMIT", A, FLOAT,
                                  (5.0, 5.0, 10.0, 20.0, 40.0, 80.0),

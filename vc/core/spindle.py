@@ -66,6 +66,7 @@ REV_S2 = 360.0  # rev/s^2 -> deg/s^2
 ALARM_CHUCK_SPEED = 22100
 ALARM_ZERO_MARK_MISSING = 20002  # the positioning's zero-mark search (MD34060) [control: the referencing alarm]
 _ARRIVED = 1e-9
+POSITION_CONTROL_RESERVE = 0.9  # the speed a position-controlled spindle may use (L16747-16750)
 _STABLE_CYCLES = 10  # a gear reported in reset state is taken once it stood this long (L18603-18606)
 SUPPRESS_IN_DRY_RUN = 1 << 0  # MD35035 bit 0: no gear change in dry run
 SUPPRESS_IN_PROGRAM_TEST = 1 << 1  # MD35035 bit 1: ... nor in program test
@@ -232,9 +233,20 @@ class Spindle:
 
     @property
     def max_speed(self) -> float:
-        """Largest set speed of the active gear (rev/min): MD35130, the chuck MD35100, MD32000."""
-        return min(self._gear_float(MD.GEAR_STEP_MAX_VELO_LIMIT), self.md.float(MD.SPIND_VELO_LIMIT),
-                   self.md.float(MD.MAX_AX_VELO))
+        """Largest set speed of the active gear (rev/min): MD35130, the chuck MD35100, MD32000.
+
+        Under position control 10 % is kept as control reserve: 90 % of that and of the active
+        encoder's limit frequency, and MD35135 of the gear when set (L16747-16750, L16834-16838,
+        L18226-18228)."""
+        limit = min(self._gear_float(MD.GEAR_STEP_MAX_VELO_LIMIT), self.md.float(MD.SPIND_VELO_LIMIT),
+                    self.md.float(MD.MAX_AX_VELO))
+        if not self.position_control:
+            return limit
+        if self.axis.active_encoder is not None:
+            limit = min(limit, self.axis.encoder.limit_velocity / RPM)
+        limit *= POSITION_CONTROL_RESERVE
+        position_control_limit = self._gear_float(MD.GEAR_STEP_PC_MAX_VELO_LIMIT)
+        return min(limit, position_control_limit) if position_control_limit > 0.0 else limit
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:

@@ -692,6 +692,25 @@ def test_md35510_a_machining_block_waits_for_the_spindle_to_stand_after_m5() -> 
     assert rig.axis("X1").velocity > 0
 
 
+def test_position_control_keeps_10_percent_reserve_and_md35135_limits_further() -> None:
+    # MD35020 = 1: speed control with position control; S800 in gear 1 (MD35130[1] = 800) runs at
+    # 720 rev/min with 83.1 set (L16747-16750); MD35135[1] = 600 limits it further (L18226-18228)
+    rig = spindle_rig("SP1: {MD35020: 1}")
+    rig.mda("M3 S800")
+    run_seconds(rig, 0.5)
+    assert speed(rig) == pytest.approx(720.0)
+    assert bit(rig, "SP1.spindle.in.speedSetpointAboveMax") == 1
+    assert bit(rig, "SP1.basic.in.posCtrlActive") == 1
+    rig = spindle_rig("SP1: {MD35020: 1, MD35135: [0, 600, 0, 0]}")
+    rig.mda("M3 S800")
+    run_seconds(rig, 0.5)
+    assert speed(rig) == pytest.approx(600.0)
+    rig = spindle_rig()  # without position control the whole range
+    rig.mda("M3 S800")
+    run_seconds(rig, 0.5)
+    assert speed(rig) == pytest.approx(800.0) and bit(rig, "SP1.spindle.in.speedSetpointAboveMax") == 0
+
+
 def test_spos_without_a_zero_mark_within_md34060_raises_20002() -> None:
     rig = spindle_rig("SP1: {MD34060: 30}")  # gear 1: a zero mark every 48 degrees
     rig.axis("SP1").encoder.zero_marks_visible = False  # a dirty encoder track
