@@ -9,6 +9,7 @@
              [--scenario FILE] [--duration S]         the NC as a server for a PLC in another process
     vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle
     vc bench --link modbus [--seconds S]              what the Modbus TCP link costs (bench/README.md)
+    vc fmu export --machine M.yaml -o M.fmu           the NC and the plant as an FMI 2.0 co-simulation FMU
 
 Problems in input files are reported with file, line and column and exit with code 2;
 a failed scenario exits with 1.
@@ -75,6 +76,20 @@ def _bench_modbus(arguments: argparse.Namespace) -> int:
         print(f"vc bench: {error}", file=sys.stderr)
         return EXIT_PROBLEMS
     print(json.dumps(result.figures()))
+    return 0
+
+
+def _fmu_export(arguments: argparse.Namespace) -> int:
+    from fmu.export import export_fmu
+    from fmu.slave import FmuError
+
+    try:
+        result = export_fmu(arguments.machine, arguments.output)
+    except FmuError as error:
+        print(f"vc fmu export: {error}", file=sys.stderr)
+        return EXIT_PROBLEMS
+    print(f"{result.path}: FMI 2.0 co-simulation FMU '{result.model_identifier}', {result.inputs} inputs,"
+          f" {result.outputs} outputs, {result.parameters} parameters (code in {result.bundle})")
     return 0
 
 
@@ -191,6 +206,13 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--exchanges", type=int, default=2000, metavar="N",
                        help="modbus: full interface exchanges per server, in 10 rounds (default 2000)")
     bench.set_defaults(handler=_bench)
+
+    fmu = commands.add_parser("fmu", help="export the NC and the plant as an FMU (FMI 2.0 co-simulation)")
+    fmu_commands = fmu.add_subparsers(dest="fmu_command", required=True)
+    export = fmu_commands.add_parser("export", help="build the FMU of a machine (docs/fmu.md)")
+    export.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")
+    export.add_argument("-o", "--output", required=True, metavar="FILE.fmu", help="the FMU file to write")
+    export.set_defaults(handler=_fmu_export)
     return parser
 
 

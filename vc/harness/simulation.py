@@ -29,8 +29,8 @@ from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import Alarm
 from vc.core.nc_memory import NcMemory
 from vc.core.nck import Nck
+from vc.observables import AXIS_QUANTITIES, FAULTS
 from vc.plant.plant import Plant
-from vc.scenario.target import AXIS_QUANTITIES, FAULTS
 
 
 class Pacer(Protocol):

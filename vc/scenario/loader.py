@@ -25,6 +25,7 @@ from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.core.alarms import ALARM_TEXTS
 from vc.located_yaml import LocatedList, LocatedMap, Mark, Problem, Problems, SourceError, load_file
+from vc.observables import FAULTS
 from vc.scenario.durations import Duration, DurationError, parse_duration
 from vc.scenario.expressions import Expression, ExpressionError, parse_expression
 from vc.scenario.model import (
@@ -53,7 +54,6 @@ from vc.scenario.model import (
     WaitUntil,
 )
 from vc.scenario.quantities import NameResolver, Quantity, QuantityKind
-from vc.scenario.target import FAULTS
 from vc.scenario.values import ExpectedValue, ExpectedValueError, parse_expected
 
 TOP_KEYS = ("name", "description", "machine", "plc", "machine_data", "plc_parameters", "timeout", "invariants",

@@ -193,7 +193,7 @@ class PowerCycle(Step):
 
 @dataclass(frozen=True, slots=True)
 class InjectFault(Step):
-    """A fault of the simulated machine on one axis (``FAULTS`` in target.py)."""
+    """A fault of the simulated machine on one axis (``FAULTS`` in vc/observables.py)."""
 
     axis: str
     fault: str

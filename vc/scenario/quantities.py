@@ -32,7 +32,7 @@ from interfaces.signals import (
 )
 from vc.config.machine_data import MdLevel
 from vc.config.md_dictionary import BY_NUMBER, level_text
-from vc.scenario.target import AXIS_QUANTITIES
+from vc.observables import AXIS_QUANTITIES
 
 TIME = "time"
 

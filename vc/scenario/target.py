@@ -16,21 +16,6 @@ from interfaces.signals import ExpandedCatalog, SignalRef
 from vc.config.model import MachineConfig
 from vc.core.alarms import Alarm
 
-# Quantities of an axis or spindle that scenarios may read besides interface signals:
-#   position        actual position the NC shows (machine coordinate system), mm or degrees;
-#                   a modulo rotary axis (MD30310) shows it inside its modulo range
-#   setpoint        position setpoint of the interpolator, shown like position
-#   velocity        actual velocity, mm/min (linear) or rev/min (rotary and spindles)
-#   followingError  setpoint minus actual position
-#   physical        true position of the slide in the simulated machine (plant), mm or degrees
-AXIS_QUANTITIES = ("position", "setpoint", "velocity", "followingError", "physical")
-
-# Faults of the simulated machine a scenario can inject:
-#   zero_marks_missing       the encoder's zero-mark track is not seen (dirty, broken)
-#   reference_marks_missing  distance-coded reference marks missing between two positions
-#   encoder_slip             the measuring system miscounts by an amount (zero-mark monitoring responds)
-FAULTS = ("zero_marks_missing", "reference_marks_missing", "encoder_slip")
-
 
 class ScenarioTarget(Protocol):
     machine: MachineConfig
@@ -63,7 +48,7 @@ class ScenarioTarget(Protocol):
         """End a force; the owner's value applies again from the next cycle."""
 
     def axis_quantity(self, axis: str, quantity: str) -> float:
-        """One of ``AXIS_QUANTITIES`` for a machine axis or spindle."""
+        """One of ``vc.observables.AXIS_QUANTITIES`` for a machine axis or spindle."""
 
     def alarms(self) -> Sequence[Alarm]:
         """Alarms present now."""
@@ -85,7 +70,7 @@ class ScenarioTarget(Protocol):
 
     def inject_fault(self, axis: str, kind: str, start: float = 0.0, end: float = 0.0, amount: float = 0.0,
                      encoder: int = 1) -> None:
-        """A fault of the simulated machine: ``FAULTS``."""
+        """A fault of the simulated machine: ``vc.observables.FAULTS``."""
 
     def clear_faults(self, axis: str) -> None:
         """The machine's faults on ``axis`` are repaired."""
