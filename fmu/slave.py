@@ -14,11 +14,15 @@ Errors: pythonfmu turns an exception into ``fmi2Fatal``; so a step the unit refu
 logged with status ``fmi2Error`` and answered ``fmi2Discard`` (the instance stays usable),
 a value the unit refuses is logged and not taken, and only a machine that does not load (or
 parameters that do not fit it) ends the instance with ``fmi2Fatal`` and the reason as message.
+pythonfmu passes messages to the host's logger only while the host has logging on
+(``loggingOn`` / ``fmi2SetDebugLogging``); so that a host with logging off still shows why,
+every error is also written to the process's standard error.
 """
 
 from __future__ import annotations
 
 import json
+import sys
 from collections.abc import Sequence
 from functools import partial
 from pathlib import Path
@@ -56,14 +60,15 @@ class VcNcSlave(Fmi2Slave):
             manifest = json.loads((resources / MANIFEST).read_text(encoding="utf-8"))
             self.unit = NcUnit(str(resources / manifest["machine"]))
         except UnitError as error:
-            raise FmuError(f"{self.instance_name}: {error}") from None
+            raise self._fatal(str(error)) from None
         except (OSError, ValueError, KeyError) as error:
-            raise FmuError(f"{self.instance_name}: the FMU's resources are damaged ({error!r})") from None
+            raise self._fatal(f"the FMU's resources are damaged ({error!r})") from None
         self.modelName = manifest["model"]
         self.description = (f"{manifest['name']}: SINUMERIK-style NC and machine plant; the PLC connects"
                             " through the NC/PLC interface signals")
         self.default_experiment = DefaultExperiment(0.0, DEFAULT_STOP_TIME_S, self.unit.plc_cycle_s)
-        self._kinds = [variable.kind for variable in self.unit.variables]
+        self._of_kind = {kind: frozenset(index for index, variable in enumerate(self.unit.variables)
+                                         if variable.kind is kind) for kind in Kind}
         for index, variable in enumerate(self.unit.variables):
             self.register_variable(self._fmi_variable(index, variable), nested=False)
 
@@ -88,35 +93,44 @@ class VcNcSlave(Fmi2Slave):
         try:
             self.unit.initialize()
         except UnitError as error:
-            raise FmuError(f"{self.instance_name}: {error}") from None
+            raise self._fatal(str(error)) from None
 
     def do_step(self, current_time: float, step_size: float) -> bool:
         try:
             self.unit.step(current_time, step_size)
         except UnitError as error:
-            self.log(str(error), Fmi2Status.error)
+            self._error(str(error))
             return False
         return True
 
+    # ------------------------------------------------------------------ errors
+    def _error(self, message: str) -> None:
+        self.log(_format_safe(message), Fmi2Status.error)
+        print(f"{self.instance_name}: {message}", file=sys.stderr, flush=True)
+
+    def _fatal(self, message: str) -> FmuError:
+        """The exception that ends the instance; pythonfmu logs its message with fmi2Fatal."""
+        print(f"{self.instance_name}: {message}", file=sys.stderr, flush=True)
+        return FmuError(_format_safe(f"{self.instance_name}: {message}"))
+
     # ------------------------------------------------------------------ values, in batches
     def _values(self, kind: Kind, references: Sequence[int]) -> list[Any]:
-        values = []
-        for reference in references:
-            if not 0 <= reference < len(self._kinds) or self._kinds[reference] is not kind:
-                raise FmuError(f"value reference {reference} is not a {kind.value} variable of this FMU")
-            values.append(self.unit.get(reference))
-        return values
+        wrong = set(references) - self._of_kind[kind]  # one check per batch: hosts ask for hundreds at once
+        if wrong:
+            raise self._fatal(f"value reference {min(wrong)} is not a {kind.value} variable of this FMU")
+        get = self.unit.get
+        return [get(reference) for reference in references]
 
     def _take(self, kind: Kind, references: Sequence[int], values: Sequence[Any]) -> None:
+        variables = self._of_kind[kind]
         for reference, value in zip(references, values, strict=True):
-            if not 0 <= reference < len(self._kinds) or self._kinds[reference] is not kind:
-                self.log(f"value reference {reference} is not a {kind.value} variable of this FMU; not set",
-                         Fmi2Status.error)
+            if reference not in variables:
+                self._error(f"value reference {reference} is not a {kind.value} variable of this FMU; not set")
                 continue
             try:
                 self.unit.set(reference, value)
             except UnitError as error:
-                self.log(str(error), Fmi2Status.error)
+                self._error(str(error))
 
     def get_boolean(self, vrs: list[int]) -> list[bool]:
         return self._values(Kind.BOOLEAN, vrs)
@@ -135,6 +149,12 @@ class VcNcSlave(Fmi2Slave):
 
     def set_real(self, vrs: list[int], values: list[float]) -> None:
         self._take(Kind.REAL, vrs, values)
+
+
+def _format_safe(message: str) -> str:
+    """The FMI logger takes its message as a printf format (FMI 2.0, 2.1.5) and pythonfmu passes
+    ours without arguments: a ``%`` of the text (an override in %) must not start a conversion."""
+    return message.replace("%", "%%")
 
 
 def build_fmu(script: Path, project_files: Sequence[Path], destination: Path) -> Path:

@@ -15,11 +15,15 @@ Variables, each named as the rest of the project names it (FMI structured names)
                 ``SP1.velocity`` in rev/min, ``SP1.physical`` = the spindle's angle)
     parameters  ``ipoCycle`` (s) and per axis ``<axis>.startPosition`` (where the slide stands at
                 power-on); they take effect when initialisation ends
+    PLC.signOfLife  an input of the project's own: the PLC changes it every scan; once it has
+                been written the NC watches it as it watches its PLC (alarm 2000 after MD10100)
 
 Booleans are bits, integers the byte, word and bit-field signals (unsigned), reals the
-S7 REAL signals and the axis quantities.  Each description starts with the absolute
-address.  The operator's points of the plant I/O (panel keys and switches, the emergency
-stop chain) are outputs too, at their power-on position: the operator acts at the PLC.
+S7 REAL signals (and double words, which fmi2Integer cannot hold) and the axis quantities.
+Each description starts with the absolute address.  The operator's points of the plant I/O
+(panel keys and switches, the emergency stop chain) are outputs too, at their power-on
+position, and say so in their description: the operator acts at the PLC, so a master that
+copies the plant inputs to its PLC leaves these out.
 
 Time: a step of the host is a whole number of IPO cycles; the unit refuses any other step,
 and a communication point that is not where the unit stands (the NC cannot jump or go back).
@@ -32,8 +36,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 from functools import partial
+from typing import NoReturn
 
-from interfaces.image import ValueRangeError
+from interfaces.image import ProcessImage, Value, ValueRangeError, decode
+from interfaces.plant_io import Owner
 from interfaces.signals import Direction, SignalRef, SignalType
 from vc.config.loader import load_machine
 from vc.config.md_dictionary import IPO_SYSCLOCK_TIME_RATIO
@@ -43,6 +49,7 @@ from vc.located_yaml import LocatedMap, SourceError, load_text
 from vc.observables import AXIS_QUANTITY_MEANINGS
 
 IPO_CYCLE = "ipoCycle"
+PLC_SIGN_OF_LIFE = "PLC.signOfLife"
 START_POSITION = "startPosition"
 PARAMETERS_FILE = "<FMU parameters>"
 _CYCLE_TOLERANCE = 1e-6  # of an IPO cycle: what a host's floating-point step may be off by
@@ -93,10 +100,13 @@ class NcUnit:
         self._writers: list[Callable[[float | int | bool], None] | None] = []
         self._defaults = self._parameter_defaults()
         self.parameters = dict(self._defaults)
+        self._signals: dict[int, SignalRef] = {}  # variable index -> interface signal or plant point
         self._written: dict[int, float | int | bool] = {}  # inputs set by the host, kept over a new power-on
+        self._sign_of_life = 0
         self.start_time = 0.0
         self._start_cycle = 0
         self._declare_variables()
+        self._bind_signals()
 
     # ------------------------------------------------------------------ variables
     def _declare_variables(self) -> None:
@@ -111,6 +121,8 @@ class NcUnit:
         for point in self.machine.plant_io.points:
             ref = point.ref()
             text = f"{point.address} {point.meaning}"
+            if point.owner is Owner.OPERATOR:
+                text += " (the operator's: its power-on position; the operator acts at the PLC)"
             if point.direction is Direction.PLC_TO_PLANT:
                 self._declare_input(ref, text)
             else:
@@ -122,6 +134,10 @@ class NcUnit:
                 self._add(Variable(f"{axis.name}.{quantity}", Kind.REAL, Causality.OUTPUT, Variability.CONTINUOUS,
                                    f"{meaning}, {unit}"),
                           partial(self._axis_quantity, axis.name, quantity), None)
+        self._add(Variable(PLC_SIGN_OF_LIFE, Kind.INTEGER, Causality.INPUT, Variability.DISCRETE,
+                           "the PLC's sign of life, a number it changes every scan; once written the NC watches"
+                           " it: no change for MD10100 raises alarm 2000 [project variable]"),
+                  self._read_sign_of_life, self._plc_sign_of_life)
         self._add(Variable(IPO_CYCLE, Kind.REAL, Causality.PARAMETER, Variability.FIXED,
                            "IPO cycle, s (MD10050 SYSCLOCK_CYCLE_TIME x MD10070 IPO_SYSCLOCK_TIME_RATIO)"),
                   partial(self.parameters.__getitem__, IPO_CYCLE), partial(self._set_parameter, IPO_CYCLE))
@@ -133,14 +149,14 @@ class NcUnit:
                       partial(self.parameters.__getitem__, name), partial(self._set_parameter, name))
 
     def _declare_input(self, ref: SignalRef, description: str) -> None:
-        kind = _kind_of(ref)
-        self._add(Variable(ref.name, kind, Causality.INPUT, Variability.DISCRETE, description),
-                  self._reader(ref, kind), partial(self._write, ref))
+        self._signals[len(self.variables)] = ref
+        self._add(Variable(ref.name, _kind_of(ref), Causality.INPUT, Variability.DISCRETE, description),
+                  _unbound, _unbound)
 
     def _declare_output(self, ref: SignalRef, description: str) -> None:
-        kind = _kind_of(ref)
-        self._add(Variable(ref.name, kind, Causality.OUTPUT, Variability.DISCRETE, description),
-                  self._reader(ref, kind), None)
+        self._signals[len(self.variables)] = ref
+        self._add(Variable(ref.name, _kind_of(ref), Causality.OUTPUT, Variability.DISCRETE, description),
+                  _unbound, None)
 
     def _add(self, variable: Variable, reader: Callable[[], float | int | bool],
              writer: Callable[[float | int | bool], None] | None) -> None:
@@ -148,15 +164,35 @@ class NcUnit:
         self._readers.append(reader)
         self._writers.append(writer)
 
-    def _reader(self, ref: SignalRef, kind: Kind) -> Callable[[], float | int | bool]:
-        if kind is Kind.BOOLEAN:
-            return lambda: bool(self.simulation.read(ref))
-        if kind is Kind.REAL:
-            return lambda: float(self.simulation.read(ref))
-        return lambda: int(self.simulation.read(ref))
+    def _bind_signals(self) -> None:
+        """Accessors of the signal variables straight on the bytes of the present simulation's
+        images (new at every power-on).  A host exchanges every variable at every step; through
+        ``Simulation.read``/``write`` that cost about 1 us a variable, most of an FMU step.  The
+        unit forces nothing, so the images hold what the NC and the PLC see."""
+        for index, ref in self._signals.items():
+            image = self.simulation.image_of(ref)
+            area = image.areas[ref.area_key]
+            kind = self.variables[index].kind
+            if kind is Kind.BOOLEAN:
+                self._readers[index] = partial(_read_bit, area, ref.address.byte, 1 << ref.address.bit)
+            else:
+                self._readers[index] = partial(_read_number, area, ref, float if kind is Kind.REAL else int)
+            if self._writers[index] is None:
+                continue
+            if kind is Kind.BOOLEAN:
+                self._writers[index] = partial(_write_bit, image, ref, area, ref.address.byte, 1 << ref.address.bit)
+            else:
+                self._writers[index] = partial(_write_value, image, ref)
 
     def _axis_quantity(self, axis: str, quantity: str) -> float:
         return self.simulation.axis_quantity(axis, quantity)
+
+    def _read_sign_of_life(self) -> int:
+        return self._sign_of_life
+
+    def _plc_sign_of_life(self, value: float | int | bool) -> None:
+        self._sign_of_life = int(value)
+        self.simulation.nck.plc_sign_of_life(self._sign_of_life)
 
     def get(self, index: int) -> float | int | bool:
         return self._readers[index]()
@@ -169,12 +205,6 @@ class NcUnit:
         writer(value)
         if self.variables[index].causality is Causality.INPUT:
             self._written[index] = value
-
-    def _write(self, ref: SignalRef, value: float | int | bool) -> None:
-        try:
-            self.simulation.write(ref, int(value) if isinstance(value, bool) else value)
-        except ValueRangeError as error:
-            raise UnitError(f"{error}; the value was not taken") from None
 
     # ------------------------------------------------------------------ parameters
     def _parameter_defaults(self) -> dict[str, float]:
@@ -217,6 +247,7 @@ class NcUnit:
         self.simulation = Simulation(self.machine, plc=None)
         self.ipo_cycle_s = self.simulation.ipo_cycle_s
         self._start_cycle = 0
+        self._bind_signals()
         for index, value in self._written.items():
             writer = self._writers[index]
             assert writer is not None
@@ -240,18 +271,46 @@ class NcUnit:
         self.simulation.step(whole)
 
 
+def _unbound(*_: object) -> NoReturn:
+    raise AssertionError("signal accessors are bound to the simulation's images")
+
+
+def _read_bit(area: bytearray, byte: int, mask: int) -> bool:
+    return bool(area[byte] & mask)
+
+
+def _read_number(area: bytearray, ref: SignalRef, kind: Callable[[Value], float | int]) -> float | int:
+    return kind(decode(area, ref))
+
+
+def _write_bit(image: ProcessImage, ref: SignalRef, area: bytearray, byte: int, mask: int,
+               value: float | int | bool) -> None:
+    if value is True or value == 1:
+        area[byte] |= mask
+    elif value is False or value == 0:
+        area[byte] &= ~mask
+    else:
+        raise UnitError(f"{ref.name} is a bool; {value} is neither 0 nor 1; the value was not taken")
+    image.version += 1  # the NC takes over the PLC's bytes only when the image changed
+
+
+def _write_value(image: ProcessImage, ref: SignalRef, value: float | int | bool) -> None:
+    try:
+        image.write(ref, int(value) if isinstance(value, bool) else value)
+    except ValueRangeError as error:
+        raise UnitError(f"{error}; the value was not taken") from None
+
+
 def _load(path: str, overrides: LocatedMap | None) -> MachineConfig:
     try:
         return load_machine(path, overrides, PARAMETERS_FILE)
     except SourceError as error:
         raise UnitError(f"the machine does not load:\n{error}") from None
-    except OSError as error:
-        raise UnitError(f"the machine file cannot be read: {error}") from None
 
 
 def _kind_of(ref: SignalRef) -> Kind:
     if ref.type is SignalType.BOOL:
         return Kind.BOOLEAN
-    if ref.type is SignalType.REAL:
-        return Kind.REAL
+    if ref.type in (SignalType.REAL, SignalType.DWORD):
+        return Kind.REAL  # a DWORD does not fit fmi2Integer (signed 32 bit); a double holds it exactly
     return Kind.INTEGER

@@ -104,7 +104,7 @@ _REQUIRED_GEARBOX_KEYS = {"stages": "the number of gear stages",
                           "shift_time": "the seconds the shift actuator must push while the motor turns"}
 NCK_INSTANCE = "NC"
 # Instance names the interface and the plant I/O vocabulary already use.
-RESERVED_NAMES = frozenset({"NC", "MODEGROUP", "MCP", "EStop", "Drives", "Lamp"})
+RESERVED_NAMES = frozenset({"NC", "MODEGROUP", "MCP", "EStop", "Drives", "Lamp", "PLC"})  # PLC: the FMU
 MAX_CHANNELS = 10  # DB21..DB30: channel 11 would collide with DB31 of machine axis 1
 MAX_AXES = 31  # MD10000 has 31 entries
 MAX_CHANNEL_AXES = 20  # MD20070 has 20 entries

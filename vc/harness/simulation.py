@@ -145,14 +145,21 @@ class Simulation:
     def _image_of(self, ref: SignalRef) -> ProcessImage:
         return self.plant_image if ref.address.area in ("I", "Q") else self.interface
 
+    def image_of(self, ref: SignalRef) -> ProcessImage:
+        """The image that holds ``ref``'s value: the NC's for NC->PLC signals, the wire for
+        PLC->NC signals, the plant's for I and Q.  Reading or writing there directly bypasses
+        the forces (for a host that forces nothing and exchanges everything every step)."""
+        return self.nck.image if ref.direction is Direction.NC_TO_PLC else self._image_of(ref)
+
     def read(self, ref: SignalRef) -> Value:
         if ref.direction is Direction.NC_TO_PLC:
-            forced = self._forces.get(ref)
+            # most runs force nothing: no hash of the reference then
+            forced = self._forces.get(ref) if self._forces else None
             return forced if forced is not None else self.nck.image.read(ref)
         return self._image_of(ref).read(ref)
 
     def write(self, ref: SignalRef, value: Value) -> None:
-        if ref in self._forces:
+        if self._forces and ref in self._forces:
             self._underlying[ref] = value  # the force wins; the value applies when it is released
             return
         self._image_of(ref).write(ref, value)
