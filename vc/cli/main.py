@@ -9,6 +9,7 @@
              [--scenario FILE] [--duration S]         the NC as a server for a PLC in another process
     vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle
     vc bench --link modbus [--seconds S]              what the Modbus TCP link costs (bench/README.md)
+    vc bench --link fmu [--seconds S]                 FMU steps per second under FMPy against in process
     vc fmu export --machine M.yaml -o M.fmu           the NC and the plant as an FMI 2.0 co-simulation FMU
 
 Problems in input files are reported with file, line and column and exit with code 2;
@@ -32,6 +33,7 @@ DEFAULT_MACHINE = "scenarios/machines/turn_mill.yaml"
 GUIDE_FORMAT = "guide"  # vc map --format guide: docs/modbus.md for the machine
 DEFAULT_BENCH_SECONDS = 30.0  # simulated, in process
 DEFAULT_REALTIME_BENCH_SECONDS = 60.0  # wall-clock, the real-time measurement of --link modbus
+DEFAULT_FMU_BENCH_SECONDS = 20.0  # simulated, per workload of --link fmu
 EXIT_PROBLEMS = 2
 
 
@@ -51,6 +53,8 @@ def _map(arguments: argparse.Namespace) -> int:
 def _bench(arguments: argparse.Namespace) -> int:
     if arguments.link == "modbus":
         return _bench_modbus(arguments)
+    if arguments.link == "fmu":
+        return _bench_fmu(arguments)
     from vc.harness.benchmark import run_benchmark
 
     seconds = DEFAULT_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
@@ -73,6 +77,20 @@ def _bench_modbus(arguments: argparse.Namespace) -> int:
                                     lockstep_seconds=arguments.lockstep_seconds, exchanges=arguments.exchanges,
                                     say=lambda text: print(text, flush=True))
     except (LinkError, ValueError) as error:
+        print(f"vc bench: {error}", file=sys.stderr)
+        return EXIT_PROBLEMS
+    print(json.dumps(result.figures()))
+    return 0
+
+
+def _bench_fmu(arguments: argparse.Namespace) -> int:
+    from fmu.slave import FmuError
+    from vc.harness.fmu_benchmark import FmuBenchmarkError, run_fmu_benchmark
+
+    seconds = DEFAULT_FMU_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
+    try:
+        result = run_fmu_benchmark(arguments.machine, seconds, say=lambda text: print(text, flush=True))
+    except (FmuBenchmarkError, FmuError) as error:
         print(f"vc bench: {error}", file=sys.stderr)
         return EXIT_PROBLEMS
     print(json.dumps(result.figures()))
@@ -191,16 +209,20 @@ def build_parser() -> argparse.ArgumentParser:
                        help="print real-time statistics every S seconds (default 10)")
     serve.set_defaults(handler=_serve)
 
-    bench = commands.add_parser("bench", help="measure the real-time factor of the simulation or the Modbus link")
+    bench = commands.add_parser("bench", help="measure the real-time factor of the simulation, the Modbus link"
+                                              " or the FMU")
     bench.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")
-    bench.add_argument("--link", choices=("inprocess", "modbus"), default="inprocess",
+    bench.add_argument("--link", choices=("inprocess", "modbus", "fmu"), default="inprocess",
                        help="inprocess (default): the simulation with the PLC in this process; modbus: exchange"
                             " round trip against a bare pymodbus server, lockstep rate and real-time jitter with"
-                            " plc_stub in its own process")
+                            " plc_stub in its own process; fmu: steps per second of the exported FMU under FMPy"
+                            " against the same unit in process, doStep only and with a full PLC exchange"
+                            " (needs the test extra)")
     bench.add_argument("--seconds", type=_positive, default=None,
                        help=f"inprocess: simulated seconds to run (default {DEFAULT_BENCH_SECONDS:g});"
                             f" modbus: wall seconds of the real-time measurement"
-                            f" (default {DEFAULT_REALTIME_BENCH_SECONDS:g})")
+                            f" (default {DEFAULT_REALTIME_BENCH_SECONDS:g}); fmu: simulated seconds per workload"
+                            f" (default {DEFAULT_FMU_BENCH_SECONDS:g})")
     bench.add_argument("--lockstep-seconds", type=_positive, default=10.0, metavar="S",
                        help="modbus: simulated seconds of the lockstep measurement (default 10)")
     bench.add_argument("--exchanges", type=int, default=2000, metavar="N",
