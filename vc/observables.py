@@ -16,10 +16,23 @@ AXIS_QUANTITY_MEANINGS = {
     "physical": "true position of the slide in the simulated machine (plant); on a spindle its angle,"
                 " counted on over the turns",
 }
-AXIS_QUANTITIES = tuple(AXIS_QUANTITY_MEANINGS)
+# Quantities of a following spindle's coupling (0 while the spindle follows nobody), degrees.
+COUPLING_QUANTITY_MEANINGS = {
+    "couplingOffset": "$AA_COUP_OFFS: setpoint relation FS - k x LS, 0..360",
+    "couplingOffsetActual": "$VA_COUP_OFFS: actual relation FS - k x LS, 0..360",
+    "couplingOffsetProgrammed": "$P_COUP_OFFS: the last programmed offset",
+    "couplingCorrection": "$AA_COUP_CORR: the synchronism correction (DB31.DBX31.6)",
+    "syncDeviation": "synchronism deviation the monitoring compares with MD37200 / MD37210 (degrees;"
+                     " rev/min for a VV coupling)",
+}
+AXIS_QUANTITIES = tuple(AXIS_QUANTITY_MEANINGS) + tuple(COUPLING_QUANTITY_MEANINGS)
 
 # Faults of the simulated machine a scenario can inject:
 #   zero_marks_missing       the encoder's zero-mark track is not seen (dirty, broken)
 #   reference_marks_missing  distance-coded reference marks missing between two positions
 #   encoder_slip             the measuring system miscounts by an amount (zero-mark monitoring responds)
-FAULTS = ("zero_marks_missing", "reference_marks_missing", "encoder_slip")
+#   load_disturbance         a load the drive holds against: the slide lags by amount (rev/min, mm/min)
+#                            over the position controller's gain until the fault is cleared
+#   workpiece_clamp          a part clamped in a following spindle and its leading spindle locks the
+#                            FS to the LS, twisted by amount (degrees), until the fault is cleared
+FAULTS = ("zero_marks_missing", "reference_marks_missing", "encoder_slip", "load_disturbance", "workpiece_clamp")

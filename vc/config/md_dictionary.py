@@ -162,6 +162,11 @@ COUPLE_RESET_MODE_1 = MdDef(21330, "COUPLE_RESET_MODE_1", C, INT, 0x1,
 COUPLE_IS_WRITE_PROT_1 = MdDef(21340, "COUPLE_IS_WRITE_PROT_1", C, BOOL, False,
                                "COUPDEF may not change ratio, type and block change of the configured pair",
                                "seed 003 L21986-21991; [control] default")
+COUPLE_RATIO_1 = MdDef(42300, "COUPLE_RATIO_1", C, FLOAT, (1.0, 1.0),
+                       "setting datum SD42300 $SC_COUPLE_RATIO_1: speed ratio of the configured pair, [0] ="
+                       " numerator (FS), [1] = denominator (LS); COUPDEF changes the active ratio, not this"
+                       " value (kept here with the channel's machine data)",
+                       "seed 003 L22923-22936, L21919-21926; [control] default", "", -1.0e6, 1.0e6, 2)
 ESR_DELAY_TIME1 = MdDef(21380, "ESR_DELAY_TIME1", C, FLOAT, 0.0,
                         "NC-controlled stop: time the path interpolation continues after the ESR trigger",
                         "seed 003 L42152-42154; [control] default", "s", 0.0, 1.0e3)
@@ -579,6 +584,30 @@ INCL_AXIS_INCLINED = MdDef(62805, "INCL_AXIS_INCLINED", C, INT, 0,
 INCL_AXIS_ORTHOGONAL = MdDef(62806, "INCL_AXIS_ORTHOGONAL", C, INT, 0,
                              "channel axis number of the orthogonal axis (GSK 8212); project machine datum",
                              "seed 000 L454-464, L45-49", "", 0, 20)
+
+# ------------------------------------------------------------ polygon turning (GSK980TDi parameters)
+# Seed 002 prints the GSK parameter numbers; they become channel machine data with project numbers.
+POLYGON_MASTER_AXIS = MdDef(62900, "POLYGON_MASTER_AXIS", C, INT, 0,
+                            "master (workpiece) axis of polygon turning: channel axis number of a spindle"
+                            " (GSK parameter 0197; the seed's table labels it the tool axis, its definitions"
+                            " the workpiece: the definitions hold); project machine datum",
+                            "seed 002 L165-174, L55-57", "", 0, 20)
+POLYGON_SLAVE_AXIS = MdDef(62901, "POLYGON_SLAVE_AXIS", C, INT, 0,
+                           "slave (tool) axis of polygon turning: channel axis number of a spindle (GSK"
+                           " parameter 0198); project machine datum", "seed 002 L176-185, L15-17", "", 0, 20)
+POLYGON_FUNCTION_MASK = MdDef(62902, "POLYGON_FUNCTION_MASK", C, INT, 0,
+                              "GSK parameter 0201: bit 2 ERV (G99 feed from the slave's theoretical speed), bit 3"
+                              " HBR (1 = reset keeps the synchronisation), bit 4 ECN (1 = G51.2 while synchronous"
+                              " resynchronises, 0 = alarm), bit 7 SNTP (1 = follow mode on the actual master"
+                              " position); bit positions read from the seed's table layout; project machine datum",
+                              "seed 002 L187-214", "", 0, 0xFF)
+POLYGON_MASTER_ACC_START_VELO = MdDef(62903, "POLYGON_MASTER_ACC_START_VELO", C, FLOAT, 0.0,
+                                      "master's acceleration start speed while synchronous (GSK parameter 0162);"
+                                      " project machine datum", "seed 002 L143-152", "deg/min", 0.0, 4000.0)
+POLYGON_MASTER_ACC_TIME = MdDef(62904, "POLYGON_MASTER_ACC_TIME", C, FLOAT, 0.0,
+                                "master's acceleration time constant while synchronous, from the start speed to"
+                                " MD32000 (GSK parameter 0163); 0 = the gear stage's ramp; project machine datum",
+                                "seed 002 L154-163", "ms", 0.0, 10000.0)
 
 # ---------------------------------------------------------------------------------- index
 

@@ -94,6 +94,25 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         _STOP, Clear.RESET, "seed 003 L7841-7858"),
         AlarmDefinition(16105, "Channel %1 block %2 assigned spindle %3 does not exist", _STOP, Clear.RESET,
                         "seed 003 L20232-20235, L20328"),
+        AlarmDefinition(16111, "Channel %1 block %2 spindle %3 no speed programmed", _STOP, Clear.RESET,
+                        "seed 003 L23485-23488 (M3/M4 on a coupled FS without S)"),
+        AlarmDefinition(16771, "Channel %1 following axis %2 overlaid motion not enabled", Reaction.NONE,
+                        Clear.SELF, "seed 003 L23450-23456 (DB31.DBX26.4 missing; cleared by 26.4 or"
+                        " decoupling)"),
+        AlarmDefinition(16785, "Channel %1 block %2 identical axes/spindles %3", _STOP, Clear.RESET,
+                        "[control] a coupling of a spindle with itself"),
+        AlarmDefinition(16787, "Channel %1 block %2 coupling parameters may not be changed", _STOP, Clear.RESET,
+                        "seed 003 L21986-21991 (MD21340 = 1; number unnamed in the seed) [control]"),
+        AlarmDefinition(16792, "Channel %1 block %2 too many couplings for axis/spindle %3", _STOP, Clear.RESET,
+                        "seed 003 L21749, L23018-23024 (more than 2 pairs, compound coupling; number"
+                        " unnamed in the seed) [control]"),
+        AlarmDefinition(16795, "Channel %1 block %2 string cannot be interpreted", _STOP, Clear.RESET,
+                        "[control] COUPDEF / WAITC with an unknown block change or coupling type"),
+        AlarmDefinition(16796, "Channel %1 block %2 coupling not defined", _STOP, Clear.RESET,
+                        "[control] COUPON / COUPOF of a pair neither MD21300 nor COUPDEF defined"),
+        AlarmDefinition(16797, "Channel %1 block %2 coupling is active", _STOP, Clear.RESET,
+                        "seed 003 L22645, L22102-22104, L23465 (gear change, oscillation or a type change"
+                        " while coupled; number from L22645) [control] reaction"),
         AlarmDefinition(20000, "Channel %1 axis %2 reference cam not reached", _STOP, Clear.RESET,
                         "seed 003 L1046-1048 (MD34030; number removed in the seed) [control]"),
         AlarmDefinition(20001, "Channel %1 axis %2 no cam signal", _STOP, Clear.RESET,
@@ -120,6 +139,13 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         Clear.RESET, "seed 003 L20050-20055 (MD35035 bit 2); [control] reaction"),
         AlarmDefinition(22020, "Channel %1 block %2 spindle %3 gear stage change position not reached",
                         _STOP | Reaction.READ_IN_DISABLED, Clear.RESET, "seed 003 L19697-19701"),
+        AlarmDefinition(22025, "Channel %1 axis %2 synchronism monitoring stage 2: fine tolerance exceeded",
+                        Reaction.NONE, Clear.SELF, "seed 003 L29878-29888 (display alarm, machining continues)"),
+        AlarmDefinition(22026, "Channel %1 axis %2 synchronism monitoring stage 2: coarse tolerance exceeded",
+                        Reaction.NONE, Clear.SELF, "seed 003 L29878-29888 (display alarm, machining continues)"),
+        AlarmDefinition(22040, "Channel %1 block %2 spindle %3 is not referenced with zero mark", Reaction.NONE,
+                        Clear.CANCEL, "seed 003 L22214-22231 (coupling activated unsynchronised: allowed,"
+                        " with an alarm) [control] number and reaction"),
         AlarmDefinition(22100, "Channel %1 block %2 spindle %3 chuck speed exceeded", _STOP, Clear.RESET,
                         "seed 003 L20946-20969"),
         AlarmDefinition(25020, "Axis %1 zero mark monitoring of active encoder",
@@ -135,6 +161,16 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
         AlarmDefinition(65830, "Channel %1 spindle %2 gear stage change not acknowledged within MD10192 = %3 s",
                         _STOP, Clear.RESET, "seed 003 L19127-19147 (MD10192; the seed names no number);"
                         " project alarm number"),
+        AlarmDefinition(65840, "Channel %1 block %2 G51.2 argument out of range: %3", _STOP, Clear.RESET,
+                        "seed 002 L29-31 (P 1..999, Q -999..999 not 0, R 0..9999999); project alarm number,"
+                        " the seed names none"),
+        AlarmDefinition(65841, "Channel %1 block %2 G51.2 while synchronous not allowed (ECN = 0)", _STOP,
+                        Clear.RESET, "seed 002 L67-69, L204-208; project alarm number"),
+        AlarmDefinition(65842, "Channel %1 block %2 G51.2 / G50.2 must stand in a block of its own", _STOP,
+                        Clear.RESET, "seed 002 L21-23; project alarm number"),
+        AlarmDefinition(65843, "Channel %1 block %2 axis %3 is synchronised by polygon turning", _STOP,
+                        Clear.RESET, "seed 002 L128-131 (master and slave cannot be commanded, only the"
+                        " master's speed and direction); project alarm number"),
         AlarmDefinition(65820, "Channel %1 axis %2 orthogonal axis: reference the inclined axis %3 first",
                         _STOP, Clear.RESET,
                         "seed 000 L62-66, L375, L381, L88-100 (inclined-axis control); project alarm number,"

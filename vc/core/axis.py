@@ -46,6 +46,7 @@ class Owner(Enum):
     REF = "ref"
     BRAKE = "brake"
     SPINDLE = "spindle"  # a spindle turning, oscillating or positioning on its own (vc/core/spindle.py)
+    COUPLING = "coupling"  # the following spindle of a coupling (vc/core/coupling.py)
 
 
 @dataclass(frozen=True, slots=True)
@@ -217,6 +218,15 @@ class MachineAxis:
         # DB31.DBX61.5: a spindle in speed control runs without position control (L16163-16167)
         self.position_control = not config.is_spindle
         self.axis_mode = False  # a spindle in axis mode (M70) is programmed like a rotary axis
+        # a coupled following spindle takes the leading spindle's disable instead of its own (L23212-23230)
+        self.disable_by_coupling: bool | None = None
+        # overlaid motion added behind the interpolator (a coupled helix axis): the machine position
+        # moves, the programmed one does not until the overlay is folded in (seed 002 L77-81)
+        self.overlay = 0.0
+        self.overlay_velocity = 0.0
+        self.disturbance_velocity = 0.0  # a load the drive must hold against (plant fault), per second
+        # a part clamped in this spindle and another: the slide is held at k x the other's position + offset
+        self.clamp: tuple[MachineAxis, float, float] | None = None
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -241,6 +251,22 @@ class MachineAxis:
         self.resting = False
         if inp.encoder_selected != self.active_encoder:
             self._select_encoder(inp.encoder_selected)
+
+    @property
+    def disabled(self) -> bool:
+        return self.inputs.disable if self.disable_by_coupling is None else self.disable_by_coupling
+
+    def add_overlay(self, distance: float, velocity: float) -> None:
+        self.overlay += distance
+        self.overlay_velocity = velocity
+        self.resting = False
+
+    def fold_overlay(self) -> None:
+        """The overlaid distance becomes part of the programmed position (nothing moves)."""
+        self.setpoint += self.overlay
+        self.overlay = 0.0
+        self.overlay_velocity = 0.0
+        self.resting = False
 
     def _select_encoder(self, selected: int | None) -> None:
         """Measuring-system switch-over: the new actual value is taken over, nothing moves."""
@@ -304,7 +330,7 @@ class MachineAxis:
     def distance_to_end_point(self) -> float:
         """Interpolated end point minus actual value: what the exact stop windows measure
         (seed 003 §13.8.8: the windows are counted from the target position)."""
-        return self.setpoint - self.actual
+        return self.setpoint + self.overlay - self.actual
 
     @property
     def display_velocity(self) -> float:
@@ -415,9 +441,9 @@ class MachineAxis:
         if self.owner is Owner.BRAKE:
             self._brake_cycle()
         if self.resting and self.command_velocity == 0.0 and self.owner is Owner.NONE \
-                and not self.external_velocity:
+                and not self.external_velocity and not self.disturbance_velocity and not self.overlay_velocity \
+                and self.clamp is None:
             return False
-        inp = self.inputs
         self._update_servo_state(cycle, alarms)
         dt = self._dt
         if self.servo_on:
@@ -425,15 +451,20 @@ class MachineAxis:
         else:
             # No position control: the drive brakes on its own ramp and the slide stops.
             self._drive_velocity = ramp(self._drive_velocity, 0.0, self.dyn.rapid_stop_decel, dt)
-        if inp.disable:
+        if self.disabled:
             # Axis disable: the setpoints do not reach the drive; the NC shows the setpoint as actual value.
             self._drive_velocity = 0.0
             self.velocity = self.command_velocity
             self.actual = self._loop_setpoint if self.servo_on else self.actual
         else:
-            slide_velocity = self._drive_velocity if self.servo_on else self._drive_velocity + self.external_velocity
+            slide_velocity = self._drive_velocity + self.disturbance_velocity if self.servo_on \
+                else self._drive_velocity + self.external_velocity
             self.physical += slide_velocity * dt
             self.velocity = slide_velocity
+            if self.clamp is not None:
+                other, ratio, offset = self.clamp
+                self.physical = ratio * other.physical + offset  # the part holds it, whatever the drive does
+                self.velocity = ratio * other.velocity
             if self.active_encoder is not None:
                 self.actual = self.encoder.actual(self.physical)
         if not self.servo_on and (self.follow_up or self._tracking):
@@ -457,7 +488,7 @@ class MachineAxis:
         """
         dyn = self.dyn
         previous = self._loop_setpoint
-        target = self.setpoint
+        target = self.setpoint + self.overlay
         loop_setpoint = self.jerk_filter.apply(target) if self.jerk_filter else target
         self._loop_setpoint = loop_setpoint
         feedforward = (loop_setpoint - previous) / dt * dyn.feedforward
@@ -554,9 +585,9 @@ class MachineAxis:
 
     def _monitor(self, cycle: int, alarms: AlarmList) -> None:
         dyn = self.dyn
-        error = abs(self.setpoint - self.actual)  # exact stop windows count from the end point
+        error = abs(self.setpoint + self.overlay - self.actual)  # exact stop windows count from the end point
         interpolation_done = self.owner is Owner.NONE and self.command_velocity == 0.0
-        if interpolation_done and self.servo_on and not self.inputs.disable:
+        if interpolation_done and self.servo_on and not self.disabled:
             self._motion_end_cycle += 1
             elapsed = self._motion_end_cycle * self._dt
             if error <= dyn.fine_window:
@@ -578,13 +609,13 @@ class MachineAxis:
                 alarms.clear(10621, axis=self.name)
         # At rest when nothing moves: the next cycles can skip the loop until an input changes.
         self.resting = (interpolation_done and self.velocity == 0.0 and self._drive_velocity == 0.0
-                             and self._loop_setpoint == self.setpoint and error <= dyn.fine_window
+                             and self._loop_setpoint == self.setpoint + self.overlay and error <= dyn.fine_window
                              and (self.jerk_filter is None or self.jerk_filter.settled(self.setpoint, 0.0))
                              and self._servo_off_countdown <= 0 and not self.at_software_limit)
 
     def _write_outputs(self) -> None:
         dyn = self.dyn
-        error = abs(self.setpoint - self.actual)  # exact stop windows count from the end point
+        error = abs(self.setpoint + self.overlay - self.actual)  # exact stop windows count from the end point
         no_motion = self.owner is Owner.NONE and self.command_velocity == 0.0
         status = (
             no_motion and error <= dyn.coarse_window,
@@ -598,7 +629,7 @@ class MachineAxis:
             len(self.encoders) > 1 and self.encoders[1].restored,
             self.encoders[0].frequency_exceeded,
             len(self.encoders) > 1 and self.encoders[1].frequency_exceeded,
-            self.inputs.disable,
+            self.disabled,
             self.command_velocity > _TINY,
             self.command_velocity < -_TINY,
         )

@@ -36,16 +36,21 @@ from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import CHANNEL_INTERRUPT, NC_START_DISABLED, STOP_AXES, AlarmList, Clear
 from vc.core.axis import MachineAxis, Owner
+from vc.core.coupling import ALARM_COUPLING_ACTIVE, Couplings
+from vc.core.coupling_types import BlockChange, block_change_of, kind_of
 from vc.core.interface_map import SignalTable
 from vc.core.interpreter import (
     EXACT_STOP_COARSE,
     EXACT_STOP_FINE,
     BlockPlan,
+    CouplingCommand,
     ModalState,
+    SpindleCommand,
     decode,
 )
 from vc.core.overrides import OverrideCoding
 from vc.core.path import PathSegment
+from vc.core.polygon import ALARM_AXIS_SYNCHRONISED, PolygonTurning
 from vc.core.program import Block, parse_program
 from vc.core.referencing import Source, State
 from vc.core.referencing_control import ReferencingControl
@@ -193,6 +198,11 @@ class Channel:
             if not axis.is_spindle and axis.config.md.int(MD.REFP_CYCLE_NR) != -1
         ]
         self.spindles: dict[str, Spindle] = {}  # machine axis -> spindle, given by the NCK
+        self.couplings: Couplings | None = None  # given by the NCK
+        self.polygon: PolygonTurning | None = None
+        self._coupling_feeds: dict[str, float] = {}  # FA[Sn], deg/min (modal)
+        self._waits: list[tuple[str, BlockChange | None]] = []  # COUPON / WAITC block-change conditions
+        self._dwell_degrees = 0.0  # G4 S: master spindle degrees still to turn
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -240,9 +250,17 @@ class Channel:
             if axis.owner is Owner.JOG:
                 axis.brake()
             axis.at_software_limit = 0
+        self._reset_couplings()
         for spindle in self.spindles.values():
             spindle.reset(program_end=False)
 
+    def _reset_couplings(self) -> None:
+        """Reset and program end: the couplings as MD21330 / MD20110 say, polygon turning as HBR."""
+        if self.polygon is not None:
+            self.polygon.reset()
+        if self.couplings is not None:
+            self.couplings.reset(self.name)
+        self._waits = []
     def _end_program(self) -> None:
         self.state = ChannelState.RESET
         self.program_state = ProgramState.ABORTED
@@ -280,6 +298,10 @@ class Channel:
         self._block_index = 0
         self._phase = Phase.DECODE
         self.modal.reset()
+        if self.couplings is not None:
+            self.couplings.nc_start(self.name)
+        if self.polygon is not None:
+            self.modal.polygon = self.polygon.active
         for spindle in self.spindles.values():
             spindle.program_start()
         self.started_in = mode
@@ -332,13 +354,28 @@ class Channel:
             if self._spindles_ready():
                 self._start_block_body(cycle)
         elif self._phase is Phase.DWELL and not hold:
-            self._dwell_cycles -= 1
-            if self._dwell_cycles <= 0:
-                self._next_block()
+            self._dwell_cycle()
         elif self._phase is Phase.BLOCK_END:
             self._block_end()
         if self._phase is Phase.DECODE and self.state is ChannelState.ACTIVE and not hold:
             self._decode_next(cycle)
+
+    def _dwell_cycle(self) -> None:
+        if self._dwell_degrees > 0.0:
+            master = self.spindles.get(self._master_spindle() or "")
+            if master is not None:
+                self._dwell_degrees -= abs(master.axis.velocity) * self._dt
+            if self._dwell_degrees <= 1e-9 or master is None:
+                self._dwell_degrees = 0.0
+                self._next_block()
+            return
+        self._dwell_cycles -= 1
+        if self._dwell_cycles <= 0:
+            self._next_block()
+
+    def _master_spindle(self) -> str | None:
+        number = self.config.md.int(MD.SPIND_DEF_MASTER_SPIND)
+        return next((name for name, spindle in self.spindles.items() if spindle.number == number), None)
 
     def _brake_segment(self) -> None:
         segment = self._segment
@@ -387,6 +424,11 @@ class Channel:
         assert plan is not None
         if any(self.spindles[name].holds_block_end for name in plan.spindles):
             return  # SPOS / M19: the block ends when the spindle is in position (L16475-16496)
+        couplings = self.couplings
+        if couplings is not None and (
+                any(couplings.holds_block(name, criterion) for name, criterion in self._waits)
+                or any(couplings.overlay_holds_block(name) for name in plan.spindles)):
+            return  # COUPON's block-change condition, WAITC, SPOS on a coupled FS (L22583-22592)
         if plan.block_end in (EXACT_STOP_FINE, EXACT_STOP_COARSE):
             fine = plan.block_end == EXACT_STOP_FINE
             for name in plan.targets:
@@ -407,6 +449,7 @@ class Channel:
         self._plan = None
         self._block_index += 1
         if plan is not None and plan.program_end:
+            self._reset_couplings()
             for spindle in self.spindles.values():
                 spindle.reset(program_end=True)
             self._end_program()
@@ -425,21 +468,114 @@ class Channel:
             self.stop()
             return
         self._plan = plan
+        self._waits = []
+        if not self._coupling_functions(plan, cycle, block):
+            self.stop()
+            return
         for name, value in plan.preset.items():
             self.axes_by_name[name].preset_actual(value)
         suppress = self._gear_change_suppressed
         for name, command in plan.spindles.items():
+            if self._coupled_spindle_command(name, command, cycle, block):
+                continue
             self.spindles[name].program(command, cycle, self._alarms, block.label, suppress(self.spindles[name]))
         catching_up = False
         for spindle in self.spindles.values():
             if spindle.suppressed_gear is not None and not suppress(spindle):
                 spindle.catch_up_gear(cycle, self._alarms, block.label)
                 catching_up = catching_up or spindle.change is not None
-        if plan.spindles or plan.targets or catching_up:
+        if plan.spindles or plan.targets or catching_up or self._waits:
             self._phase = Phase.SPINDLE
             if not self._spindles_ready():
                 return
         self._start_block_body(cycle)
+
+    # ------------------------------------------------------------------ couplings, polygon turning
+    def _raise(self, number: int, cycle: int, block: Block, *parameters: object, axis: str = "") -> None:
+        self._alarms.raise_alarm(number, cycle, self.name, block.label, *parameters, channel=self.name, axis=axis)
+
+    def _coupling_functions(self, plan: BlockPlan, cycle: int, block: Block) -> bool:
+        """SPCON / SPCOF, FA[Sn], the COUP... calls and G51.2 / G50.2 of the block, in their order.
+        False: an alarm stops the program."""
+        couplings = self.couplings
+        for name, on in plan.position_control.items():
+            self.spindles[name].program_position_control(on)
+        self._coupling_feeds.update(plan.feeds)
+        polygon = self.polygon
+        if polygon is not None and polygon.active:
+            busy = set(plan.targets) & set(polygon.commanded_axes())
+            slave = plan.spindles.get(polygon.slave)
+            master = plan.spindles.get(polygon.master)
+            if busy or slave is not None or (master is not None and (master.position is not None or master.gear
+                                                                      or master.axis_mode)):
+                self._raise(ALARM_AXIS_SYNCHRONISED, cycle, block, sorted(busy)[0] if busy else polygon.slave)
+                return False
+        if plan.polygon is not None:
+            if polygon is None:
+                self._raise(12550, cycle, block, "G51.2")
+                return False
+            if plan.polygon.start:
+                alarm = polygon.start(plan.polygon)
+                if alarm:
+                    self._raise(alarm, cycle, block, "G51.2")
+                    return False
+            else:
+                polygon.cancel()
+        if couplings is None:
+            return not plan.couplings
+        for command in plan.couplings:
+            alarm = self._coupling_call(couplings, command, cycle, block)
+            if alarm:
+                self._raise(alarm, cycle, block, command.following, axis=command.following)
+                return False
+        return True
+
+    def _coupling_call(self, couplings: Couplings, command: CouplingCommand, cycle: int, block: Block) -> int:
+        function, following, leading = command.function, command.following, command.leading
+        if function == "COUPDEF":
+            return couplings.define(self.name, following, leading, command.numerator, command.denominator,
+                                    block_change_of(command.block_change) if command.block_change else None,
+                                    kind_of(command.kind) if command.kind else None)
+        if function in ("COUPON", "COUPONC"):
+            alarm = couplings.couple(self.name, following, leading, command.offset, function == "COUPONC", cycle,
+                                     block.label)
+            if not alarm:
+                self._waits.append((following, None))
+            return alarm
+        if function in ("COUPOF", "COUPOFS"):
+            return couplings.decouple(following, stop=function == "COUPOFS")
+        if function == "COUPDEL":
+            return couplings.delete(following)
+        if function == "COUPRES":
+            return couplings.restore(following)
+        # WAITC: no effect on a spindle that is not a coupled FS (L22659-22690)
+        criterion = block_change_of(command.block_change) if command.block_change else BlockChange.IPOSTOP
+        self._waits.append((following, criterion))
+        return 0
+
+    def _coupled_spindle_command(self, name: str, command: SpindleCommand, cycle: int, block: Block) -> bool:
+        """What a block asks of a coupled spindle: the FS takes SPOS as offset change and M3/M4 S as
+        differential speed; gear change and oscillation are refused on FS and LS (L22102-22104).
+        True: handled here."""
+        couplings = self.couplings
+        if couplings is None or not couplings.involved(name):
+            return False
+        if self.spindles[name].needs_gear_change(command):
+            self._raise(ALARM_COUPLING_ACTIVE, cycle, block, axis=name)
+            self.stop()
+            return True
+        if couplings.coupled(name) is None:
+            return False  # the LS: speed, direction and stop act as usual, the FS follows
+        if command.position is not None:
+            mode, value = command.position
+            couplings.position_following(name, mode, value, self._coupling_feeds.get(name, 0.0),
+                                         command.wait_for_position)
+        if command.direction is not None or command.speed is not None:
+            alarm = couplings.program_differential(name, command.direction, command.speed, cycle, block.label)
+            if alarm:
+                self._raise(alarm, cycle, block, name, axis=name)
+                self.stop()
+        return True
 
     def _gear_change_suppressed(self, spindle: Spindle) -> bool:
         """MD35035 bits 0 / 1: no gear change in dry run / program test (L19956-19993)."""
@@ -481,6 +617,10 @@ class Channel:
         if plan.dwell > 0.0:
             self._phase = Phase.DWELL
             self._dwell_cycles = max(1, math.ceil(plan.dwell / self._dt - 1e-9))
+            return
+        if plan.dwell_revolutions > 0.0:
+            self._phase = Phase.DWELL
+            self._dwell_degrees = plan.dwell_revolutions * 360.0
             return
         if not plan.targets:
             self._phase = Phase.BLOCK_END

@@ -29,10 +29,12 @@ from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import STOP_AXES, Alarm, AlarmList, Clear, Reaction
 from vc.core.axis import AxisSignals, MachineAxis, Owner
 from vc.core.channel import Channel, ChannelSignals, ChannelState, Mode
+from vc.core.coupling import Couplings, CouplingSignals
 from vc.core.interface_map import SignalTable
 from vc.core.mode_group import ModeGroup, ModeGroupSignals
 from vc.core.nc_memory import NcMemory
 from vc.core.overrides import OverrideCoding
+from vc.core.polygon import PolygonTurning
 from vc.core.referencing import buffer_at_power_off, encoder_slip, restore_at_power_on
 from vc.core.referencing_control import ReferencingControl
 from vc.core.spindle import Spindle, SpindleSignals
@@ -115,6 +117,17 @@ class Nck:
                     channel.spindles[axis.name] = spindle
                     self.spindles.append(spindle)
         self._spindle_of = {spindle.name: spindle for spindle in self.spindles}
+        self.couplings = Couplings(list(machine.channels), self._spindle_of,
+                                   CouplingSignals(SignalTable(catalog, InstanceKind.AXIS)),
+                                   {spindle.name: self.image.area(f"DB{spindle.axis.config.db}")
+                                    for spindle in self.spindles}, self.dt, self.alarms)
+        self.polygons: list[PolygonTurning] = []
+        for channel in self.channels:
+            channel.couplings = self.couplings
+            polygon = PolygonTurning(channel.config, self.couplings, channel.spindles, channel.axes_by_name)
+            if polygon.configured:
+                channel.polygon = polygon
+                self.polygons.append(polygon)
         for spindle in self.spindles:
             spindle.write_outputs()  # the power-on state
         self._spindle_resets = {spindle.name: False for spindle in self.spindles}
@@ -156,6 +169,8 @@ class Nck:
             if not spindle.quiet or spindle.alarm_version != alarm_version or spindle.axis.velocity:
                 channel = self.channels_by_name[spindle.channel]
                 spindle.cycle(self.cycle, self.alarms, channel.state is ChannelState.RESET)
+        if self.couplings.active:
+            self.couplings.cycle(self.cycle)
         for watcher in self.referencing.passive_watchers:
             watcher.cycle()
         if self.referencing.any_active:
@@ -168,6 +183,7 @@ class Nck:
                 continue  # nothing moves and no input changed: its outputs stand
             if axis.control_cycle(self.cycle, self.alarms):
                 moved = True
+        self.couplings.monitor(self.cycle)
         self._react_to_new_alarms()
         status = self._status_signature()
         if status != self._last_status:
@@ -210,9 +226,13 @@ class Nck:
                 spindle = self._spindle_of.get(axis.name)
                 if spindle is not None:
                     spindle.decode_inputs()
+                    self.couplings.decode_inputs(axis.name)
                     reset = axis.inputs.reset_movement
                     if reset and not self._spindle_resets[axis.name]:
                         spindle.spindle_reset()  # DB31.DBX2.2 on its rising edge
+                        coupling = self.couplings.coupled(axis.name)
+                        if coupling is not None:
+                            coupling.differential = 0.0  # on the FS: deletes the differential speed
                     self._spindle_resets[axis.name] = reset
 
     def _hardware_limit_switches(self, axis: MachineAxis) -> None:
@@ -243,6 +263,8 @@ class Nck:
                 axis.rapid_stop(then_servo_off=True)
             for spindle in self.spindles:
                 spindle.emergency_stop()
+            for polygon in self.polygons:
+                polygon.cancel()  # the emergency stop ends polygon turning (seed 002 L134)
             for channel in self.channels:
                 channel.stop()
             return
@@ -302,6 +324,9 @@ class Nck:
         """Axis alarms whose reaction is a rapid stop put the axis into follow-up (servo off);
         when the last of them is cleared (reset), the NC gives the axis its controller enable back."""
         history = self.alarms.history
+        if self.polygons and len(history) > self._alarm_count:
+            for polygon in self.polygons:
+                polygon.alarms_raised(history[self._alarm_count:])
         for alarm in history[self._alarm_count:]:
             if Reaction.RAPID_STOP not in alarm.reaction or alarm.number in (21612, EMERGENCY_STOP_ALARM):
                 continue  # 21612 brakes on its own; the emergency stop has its own function

@@ -78,6 +78,7 @@ class SpindleMode(Enum):
     OSCILLATION = "oscillation"
     POSITIONING = "positioning"
     AXIS = "axis"
+    SYNCHRONOUS = "synchronous"  # following spindle of a coupling (84.4): vc/core/coupling.py drives it
 
 
 class SpindleSignals:
@@ -202,6 +203,11 @@ class Spindle:
         self._zero_mark_missing = False
         self.quiet = False  # nothing to do until an input, a command, a reset or an alarm changes
         self.held = False  # NC stop axes and spindles (DB21.DBX7.4) until NC start
+        self.spcon = False  # SPCON programmed: position control until SPCOF, M3/M4/M5 or reset
+        self.speed_cap: float | None = None  # leading spindle: the coupled FS's limit over the ratio
+        self.coupling_hold = False  # leading spindle: a coupled FS's spindle stop brakes the group
+        self.sync_speed_reached = False  # following spindle: the differential speed is reached (83.5)
+        self.acceleration_override: float | None = None  # deg/s^2 while polygon turning sets the ramp
         self.alarm_version = -1
         self._apply_gear_data()
         if md.int(MD.SPIND_DEFAULT_MODE) == 3:
@@ -240,6 +246,8 @@ class Spindle:
         L18226-18228)."""
         limit = min(self._gear_float(MD.GEAR_STEP_MAX_VELO_LIMIT), self.md.float(MD.SPIND_VELO_LIMIT),
                     self.md.float(MD.MAX_AX_VELO))
+        if self.speed_cap is not None:
+            limit = min(limit, self.speed_cap)
         if not self.position_control:
             return limit
         if self.axis.active_encoder is not None:
@@ -358,6 +366,10 @@ class Spindle:
     def _changes_enabled(self) -> bool:
         return bool(self.change_enable & (GEAR_CHANGE_WITH_OSCILLATION | GEAR_CHANGE_AT_POSITION))
 
+    def needs_gear_change(self, command: SpindleCommand) -> bool:
+        """The block would change the gear stage (M41..M45 or S with M40)."""
+        return self._requested_gear(command) is not None
+
     def _requested_gear(self, command: SpindleCommand) -> int | None:
         if not self._changes_enabled:
             return None  # a fixed ratio: the data of gear stage 1 (MD35010 = 0, L18245-18256)
@@ -390,12 +402,59 @@ class Spindle:
             return True
         return abs(self.axis.distance_to_end_point) > self.axis.dyn.coarse_window
 
+    # ------------------------------------------------------------------ coupling (vc/core/coupling.py)
+    def enter_synchronous_mode(self) -> None:
+        """The spindle becomes the following spindle of a coupling: its own motion ends."""
+        self.quiet = False
+        self.positioning = None
+        self.braking_for_axis_mode = False
+        self.mode = SpindleMode.SYNCHRONOUS
+        self.axis.resting = False
+
+    def leave_synchronous_mode(self, speed: float) -> None:
+        """COUPOF: the spindle turns on with ``speed`` (rev/min, signed) as M3/M4 S (L22234-22256)."""
+        self.quiet = False
+        self.mode = SpindleMode.CONTROL
+        self.direction = (1 if speed > 0 else -1) if speed else 0
+        if self.inputs.invert_m3_m4:
+            self.direction = -self.direction
+        self.speed = abs(speed)
+        self.show_speed(self.speed)
+        self.sync_speed_reached = False
+        axis = self.axis
+        axis.disable_by_coupling = None
+        if axis.owner is Owner.COUPLING:
+            axis.owner = Owner.SPINDLE  # the spindle ramps on from the coupled speed
+        self._apply_gear_data()
+        axis.resting = False
+
+    def set_position_control(self, on: bool) -> None:
+        self.quiet = False
+        self.position_control = on
+
+    def program_position_control(self, on: bool) -> None:
+        """SPCON / SPCOF: position control in speed-control mode (L22100, L23918-23921)."""
+        self.spcon = on
+        if self.mode in (SpindleMode.CONTROL, SpindleMode.SYNCHRONOUS):
+            self.set_position_control(on or self.mode is SpindleMode.SYNCHRONOUS)
+
+    def show_speed(self, speed: float) -> None:
+        struct.pack_into(">f", self._area, self._signals.s_value, speed)  # DBD88 (L17367)
+
+    def positioning_speed(self) -> float:
+        """MD35300 of the active gear, rev/min."""
+        return self._gear_float(MD.SPIND_POSCTRL_VELO)
+
+    def coupled_acceleration(self) -> float:
+        """The acceleration of a coupled FS's own motion (position control ramp), deg/s^2."""
+        return self._gear_float(MD.GEAR_STEP_POSCTRL_ACCEL) * REV_S2
+
     # ------------------------------------------------------------------ modes
     def _enter_control_mode(self) -> None:
         self.mode = SpindleMode.CONTROL
         self.braking_for_axis_mode = False
         self.positioning = None
-        self.position_control = self.md.int(MD.SPIND_DEFAULT_MODE) == 1
+        self.position_control = self.md.int(MD.SPIND_DEFAULT_MODE) == 1 or self.spcon
         self._apply_gear_data()
         self.axis.resting = False
 
@@ -431,6 +490,7 @@ class Spindle:
         self.automatic_gear = True
         self.suppressed_gear = None
         self.held = False
+        self.spcon = False  # [control] reset ends SPCON like the other modal spindle functions
         if not self.md.int(MD.SPIND_ACTIVE_AFTER_RESET):
             self.direction = 0
             self.speed = 0.0
@@ -718,10 +778,12 @@ class Spindle:
             command = self._control_speed()
         elif self.braking_for_axis_mode:
             command = 0.0  # M70 from rotation: brake along the ramp of the mode, like M5
+        elif self.mode is SpindleMode.SYNCHRONOUS:
+            command = None  # the coupling drives the following spindle
         else:
             command = None
         stopped = self.inputs.rapid_stop or self.held or bool(alarms.reactions(self.channel) & STOP_AXES) or \
-            not axis.drive_ready or axis.inputs.disable
+            not axis.drive_ready or axis.disabled
         if stopped and command is not None:
             command = 0.0
         if command is not None and axis.owner in (Owner.NONE, Owner.SPINDLE):
@@ -746,7 +808,7 @@ class Spindle:
         wanted = programmed * override
         maximum = self.max_speed
         minimum = self._gear_float(MD.GEAR_STEP_MIN_VELO_LIMIT)
-        stopped = direction == 0 or wanted == 0.0 or axis.inputs.feed_stop
+        stopped = direction == 0 or wanted == 0.0 or axis.inputs.feed_stop or self.coupling_hold
         self.limited = direction != 0 and wanted > maximum
         self.raised = not stopped and 0.0 < wanted < minimum
         set_speed = 0.0 if stopped else min(max(wanted, minimum), maximum)
@@ -774,6 +836,8 @@ class Spindle:
             axis.release()
 
     def _acceleration(self, command: float) -> float:
+        if self.acceleration_override is not None:
+            return self.acceleration_override
         change = self.change
         if change is not None and change.state in (GearState.REQUESTED, GearState.AT_STANDSTILL) \
                 and (self.inputs.oscillation_enable or change.state is GearState.AT_STANDSTILL):
@@ -823,6 +887,8 @@ class Spindle:
 
     def speed_reached(self) -> bool:
         """83.5: actual speed within MD35150 x set speed; always with MD35150 = 0 (L20840-20858)."""
+        if self.mode is SpindleMode.SYNCHRONOUS:
+            return self.sync_speed_reached  # the differential speed (L23507-23511)
         tolerance = self.md.float(MD.SPIND_DES_VELO_TOL)
         if tolerance == 0.0:
             return True

@@ -29,7 +29,7 @@ from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import Alarm
 from vc.core.nc_memory import NcMemory
 from vc.core.nck import Nck
-from vc.observables import AXIS_QUANTITIES, FAULTS
+from vc.observables import AXIS_QUANTITIES, COUPLING_QUANTITY_MEANINGS, FAULTS
 from vc.plant.plant import Plant
 
 
@@ -227,6 +227,8 @@ class Simulation:
             return item.following_error
         if quantity == "physical":
             return item.physical
+        if quantity in COUPLING_QUANTITY_MEANINGS:
+            return self.nck.couplings.quantity(axis, quantity)
         raise KeyError(f"unknown axis quantity '{quantity}' (known: {', '.join(AXIS_QUANTITIES)})")
 
     def alarms(self) -> Sequence[Alarm]:
@@ -264,11 +266,21 @@ class Simulation:
             measuring_system.missing_marks.append((min(start, end), max(start, end)))
         elif kind == "encoder_slip":
             self.nck.encoder_slip(axis, encoder - 1, amount)
+        elif kind == "load_disturbance":
+            item.disturbance_velocity = amount / item.dyn.display_velocity_factor
+            item.resting = False
+        elif kind == "workpiece_clamp":
+            if not self.nck.couplings.clamp(axis, amount):
+                raise KeyError(f"workpiece_clamp: {axis} is not the following spindle of a coupling")
         else:
             raise KeyError(f"unknown fault '{kind}' (known: {', '.join(FAULTS)})")
 
     def clear_faults(self, axis: str) -> None:
-        for measuring_system in self.nck.axes_by_name[axis].encoders:
+        item = self.nck.axes_by_name[axis]
+        item.disturbance_velocity = 0.0
+        item.clamp = None
+        item.resting = False
+        for measuring_system in item.encoders:
             measuring_system.zero_marks_visible = True
             measuring_system.missing_marks.clear()
 

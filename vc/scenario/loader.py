@@ -522,7 +522,8 @@ class _ScenarioChecker:
             hint = _suggest(str(kind), FAULTS) or f" (faults: {', '.join(FAULTS)})"
             self.add(value.mark_of("kind"), f"unknown fault '{kind}'{hint}")
             return None
-        needed = {"reference_marks_missing": ("from", "to"), "encoder_slip": ("by",)}.get(kind, ())
+        needed = {"reference_marks_missing": ("from", "to"), "encoder_slip": ("by",), "load_disturbance": ("by",),
+                  "workpiece_clamp": ("by",)}.get(kind, ())
         numbers: dict[str, float] = {}
         for key in ("from", "to", "by", "encoder"):
             if key in value:

@@ -1,0 +1,144 @@
+"""The coupling engine's rules without a PLC: definitions, ratios, block change, dynamic matching,
+and the part-program calls that reach it (seed 003 chapter 14, seed 002)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from interfaces.catalog import load_catalog
+from vc.config.loader import load_machine
+from vc.core.coupling import (
+    ALARM_COUPLING_ACTIVE,
+    ALARM_COUPLING_NOT_DEFINED,
+    ALARM_TOO_MANY_COUPLINGS,
+    ALARM_WRITE_PROTECTED,
+    dynamic_matching,
+    wrap180,
+)
+from vc.core.coupling_types import BlockChange, Kind, block_change_of, kind_of
+from vc.core.interpreter import ModalState, decode
+from vc.core.nck import Nck
+from vc.core.program import parse_program
+
+TURN_MILL = str(Path(__file__).resolve().parents[3] / "scenarios" / "machines" / "turn_mill.yaml")
+
+
+@pytest.fixture()
+def nck() -> Nck:
+    return Nck(load_machine(TURN_MILL), load_catalog())
+
+
+def test_block_change_takes_only_the_initial_letters() -> None:
+    assert block_change_of("Fine") is BlockChange.FINE
+    assert block_change_of("COARSE") is BlockChange.COARSE
+    assert block_change_of("No") is BlockChange.NOC
+    assert block_change_of("IPOSTOP") is BlockChange.IPOSTOP
+    assert block_change_of("sometime") is None
+    assert kind_of("Dv") is Kind.DV and kind_of("VV") is Kind.VV and kind_of("XY") is None
+
+
+def test_tv_ss_6_dynamic_matching_gives_the_faster_spindle_the_difference() -> None:
+    # MD32810 LS 5 ms, FS 3 ms: MD32900[FS] = 1, MD32910[FS] = 5 - 3 = 2 ms (seed 003 L23713-23720)
+    assert dynamic_matching(0.005, 0.003) == (1, 0.002)
+    assert dynamic_matching(0.003, 0.003) == (0, 0.0)
+
+
+def test_wrap180_keeps_the_short_way() -> None:
+    assert wrap180(350.0) == -10.0
+    assert wrap180(-190.0) == 170.0
+    assert wrap180(77.0) == 77.0
+
+
+def test_configured_pair_comes_from_md21300(nck: Nck) -> None:
+    definition = nck.couplings.definitions["SP2"]
+    assert (definition.following, definition.leading, definition.ratio) == ("SP2", "SP1", 1.0)
+    assert definition.configured and definition.kind is Kind.DV  # MD21310 = 1
+    assert definition.block_change is BlockChange.FINE  # MD21320 = 1
+
+
+def test_tv_ss_7_coupdef_ratio_one_quarter_and_only_written_parameters_change(nck: Nck) -> None:
+    couplings = nck.couplings
+    assert couplings.define("CHAN1", "SP2", "SP1", 1.0, 4.0, None, None) == 0
+    definition = couplings.definitions["SP2"]
+    assert definition.ratio == 0.25
+    assert couplings.define("CHAN1", "SP2", "SP1", None, None, BlockChange.NOC, None) == 0
+    assert definition.ratio == 0.25 and definition.block_change is BlockChange.NOC
+    assert couplings.define("CHAN1", "SP2", "SP1", -1.0, None, None, None) == 0
+    assert definition.ratio == -1.0  # a missing denominator means 1 (L22560-22632)
+    assert couplings.restore("SP2") == 0  # COUPRES: the machine data again
+    assert definition.ratio == 1.0 and definition.block_change is BlockChange.FINE
+
+
+def test_write_protection_and_the_fixed_axes_of_the_configured_pair(nck: Nck) -> None:
+    couplings = nck.couplings
+    couplings.definitions["SP2"].write_protected = True
+    assert couplings.define("CHAN1", "SP2", "SP1", 2.0, None, None, None) == ALARM_WRITE_PROTECTED
+    assert couplings.define("CHAN1", "SP2", "SP3", 2.0, None, None, None) == ALARM_WRITE_PROTECTED
+
+
+def test_couple_rules_undefined_compound_and_type_change(nck: Nck) -> None:
+    couplings = nck.couplings
+    assert couplings.couple("CHAN1", "SP3", "SP1", None, False, 0, "N10") == ALARM_COUPLING_NOT_DEFINED
+    assert couplings.couple("CHAN1", "SP2", "SP1", None, False, 0, "N10") == 0
+    assert nck.spindles[1].mode.value == "synchronous"
+    # the FS of one pair cannot lead another (a cascade)
+    assert couplings.define("CHAN1", "SP3", "SP2", None, None, None, None) == 0
+    assert couplings.couple("CHAN1", "SP3", "SP2", None, False, 0, "N20") == ALARM_TOO_MANY_COUPLINGS
+    # the type changes only while decoupled (L22616)
+    assert couplings.define("CHAN1", "SP2", "SP1", None, None, None, Kind.AV) == ALARM_COUPLING_ACTIVE
+    assert couplings.decouple("SP2", stop=False) == 0
+    assert couplings.define("CHAN1", "SP2", "SP1", None, None, None, Kind.AV) == 0
+    assert couplings.delete("SP3") == 0 and "SP3" not in couplings.definitions
+    assert couplings.delete("SP2") == 0 and "SP2" in couplings.definitions  # MD21300's pair stays
+
+
+def _decode(nck: Nck, text: str) -> tuple[object, object]:
+    channel = nck.channels[0]
+    plan, alarm = decode(parse_program(text)[0], ModalState(), channel.config, channel.axes_by_name)
+    return plan, alarm
+
+
+def test_interpreter_coupling_calls(nck: Nck) -> None:
+    plan, alarm = _decode(nck, 'N52 COUPDEF(S2,S1,1,1,"FINE","DV")')
+    assert alarm is None
+    command = plan.couplings[0]  # type: ignore[attr-defined]
+    assert (command.function, command.following, command.leading, command.numerator, command.block_change,
+            command.kind) == ("COUPDEF", "SP2", "SP1", 1.0, "FINE", "DV")
+    plan, alarm = _decode(nck, "N53 COUPON(S2,S1,77)")
+    assert alarm is None and plan.couplings[0].offset == 77.0  # type: ignore[attr-defined]
+    plan, alarm = _decode(nck, "N53 COUPON(S2,S1,360)")  # POSFS 0 .. 359.999 (L22196)
+    assert alarm is not None and alarm.number == 12080  # type: ignore[attr-defined]
+    plan, alarm = _decode(nck, 'N54 COUPDEF(S2,S1,1,1,"SOMETIME")')
+    assert alarm is not None and alarm.number == 16795  # type: ignore[attr-defined]
+    plan, alarm = _decode(nck, "N55 COUPON(S2,S2)")
+    assert alarm is not None and alarm.number == 16785  # type: ignore[attr-defined]
+    plan, alarm = _decode(nck, 'N56 WAITC(S2,"FINE") FA[S2]=3600 SPCON(2)')
+    assert alarm is None
+    assert plan.couplings[0].block_change == "FINE"  # type: ignore[attr-defined]
+    assert plan.feeds == {"SP2": 3600.0} and plan.position_control == {"SP2": True}  # type: ignore[attr-defined]
+    plan, alarm = _decode(nck, "N57 G4 S50")  # 50 revolutions of the master spindle
+    assert alarm is None and plan.dwell_revolutions == 50.0 and not plan.spindles  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize(("text", "number"), [
+    ("G51.2 P0 Q6", 65840), ("G51.2 P1000 Q6", 65840), ("G51.2 P2 Q0", 65840), ("G51.2 P2 Q1000", 65840),
+    ("G51.2 P2", 65840), ("G51.2 P2 Q6 X10", 65842), ("G50.2 P2", 65842),
+])
+def test_tv_pg_7_g51_2_ranges_and_own_block(nck: Nck, text: str, number: int) -> None:
+    _, alarm = _decode(nck, text)
+    assert alarm is not None and alarm.number == number  # type: ignore[attr-defined]
+
+
+def test_g51_2_arguments_and_signed_master_speed(nck: Nck) -> None:
+    channel = nck.channels[0]
+    modal = ModalState()
+    blocks = parse_program("G51.2 P5 Q-12 R15 A390\nS-300\n")
+    plan, alarm = decode(blocks[0], modal, channel.config, channel.axes_by_name)
+    assert alarm is None and modal.polygon
+    polygon = plan.polygon
+    assert polygon is not None and (polygon.p, polygon.q, polygon.r, polygon.a) == (5.0, -12.0, 15.0, 390.0)
+    plan, alarm = decode(blocks[1], modal, channel.config, channel.axes_by_name)
+    command = plan.spindles["SP1"]
+    assert alarm is None and command.speed == 300.0 and command.direction == 4  # S < 0: M4 (seed 002 L41-47)

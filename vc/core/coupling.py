@@ -1,0 +1,745 @@
+"""Synchronous spindle coupling (seed 003 chapter 14), the engine polygon turning also runs on.
+
+A pair is one following spindle (FS) and one leading spindle (LS).  While the pair is coupled
+the FS turns with ``n_FS = k * n_LS`` (k = numerator / denominator, any sign, not only whole
+numbers, L21720-21725, L21820-21834) and, with a position relation, ``phi_FS = k * phi_LS +
+offset`` (L21727).  :class:`Couplings` keeps the pairs of every channel and drives each
+coupled FS's position setpoint once per IPO cycle after the LS has moved::
+
+    defined ──COUPON / COUPONC──▶ SYNCHRONISING ──FS speed = k x LS speed──▶ SYNCHRONOUS
+    SYNCHRONISING, SYNCHRONOUS ──COUPOF / COUPOFS / COUPDEL, reset, NC start (per MD)──▶ defined
+
+* SYNCHRONISING: the FS ramps (its position-control acceleration) from its own speed to the
+  coupled speed; the relation is not defined yet.  It ends in the cycle the speeds agree; the
+  relation then is the setpoint relation at that moment ("setpoint synchronism", IPOSTOP).
+* SYNCHRONOUS: ``FS setpoint = k x LS position + relation + correction``.  The relation moves
+  only by overlaid motion: a programmed offset (COUPON with POSFS, SPOS on the FS, resync
+  with DB31.DBX31.4) at the FS's highest speed or FA[Sn], a differential speed (M3/M4 S on
+  the FS, which needs DBX26.4) and follow-up while the FS has no controller enable.
+
+The LS position is its setpoint for DV and VV and its actual value for AV (and for DV while
+the LS has no controller enable, which the control does internally, L23232-23246).
+
+Monitoring (every IPO cycle, L22434, L29557-29560): for DV/AV the deviation is the actual
+relation ``phi_FS - k x phi_LS`` minus the relation the coupling heads for (programmed offset,
+overlays, correction), wrapped to +-180 degrees; within MD37200 = coarse (DBX98.1), within
+MD37210 = fine (DBX98.0).  VV compares speeds with MD37220 / MD37230.  DBX99.4 while the
+coupling synchronises or the deviation is beyond coarse.  Stage 2 (MD37202 / MD37212, 0 =
+off) gives the display alarms 22025 / 22026 and DBX103.4 / 103.5.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from enum import Enum
+
+from vc.config import md_dictionary as MD
+from vc.config.model import ChannelConfig
+from vc.core.alarms import AlarmList
+from vc.core.axis import MachineAxis, Owner
+from vc.core.coupling_types import BlockChange, Kind
+from vc.core.interface_map import SignalTable
+from vc.core.motion import ramp, stopping_velocity
+from vc.core.spindle import RPM, Spindle, SpindleMode
+
+ALARM_OVERLAY_NOT_ENABLED = 16771  # differential speed without DB31.DBX26.4 (L23450-23456)
+ALARM_NO_SPEED_PROGRAMMED = 16111  # M3/M4 on the FS without S (L23485-23488)
+ALARM_COUPLING_NOT_DEFINED = 16796  # [control] COUPON / COUPOF of a pair nobody defined
+ALARM_COUPLING_ACTIVE = 16797  # [control] the pair is coupled: COUPDEF, gear change, oscillation refused
+ALARM_WRITE_PROTECTED = 16787  # [control] COUPDEF of the configured pair with MD21340 = 1 (L21986-21991)
+ALARM_TOO_MANY_COUPLINGS = 16792  # [control] a third pair, or a spindle already in another coupling (L21749, L23018)
+ALARM_NOT_SYNCHRONISED = 22040  # [control] coupled while a spindle is not synchronised with its zero mark (L22214)
+ALARM_FINE_2_EXCEEDED = 22025  # stage-2 monitoring, display only (L29878-29888)
+ALARM_COARSE_2_EXCEEDED = 22026
+
+MAX_PAIRS_PER_CHANNEL = 2  # L21749
+CORRECTION_DYNAMICS = 0.1  # the correction moves with at most 10 % velocity and acceleration (L31560-31570)
+FEED_STOP_ON_FS_ONLY = 1 << 4  # MD30455 bit 4 (L22391-22401)
+EDGE_TRIGGERED_CORRECTION = 1 << 7  # MD30455 bit 7 (L31463-31476)
+# MD21330 COUPLE_RESET_MODE_1 (L22946-22975) and the channel masks (L22954-22981)
+CANCEL_AT_START, CANCEL_AT_RESET, ACTIVATE_AT_START = 1 << 0, 1 << 1, 1 << 9
+RESET_BEHAVIOUR, KEEP_PROGRAMMED_AT_RESET = 1 << 0, 1 << 10  # MD20110
+CANCEL_PROGRAMMED_AT_START = 1 << 10  # MD20112
+_SPEEDS_AGREE = 1e-6  # deg/s
+
+
+def wrap180(angle: float) -> float:
+    return (angle + 180.0) % 360.0 - 180.0
+
+
+def _degrees(angle: float) -> float:
+    """``angle`` in 0..360, without 360 for a rounding rest below 0."""
+    value = angle % 360.0
+    return 0.0 if value > 360.0 - 1e-9 else value
+
+
+def dynamic_matching(leading_time: float, following_time: float) -> tuple[int, float]:
+    """MD32900 / MD32910 for the faster spindle of a pair: it gets the difference of the
+    equivalent speed-control times MD32810 as extra delay (L23700-23721, TV-SS-6)."""
+    difference = leading_time - following_time
+    return (1, round(difference, 9)) if difference > 0.0 else (0, 0.0)
+
+
+@dataclass(slots=True)
+class PairDefinition:
+    """A synchronous spindle pair (MD21300.. or COUPDEF), keyed by its FS."""
+
+    following: str  # machine axis names
+    leading: str
+    numerator: float = 1.0
+    denominator: float = 1.0
+    block_change: BlockChange = BlockChange.IPOSTOP
+    kind: Kind = Kind.DV
+    configured: bool = False  # the channel's pair of MD21300
+    write_protected: bool = False  # MD21340
+
+    @property
+    def ratio(self) -> float:
+        return self.numerator / self.denominator
+
+
+class Phase(Enum):
+    SYNCHRONISING = "synchronising"
+    SYNCHRONOUS = "synchronous"
+
+
+@dataclass(slots=True)
+class Overlay:
+    """Overlaid motion of the relation (COUPON offset, SPOS on the FS, resynchronisation)."""
+
+    left: float  # degrees still to go
+    limit: float  # deg/s
+    velocity: float = 0.0
+    waits: bool = True  # SPOS holds its block until done; SPOSA does not
+    resync: bool = False  # started by DBX31.4: DBX99.4 while it runs
+
+
+@dataclass(slots=True)
+class Coupling:
+    """One coupled pair."""
+
+    definition: PairDefinition
+    channel: str
+    phase: Phase = Phase.SYNCHRONISING
+    relation: float = 0.0  # $AA_COUP_OFFS: FS setpoint - k x LS position (without the correction)
+    target: float = 0.0  # the relation the coupling heads for
+    programmed: float | None = None  # $P_COUP_OFFS
+    offset_pending: bool = False  # COUPON with POSFS: applied at setpoint synchronism
+    overlay: Overlay | None = None
+    differential: float = 0.0  # programmed differential speed, rev/min, signed
+    differential_velocity: float = 0.0  # its ramped value, deg/s
+    correction: float = 0.0  # $AA_COUP_CORR
+    correction_applied: float = 0.0
+    correction_velocity: float = 0.0
+    correction_done: bool = False  # DBX99.2: the requested correction (or its deletion) is through
+    deviation: float = 0.0  # degrees (DV/AV) or rev/min (VV)
+    coarse: bool = False
+    fine: bool = False
+    last_velocity: float = 0.0
+    acceleration: float = 0.0
+    helix: tuple[MachineAxis, float] | None = None  # polygon turning: an axis and its lead per LS turn
+    pending_shift: float = 0.0  # polygon turning's R: moves the relation once synchronous
+    spcon_following: bool = False  # SPCON was programmed on the FS: position control stays after COUPOF
+
+    @property
+    def ratio(self) -> float:
+        return self.definition.ratio
+
+    @property
+    def setpoint_synchronous(self) -> bool:
+        return self.phase is Phase.SYNCHRONOUS and self.overlay is None and not self.offset_pending
+
+
+class CouplingSignals:
+    def __init__(self, table: SignalTable):
+        self.overlay_enable = table.bit("coupling.out.enableFollowOverlay")
+        self.resync = table.bit("coupling.out.syncSpindleResync")
+        self.sync_disable = table.bit("coupling.out.syncSpindleSyncDisable")
+        self.correction = table.bit("coupling.out.syncCorrection")
+        self.delete_correction = table.bit("coupling.out.syncResetCorrection")
+        self.sync_mode = table.bit("spindle.in.syncModeActive")
+        self.fine = table.bit("coupling.in.syncFineReached")
+        self.coarse = table.bit("coupling.in.syncCoarseReached")
+        self.overlaid = table.bit("coupling.in.MotionOverlaid")
+        self.speed_warning = table.bit("coupling.in.egSpeedThresholdReached")
+        self.accel_warning = table.bit("coupling.in.egAccelThresholdReached")
+        self.leading_active = table.bit("coupling.in.leadingSpindleActive")
+        self.following_active = table.bit("coupling.in.followingSpindleActive")
+        self.correction_done = table.bit("coupling.in.CorrectionDone")
+        self.accelerating = table.bit("coupling.in.egAccelReached")
+        self.process_active = table.bit("coupling.in.ProcessActive")
+        self.correction_active = table.bit("coupling.in.CorrectionActive")
+        self.fine_2 = table.bit("coupling.in.syncFine2Reached")
+        self.coarse_2 = table.bit("coupling.in.syncCoarse2Reached")
+
+
+@dataclass(slots=True)
+class CouplingInputs:
+    overlay_enable: bool = False
+    resync: bool = False
+    sync_disable: bool = False
+    correction: bool = False
+    delete_correction: bool = False
+    edges: set[str] = field(default_factory=set)
+
+
+class Couplings:
+    """The synchronous spindle pairs of all channels (see the module docstring)."""
+
+    def __init__(self, channels: list[ChannelConfig], spindles: dict[str, Spindle], signals: CouplingSignals,
+                 areas: dict[str, bytearray], dt: float, alarms: AlarmList):
+        self._spindles = spindles
+        self._signals = signals
+        self._areas = areas  # machine axis -> its DB31.. area
+        self._dt = dt
+        self._alarms = alarms
+        self._channels = {channel.name: channel for channel in channels}
+        self.inputs = {name: CouplingInputs() for name in spindles}
+        self.definitions: dict[str, PairDefinition] = {}
+        self.active: dict[str, Coupling] = {}
+        self._written: dict[str, tuple[object, ...]] = {}
+        for channel in channels:
+            configured = self._configured_pair(channel)
+            if configured is not None:
+                self.definitions[configured.following] = configured
+
+    # ------------------------------------------------------------------ definitions
+    def _configured_pair(self, channel: ChannelConfig) -> PairDefinition | None:
+        """MD21300 COUPLE_AXIS_1 = [FS, LS] as channel axis numbers (MD20070), 0 = none."""
+        numbers = [channel.md.int(MD.COUPLE_AXIS_1, index) for index in (0, 1)]
+        if not all(numbers) or max(numbers) > len(channel.axes):
+            return None
+        following, leading = (channel.axes[number - 1] for number in numbers)
+        if following not in self._spindles or leading not in self._spindles:
+            return None
+        return self._configured_data(channel, following, leading)
+
+    def _configured_data(self, channel: ChannelConfig, following: str, leading: str) -> PairDefinition:
+        md = channel.md
+        numerator, denominator = md.floats(MD.COUPLE_RATIO_1)
+        return PairDefinition(following, leading, numerator, denominator,
+                              BlockChange(md.int(MD.COUPLE_BLOCK_CHANGE_CTRL_1)), Kind(md.int(MD.COUPLING_MODE_1)),
+                              configured=True, write_protected=md.bool(MD.COUPLE_IS_WRITE_PROT_1))
+
+    def coupled(self, name: str) -> Coupling | None:
+        """The coupling ``name`` follows in, if any."""
+        return self.active.get(name)
+
+    def involved(self, name: str) -> bool:
+        return name in self.active or any(c.definition.leading == name for c in self.active.values())
+
+    def define(self, channel: str, following: str, leading: str, numerator: float | None, denominator: float | None,
+               block_change: BlockChange | None, kind: Kind | None) -> int:
+        """COUPDEF: only the parameters written change (L22560-22632).  Returns an alarm number or 0."""
+        definition = self.definitions.get(following)
+        if definition is not None and definition.leading != leading:
+            if definition.configured:
+                return ALARM_WRITE_PROTECTED  # the configured pair's axes cannot be changed (L21887-21893)
+            if following in self.active:
+                return ALARM_COUPLING_ACTIVE
+            definition = None  # a user pair with another LS: replaced
+        if definition is None:
+            definition = PairDefinition(following, leading)
+        if definition.write_protected:
+            return ALARM_WRITE_PROTECTED
+        if kind is not None and kind is not definition.kind and following in self.active:
+            return ALARM_COUPLING_ACTIVE  # the type changes only while decoupled (L22616)
+        if numerator is not None:
+            definition.numerator = numerator
+            definition.denominator = 1.0 if denominator is None else denominator
+        if block_change is not None:
+            definition.block_change = block_change
+        if kind is not None:
+            definition.kind = kind
+        self.definitions[following] = definition
+        return 0
+
+    def delete(self, following: str) -> int:
+        """COUPDEL: end an active coupling like COUPOF and forget the user pair (L22638-22647)."""
+        definition = self.definitions.get(following)
+        if definition is None:
+            return ALARM_COUPLING_NOT_DEFINED
+        if following in self.active:
+            self.decouple(following, stop=False)
+        if not definition.configured:
+            del self.definitions[following]
+        return 0
+
+    def restore(self, following: str) -> int:
+        """COUPRES: the machine data (or the defaults of a user pair) apply again (L22649-22657)."""
+        definition = self.definitions.get(following)
+        if definition is None:
+            return ALARM_COUPLING_NOT_DEFINED
+        channel = self._channels[self._spindles[following].channel]
+        fresh = (self._configured_data(channel, following, definition.leading) if definition.configured
+                 else PairDefinition(following, definition.leading))
+        definition.numerator, definition.denominator = fresh.numerator, fresh.denominator
+        definition.block_change = fresh.block_change
+        if following not in self.active:
+            definition.kind = fresh.kind
+        return 0
+
+    # ------------------------------------------------------------------ activation
+    def couple(self, channel: str, following: str, leading: str, offset: float | None, keep_speed: bool,
+               cycle: int, block: str) -> int:
+        """COUPON / COUPONC (L22707-22727).  Returns an alarm number or 0."""
+        definition = self.definitions.get(following)
+        if definition is None or definition.leading != leading:
+            return ALARM_COUPLING_NOT_DEFINED
+        present = self.active.get(following)
+        if present is not None:
+            if offset is not None and present.phase is Phase.SYNCHRONOUS:
+                self._set_offset(present, offset, waits=True)  # a new offset as overlaid motion
+            return 0
+        busy = self.involved(leading) and leading not in [c.definition.leading for c in self.active.values()]
+        in_channel = sum(1 for coupling in self.active.values() if coupling.channel == channel)
+        if busy or self.involved(following) or in_channel >= MAX_PAIRS_PER_CHANNEL:
+            return ALARM_TOO_MANY_COUPLINGS
+        fs, ls = self._spindles[following], self._spindles[leading]
+        if fs.change is not None or ls.change is not None or fs.mode is SpindleMode.OSCILLATION:
+            return ALARM_COUPLING_ACTIVE
+        if definition.kind is not Kind.VV and not (fs.axis.referenced and ls.axis.referenced):
+            # allowed (a part clamped in both spindles after power-on), but the control warns (L22214-22231)
+            self._alarms.raise_alarm(ALARM_NOT_SYNCHRONISED, cycle, channel, block,
+                                     following if not fs.axis.referenced else leading, channel=channel,
+                                     axis=following)
+        coupling = Coupling(definition, channel)
+        coupling.spcon_following = fs.position_control and fs.mode is not SpindleMode.AXIS
+        if offset is not None:
+            coupling.programmed = offset % 360.0
+            coupling.offset_pending = True
+        if keep_speed:
+            # COUPONC: the FS's own M3/M4 S stays as differential speed (L22719-22721, L23466-23470)
+            direction = -fs.direction if fs.inputs.invert_m3_m4 else fs.direction
+            coupling.differential = direction * fs.speed
+        self.active[following] = coupling
+        fs.enter_synchronous_mode()
+        axis = fs.axis
+        if axis.owner not in (Owner.NONE, Owner.SPINDLE, Owner.COUPLING):
+            axis.brake()
+        axis.take(Owner.COUPLING)
+        self._switch_position_control(coupling, on=True)
+        return 0
+
+    def _switch_position_control(self, coupling: Coupling, on: bool) -> None:
+        """Automatic position control (L22816-22857): DV switches on FS and LS, AV the FS."""
+        definition = coupling.definition
+        fs, ls = self._spindles[definition.following], self._spindles[definition.leading]
+        if definition.kind is Kind.VV:
+            return
+        if on:
+            fs.set_position_control(True)
+            if definition.kind is Kind.DV:
+                ls.set_position_control(True)
+            return
+        if not coupling.spcon_following:
+            fs.set_position_control(False)
+        other_dv = any(c.definition.leading == ls.name and c.definition.kind is Kind.DV
+                       for c in self.active.values())
+        if definition.kind is Kind.DV and not other_dv and not ls.spcon and ls.mode is SpindleMode.CONTROL:
+            ls.set_position_control(False)
+
+    def decouple(self, following: str, stop: bool) -> int:
+        """COUPOF / COUPOFS: the FS keeps its present speed as M3/M4 S (L22234-22260, L23555-23561)
+        or, with COUPOFS, brakes to a stop."""
+        coupling = self.active.pop(following, None)
+        if coupling is None:
+            return 0 if following in self.definitions else ALARM_COUPLING_NOT_DEFINED
+        fs = self._spindles[following]
+        velocity = fs.axis.command_velocity
+        self._switch_position_control(coupling, on=False)
+        fs.leave_synchronous_mode(0.0 if stop else velocity / RPM)
+        self._alarms.clear(ALARM_OVERLAY_NOT_ENABLED, axis=following)
+        leading = self._spindles[coupling.definition.leading]
+        leading.speed_cap = None
+        leading.coupling_hold = False
+        if coupling.helix is not None:
+            coupling.helix[0].fold_overlay()
+        return 0
+
+    def _set_offset(self, coupling: Coupling, offset: float, waits: bool, limit: float | None = None) -> None:
+        """Move the relation to ``offset`` (degrees, relative to the LS's 0) the short way."""
+        coupling.programmed = offset % 360.0
+        self._move_relation(coupling, wrap180(offset - coupling.target), waits, limit)
+
+    def _move_relation(self, coupling: Coupling, distance: float, waits: bool, limit: float | None = None,
+                       resync: bool = False) -> None:
+        fs = self._spindles[coupling.definition.following]
+        speed = limit if limit else fs.axis.dyn.max_velocity * 0.9  # "the highest possible velocity"
+        if coupling.overlay is not None:
+            distance += coupling.overlay.left
+        coupling.target += distance
+        coupling.overlay = Overlay(distance, speed, coupling.overlay.velocity if coupling.overlay else 0.0,
+                                   waits, resync)
+
+    def position_following(self, following: str, mode: str, value: float, feed: float, wait: bool) -> None:
+        """SPOS / SPOSA on a coupled FS: the offset changes as overlaid motion at FA[Sn]
+        (L21993-22021); an absolute value names the new offset, IC an increment of it [INF]."""
+        coupling = self.active[following]
+        fs = self._spindles[following]
+        limit = feed * RPM / 360.0 if feed > 0.0 else fs.positioning_speed() * RPM
+        if fs.inputs.use_feed_override:
+            limit *= fs.override()
+        if mode == "IC":
+            coupling.programmed = (coupling.target + value) % 360.0
+            self._move_relation(coupling, value, wait, limit)
+        else:
+            self._set_offset(coupling, value, wait, limit)
+
+    def program_differential(self, following: str, direction: int | None, speed: float | None, cycle: int,
+                             block: str) -> int:
+        """M3/M4/M5 S on a coupled FS: a differential speed on top of the coupling (L23402-23597)."""
+        coupling = self.active[following]
+        fs = self._spindles[following]
+        if direction in (3, 4) and speed is None:
+            return ALARM_NO_SPEED_PROGRAMMED
+        if speed is not None:
+            fs.show_speed(speed)
+        if direction == 5:
+            coupling.differential = 0.0
+        elif direction is not None and speed is not None:
+            coupling.differential = (1.0 if direction == 3 else -1.0) * abs(speed)
+        elif speed is not None:
+            coupling.differential = math.copysign(abs(speed), coupling.differential or 1.0)
+        if coupling.differential and not self.inputs[following].overlay_enable:
+            self._alarms.raise_alarm(ALARM_OVERLAY_NOT_ENABLED, cycle, coupling.channel, following,
+                                     channel=coupling.channel, axis=following)
+        return 0
+
+    def holds_block(self, following: str, criterion: BlockChange | None = None) -> bool:
+        """The block change after COUPON (or WAITC) waits for the criterion (L22583-22592, L22659-22690)."""
+        coupling = self.active.get(following)
+        if coupling is None:
+            return False
+        wanted = coupling.definition.block_change if criterion is None else criterion
+        if coupling.overlay is not None and coupling.overlay.waits and criterion is None:
+            return True
+        if wanted is BlockChange.NOC:
+            return False
+        if not coupling.setpoint_synchronous:
+            return True
+        if wanted is BlockChange.FINE:
+            return not coupling.fine
+        if wanted is BlockChange.COARSE:
+            return not coupling.coarse
+        return False
+
+    def overlay_holds_block(self, following: str) -> bool:
+        coupling = self.active.get(following)
+        return coupling is not None and coupling.overlay is not None and coupling.overlay.waits
+
+    # ------------------------------------------------------------------ channel events
+    def nc_start(self, channel: str) -> None:
+        """Program start: configured pair per MD21330, programmed pairs per MD20112 bit 10 (L22946-22956)."""
+        config = self._channels[channel]
+        for following, definition in list(self.definitions.items()):
+            if self._spindles[following].channel != channel:
+                continue
+            if definition.configured:
+                mode = config.md.int(MD.COUPLE_RESET_MODE_1)
+                if mode & CANCEL_AT_START and following in self.active:
+                    self.decouple(following, stop=False)
+                if mode & (1 << 5):
+                    self.restore(following)
+                if mode & ACTIVATE_AT_START and following not in self.active:
+                    self.couple(channel, following, definition.leading, None, False, 0, "")
+            elif config.md.int(MD.START_MODE_MASK) & CANCEL_PROGRAMMED_AT_START and following in self.active:
+                self.decouple(following, stop=False)
+
+    def reset(self, channel: str) -> None:
+        """Reset / program end: configured pair per MD21330 bits 1/6 with MD20110 bit 0, programmed
+        pairs kept only with MD20110 bits 0 and 10 (L22968-22981)."""
+        config = self._channels[channel]
+        reset_mode = config.md.int(MD.RESET_MODE_MASK)
+        if not reset_mode & RESET_BEHAVIOUR:
+            return
+        for following, definition in list(self.definitions.items()):
+            if self._spindles[following].channel != channel:
+                continue
+            if definition.configured:
+                mode = config.md.int(MD.COUPLE_RESET_MODE_1)
+                cancel = bool(mode & CANCEL_AT_RESET)
+                if mode & (1 << 6):
+                    self.restore(following)
+            else:
+                cancel = not reset_mode & KEEP_PROGRAMMED_AT_RESET
+            coupling = self.active.get(following)
+            if cancel and coupling is not None:
+                self.decouple(following, stop=False)
+            elif coupling is not None:
+                coupling.differential = 0.0  # reset ends the FS's own motion, not the coupling
+
+    # ------------------------------------------------------------------ PLC inputs
+    def decode_inputs(self, name: str) -> None:
+        area, sig = self._areas[name], self._signals
+        inputs = self.inputs[name]
+        now = {
+            "overlay_enable": sig.overlay_enable.get(area), "resync": sig.resync.get(area),
+            "sync_disable": sig.sync_disable.get(area), "correction": sig.correction.get(area),
+            "delete_correction": sig.delete_correction.get(area),
+        }
+        for key, value in now.items():
+            if value and not getattr(inputs, key):
+                inputs.edges.add(key)
+            setattr(inputs, key, value)
+        if inputs.overlay_enable:
+            self._alarms.clear(ALARM_OVERLAY_NOT_ENABLED, axis=name)
+
+    # ------------------------------------------------------------------ the cycle
+    def cycle(self, cycle: int) -> None:
+        """Drive every coupled FS after the spindles ran (the LS has its setpoint of this cycle)."""
+        for following, coupling in self.active.items():
+            self._plc_requests(following, coupling)
+            self._drive(following, coupling)
+
+    def _plc_requests(self, following: str, coupling: Coupling) -> None:
+        inputs = self.inputs[following]
+        edges, inputs.edges = inputs.edges, set()
+        fs = self._spindles[following]
+        if "resync" in edges and coupling.programmed is not None and coupling.phase is Phase.SYNCHRONOUS:
+            # DBX31.4: restore the programmed offset (L23098-23145); the relation restarts from where
+            # the FS stands now
+            coupling.target = coupling.relation
+            self._move_relation(coupling, wrap180(coupling.programmed - (coupling.relation % 360.0)),
+                                waits=False, resync=True)
+        if inputs.resync is False and coupling.overlay is not None and coupling.overlay.resync \
+                and coupling.overlay.left == 0.0:
+            coupling.overlay = None
+        allowed = not fs.axis.inputs.disable and coupling.definition.kind is not Kind.VV \
+            and abs(abs(coupling.ratio) - 1.0) < 1e-12 and coupling.setpoint_synchronous
+        measure = inputs.correction and ("correction" in edges or not fs.md.int(MD.MISC_FUNCTION_MASK)
+                                         & EDGE_TRIGGERED_CORRECTION)
+        if measure and allowed:
+            # DBX31.6: take the measured deviation as correction (L31317-31700)
+            coupling.correction = wrap180(self._actual_relation(coupling) - coupling.relation)
+            coupling.correction_done = False
+        if "delete_correction" in edges:
+            coupling.correction = 0.0
+            coupling.correction_done = False
+        settled = coupling.correction_applied == coupling.correction
+        if not inputs.correction and not inputs.delete_correction and settled:
+            coupling.correction_done = False  # the PLC took note: 99.2 goes with 31.6 / 31.7
+
+    def _leading(self, coupling: Coupling) -> tuple[float, float]:
+        """Position and velocity of the LS the FS follows (setpoint, or actual value for AV)."""
+        ls = self._spindles[coupling.definition.leading].axis
+        if coupling.definition.kind is Kind.AV or not ls.drive_ready:
+            return ls.actual, ls.velocity
+        return ls.setpoint, ls.command_velocity
+
+    def _actual_relation(self, coupling: Coupling) -> float:
+        fs = self._spindles[coupling.definition.following].axis
+        ls = self._spindles[coupling.definition.leading].axis
+        return fs.actual - coupling.ratio * ls.actual
+
+    def _drive(self, following: str, coupling: Coupling) -> None:
+        fs = self._spindles[following]
+        ls = self._spindles[coupling.definition.leading]
+        axis, dt, k = fs.axis, self._dt, coupling.ratio
+        ls.speed_cap = fs.max_speed / abs(k) if k else None  # the LS slows so the FS keeps its limits
+        position, velocity = self._leading(coupling)
+        accel = fs.coupled_acceleration()
+        # the LS's disable acts on the FS as well; the FS's own is ignored while coupled (L23212-23230)
+        axis.disable_by_coupling = ls.axis.inputs.disable
+        # the FS's spindle stop brakes the coupled group unless MD30455 bit 4 limits it to the FS's own
+        # motion (L22391-22401)
+        fs_stop = axis.inputs.feed_stop
+        ls.coupling_hold = fs_stop and not fs.md.int(MD.MISC_FUNCTION_MASK) & FEED_STOP_ON_FS_ONLY
+        if fs_stop:
+            coupling.differential_velocity = ramp(coupling.differential_velocity, 0.0, accel, dt)
+        wanted_differential = 0.0 if fs.inputs.delete_s else coupling.differential * RPM
+        if not self.inputs[following].overlay_enable:
+            wanted_differential = 0.0
+        coupling.differential_velocity = ramp(coupling.differential_velocity, wanted_differential, accel, dt)
+        fs.sync_speed_reached = self.inputs[following].overlay_enable and wanted_differential != 0.0 and \
+            coupling.differential_velocity == wanted_differential
+        if axis.owner is not Owner.COUPLING:
+            # braked by an alarm or the e-stop: the relation follows the FS until the brake is done
+            coupling.relation = axis.setpoint - k * position
+            if axis.owner is Owner.NONE:
+                axis.take(Owner.COUPLING)
+            return
+        if not axis.servo_on and (axis.follow_up or not axis.drive_ready):
+            if axis.follow_up:
+                coupling.relation = axis.actual - k * position  # follow-up: the relation is lost (L23080)
+            axis.setpoint = k * position + coupling.relation + coupling.correction_applied
+            axis.command_velocity = 0.0
+            return
+        if coupling.phase is Phase.SYNCHRONISING:
+            coupled_velocity = k * velocity + coupling.differential_velocity
+            new_velocity = ramp(axis.command_velocity, coupled_velocity, accel, dt)
+            axis.command_velocity = new_velocity
+            axis.setpoint += new_velocity * dt
+            if abs(new_velocity - coupled_velocity) <= _SPEEDS_AGREE:
+                self._synchronous(following, coupling, k * position)
+            return
+        overlay_velocity = 0.0 if fs_stop else self._overlay_step(coupling, accel)
+        coupling.relation += (overlay_velocity + coupling.differential_velocity) * dt
+        coupling.target += coupling.differential_velocity * dt
+        correction_velocity = self._correction_step(coupling, accel)
+        axis.setpoint = k * position + coupling.relation + coupling.correction_applied
+        axis.command_velocity = k * velocity + overlay_velocity + coupling.differential_velocity + correction_velocity
+        if coupling.helix is not None:
+            helix_axis, lead = coupling.helix
+            helix_axis.add_overlay(lead * velocity * dt / 360.0, lead * velocity / 360.0)
+
+    def _synchronous(self, following: str, coupling: Coupling, leading_part: float) -> None:
+        """Setpoint synchronism: the relation is fixed; a programmed offset follows as overlay
+        unless DBX31.5 forbids it (L22277-22319)."""
+        fs = self._spindles[following].axis
+        coupling.phase = Phase.SYNCHRONOUS
+        coupling.relation = coupling.target = fs.setpoint - leading_part
+        if coupling.pending_shift:
+            self._move_relation(coupling, coupling.pending_shift, waits=False)
+            coupling.pending_shift = 0.0
+        if coupling.offset_pending:
+            coupling.offset_pending = False
+            assert coupling.programmed is not None
+            if not self.inputs[following].sync_disable:
+                self._set_offset(coupling, coupling.programmed, waits=True)
+
+    def _overlay_step(self, coupling: Coupling, accel: float) -> float:
+        overlay = coupling.overlay
+        if overlay is None:
+            return 0.0
+        if overlay.left == 0.0:
+            if not overlay.resync:
+                coupling.overlay = None
+            return 0.0
+        direction = 1.0 if overlay.left > 0 else -1.0
+        speed = min(ramp(abs(overlay.velocity), overlay.limit, accel, self._dt),
+                    stopping_velocity(abs(overlay.left), accel, self._dt))
+        step = min(speed * self._dt, abs(overlay.left))
+        overlay.left -= direction * step
+        if abs(overlay.left) <= 1e-9:
+            overlay.left = 0.0
+        overlay.velocity = direction * speed
+        return direction * step / self._dt
+
+    def _correction_step(self, coupling: Coupling, accel: float) -> float:
+        """The correction moves with 10 % of the dynamics (L31560-31570)."""
+        remaining = coupling.correction - coupling.correction_applied
+        if remaining == 0.0:
+            coupling.correction_velocity = 0.0
+            inputs = self.inputs[coupling.definition.following]
+            coupling.correction_done = inputs.correction or inputs.delete_correction
+            return 0.0
+        fs = self._spindles[coupling.definition.following].axis
+        limit = fs.dyn.max_velocity * CORRECTION_DYNAMICS
+        correction_accel = accel * CORRECTION_DYNAMICS
+        direction = 1.0 if remaining > 0 else -1.0
+        speed = min(ramp(abs(coupling.correction_velocity), limit, correction_accel, self._dt),
+                    stopping_velocity(abs(remaining), correction_accel, self._dt))
+        step = min(speed * self._dt, abs(remaining))
+        coupling.correction_applied += direction * step
+        if abs(coupling.correction - coupling.correction_applied) <= 1e-9:
+            coupling.correction_applied = coupling.correction
+        coupling.correction_velocity = direction * speed
+        return direction * step / self._dt
+
+    def quantity(self, following: str, name: str) -> float:
+        """The system variables of a coupled FS (``COUPLING_QUANTITY_MEANINGS`` in vc/observables.py)."""
+        coupling = self.active.get(following)
+        if coupling is None:
+            return 0.0
+        if name == "couplingOffset":
+            return _degrees(coupling.relation)
+        if name == "couplingOffsetActual":
+            return _degrees(self._actual_relation(coupling))
+        if name == "couplingOffsetProgrammed":
+            return coupling.programmed or 0.0
+        if name == "couplingCorrection":
+            return coupling.correction
+        return coupling.deviation
+
+    def clamp(self, following: str, twist: float) -> bool:
+        """A part clamped in FS and LS: the FS is held at the LS's angle plus its present relation
+        and ``twist`` degrees (a plant fault; False: the spindle follows nobody)."""
+        coupling = self.active.get(following)
+        if coupling is None:
+            return False
+        fs = self._spindles[following].axis
+        ls = self._spindles[coupling.definition.leading].axis
+        fs.clamp = (ls, coupling.ratio, fs.physical - coupling.ratio * ls.physical + twist)
+        fs.resting = False
+        return True
+
+    # ------------------------------------------------------------------ monitoring and signals
+    def monitor(self, cycle: int) -> None:
+        """Synchronism, warning thresholds and the DB31 coupling signals (after the axes moved)."""
+        for following, coupling in self.active.items():
+            self._monitor_pair(following, coupling, cycle)
+        self._write_outputs()
+
+    def _monitor_pair(self, following: str, coupling: Coupling, cycle: int) -> None:
+        fs = self._spindles[following]
+        md, axis = fs.md, fs.axis
+        if coupling.definition.kind is Kind.VV:
+            ls = self._spindles[coupling.definition.leading].axis
+            deviation = abs(axis.velocity - coupling.ratio * ls.velocity - coupling.differential_velocity) / RPM
+            coarse_tolerance, fine_tolerance = md.float(MD.COUPLE_VELO_TOL_COARSE), md.float(MD.COUPLE_VELO_TOL_FINE)
+        else:
+            heading = coupling.target + (coupling.overlay.left if coupling.overlay and coupling.overlay.resync else 0.0)
+            # the FS's own motion (differential speed) lags like any setpoint behind its position
+            # controller; the coupled part lags as the LS does and cancels
+            own = coupling.differential_velocity
+            lag = own * axis.following_error / axis.command_velocity if own and axis.command_velocity else 0.0
+            deviation = abs(wrap180(self._actual_relation(coupling) - heading - coupling.correction + lag))
+            coarse_tolerance, fine_tolerance = md.float(MD.COUPLE_POS_TOL_COARSE), md.float(MD.COUPLE_POS_TOL_FINE)
+        coupling.deviation = deviation
+        synchronous = coupling.setpoint_synchronous
+        coupling.coarse = synchronous and deviation <= coarse_tolerance
+        coupling.fine = synchronous and deviation <= fine_tolerance
+        for number, tolerance in ((ALARM_FINE_2_EXCEEDED, md.float(MD.COUPLE_POS_TOL_FINE_2)),
+                                  (ALARM_COARSE_2_EXCEEDED, md.float(MD.COUPLE_POS_TOL_COARSE_2))):
+            if tolerance > 0.0 and synchronous and deviation > tolerance:
+                self._alarms.raise_alarm(number, cycle, coupling.channel, following, channel=coupling.channel,
+                                         axis=following)
+            elif tolerance > 0.0 and self._alarms.is_present(number, following):
+                self._alarms.clear(number, axis=following)  # a display alarm: gone with its cause
+        coupling.acceleration = (axis.command_velocity - coupling.last_velocity) / self._dt
+        coupling.last_velocity = axis.command_velocity
+
+    def _write_outputs(self) -> None:
+        leaders = {c.definition.leading for c in self.active.values()}
+        for name in self._spindles:
+            coupling = self.active.get(name)
+            status: tuple[object, ...]
+            if coupling is None:
+                status = (name in leaders,)
+            else:
+                md, axis = self._spindles[name].md, self._spindles[name].axis
+                warning = md.float(MD.EG_VEL_WARNING) / 100.0
+                accel_threshold = md.float(MD.EG_ACC_TOL) / 100.0 * axis.dyn.max_accel
+                overlay = coupling.overlay
+                overlaid = (overlay is not None and overlay.left != 0.0) or coupling.differential_velocity != 0.0
+                status = (
+                    name in leaders, coupling.fine, coupling.coarse, overlaid,
+                    abs(axis.command_velocity) > warning * axis.dyn.max_velocity,
+                    abs(coupling.acceleration) > warning * axis.dyn.max_accel,
+                    coupling.correction_done, abs(coupling.acceleration) > accel_threshold,
+                    not coupling.coarse or (overlay is not None and overlay.resync),
+                    coupling.correction_applied != 0.0,
+                    self._within(coupling, md.float(MD.COUPLE_POS_TOL_FINE_2)),
+                    self._within(coupling, md.float(MD.COUPLE_POS_TOL_COARSE_2)),
+                )
+            if self._written.get(name) == status:
+                continue
+            self._written[name] = status
+            self._put(name, status, coupling is not None)
+
+    @staticmethod
+    def _within(coupling: Coupling, tolerance: float) -> bool:
+        return tolerance > 0.0 and coupling.setpoint_synchronous and coupling.deviation <= tolerance
+
+    def _put(self, name: str, status: tuple[object, ...], following: bool) -> None:
+        area, sig = self._areas[name], self._signals
+        sig.leading_active.put(area, bool(status[0]))
+        values = status[1:] if following else (False,) * 11
+        bits = (sig.fine, sig.coarse, sig.overlaid, sig.speed_warning, sig.accel_warning, sig.correction_done,
+                sig.accelerating, sig.process_active, sig.correction_active, sig.fine_2, sig.coarse_2)
+        for bit, value in zip(bits, values, strict=True):
+            bit.put(area, bool(value))
+        sig.following_active.put(area, following)
+        sig.sync_mode.put(area, following)

@@ -1,0 +1,36 @@
+"""The coupling parameters a part program names: COUPDEF's <CouplingType> and <BlockChange>."""
+
+from __future__ import annotations
+
+from enum import Enum
+
+
+class Kind(Enum):
+    """COUPDEF's <CouplingType> and MD21310 (0 = AV, 1 = DV, 2 = VV [control] coding)."""
+
+    AV = 0
+    DV = 1
+    VV = 2
+
+
+class BlockChange(Enum):
+    """COUPDEF's <BlockChange> and MD21320 (L22583-22596; 0..3 [control] coding)."""
+
+    NOC = 0  # at once
+    FINE = 1  # at synchronism fine
+    COARSE = 2  # at synchronism coarse
+    IPOSTOP = 3  # at setpoint synchronism
+
+
+def block_change_of(text: str) -> BlockChange | None:
+    """Only the initial letters count: "NOC", "FINE", "COARSE", "IPOSTOP" (L22595-22596)."""
+    word = text.strip().upper()
+    for criterion, prefix in ((BlockChange.NOC, "NO"), (BlockChange.FINE, "FI"), (BlockChange.COARSE, "CO"),
+                              (BlockChange.IPOSTOP, "IP")):
+        if word.startswith(prefix):
+            return criterion
+    return None
+
+
+def kind_of(text: str) -> Kind | None:
+    return {"DV": Kind.DV, "AV": Kind.AV, "VV": Kind.VV}.get(text.strip().upper())
