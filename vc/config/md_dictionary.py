@@ -584,6 +584,99 @@ INCL_AXIS_INCLINED = MdDef(62805, "INCL_AXIS_INCLINED", C, INT, 0,
 INCL_AXIS_ORTHOGONAL = MdDef(62806, "INCL_AXIS_ORTHOGONAL", C, INT, 0,
                              "channel axis number of the orthogonal axis (GSK 8212); project machine datum",
                              "seed 000 L454-464, L45-49", "", 0, 20)
+# The seed contradicts itself on 8211/8212 that are 0, equal or beyond the axis count:
+# L45-49 picks the axes from the M/T series table, L460 makes the function invalid.  The
+# choice is configured here (spec 9.2), not hard-coded; the default follows the parameter
+# table L460 and the referencing order check of vc/core/referencing_control.py.
+INCL_AXIS_FALLBACK = MdDef(62807, "INCL_AXIS_FALLBACK", C, INT, 0,
+                           "MD62805/62806 unusable (0, equal or beyond the channel's axes): 0 = inclined-axis"
+                           " control invalid (L460), 1 = M-series table: inclined = geometry axis Y, orthogonal"
+                           " = Z, 2 = T-series table: inclined = X, orthogonal = Z (L45-49; GSK parameter 1022"
+                           " is MD20050 here); project machine datum", "seed 000 L45-49, L460-464",
+                           "", 0, 2, allowed=(0, 1, 2))
+INCL_AXIS_ORTHO_DIAMETER = MdDef(62808, "INCL_AXIS_ORTHO_DIAMETER", C, BOOL, False,
+                                 "the orthogonal axis is programmed in diameter: coefficient C = 2 in"
+                                 " Xa = Xp - C Yp tan(theta) (0: radius, C = 1); project machine datum",
+                                 "seed 000 L20-22")
+
+# ---------------------------------------------------------------------------------- five-axis kinematics (Syntec)
+# The five-axis mechanism chain of seed 001 (Syntec parameters of chain group 1) as machine
+# data of the project: MD630nn carries Syntec Pr30nn; a parameter triple (x, y, z) or pair
+# (start, end) is one array datum at the number of its first parameter.  Values are in the
+# units of the display, degrees and mm: the Syntec BLU is 0.001 degree (290 degrees =
+# 290000, seed 001 L15) and, by the same rule, 0.001 mm.  The seed's Pr3017 = 50000 for a
+# 30 degree origin offset (L20) is read as a misprint of 30000 (spec 9.2).
+FIVE_AXIS_ROTARY_AXES = MdDef(63000, "FIVE_AXIS_ROTARY_AXES", C, INT, (0, 0),
+                              "channel axis numbers of the 1st (master) and 2nd (slave) rotary axis of the"
+                              " five-axis chain (0 = none); Syntec names them by axis letter, so this is a"
+                              " project machine datum", "seed 001 L6-8", "", 0, 20, 2)
+FIVE_AXIS_TYPE = MdDef(63001, "FIVE_AXIS_TYPE", C, INT, 0,
+                       "five-axis mechanism type (Syntec Pr3001): 0 = not set, 1 = spindle (head-head), 2 = table"
+                       " (table-table), 3 = mixed (head-table), 4 = single rotary spindle, 5 = single rotary table",
+                       "seed 001 L8-9", "", 0, 5)
+FIVE_AXIS_TOOL_DIR = MdDef(63002, "FIVE_AXIS_TOOL_DIR", C, INT, 0,
+                           "tool direction (tip towards holder) with all rotary axes at 0 (Syntec Pr3002):"
+                           " 0 = not set, 1 = +X, 2 = +Y, 3 = +Z", "seed 001 L9", "", 0, 3)
+FIVE_AXIS_TOOL_TILT_RA = MdDef(63003, "FIVE_AXIS_TOOL_TILT_RA", C, FLOAT, 0.0,
+                               "tool tilt angle RA, turned first (Syntec Pr3003): Pr3002 = 1 about Z, 2 about X,"
+                               " 3 about Y, right-hand", "seed 001 L9-10", "deg", 0.0, 360.0)
+FIVE_AXIS_TOOL_TILT_RB = MdDef(63004, "FIVE_AXIS_TOOL_TILT_RB", C, FLOAT, 0.0,
+                               "tool tilt angle RB, turned after RA (Syntec Pr3004): Pr3002 = 1 about X, 2 about"
+                               " Y, 3 about Z, right-hand", "seed 001 L11", "deg", 0.0, 360.0)
+FIVE_AXIS_ROT1_AXIS = MdDef(63005, "FIVE_AXIS_ROT1_AXIS", C, INT, 0,
+                            "1st rotary axis parallel to (Syntec Pr3005): 0 = not set, 1 = X, 2 = Y, 3 = Z",
+                            "seed 001 L12-13", "", 0, 3)
+FIVE_AXIS_ROT2_AXIS = MdDef(63006, "FIVE_AXIS_ROT2_AXIS", C, INT, 0,
+                            "2nd rotary axis parallel to (Syntec Pr3006): 0 = not set, 1 = X, 2 = Y, 3 = Z",
+                            "seed 001 L12-13", "", 0, 3)
+FIVE_AXIS_ROT1_DIR = MdDef(63007, "FIVE_AXIS_ROT1_DIR", C, INT, 0,
+                           "rotation direction of the 1st rotary axis (Syntec Pr3007): 0 = not set,"
+                           " 1 = right-hand rule, 2 = left-hand rule", "seed 001 L13-14", "", 0, 2)
+FIVE_AXIS_ROT2_DIR = MdDef(63008, "FIVE_AXIS_ROT2_DIR", C, INT, 0,
+                           "rotation direction of the 2nd rotary axis (Syntec Pr3008): 0 = not set,"
+                           " 1 = right-hand rule, 2 = left-hand rule", "seed 001 L13-14", "", 0, 2)
+FIVE_AXIS_ROT1_RANGE = MdDef(63009, "FIVE_AXIS_ROT1_RANGE", C, FLOAT, (0.0, 0.0),
+                             "travel range [start, end] of the 1st rotary axis with five-axis functions active,"
+                             " from machine 0 in the axis's positive direction (Syntec Pr3009, Pr3010);"
+                             " start = end: no limit", "seed 001 L14-15", "deg", 0.0, 360.0, 2)
+FIVE_AXIS_ROT2_RANGE = MdDef(63011, "FIVE_AXIS_ROT2_RANGE", C, FLOAT, (0.0, 0.0),
+                             "travel range [start, end] of the 2nd rotary axis (Syntec Pr3011, Pr3012);"
+                             " start = end: no limit", "seed 001 L14-15", "deg", 0.0, 360.0, 2)
+FIVE_AXIS_HOLDER_LENGTH = MdDef(63013, "FIVE_AXIS_HOLDER_LENGTH", C, FLOAT, 0.0,
+                                "tool holder length: spindle-side rotary axis centre (control point) to the"
+                                " spindle face, types 1, 3, 4 (Syntec Pr3013)", "seed 001 L17", "mm",
+                                0.0, 999999.999)
+FIVE_AXIS_ROT1_TILT = MdDef(63015, "FIVE_AXIS_ROT1_TILT", C, FLOAT, (0.0, 0.0, 0.0),
+                            "tilt vector of the 1st rotary axis, A/B/C components (Syntec Pr3015-3017): the"
+                            " deviations of the axis about the two other axes and, about its own axis, the"
+                            " origin offset; right-hand", "seed 001 L19-20", "deg", -360.0, 360.0, 3)
+FIVE_AXIS_ROT2_TILT = MdDef(63018, "FIVE_AXIS_ROT2_TILT", C, FLOAT, (0.0, 0.0, 0.0),
+                            "tilt vector of the 2nd rotary axis, A/B/C components (Syntec Pr3018-3020)",
+                            "seed 001 L19-20", "deg", -360.0, 360.0, 3)
+FIVE_AXIS_TOOL_TO_ROT2 = MdDef(63021, "FIVE_AXIS_TOOL_TO_ROT2", C, FLOAT, (0.0, 0.0, 0.0),
+                               "type 1: offset (a, b, c) from the tool axis at the holder face to the 2nd rotary"
+                               " axis (Syntec Pr3021-3023)", "seed 001 L21-22", "mm", -999999.999, 999999.999, 3)
+FIVE_AXIS_ROT2_TO_ROT1 = MdDef(63024, "FIVE_AXIS_ROT2_TO_ROT1", C, FLOAT, (0.0, 0.0, 0.0),
+                               "type 1: offset (d, e, f) from the 2nd to the 1st rotary axis (Syntec"
+                               " Pr3024-3026)", "seed 001 L23-24", "mm", -999999.999, 999999.999, 3)
+FIVE_AXIS_ROT1_TO_ROT2 = MdDef(63031, "FIVE_AXIS_ROT1_TO_ROT2", C, FLOAT, (0.0, 0.0, 0.0),
+                               "type 2: offset (a, b, c) from the 1st to the 2nd rotary axis (Syntec"
+                               " Pr3031-3033)", "seed 001 L25-26", "mm", -999999.999, 999999.999, 3)
+FIVE_AXIS_ORIGIN_TO_ROT1 = MdDef(63034, "FIVE_AXIS_ORIGIN_TO_ROT1", C, FLOAT, (0.0, 0.0, 0.0),
+                                 "type 2 (and 5, project choice): machine coordinates (d, e, f) of a point on the"
+                                 " 1st rotary axis (Syntec Pr3034-3036)", "seed 001 L27-28", "mm",
+                                 -999999.999, 999999.999, 3)
+FIVE_AXIS_TOOL_TO_ROT1 = MdDef(63041, "FIVE_AXIS_TOOL_TO_ROT1", C, FLOAT, (0.0, 0.0, 0.0),
+                               "type 3 (and 4, project choice): offset (a, b, c) from the tool axis at the holder"
+                               " face to the 1st (spindle-side) rotary axis (Syntec Pr3041-3043)",
+                               "seed 001 L28-29", "mm", -999999.999, 999999.999, 3)
+FIVE_AXIS_ORIGIN_TO_ROT2 = MdDef(63044, "FIVE_AXIS_ORIGIN_TO_ROT2", C, FLOAT, (0.0, 0.0, 0.0),
+                                 "type 3: machine coordinates (d, e, f) of a point on the 2nd (table) rotary axis"
+                                 " (Syntec Pr3044-3046)", "seed 001 L29-30", "mm", -999999.999, 999999.999, 3)
+FIVE_AXIS_ROTARY_REFERENCE = MdDef(63055, "FIVE_AXIS_ROTARY_REFERENCE", C, INT, 0,
+                                   "reference of the table rotary axes in the transformation (Syntec Pr3055):"
+                                   " 0 = rotary origin of the machine coordinates, 1 = rotary origin of the work"
+                                   " offset (e.g. G54 C15)", "seed 001 L33-34, L41", "", 0, 1)
 
 # ------------------------------------------------------------ polygon turning (GSK980TDi parameters)
 # Seed 002 prints the GSK parameter numbers; they become channel machine data with project numbers.
