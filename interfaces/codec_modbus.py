@@ -67,6 +67,9 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
 
+from interfaces.exchange import MODE_FREE_RUNNING as MODE_FREE_RUNNING  # the link block's mode values
+from interfaces.exchange import MODE_LOCKSTEP as MODE_LOCKSTEP
+from interfaces.exchange import exchange_ranges, link_direction
 from interfaces.signals import Direction, ExpandedCatalog, SignalRef, SignalType
 
 LINK_REGISTERS = 16  # registers 0..15 of each table: the link block
@@ -93,9 +96,6 @@ REG_PLC_TO_NC_REGISTERS = 11
 REG_SCAN_DONE = 0
 REG_SESSION_READY = 1
 
-MODE_LOCKSTEP = 1
-MODE_FREE_RUNNING = 2
-
 # Modbus function codes by the table they address
 READ_COILS, READ_DISCRETE_INPUTS, READ_HOLDING, READ_INPUT = 1, 2, 3, 4
 WRITE_COIL, WRITE_REGISTER, WRITE_COILS, WRITE_REGISTERS = 5, 6, 15, 16
@@ -111,7 +111,6 @@ class Table(StrEnum):
     PLC_TO_NC = "plc_to_nc"  # holding registers and coils: the PLC writes
 
 
-_PLANT_AREA = {Table.NC_TO_PLC: "I", Table.PLC_TO_NC: "Q"}
 _DIRECTION = {Table.NC_TO_PLC: Direction.NC_TO_PLC, Table.PLC_TO_NC: Direction.PLC_TO_NC}
 
 
@@ -175,13 +174,9 @@ class RegisterMap:
         segments: dict[Table, list[Segment]] = {}
         sizes: dict[Table, int] = {}
         for table in Table:
-            ranges = [(_PLANT_AREA[table], 0, plant_sizes.get(_PLANT_AREA[table], 0))]
-            ranges += catalog.byte_ranges(_DIRECTION[table])
             cursor = DATA_START_BYTE
             placed: list[Segment] = []
-            for area, start, stop in ranges:
-                if stop <= start:
-                    continue
+            for area, start, stop in exchange_ranges(catalog, plant_sizes, _DIRECTION[table]):
                 cursor += cursor % 2  # a new register
                 cursor += start % 2  # keep the DB byte's parity: an odd byte is a low byte
                 placed.append(Segment(area, start, stop, cursor))
@@ -217,8 +212,7 @@ class RegisterMap:
     def location(self, ref: SignalRef) -> Location | None:
         """Where ``ref`` lies, or None when its direction has no table (it cannot happen for
         catalogue signals and plant I/O) or its bytes are outside the tables."""
-        table = Table.NC_TO_PLC if ref.direction in (Direction.NC_TO_PLC, Direction.PLANT_TO_PLC) \
-            else Table.PLC_TO_NC
+        table = Table.NC_TO_PLC if link_direction(ref.direction) is Direction.NC_TO_PLC else Table.PLC_TO_NC
         address = ref.address
         first = self.table_byte(table, ref.area_key, address.byte)
         if first is None:

@@ -8,9 +8,12 @@ fixed program ignores it).  It travels as UTF-8 JSON (input registers from 4096 
     {"format": 1, "machine": "turn_mill", "channels": ["CHAN1"], "axes": ["X1", "Z1", ...],
      "plant_io": {"I0.0": "EStop.chainOk", ...}, "ipo_cycle_us": 2000, "plc_cycle_ipo": 5,
      "program": "basic_machine", "parameters": {...},
-     "nc_to_plc_registers": 323, "plc_to_nc_registers": 132}
+     "nc_to_plc_registers": 323, "plc_to_nc_registers": 132,
+     "can": {"link_id": 256, "nc_to_plc_id": 512, "plc_to_nc_id": 1024, "fd": true, "checksum": true}}
 
-The register counts let a client check that it computes the same layout as the server.
+The register counts let a client check that it computes the same layout as the server.  ``can``
+comes only over the CAN link (:mod:`interfaces.codec_can`, there as segments of the description
+frame): the identifiers and frame format the PLC must use.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from interfaces.catalog import load_catalog
+from interfaces.codec_can import CanLayout, CanMapError, CanSettings
 from interfaces.codec_modbus import RegisterMap, Table
 from interfaces.plant_io import PlantIoError, PlantIoMap
 from interfaces.plc import PlcEnvironment
@@ -45,14 +49,16 @@ class LinkDescription:
     parameters: Mapping[str, Any] = field(default_factory=dict)
     nc_to_plc_registers: int = 0
     plc_to_nc_registers: int = 0
+    can: CanSettings | None = None  # the CAN link's identifiers and frame format
 
     @classmethod
-    def of(cls, environment: PlcEnvironment, program: str | None, register_map: RegisterMap) -> LinkDescription:
+    def of(cls, environment: PlcEnvironment, program: str | None, register_map: RegisterMap,
+           can: CanSettings | None = None) -> LinkDescription:
         layout = environment.catalog.layout
         entries = {str(point.address): point.name for point in environment.plant_io.points}
         return cls(environment.machine, layout.channels, layout.axes, entries, environment.ipo_cycle_us,
                    environment.plc_cycle_ipo, program, dict(environment.parameters),
-                   register_map.registers(Table.NC_TO_PLC), register_map.registers(Table.PLC_TO_NC))
+                   register_map.registers(Table.NC_TO_PLC), register_map.registers(Table.PLC_TO_NC), can)
 
     def to_json(self) -> bytes:
         document = {
@@ -61,6 +67,8 @@ class LinkDescription:
             "program": self.program, "parameters": dict(self.parameters),
             "nc_to_plc_registers": self.nc_to_plc_registers, "plc_to_nc_registers": self.plc_to_nc_registers,
         }
+        if self.can is not None:
+            document["can"] = self.can.as_dict()
         return json.dumps(document, separators=(",", ":"), sort_keys=True).encode()
 
     @classmethod
@@ -69,10 +77,12 @@ class LinkDescription:
             document = json.loads(text.decode())
             if document.get("format") != FORMAT:
                 raise DescriptionError(f"description format {document.get('format')!r}; this side reads {FORMAT}")
+            can = document.get("can")
             return cls(str(document["machine"]), tuple(document["channels"]), tuple(document["axes"]),
                        dict(document["plant_io"]), int(document["ipo_cycle_us"]), int(document["plc_cycle_ipo"]),
                        document.get("program"), dict(document.get("parameters") or {}),
-                       int(document["nc_to_plc_registers"]), int(document["plc_to_nc_registers"]))
+                       int(document["nc_to_plc_registers"]), int(document["plc_to_nc_registers"]),
+                       None if can is None else CanSettings.from_dict(can))
         except (UnicodeDecodeError, ValueError, KeyError, TypeError, AttributeError) as error:
             if isinstance(error, DescriptionError):
                 raise
@@ -98,3 +108,12 @@ class LinkDescription:
         environment = PlcEnvironment(catalog, plant_io, self.scan_time_s, self.parameters, self.machine,
                                      self.ipo_cycle_us, self.plc_cycle_ipo)
         return environment, register_map
+
+    def can_layout(self, environment: PlcEnvironment) -> CanLayout:
+        """The CAN frames the harness uses, from the settings it sent."""
+        if self.can is None:
+            raise DescriptionError("the description carries no CAN settings")
+        try:
+            return CanLayout.build(environment.catalog, environment.plant_io.area_sizes(), self.can)
+        except CanMapError as error:
+            raise DescriptionError(f"CAN identifiers of the description: {error}") from None

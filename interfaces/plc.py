@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Any, Protocol, runtime_checkable
 
 from interfaces.image import ProcessImage
 from interfaces.plant_io import PlantIoMap
@@ -45,6 +45,18 @@ class SoftPlc(Protocol):
     @property
     def sign_of_life(self) -> int:
         """A number that changes with every scan while the PLC runs (the NC watches it)."""
+
+
+@runtime_checkable
+class CyclicPlc(Protocol):
+    """A PLC behind a link that also works between the scans, every IPO cycle: CAN sends the NC's
+    frames cyclically and delivers the PLC's frames whenever they arrive."""
+
+    def sends_at(self, cycle: int) -> bool:
+        """Whether the NC-to-PLC signals go out in IPO cycle ``cycle`` (the harness refreshes them first)."""
+
+    def ipo_cycle(self, cycle: int, interface: ProcessImage, plant: ProcessImage) -> bool:
+        """Send what is due and take what arrived; True when PLC-to-NC bytes or plant outputs changed."""
 
 
 PlcFactory = Callable[[PlcEnvironment], SoftPlc]

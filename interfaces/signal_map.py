@@ -10,9 +10,13 @@ the Modbus link block.  The CSV columns start with
 * a byte, word or double word is listed as holding or input register(s): ``modbus_address`` is
   the first register, ``bit`` the lowest bit of the value in it (8 for a byte in the high half);
 * ``modbus_number`` is the 1-based display number (0xxxx coil, 1xxxx discrete input, 3xxxx input
-  register, 4xxxx holding register).
+  register, 4xxxx holding register);
+* ``can_id`` is the identifier of the CAN data frame that carries the signal (hexadecimal) and
+  ``can_start_bit`` its start bit as the DBC file gives it (``vc map --format dbc``): frame byte x 8
+  + bit for bits and bytes, the most significant bit (frame byte x 8 + 7) for S7 words and double
+  words (Motorola).  The link block is Modbus only: its CAN counterpart are the link frames.
 
-The convention itself is documented in :mod:`interfaces.codec_modbus`.
+The conventions themselves are documented in :mod:`interfaces.codec_modbus` and :mod:`interfaces.codec_can`.
 """
 
 from __future__ import annotations
@@ -23,6 +27,7 @@ import json
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 
+from interfaces.codec_can import CanLayout, CanLocation, CanSettings
 from interfaces.codec_modbus import (
     DESCRIPTION_REGISTER,
     REG_DESCRIPTION_BYTES,
@@ -46,8 +51,8 @@ from interfaces.plant_io import PlantIoMap
 from interfaces.signals import ExpandedCatalog, SignalRef
 
 COLUMNS = ("symbol", "address", "direction", "type", "modbus_table", "modbus_address", "bit", "modbus_number",
-           "register", "register_bit", "bits", "trigger", "bp_symbol", "instance", "meaning", "source", "origin",
-           "note")
+           "register", "register_bit", "can_id", "can_start_bit", "bits", "trigger", "bp_symbol", "instance", "meaning",
+           "source", "origin", "note")
 
 # The link block (interfaces/codec_modbus.py): (symbol, table kind, register, registers, meaning)
 LINK_ROWS = (
@@ -82,6 +87,8 @@ class MapRow:
     modbus_number: str
     register: int | str
     register_bit: int | str
+    can_id: str
+    can_start_bit: int | str
     bits: int
     trigger: str
     bp_symbol: str
@@ -103,28 +110,36 @@ def _modbus_columns(location: Location | None) -> tuple[str, int | str, int | st
             display_number(location.register_kind, location.register), "", "")
 
 
-def map_rows(catalog: ExpandedCatalog, plant_io: PlantIoMap) -> list[MapRow]:
+def _can_columns(location: CanLocation | None) -> tuple[str, int | str]:
+    return ("", "") if location is None else (f"0x{location.can_id:03X}", location.start_bit)
+
+
+def map_rows(catalog: ExpandedCatalog, plant_io: PlantIoMap, can: CanSettings | None = None) -> list[MapRow]:
+    """The rows of the map; ``can``: the machine's CAN settings (default identifiers otherwise)."""
     register_map = RegisterMap.build(catalog, plant_io.area_sizes())
+    can_layout = CanLayout.build(catalog, plant_io.area_sizes(), can or CanSettings())
     rows = []
     for item in catalog.signals:
         d = item.definition
         ref = SignalRef(item.symbol, item.address, d.type, d.bits, d.direction, item)
         rows.append(MapRow(item.symbol, str(item.address), d.direction.value, d.type.value,
-                           *_modbus_columns(register_map.location(ref)), d.bits, d.trigger.value, d.bp_symbol,
-                           item.instance, d.meaning, d.source, d.origin.value, d.note))
+                           *_modbus_columns(register_map.location(ref)), *_can_columns(can_layout.location(ref)),
+                           d.bits, d.trigger.value, d.bp_symbol, item.instance, d.meaning, d.source, d.origin.value,
+                           d.note))
     for point in plant_io.points:
         bits = 1 if point.address.is_bit else 8 * point.address.size
+        ref = plant_io.resolve(point.name)
         rows.append(MapRow(point.name, str(point.address), point.direction.value, point.type.value,
-                           *_modbus_columns(register_map.location(plant_io.resolve(point.name))), bits, "level",
-                           "-", "PLANT", point.meaning, "machine file plant_io", "project",
+                           *_modbus_columns(register_map.location(ref)), *_can_columns(can_layout.location(ref)),
+                           bits, "level", "-", "PLANT", point.meaning, "machine file plant_io", "project",
                            f"driven by the {point.owner.value}"))
     for symbol, kind, register, count, meaning in LINK_ROWS:
         direction = "nc_to_plc" if kind == "input_register" else "plc_to_nc"
         rows.append(MapRow(symbol, "-", direction, "dword" if count == 2 else "word", kind, register, 0,
-                           display_number(kind, register), "", "", 16 * count, "level", "-", "LINK", meaning,
+                           display_number(kind, register), "", "", "", "", 16 * count, "level", "-", "LINK", meaning,
                            "interfaces/codec_modbus.py", "project", "Modbus link block"))
     rows.append(MapRow("LINK.description", "-", "nc_to_plc", "text", "input_register", DESCRIPTION_REGISTER, 0,
-                       display_number("input_register", DESCRIPTION_REGISTER), "", "", 0, "level", "-", "LINK",
+                       display_number("input_register", DESCRIPTION_REGISTER), "", "", "", "", 0, "level", "-", "LINK",
                        "interface description, UTF-8 JSON, LINK.descriptionBytes long",
                        "interfaces/link_description.py", "project", "Modbus link block"))
     return rows
@@ -145,7 +160,7 @@ def to_json(rows: Sequence[MapRow]) -> str:
 
 def to_markdown(rows: Sequence[MapRow]) -> str:
     shown = ("symbol", "address", "direction", "type", "modbus_table", "modbus_address", "bit", "register",
-             "register_bit", "trigger", "meaning")
+             "register_bit", "can_id", "can_start_bit", "trigger", "meaning")
     lines: list[str] = []
     instance = None
     for row in rows:
@@ -159,7 +174,8 @@ def to_markdown(rows: Sequence[MapRow]) -> str:
     convention = ("\n\nModbus: bit signals are coils (PLC writes) or discrete inputs (PLC reads) with number"
                   " = table byte x 8 + bit, and the same bit in its holding or input register (S7 byte order:"
                   " an even table byte is the high byte). The convention: interfaces/codec_modbus.py;"
-                  " connecting a PLC: docs/modbus.md.\n")
+                  " connecting a PLC: docs/modbus.md. CAN: the data frame's identifier and the signal's start"
+                  " bit as in the DBC file (vc map --format dbc; docs/can.md).\n")
     return "# Signal map" + convention + "\n".join(lines) + "\n"
 
 

@@ -1,11 +1,16 @@
-"""``python -m plc_stub --modbus HOST:PORT [--program NAME]``: the built-in PLC as its own process.
+"""``python -m plc_stub --modbus HOST:PORT | --can BUS [--program NAME]``: the built-in PLC as its own process.
 
     --modbus HOST:PORT     the harness's Modbus TCP server (``vc serve`` or ``vc run --link modbus``)
+    --can BUS              the CAN bus the harness is on (``vc run --link can``): udp_multicast[:GROUP:PORT],
+                           socketcan[:INTERFACE] (interfaces/links/can_bus.py)
+    --can-link-id ID       the harness's NC link frame identifier (default 0x100, the machine file's can.ids.link)
     --program NAME         the program to run (default: the one the harness asks for)
     --period MS            scan period in free-running mode (default: the machine's PLC period)
-    --connect-timeout S    give up when no server answers for this long (default 30 s)
+    --connect-timeout S    give up when no server answers (no harness is heard on the bus) for this long
+                           (default 30 s)
 
-Exit codes: 0 stopped (Ctrl-C), 1 no server, 2 the PLC cannot run what the server describes.
+Exit codes: 0 stopped (Ctrl-C), 1 no server (no bus, no harness heard), 2 the PLC cannot run what the
+harness describes.
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
+from plc_stub.can_remote import run_on_can
 from plc_stub.remote import run_forever
 
 
@@ -28,22 +34,39 @@ def _endpoint(text: str) -> tuple[str, int]:
     return host or "127.0.0.1", number
 
 
+def _identifier(text: str) -> int:
+    try:
+        number = int(text, 0)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a CAN identifier (e.g. 0x100)") from None
+    if not 0 <= number <= 0x7FD:
+        raise argparse.ArgumentTypeError(f"'{text}': the link frames need 0 .. 0x7FD")
+    return number
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m plc_stub",
-                                     description="The built-in soft PLC as a Modbus TCP client")
-    parser.add_argument("--modbus", type=_endpoint, required=True, metavar="HOST:PORT")
+                                     description="The built-in soft PLC as a Modbus TCP client or a node on a CAN bus")
+    link = parser.add_mutually_exclusive_group(required=True)
+    link.add_argument("--modbus", type=_endpoint, metavar="HOST:PORT")
+    link.add_argument("--can", metavar="BUS", help="udp_multicast[:GROUP:PORT] or socketcan[:INTERFACE]")
+    parser.add_argument("--can-link-id", type=_identifier, default=0x100, metavar="ID",
+                        help="identifier of the NC link frame (default 0x100)")
     parser.add_argument("--program", help="PLC program (default: the one the harness asks for)")
     parser.add_argument("--period", type=float, metavar="MS", help="scan period in free-running mode, ms")
     parser.add_argument("--connect-timeout", type=float, default=30.0, metavar="S")
     arguments = parser.parse_args(argv)
-    host, port = arguments.modbus
+    period_s = arguments.period / 1000 if arguments.period else None
 
     def log(text: str) -> None:
         print(f"plc_stub: {text}", file=sys.stderr, flush=True)
 
     try:
-        return run_forever(host, port, arguments.program, arguments.period / 1000 if arguments.period else None,
-                           arguments.connect_timeout, log)
+        if arguments.can is not None:
+            return run_on_can(arguments.can, arguments.program, period_s, arguments.connect_timeout, log,
+                              arguments.can_link_id)
+        host, port = arguments.modbus
+        return run_forever(host, port, arguments.program, period_s, arguments.connect_timeout, log)
     except KeyboardInterrupt:
         return 0
 

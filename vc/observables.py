@@ -36,3 +36,12 @@ AXIS_QUANTITIES = tuple(AXIS_QUANTITY_MEANINGS) + tuple(COUPLING_QUANTITY_MEANIN
 #   workpiece_clamp          a part clamped in a following spindle and its leading spindle locks the
 #                            FS to the LS, twisted by amount (degrees), until the fault is cleared
 FAULTS = ("zero_marks_missing", "reference_marks_missing", "encoder_slip", "load_disturbance", "workpiece_clamp")
+
+# Faults of the bus between the NC and the PLC a scenario can inject (link_fault step; the scenario
+# runs its PLC behind the CAN link, link: can):
+#   loss     frames are lost (with every: n, every n-th of them)
+#   delay    frames arrive later (by: the delay); nothing overtakes them
+#   bus_off  the harness's CAN controller is bus-off: it sends and receives nothing
+LINK_FAULTS = ("loss", "delay", "bus_off")
+LINK_DIRECTIONS = ("nc_to_plc", "plc_to_nc")
+LINK_AREA = "link"  # the link frames (NC link, PLC link) among a fault's frames

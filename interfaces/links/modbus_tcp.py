@@ -49,6 +49,7 @@ from interfaces.codec_modbus import (
     write_bits,
     write_registers,
 )
+from interfaces.links.errors import LinkError as LinkError  # the links' error, raised here for pymodbus's
 
 READ_LIMIT = 125  # registers in one read request (FC 3, 4)
 WRITE_LIMIT = 123  # registers in one write request (FC 16)
@@ -57,10 +58,6 @@ _COIL_CODES = (READ_COILS, WRITE_COIL, WRITE_COILS)
 # pymodbus logs every refused request and every dropped connection at warning/error level;
 # the link reports what matters itself.
 logging.getLogger("pymodbus").setLevel(logging.CRITICAL)
-
-
-class LinkError(Exception):
-    """A link could not be set up or a peer did not answer as the protocol says."""
 
 
 @dataclass(slots=True)

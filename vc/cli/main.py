@@ -1,14 +1,18 @@
 """The ``vc`` command line: run scenarios, print the signal map, measure the speed.
 
     vc run PATH... [--junit FILE] [--trace-dir DIR] [--golden DIR [--update-golden]]
+           [--link inprocess|modbus|can [--can-bus BUS]]
                                                       run scenario files or directories
-    vc map --machine M.yaml [--format md|csv|json|guide]
-                                                      the machine's expanded signal map, or the guide
-                                                      for connecting OpenPLC / CODESYS over Modbus TCP
-    vc serve [--machine M.yaml] [--modbus HOST:PORT] [--s7 HOST:PORT] [--realtime [--speed F]]
-             [--scenario FILE] [--duration S]         the NC as a server for a PLC in another process
+    vc map --machine M.yaml [--format md|csv|json|dbc|guide]
+                                                      the machine's expanded signal map, its CAN frames as a
+                                                      DBC file, or the guide for connecting OpenPLC / CODESYS
+                                                      over Modbus TCP
+    vc serve [--machine M.yaml] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
+             [--scenario FILE] [--duration S]         the NC as a server (or CAN node) for a PLC in another
+                                                      process
     vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle
     vc bench --link modbus [--seconds S]              what the Modbus TCP link costs (bench/README.md)
+    vc bench --link can [--seconds S]                 frames per second and cost per IPO cycle of the CAN link
     vc bench --link fmu [--seconds S]                 FMU steps per second under FMPy against in process
     vc fmu export --machine M.yaml -o M.fmu           the NC and the plant as an FMI 2.0 co-simulation FMU
 
@@ -21,7 +25,8 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
+from typing import Protocol
 
 from interfaces.catalog import load_catalog
 from interfaces.signal_map import FORMATTERS, map_rows
@@ -31,9 +36,11 @@ from vc.located_yaml import SourceError
 
 DEFAULT_MACHINE = "scenarios/machines/turn_mill.yaml"
 GUIDE_FORMAT = "guide"  # vc map --format guide: docs/modbus.md for the machine
+DBC_FORMAT = "dbc"  # vc map --format dbc: the CAN frames through cantools
 DEFAULT_BENCH_SECONDS = 30.0  # simulated, in process
 DEFAULT_REALTIME_BENCH_SECONDS = 60.0  # wall-clock, the real-time measurement of --link modbus
 DEFAULT_FMU_BENCH_SECONDS = 20.0  # simulated, per workload of --link fmu
+DEFAULT_CAN_BENCH_SECONDS = 10.0  # simulated, per bus of --link can
 EXIT_PROBLEMS = 2
 
 
@@ -45,7 +52,21 @@ def _map(arguments: argparse.Namespace) -> int:
 
         sys.stdout.write(modbus_guide(machine.name, machine.source, catalog, machine.plant_io))
         return 0
-    rows = map_rows(catalog, machine.plant_io)
+    from vc.config.can_config import can_config_of
+
+    can = can_config_of(machine)
+    if arguments.format == DBC_FORMAT:
+        from interfaces.can_dbc import dbc_text
+        from interfaces.codec_can import CanLayout
+        from vc.config.model import machine_ipo_cycle_us
+
+        ipo_us = machine_ipo_cycle_us(machine)
+        layout = CanLayout.build(catalog, machine.plant_io.area_sizes(), can.settings)
+        sys.stdout.write(dbc_text(layout, catalog, machine.plant_io,
+                                  nc_cycle_ms=round(can.period_cycles(ipo_us, machine.plc_cycle_ipo) * ipo_us / 1000),
+                                  plc_cycle_ms=round(machine.plc_cycle_ipo * ipo_us / 1000)))
+        return 0
+    rows = map_rows(catalog, machine.plant_io, can.settings)
     sys.stdout.write(FORMATTERS[arguments.format](rows))
     return 0
 
@@ -55,6 +76,8 @@ def _bench(arguments: argparse.Namespace) -> int:
         return _bench_modbus(arguments)
     if arguments.link == "fmu":
         return _bench_fmu(arguments)
+    if arguments.link == "can":
+        return _bench_can(arguments)
     from vc.harness.benchmark import run_benchmark
 
     seconds = DEFAULT_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
@@ -67,20 +90,43 @@ def _bench(arguments: argparse.Namespace) -> int:
     return 0
 
 
-def _bench_modbus(arguments: argparse.Namespace) -> int:
-    from interfaces.links.modbus_tcp import LinkError
-    from vc.harness.link_benchmark import run_link_benchmark
+class HasFigures(Protocol):
+    def figures(self) -> Mapping[str, object]: ...
 
-    seconds = DEFAULT_REALTIME_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
+
+def _figures_of(run: Callable[[], HasFigures], errors: tuple[type[Exception], ...]) -> int:
+    """Run a link benchmark and print its figures as one JSON line (its progress goes before)."""
     try:
-        result = run_link_benchmark(arguments.machine, realtime_seconds=seconds,
-                                    lockstep_seconds=arguments.lockstep_seconds, exchanges=arguments.exchanges,
-                                    say=lambda text: print(text, flush=True))
-    except (LinkError, ValueError) as error:
+        result = run()
+    except errors as error:
         print(f"vc bench: {error}", file=sys.stderr)
         return EXIT_PROBLEMS
     print(json.dumps(result.figures()))
     return 0
+
+
+def _say(text: str) -> None:
+    print(text, flush=True)
+
+
+def _bench_modbus(arguments: argparse.Namespace) -> int:
+    from interfaces.links.errors import LinkError
+    from vc.harness.link_benchmark import run_link_benchmark
+
+    seconds = DEFAULT_REALTIME_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
+    return _figures_of(lambda: run_link_benchmark(arguments.machine, realtime_seconds=seconds,
+                                                  lockstep_seconds=arguments.lockstep_seconds,
+                                                  exchanges=arguments.exchanges, say=_say),
+                       (LinkError, ValueError))
+
+
+def _bench_can(arguments: argparse.Namespace) -> int:
+    from interfaces.links.errors import LinkError
+    from vc.harness.can_benchmark import run_can_benchmark
+
+    seconds = DEFAULT_CAN_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
+    return _figures_of(lambda: run_can_benchmark(arguments.machine, seconds, frames=arguments.frames, say=_say),
+                       (LinkError,))
 
 
 def _bench_fmu(arguments: argparse.Namespace) -> int:
@@ -88,13 +134,8 @@ def _bench_fmu(arguments: argparse.Namespace) -> int:
     from vc.harness.fmu_benchmark import FmuBenchmarkError, run_fmu_benchmark
 
     seconds = DEFAULT_FMU_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
-    try:
-        result = run_fmu_benchmark(arguments.machine, seconds, say=lambda text: print(text, flush=True))
-    except (FmuBenchmarkError, FmuError) as error:
-        print(f"vc bench: {error}", file=sys.stderr)
-        return EXIT_PROBLEMS
-    print(json.dumps(result.figures()))
-    return 0
+    return _figures_of(lambda: run_fmu_benchmark(arguments.machine, seconds, say=_say),
+                       (FmuBenchmarkError, FmuError))
 
 
 def _fmu_export(arguments: argparse.Namespace) -> int:
@@ -127,12 +168,23 @@ def _run(arguments: argparse.Namespace) -> int:
     if arguments.update_golden and not arguments.golden:
         print("--update-golden needs --golden DIR", file=sys.stderr)
         return EXIT_PROBLEMS
-    return run_scenario_files(arguments.paths, junit=arguments.junit, trace_dir=arguments.trace_dir,
-                              golden=arguments.golden, update_golden=arguments.update_golden, link=arguments.link)
+    if arguments.can_bus is not None and arguments.link != "can":
+        print("--can-bus needs --link can", file=sys.stderr)
+        return EXIT_PROBLEMS
+    from interfaces.links.errors import LinkError
+
+    try:
+        return run_scenario_files(arguments.paths, junit=arguments.junit, trace_dir=arguments.trace_dir,
+                                  golden=arguments.golden, update_golden=arguments.update_golden, link=arguments.link,
+                                  can_bus=arguments.can_bus)
+    except LinkError as error:
+        print(f"vc run: {error}", file=sys.stderr)
+        return EXIT_PROBLEMS
 
 
 def _serve(arguments: argparse.Namespace) -> int:
-    from interfaces.links.modbus_tcp import LinkError
+    from interfaces.links.can_bus import BusSpec
+    from interfaces.links.errors import LinkError
     from vc.harness.plc_link import Endpoint
     from vc.harness.serve import ServeOptions, serve
 
@@ -141,6 +193,7 @@ def _serve(arguments: argparse.Namespace) -> int:
             machine_path=arguments.machine,
             modbus=Endpoint.parse(arguments.modbus, 5020) if arguments.modbus else None,
             s7=Endpoint.parse(arguments.s7, 102) if arguments.s7 else None,
+            can=BusSpec.parse(arguments.can) if arguments.can else None,
             allow_remote=arguments.allow_remote,
             allowed_clients=tuple(item for text in arguments.allow for item in text.split(",") if item.strip()),
             realtime=arguments.realtime,
@@ -178,14 +231,17 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--golden", metavar="DIR",
                      help="compare each scenario with its golden trace in DIR (regression check)")
     run.add_argument("--update-golden", action="store_true", help="write the golden traces of --golden DIR anew")
-    run.add_argument("--link", choices=("inprocess", "modbus"), default="inprocess",
+    run.add_argument("--link", choices=("inprocess", "modbus", "can"), default="inprocess",
                      help="where the PLC programs run: in this process (default) or in their own process"
-                          " over a lockstep Modbus TCP link")
+                          " over a lockstep Modbus TCP link or a lockstep CAN link")
+    run.add_argument("--can-bus", metavar="BUS",
+                     help="with --link can: udp_multicast[:GROUP:PORT] (default: a channel of this run) or"
+                          " socketcan[:INTERFACE]")
     run.set_defaults(handler=_run)
 
     signal_map = commands.add_parser("map", help="print the expanded signal catalogue of a machine")
     signal_map.add_argument("--machine", required=True, help="machine YAML file")
-    signal_map.add_argument("--format", choices=[*sorted(FORMATTERS), GUIDE_FORMAT], default="md")
+    signal_map.add_argument("--format", choices=[*sorted(FORMATTERS), DBC_FORMAT, GUIDE_FORMAT], default="md")
     signal_map.set_defaults(handler=_map)
 
     serve = commands.add_parser("serve", help="serve the NC and the plant to a PLC over Modbus TCP and/or S7")
@@ -193,6 +249,8 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--modbus", nargs="?", const="127.0.0.1:5020", metavar="HOST:PORT",
                        help="serve Modbus TCP (default 127.0.0.1:5020; the default when no --s7 is given)")
     serve.add_argument("--s7", metavar="HOST:PORT", help="serve the data blocks over S7 (python-snap7)")
+    serve.add_argument("--can", metavar="BUS", help="instead of the servers, a node on a CAN bus: udp_multicast"
+                       "[:GROUP:PORT] or socketcan[:INTERFACE] (the machine file's can: settings; docs/can.md)")
     serve.add_argument("--allow-remote", action="store_true",
                        help="allow binding to an interface other than loopback")
     serve.add_argument("--allow", action="append", default=[], metavar="IP[,NET]",
@@ -212,21 +270,25 @@ def build_parser() -> argparse.ArgumentParser:
     bench = commands.add_parser("bench", help="measure the real-time factor of the simulation, the Modbus link"
                                               " or the FMU")
     bench.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")
-    bench.add_argument("--link", choices=("inprocess", "modbus", "fmu"), default="inprocess",
+    bench.add_argument("--link", choices=("inprocess", "modbus", "can", "fmu"), default="inprocess",
                        help="inprocess (default): the simulation with the PLC in this process; modbus: exchange"
                             " round trip against a bare pymodbus server, lockstep rate and real-time jitter with"
                             " plc_stub in its own process; fmu: steps per second of the exported FMU under FMPy"
                             " against the same unit in process, doStep only and with a full PLC exchange"
-                            " (needs the test extra)")
+                            " (needs the test extra); can: frames per second and added cost per IPO cycle of the"
+                            " CAN link on a virtual bus and on UDP multicast with plc_stub in its own process")
     bench.add_argument("--seconds", type=_positive, default=None,
                        help=f"inprocess: simulated seconds to run (default {DEFAULT_BENCH_SECONDS:g});"
                             f" modbus: wall seconds of the real-time measurement"
                             f" (default {DEFAULT_REALTIME_BENCH_SECONDS:g}); fmu: simulated seconds per workload"
-                            f" (default {DEFAULT_FMU_BENCH_SECONDS:g})")
+                            f" (default {DEFAULT_FMU_BENCH_SECONDS:g}); can: simulated seconds per bus"
+                            f" (default {DEFAULT_CAN_BENCH_SECONDS:g})")
     bench.add_argument("--lockstep-seconds", type=_positive, default=10.0, metavar="S",
                        help="modbus: simulated seconds of the lockstep measurement (default 10)")
     bench.add_argument("--exchanges", type=int, default=2000, metavar="N",
                        help="modbus: full interface exchanges per server, in 10 rounds (default 2000)")
+    bench.add_argument("--frames", type=int, default=20000, metavar="N",
+                       help="can: frames of the throughput measurement per bus (default 20000)")
     bench.set_defaults(handler=_bench)
 
     fmu = commands.add_parser("fmu", help="export the NC and the plant as an FMU (FMI 2.0 co-simulation)")

@@ -81,6 +81,7 @@ from interfaces.plant_io import (
     gearbox_point,
 )
 from vc.config import md_dictionary as mdd
+from vc.config.can_config import read_can_section
 from vc.config.machine_data import (
     MachineData,
     MdDef,
@@ -95,7 +96,7 @@ from vc.config.machine_data import (
 from vc.config.model import AxisConfig, AxisPlant, AxisSimulation, ChannelConfig, GearboxPlant, MachineConfig
 from vc.located_yaml import LocatedMap, Mark, Problems, load_file
 
-TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", "axes", "plant_io", "plc")
+TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", "axes", "plant_io", "plc", "can")
 SIM_KEYS = ("start_position", "zero_mark_offset", "zero_mark_offset_2", "encoder_serial", "encoder_serial_2")
 _WHOLE_SIM_KEYS = ("encoder_serial", "encoder_serial_2")
 PLANT_KEYS = ("ref_cam", "hw_limits", "gearbox")
@@ -293,6 +294,9 @@ class _MachineReader:
             parameters = self._mapping(document["plc"], document.mark_of("plc"), "plc")
             if parameters is not None:
                 self.plc_parameters = dict(parameters)
+        if "can" in document:
+            # checked here with the rest of the file; the CAN link reads it again (vc/config/can_config.py)
+            read_can_section(document["can"], document.mark_of("can"), self.problems)
 
     def _read_name(self, document: LocatedMap) -> None:
         if "machine" not in document:

@@ -1,66 +1,140 @@
-"""The built-in PLC in its own process, for ``vc run --link modbus``.
+"""The built-in PLC in its own process, for ``vc run --link modbus`` and ``vc run --link can``.
 
-One Modbus server (loopback, ephemeral port) and one ``python -m plc_stub`` process serve the
-whole run: every scenario powers its machine on, which opens a new session; the PLC restarts
-its program for it, the program the scenario names.  Scenarios without a PLC (``plc: none``)
-run in-process as always.
+One link and one ``python -m plc_stub`` process serve the whole run: every scenario powers its
+machine on, which opens a new session; the PLC restarts its program for it, the program the
+scenario names.  Over Modbus the link is a server on loopback with an ephemeral port; over CAN a
+bus (by default a UDP multicast channel of its own on this host) that carries each machine's
+``can:`` settings.  Scenarios without a PLC (``plc: none``) run in-process as always; scenarios
+that ask for a CAN link run over a virtual bus in this process when the run's link is not CAN.
 """
 
 from __future__ import annotations
 
 import subprocess
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from types import TracebackType
+from typing import Generic, Protocol, Self, TypeVar
 
+from interfaces.links.can_bus import BusSpec, private_udp_bus
+from vc.config.can_config import can_config_of
+from vc.config.model import MachineConfig
+from vc.harness.can_link import CanLink
 from vc.harness.plc_link import Endpoint, LinkMode, PlcLink
-from vc.harness.simulation import Simulation
+from vc.harness.scenarios import simulation_for
+from vc.harness.simulation import Pacer, Simulation
 from vc.scenario.model import Scenario
 
 
-class PlcProcess:
-    """A ``python -m plc_stub`` process connected to a link (lockstep unless told otherwise) on a
-    loopback server with an ephemeral port; a context manager."""
+class _PlcChild:
+    """A ``python -m plc_stub`` process; its standard error tells why it ended."""
 
-    def __init__(self, mode: LinkMode = LinkMode.LOCKSTEP, first_scan_timeout_s: float = 30.0,
-                 scan_timeout_s: float = 10.0):
-        self.process: subprocess.Popen[bytes] | None = None
-        self.link = PlcLink(mode, modbus=Endpoint("127.0.0.1", 0),
-                            first_scan_timeout_s=first_scan_timeout_s, scan_timeout_s=scan_timeout_s,
-                            peer_ended=self._ended)
-        assert self.link.modbus is not None
-        self.process = subprocess.Popen(
-            [sys.executable, "-m", "plc_stub", "--modbus", f"127.0.0.1:{self.link.modbus.port}"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    def __init__(self, arguments: Sequence[str]):
+        self.process = subprocess.Popen([sys.executable, "-m", "plc_stub", *arguments],
+                                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
 
-    def _ended(self) -> str | None:
-        if self.process is None or self.process.poll() is None:
+    def ended(self) -> str | None:
+        if self.process.poll() is None:
             return None
         message = (self.process.stderr.read() if self.process.stderr else b"").decode(errors="replace").strip()
         return f"the PLC process ended with code {self.process.returncode}" + (f": {message}" if message else "")
 
-    def target_factory(self) -> Callable[[Scenario], Simulation]:
-        def make(scenario: Scenario) -> Simulation:
-            if scenario.plc_program is None:
-                return Simulation(scenario.machine, None)
-            return Simulation(scenario.machine, scenario.plc_program, connector=self.link)
-        return make
-
     def close(self) -> None:
-        if self.process is not None and self.process.poll() is None:
+        if self.process.poll() is None:
             self.process.terminate()
             try:
                 self.process.wait(timeout=5)
             except subprocess.TimeoutExpired:
                 self.process.kill()
                 self.process.wait()
-        if self.process is not None and self.process.stderr is not None:
+        if self.process.stderr is not None:
             self.process.stderr.close()
+
+
+class _Link(Protocol):
+    def close(self) -> None: ...
+
+
+LinkType = TypeVar("LinkType", bound=_Link)
+
+
+class _ChildPlcRun(Generic[LinkType]):
+    """What both links share: the link, the child process, its end, the context manager."""
+
+    link: LinkType
+    _child: _PlcChild | None = None
+
+    @property
+    def process(self) -> subprocess.Popen[bytes] | None:
+        """The PLC process (None before the first power-on of a CAN run)."""
+        return None if self._child is None else self._child.process
+
+    def _ended(self) -> str | None:
+        return None if self._child is None else self._child.ended()
+
+    def _close_child(self) -> None:
+        if self._child is not None:
+            self._child.close()
+            self._child = None
+
+    def close(self) -> None:
+        self._close_child()
         self.link.close()
 
-    def __enter__(self) -> PlcProcess:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
                  trace: TracebackType | None) -> None:
         self.close()
+
+
+class PlcProcess(_ChildPlcRun[PlcLink]):
+    """A ``python -m plc_stub`` process connected to a Modbus TCP link (lockstep unless told otherwise)
+    on a loopback server with an ephemeral port; a context manager."""
+
+    def __init__(self, mode: LinkMode = LinkMode.LOCKSTEP, first_scan_timeout_s: float = 30.0,
+                 scan_timeout_s: float = 10.0):
+        self.link = PlcLink(mode, modbus=Endpoint("127.0.0.1", 0),
+                            first_scan_timeout_s=first_scan_timeout_s, scan_timeout_s=scan_timeout_s,
+                            peer_ended=self._ended)
+        assert self.link.modbus is not None
+        self._child = _PlcChild(["--modbus", f"127.0.0.1:{self.link.modbus.port}"])
+
+    def target_factory(self) -> Callable[[Scenario], Simulation]:
+        def make(scenario: Scenario) -> Simulation:
+            if scenario.plc_program is None or scenario.link is not None:
+                return simulation_for(scenario)
+            return Simulation(scenario.machine, scenario.plc_program, connector=self.link)
+        return make
+
+
+class CanPlcProcess(_ChildPlcRun[CanLink]):
+    """A ``python -m plc_stub --can`` process on a CAN bus with the harness (lockstep unless told
+    otherwise); by default a UDP multicast channel no other run on this host uses.  The process is
+    started at the first power-on, and again for a machine whose link frames have other identifiers."""
+
+    def __init__(self, mode: LinkMode = LinkMode.LOCKSTEP, first_scan_timeout_s: float = 30.0,
+                 scan_timeout_s: float = 10.0, bus: BusSpec | None = None):
+        self.bus = bus or private_udp_bus()
+        self.link = CanLink(mode, self.bus, first_scan_timeout_s=first_scan_timeout_s,
+                            scan_timeout_s=scan_timeout_s, peer_ended=self._ended)
+        self._link_id: int | None = None
+
+    def simulation(self, machine: MachineConfig, program: str, pacer: Pacer | None = None) -> Simulation:
+        """A power-on of ``machine`` (with its ``can:`` settings) and ``program`` in the process, over
+        the bus; the process starts now if it does not run for these link identifiers."""
+        self.link.configure(can_config_of(machine))
+        link_id = self.link.config.settings.link_id
+        if self._child is None or link_id != self._link_id:
+            self._close_child()
+            self._child = _PlcChild(["--can", str(self.bus), "--can-link-id", hex(link_id)])
+            self._link_id = link_id
+        return Simulation(machine, program, connector=self.link, pacer=pacer)
+
+    def target_factory(self) -> Callable[[Scenario], Simulation]:
+        def make(scenario: Scenario) -> Simulation:
+            if scenario.plc_program is None:
+                return simulation_for(scenario)
+            return self.simulation(scenario.machine, scenario.plc_program)
+        return make

@@ -23,7 +23,7 @@ import contextlib
 import struct
 import time as wallclock
 from collections.abc import Callable, Collection, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from enum import StrEnum
 
 from interfaces.codec_modbus import (
@@ -47,9 +47,11 @@ from interfaces.codec_modbus import (
     RegisterMap,
     Table,
 )
+from interfaces.exchange import grant_of_scan, next_session
 from interfaces.image import ProcessImage
 from interfaces.link_description import LinkDescription
-from interfaces.links.modbus_tcp import LinkError, ModbusServerLink, ModbusTables
+from interfaces.links.errors import LinkError
+from interfaces.links.modbus_tcp import ModbusServerLink, ModbusTables
 from interfaces.links.s7 import S7ServerLink
 from interfaces.plc import PlcEnvironment
 
@@ -92,6 +94,41 @@ def check_bind(endpoint: Endpoint, allow_remote: bool) -> None:
                         " write into the NC; add --allow-remote to do so")
 
 
+@dataclass(slots=True)
+class Patience:
+    """How long the harness waits for a PLC's answer and what it says meanwhile: it announces the
+    wait once, and gives up after the time-out (None: never) or as soon as the PLC process is gone."""
+
+    timeout_s: float | None
+    announce_after_s: float
+    on_wait: Callable[[str], None] | None
+    peer_ended: Callable[[], str | None]
+    silence: Callable[[float], str]  # what the harness says after waiting so many seconds
+    began: float = field(default_factory=wallclock.monotonic)
+    announced: bool = False
+
+    @classmethod
+    def for_scan(cls, first: bool, first_scan_timeout_s: float | None, scan_timeout_s: float | None,
+                 on_wait: Callable[[str], None] | None, peer_ended: Callable[[], str | None],
+                 silence: Callable[[float], str]) -> Patience:
+        """The first scan of a session may take long (a PLC starts); later scans are quick."""
+        timeout = first_scan_timeout_s if first else scan_timeout_s
+        announce_after = 1.0 if first or scan_timeout_s is None else scan_timeout_s / 2
+        return cls(timeout, announce_after, on_wait, peer_ended, silence)
+
+    def check(self) -> None:
+        """Raise :class:`LinkError` when waiting is over; announce a long wait once."""
+        waited = wallclock.monotonic() - self.began
+        ended = self.peer_ended()
+        if ended is not None:
+            raise LinkError(f"{self.silence(waited)}: {ended}")
+        if self.timeout_s is not None and waited > self.timeout_s:
+            raise LinkError(self.silence(waited))
+        if not self.announced and waited > self.announce_after_s and self.on_wait is not None:
+            self.announced = True
+            self.on_wait(self.silence(waited))
+
+
 class PlcLink:
     """Servers for a remote PLC and the sessions of one harness run (see the module docstring)."""
 
@@ -132,7 +169,7 @@ class PlcLink:
     # ------------------------------------------------------------------ sessions
     def connect(self, environment: PlcEnvironment, program: str) -> LinkedPlc:
         """A power-on: new tables and description; the PLC (re)starts its program for them."""
-        self.session = self.session % 0xFFFF + 1
+        self.session = next_session(self.session)
         register_map = RegisterMap.build(environment.catalog, environment.plant_io.area_sizes())
         description = LinkDescription.of(environment, program, register_map)
         tables = self.tables
@@ -176,26 +213,15 @@ class PlcLink:
 
         if done():
             return
-        timeout = self.first_scan_timeout_s if first else self.scan_timeout_s
-        announce_after = 1.0 if first or self.scan_timeout_s is None else self.scan_timeout_s / 2
-        began = wallclock.monotonic()
-        announced = False
+        patience = Patience.for_scan(first, self.first_scan_timeout_s, self.scan_timeout_s, self.on_wait,
+                                     self.peer_ended, lambda waited: self._silence(grant, first, waited))
 
         async def until_done() -> None:
-            nonlocal announced
             while not done():
                 self._handshake.clear()
                 with contextlib.suppress(TimeoutError):
                     await asyncio.wait_for(self._handshake.wait(), 0.5)
-                waited = wallclock.monotonic() - began
-                ended = self.peer_ended()
-                if ended is not None:
-                    raise LinkError(f"{self._silence(grant, first, waited)}: {ended}")
-                if timeout is not None and waited > timeout:
-                    raise LinkError(self._silence(grant, first, waited))
-                if not announced and waited > announce_after and self.on_wait is not None:
-                    announced = True
-                    self.on_wait(self._silence(grant, first, waited))
+                patience.check()
 
         self.loop.run_until_complete(until_done())
 
@@ -258,7 +284,7 @@ class LinkedPlc:
             link.s7.publish(areas)
         self.scans += 1
         if link.mode is LinkMode.LOCKSTEP:
-            grant = (self.scans - 1) % 0xFFFF + 1
+            grant = grant_of_scan(self.scans)
             link.set_input_register(REG_SCAN_GRANT, grant)
             link.wait_for_scan(grant, first=self.scans == 1)
             self._life = grant

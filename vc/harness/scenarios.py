@@ -2,28 +2,43 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from interfaces.links.inprocess import plc_programs
 from vc.harness.simulation import Simulation
 from vc.scenario.command import run_command
-from vc.scenario.model import Scenario
+from vc.scenario.model import LINK_CAN, Scenario
 
 
 def simulation_for(scenario: Scenario) -> Simulation:
-    """A fresh power-on of the scenario's machine with its PLC program (or none)."""
+    """A fresh power-on of the scenario's machine with its PLC program (or none); a scenario that
+    asks for a CAN link gets its program behind a virtual CAN bus in this process."""
+    if scenario.plc_program is not None and scenario.link == LINK_CAN:
+        from vc.harness.can_link import virtual_can_simulation
+
+        return virtual_can_simulation(scenario.machine, scenario.plc_program)
     return Simulation(scenario.machine, scenario.plc_program)
 
 
 def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_dir: str | None = None,
-                       golden: str | None = None, update_golden: bool = False, link: str = "inprocess") -> int:
+                       golden: str | None = None, update_golden: bool = False, link: str = "inprocess",
+                       can_bus: str | None = None) -> int:
     """``link``: ``inprocess`` runs the PLC programs in lockstep in this process; ``modbus`` runs
-    them in a ``python -m plc_stub`` process over a lockstep Modbus TCP link."""
+    them in a ``python -m plc_stub`` process over a lockstep Modbus TCP link, ``can`` over a
+    lockstep CAN link on ``can_bus`` (default: a UDP multicast channel of this run)."""
+    def run(make_target: Callable[[Scenario], Simulation]) -> int:
+        return run_command(paths, make_target, plc_programs().keys(), junit=junit, trace_dir=trace_dir,
+                           golden=golden, update_golden=update_golden)
+
     if link == "modbus":
         from vc.harness.external_plc import PlcProcess
 
         with PlcProcess() as process:
-            return run_command(paths, process.target_factory(), plc_programs().keys(), junit=junit,
-                               trace_dir=trace_dir, golden=golden, update_golden=update_golden)
-    return run_command(paths, simulation_for, plc_programs().keys(), junit=junit, trace_dir=trace_dir,
-                       golden=golden, update_golden=update_golden)
+            return run(process.target_factory())
+    if link == LINK_CAN:
+        from interfaces.links.can_bus import BusSpec
+        from vc.harness.external_plc import CanPlcProcess
+
+        with CanPlcProcess(bus=BusSpec.parse(can_bus) if can_bus else None) as can_process:
+            return run(can_process.target_factory())
+    return run(simulation_for)

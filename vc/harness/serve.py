@@ -1,22 +1,28 @@
 """``vc serve``: the NC and the plant as a server a PLC in another process connects to.
 
-Lockstep (default): the NC advances one PLC period per scan the PLC reports done, so a PLC
-that can be stepped (``python -m plc_stub``) runs deterministically; time stands while no PLC
-answers.  Real time (``--realtime``): the IPO cycles follow the wall clock (``--speed`` scales
-it), the PLC scans on its own clock, and the NC watches the PLC's sign of life (alarm 2000
-after MD10100 without one).  A scenario (``--scenario``) plays the operator; afterwards the
-machine keeps running until Ctrl-C or ``--duration``.
+Over Modbus TCP (and S7), or as a node on a CAN bus (``--can BUS``, with the machine file's
+``can:`` settings).  Lockstep (default): the NC advances one PLC period per scan the PLC reports
+done, so a PLC that can be stepped (``python -m plc_stub``) runs deterministically; time stands
+while no PLC answers.  Real time (``--realtime``): the IPO cycles follow the wall clock
+(``--speed`` scales it), the PLC scans on its own clock, and the NC watches the PLC's sign of
+life (alarm 2000 after MD10100 without one).  A scenario (``--scenario``) plays the operator;
+afterwards the machine keeps running until Ctrl-C or ``--duration``.
 """
 
 from __future__ import annotations
 
+import asyncio
 import time as wallclock
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from interfaces.links.can_bus import BusSpec
+from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import plc_programs
+from vc.config.can_config import can_config_of
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
+from vc.harness.can_link import CanLink, CanLinkedPlc
 from vc.harness.pacer import RealtimePacer
 from vc.harness.plc_link import Endpoint, LinkMode, PlcLink, check_bind
 from vc.harness.simulation import Simulation
@@ -29,6 +35,7 @@ class ServeOptions:
     machine_path: str
     modbus: Endpoint | None = None
     s7: Endpoint | None = None
+    can: BusSpec | None = None  # a CAN bus instead of the servers
     allow_remote: bool = False
     allowed_clients: tuple[str, ...] = ()
     realtime: bool = False
@@ -65,22 +72,36 @@ class AlarmWatch:
 
 def serve(options: ServeOptions) -> int:
     say = options.say
-    modbus = options.modbus if options.modbus or options.s7 else Endpoint("127.0.0.1", 5020)
+    if options.can is not None and (options.modbus or options.s7):
+        raise LinkError("serve either a CAN bus or Modbus TCP / S7, not both")
+    modbus = options.modbus if options.modbus or options.s7 or options.can else Endpoint("127.0.0.1", 5020)
     for endpoint in (modbus, options.s7):
         if endpoint is not None:
             check_bind(endpoint, options.allow_remote)
     machine, program, scenario_path = _machine_and_program(options)
     mode = LinkMode.FREE_RUNNING if options.realtime else LinkMode.LOCKSTEP
-    link = PlcLink(mode, modbus=modbus, s7=options.s7, allowed_clients=options.allowed_clients,
-                   first_scan_timeout_s=None, scan_timeout_s=None, on_wait=lambda text: say(f"waiting: {text}"))
+    def on_wait(text: str) -> None:
+        say(f"waiting: {text}")
+
+    link: PlcLink | CanLink
+    if options.can is not None:
+        link = CanLink(mode, options.can, first_scan_timeout_s=None, scan_timeout_s=None, on_wait=on_wait)
+        loop = asyncio.new_event_loop()  # the pacer's: the CAN link needs none
+    else:
+        link = PlcLink(mode, modbus=modbus, s7=options.s7, allowed_clients=options.allowed_clients,
+                       first_scan_timeout_s=None, scan_timeout_s=None, on_wait=on_wait)
+        loop = link.loop
     try:
         ipo_s = Simulation.ipo_seconds(machine)
-        pacer = RealtimePacer(link.loop, ipo_s, options.speed) if options.realtime else None
+        pacer = RealtimePacer(loop, ipo_s, options.speed) if options.realtime else None
         _banner(options, machine, link, program, mode, say)
         simulations: list[Simulation] = []
 
         def power_on(scenario: Scenario | None = None) -> Simulation:
-            simulation = Simulation(scenario.machine if scenario else machine, program, connector=link, pacer=pacer)
+            powered = scenario.machine if scenario else machine
+            if isinstance(link, CanLink):
+                link.configure(can_config_of(powered))
+            simulation = Simulation(powered, program, connector=link, pacer=pacer)
             simulations.append(simulation)
             return simulation
 
@@ -98,6 +119,8 @@ def serve(options: ServeOptions) -> int:
         return code
     finally:
         link.close()
+        if loop is not getattr(link, "loop", None):
+            loop.close()
 
 
 def _machine_and_program(options: ServeOptions) -> tuple[MachineConfig, str, str | None]:
@@ -109,9 +132,17 @@ def _machine_and_program(options: ServeOptions) -> tuple[MachineConfig, str, str
     return scenario.machine, scenario.plc_program or options.program, options.scenario
 
 
-def _banner(options: ServeOptions, machine: MachineConfig, link: PlcLink, program: str, mode: LinkMode,
+def _banner(options: ServeOptions, machine: MachineConfig, link: PlcLink | CanLink, program: str, mode: LinkMode,
             say: Callable[[str], None]) -> None:
     say(f"machine {machine.name} ({machine.source})")
+    if isinstance(link, CanLink):
+        settings = can_config_of(machine).settings
+        say(f"CAN bus {link.spec}, link frames from 0x{settings.link_id:03X} (frames: vc map --machine"
+            f" {machine.source} --format dbc)")
+        say(f"lockstep: the NC advances one PLC period per scan the PLC reports done; a PLC that follows the"
+            f" harness runs '{program}' (python -m plc_stub --can {link.spec})" if mode is LinkMode.LOCKSTEP else
+            "real time; the NC watches the PLC's sign of life (alarm 2000) and the time-out of its frames")
+        return
     if link.modbus is not None:
         say(f"Modbus TCP on {link.modbus.host}:{link.modbus.port} (register map: vc map --machine"
             f" {machine.source} --format csv)")
@@ -125,7 +156,20 @@ def _banner(options: ServeOptions, machine: MachineConfig, link: PlcLink, progra
         say(f"real time, {speed}; the NC watches the PLC's sign of life (alarm 2000)")
 
 
-def _keep_running(simulation: Simulation, pacer: RealtimePacer | None, link: PlcLink,
+def _can_state(link: CanLink, simulation: Simulation) -> str:
+    """The bus as the statistics line shows it: frames, errors, and what the time-out monitor misses."""
+    bus = link.bus
+    state = f"CAN: {bus.sent} frames sent, {bus.received} received, {bus.error_frames} error frames"
+    plc = simulation.plc
+    if isinstance(plc, CanLinkedPlc):
+        if plc.missing:
+            state += ", missing " + " ".join(f"0x{can_id:03X}" for can_id in plc.missing)
+        if plc.bus_errors:
+            state += f", {plc.bus_errors} refused by the bus (last: {plc.last_bus_error})"
+    return state + (", BUS-OFF" if bus.bus_off else "")
+
+
+def _keep_running(simulation: Simulation, pacer: RealtimePacer | None, link: PlcLink | CanLink,
                   options: ServeOptions) -> None:
     alarms = AlarmWatch(simulation, options.say)
     stop_cycle = None if options.duration_s is None else round(options.duration_s / simulation.ipo_cycle_s)
@@ -136,6 +180,9 @@ def _keep_running(simulation: Simulation, pacer: RealtimePacer | None, link: Plc
         alarms.check()
         if pacer is not None and wallclock.monotonic() >= next_stats:
             next_stats += options.stats_every_s
-            clients = link.modbus.clients if link.modbus is not None else 0
-            options.say(f"{simulation.time_s:9.3f} s  {pacer.stats(reported)}; {clients} Modbus client(s)")
+            if isinstance(link, CanLink):
+                peer = _can_state(link, simulation)
+            else:
+                peer = f"{link.modbus.clients if link.modbus is not None else 0} Modbus client(s)"
+            options.say(f"{simulation.time_s:9.3f} s  {pacer.stats(reported)}; {peer}")
             reported = len(pacer.errors)

@@ -19,9 +19,10 @@ from typing import Protocol
 
 from interfaces.catalog import load_catalog
 from interfaces.image import ProcessImage, Value
+from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import InProcessConnector
 from interfaces.plant_io import Owner
-from interfaces.plc import PlcConnector, PlcEnvironment, SoftPlc
+from interfaces.plc import CyclicPlc, PlcConnector, PlcEnvironment, SoftPlc
 from interfaces.signals import Direction, SignalRef
 from vc.config.machine_data import MachineData
 from vc.config.md_dictionary import BY_NUMBER
@@ -29,6 +30,7 @@ from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import Alarm
 from vc.core.nc_memory import NcMemory
 from vc.core.nck import Nck
+from vc.harness.link_faults import FaultInjectable, LinkFault, LinkFaultKind
 from vc.observables import AXIS_QUANTITIES, COUPLING_QUANTITY_MEANINGS, FAULTS
 from vc.plant.plant import Plant
 
@@ -74,6 +76,7 @@ class Simulation:
             environment = PlcEnvironment(self.catalog, machine.plant_io, scan_time, machine.plc_parameters,
                                          machine.name, self.nck.cycle_us, self.plc_period)
             self.plc = self.connector.connect(environment, self.plc_name)
+        self._cyclic = self.plc if isinstance(self.plc, CyclicPlc) else None
         self._observed = ProcessImage({**self.catalog.area_sizes, **machine.plant_io.area_sizes()})
         self._observed_cycle = -1
         if first:
@@ -120,7 +123,7 @@ class Simulation:
     def step(self, cycles: int = 1) -> None:
         nck, plant, interface, plant_image = self.nck, self.plant, self.interface, self.plant_image
         plant_forces = self._forces_by_direction[Direction.PLANT_TO_PLC]
-        pacer = self.pacer
+        pacer, cyclic = self.pacer, self._cyclic
         for _ in range(cycles):
             if pacer is not None:
                 pacer.wait_next_cycle()
@@ -130,16 +133,34 @@ class Simulation:
                 self._apply(plant_forces, plant_image)
             if nck.cycle % self.plc_period == 0:
                 self._plc_cycle()
+            elif cyclic is not None:
+                self._link_cycle(cyclic)
 
     def _plc_cycle(self) -> None:
         """Interface update and one PLC scan (or, without a PLC, just the interface update)."""
-        self.interface.copy_from(self.nck.image, self.nck.nc_to_plc_ranges)
-        self._apply(self._forces_by_direction[Direction.NC_TO_PLC], self.interface)
+        self._refresh_plc_inputs()
         if self.plc is not None:
             self.plc.scan(self.interface, self.plant_image)
             self.nck.plc_sign_of_life(self.plc.sign_of_life)
-            self._apply(self._forces_by_direction[Direction.PLC_TO_NC], self.interface)
-            self._apply(self._forces_by_direction[Direction.PLC_TO_PLANT], self.plant_image)
+            self._apply_plc_forces()
+
+    def _link_cycle(self, link: CyclicPlc) -> None:
+        """An IPO cycle between two scans of a PLC whose link works every cycle (CAN): the NC's
+        signals go out when the link's period is due, the PLC's arrive when they arrive."""
+        cycle = self.nck.cycle
+        if link.sends_at(cycle):
+            self._refresh_plc_inputs()
+        if link.ipo_cycle(cycle, self.interface, self.plant_image):
+            self._apply_plc_forces()
+
+    def _refresh_plc_inputs(self) -> None:
+        """The NC-to-PLC bytes of the wire from the NC, forces applied."""
+        self.interface.copy_from(self.nck.image, self.nck.nc_to_plc_ranges)
+        self._apply(self._forces_by_direction[Direction.NC_TO_PLC], self.interface)
+
+    def _apply_plc_forces(self) -> None:
+        self._apply(self._forces_by_direction[Direction.PLC_TO_NC], self.interface)
+        self._apply(self._forces_by_direction[Direction.PLC_TO_PLANT], self.plant_image)
 
     # ------------------------------------------------------------------ signals
     def _image_of(self, ref: SignalRef) -> ProcessImage:
@@ -274,6 +295,20 @@ class Simulation:
                 raise KeyError(f"workpiece_clamp: {axis} is not the following spindle of a coupling")
         else:
             raise KeyError(f"unknown fault '{kind}' (known: {', '.join(FAULTS)})")
+
+    def inject_link_fault(self, kind: str, duration_us: int, directions: Sequence[str] = ("nc_to_plc", "plc_to_nc"),
+                          areas: Sequence[str] = (), delay_us: int = 0, every: int = 1) -> None:
+        """A fault of the bus between NC and PLC from now on for ``duration_us`` (see LINK_FAULTS);
+        only a PLC behind a link with a bus (CAN) takes it."""
+        if not isinstance(self.plc, FaultInjectable):
+            where = "no PLC" if self.plc is None else "a PLC without a bus (in process, Modbus TCP)"
+            raise LinkError(f"a link fault needs the PLC behind the CAN link; this simulation has {where}")
+        cycle_us = self.nck.cycle_us
+        start = self.nck.cycle
+        self.plc.inject_fault(LinkFault(
+            LinkFaultKind(kind), start, start + -(-duration_us // cycle_us),
+            frozenset(Direction(direction) for direction in directions), frozenset(areas),
+            -(-delay_us // cycle_us), every))
 
     def clear_faults(self, axis: str) -> None:
         item = self.nck.axes_by_name[axis]

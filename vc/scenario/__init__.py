@@ -11,6 +11,8 @@ File grammar (``[...]`` = optional)::
     [description: TEXT]
     machine: PATH                     required; machine file, relative to this file
     plc: PROGRAM | none               required; a built-in PLC program, or none = the steps act as the PLC
+    [link: can]                       the PLC program behind the CAN link (a virtual bus in this process
+                                      unless the run's link is CAN)
     [machine_data: {INSTANCE: {MD: VALUE}}]   INSTANCE = axis, channel or NC (checked like the machine file)
     [plc_parameters: {NAME: VALUE}]   over the machine file's plc: section; the PLC program checks them
     [timeout: DURATION]               limit of simulated time for the whole scenario, default 300 s
@@ -35,6 +37,8 @@ File grammar (``[...]`` = optional)::
       power_cycle: DURATION | {off: DURATION}            machine off and on again (default 1 s off)
       fault: {axis: AXIS, kind: FAULT, [from: X, to: X], [by: X], [encoder: 1|2]}   vc.scenario.target.FAULTS
       clear_faults: AXIS
+      link_fault: {kind: loss | delay | bus_off, for: DURATION, [direction: nc_to_plc | plc_to_nc | both],
+                   [frames: NAMES], [by: DURATION], [every: N]}   a fault of the CAN bus (link: can)
       move_by_hand: {axis: AXIS, velocity: NUMBER}       the slide moved from outside (servo off); 0 stops
 
     KEYS, NAMES   a name or a list of names

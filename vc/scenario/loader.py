@@ -25,10 +25,11 @@ from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.core.alarms import ALARM_TEXTS
 from vc.located_yaml import LocatedList, LocatedMap, Mark, Problem, Problems, SourceError, load_file
-from vc.observables import FAULTS
+from vc.observables import FAULTS, LINK_AREA, LINK_DIRECTIONS, LINK_FAULTS
 from vc.scenario.durations import Duration, DurationError, parse_duration
 from vc.scenario.expressions import Expression, ExpressionError, parse_expression
 from vc.scenario.model import (
+    LINK_CAN,
     NO_PLC,
     ClearFaults,
     EdgeKind,
@@ -40,6 +41,7 @@ from vc.scenario.model import (
     ExpectValues,
     Hold,
     InjectFault,
+    InjectLinkFault,
     Invariant,
     LoadMda,
     MoveByHand,
@@ -56,12 +58,12 @@ from vc.scenario.model import (
 from vc.scenario.quantities import NameResolver, Quantity, QuantityKind
 from vc.scenario.values import ExpectedValue, ExpectedValueError, parse_expected
 
-TOP_KEYS = ("name", "description", "machine", "plc", "machine_data", "plc_parameters", "timeout", "invariants",
-            "steps")
+TOP_KEYS = ("name", "description", "machine", "plc", "link", "machine_data", "plc_parameters", "timeout",
+            "invariants", "steps")
 REQUIRED_TOP_KEYS = ("name", "machine", "plc", "steps")
 STEP_KINDS = ("press", "hold", "release", "set", "force", "pulse", "mda", "program", "wait", "expect",
               "expect_alarm", "expect_no_alarm", "expect_order", "expect_timing", "power_cycle", "fault",
-              "clear_faults", "move_by_hand")
+              "clear_faults", "move_by_hand", "link_fault")
 STEP_EXAMPLES = {
     "press": "press: MCP.jog", "hold": "hold: MCP.plus.X1", "release": "release: MCP.plus.X1",
     "set": "set: {MCP.feedOverride: 50}", "force": "force: {X1.basic.out.enableCtrl: 0}",
@@ -72,7 +74,10 @@ STEP_EXAMPLES = {
     "expect_timing": "expect_timing: {from: MCP.jog rises, to: MCP.jog falls, max: 1s}",
     "power_cycle": "power_cycle: 2s", "fault": "fault: {axis: X1, kind: zero_marks_missing}",
     "clear_faults": "clear_faults: X1", "move_by_hand": "move_by_hand: {axis: X1, velocity: 600}",
+    "link_fault": "link_fault: {kind: loss, for: 300ms}",
 }
+LINKS = (LINK_CAN,)
+LINK_FAULT_KEYS = ("kind", "for", "direction", "frames", "by", "every")
 DEFAULT_POWER_OFF = Duration(1_000_000)
 DEFAULT_TIMEOUT = Duration(300_000_000)
 DEFAULT_PRESS = Duration(100_000)
@@ -201,6 +206,7 @@ class _ScenarioChecker:
         self.machine: MachineConfig | None = None
         self.resolver: NameResolver | None = None
         self.plc = NO_PLC
+        self.link: str | None = None
         self.forced: set[str] = set()
 
     def add(self, mark: Mark, message: str) -> None:
@@ -222,6 +228,7 @@ class _ScenarioChecker:
         name = self.text(document, "name")
         description = self.text(document, "description") if "description" in document else ""
         self.plc = self.check_plc(document)
+        self.link = self.check_link(document)
         machine_file = self.load_machine(document)
         timeout = DEFAULT_TIMEOUT
         if "timeout" in document:
@@ -234,7 +241,7 @@ class _ScenarioChecker:
         return Scenario(
             name=name, description=description, path=self.path, machine_file=machine_file,
             machine=self.machine, catalog=self.resolver.catalog, plc=self.plc, timeout=timeout,
-            invariants=tuple(invariants), steps=tuple(steps), mark=document.mark,
+            invariants=tuple(invariants), steps=tuple(steps), mark=document.mark, link=self.link,
         )
 
     def check_keys(self, mapping: LocatedMap, allowed: Sequence[str], required: Sequence[str],
@@ -272,6 +279,20 @@ class _ScenarioChecker:
         hint = _suggest(value, known)
         self.add(mark, f"unknown PLC program '{value}'{hint} (known: {', '.join([*known, NO_PLC])})")
         return NO_PLC
+
+    def check_link(self, document: LocatedMap) -> str | None:
+        if "link" not in document:
+            return None
+        value, mark = document["link"], document.mark_of("link")
+        if value not in LINKS:
+            hint = _suggest(str(value), LINKS)
+            self.add(mark, f"link must be {' or '.join(LINKS)} (the PLC behind that link), not"
+                     f" {_kind_of_value(value)}{hint}")
+            return None
+        if self.plc == NO_PLC:
+            self.add(mark, f"link: {value} needs a PLC program behind it, and plc is none")
+            return None
+        return str(value)
 
     def load_machine(self, document: LocatedMap) -> str:
         value = document.get("machine")
@@ -565,6 +586,72 @@ class _ScenarioChecker:
                      f" {_kind_of_value(velocity)}")
             return None
         return MoveByHand(index, "move_by_hand", mark, axis, float(velocity)) if axis is not None else None
+
+    def step_link_fault(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        if not isinstance(value, LocatedMap):
+            self.add(value_mark, f"link_fault takes a mapping, e.g. {STEP_EXAMPLES['link_fault']}")
+            return None
+        if self.link != LINK_CAN:
+            self.add(mark, f"a link fault acts on the CAN bus: write 'link: {LINK_CAN}' at the top of the scenario")
+        if not self.check_keys(value, LINK_FAULT_KEYS, ("kind", "for"), "link_fault"):
+            return None
+        kind = value["kind"]
+        if kind not in LINK_FAULTS:
+            hint = _suggest(str(kind), LINK_FAULTS) or f" (link faults: {', '.join(LINK_FAULTS)})"
+            self.add(value.mark_of("kind"), f"unknown link fault '{kind}'{hint}")
+            return None
+        takes = {"loss": ("direction", "frames", "every"), "delay": ("direction", "frames", "by"),
+                 "bus_off": ()}[kind]
+        for key in value:
+            if key in LINK_FAULT_KEYS[2:] and key not in takes:
+                self.add(value.mark_of_key(key), f"a {kind} link fault takes no '{key}'"
+                         + (" (bus-off stops every frame both ways)" if kind == "bus_off" else ""))
+        if kind == "delay" and "by" not in value:
+            self.add(value.mark, "a delay link fault needs 'by' (how much later the frames arrive, e.g. 50ms)")
+        duration = self.duration(value["for"], value.mark_of("for"), positive=True)
+        delay = self.duration(value["by"], value.mark_of("by"), positive=True) if "by" in value else Duration(0)
+        directions: tuple[str, ...] = LINK_DIRECTIONS
+        if "direction" in value:
+            direction = value["direction"]
+            if direction in LINK_DIRECTIONS:
+                directions = (str(direction),)
+            elif direction != "both":
+                hint = _suggest(str(direction), [*LINK_DIRECTIONS, "both"])
+                self.add(value.mark_of("direction"), f"direction is {', '.join(LINK_DIRECTIONS)} or both, not"
+                         f" {_kind_of_value(direction)}{hint}")
+        every = value.get("every", 1)
+        if isinstance(every, bool) or not isinstance(every, int) or every < 1:
+            self.add(value.mark_of("every"), f"every is a whole number from 1 (1 = every frame), not"
+                     f" {_kind_of_value(every)}")
+            every = 1
+        areas = self.link_frames(value["frames"], value.mark_of("frames")) if "frames" in value else ()
+        if duration is None or delay is None or areas is None:
+            return None
+        return InjectLinkFault(index, "link_fault", mark, str(kind), duration, directions, areas, delay, every)
+
+    def link_frames(self, value: Any, mark: Mark) -> tuple[str, ...] | None:
+        """The areas whose frames a link fault hits: instance names (X1, CHAN1, NC, MODEGROUP), data
+        blocks (DB31), the plant areas I and Q, or link (the link frames)."""
+        if self.machine is None:
+            return None
+        names = self.name_list(value, mark, "frames")
+        if names is None:
+            return None
+        layout = self.machine.layout
+        instances = {"NC": "DB10", "MODEGROUP": "DB11",
+                     **{name: f"DB{layout.channel_db(name)}" for name in layout.channels},
+                     **{name: f"DB{layout.axis_db(name)}" for name in layout.axes}}
+        known = {*instances.values(), "I", "Q", LINK_AREA}
+        areas = []
+        for name, name_mark in names:
+            area = instances.get(name, name)
+            if area not in known:
+                choices = [*instances, *sorted(known)]
+                hint = _suggest(name, choices) or f" (e.g. {', '.join(choices[:4])}, I, Q, {LINK_AREA})"
+                self.add(name_mark, f"'{name}' names no frames of this machine{hint}")
+                return None
+            areas.append(area)
+        return tuple(dict.fromkeys(areas))
 
     def machine_axis(self, value: Any, mark: Mark) -> str | None:
         """A machine axis of the scenario's machine, or None (reported)."""

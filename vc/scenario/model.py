@@ -20,6 +20,7 @@ from vc.scenario.quantities import Quantity
 from vc.scenario.values import ExpectedValue
 
 NO_PLC = "none"
+LINK_CAN = "can"  # ``link: can``: the PLC program sits behind the CAN link
 
 
 class EdgeKind(Enum):
@@ -204,6 +205,18 @@ class InjectFault(Step):
 
 
 @dataclass(frozen=True, slots=True)
+class InjectLinkFault(Step):
+    """A fault of the CAN bus between NC and PLC for ``duration`` (``LINK_FAULTS`` in vc/observables.py)."""
+
+    fault: str  # loss, delay, bus_off
+    duration: Duration
+    directions: tuple[str, ...]  # nc_to_plc, plc_to_nc
+    areas: tuple[str, ...]  # area keys (DB31, Q ..) and "link"; empty: every frame
+    delay: Duration  # delay: how much later the frames arrive
+    every: int  # loss: every n-th frame
+
+
+@dataclass(frozen=True, slots=True)
 class ClearFaults(Step):
     axis: str
 
@@ -235,6 +248,7 @@ class Scenario:
     invariants: tuple[Invariant, ...]
     steps: tuple[Step, ...]
     mark: Mark = field(default_factory=lambda: Mark("", 1, 1))
+    link: str | None = None  # LINK_CAN: the PLC program behind the CAN link; None: wherever the run puts it
 
     @property
     def plc_program(self) -> str | None:

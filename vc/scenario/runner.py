@@ -34,6 +34,7 @@ from vc.scenario.model import (
     ExpectValues,
     Hold,
     InjectFault,
+    InjectLinkFault,
     LoadMda,
     MoveByHand,
     PowerCycle,
@@ -330,6 +331,9 @@ class _Run:
             self.after_cycle()
         elif isinstance(step, InjectFault):
             target.inject_fault(step.axis, step.fault, step.start, step.end, step.amount, step.encoder)
+        elif isinstance(step, InjectLinkFault):
+            target.inject_link_fault(step.fault, step.duration.microseconds, step.directions, step.areas,
+                                     step.delay.microseconds, step.every)
         elif isinstance(step, ClearFaults):
             target.clear_faults(step.axis)
         elif isinstance(step, MoveByHand):

@@ -72,6 +72,10 @@ class ScenarioTarget(Protocol):
                      encoder: int = 1) -> None:
         """A fault of the simulated machine: ``vc.observables.FAULTS``."""
 
+    def inject_link_fault(self, kind: str, duration_us: int, directions: Sequence[str] = ("nc_to_plc", "plc_to_nc"),
+                          areas: Sequence[str] = (), delay_us: int = 0, every: int = 1) -> None:
+        """A fault of the CAN bus between NC and PLC from now on: ``vc.observables.LINK_FAULTS``."""
+
     def clear_faults(self, axis: str) -> None:
         """The machine's faults on ``axis`` are repaired."""
 

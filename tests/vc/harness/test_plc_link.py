@@ -12,6 +12,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from panel_operator import images, operate
 
 from interfaces.links.modbus_tcp import LinkError
 from vc.config.loader import load_machine
@@ -38,21 +39,6 @@ def _overrides(text: str) -> LocatedMap:
 def process() -> Iterator[PlcProcess]:
     with PlcProcess(first_scan_timeout_s=30.0, scan_timeout_s=10.0) as running:
         yield running
-
-
-def operate(simulation: Simulation) -> None:
-    """JOG, REF and the plus key of X1 from the panel: the PLC enables, selects and references."""
-    simulation.step(100)  # the drives come ready
-    for key, cycles in (("MCP.jog", 20), ("MCP.ref", 20)):
-        simulation.write(simulation.plant_io.resolve(key), 1)
-        simulation.step(cycles)
-        simulation.write(simulation.plant_io.resolve(key), 0)
-    simulation.write(simulation.plant_io.resolve("MCP.plus.X1"), 1)
-    simulation.step(1500)
-
-
-def images(simulation: Simulation) -> tuple[dict[str, bytes], dict[str, bytes], dict[str, bytes]]:
-    return simulation.nck.image.snapshot(), simulation.interface.snapshot(), simulation.plant_image.snapshot()
 
 
 @pytest.mark.parametrize("machine", [TURN_MILL, FIVE_AXIS], ids=["turn_mill", "mill_5axis"])

@@ -1,0 +1,174 @@
+"""CAN buses on python-can: the only module that imports it; its exceptions become :class:`LinkError`.
+
+A bus is named by a text (:meth:`BusSpec.parse`)::
+
+    virtual[:CHANNEL]               in this process (python-can's virtual bus); channel default "vc"
+    udp_multicast[:GROUP[:PORT]]    processes on one host: UDP multicast with hop limit 0, so that no
+                                    frame leaves the host; default group 239.74.163.2, port 43113
+    socketcan[:INTERFACE]           a Linux CAN interface: can0 (default), vcan0 ...; FD as the
+                                    frames say (the interface must be configured for CAN FD)
+
+A node receives only the identifiers it listens to (:meth:`CanBus.listen`): on UDP multicast every
+sender also receives its own frames, and a node never listens to the identifiers it sends itself,
+so its own frames are dropped here, as is traffic of other nodes.  Error frames count; one that
+reports bus-off (SocketCAN) sets :attr:`CanBus.bus_off` until a frame arrives again.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import itertools
+import logging
+import os
+import socket
+import time as wallclock
+from collections.abc import Collection
+from dataclasses import dataclass
+
+import can
+
+from interfaces.codec_can import Frame
+from interfaces.links.errors import LinkError
+
+KINDS = ("virtual", "udp_multicast", "socketcan")
+DEFAULT_GROUP = "239.74.163.2"  # python-can's IPv4 default group
+DEFAULT_PORT = 43113
+DEFAULT_VIRTUAL_CHANNEL = "vc"
+DEFAULT_SOCKETCAN = "can0"
+CAN_ERR_BUSOFF = 0x40  # SocketCAN error class in the identifier of an error frame (linux/can/error.h)
+_PRIVATE_GROUPS = 0xFFFF  # 239.74.0.0 .. 239.74.255.255 for private channels
+
+# python-can logs every socket it could not configure; the link reports what matters itself.
+logging.getLogger("can").setLevel(logging.ERROR)
+
+
+@dataclass(frozen=True, slots=True)
+class BusSpec:
+    """Which bus: ``kind`` one of :data:`KINDS`, its channel and (udp_multicast) port."""
+
+    kind: str
+    channel: str
+    port: int = 0
+
+    @classmethod
+    def parse(cls, text: str) -> BusSpec:
+        kind, _, rest = text.strip().partition(":")
+        if kind not in KINDS:
+            raise LinkError(f"'{text}': the bus is one of {', '.join(KINDS)} (e.g. udp_multicast,"
+                            f" socketcan:can0, virtual)")
+        if kind == "virtual":
+            return cls(kind, rest or DEFAULT_VIRTUAL_CHANNEL)
+        if kind == "socketcan":
+            return cls(kind, rest or DEFAULT_SOCKETCAN)
+        group, _, port = rest.rpartition(":") if rest.count(":") == 1 else (rest, "", "")
+        try:
+            number = int(port) if port else DEFAULT_PORT
+            if not 0 < number < 65536:
+                raise ValueError
+            socket.inet_aton(group or DEFAULT_GROUP)
+        except (OSError, ValueError):
+            raise LinkError(f"'{text}': udp_multicast takes GROUP:PORT, e.g. udp_multicast:{DEFAULT_GROUP}:"
+                            f"{DEFAULT_PORT}") from None
+        if not 224 <= int((group or DEFAULT_GROUP).split(".")[0]) <= 239:
+            raise LinkError(f"'{text}': {group} is not a multicast group (224.0.0.0 .. 239.255.255.255)")
+        return cls(kind, group or DEFAULT_GROUP, number)
+
+    def __str__(self) -> str:
+        return f"{self.kind}:{self.channel}:{self.port}" if self.kind == "udp_multicast" else \
+            f"{self.kind}:{self.channel}"
+
+
+_virtual_channels = itertools.count(1)
+
+
+def private_virtual_bus() -> BusSpec:
+    """A virtual bus channel no other link of this process uses."""
+    return BusSpec("virtual", f"{DEFAULT_VIRTUAL_CHANNEL}-{os.getpid()}-{next(_virtual_channels)}")
+
+
+def private_udp_bus() -> BusSpec:
+    """A UDP multicast channel for one harness run: a port the kernel hands out as free (so two runs
+    on one host do not meet), and a group derived from it."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
+        probe.bind(("127.0.0.1", 0))
+        port = int(probe.getsockname()[1])
+    group = (os.getpid() * 7919 + port) % _PRIVATE_GROUPS + 1
+    return BusSpec("udp_multicast", f"239.74.{group >> 8 & 0xFF}.{group & 0xFF}", port)
+
+
+def socketcan_available(interface: str = "vcan0") -> bool:
+    """Whether this kernel has SocketCAN and ``interface`` can be opened (tests skip otherwise)."""
+    if not hasattr(socket, "AF_CAN"):
+        return False
+    try:
+        with socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW) as probe:
+            probe.bind((interface,))
+    except OSError:
+        return False
+    return True
+
+
+class CanBus:
+    """One node on a bus: sends frames, receives the identifiers it listens to."""
+
+    def __init__(self, spec: BusSpec, fd: bool = True, listen: Collection[int] = ()):
+        self.spec = spec
+        self.fd = fd
+        self._listen = frozenset(listen)
+        self.sent = 0  # frames sent
+        self.received = 0  # frames received that the node listens to
+        self.dropped = 0  # own frames and other traffic
+        self.error_frames = 0
+        self.bus_off = False
+        try:
+            if spec.kind == "virtual":
+                self._bus: can.BusABC = can.Bus(interface="virtual", channel=spec.channel,
+                                                protocol=can.CanProtocol.CAN_FD if fd else can.CanProtocol.CAN_20)
+            elif spec.kind == "udp_multicast":
+                self._bus = can.Bus(interface="udp_multicast", channel=spec.channel, port=spec.port, hop_limit=0,
+                                    fd=fd)
+            else:
+                self._bus = can.Bus(interface="socketcan", channel=spec.channel, fd=fd)
+        except (can.CanError, OSError, ValueError) as error:
+            raise LinkError(f"cannot open the CAN bus {spec}: {error}") from None
+
+    def listen(self, identifiers: Collection[int]) -> None:
+        """Receive these identifiers from now on (and nothing else)."""
+        self._listen = frozenset(identifiers)
+
+    def send(self, frame: Frame) -> None:
+        try:
+            self._bus.send(can.Message(arbitration_id=frame.can_id, data=frame.data, is_fd=frame.fd,
+                                       is_extended_id=False, check=False))
+        except (can.CanError, OSError) as error:
+            raise LinkError(f"CAN bus {self.spec}: frame 0x{frame.can_id:03X} not sent: {error}") from None
+        self.sent += 1
+
+    def receive(self, timeout: float | None) -> Frame | None:
+        """The next frame the node listens to, or None after ``timeout`` seconds (0: only what is
+        there; None: wait for ever)."""
+        deadline = None if timeout is None else wallclock.monotonic() + timeout
+        while True:
+            remaining = None if deadline is None else max(0.0, deadline - wallclock.monotonic())
+            try:
+                message = self._bus.recv(remaining)
+            except (can.CanError, OSError) as error:
+                raise LinkError(f"CAN bus {self.spec}: {error}") from None
+            if message is None:
+                return None
+            if message.is_error_frame:
+                self.error_frames += 1
+                if message.arbitration_id & CAN_ERR_BUSOFF:
+                    self.bus_off = True
+            elif message.arbitration_id in self._listen and not message.is_remote_frame:
+                self.received += 1
+                self.bus_off = False
+                return Frame(message.arbitration_id, bytes(message.data), message.is_fd)
+            else:
+                self.dropped += 1
+            if timeout and deadline is not None and wallclock.monotonic() >= deadline:
+                return None  # (with timeout 0 the loop drains what is there: recv answers None when empty)
+
+    def close(self) -> None:
+        with contextlib.suppress(can.CanError, OSError):
+            self._bus.shutdown()

@@ -1,0 +1,8 @@
+"""The one error every link raises: a link that cannot be set up, or a peer that does not answer
+as the protocol says.  Each adapter module translates its library's exceptions into it."""
+
+from __future__ import annotations
+
+
+class LinkError(Exception):
+    """A link could not be set up or a peer did not answer as the protocol says."""

@@ -1,0 +1,324 @@
+"""The harness's end of a PLC on a CAN bus (:mod:`interfaces.codec_can`): sessions, cyclic frames,
+the time-out monitor, lockstep and faults of the bus.
+
+:class:`CanLink` is a :class:`~interfaces.plc.PlcConnector`: at every power-on it opens a session
+(the machine's frames, the description, the session number in the NC link frame) and hands the
+simulation a :class:`CanLinkedPlc`:
+
+* **lockstep**: at every PLC scan the NC-to-PLC data frames go out (when their period is due),
+  then the NC link frame with the next grant; the harness receives until the PLC link frame
+  reports that scan done for this session and takes the PLC's data frames.  Simulated time
+  stands while the PLC works, so a PLC that can be stepped gives the in-process trace.
+* **free-running** (real time): the NC-to-PLC frames go out every period, the PLC-to-NC frames
+  are taken every IPO cycle as they arrive; the PLC scans on its own clock.
+
+The period is the machine file's ``can.period``: with every PLC scan (default), every IPO cycle,
+or a multiple of it.  **Time-out monitor**: every PLC-to-NC frame (data frames and the PLC link
+frame) must have arrived within ``can.timeout`` (default 50 ms), counted in NC cycles.  While
+one is missing the link holds the PLC's sign of life, so the NC's watch raises alarm 2000 once
+MD10100 has passed without a change: the axes stop; a reset clears it when the frames are back.
+
+**Faults** (:mod:`vc.harness.link_faults`) act on the frames between the bus and the NC: frames
+the NC sends are lost or wait before they go on the bus, frames from the PLC are lost or wait
+before the NC takes them.  In lockstep the link frames are also the stepping's handshake: a
+fault never withholds a grant or a scan-done report from the stepping, only their content from
+the other side (the PLC's sign of life from the NC); the data frames are withheld completely.
+"""
+
+from __future__ import annotations
+
+import weakref
+from collections.abc import Callable, Mapping
+from types import TracebackType
+
+from interfaces.codec_can import CanLayout, Frame, NcLink, PlcLink, description_frames
+from interfaces.codec_modbus import RegisterMap
+from interfaces.exchange import MODE_FREE_RUNNING, MODE_LOCKSTEP, grant_of_scan, next_session
+from interfaces.image import ProcessImage
+from interfaces.link_description import LinkDescription
+from interfaces.links.can_bus import BusSpec, CanBus, private_virtual_bus
+from interfaces.links.can_plc import CanPlcNode
+from interfaces.links.errors import LinkError
+from interfaces.links.inprocess import plc_programs
+from interfaces.plc import PlcEnvironment
+from interfaces.signals import Direction
+from vc.config.can_config import CanConfig, can_config_of
+from vc.config.model import MachineConfig
+from vc.harness.link_faults import LINK_AREA, FaultyWire, LinkFault, active
+from vc.harness.plc_link import LinkMode, Patience
+from vc.harness.simulation import Simulation
+
+RECEIVE_WAIT_S = 0.5  # lockstep: how long one receive waits before the patience is checked
+
+
+class CanLink:
+    """A CAN bus to a remote PLC and the sessions of one harness run (module docstring).
+
+    ``peer`` serves a PLC node in this process (a virtual bus): the link calls it whenever it
+    waits and nothing has arrived.  ``peer_ended`` tells why the PLC process the harness started
+    is gone (None while it runs)."""
+
+    def __init__(self, mode: LinkMode, bus: BusSpec, *, config: CanConfig | None = None,
+                 first_scan_timeout_s: float | None = 30.0, scan_timeout_s: float | None = 10.0,
+                 on_wait: Callable[[str], None] | None = None, peer_ended: Callable[[], str | None] = lambda: None,
+                 peer: Callable[[], None] | None = None):
+        self.mode = mode
+        self.spec = bus
+        self.config = config or CanConfig()
+        self.first_scan_timeout_s = first_scan_timeout_s
+        self.scan_timeout_s = scan_timeout_s
+        self.on_wait = on_wait
+        self.peer_ended = peer_ended
+        self.peer = peer
+        self.session = 0
+        self.bus = CanBus(bus)
+
+    def configure(self, config: CanConfig) -> None:
+        """The ``can:`` settings of the machine the next power-on uses."""
+        self.config = config
+
+    def connect(self, environment: PlcEnvironment, program: str) -> CanLinkedPlc:
+        """A power-on: a new session; the PLC (re)starts its program for it."""
+        self.session = next_session(self.session)
+        settings = self.config.settings
+        layout = CanLayout.build(environment.catalog, environment.plant_io.area_sizes(), settings)
+        register_map = RegisterMap.build(environment.catalog, environment.plant_io.area_sizes())
+        description = LinkDescription.of(environment, program, register_map, settings)
+        self.bus.listen({settings.plc_link_id, *layout.ids(Direction.PLC_TO_NC)})
+        return CanLinkedPlc(self, layout, environment, description_frames(settings, description.to_json()))
+
+    def close(self) -> None:
+        self.bus.close()
+
+
+class CanLinkedPlc:
+    """The simulation's PLC for one session of a :class:`CanLink`."""
+
+    def __init__(self, link: CanLink, layout: CanLayout, environment: PlcEnvironment, description: list[Frame]):
+        self.link = link
+        self.layout = layout
+        self.session = link.session
+        self.lockstep = link.mode is LinkMode.LOCKSTEP
+        self.plc_cycle_ipo = environment.plc_cycle_ipo
+        self.period = link.config.period_cycles(environment.ipo_cycle_us, environment.plc_cycle_ipo)
+        self.timeout = link.config.timeout_cycles(environment.ipo_cycle_us)
+        self.scans = 0
+        self.cycle = 0  # the NC cycle of the last call
+        self.faults: list[LinkFault] = []
+        self.to_plc: FaultyWire[Frame] = FaultyWire(Direction.NC_TO_PLC)
+        self.to_nc: FaultyWire[Frame] = FaultyWire(Direction.PLC_TO_NC)
+        self.bus_errors = 0  # free-running: sends and receives the bus refused (the NC's watch reacts)
+        self.last_bus_error = ""
+        self._plc_link_id = layout.settings.plc_link_id
+        self._areas_to_plc = [slot.area for slot in layout.slots[Direction.NC_TO_PLC]]
+        self._arrived = {can_id: 0 for can_id in (self._plc_link_id, *layout.ids(Direction.PLC_TO_NC))}
+        self._description = description
+        self._areas: Mapping[str, bytearray] = {}
+        self._grant = 0
+        self._nc_life = 0
+        self._nc_link = Frame(0, b"")  # the last NC link frame sent
+        self._ready = False  # the PLC reported this session started
+        self._done = 0  # the scan the PLC reported done (its raw handshake)
+        self._life = 0  # the PLC's sign of life as the NC got it
+        self._shown_life = 0  # ... as the NC sees it: held while a frame is missing
+
+    @property
+    def sign_of_life(self) -> int:
+        return self._shown_life
+
+    # ------------------------------------------------------------------ faults
+    def inject_fault(self, fault: LinkFault) -> None:
+        self.faults = [*active(self.faults, self.cycle), fault]
+
+    # ------------------------------------------------------------------ the simulation's calls
+    def scan(self, interface: ProcessImage, plant: ProcessImage) -> None:
+        if self.link.session != self.session:
+            raise LinkError(f"session {self.session} was replaced by session {self.link.session}")
+        self._areas = {**interface.areas, **plant.areas}
+        cycle = self.cycle = self.scans * self.plc_cycle_ipo
+        self.scans += 1
+        if self.lockstep:
+            self._grant = grant_of_scan(self.scans)
+            self._publish(cycle, data=cycle % self.period == 0)
+            self._wait_for_scan(self._grant, cycle)
+        else:
+            if cycle % self.period == 0:
+                self._publish(cycle, data=True)
+            self._receive_pending(cycle)
+        if self._deliver(cycle):
+            interface.touch()
+            plant.touch()
+        self._monitor(cycle)
+
+    def sends_at(self, cycle: int) -> bool:
+        """Whether the NC-to-PLC frames go out in IPO cycle ``cycle`` (between two scans)."""
+        return cycle % self.period == 0
+
+    def ipo_cycle(self, cycle: int, interface: ProcessImage, plant: ProcessImage) -> bool:
+        """Between two scans: send when the period is due, take what arrived; True when PLC-to-NC
+        bytes changed."""
+        self.cycle = cycle
+        if cycle % self.period == 0:
+            self._areas = {**interface.areas, **plant.areas}
+            self._publish(cycle, data=True)
+        elif self.to_plc.waiting:
+            self._flush_to_plc(cycle)
+        if not self.lockstep:
+            self._receive_pending(cycle)
+        return self._deliver(cycle)
+
+    # ------------------------------------------------------------------ sending
+    def _publish(self, cycle: int, data: bool) -> None:
+        """The NC-to-PLC data frames (when ``data``), then the NC link frame."""
+        faults = self.faults
+        if data:
+            for frame, area in zip(self.layout.frames(Direction.NC_TO_PLC, self._areas), self._areas_to_plc,
+                                   strict=True):
+                self.to_plc.put(frame, area, cycle, faults)
+        self._nc_life = (self._nc_life + 1) & 0xFF
+        mode = MODE_LOCKSTEP if self.lockstep else MODE_FREE_RUNNING
+        link = self._nc_link = NcLink(mode, self._nc_life, self.session, self._grant).encode(self.layout.settings)
+        if self.lockstep:
+            self._flush_to_plc(cycle)
+            self.link.bus.send(link)  # the stepping's handshake: never withheld
+        else:
+            self.to_plc.put(link, LINK_AREA, cycle, faults)
+            self._flush_to_plc(cycle)
+
+    def _flush_to_plc(self, cycle: int) -> None:
+        for frame in self.to_plc.take(cycle):
+            self._send(frame)
+
+    def _send(self, frame: Frame) -> None:
+        """In lockstep a refused frame ends the run; free-running the frame is lost, as on a bus
+        (a controller that went bus-off), and the NC's watch of the PLC reacts."""
+        try:
+            self.link.bus.send(frame)
+        except LinkError as error:
+            if self.lockstep:
+                raise
+            self.bus_errors += 1
+            self.last_bus_error = str(error)
+
+    # ------------------------------------------------------------------ receiving
+    def _wait_for_scan(self, grant: int, cycle: int) -> None:
+        """Receive until the PLC reports scan ``grant`` of this session done."""
+        link = self.link
+        patience = Patience.for_scan(self.scans == 1, link.first_scan_timeout_s, link.scan_timeout_s, link.on_wait,
+                                     link.peer_ended, lambda waited: self._silence(grant, waited))
+        receive, peer = link.bus.receive, link.peer
+        wait = 0.0 if peer is not None else RECEIVE_WAIT_S
+        while not (self._ready and self._done == grant):
+            frame = receive(wait)
+            if frame is not None:
+                self._received(frame, cycle)
+            elif peer is not None:
+                peer()
+            else:
+                # Nothing for a while: the PLC was not listening yet, or a frame went missing.
+                # The same frame again asks the PLC to repeat its last answer.
+                link.bus.send(self._nc_link)
+            patience.check()
+
+    def _silence(self, grant: int, waited: float) -> str:
+        where = f"CAN bus {self.link.spec}"
+        if not self._ready:
+            return f"no PLC has started session {self.session} on the {where} after {waited:.0f} s"
+        return f"the PLC on the {where} has not finished scan {grant} after {waited:.0f} s"
+
+    def _receive_pending(self, cycle: int) -> None:
+        """Free-running: what has arrived (a bus that fails counts as silent)."""
+        receive = self.link.bus.receive
+        try:
+            while (frame := receive(0)) is not None:
+                self._received(frame, cycle)
+        except LinkError as error:
+            self.bus_errors += 1
+            self.last_bus_error = str(error)
+
+    def _received(self, frame: Frame, cycle: int) -> None:
+        if frame.can_id != self._plc_link_id:
+            slot = self.layout.by_id.get(frame.can_id)
+            if slot is not None:
+                self.to_nc.put(frame, slot.area, cycle, self.faults)
+            return
+        link = PlcLink.decode(frame.can_id, frame.data)
+        if link is None:
+            return
+        if link.needs_description:
+            for segment in self._description:
+                self._send(segment)
+            return
+        if link.session_ready != self.session:
+            return  # a frame of an earlier session
+        self._done = link.scan_done
+        if not self._ready:
+            self._ready = True
+            self._publish(cycle, data=True)  # what the PLC missed while it started
+        self.to_nc.put(frame, LINK_AREA, cycle, self.faults)
+
+    def _deliver(self, cycle: int) -> bool:
+        """Give the NC the PLC's frames that are due; True when data bytes changed."""
+        changed = False
+        by_id, arrived, areas = self.layout.by_id, self._arrived, self._areas
+        for frame in self.to_nc.take(cycle):
+            if frame.can_id == self._plc_link_id:
+                link = PlcLink.decode(frame.can_id, frame.data)
+                if link is not None:
+                    self._life = link.life
+                    arrived[frame.can_id] = cycle
+            elif by_id[frame.can_id].decode(frame.data, areas):
+                arrived[frame.can_id] = cycle
+                changed = True
+        return changed
+
+    def _monitor(self, cycle: int) -> None:
+        """The time-out monitor: the NC sees the PLC's sign of life only while every frame is fresh."""
+        oldest = min(self._arrived.values())
+        if cycle - oldest <= self.timeout:
+            self._shown_life = self._life
+
+    @property
+    def missing(self) -> list[int]:
+        """Identifiers of the PLC-to-NC frames older than the time-out, now."""
+        return [can_id for can_id, at in self._arrived.items() if self.cycle - at > self.timeout]
+
+
+# ---------------------------------------------------------------------------------- a PLC on a virtual bus
+
+
+class VirtualCanPlc:
+    """The built-in PLC programs behind a virtual CAN bus in this process: lockstep over the real
+    frames and handshake, served whenever the link waits.  A context manager."""
+
+    def __init__(self, on_log: Callable[[str], None] = lambda text: None):
+        spec = private_virtual_bus()
+        self.plc_bus = CanBus(spec)
+        self.node = CanPlcNode(self.plc_bus, plc_programs(), log=on_log)
+        self.link = CanLink(LinkMode.LOCKSTEP, spec, peer=self.node.service_pending)
+
+    def simulation(self, machine: MachineConfig, program: str) -> Simulation:
+        """A power-on of ``machine`` with the program behind the bus (its ``can:`` settings)."""
+        config = can_config_of(machine)
+        self.link.configure(config)
+        self.node.use_link_id(config.settings.link_id)
+        return Simulation(machine, program, connector=self.link)
+
+    def close(self) -> None:
+        self.link.close()
+        self.plc_bus.close()
+
+    def __enter__(self) -> VirtualCanPlc:
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 trace: TracebackType | None) -> None:
+        self.close()
+
+
+def virtual_can_simulation(machine: MachineConfig, program: str) -> Simulation:
+    """A simulation whose PLC program sits behind its own virtual CAN bus; the bus closes with it."""
+    virtual = VirtualCanPlc()
+    simulation = virtual.simulation(machine, program)
+    weakref.finalize(simulation, virtual.close)
+    return simulation
