@@ -7,6 +7,9 @@ A machine file lists its I/O like an electrical I/O list, address -> function na
     IB4:  MCP.feedOverride  # feed override switch (binary 0..200 %)
     I9.1: SP1.gearEngaged1  # gear stage 1 engaged sensor of the spindle SP1's gearbox
     Q2.1: SP1.gearShift1    # shift actuator of SP1's gearbox: into gear stage 1
+    I6.2: Door.closed       # guard door switch
+    Q2.4: SP1.chuckClose    # valve solenoids of SP1's hydraulic chuck: clamp ...
+    Q2.5: SP1.chuckRelease  # ... and unclamp
 
 The function names form a fixed vocabulary (``PLANT_FUNCTIONS``), so the plant model and
 the PLC programs agree on what each point is without knowing its address.  Safety
@@ -14,7 +17,10 @@ contacts (emergency-stop chain, hardware limit switches) are normally closed: th
 reads 1 while healthy and 0 when actuated or when the wire is broken.  A spindle gearbox
 has one shift actuator per gear stage (``gearShift1`` .. ``gearShift5``, outputs the PLC
 holds on during a shift), one engaged sensor per stage (``gearEngaged1`` ..) and
-optionally a neutral sensor (``gearNeutral``).
+optionally a neutral sensor (``gearNeutral``).  A spindle's hydraulic chuck has a valve
+with two solenoids, outputs the PLC holds on to clamp (``chuckClose``) or to unclamp
+(``chuckRelease``), and end-position sensors (``chuckClosed``, optionally ``chuckOpen``).
+The guard door switch (``Door.closed``) is the operator's: a person opens and closes the door.
 """
 
 from __future__ import annotations
@@ -68,6 +74,12 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
                   "gear stage n engaged sensor of the spindle's gearbox: 1 while gear stage n is in mesh"),
     PlantFunction(rf"{_AXIS}\.gearNeutral", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
                   "neutral sensor of the spindle's gearbox: 1 while no gear stage is engaged"),
+    PlantFunction(rf"{_AXIS}\.chuckClosed", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+                  "end-position sensor of the spindle's chuck: 1 while the chuck is clamped"),
+    PlantFunction(rf"{_AXIS}\.chuckOpen", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+                  "end-position sensor of the spindle's chuck: 1 while the chuck is fully open"),
+    PlantFunction(r"Door\.closed", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR,
+                  "guard door switch of the machining area: 1 = closed, 0 = open"),
     PlantFunction(r"Drives\.on", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
                   "main contactor / infeed on command"),
     PlantFunction(r"Lamp\.[A-Za-z0-9_.]+", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
@@ -75,6 +87,10 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
     PlantFunction(rf"{_AXIS}\.gearShift[1-5]", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
                   "gear-stage shift actuator (valve) of the spindle's gearbox: 1 = move the gearbox into gear"
                   " stage n; the PLC holds it on until the stage is engaged"),
+    PlantFunction(rf"{_AXIS}\.chuckClose", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
+                  "clamp solenoid of the chuck valve: 1 = the chuck clamps (the PLC holds it on)"),
+    PlantFunction(rf"{_AXIS}\.chuckRelease", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
+                  "unclamp solenoid of the chuck valve: 1 = the chuck opens; neither solenoid on: it holds"),
 )
 
 _COMPILED = tuple((re.compile(f"^{f.pattern}$"), f) for f in PLANT_FUNCTIONS)
@@ -113,6 +129,36 @@ def gear_engaged(axis: str, stage: int) -> str:
 def gear_neutral(axis: str) -> str:
     """The sensor that reads 1 while the spindle's gearbox is in no gear stage."""
     return f"{axis}.gearNeutral"
+
+
+_CHUCK_POINT = re.compile(rf"^{_AXIS}\.(chuckClose|chuckRelease|chuckClosed|chuckOpen)$")
+
+
+def chuck_axis(name: str) -> str | None:
+    """The spindle whose chuck a plant I/O name belongs to, or None (not chuck I/O)."""
+    match = _CHUCK_POINT.match(name)
+    return match.group("axis") if match else None
+
+
+def chuck_close(axis: str) -> str:
+    """The valve solenoid that clamps the spindle's chuck while it is 1."""
+    return f"{axis}.chuckClose"
+
+
+def chuck_release(axis: str) -> str:
+    """The valve solenoid that opens the spindle's chuck while it is 1."""
+    return f"{axis}.chuckRelease"
+
+
+def chuck_closed(axis: str) -> str:
+    """The sensor that reads 1 while the spindle's chuck is clamped."""
+    return f"{axis}.chuckClosed"
+
+
+def chuck_open(axis: str) -> str:
+    """The sensor that reads 1 while the spindle's chuck is fully open."""
+    return f"{axis}.chuckOpen"
+
 
 _TYPE_WIDTH = {SignalType.BOOL: "X", SignalType.BYTE: "B", SignalType.WORD: "W"}
 

@@ -8,8 +8,10 @@ from __future__ import annotations
 
 from interfaces.plc import PlcEnvironment, PlcFactory, SoftPlc
 from plc_stub.programs.basic_machine import BasicMachine
+from plc_stub.programs.polygon import Polygon
 from plc_stub.programs.referencing import Referencing
 from plc_stub.programs.spindle import Spindle
+from plc_stub.programs.sync_spindle import SyncSpindle
 from plc_stub.runtime import ScanCycleRuntime
 
 
@@ -25,8 +27,18 @@ def _spindle(environment: PlcEnvironment) -> SoftPlc:
     return ScanCycleRuntime(environment, Spindle)
 
 
+def _sync_spindle(environment: PlcEnvironment) -> SoftPlc:
+    return ScanCycleRuntime(environment, SyncSpindle)
+
+
+def _polygon(environment: PlcEnvironment) -> SoftPlc:
+    return ScanCycleRuntime(environment, Polygon)
+
+
 REGISTRY: dict[str, PlcFactory] = {
     "basic_machine": _basic_machine,
     "referencing": _referencing,
     "spindle": _spindle,
+    "sync_spindle": _sync_spindle,
+    "polygon": _polygon,
 }

@@ -53,6 +53,7 @@ from interfaces.plant_io import MAX_GEAR_STAGES, gear_engaged, gear_shift
 from plc_stub.blocks import SR, TON
 from plc_stub.io import BitField, Bool, Byte, PlcIo
 from plc_stub.programs.basic_machine import pressed
+from plc_stub.programs.parameters import seconds
 from plc_stub.programs.referencing import Referencing
 
 GEAR_SHIFT_TIMEOUT_S = 5.0
@@ -114,6 +115,7 @@ class _Parameters:
 
 
 class Spindle(Referencing):
+    PROGRAM = "spindle"  # the name the harness knows the program by (unknown-parameter messages)
     PARAMETERS = (*Referencing.PARAMETERS, "gear_shift_timeout", "oscillation_by_plc", "oscillation_time_cw",
                   "oscillation_time_ccw", "master_spindle")
 
@@ -123,7 +125,7 @@ class Spindle(Referencing):
         axes = io.environment.catalog.layout.axes
         stages = {axis: _wired_stages(io, axis) for axis in axes}
         gearbox_axes = [axis for axis in axes if stages[axis]]
-        parameters = _parameters(io.environment.parameters, self.PARAMETERS, axes, gearbox_axes,
+        parameters = _parameters(io.environment.parameters, self.PROGRAM, self.PARAMETERS, axes, gearbox_axes,
                                  keys_wired=io.is_wired("MCP.spindleStop") or io.is_wired("MCP.spindleStart"))
         # Networks 6 to 8
         self.gearboxes = [
@@ -248,20 +250,13 @@ def _wired_stages(io: PlcIo, axis: str) -> int:
     return stages
 
 
-def _parameters(parameters: Mapping[str, Any], known: Sequence[str], axes: Sequence[str],
+def _parameters(parameters: Mapping[str, Any], program: str, known: Sequence[str], axes: Sequence[str],
                 gearbox_axes: Sequence[str], keys_wired: bool) -> _Parameters:
     """Check the program's parameters; every mistake is reported at once when the PLC starts."""
-    problems = [f"plc: unknown parameter '{name}'; the program spindle takes {', '.join(known)}"
+    problems = [f"plc: unknown parameter '{name}'; the program {program} takes {', '.join(known)}"
                 for name in parameters if name not in known]
 
-    def seconds(name: str, default: float) -> float:
-        value = parameters.get(name, default)
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or value <= 0:
-            problems.append(f"plc: {name} is a time in seconds above 0, got {value!r}")
-            return default
-        return float(value)
-
-    timeout = seconds("gear_shift_timeout", GEAR_SHIFT_TIMEOUT_S)
+    timeout = seconds(parameters, "gear_shift_timeout", GEAR_SHIFT_TIMEOUT_S, problems)
     oscillated = parameters.get("oscillation_by_plc", [])
     if not isinstance(oscillated, list) or not all(isinstance(name, str) for name in oscillated):
         problems.append(f"plc: oscillation_by_plc is a list of spindles, e.g. [SP1], got {oscillated!r}")
@@ -272,8 +267,8 @@ def _parameters(parameters: Mapping[str, Any], known: Sequence[str], axes: Seque
         elif name not in gearbox_axes:
             problems.append(f"plc: oscillation_by_plc names {name}, which has no gearbox wired"
                             f" ({gear_shift(name, 1)}, {gear_engaged(name, 1)} ...)")
-    time_cw = seconds("oscillation_time_cw", OSCILLATION_TIME_CW_S)
-    time_ccw = seconds("oscillation_time_ccw", OSCILLATION_TIME_CCW_S)
+    time_cw = seconds(parameters, "oscillation_time_cw", OSCILLATION_TIME_CW_S, problems)
+    time_ccw = seconds(parameters, "oscillation_time_ccw", OSCILLATION_TIME_CCW_S, problems)
     master = parameters.get("master_spindle", gearbox_axes[0] if gearbox_axes else None)
     if "master_spindle" in parameters and not isinstance(master, str):
         problems.append(f"plc: master_spindle is the name of a spindle, e.g. SP1, got {master!r}")

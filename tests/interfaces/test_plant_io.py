@@ -1,4 +1,5 @@
-"""The plant I/O vocabulary of a spindle gearbox: actuators are PLC outputs, sensors plant inputs."""
+"""The plant I/O vocabulary of a spindle gearbox and chuck: actuators are PLC outputs, sensors plant
+inputs; the guard door switch is the operator's."""
 
 from __future__ import annotations
 
@@ -9,6 +10,11 @@ from interfaces.plant_io import (
     Owner,
     PlantIoError,
     PlantIoMap,
+    chuck_axis,
+    chuck_close,
+    chuck_closed,
+    chuck_open,
+    chuck_release,
     gear_engaged,
     gear_neutral,
     gear_shift,
@@ -23,8 +29,13 @@ from interfaces.signals import Direction
     ("SP1.gearShift5", Direction.PLC_TO_PLANT, Owner.PLC),
     ("SP1.gearEngaged3", Direction.PLANT_TO_PLC, Owner.PLANT),
     ("SP1.gearNeutral", Direction.PLANT_TO_PLC, Owner.PLANT),
+    ("SP1.chuckClose", Direction.PLC_TO_PLANT, Owner.PLC),
+    ("SP1.chuckRelease", Direction.PLC_TO_PLANT, Owner.PLC),
+    ("SP2.chuckClosed", Direction.PLANT_TO_PLC, Owner.PLANT),
+    ("SP2.chuckOpen", Direction.PLANT_TO_PLC, Owner.PLANT),
+    ("Door.closed", Direction.PLANT_TO_PLC, Owner.OPERATOR),
 ])
-def test_gearbox_points_are_in_the_vocabulary(name: str, direction: Direction, owner: Owner) -> None:
+def test_gearbox_chuck_and_door_points_are_in_the_vocabulary(name: str, direction: Direction, owner: Owner) -> None:
     function = plant_function(name)
     assert function is not None
     assert (function.direction, function.owner) == (direction, owner)
@@ -50,3 +61,11 @@ def test_an_actuator_is_an_output_and_a_sensor_an_input() -> None:
         ("I0.0", "'SP1.gearShift1' is an output; wire it to Q, not I"),
         ("Q0.0", "'SP1.gearEngaged1' is an input; wire it to I, not Q"),
     ]
+
+
+def test_chuck_point_names_its_spindle() -> None:
+    names = [chuck_close("SP1"), chuck_release("SP1"), chuck_closed("SP_2"), chuck_open("SP_2")]
+    assert names == ["SP1.chuckClose", "SP1.chuckRelease", "SP_2.chuckClosed", "SP_2.chuckOpen"]
+    assert [chuck_axis(name) for name in names] == ["SP1", "SP1", "SP_2", "SP_2"]
+    assert chuck_axis("SP1.chuckJaws") is None
+    assert chuck_axis("Door.closed") is None

@@ -23,11 +23,14 @@ sit on the slides of the simulated machine, and the I/O list wired to the PLC::
         plant: {ref_cam: [280.0, 295.0], hw_limits: [-12.0, 312.0]}
       SP1:
         MD35090 NUM_GEAR_STEPS: 3
-        plant: {gearbox: {stages: 3, shift_time: 0.4, engaged: 1}}
+        plant: {gearbox: {stages: 3, shift_time: 0.4, engaged: 1}, chuck: {travel_time: 0.3, closed: true}}
     plant_io:                      # address: plant function (interfaces/plant_io.py)
       I0.0: MCP.auto
       I9.0: SP1.gearEngaged1       # one engaged sensor and one shift actuator per gear stage:
       Q2.0: SP1.gearShift1         # ... gearEngaged2, gearShift2, ... up to the gearbox's stages
+      I9.4: SP1.chuckClosed        # the chuck's sensors (chuckOpen optional) and its valve
+      Q2.4: SP1.chuckClose         # solenoids: clamp ...
+      Q2.5: SP1.chuckRelease       # ... and unclamp
     plc:                           # parameters of the machine's PLC program (it checks them)
       referencing_order: [[Y1], [X1], [Z1]]
 
@@ -52,12 +55,17 @@ Rules:
   the stage in mesh at power-on (default 1, 0 = neutral).  A gearbox needs its I/O: the shift
   actuators ``<spindle>.gearShift1..n`` and the engaged sensors ``<spindle>.gearEngaged1..n`` (the
   neutral sensor ``<spindle>.gearNeutral`` is optional); gearbox I/O without a gearbox is a mistake.
+  A spindle's hydraulic chuck: ``chuck: {travel_time: s, closed: true|false}``, the seconds of its
+  stroke and whether it is clamped at power-on (default true).  It needs its valve solenoids
+  ``<spindle>.chuckClose`` and ``<spindle>.chuckRelease`` and its sensor ``<spindle>.chuckClosed``
+  wired (``<spindle>.chuckOpen`` is optional); chuck I/O without a chuck is a mistake.
 * Every machine axis belongs to exactly one channel.  A channel axis without a name in
   MD20080 is called by its machine axis name in part programs.
 * Scenario overrides (``load_machine(..., overrides=...)``) are ``{instance: {key: value}}``
   with instance = an axis name, a channel name or ``NC``.  They are checked exactly like the
   file and replace the file's values index by index.  An axis may also carry ``sim:`` and
-  ``plant:``; the keys written replace the file's (``hw_limits`` as a pair, the ``gearbox`` key by key).
+  ``plant:``; the keys written replace the file's (``hw_limits`` as a pair, ``gearbox`` and ``chuck`` key
+  by key).
 
 Every problem of the file and of the overrides is collected with ``file:line:column`` and
 reported at once in one :class:`~vc.located_yaml.SourceError`; no half-checked configuration
@@ -76,6 +84,10 @@ from interfaces.plant_io import (
     MAX_GEAR_STAGES,
     PlantIoError,
     PlantIoMap,
+    chuck_axis,
+    chuck_close,
+    chuck_closed,
+    chuck_release,
     gear_engaged,
     gear_shift,
     gearbox_point,
@@ -93,19 +105,28 @@ from vc.config.machine_data import (
     checked_value,
     shown,
 )
-from vc.config.model import AxisConfig, AxisPlant, AxisSimulation, ChannelConfig, GearboxPlant, MachineConfig
+from vc.config.model import (
+    AxisConfig,
+    AxisPlant,
+    AxisSimulation,
+    ChannelConfig,
+    ChuckPlant,
+    GearboxPlant,
+    MachineConfig,
+)
 from vc.located_yaml import LocatedMap, Mark, Problems, load_file
 
 TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", "axes", "plant_io", "plc", "can")
 SIM_KEYS = ("start_position", "zero_mark_offset", "zero_mark_offset_2", "encoder_serial", "encoder_serial_2")
 _WHOLE_SIM_KEYS = ("encoder_serial", "encoder_serial_2")
-PLANT_KEYS = ("ref_cam", "hw_limits", "gearbox")
+PLANT_KEYS = ("ref_cam", "hw_limits", "gearbox", "chuck")
 GEARBOX_KEYS = ("stages", "shift_time", "engaged")
+CHUCK_KEYS = ("travel_time", "closed")
 _REQUIRED_GEARBOX_KEYS = {"stages": "the number of gear stages",
                           "shift_time": "the seconds the shift actuator must push while the motor turns"}
 NCK_INSTANCE = "NC"
 # Instance names the interface and the plant I/O vocabulary already use.
-RESERVED_NAMES = frozenset({"NC", "MODEGROUP", "MCP", "EStop", "Drives", "Lamp", "PLC"})  # PLC: the FMU
+RESERVED_NAMES = frozenset({"NC", "MODEGROUP", "MCP", "EStop", "Drives", "Lamp", "Door", "PLC"})  # PLC: the FMU
 MAX_CHANNELS = 10  # DB21..DB30: channel 11 would collide with DB31 of machine axis 1
 MAX_AXES = 31  # MD10000 has 31 entries
 MAX_CHANNEL_AXES = 20  # MD20070 has 20 entries
@@ -232,11 +253,13 @@ class _AxisEntry:
     mark: Mark
     data: _Instance
     sim: AxisSimulation = field(default_factory=AxisSimulation)
-    plant: AxisPlant = field(default_factory=AxisPlant)  # without the gearbox, which build() makes
+    plant: AxisPlant = field(default_factory=AxisPlant)  # without gearbox and chuck, which build() makes
     channel: str = ""
     gearbox: dict[str, _Written] = field(default_factory=dict)  # plant.gearbox keys: file, then overrides
     gearbox_keys: set[str] = field(default_factory=set)  # every key written, also those with a bad value
     gearbox_mark: Mark | None = None  # where the gearbox is first declared; None = no gearbox
+    chuck: dict[str, _Written] = field(default_factory=dict)  # plant.chuck keys: file, then overrides
+    chuck_mark: Mark | None = None  # where the chuck is first declared; None = no chuck
 
 
 @dataclass(slots=True)
@@ -424,6 +447,8 @@ class _MachineReader:
                         values["hw_limit_minus"], values["hw_limit_plus"] = minus, plus
             elif key == "gearbox":
                 values["gearbox"] = self._read_gearbox(value, value_mark, f"{where}.gearbox")
+            elif key == "chuck":
+                values["chuck"] = self._read_chuck(value, value_mark, f"{where}.chuck")
             else:
                 self.add(key_mark, f"unknown key '{key}' in plant; allowed: {', '.join(PLANT_KEYS)}")
         return values
@@ -466,6 +491,28 @@ class _MachineReader:
         declared = mark if raw is None or isinstance(raw, dict) else None
         return written, {key for key in block if key in GEARBOX_KEYS}, declared
 
+    def _read_chuck(self, raw: Any, mark: Mark, where: str) -> tuple[dict[str, _Written], Mark | None]:
+        """The ``plant.chuck`` keys written in ``raw`` (checked one by one) and where the chuck is
+        declared (None when ``raw`` is no mapping at all); :meth:`_build_chuck` checks the rest."""
+        written: dict[str, _Written] = {}
+        block = self._any_mapping(raw, mark, where)
+        for key, value in block.items():
+            key_mark, value_mark = self.marks.key(block, key), self.marks.value(block, key)
+            if key not in CHUCK_KEYS:
+                self.add(key_mark, f"unknown key '{key}' in plant.chuck; allowed: {', '.join(CHUCK_KEYS)}")
+            elif key == "travel_time":
+                seconds = as_number(value)
+                if seconds is None or seconds <= 0:
+                    self.add(value_mark, "plant.chuck.travel_time: the seconds of the chuck's stroke, above 0,"
+                                         f" got {shown(value)}")
+                    continue
+                written[key] = _Written(float(seconds), value_mark)
+            elif not isinstance(value, bool):
+                self.add(value_mark, f"plant.chuck.closed: true (clamped at power-on) or false, got {shown(value)}")
+            else:
+                written[key] = _Written(value, value_mark)
+        return written, mark if raw is None or isinstance(raw, dict) else None
+
     def _any_mapping(self, raw: Any, mark: Mark, where: str) -> Mapping[str, Any]:
         """``raw`` as a mapping (located or built in code); a problem and an empty one otherwise."""
         if raw is None:
@@ -488,6 +535,11 @@ class _MachineReader:
                 entry.gearbox_keys.update(keys)
                 if entry.gearbox_mark is None:
                     entry.gearbox_mark = declared
+            if "chuck" in plant:
+                chuck, declared = plant.pop("chuck")
+                entry.chuck.update(chuck)
+                if entry.chuck_mark is None:
+                    entry.chuck_mark = declared
             entry.plant = dataclasses.replace(entry.plant, **plant)
 
     def _number(self, raw: Any, mark: Mark, what: str) -> float | None:
@@ -793,9 +845,11 @@ class _MachineReader:
                          f"{entry.name}: MD30550 AXCONF_ASSIGN_MASTER_CHAN = {master}, but {entry.name} is an"
                          f" axis of channel {channel_numbers[entry.channel]} ({entry.channel})")
             values = MachineData(entry.name, data.values())
-            plant = dataclasses.replace(entry.plant, gearbox=self._build_gearbox(entry, spindle))
+            plant = dataclasses.replace(entry.plant, gearbox=self._build_gearbox(entry, spindle),
+                                        chuck=self._build_chuck(entry, spindle))
             result[entry.name] = AxisConfig(entry.name, number, values, is_rotary, spindle, entry.sim, plant)
         self._check_gearbox_io()
+        self._check_chuck_io()
         return result
 
     def _build_gearbox(self, entry: _AxisEntry, spindle: int) -> GearboxPlant | None:
@@ -852,6 +906,32 @@ class _MachineReader:
             if stages is not None and point.stage > int(stages.value):
                 self.add(mark, f"plant_io {key}: {name}: the gearbox of {point.axis} has"
                                f" {_count(int(stages.value), 'stage', 'stages')}")
+
+    def _build_chuck(self, entry: _AxisEntry, spindle: int) -> ChuckPlant | None:
+        """The spindle's chuck, checked against the I/O list; None without one."""
+        declared = entry.chuck_mark
+        if declared is None:
+            return None
+        if not spindle:
+            self.add(declared, f"{entry.name}: plant.chuck on an axis that is not a spindle"
+                               " (MD35000 SPIND_ASSIGN_TO_MACHAX = 0)")
+        unwired = [name for name in (chuck_close(entry.name), chuck_release(entry.name), chuck_closed(entry.name))
+                   if name not in self.plant_io_names]
+        if unwired:
+            self.add(declared, f"{entry.name}: the chuck's I/O is not wired in plant_io: {', '.join(unwired)}")
+        travel = entry.chuck.get("travel_time")
+        if travel is None:
+            self.add(declared, f"{entry.name}: plant.chuck lacks travel_time (the seconds of the chuck's stroke)")
+            return None
+        closed = entry.chuck.get("closed")
+        return ChuckPlant(float(travel.value), bool(closed.value) if closed is not None else True)
+
+    def _check_chuck_io(self) -> None:
+        """Chuck I/O needs a chuck: its sensors would read 0 for ever."""
+        for name, (key, mark) in self.plant_io_names.items():
+            axis = chuck_axis(name)
+            if axis is not None and axis in self.axes and self.axes[axis].chuck_mark is None:
+                self.add(mark, f"plant_io {key}: {name} needs a chuck on {axis} (plant: {{chuck: {{travel_time: s}}}})")
 
     def _build_channel(self, number: int, entry: _ChannelEntry,
                        axes: Mapping[str, AxisConfig]) -> ChannelConfig:

@@ -40,13 +40,22 @@ class GearboxPlant:
 
 
 @dataclass(frozen=True, slots=True)
+class ChuckPlant:
+    """The hydraulic chuck of a spindle: the PLC clamps and opens it with the two solenoids of its valve."""
+
+    travel_time_s: float  # stroke time from open to clamped (and back) with hydraulic pressure
+    closed_at_power_on: bool = True  # clamped when the machine is switched on
+
+
+@dataclass(frozen=True, slots=True)
 class AxisPlant:
-    """Switches mounted along the axis, in physical machine coordinates, and a spindle's gearbox."""
+    """Switches mounted along the axis, in physical machine coordinates, a spindle's gearbox and chuck."""
 
     ref_cam: tuple[float, float] | None = None  # the axis stands on the cam inside [start, end]
     hw_limit_minus: float | None = None  # the minus limit switch is actuated at or below this position
     hw_limit_plus: float | None = None  # the plus limit switch is actuated at or above this position
     gearbox: GearboxPlant | None = None  # spindles only
+    chuck: ChuckPlant | None = None  # spindles only
 
 
 @dataclass(frozen=True, slots=True)

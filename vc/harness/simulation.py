@@ -58,18 +58,18 @@ class Simulation:
         self._underlying: dict[SignalRef, Value] = {}  # what the owner wrote while a force held
         self._forces_by_direction: dict[Direction, list[tuple[SignalRef, Value]]] = {d: [] for d in Direction}
         self.plant_image = ProcessImage(machine.plant_io.area_sizes())
-        self._power_on(NcMemory(), None, None, first=True)
+        self._power_on(NcMemory(), None, None, None, first=True)
 
     def _power_on(self, memory: NcMemory, physical: dict[str, float] | None,
-                  gear_stages: dict[str, int] | None, first: bool) -> None:
+                  gear_stages: dict[str, int] | None, chucks_clamped: dict[str, bool] | None, first: bool) -> None:
         """The control, the PLC and the plant start: a fresh NC with the kept memory, a PLC
         restart, the slides where they stand, the gearboxes in the stages they are in, the
-        panel as the operator left it."""
+        chucks as they hold, the panel as the operator left it."""
         machine = self.machine
         self.nck = Nck(machine, self._catalog, memory, physical)
         self.catalog = self.nck.catalog
         self.interface = ProcessImage(self.catalog.area_sizes)
-        self.plant = Plant(machine, self.nck.cycle_us, self.nck.axes, gear_stages)
+        self.plant = Plant(machine, self.nck.cycle_us, self.nck.axes, gear_stages, chucks_clamped)
         self.plc: SoftPlc | None = None
         if self.plc_name is not None:
             scan_time = self.plc_period * self.nck.cycle_us / 1_000_000
@@ -92,12 +92,14 @@ class Simulation:
     def power_cycle(self, off_seconds: float = 1.0) -> None:
         """Switch the machine off and on again after ``off_seconds``: what the NC keeps (machine
         data it wrote, buffered positions) survives, the PLC restarts, the slides stay, and so
-        do the gearboxes (a shift the PLC had not finished ends in neutral)."""
+        do the gearboxes (a shift the PLC had not finished ends in neutral) and the chucks (a
+        stroke the hydraulics had not finished counts as open)."""
         memory = self.nck.power_off()
         physical = self.nck.physical_positions()
         gear_stages = self.plant.gear_stages()
+        chucks_clamped = self.plant.chucks_clamped()
         self._cycles_before += self.nck.cycle + round(off_seconds * 1_000_000 / self.nck.cycle_us)
-        self._power_on(memory, physical, gear_stages, first=False)
+        self._power_on(memory, physical, gear_stages, chucks_clamped, first=False)
 
     # ------------------------------------------------------------------ time
     @property

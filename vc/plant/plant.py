@@ -1,12 +1,16 @@
-"""The machine plant: switches along the axes, spindle gearboxes and the drive line-up, wired to the PLC.
+"""The machine plant: switches along the axes, spindle gearboxes and chucks and the drive line-up,
+wired to the PLC.
 
 The plant sees the true (physical) slide positions and the motor speeds and drives the
 plant-owned inputs of the I/O list: reference cams (1 while the slide stands on the cam),
 hardware limit switches (normally closed: 0 while actuated), the gear stage sensors of
 each spindle gearbox, which the PLC shifts with its actuator outputs (vc/plant/gearbox.py),
-and ``Drives.ready``, which follows the PLC's ``Drives.on`` output after the infeed's
-switch-on delay.  Operator inputs (panel keys, the emergency-stop button) are not the
-plant's: a person (a scenario) sets them.
+the end-position sensors of each spindle chuck, which the PLC clamps and opens with the
+solenoids of its valve (vc/plant/chuck.py; the hydraulics have pressure while the drive line-up
+is ready), and
+``Drives.ready``, which follows the PLC's ``Drives.on`` output after the infeed's switch-on
+delay.  Operator inputs (panel keys, the emergency-stop button, the guard door switch) are
+not the plant's: a person (a scenario) sets them.
 """
 
 from __future__ import annotations
@@ -18,12 +22,14 @@ from typing import Protocol
 from interfaces.image import ProcessImage
 from interfaces.signals import SignalRef
 from vc.config.model import AxisConfig, MachineConfig
+from vc.plant.chuck import Chuck
 from vc.plant.gearbox import Gearbox
 
 DRIVE_READY_DELAY_S = 0.1  # infeed switch-on to "ready", a typical line module figure
-# The operator panel as it stands at power-on: e-stop button released, override switches at 100 %.
+# The operator's side as it stands at power-on: e-stop button released, override switches at 100 %,
+# guard door closed.
 PANEL_AT_POWER_ON = {"EStop.chainOk": 1, "MCP.feedOverride": 100, "MCP.rapidOverride": 100,
-                     "MCP.spindleOverride": 100}
+                     "MCP.spindleOverride": 100, "Door.closed": 1}
 
 
 class Slide(Protocol):
@@ -44,9 +50,10 @@ class _AxisSwitches:
 
 class Plant:
     def __init__(self, machine: MachineConfig, ipo_cycle_us: int, slides: Sequence[Slide],
-                 gear_stages: Mapping[str, int] | None = None):
-        """``gear_stages`` are the stages in mesh at power-on by spindle, where they differ from
-        the machine file's (a gearbox keeps its stage while the machine is switched off)."""
+                 gear_stages: Mapping[str, int] | None = None, chucks_clamped: Mapping[str, bool] | None = None):
+        """``gear_stages`` are the stages in mesh at power-on by spindle and ``chucks_clamped``
+        the chucks' states, where they differ from the machine file's (a gearbox keeps its stage
+        and a chuck its part while the machine is switched off)."""
         self._io = machine.plant_io
         self._slides = list(slides)  # in machine axis order
         self._axes = [self._switches_of(axis) for axis in machine.axes]
@@ -56,6 +63,9 @@ class Plant:
             for index, axis in enumerate(machine.axes)
             if (gearbox := Gearbox.of_axis(axis, self._io, ipo_cycle_us, kept.get(axis.name))) is not None
         ]
+        clamped = chucks_clamped or {}
+        self._chucks = [chuck for axis in machine.axes
+                        if (chuck := Chuck.of_axis(axis, self._io, ipo_cycle_us, clamped.get(axis.name))) is not None]
         ready = self._io.by_name("Drives.ready")
         on = self._io.by_name("Drives.on")
         self._drives_ready = ready.ref() if ready else None
@@ -98,11 +108,18 @@ class Plant:
         for gearbox, _ in self._gearboxes:
             gearbox.forget_sensors()
             gearbox.write_sensors(io)
+        for chuck in self._chucks:
+            chuck.forget_sensors()
+            chuck.write_sensors(io)
         self._drive_line_up(io)
 
     def gear_stages(self) -> dict[str, int]:
         """The stage in mesh of every spindle gearbox (0 = neutral), e.g. to keep it over a power cycle."""
         return {gearbox.axis: gearbox.engaged for gearbox, _ in self._gearboxes}
+
+    def chucks_clamped(self) -> dict[str, bool]:
+        """Whether each spindle chuck is clamped (a chuck between its end positions counts as open)."""
+        return {chuck.axis: chuck.clamped for chuck in self._chucks}
 
     def step(self, io: ProcessImage) -> None:
         """Update the plant inputs for one IPO cycle."""
@@ -110,6 +127,10 @@ class Plant:
         for gearbox, motor in self._gearboxes:
             gearbox.step(io, motor.velocity)
         self._drive_line_up(io)
+        # the hydraulic unit runs with the drive line-up; a machine without one always has pressure
+        pressure = self._drives_ready is None or self._ready == 1
+        for chuck in self._chucks:
+            chuck.step(io, pressure)
 
     def _switches(self, io: ProcessImage) -> None:
         for switches, slide in zip(self._axes, self._slides, strict=True):

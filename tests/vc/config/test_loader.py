@@ -8,7 +8,7 @@ import pytest
 
 from vc.config import md_dictionary as mdd
 from vc.config.loader import load_machine
-from vc.config.model import AxisConfig, GearboxPlant, MachineConfig, machine_ipo_cycle_us
+from vc.config.model import AxisConfig, ChuckPlant, GearboxPlant, MachineConfig, machine_ipo_cycle_us
 from vc.located_yaml import LocatedMap, SourceError, load_text
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -89,7 +89,7 @@ def test_sim_and_plant(turn_mill: MachineConfig) -> None:
 
 def test_plant_io(turn_mill: MachineConfig, mill: MachineConfig) -> None:
     assert turn_mill.plant_io.area_sizes() == {"I": 10, "Q": 2}
-    assert len(turn_mill.plant_io.points) == 48
+    assert len(turn_mill.plant_io.points) == 57
     assert str(turn_mill.plant_io.resolve("X1.refCam").address) == "I7.0"
     assert str(turn_mill.plant_io.resolve("MCP.feedOverride").address) == "IB3"
     assert mill.plant_io.area_sizes() == {"I": 11, "Q": 3}
@@ -257,7 +257,7 @@ def test_bad_sim_and_plant_overrides_are_reported_with_the_scenario_marks() -> N
         "scenario.yaml:3:52: unknown key 'height' in sim; allowed: start_position, zero_mark_offset,"
         " zero_mark_offset_2, encoder_serial, encoder_serial_2",
         "scenario.yaml:4:22: plant.ref_cam [260.0, 250.0]: the start of the cam must be below its end",
-        "scenario.yaml:4:38: unknown key 'door' in plant; allowed: ref_cam, hw_limits, gearbox",
+        "scenario.yaml:4:38: unknown key 'door' in plant; allowed: ref_cam, hw_limits, gearbox, chuck",
         "scenario.yaml:5:11: unknown key 'sim'; CHAN1 takes machine data",  # sim and plant are axis keys
     ]
 
@@ -313,6 +313,56 @@ def test_bad_gearbox_overrides_are_reported_with_the_scenario_marks() -> None:
         " = 0); only a spindle changes gear stages",
         "scenario.yaml:8:22: X1: the gearbox's I/O is not wired in plant_io: X1.gearShift1, X1.gearEngaged1",
     ]
+
+
+# ------------------------------------------------------------------------------ spindle chucks
+
+
+def test_chuck_overrides_replace_the_file_values_key_by_key(turn_mill: MachineConfig) -> None:
+    overrides = _overrides("machine_data:\n  SP2:\n    plant: {chuck: {closed: true}}\n")
+    config = load_machine(TURN_MILL, overrides, "scenario.yaml")
+    assert config.axis("SP2").plant.chuck == ChuckPlant(travel_time_s=0.3, closed_at_power_on=True)
+    assert turn_mill.axis("SP2").plant.chuck == ChuckPlant(0.3, False)  # the shipped machine is not touched
+    assert [str(config.plant_io.resolve(name).address) for name in (
+        "Door.closed", "SP2.chuckClosed", "SP2.chuckOpen", "SP2.chuckClose", "SP2.chuckRelease")] == [
+        "I6.2", "I9.6", "I9.7", "Q0.6", "Q0.7"]
+
+
+def test_bad_chuck_overrides_are_reported_with_the_scenario_marks() -> None:
+    overrides = _overrides(
+        "machine_data:\n"
+        "  SP1:\n"
+        "    plant: {chuck: {travel_time: 0, closed: 1, jaws: 3}}\n"
+        "  SP3:\n"
+        "    plant: {chuck: {closed: false}}\n"
+        "  X1:\n"
+        "    plant: {chuck: {travel_time: 0.3}}\n"
+    )
+    with pytest.raises(SourceError) as error:
+        load_machine(TURN_MILL, overrides, "scenario.yaml")
+    assert [str(problem) for problem in error.value.problems] == [
+        "scenario.yaml:3:34: plant.chuck.travel_time: the seconds of the chuck's stroke, above 0, got 0",
+        "scenario.yaml:3:45: plant.chuck.closed: true (clamped at power-on) or false, got 1",
+        "scenario.yaml:3:48: unknown key 'jaws' in plant.chuck; allowed: travel_time, closed",
+        "scenario.yaml:5:20: SP3: plant.chuck lacks travel_time (the seconds of the chuck's stroke)",
+        "scenario.yaml:5:20: SP3: the chuck's I/O is not wired in plant_io: SP3.chuckClose, SP3.chuckRelease,"
+        " SP3.chuckClosed",
+        "scenario.yaml:7:20: X1: plant.chuck on an axis that is not a spindle (MD35000 SPIND_ASSIGN_TO_MACHAX = 0)",
+        "scenario.yaml:7:20: X1: the chuck's I/O is not wired in plant_io: X1.chuckClose, X1.chuckRelease,"
+        " X1.chuckClosed",
+    ]
+
+
+def test_chuck_io_without_a_chuck_is_a_mistake(tmp_path: Path) -> None:
+    text = Path(TURN_MILL).read_text().replace("plant: {chuck: {travel_time: 0.3, closed: false}}", "")
+    path = tmp_path / "machine.yaml"
+    path.write_text(text)
+    with pytest.raises(SourceError) as error:
+        load_machine(str(path))
+    assert [problem.message for problem in error.value.problems] == [
+        f"plant_io {address}: SP2.{function} needs a chuck on SP2 (plant: {{chuck: {{travel_time: s}}}})"
+        for address, function in (("I9.6", "chuckClosed"), ("I9.7", "chuckOpen"), ("Q0.6", "chuckClose"),
+                                  ("Q0.7", "chuckRelease"))]
 
 
 def test_a_missing_file_is_a_problem() -> None:

@@ -126,7 +126,7 @@ def test_a_plc_that_cannot_run_the_program_is_reported() -> None:
         with pytest.raises(LinkError) as caught:
             Simulation(TURN_MILL, "basic_machine", connector=link)
         assert "no PLC has started session 1 on the CAN bus" in str(caught.value)
-        assert "cannot run: no PLC program 'nonesuch' (known: basic_machine, referencing, spindle)" in str(caught.value)
+        assert "cannot run: no PLC program 'nonesuch' (known: basic_machine, polygon, referencing, spindle, sync_spindle)" in str(caught.value)
         assert child.wait(10) == 2
     finally:
         link.close()
