@@ -620,7 +620,9 @@ class MachineAxis:
         status = (
             no_motion and error <= dyn.coarse_window,
             no_motion and error <= dyn.fine_window,
-            no_motion and abs(self.velocity) <= dyn.standstill_velocity,
+            # "stationary" is the actual speed below MD36060, whoever owns the axis (a coupled FS,
+            # a path axis held by feed stop), as long as nothing commands it to move
+            self.command_velocity == 0.0 and abs(self.velocity) <= dyn.standstill_velocity,
             self.servo_on and self.position_control,
             self.follow_up,
             self.encoders[0].referenced,

@@ -367,11 +367,16 @@ class Channel:
                 self._dwell_degrees -= abs(master.axis.velocity) * self._dt
             if self._dwell_degrees <= 1e-9 or master is None:
                 self._dwell_degrees = 0.0
-                self._next_block()
+                self._end_dwell()
             return
         self._dwell_cycles -= 1
         if self._dwell_cycles <= 0:
-            self._next_block()
+            self._end_dwell()
+
+    def _end_dwell(self) -> None:
+        # The dwell block ends like any other: read-in disable and WAITC still hold it.
+        self._phase = Phase.BLOCK_END
+        self._block_end()
 
     def _master_spindle(self) -> str | None:
         number = self.config.md.int(MD.SPIND_DEF_MASTER_SPIND)
@@ -593,8 +598,10 @@ class Channel:
             return False  # the block's own change, M70, or a stage caught up after dry run
         if plan.targets and not plan.rapid:
             for spindle in self.spindles.values():
+                # MD35500 compares set and actual speed in control mode only (L20840-20858): a
+                # synchronous FS turns at what its LS dictates and does not hold the block
                 if spindle.md.int(MD.SPIND_ON_SPEED_AT_IPO_START) and spindle.direction and \
-                        not spindle.speed_reached():
+                        spindle.mode is SpindleMode.CONTROL and not spindle.speed_reached():
                     return False
                 if spindle.md.bool(MD.SPIND_STOPPED_AT_IPO_START) and not spindle.direction and \
                         spindle.mode is SpindleMode.CONTROL and not spindle.stationary():

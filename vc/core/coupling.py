@@ -255,13 +255,14 @@ class Couplings:
         self.definitions[following] = definition
         return 0
 
-    def delete(self, following: str) -> int:
-        """COUPDEL: end an active coupling like COUPOF and forget the user pair (L22638-22647)."""
+    def delete(self, following: str, stop: bool = False) -> int:
+        """COUPDEL: end an active coupling like COUPOF (``stop``: like COUPOFS) and forget the user
+        pair (L22638-22647)."""
         definition = self.definitions.get(following)
         if definition is None:
             return ALARM_COUPLING_NOT_DEFINED
         if following in self.active:
-            self.decouple(following, stop=False)
+            self.decouple(following, stop=stop)
         if not definition.configured:
             del self.definitions[following]
         return 0
@@ -503,9 +504,6 @@ class Couplings:
             coupling.target = coupling.relation
             self._move_relation(coupling, wrap180(coupling.programmed - (coupling.relation % 360.0)),
                                 waits=False, resync=True)
-        if inputs.resync is False and coupling.overlay is not None and coupling.overlay.resync \
-                and coupling.overlay.left == 0.0:
-            coupling.overlay = None
         allowed = not fs.axis.inputs.disable and coupling.definition.kind is not Kind.VV \
             and abs(abs(coupling.ratio) - 1.0) < 1e-12 and coupling.setpoint_synchronous
         measure = inputs.correction and ("correction" in edges or not fs.md.int(MD.MISC_FUNCTION_MASK)
@@ -524,6 +522,10 @@ class Couplings:
     def _leading(self, coupling: Coupling) -> tuple[float, float]:
         """Position and velocity of the LS the FS follows (setpoint, or actual value for AV)."""
         ls = self._spindles[coupling.definition.leading].axis
+        if not ls.drive_ready and abs(ls.velocity) <= ls.dyn.standstill_velocity:
+            # an LS without enable that stands: the settling residue of its drive is no motion
+            # the FS should command (else removing both enables together reads as 21612 on the FS)
+            return ls.actual, 0.0
         if coupling.definition.kind is Kind.AV or not ls.drive_ready:
             return ls.actual, ls.velocity
         return ls.setpoint, ls.command_velocity
@@ -604,8 +606,9 @@ class Couplings:
         if overlay is None:
             return 0.0
         if overlay.left == 0.0:
-            if not overlay.resync:
-                coupling.overlay = None
+            # done: setpoint synchronism again, which also ends DBX99.4 of a resynchronisation
+            # even while DBX31.4 is still set (L23134-23145)
+            coupling.overlay = None
             return 0.0
         direction = 1.0 if overlay.left > 0 else -1.0
         speed = min(ramp(abs(overlay.velocity), overlay.limit, accel, self._dt),
@@ -680,7 +683,9 @@ class Couplings:
             deviation = abs(axis.velocity - coupling.ratio * ls.velocity - coupling.differential_velocity) / RPM
             coarse_tolerance, fine_tolerance = md.float(MD.COUPLE_VELO_TOL_COARSE), md.float(MD.COUPLE_VELO_TOL_FINE)
         else:
-            heading = coupling.target + (coupling.overlay.left if coupling.overlay and coupling.overlay.resync else 0.0)
+            # a resynchronisation is judged against the relation commanded now, which still has
+            # ``left`` to go to the target
+            heading = coupling.target - (coupling.overlay.left if coupling.overlay and coupling.overlay.resync else 0.0)
             # the FS's own motion (differential speed) lags like any setpoint behind its position
             # controller; the coupled part lags as the LS does and cancels
             own = coupling.differential_velocity

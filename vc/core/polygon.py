@@ -22,7 +22,7 @@ from __future__ import annotations
 
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
-from vc.core.alarms import Alarm
+from vc.core.alarms import Alarm, Reaction
 from vc.core.axis import MachineAxis
 from vc.core.coupling import Couplings
 from vc.core.coupling_types import BlockChange, Kind
@@ -38,8 +38,9 @@ ERV, HBR, ECN, SNTP = 1 << 2, 1 << 3, 1 << 4, 1 << 7  # bits of parameter 0201 (
 def keeps_synchronism(alarm: Alarm) -> bool:
     """Program alarms (the NC program's 10000..19999) and user alarms (60000..69999) keep the
     synchronisation; every other alarm ends it (seed 002 L136-137) [INF: the SINUMERIK number
-    ranges stand for the GSK alarm classes]."""
-    return 10000 <= alarm.number < 20000 or 60000 <= alarm.number < 70000
+    ranges stand for the GSK alarm classes].  A warning without any reaction (22040, coupled
+    without zero mark) keeps it too: the GSK control has no such alarm to end it with [INF]."""
+    return 10000 <= alarm.number < 20000 or 60000 <= alarm.number < 70000 or alarm.reaction is Reaction.NONE
 
 
 class PolygonTurning:
@@ -105,7 +106,9 @@ class PolygonTurning:
         if not self.active:
             return
         self.active = False
-        self._couplings.delete(self.slave)
+        # the GSK slave is a servo axis turned by the synchronisation alone: it stops with it
+        # (seed 002 L51, L77-81 say only "cancel") [INF]
+        self._couplings.delete(self.slave, stop=True)
         self._master_ramp(on=False)
 
     def reset(self) -> None:
