@@ -1,4 +1,4 @@
-"""Faults of the CAN bus from scenarios (tests/scenarios/can_faults, ``link: can``): each shows its
+"""Faults of the CAN bus from scenarios (scenarios/can, ``link: can``): each shows its
 documented reaction of the NC, with the PLC behind a virtual bus in this process (``vc run``) and
 in its own process over UDP multicast (``vc run --link can``), and both runs leave the same trace."""
 
@@ -17,7 +17,7 @@ from vc.scenario.command import EXIT_PASSED, run_command
 from vc.scenario.loader import scenario_files
 
 ROOT = Path(__file__).resolve().parents[2]
-FAULTS = "tests/scenarios/can_faults"
+FAULTS = "scenarios/can"
 
 
 def _run(make_target, **options: object) -> tuple[int, str]:  # type: ignore[no-untyped-def]
