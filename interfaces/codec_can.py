@@ -18,17 +18,18 @@ Convention, stated once (``vc map --format dbc`` writes it as a DBC file, the te
 
       id     bytes                 length   id     bytes               length
       0x200  IB0..9                12       0x400  QB0..1              3
-      0x201  DB10.DBB106..109      5        0x401  DB10.DBB56          2
+      0x201  DB10.DBB106..109      5        0x401  DB10.DBB1..56       64
       0x202  DB11.DBB6..7          3        0x402  DB11.DBB0..1        3
       0x203  DB21.DBB33..95        64       0x403  DB21.DBB0..31       48
       ..     up to 63 bytes a frame         0x404  DB21.DBB321         2
-      0x207  DB21.DBB284..318      48       0x405  DB31.DBB0..31       48
-      0x208  DB21.DBB333..377      48       ..     one frame per axis
-      0x209  DB31.DBB60..103       48       0x40A  DB36.DBB0..31       48
-      ..     one frame per axis
-      0x20E  DB36.DBB60..103       48
+      0x207  DB21.DBB284..318      48       0x405  DB21.DBB396         2
+      0x208  DB21.DBB333..377      48       0x406  DB21.DBB398         2
+      0x209  DB21.DBB397           2        0x407  DB31.DBB0..31       48
+      0x20A  DB31.DBB60..103       48       ..     one frame per axis
+      ..     one frame per axis             0x40C  DB36.DBB0..31       48
+      0x20F  DB36.DBB60..103       48
 
-  15 frames from the NC and 11 from the PLC per exchange (classic frames: 94 and 39).
+  16 frames from the NC and 13 from the PLC per exchange (classic frames: 95 and 48).
 
 * **Values.** Data-block words and double words are big-endian as in S7 (a DBC marks them
   Motorola, start bit = the most significant bit, frame byte x 8 + 7); a bit ``n.b`` or a byte

@@ -15,6 +15,8 @@ AXIS_QUANTITY_MEANINGS = {
     "followingError": "setpoint minus actual position",
     "physical": "true position of the slide in the simulated machine (plant); on a spindle its angle,"
                 " counted on over the turns",
+    "programPosition": "absolute position the NC shows in program coordinates: Cartesian for the axes of an"
+                       " inclined-axis control (seed 000), else the position",
 }
 # Quantities of a following spindle's coupling (0 while the spindle follows nobody), degrees.
 COUPLING_QUANTITY_MEANINGS = {
@@ -26,6 +28,21 @@ COUPLING_QUANTITY_MEANINGS = {
                      " rev/min for a VV coupling)",
 }
 AXIS_QUANTITIES = tuple(AXIS_QUANTITY_MEANINGS) + tuple(COUPLING_QUANTITY_MEANINGS)
+
+# Quantities of a channel (CHAN1.toolTipX): the tool by the five-axis forward kinematics from the
+# actual machine positions, in workpiece coordinates (mm; the direction as a unit vector).
+CHANNEL_QUANTITY_MEANINGS = {
+    "toolTipX": "tool tip X in workpiece coordinates, with the tool length of G43.4 / G43 in force"
+                " (none: the spindle face)",
+    "toolTipY": "tool tip Y in workpiece coordinates",
+    "toolTipZ": "tool tip Z in workpiece coordinates",
+    "toolDirX": "tool direction (tip towards holder) X component, in workpiece coordinates",
+    "toolDirY": "tool direction Y component",
+    "toolDirZ": "tool direction Z component",
+    "tcpActive": "1 while tool centre point control G43.4 is active",
+    "liftfast": "$AC_LIFTFAST: 1 after a fast retraction in G33, 0 when the program resets it",
+}
+CHANNEL_QUANTITIES = tuple(CHANNEL_QUANTITY_MEANINGS)
 
 # Faults of the simulated machine a scenario can inject:
 #   zero_marks_missing       the encoder's zero-mark track is not seen (dirty, broken)

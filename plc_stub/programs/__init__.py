@@ -8,8 +8,10 @@ from __future__ import annotations
 
 from interfaces.plc import PlcEnvironment, PlcFactory, SoftPlc
 from plc_stub.programs.basic_machine import BasicMachine
+from plc_stub.programs.manual_retraction import ManualRetraction
 from plc_stub.programs.polygon import Polygon
 from plc_stub.programs.referencing import Referencing
+from plc_stub.programs.retraction import Retraction
 from plc_stub.programs.spindle import Spindle
 from plc_stub.programs.sync_spindle import SyncSpindle
 from plc_stub.runtime import ScanCycleRuntime
@@ -35,10 +37,20 @@ def _polygon(environment: PlcEnvironment) -> SoftPlc:
     return ScanCycleRuntime(environment, Polygon)
 
 
+def _manual_retraction(environment: PlcEnvironment) -> SoftPlc:
+    return ScanCycleRuntime(environment, ManualRetraction)
+
+
+def _retraction(environment: PlcEnvironment) -> SoftPlc:
+    return ScanCycleRuntime(environment, Retraction)
+
+
 REGISTRY: dict[str, PlcFactory] = {
     "basic_machine": _basic_machine,
     "referencing": _referencing,
     "spindle": _spindle,
     "sync_spindle": _sync_spindle,
     "polygon": _polygon,
+    "retraction": _retraction,
+    "manual_retraction": _manual_retraction,
 }

@@ -25,6 +25,8 @@ from vc.located_yaml import SourceError
 
 COMMUNICATION_STEP = 0.01  # one PLC cycle: 5 IPO cycles of 2 ms
 REFERENCED = "X1.basic.in.enc1Synchronized"
+Y1_REFERENCED = "Y1.basic.in.enc1Synchronized"
+Y1_IN_POSITION = "Y1.basic.in.posFineReached"
 
 
 # ------------------------------------------------------------------------------ the model description
@@ -117,7 +119,9 @@ def test_the_command_line_exports_and_says_what_it_wrote(tmp_path: Path) -> None
 
 
 class PlcLessHost:
-    """A host that plays the PLC's part for one axis: enables, JOG-REF, the plus key, the cam."""
+    """A host that plays the PLC's part for one axis: enables, JOG-REF, the plus key, the cam.
+    The inclined Y1 of turn_mill goes first (its minus key, its cam): X1 may be referenced only
+    while Y1 stands at its reference point (seed 000 L375)."""
 
     def __init__(self, read: Callable[[str], float | int | bool]):
         self.read = read
@@ -136,8 +140,16 @@ class PlcLessHost:
             "X1.drive.out.enablePulses": bool(self.read("Drives.ready")),
             "X1.basic.out.enableOvr": True,
             "X1.basic.out.feedrateOvrFactor": override,
-            # JOG-REF: the key is held until the axis is referenced (MD11300 = 0)
-            "X1.basic.out.traversKeyPlus": time >= 0.1 and not self.read(REFERENCED),
+            "Y1.basic.out.enc1Activation": True,
+            "Y1.basic.out.enableCtrl": bool(self.read("Drives.ready")),
+            "Y1.drive.out.enablePulses": bool(self.read("Drives.ready")),
+            "Y1.basic.out.enableOvr": True,
+            "Y1.basic.out.feedrateOvrFactor": override,
+            # JOG-REF: a key is held until its axis is referenced (MD11300 = 0); X1 after Y1 stands
+            "Y1.basic.out.traversKeyMinus": time >= 0.1 and not self.read(Y1_REFERENCED),
+            "Y1.basic.out.refPointApproachCam": bool(self.read("Y1.refCam")),
+            "X1.basic.out.traversKeyPlus": bool(self.read(Y1_REFERENCED)) and bool(self.read(Y1_IN_POSITION))
+            and not self.read(REFERENCED),
             "X1.basic.out.refPointApproachCam": bool(self.read("X1.refCam")),  # wired through, one step late
         }
 
@@ -178,10 +190,10 @@ def _input_array(table: dict[str, list[float | int | bool]], unit: NcUnit) -> np
 
 
 def test_fmpy_simulation_references_x1_exactly_as_the_unit_in_process(turn_mill_fmu: Path) -> None:
-    stop_time = 4.0
+    stop_time = 9.0  # Y1 first (about 4 s), then X1
     expected, table = _run_in_process(stop_time)
     referenced_at = expected["time"][expected[REFERENCED].index(1.0)]
-    assert 1.0 < referenced_at < stop_time  # the table really references X1 ...
+    assert 4.0 < referenced_at < stop_time  # the table really references X1 (after Y1) ...
     assert expected["X1.position"][-1] == pytest.approx(273.0, abs=1e-3)  # ... to MD34100 = 273
     result = simulate_fmu(str(turn_mill_fmu), start_time=0.0, stop_time=stop_time,
                           output_interval=COMMUNICATION_STEP, input=_input_array(table, NcUnit(TURN_MILL)),

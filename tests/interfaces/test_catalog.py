@@ -213,7 +213,7 @@ def test_entries_say_where_they_come_from() -> None:
 def test_control_entries_are_the_agreed_ones() -> None:
     control = {str(s.address) for s in load_catalog().signals if s.origin is Origin.CONTROL}
     assert control == {
-        "DB10.DBX56.2", "DB10.DBX106.1", "DB10.DBX108.7", "DB10.DBX109.0",
+        "DB10.DBB1", "DB10.DBX56.2", "DB10.DBX106.1", "DB10.DBX108.7", "DB10.DBX109.0",
         "DB11.DBX0.0", "DB11.DBX6.0", "DB11.DBX6.1", "DB11.DBX7.2",
         "DB21.DBX1.7", *(f"DB21.DBX35.{bit}" for bit in range(7)), "DB21.DBX36.6", "DB21.DBX36.7",
     }

@@ -677,6 +677,14 @@ FIVE_AXIS_ROTARY_REFERENCE = MdDef(63055, "FIVE_AXIS_ROTARY_REFERENCE", C, INT, 
                                    "reference of the table rotary axes in the transformation (Syntec Pr3055):"
                                    " 0 = rotary origin of the machine coordinates, 1 = rotary origin of the work"
                                    " offset (e.g. G54 C15)", "seed 001 L33-34, L41", "", 0, 1)
+# G43.4 H_ / G43 H_ select a tool length by its offset number (seed 001 L31, L42).  The control
+# keeps tool offsets in its tool offset memory, not in machine data; this core has none, so the
+# lengths of the offset numbers H1 .. H10 are one project machine datum of the channel.
+TOOL_LENGTH_OFFSETS = MdDef(62950, "TOOL_LENGTH_OFFSETS", C, FLOAT, (0.0,) * 10,
+                            "tool length (length + wear) of the tool offsets H1 .. H10 for G43.4 and G43; H0 is"
+                            " length 0; project machine datum in place of the tool offset memory",
+                            "seed 001 L31, L42 (G43.4 H_); [control] the offset memory", "mm",
+                            -9999.999, 9999.999, 10)
 
 # ------------------------------------------------------------ polygon turning (GSK980TDi parameters)
 # Seed 002 prints the GSK parameter numbers; they become channel machine data with project numbers.

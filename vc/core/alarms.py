@@ -175,6 +175,34 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         _STOP, Clear.RESET,
                         "seed 000 L62-66, L375, L381, L88-100 (inclined-axis control); project alarm number,"
                         " the seed names none"),
+        AlarmDefinition(65821, "Channel %1 block %2 G28/G30 names the orthogonal axis %3 and the inclined axis %4"
+                        " in one block: return the inclined axis first", _STOP, Clear.RESET,
+                        "seed 000 L88-100; project alarm number, the seed names none"),
+        AlarmDefinition(65822, "Channel %1 block %2 %3 cannot be used with inclined-axis control", _STOP,
+                        Clear.RESET, "seed 000 L364-370 (rigid tapping on the inclined axis, feed axis synchronous"
+                        " control, polygon turning, hypothetical axis, PMC axis, superimposed control); project"
+                        " alarm number"),
+        AlarmDefinition(65823, "Channel %1 inclined-axis control: %2", _STOP, Clear.RESET,
+                        "seed 000 L330-362 (2-path synchronous / composite control pairs inclined with inclined,"
+                        " orthogonal with orthogonal); project alarm number"),
+        AlarmDefinition(65824, "Channel %1 inclined-axis control not possible: %2", Reaction.NC_START_DISABLED,
+                        Clear.POWER_ON, "seed 000 L379-381 (linear axes of one increment system only; the"
+                        " machine data take effect at power-on, L403-405); project alarm number"),
+        AlarmDefinition(65870, "Channel %1 block %2 G33 thread cutting: master spindle %3 is at a standstill", _STOP,
+                        Clear.RESET, "seed 003 L8211-8399 (G33 follows the master spindle; the seed names no"
+                        " alarm); project alarm number"),
+        AlarmDefinition(65850, "Channel %1 block %2 G53.1 P%3: P must be 0, 1 or 2 (COR-149)", _STOP, Clear.RESET,
+                        "seed 001 L59 (Syntec COR-149); project alarm number"),
+        AlarmDefinition(65851, "Channel %1 block %2 no solution for this tool direction within the rotary ranges"
+                        " Pr3009-3012 (COR-153)", _STOP, Clear.RESET,
+                        "seed 001 L59-60 (Syntec COR-153); project alarm number"),
+        AlarmDefinition(65852, "Channel %1 block %2 rotary axis %3 would leave its five-axis range %4 (Pr3009-3012)",
+                        _STOP, Clear.RESET,
+                        "seed 001 L13-15 (travel protection while five-axis functions are active; the seed"
+                        " names no alarm number); project alarm number"),
+        AlarmDefinition(65853, "Channel %1 block %2 five-axis block not allowed: %3", _STOP, Clear.RESET,
+                        "seed 001 L42-46 (G43.4 L2 E / R out of range: HSHP-3551 COR alarm), L59-60 (G53.1"
+                        " after G68.2); project alarm number"),
     )
 }
 

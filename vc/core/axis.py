@@ -16,6 +16,7 @@ Motion owners (one at a time)::
     NONE ──referencing started──▶ REF ──referenced, aborted──▶ NONE
     NONE ──spindle turns (M3/M4, SPOS, oscillation)──▶ SPINDLE ──stands──▶ NONE
     any ──e-stop, enable removed, hardware limit──▶ BRAKE ──standstill──▶ NONE
+    PATH / NONE ──fast retraction, ESR retract──▶ RETRACT ──at the retract position──▶ NONE
 
 Measuring systems: one or two (MD30200); DB31.DBX1.5 / 1.6 select which one is active.
 With neither selected the axis is "parked": no actual value, no position control.
@@ -47,6 +48,8 @@ class Owner(Enum):
     BRAKE = "brake"
     SPINDLE = "spindle"  # a spindle turning, oscillating or positioning on its own (vc/core/spindle.py)
     COUPLING = "coupling"  # the following spindle of a coupling (vc/core/coupling.py)
+    TRANSFORM = "transform"  # the orthogonal axis carried along by its inclined axis (vc/core/inclined_axis_channel.py)
+    RETRACT = "retract"  # a retract motion at maximum dynamics (LIFTFAST, ESR: vc/core/retract_motion.py)
 
 
 @dataclass(frozen=True, slots=True)
@@ -107,6 +110,20 @@ def dynamics_of(axis: AxisConfig) -> AxisDynamics:
         brake_rapid_at_limit_switch=md.int(MD.BRAKE_MODE_CHOICE) == 1,
         display_velocity_factor=1.0 / velocity_unit,
     )
+
+
+@dataclass(frozen=True, slots=True)
+class JogLimits:
+    """What JOG may do with an axis beyond its own data: the traverse keys it follows, and a
+    velocity and acceleration an axis moved along with it needs (manual retraction's spindle)."""
+
+    plus: bool = True
+    minus: bool = True
+    velocity: float = math.inf  # per second
+    accel: float = math.inf  # per second squared
+
+
+FREE_JOG = JogLimits()
 
 
 class AxisSignals:
@@ -376,13 +393,15 @@ class MachineAxis:
         self.setpoint = position
         self.command_velocity = velocity
 
-    def jog_cycle(self, allowed: bool, channel_feed_disable: bool) -> None:
+    def jog_cycle(self, allowed: bool, channel_feed_disable: bool, limits: JogLimits = FREE_JOG) -> None:
         """Continuous JOG with the traverse keys (level-triggered), one IPO cycle."""
         inp = self.inputs
         direction = 0
         if allowed and inp.key_plus != inp.key_minus:
             direction = 1 if inp.key_plus else -1
-            if (direction > 0 and inp.hw_limit_plus) or (direction < 0 and inp.hw_limit_minus):
+            if (direction > 0 and not limits.plus) or (direction < 0 and not limits.minus):
+                direction = 0
+            elif (direction > 0 and inp.hw_limit_plus) or (direction < 0 and inp.hw_limit_minus):
                 direction = 0  # only away from an actuated limit switch
             elif self.software_limits_active and self.owner is Owner.NONE and (
                     (direction > 0 and self.setpoint >= self.dyn.limit_plus)
@@ -394,10 +413,11 @@ class MachineAxis:
             return
         speed = self.dyn.jog_rapid_velocity if inp.rapid_key else self.dyn.jog_velocity
         stopped = inp.feed_stop or channel_feed_disable or not self.drive_ready
-        target = 0.0 if stopped else direction * speed * self.override
-        velocity = ramp(self.command_velocity, target, self.dyn.max_accel, self._dt)
+        target = 0.0 if stopped else direction * min(speed * self.override, limits.velocity)
+        accel = min(self.dyn.max_accel, limits.accel)
+        velocity = ramp(self.command_velocity, target, accel, self._dt)
         if self.software_limits_active:
-            velocity = self._limit_to_software_limits(velocity)
+            velocity = self._limit_to_software_limits(velocity, accel)
         self.command_velocity = velocity
         self.setpoint += velocity * self._dt
         if self.software_limits_active:
@@ -405,9 +425,9 @@ class MachineAxis:
         if velocity == 0.0 and (direction == 0 or self.at_software_limit == direction):
             self.release()  # stopped: key released, or resting on the software limit it points to
 
-    def _limit_to_software_limits(self, velocity: float) -> float:
-        """Brake so as to stop exactly on a software limit switch (JOG), never harder than MD32300."""
-        accel, dt = self.dyn.max_accel, self._dt
+    def _limit_to_software_limits(self, velocity: float, accel: float) -> float:
+        """Brake so as to stop exactly on a software limit switch (JOG), never harder than ``accel``."""
+        dt = self._dt
         if velocity > 0.0:
             limit = stopping_velocity(self.dyn.limit_plus - self.setpoint, accel, dt)
             return min(velocity, limit)

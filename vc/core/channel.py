@@ -28,6 +28,7 @@ take no part) and reports DB21.DBX33.0 while it runs.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from enum import Enum
@@ -38,6 +39,9 @@ from vc.core.alarms import CHANNEL_INTERRUPT, NC_START_DISABLED, STOP_AXES, Alar
 from vc.core.axis import MachineAxis, Owner
 from vc.core.coupling import ALARM_COUPLING_ACTIVE, Couplings
 from vc.core.coupling_types import BlockChange, block_change_of, kind_of
+from vc.core.esr import ChannelEsr
+from vc.core.five_axis_channel import FiveAxisControl
+from vc.core.inclined_axis_channel import InclinedAxisControl
 from vc.core.interface_map import SignalTable
 from vc.core.interpreter import (
     EXACT_STOP_COARSE,
@@ -55,6 +59,8 @@ from vc.core.program import Block, parse_program
 from vc.core.referencing import Source, State
 from vc.core.referencing_control import ReferencingControl
 from vc.core.spindle import SUPPRESS_IN_DRY_RUN, SUPPRESS_IN_PROGRAM_TEST, Spindle, SpindleMode
+from vc.core.thread_cutting import THREAD_SPINDLE_STANDS, ThreadSegment
+from vc.core.tool_path import ToolPathSegment
 
 
 class ChannelState(Enum):
@@ -165,6 +171,8 @@ class Channel:
         self._area = area
         self.axes = axes
         self.axes_by_name = {axis.name: axis for axis in axes}
+        self.five_axis = FiveAxisControl(config, self.axes_by_name)  # G43.4, G43, G68.2, G53.1 (seed 001)
+        self.inclined: InclinedAxisControl | None = None  # inclined-axis control (seed 000), given by the NCK
         self._alarms = alarms
         self._feed_coding = feed_coding
         self._rapid_coding = rapid_coding
@@ -186,7 +194,7 @@ class Channel:
         self.current_block: Block | None = None
         self._phase = Phase.DECODE
         self._plan: BlockPlan | None = None
-        self._segment: PathSegment | None = None
+        self._segment: PathSegment | ToolPathSegment | None = None
         self._dwell_cycles = 0
         self._stop_after_block = False
         self._stopping = False  # braking on the path after NC stop / an alarm
@@ -203,6 +211,9 @@ class Channel:
         self._coupling_feeds: dict[str, float] = {}  # FA[Sn], deg/min (modal)
         self._waits: list[tuple[str, BlockChange | None]] = []  # COUPON / WAITC block-change conditions
         self._dwell_degrees = 0.0  # G4 S: master spindle degrees still to turn
+        self.esr: ChannelEsr | None = None  # fast retraction and ESR, given by the NCK
+        self._thread: ThreadSegment | None = None  # the running G33 block
+        self._thread_chain: float | None = None  # spindle position where the last G33 block ended
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -244,7 +255,10 @@ class Channel:
         self._alarms.clear_on((Clear.RESET, Clear.CANCEL), channel=self.name)
         if self._segment is not None and not self._segment.finished:
             self._aborting = True
+        self._end_thread_functions()
         self._end_program()
+        if self.inclined is not None:
+            self.inclined.reset()
         self.reference_groups = []
         for axis in self.axes:
             if axis.owner is Owner.JOG:
@@ -253,6 +267,16 @@ class Channel:
         self._reset_couplings()
         for spindle in self.spindles.values():
             spindle.reset(program_end=False)
+
+    def _end_thread_functions(self) -> None:
+        """Reset or program end: a running thread block stops, the modal synchronized actions end."""
+        if self._thread is not None:
+            for axis in self._thread.axes:
+                axis.brake()
+            self._thread = None
+        self._thread_chain = None
+        if self.esr is not None:
+            self.esr.program_ended()
 
     def _reset_couplings(self) -> None:
         """Reset and program end: the couplings as MD21330 / MD20110 say, polygon turning as HBR."""
@@ -273,6 +297,11 @@ class Channel:
         self._stop_after_block = False
         self._stopping = False
         self.modal.reset()
+
+    @property
+    def block_in_progress(self) -> BlockPlan | None:
+        """The block being executed, also while the program is stopped in it (None in reset)."""
+        return self._plan if self.state is not ChannelState.RESET else None
 
     def nc_start(self, cycle: int, mode: Mode, reference_function: bool) -> None:
         """NC start edge from the PLC."""
@@ -321,7 +350,10 @@ class Channel:
         return False
 
     def stop(self) -> None:
-        """NC stop: brake on the path, the program is stopped and can continue with NC start."""
+        """NC stop: brake on the path, the program is stopped and can continue with NC start.
+        In G33 the thread block runs to its end, or with LFON the tool retracts at once (L8215-8221)."""
+        if self.state is ChannelState.ACTIVE and self._thread is not None and self.modal.retract.enabled:
+            self._lift_fast()
         if self.state is ChannelState.ACTIVE:
             self.state = ChannelState.INTERRUPTED
             self.program_state = ProgramState.STOPPED
@@ -337,6 +369,11 @@ class Channel:
         """Interpolation and block change for one IPO cycle."""
         if self.reference_groups:
             self._channel_referencing(cycle)
+        esr = self.esr
+        path_runs_on = False
+        if esr is not None and esr.running:
+            esr.cycle(cycle, self._segment if isinstance(self._segment, PathSegment) else None)
+            path_runs_on = esr.path_runs_on(cycle)  # MD21380: the stop axes' path goes on
         reactions = self._alarms.reactions(self.name)
         if reactions & CHANNEL_INTERRUPT and self.state is ChannelState.ACTIVE:
             self.stop()
@@ -345,7 +382,7 @@ class Channel:
             return
         if self.state is ChannelState.RESET:
             return
-        hold = self.state is not ChannelState.ACTIVE or bool(reactions & STOP_AXES)
+        hold = (self.state is not ChannelState.ACTIVE or bool(reactions & STOP_AXES)) and not path_runs_on
         if self._phase is Phase.INTERPOLATE:
             self._interpolate(hold)
         elif self._phase is Phase.REFERENCE:
@@ -402,6 +439,9 @@ class Channel:
         self._segment = None
 
     def _interpolate(self, hold: bool) -> None:
+        if self._thread is not None:
+            self._thread_cycle()
+            return
         segment = self._segment
         assert segment is not None and self._plan is not None
         axes_hold = False
@@ -421,8 +461,24 @@ class Channel:
         segment.cycle(override, blocked, self._dt)
         if segment.finished:
             self._release_segment()
+            if self._leg_finished():
+                return
             self._phase = Phase.BLOCK_END
             self._block_end()
+
+    def _leg_finished(self) -> bool:
+        """A motion of the block has arrived.  G28 / G30 at the intermediate point: True, the axes
+        go on to their reference points in a second motion."""
+        plan = self._plan
+        assert plan is not None
+        if self.inclined is not None:
+            self.inclined.leg_finished()
+        if not plan.return_targets:
+            return False
+        plan.targets, plan.return_targets = plan.return_targets, {}
+        plan.path_length = None
+        self._start_block_body()
+        return True
 
     def _block_end(self) -> None:
         plan = self._plan
@@ -455,6 +511,7 @@ class Channel:
         self._block_index += 1
         if plan is not None and plan.program_end:
             self._reset_couplings()
+            self._end_thread_functions()
             for spindle in self.spindles.values():
                 spindle.reset(program_end=True)
             self._end_program()
@@ -467,7 +524,14 @@ class Channel:
             return
         block = self._blocks[self._block_index]
         self.current_block = block
-        plan, alarm = decode(block, self.modal, self.config, self.axes_by_name)
+        positions = self.five_axis.program_positions(self.modal.five_axis)
+        if self.inclined is not None:
+            positions.update(self.inclined.program_positions())
+        plan, alarm = decode(block, self.modal, self.config, self.axes_by_name, positions)
+        if alarm is None:
+            alarm = self.five_axis.apply(plan, self.modal.five_axis, block.label)
+        if alarm is None and self.inclined is not None:
+            alarm = self.inclined.plan(plan, block.label)  # the inclined Y1 slide (seed 000)
         if alarm is not None:
             self._alarms.raise_alarm(alarm.number, cycle, *alarm.parameters, channel=self.name, axis=alarm.axis)
             self.stop()
@@ -477,6 +541,7 @@ class Channel:
         if not self._coupling_functions(plan, cycle, block):
             self.stop()
             return
+        self._retract_functions(plan, cycle)
         for name, value in plan.preset.items():
             self.axes_by_name[name].preset_actual(value)
         suppress = self._gear_change_suppressed
@@ -629,25 +694,145 @@ class Channel:
             self._phase = Phase.DWELL
             self._dwell_degrees = plan.dwell_revolutions * 360.0
             return
+        # G43.4 / G68.2 / G53.1: the path in program coordinates, or a refusal before anything moves
+        tool_path = self.five_axis.plan(plan, self.modal.five_axis, self.current_block.label
+                                        if self.current_block is not None else "")
+        if tool_path is not None and not isinstance(tool_path, ToolPathSegment):
+            self._alarms.raise_alarm(tool_path.number, cycle, *tool_path.parameters, channel=self.name,
+                                     axis=tool_path.axis)
+            self.stop()
+            return
         if not plan.targets:
             self._phase = Phase.BLOCK_END
             self._block_end()
+            return
+        if plan.thread is not None:
+            self._start_thread(cycle)
+            return
+        if plan.tapping is not None and not self._plan_tapping(plan, cycle):
             return
         axes = [self.axes_by_name[name] for name in plan.targets]
         for axis in axes:
             if axis.owner is not Owner.NONE and axis.owner is not Owner.PATH:
                 axis.brake()
-        self._segment = PathSegment.plan(
+        self._segment = tool_path if tool_path is not None else PathSegment.plan(
             axes,
             [plan.targets[axis.name] for axis in axes],
             [axis.name in self._geometry for axis in axes],
             plan.feed / 60.0,
             plan.rapid,
+            plan.path_length,
         )
         for axis in axes:
             axis.take(Owner.PATH)
         self._phase = Phase.INTERPOLATE
         self._interpolate(False)
+
+    def _plan_tapping(self, plan: BlockPlan, cycle: int) -> bool:
+        """G331 / G332: the spindle's end point from the drilling travel and the pitch, and the path
+        feed F = S x |pitch| with the last programmed S (seed 003 L8573-8581, L17679-17680).
+        False: no spindle speed, alarm 14800 stops the program [control]."""
+        tapping = plan.tapping
+        assert tapping is not None and self.current_block is not None
+        speed = self.spindles[tapping.spindle].speed
+        if speed <= 0.0:
+            self._raise(14800, cycle, self.current_block)
+            self.stop()
+            return False
+        spindle = self.axes_by_name[tapping.spindle]
+        travel = plan.targets[tapping.axis] - self.axes_by_name[tapping.axis].setpoint
+        plan.tapping = dataclasses.replace(tapping, travel=travel)
+        plan.targets[tapping.spindle] = spindle.setpoint + tapping.spindle_degrees(travel)
+        plan.feed = speed * abs(tapping.pitch)
+        return True
+
+    # ------------------------------------------------------------------ G33, fast retraction, ESR
+    def _retract_functions(self, plan: BlockPlan, cycle: int) -> None:
+        """The block's system variables, synchronized actions, POLFA and ESRS / ESRR, in this order."""
+        esr = self.esr
+        if plan.thread is None:
+            self._thread_chain = None
+        if esr is None:
+            return
+        esr.add_actions(plan.sync_actions)
+        for axis, kind, value in plan.single_axis_retract:
+            esr.single_axis_retract_command(axis, kind, value)
+        for command in plan.drive_esr:
+            drive = esr.nck.drives.get(command.axis)
+            if drive is not None:
+                drive.configure(command)  # [control] the drive acknowledges within the block
+        for write in plan.variables:
+            esr.write(write)
+        self.esr_trigger(cycle)
+
+    def esr_trigger(self, cycle: int) -> None:
+        """React to a rising $AC_ESR_TRIGGER: fast retraction in G33 with LFON, else the ESR reaction."""
+        esr = self.esr
+        if esr is None or not esr.channel_trigger_pending:
+            return
+        esr.channel_trigger_pending = False
+        if self._thread is not None and self.modal.retract.enabled:
+            self._lift_fast()
+            return
+        segment = self._segment if isinstance(self._segment, PathSegment) and self._phase is Phase.INTERPOLATE \
+            else None
+        md = self.config.md
+        esr.start_channel_reaction(cycle, [axis.name for axis in self.axes], segment, self.modal.retract,
+                                   md.float(MD.ESR_DELAY_TIME1), md.float(MD.ESR_DELAY_TIME2))
+        if self.state is ChannelState.ACTIVE:
+            self.state = ChannelState.INTERRUPTED
+            self.program_state = ProgramState.STOPPED
+            self._stopping = True
+
+    def _lift_fast(self) -> None:
+        """G33 with LFON interrupted: retract, stop the thread axes; the rest of the thread block is
+        dropped, so NC start goes on with the next block (``IF $AC_LIFTFAST ...``, L8356-8385) [INF]."""
+        thread, esr = self._thread, self.esr
+        assert thread is not None and esr is not None
+        self._thread = None
+        self._thread_chain = None
+        esr.start_liftfast(self.modal.retract, self.modal.plane, thread.axes, self.config.md.float(MD.LIFTFAST_DIST))
+        self._plan = None
+        self._phase = Phase.DECODE
+        self._block_index += 1
+        self.state = ChannelState.INTERRUPTED
+        self.program_state = ProgramState.STOPPED
+
+    def _start_thread(self, cycle: int) -> None:
+        """G33: the axes follow the master spindle; a standing spindle cannot cut a thread (alarm 65870)."""
+        plan, block = self._plan, self.current_block
+        assert plan is not None and plan.thread is not None and block is not None
+        master_name = self._master_spindle()
+        master = self.spindles.get(master_name or "")
+        if master is None or (master.axis.velocity == 0.0 and self._thread_chain is None):
+            self._raise(THREAD_SPINDLE_STANDS, cycle, block, master_name or "-")
+            self.stop()
+            return
+        axes = [self.axes_by_name[name] for name in plan.targets]
+        lead_axis = self.axes_by_name.get(plan.thread.lead_axis)
+        lead_delta = plan.targets[lead_axis.name] - lead_axis.setpoint if lead_axis and lead_axis.name in plan.targets \
+            else 0.0
+        self._thread = ThreadSegment.plan(axes, [plan.targets[axis.name] for axis in axes], lead_delta, plan.thread,
+                                          master.axis, self._thread_chain)
+        self._phase = Phase.INTERPOLATE
+        self._thread_cycle()
+
+    def _thread_cycle(self) -> None:
+        thread = self._thread
+        assert thread is not None
+        if any(axis.owner is not Owner.PATH for axis in thread.axes):
+            self._thread = None  # braked off the thread (rapid stop): the contour is lost
+            self._phase = Phase.CONTOUR_LOST
+            self.stop()
+            return
+        thread.cycle(self._dt)
+        if thread.finished:
+            for axis in thread.axes:
+                axis.release()
+            self._thread = None
+            self._thread_chain = thread.end_position
+            self._phase = Phase.BLOCK_END
+            self._block_end()
 
     # ------------------------------------------------------------------ referencing
     @property

@@ -10,14 +10,35 @@ available", as on a control without the function.  Later NC functions add handle
 from __future__ import annotations
 
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.axis import MachineAxis
 from vc.core.coupling_types import block_change_of, kind_of
-from vc.core.program import Assignment, Block, Call, Item, Keyword, Label, ValueFunction, Word
+from vc.core.drive_esr import MAX_DELAY_S, DriveEsrCommand, esrr_command, esrs_command
+from vc.core.five_axis_program import (
+    FIVE_AXIS_ADDRESSES,
+    FIVE_AXIS_G_CODES,
+    TILTED_PLANE,
+    FiveAxisModal,
+    FiveAxisWords,
+)
+from vc.core.program import (
+    Assignment,
+    Block,
+    Call,
+    Item,
+    Keyword,
+    Label,
+    SynchronizedAction,
+    ValueFunction,
+    Word,
+)
+from vc.core.retract_motion import LFPOS, LFTXT, LFWP, RetractProgramming
+from vc.core.sync_actions import SyncAction, SyncActionError, VariableWrite, parse_actions, parse_condition
+from vc.core.thread_cutting import ThreadCommand
 
 POLYGON_OUT_OF_RANGE = 65840  # project numbers: seed 002 names no alarms (spec 7.5 TV-PG-7)
 POLYGON_OWN_BLOCK = 65842
@@ -37,6 +58,12 @@ class ModalState:
     block_end: str = EXACT_STOP_FINE  # G60 + G601 / G602 / G603; G64 ends at interpolation end
     feed: float | None = None  # F in mm/min (path feed)
     polygon: bool = False  # G51.2 (polygon turning) until G50.2 (seed 002)
+    five_axis: FiveAxisModal = field(default_factory=FiveAxisModal)  # G43.4 / G43 / G68.2 (seed 001)
+    # group 1 thread modes: "G33" (thread cutting), "G331"/"G332" (tapping); "" after G0/G1
+    thread: str = ""
+    plane: str = "G17"  # G17 / G18 / G19 working plane; reset value G17 (MD20150 as delivered) [control]
+    thread_lead: ThreadCommand | None = None  # the last G33 lead: it holds for G33 blocks without one
+    retract: RetractProgramming = field(default_factory=RetractProgramming)  # LFON, DILF, ALF, POLF ...
 
     def reset(self) -> None:
         self.rapid = True
@@ -44,6 +71,11 @@ class ModalState:
         self.block_end = EXACT_STOP_FINE
         self.feed = None
         self.polygon = False
+        self.five_axis.reset()
+        self.thread = ""
+        self.plane = "G17"
+        self.thread_lead = None
+        self.retract.reset()
 
 
 @dataclass(slots=True)
@@ -84,6 +116,31 @@ class PolygonCommand:
     a: float = 0.0  # helix lead per master revolution
 
 
+@dataclass(frozen=True, slots=True)
+class Tapping:
+    """G331 / G332: the drilling axis and the spindle interpolated with it (seed 003 L17640-17664).
+
+    The spindle turns ``pitch`` mm per revolution of the drilling axis: G331 in the direction of
+    the pitch's sign (+ = M3, right-hand thread), G332 against it; the path feed is S x |pitch|
+    (L8573, L8581)."""
+
+    function: str  # "G331" or "G332"
+    axis: str  # machine axis of the drilling (geometry) axis
+    spindle: str  # machine axis of the master spindle
+    pitch: float  # mm/rev, signed
+    travel: float = 0.0  # mm of the drilling axis, signed; known when the block starts to move
+
+    def spindle_degrees(self, travel: float) -> float:
+        """How far the spindle turns while the drilling axis travels ``travel`` mm."""
+        direction = (1.0 if self.pitch > 0 else -1.0) * (1.0 if self.function == "G331" else -1.0)
+        return direction * abs(travel) / abs(self.pitch) * 360.0
+
+    @property
+    def spindle_per_mm(self) -> float:
+        """Spindle degrees per mm of the drilling axis's travel, signed (0 before the block moves)."""
+        return self.spindle_degrees(self.travel) / self.travel if self.travel else 0.0
+
+
 @dataclass(slots=True)
 class BlockPlan:
     targets: dict[str, float] = field(default_factory=dict)  # machine axis -> end position
@@ -101,6 +158,17 @@ class BlockPlan:
     position_control: dict[str, bool] = field(default_factory=dict)  # SPCON / SPCOF: machine axis -> on
     dwell_revolutions: float = 0.0  # G4 S: revolutions of the master spindle
     polygon: PolygonCommand | None = None
+    five_axis: FiveAxisWords | None = None  # G43.4 / G43 / G49 / G68.2 / G69 / G53.1 and their words
+    tapping: Tapping | None = None  # G331 / G332 with a drilling axis
+    thread: ThreadCommand | None = None  # G33 with axes: thread cutting slaved to the master spindle
+    variables: list[VariableWrite] = field(default_factory=list)  # $AC_.. / $AA_.. / $AN_.. assignments
+    sync_actions: list[SyncAction] = field(default_factory=list)  # ID= / IDS= synchronized actions
+    drive_esr: list[DriveEsrCommand] = field(default_factory=list)  # ESRS / ESRR
+    single_axis_retract: list[tuple[str, int, float | None]] = field(default_factory=list)  # POLFA
+    machine_coordinates: bool = False  # G53: the axis words are machine positions, in rapid (seed 000 L154-158)
+    reference_return: int = 0  # G28 = 1, G30 = 2: via the axis words (intermediate point) to reference point n
+    return_targets: dict[str, float] = field(default_factory=dict)  # G28 / G30: machine axis -> reference point
+    path_length: float | None = None  # the length F is measured along where a transform makes it differ
 
 
 @dataclass(frozen=True, slots=True)
@@ -111,11 +179,16 @@ class DecodeAlarm:
 
 
 class _Decoder:
-    def __init__(self, block: Block, modal: ModalState, channel: ChannelConfig, axes: dict[str, MachineAxis]):
+    def __init__(self, block: Block, modal: ModalState, channel: ChannelConfig, axes: dict[str, MachineAxis],
+                 program_positions: Mapping[str, float]):
         self.block = block
         self.modal = modal
         self.channel = channel
         self.axes = axes
+        self.program_positions = program_positions  # where a transform puts an axis in program coordinates
+        self.transform_axes = frozenset(program_positions)  # their software limits: the transform's to check
+        if any(isinstance(item, Word) and item.address == "G" and item.value == 53 for item in block.items):
+            self.program_positions = {}  # G53: machine coordinates; incremental words count from the setpoint
         self.plan = BlockPlan()
         self.alarm: DecodeAlarm | None = None
         self.dwell_requested = False
@@ -126,6 +199,12 @@ class _Decoder:
         self.polygon_block = any(isinstance(item, Word) and item.address == "G" and round(item.value * 10) in (512, 502)
                                  for item in block.items)
         self.polygon_words: dict[str, float] = {}
+        self.five_axis_codes = {round(item.value * 10) / 10 for item in block.items
+                                if isinstance(item, Word) and item.address == "G"} & FIVE_AXIS_G_CODES
+        if self.five_axis_codes:
+            self.plan.five_axis = FiveAxisWords()
+        self.pitch_words: dict[str, float] = {}  # I / J / K: thread pitch of geometry axis 1 / 2 / 3
+        self.start_angle: float | None = None  # SF= of a G33 block
 
     def fail(self, number: int, *parameters: object, axis: str = "") -> None:
         if self.alarm is None:
@@ -183,8 +262,10 @@ class _Decoder:
         else:
             self.unknown(f"{name}={value}")
             return
-        start = self.plan.targets.get(machine_axis, axis.setpoint)
+        start = self.plan.targets.get(machine_axis, self.program_positions.get(machine_axis, axis.setpoint))
         self.plan.targets[machine_axis] = number if absolute else start + number
+        if not absolute and self.plan.five_axis is not None:
+            self.plan.five_axis.incremental_axes = True
 
 
 def _g_word(decoder: _Decoder, value: float) -> None:
@@ -194,12 +275,26 @@ def _g_word(decoder: _Decoder, value: float) -> None:
         decoder.other_g_words = True
     if code == 0:
         modal.rapid = True
+        modal.thread = ""
     elif code == 1:
         modal.rapid = False
+        modal.thread = ""
+    elif code == 33:
+        modal.rapid = False
+        modal.thread = "G33"
+    elif code in (17, 18, 19):
+        modal.plane = f"G{code:g}"
+    elif code in (331, 332):
+        modal.rapid = False
+        modal.thread = f"G{code:g}"
     elif code == 4:
         decoder.dwell_requested = True
     elif code == 74:
         decoder.reference_requested = True
+    elif code == 53:
+        decoder.plan.machine_coordinates = True
+    elif code in (28, 30):
+        decoder.plan.reference_return = 1 if code == 28 else 2
     elif code == 90:
         modal.absolute = True
     elif code == 91:
@@ -215,6 +310,8 @@ def _g_word(decoder: _Decoder, value: float) -> None:
         decoder.plan.polygon = PolygonCommand(True)
     elif code == 50.2:
         decoder.plan.polygon = PolygonCommand(False)
+    elif code in FIVE_AXIS_G_CODES and decoder.plan.five_axis is not None:
+        decoder.plan.five_axis.codes.append(code)  # the channel's five-axis control checks and applies them
     else:
         decoder.unknown(f"G{value:g}")
 
@@ -379,12 +476,204 @@ def _spcon(decoder: _Decoder, call: Call | None, on: bool) -> None:
             decoder.plan.position_control[axis] = on
 
 
+# ---------------------------------------------------------------------------- retraction and ESR words
+# System variables a part program (or a synchronized action) may write; True: indexed by an axis.
+PROGRAM_VARIABLES = {"$AC_LIFTFAST": False, "$AC_ESR_TRIGGER": False, "$AN_ESR_TRIGGER": False,
+                     "$AA_ESR_ENABLE": True, "$AA_ESR_TRIGGER": True}
+_RETRACT_TARGET_MODES = {"LFTXT": LFTXT, "LFWP": LFWP, "LFPOS": LFPOS}
+_MAX_ESR_AXES = 5  # ESRS / ESRR: at most 5 axes per call (L41926, L41958)
+
+
+def _variable_write(decoder: _Decoder, name: str, index: str, value: object) -> VariableWrite | None:
+    """``$AA_ESR_ENABLE[X]=1`` and the like, with the axis index as a machine axis."""
+    label = decoder.block.label
+    if name not in PROGRAM_VARIABLES:
+        decoder.unknown(name)
+        return None
+    if PROGRAM_VARIABLES[name] != bool(index) or not isinstance(value, float):
+        decoder.fail(12080, decoder.channel.name, label, f"{name}[{index}]={value}" if index else f"{name}={value}")
+        return None
+    machine_axis = ""
+    if index:
+        found = decoder.machine_axis(index)
+        if found is None:
+            decoder.unknown(index)
+            return None
+        machine_axis = found
+    return VariableWrite(name, machine_axis, value)
+
+
+def _retract_keyword(decoder: _Decoder, name: str) -> None:
+    """LFON / LFOF (G group 45) and LFTXT / LFWP / LFPOS (G group 46), seed 003 L8238-8262."""
+    retract = decoder.modal.retract
+    if name in ("LFON", "LFOF"):
+        retract.enabled = name == "LFON"
+    else:
+        retract.target_mode = _RETRACT_TARGET_MODES[name]
+
+
+def _retract_assignment(decoder: _Decoder, item: Assignment) -> bool:
+    """DILF=, ALF=, SF=, POLF[ax]= and the system variables; False: not one of these."""
+    name, value, label, channel = item.name, item.value, decoder.block.label, decoder.channel.name
+    retract = decoder.modal.retract
+    if name.startswith("$"):
+        write = _variable_write(decoder, name, item.index, value)
+        if write is not None:
+            decoder.plan.variables.append(write)
+        return True
+    if name in ("DILF", "ALF", "SF") and not item.index:
+        if not isinstance(value, float) or value < 0.0 or (name == "ALF" and value not in range(1, 9)) or \
+                (name == "SF" and value >= 360.0):
+            decoder.fail(12080, channel, label, f"{name}={value}")  # [control] ALF 1..8, SF 0..<360
+        elif name == "DILF":
+            retract.distance = value
+        elif name == "ALF":
+            retract.direction = int(value)
+        else:
+            decoder.start_angle = value
+        return True
+    if name == "POLF" and item.index:
+        machine_axis = decoder.machine_axis(item.index)
+        if machine_axis is None:
+            decoder.unknown(item.index)
+        elif isinstance(value, ValueFunction) and value.name in ("IC", "AC"):
+            retract.positions[machine_axis] = (value.value, value.name == "IC")
+        elif isinstance(value, float):
+            retract.positions[machine_axis] = (value, False)
+        else:
+            decoder.fail(12080, channel, label, f"POLF[{item.index}]={value}")
+        return True
+    return False
+
+
+def _retract_axes(decoder: _Decoder, call: Call) -> tuple[str, ...] | None:
+    axes = []
+    for argument in call.arguments:
+        machine_axis = decoder.machine_axis(str(argument)) if argument != "" else None
+        if machine_axis is None:
+            decoder.fail(12080, decoder.channel.name, decoder.block.label, f"{call.name}({argument})")
+            return None
+        axes.append(machine_axis)
+    return tuple(axes)
+
+
+def _polf_mask(decoder: _Decoder, call: Call) -> None:
+    """POLFMASK(ax, ...) axial, POLFMLIN(ax, ...) linear retraction; () disables the set (L8314-8325).
+    An axis is in one of the two sets at a time [control]."""
+    axes = _retract_axes(decoder, call)
+    if axes is None:
+        return
+    retract = decoder.modal.retract
+    if call.name == "POLFMASK":
+        retract.axial = axes
+        retract.linear = tuple(axis for axis in retract.linear if axis not in axes)
+    else:
+        retract.linear = axes
+        retract.axial = tuple(axis for axis in retract.axial if axis not in axes)
+
+
+def _polfa(decoder: _Decoder, call: Call) -> None:
+    """POLFA(ax, type[, value], ...): single-axis retract, type 0 off, 1 absolute, 2 incremental
+    (L11511-11578; types 0 and 2 [INF] as the spec reads them)."""
+    arguments = list(call.arguments)
+    while arguments:
+        name, kind, value = [*arguments, "", "", ""][:3]
+        del arguments[:3]
+        machine_axis = decoder.machine_axis(str(name))
+        if machine_axis is None or kind not in (0.0, 1.0, 2.0) or (value != "" and not isinstance(value, float)):
+            decoder.fail(12080, decoder.channel.name, decoder.block.label, f"POLFA({name},{kind},{value})")
+            return
+        decoder.plan.single_axis_retract.append((machine_axis, int(kind), value if isinstance(value, float) else None))
+
+
+def _esr_drive(decoder: _Decoder, call: Call) -> None:
+    """ESRS(ax, time, ...) / ESRR(ax, distance, velocity, ...): drive parameters of drive-autonomous ESR
+    (L41912-41993); at most 5 axes, stop time 0 .. 20 s, velocity above 0."""
+    width = 2 if call.name == "ESRS" else 3
+    arguments = list(call.arguments)
+    label = decoder.block.label
+    if not arguments or len(arguments) % width or len(arguments) > width * _MAX_ESR_AXES:
+        decoder.fail(12080, decoder.channel.name, label, call.name)
+        return
+    for start in range(0, len(arguments), width):
+        name, *numbers = arguments[start:start + width]
+        machine_axis = decoder.machine_axis(str(name))
+        if machine_axis is None or not all(isinstance(number, float) for number in numbers):
+            decoder.fail(12080, decoder.channel.name, label, f"{call.name}({name})")
+            return
+        values = [float(number) for number in numbers]
+        if (call.name == "ESRS" and not 0.0 <= values[0] <= MAX_DELAY_S) or (call.name == "ESRR" and values[1] <= 0.0):
+            decoder.fail(12080, decoder.channel.name, label, f"{call.name}({name})")
+            return
+        decoder.plan.drive_esr.append(esrs_command(machine_axis, values[0]) if call.name == "ESRS"
+                                      else esrr_command(machine_axis, values[0], values[1]))
+
+
+def _synchronized_action(decoder: _Decoder, item: SynchronizedAction) -> None:
+    """ID= / IDS= ... DO ...: the condition is read by the channel in every IPO cycle."""
+    try:
+        condition = parse_condition(item.condition)
+        actions = parse_actions(item.actions)
+    except SyncActionError as error:
+        decoder.fail(12080, decoder.channel.name, decoder.block.label, str(error))
+        return
+    writes = [_variable_write(decoder, action.name, action.index, action.value) for action in actions]
+    if all(write is not None for write in writes):
+        decoder.plan.sync_actions.append(SyncAction(item.number, item.static, item.mode, condition,
+                                                    tuple(write for write in writes if write is not None),
+                                                    decoder.block.text))
+
+
+def _thread_cutting(decoder: _Decoder) -> None:
+    """G33 <axes> I|J|K<lead> [SF=]: the lead belongs to the geometry axis its address names; a block
+    without one keeps the last lead [control]."""
+    plan, modal, channel, label = decoder.plan, decoder.modal, decoder.channel, decoder.block.label
+    words = decoder.pitch_words
+    if len(words) > 1:
+        decoder.fail(12080, channel.name, label, "G33 lead")
+        return
+    if words:
+        address, lead = next(iter(words.items()))
+        index = _PITCH_OF_GEOMETRY_AXIS.index(address)
+        lead_axis = channel.geometry_axes[index] if index < len(channel.geometry_axes) else ""
+        if lead <= 0.0 or not lead_axis:
+            decoder.fail(12080, channel.name, label, f"G33 {address}{lead:g}")
+            return
+        command = ThreadCommand(lead, lead_axis, decoder.start_angle or 0.0)
+    elif modal.thread_lead is not None:
+        previous = modal.thread_lead
+        command = ThreadCommand(previous.lead, previous.lead_axis,
+                                previous.start_angle if decoder.start_angle is None else decoder.start_angle)
+    else:
+        decoder.fail(12080, channel.name, label, "G33 without lead")
+        return
+    modal.thread_lead = command
+    plan.thread = command
+    plan.block_end = INTERPOLATION_END  # thread blocks join without exact stop: one thread [control]
+
+
+_RETRACT_KEYWORDS = {name: (lambda decoder, name=name: _retract_keyword(decoder, name))
+                     for name in ("LFON", "LFOF", "LFTXT", "LFWP", "LFPOS")}
+_RETRACT_CALLS = {"POLFMASK": _polf_mask, "POLFMLIN": _polf_mask, "POLFA": _polfa, "ESRS": _esr_drive,
+                  "ESRR": _esr_drive}
+
+
+def _pitch_word(address: str) -> Callable[[_Decoder, float], None]:
+    def handler(decoder: _Decoder, value: float) -> None:
+        decoder.pitch_words[address] = value
+    return handler
+
+
+_PITCH_OF_GEOMETRY_AXIS = ("I", "J", "K")  # the pitch word of geometry axis 1, 2, 3 (seed 003 L17668-17675)
 _WORD_HANDLERS: dict[str, Callable[[_Decoder, float], None]] = {"G": _g_word, "M": _m_word, "F": _f_word,
-                                                                  "S": _s_word}
+                                                                  "S": _s_word,
+                                                                  **{address: _pitch_word(address)
+                                                                     for address in _PITCH_OF_GEOMETRY_AXIS}}
 _ADDRESS_EXTENSION = re.compile(r"([MS])(\d+)$")  # M2=3, S2=500: the function of spindle 2
 _KEYWORD_HANDLERS: dict[str, Callable[[_Decoder], None]] = {
     "SPCON": lambda decoder: _spcon(decoder, None, True),
     "SPCOF": lambda decoder: _spcon(decoder, None, False),
+    **_RETRACT_KEYWORDS,
 }
 _CALL_HANDLERS: dict[str, Callable[[_Decoder, Call], None]] = {
     "PRESETON": _preseton, "WAITC": _waitc,
@@ -392,14 +681,20 @@ _CALL_HANDLERS: dict[str, Callable[[_Decoder, Call], None]] = {
     "SPCOF": lambda decoder, call: _spcon(decoder, call, False),
     **{name: _coupling_call for name in ("COUPDEF", "COUPON", "COUPONC", "COUPOF", "COUPOFS", "COUPDEL",
                                          "COUPRES")},
+    **_RETRACT_CALLS,
 }
 
 
 def decode(
-    block: Block, modal: ModalState, channel: ChannelConfig, axes: dict[str, MachineAxis]
+    block: Block, modal: ModalState, channel: ChannelConfig, axes: dict[str, MachineAxis],
+    program_positions: Mapping[str, float] | None = None,
 ) -> tuple[BlockPlan, DecodeAlarm | None]:
-    """Decode ``block`` (updating ``modal``) into what the channel must do, or an alarm."""
-    decoder = _Decoder(block, modal, channel, axes)
+    """Decode ``block`` (updating ``modal``) into what the channel must do, or an alarm.
+
+    ``program_positions``: where a transform (G43.4, G68.2) puts axes in program coordinates;
+    incremental words count from there instead of from the machine setpoint.
+    """
+    decoder = _Decoder(block, modal, channel, axes, program_positions or {})
     if block.error:
         decoder.fail(12080, channel.name, block.label, block.error)
         return decoder.plan, decoder.alarm
@@ -413,6 +708,8 @@ def _decode_item(decoder: _Decoder, item: Item) -> None:
     if isinstance(item, Word):
         if decoder.polygon_block and item.address in "PQRA":
             decoder.polygon_words[item.address] = item.value
+            return
+        if decoder.plan.five_axis is not None and _five_axis_word(decoder, decoder.plan.five_axis, item):
             return
         handler = _WORD_HANDLERS.get(item.address)
         if handler is not None:
@@ -433,13 +730,28 @@ def _decode_item(decoder: _Decoder, item: Item) -> None:
             decoder.unknown(item.name)
         else:
             call_handler(decoder, item)
+    elif isinstance(item, SynchronizedAction):
+        _synchronized_action(decoder, item)
     elif isinstance(item, Label):
         pass
+
+
+def _five_axis_word(decoder: _Decoder, words: FiveAxisWords, item: Word) -> bool:
+    """The arguments of a five-axis block (H L E R P I J K) and G68.2's origin X Y Z; True: taken."""
+    if item.address in FIVE_AXIS_ADDRESSES:
+        words.arguments[item.address] = item.value
+        return True
+    if TILTED_PLANE in decoder.five_axis_codes and item.address in decoder.channel.geometry_names:
+        words.origin[item.address] = item.value  # the plane's origin, not a motion
+        return True
+    return False
 
 
 def _assignment(decoder: _Decoder, item: Assignment) -> None:
     if item.name in ("SPOS", "SPOSA"):
         _spos(decoder, item.name, item.index, item.value)
+        return
+    if _retract_assignment(decoder, item):
         return
     if item.name == "FA" and item.index and isinstance(item.value, float):
         # FA[Sn]: the velocity of SPOS offset changes on a coupled FS, deg/min; 0 = MD (L23925-23940)
@@ -489,6 +801,63 @@ def _polygon(decoder: _Decoder) -> None:
     decoder.modal.polygon = True
 
 
+MAX_PITCH = 2000.0  # mm/rev: the range of the pitch, 0.001 .. 2000 either sign (seed 003 L17675)
+MIN_PITCH = 0.001
+
+
+def _tapping(decoder: _Decoder) -> None:
+    """G331 / G332 <geometry axis> <I|J|K pitch> [S]: one geometry axis to the thread end, with the
+    pitch word of that axis (L17651-17675); the master spindle goes into position control (axis
+    mode) and is interpolated with it."""
+    plan, channel, label = decoder.plan, decoder.channel, decoder.block.label
+    function = decoder.modal.thread
+    drilling = [(index, name) for index, name in enumerate(channel.geometry_axes) if name and name in plan.targets]
+    others = [name for name in plan.targets if name not in channel.geometry_axes]
+    if len(drilling) != 1 or others:
+        decoder.fail(12080, channel.name, label, function)  # [control] one drilling axis per tapping block
+        return
+    index, axis = drilling[0]
+    pitch = decoder.pitch_words.get(_PITCH_OF_GEOMETRY_AXIS[index]) if index < len(_PITCH_OF_GEOMETRY_AXIS) else None
+    if pitch is None or not MIN_PITCH <= abs(pitch) <= MAX_PITCH or \
+            set(decoder.pitch_words) - {_PITCH_OF_GEOMETRY_AXIS[index]}:
+        decoder.fail(12080, channel.name, label, f"{function} pitch")  # [control] missing or out of range
+        return
+    number = channel.md.int(MD.SPIND_DEF_MASTER_SPIND)
+    spindle = next((name for name, each in decoder.axes.items() if each.config.spindle_number == number), None)
+    if spindle is None:
+        decoder.fail(16105, channel.name, label, number)
+        return
+    command = plan.spindles.setdefault(spindle, SpindleCommand())
+    if command.direction is not None or command.position is not None or command.gear is not None:
+        decoder.fail(12080, channel.name, label, function)  # [control] M3/M4/M5, SPOS or M4x with G331
+        return
+    command.axis_mode = True  # position control, interpolated with the drilling axis (L17614-17616)
+    plan.tapping = Tapping(function, axis, spindle, pitch)
+
+
+def _reference_return(decoder: _Decoder) -> bool:
+    """G28 / G30 <axes>: in rapid to the intermediate point (the axis words, program coordinates,
+    G90 / G91), then each axis to its reference point: MD34100[0] for G28, MD34100[1] for G30 (the
+    reference point values of the ISO dialect) [control].  Only axis words may stand with it.
+
+    Axes that have not been referenced since power-on run the reference point approach like G74,
+    in the order of the manual reference return (seed 000 L74).  False: nothing more to decode.
+    """
+    plan, channel, label = decoder.plan, decoder.channel, decoder.block.label
+    function = "G28" if plan.reference_return == 1 else "G30"
+    if not plan.targets or plan.machine_coordinates or decoder.dwell_requested or plan.spindles or \
+            plan.program_stop or plan.program_end or any(decoder.axes[name].is_spindle for name in plan.targets):
+        decoder.fail(12080, channel.name, label, function)
+        return False
+    if not all(decoder.axes[name].referenced for name in plan.targets):
+        plan.reference_axes = tuple(plan.targets)
+        plan.targets = {}
+        return False
+    index = plan.reference_return - 1
+    plan.return_targets = {name: decoder.axes[name].config.md.float(MD.REFP_SET_POS, index) for name in plan.targets}
+    return True
+
+
 def _finish(decoder: _Decoder) -> None:
     modal, plan, channel = decoder.modal, decoder.plan, decoder.channel
     if plan.polygon is not None:
@@ -521,18 +890,35 @@ def _finish(decoder: _Decoder) -> None:
             decoder.fail(12080, channel.name, decoder.block.label, "G4")
         plan.dwell = decoder.feed_word or 0.0
         return
+    if plan.reference_return and not _reference_return(decoder):
+        return
     if decoder.feed_word is not None:
         modal.feed = decoder.feed_word
-    plan.rapid = modal.rapid
+    # G53 (seed 000 L156) and G28 / G30 move in rapid whatever the modal motion is [control]
+    plan.rapid = modal.rapid or plan.machine_coordinates or bool(plan.reference_return)
     plan.block_end = modal.block_end
-    if plan.targets and not modal.rapid:
+    tapping = modal.thread in ("G331", "G332") and bool(plan.targets)
+    if tapping:
+        _tapping(decoder)
+    elif decoder.pitch_words and not modal.thread:
+        decoder.unknown(next(iter(decoder.pitch_words)))  # I / J / K outside a thread: no such axis
+    thread_cutting = modal.thread == "G33" and bool(plan.targets)
+    if thread_cutting:
+        _thread_cutting(decoder)  # the master spindle's turning sets the feed, not F
+    if plan.drive_esr and (plan.targets or plan.spindles or plan.variables or plan.sync_actions):
+        decoder.fail(12080, channel.name, decoder.block.label, "ESRS/ESRR")  # in a block of its own (L41922)
+    if plan.targets and not plan.rapid and not tapping and not thread_cutting:
         if modal.feed is None:
             decoder.fail(10860, channel.name, decoder.block.label)
         elif modal.feed <= 0.0:
             decoder.fail(14800, channel.name, decoder.block.label)
         else:
             plan.feed = modal.feed
-    for name, target in plan.targets.items():
+    # Under a transform the targets are program coordinates: the five-axis control checks the path.
+    transformed = plan.five_axis is not None or modal.five_axis.transformed
+    for name, target in ({} if transformed else plan.targets).items():
+        if name in decoder.transform_axes:
+            continue  # the inclined-axis control checks its pair where its AOT bit says
         axis = decoder.axes[name]
         if not axis.software_limits_active:
             continue

@@ -31,12 +31,16 @@ class ModeGroup:
     def __init__(self, signals: ModeGroupSignals, area: bytearray):
         self._signals = signals
         self._area = area
-        self.mode = Mode.JOG  # power-on default mode (MD10720)
+        self.mode = Mode.JOG  # power-on default mode (MD10720, see power_on)
         self.reference_function = False
         self.requested = Mode.JOG
         self.reset_edge = False
         self._reset_level = False
         self._ref_requested = False
+
+    def power_on(self, mode: Mode) -> None:
+        """The mode the NC selects itself at power-on (MD10720, MD10721), until the PLC selects one."""
+        self.mode = self.requested = mode
 
     def decode_inputs(self) -> None:
         area, sig = self._area, self._signals

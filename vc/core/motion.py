@@ -48,6 +48,17 @@ def stopping_velocity(remaining: float, accel: float, dt: float) -> float:
     return min(velocity, (n + 1) * accel * dt)
 
 
+def path_step(s: float, length: float, velocity: float, target: float, accel: float, dt: float) -> tuple[float, float]:
+    """One IPO cycle along a path of ``length`` at ``s``: the velocity ramps toward ``target``
+    and never exceeds the velocity from which the path can stop at its end.  Returns the new
+    ``(s, velocity)``; ``s`` lands exactly on ``length`` in the cycle that arrives."""
+    velocity = min(ramp(velocity, target, accel, dt), stopping_velocity(length - s, accel, dt))
+    s += velocity * dt
+    if length - s <= 1e-12 * max(1.0, length):
+        s = length  # arrived: the last cycle covered exactly the rest (rounding aside)
+    return s, velocity
+
+
 def braking_distance(speed: float, accel: float) -> float:
     return speed * speed / (2.0 * accel) if accel > 0.0 else math.inf
 

@@ -5,7 +5,8 @@ computes MD34090 REFP_MOVE_DIST_CORR and sets MD34210 ENC_REFP_STATE; referencin
 MD34093 REFP_CAM_MARKER_DIST; switching off records MD30250 ACT_POS_ABS.  These values live
 here, on top of the machine file, and survive a power cycle like the control's static
 memory.  Buffered encoder states let an incremental axis restore its position after
-power-on (seed 003 §4.10).
+power-on (seed 003 §4.10).  Retract data of a thread aborted by reset or power failure stay
+until a program starts (seed 003 §16.12).
 
 The memory is handed from one power-on of the simulated control to the next by the
 harness; the core never stores it anywhere itself.
@@ -28,10 +29,27 @@ class BufferedEncoder:
     exact_stop_fine: bool  # the axis stood within exact stop fine (automatic referencing needs it)
 
 
+@dataclass(frozen=True, slots=True)
+class RetractData:
+    """What a channel keeps when a thread block is aborted, for manual retraction (seed 003 §16.12).
+
+    The control keeps references to the data of the abort, not copies (L35344-35348); this
+    core has no tool offsets, toolholders or transformations, so the data are the thread's own.
+    """
+
+    function: str  # the thread block aborted: "G33", "G331" or "G332"
+    tool_axis: str  # machine axis of the drilling / thread axis: the retract axis
+    plane: str  # the working plane whose third axis is the tool axis: "G17", "G18" or "G19"
+    spindle: str  # machine axis of the spindle interpolated with it ("" = none)
+    spindle_per_mm: float  # thread data: spindle degrees per mm of the tool axis (signed)
+    positions: tuple[tuple[str, float], ...]  # actual values of the axes involved at the abort
+
+
 @dataclass(slots=True)
 class NcMemory:
     written: dict[tuple[str, int], MdValue] = field(default_factory=dict)  # (owner, MD number) -> value
     buffered: dict[tuple[str, int], BufferedEncoder] = field(default_factory=dict)  # (axis, encoder index)
+    retract: dict[str, RetractData] = field(default_factory=dict)  # channel -> data of the aborted thread
 
     def write(self, owner: str, md: MdDef, value: MdScalar, index: int | None, base: MachineData) -> None:
         """The control writes ``md`` (index ``index`` of an array) of ``owner``."""

@@ -30,7 +30,11 @@ from vc.core.alarms import STOP_AXES, Alarm, AlarmList, Clear, Reaction
 from vc.core.axis import AxisSignals, MachineAxis, Owner
 from vc.core.channel import Channel, ChannelSignals, ChannelState, Mode
 from vc.core.coupling import Couplings, CouplingSignals
+from vc.core.drive_esr import DriveEsr, DriveEsrSignals
+from vc.core.esr import ChannelEsr, NckEsr
+from vc.core.inclined_axis_channel import InclinedAxisControl, inclined_axis_control
 from vc.core.interface_map import SignalTable
+from vc.core.manual_retraction import ManualRetraction, RetractionSignals
 from vc.core.mode_group import ModeGroup, ModeGroupSignals
 from vc.core.nc_memory import NcMemory
 from vc.core.overrides import OverrideCoding
@@ -51,6 +55,7 @@ class NckSignals:
         self.emergency_stop_active = table.bit("basic.in.emergencyStopActive")
         self.nc_ready = table.bit("basic.in.ncReady")
         self.alarm_active = table.bit("basic.in.alarmActive")
+        self.digital_inputs = table.field("basic.out.setDigitalInputs")  # $A_IN[1..8]
 
 
 class Nck:
@@ -96,7 +101,8 @@ class Nck:
                                       nck.float(MD.OVR_FACTOR_LIMIT_BIN))
         self._axis_coding = OverrideCoding(nck.bool(MD.OVR_AX_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_AX_SPEED),
                                            nck.float(MD.OVR_FACTOR_LIMIT_BIN))
-        channel_signals = ChannelSignals(SignalTable(catalog, InstanceKind.CHANNEL))
+        channel_table = SignalTable(catalog, InstanceKind.CHANNEL)
+        channel_signals = ChannelSignals(channel_table)
         self.channels = [
             Channel(channel, channel_signals, self.image.area(f"DB{channel.db}"),
                     [self.axes_by_name[name] for name in channel.axes], self.alarms, feed_coding, rapid_coding,
@@ -104,6 +110,19 @@ class Nck:
             for channel in machine.channels
         ]
         self.channels_by_name = {channel.name: channel for channel in self.channels}
+        self.inclined_axes: list[InclinedAxisControl] = []  # GSK inclined-axis control (seed 000) per channel
+        for channel in self.channels:
+            inclined = inclined_axis_control(channel.config, channel.axes_by_name, channel_table,
+                                             self.image.area(f"DB{channel.config.db}"), self.dt, self.alarms)
+            if inclined is not None:
+                channel.inclined = inclined
+                self.inclined_axes.append(inclined)
+        retraction_signals = RetractionSignals(SignalTable(catalog, InstanceKind.CHANNEL))
+        self.retractions = {channel.name: ManualRetraction(channel, self.memory, retraction_signals,
+                                                           self.image.area(f"DB{channel.config.db}"),
+                                                           nck.int(MD.JOG_MODE_MASK))
+                            for channel in self.channels}
+        self.mode_group.power_on(self._power_on_mode())
         spindle_signals = SpindleSignals(SignalTable(catalog, InstanceKind.AXIS))
         spindle_coding = OverrideCoding(nck.bool(MD.OVR_SPIND_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_SPIND_SPEED),
                                         nck.float(MD.OVR_FACTOR_LIMIT_BIN))
@@ -121,6 +140,14 @@ class Nck:
                                    CouplingSignals(SignalTable(catalog, InstanceKind.AXIS)),
                                    {spindle.name: self.image.area(f"DB{spindle.axis.config.db}")
                                     for spindle in self.spindles}, self.dt, self.alarms)
+        drive_signals = DriveEsrSignals(SignalTable(catalog, InstanceKind.AXIS))
+        self.esr = NckEsr({axis.name: DriveEsr(axis, drive_signals, self.image.area(f"DB{axis.config.db}"), self.dt)
+                           for axis in self.axes})
+        for channel in self.channels:
+            geometry = {name: axis for name, axis in zip(channel.config.geometry_names, channel.config.geometry_axes,
+                                                           strict=True) if axis}
+            channel.esr = ChannelEsr(channel.name, channel.axes_by_name, self.alarms, self.dt, self.esr, geometry)
+        self._rapid_stop_waiting: set[str] = set()  # axes whose alarm reaction waits for their ESR reaction
         self.polygons: list[PolygonTurning] = []
         for channel in self.channels:
             channel.couplings = self.couplings
@@ -146,6 +173,16 @@ class Nck:
         self._write_status()
         for channel in self.channels:
             channel.write_axis_summary()
+        for retraction in self.retractions.values():
+            retraction.write_outputs()
+
+    def _power_on_mode(self) -> Mode:
+        """MD10720 of the mode group (0 AUTOMATIC, 3 MDA, 7 JOG; the sub-modes count as JOG [control]);
+        MD10721 = 1 selects JOG when a channel has retract data (seed 003 L35366-35378)."""
+        nck = self.machine.nck
+        if nck.int(MD.OPERATING_MODE_EXTENDED, 0) == 1 and any(r.data for r in self.retractions.values()):
+            return Mode.JOG
+        return {0: Mode.AUTO, 3: Mode.MDA}.get(nck.int(MD.OPERATING_MODE_DEFAULT, 0), Mode.JOG)
 
     # ------------------------------------------------------------------ the IPO cycle
     def step(self, plc_side: ProcessImage) -> None:
@@ -164,6 +201,8 @@ class Nck:
         for channel in self.channels:
             channel.program_cycle(self.cycle)
         self._manual_functions()
+        for retraction in self.retractions.values():
+            retraction.follow()
         alarm_version = self.alarms.version
         for spindle in self.spindles:
             if not spindle.quiet or spindle.alarm_version != alarm_version or spindle.axis.velocity:
@@ -177,6 +216,8 @@ class Nck:
             self.referencing.run(self.cycle, {c.name: c.inputs.feed_disable for c in self.channels},
                                  {c.name: (c.edges.nc_stop, c.inputs.nc_stop or c.inputs.nc_stop_all, c.edges.nc_start)
                                   for c in self.channels})
+        for inclined in self.inclined_axes:
+            inclined.follow()  # a manual motion of the inclined axis carries the orthogonal one along
         moved = False
         for axis in self.axes:
             if axis.resting and axis.owner is Owner.NONE:
@@ -184,6 +225,7 @@ class Nck:
             if axis.control_cycle(self.cycle, self.alarms):
                 moved = True
         self.couplings.monitor(self.cycle)
+        self._extended_stop_and_retract()
         self._react_to_new_alarms()
         status = self._status_signature()
         if status != self._last_status:
@@ -194,6 +236,8 @@ class Nck:
                 channel.write_axis_summary()
         for channel in self.channels:
             channel.clear_edges()
+        for retraction in self.retractions.values():
+            retraction.write_outputs()
         self.mode_group.reset_edge = False
 
     # ------------------------------------------------------------------ inputs
@@ -213,6 +257,7 @@ class Nck:
             sig, area = self._nck_signals, self._nck_area
             self._emergency_stop_level = sig.emergency_stop.get(area)
             self._emergency_stop_ack = sig.emergency_stop_ack.get(area)
+            self.esr.inputs = sig.digital_inputs.get(area)
         if "DB11" in changed:
             self.mode_group.decode_inputs()
         for channel in self.channels:
@@ -286,7 +331,14 @@ class Nck:
             self.referencing.abort_key_started()
         for channel in self.channels:
             edges = channel.edges
-            if edges.reset or mode_group.reset_edge:
+            retraction = self.retractions[channel.name]
+            reset = edges.reset or mode_group.reset_edge
+            if reset:
+                retraction.keep_data()  # before the reset forgets the block (seed 003 L35306-35309)
+            retraction.commands(mode_group.mode, mode_group.reference_function, reset)
+            for spindle in channel.spindles.values():
+                spindle.start_keys_locked = retraction.active
+            if reset:
                 channel.reset(self.cycle)
                 self.referencing.abort_channel(channel.name)
                 continue
@@ -299,7 +351,10 @@ class Nck:
                     for spindle in channel.spindles.values():
                         spindle.nc_stop()
             if edges.nc_start and not self.emergency_stop:
+                was_in_reset = channel.state is ChannelState.RESET
                 channel.nc_start(self.cycle, mode_group.mode, mode_group.reference_function)
+                if was_in_reset and channel.is_active:
+                    retraction.program_started()
                 for spindle in channel.spindles.values():
                     spindle.nc_start()
 
@@ -315,10 +370,24 @@ class Nck:
             self.referencing.traverse_keys(channel.name, channel.axes, allowed and reference_keys, self.cycle)
             feed_disable = channel.inputs.feed_disable
             jog_allowed = allowed and jog_mode
+            retraction = self.retractions[channel.name]
             for axis in channel.axes:
                 # outside JOG only a jog that is still running out needs its cycle
                 if (jog_allowed or axis.owner is Owner.JOG) and not axis.is_spindle:
-                    axis.jog_cycle(jog_allowed, feed_disable)
+                    axis.jog_cycle(jog_allowed, feed_disable, retraction.jog_limits(axis))
+
+    def _extended_stop_and_retract(self) -> None:
+        """Synchronized actions (after this cycle's alarms, before their reactions), the channels'
+        reaction to $AC_ESR_TRIGGER, then the drives' own reaction to $AN_ESR_TRIGGER."""
+        for channel in self.channels:
+            assert channel.esr is not None
+            channel.esr.run_actions(self.cycle)
+            channel.esr_trigger(self.cycle)
+        self.esr.cycle()
+
+    def _in_esr_reaction(self, axis: MachineAxis) -> bool:
+        channel = self.channels_by_name.get(axis.channel)
+        return channel is not None and channel.esr is not None and channel.esr.holds(axis.name)
 
     def _react_to_new_alarms(self) -> None:
         """Axis alarms whose reaction is a rapid stop put the axis into follow-up (servo off);
@@ -331,8 +400,18 @@ class Nck:
             if Reaction.RAPID_STOP not in alarm.reaction or alarm.number in (21612, EMERGENCY_STOP_ALARM):
                 continue  # 21612 brakes on its own; the emergency stop has its own function
             for axis in (self.axes_by_name[alarm.axis],) if alarm.axis else self.axes:
+                if self._in_esr_reaction(axis):
+                    self._rapid_stop_waiting.add(axis.name)  # the retract / stop comes first [control]
+                    continue
                 axis.rapid_stop(then_servo_off=True)
                 self._servo_held_by_alarm.add(axis.name)
+        for name in sorted(self._rapid_stop_waiting):
+            axis = self.axes_by_name[name]
+            if not self._in_esr_reaction(axis):
+                self._rapid_stop_waiting.discard(name)
+                if any(Reaction.RAPID_STOP in alarm.reaction for alarm in self.alarms.present):
+                    axis.rapid_stop(then_servo_off=True)
+                    self._servo_held_by_alarm.add(name)
         self._alarm_count = len(history)
         if self._servo_held_by_alarm and self.alarms.version != self._servo_check_version \
                 and not self.emergency_stop:  # the e-stop acknowledgement gives every enable back
@@ -380,9 +459,21 @@ class Nck:
 
     def power_off(self) -> NcMemory:
         """Switch off: buffer what the control keeps, and hand its memory to the next power-on."""
+        for retraction in self.retractions.values():
+            retraction.keep_data()  # power failure during a thread (seed 003 L35306-35309)
         for axis in self.axes:
             buffer_at_power_off(axis, self.memory)
         return self.memory
+
+    def program_position(self, axis: str) -> float:
+        """The absolute (program) position the NC shows for ``axis``: Cartesian for the pair of an
+        inclined-axis control (seed 000 L38-41), else the machine position."""
+        for inclined in self.inclined_axes:
+            position = inclined.program_position(axis)
+            if position is not None:
+                return position
+        item = self.axes_by_name[axis]
+        return item.shown(item.actual)
 
     def physical_positions(self) -> dict[str, float]:
         return {axis.name: axis.physical for axis in self.axes}

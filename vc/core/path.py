@@ -15,7 +15,7 @@ import math
 from dataclasses import dataclass, field
 
 from vc.core.axis import MachineAxis
-from vc.core.motion import ramp, stopping_velocity
+from vc.core.motion import path_step
 
 
 @dataclass(slots=True)
@@ -39,12 +39,19 @@ class PathSegment:
         geometry: list[bool],
         feed: float,
         rapid: bool,
+        program_length: float | None = None,
     ) -> PathSegment:
-        """Plan a linear move; ``feed`` is the programmed path velocity per second (ignored for G0)."""
+        """Plan a linear move; ``feed`` is the programmed path velocity per second (ignored for G0).
+
+        ``program_length``: the length of the programmed path where a transform maps it onto
+        machine axes of another length (the inclined axis); F is the velocity along it.
+        """
         starts = [axis.setpoint for axis in axes]
         deltas = [end - start for start, end in zip(starts, ends, strict=True)]
         geometry_length = math.sqrt(sum(d * d for d, g in zip(deltas, geometry, strict=True) if g))
         length = geometry_length if geometry_length > 0.0 else math.sqrt(sum(d * d for d in deltas))
+        if program_length and length > 0.0:
+            length = program_length
         if length == 0.0:
             return cls(axes, starts, ends, 0.0, 0.0, 1.0, rapid)
         unit = [d / length for d in deltas]
@@ -74,13 +81,16 @@ class PathSegment:
             self._hand_out(0.0)
             return
         target = 0.0 if hold else self.command_velocity * override
-        velocity = min(ramp(self.velocity, target, self.accel, dt),
-                       stopping_velocity(self.length - self.s, self.accel, dt))
-        self.s += velocity * dt
-        if self.length - self.s <= 1e-12 * max(1.0, self.length):
-            self.s = self.length  # arrived: the last cycle covered exactly the rest (rounding aside)
-        self.velocity = velocity
-        self._hand_out(velocity)
+        self.s, self.velocity = path_step(self.s, self.length, self.velocity, target, self.accel, dt)
+        self._hand_out(self.velocity)
+
+    def release_axis(self, axis: MachineAxis) -> None:
+        """``axis`` leaves the path (an ESR retract takes it); the others go on along the same line."""
+        if axis not in self.axes:
+            return
+        index = self.axes.index(axis)
+        for values in (self.axes, self.starts, self.ends, self._unit):
+            del values[index]
 
     def _hand_out(self, velocity: float) -> None:
         if self.s >= self.length:

@@ -10,6 +10,9 @@ A block is one line.  Its items::
     COUPON(S2,S1,77)         a call with arguments (names, numbers, "strings")
     LFON  STOPRE             a keyword (a name that is not an address word)
     MM_THREAD:               a label
+    IDS=2 WHENEVER $A_IN[1]==1 DO $AC_ESR_TRIGGER=1
+                             a synchronized action: kept as condition and action text for
+                             vc/core/sync_actions.py (ID= modal, IDS= static)
     ; comment                everything after ';' is a comment
 
 Parsing only checks the form; what a word means is the interpreter's business, so a new
@@ -32,6 +35,9 @@ _ADDRESS_WORD = re.compile(rf"^([A-Z])({_NUMBER})$", re.IGNORECASE)
 # Address words written without blanks: "G1X10Y20", or "G1X" followed by the number "-10".
 _CHAINED_WORDS = re.compile(r"^(?:[A-Z]\d+)+[A-Z]?$", re.IGNORECASE)
 _BLOCK_NUMBER = re.compile(r"^\s*N(\d+)", re.IGNORECASE)
+_SYNCHRONIZED_ACTION = re.compile(
+    r"^(?:N(?P<block>\d+)\s+)?(?P<kind>IDS|ID)\s*=\s*(?P<number>\d+)\s+(?P<mode>WHENEVER|WHEN|EVERY|FROM)\s+"
+    r"(?P<condition>.+?)\s+DO\s+(?P<actions>.+)$", re.IGNORECASE)
 
 Argument = float | str
 
@@ -84,7 +90,18 @@ class Label:
     name: str
 
 
-Item = Word | Assignment | Call | Keyword | Label
+@dataclass(frozen=True, slots=True)
+class SynchronizedAction:
+    """``IDS=2 WHENEVER <condition> DO <actions>``: the words after the identifier as written."""
+
+    number: int  # the ID / IDS number
+    static: bool  # IDS: stays active beyond the program (reset, program end)
+    mode: str  # WHENEVER, WHEN, EVERY or FROM
+    condition: str
+    actions: str
+
+
+Item = Word | Assignment | Call | Keyword | Label | SynchronizedAction
 
 
 @dataclass(frozen=True, slots=True)
@@ -111,6 +128,13 @@ def parse_program(text: str) -> tuple[Block, ...]:
     for line_number, raw in enumerate(text.splitlines(), start=1):
         code = raw.split(";", 1)[0].strip()
         if not code:
+            continue
+        action = _SYNCHRONIZED_ACTION.match(code)
+        if action is not None:
+            number = int(action.group("block")) if action.group("block") else None
+            blocks.append(Block(line_number, raw.strip(), number, (SynchronizedAction(
+                int(action.group("number")), action.group("kind").upper() == "IDS", action.group("mode").upper(),
+                action.group("condition").strip(), action.group("actions").strip()),)))
             continue
         try:
             number, items = _parse_line(code)

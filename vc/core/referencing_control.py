@@ -6,9 +6,10 @@ keys in JOG-REF and MDA-REF (the key of the MD34010 direction; either key for di
 systems), gives each running procedure its cycle conditions (feed stop, NC stop, the held
 key) and aborts them on reset or when REF is left.
 
-Inclined-axis control (seed 000): the orthogonal axis may be referenced only once the
-inclined axis is; the other order raises alarm 65820 and the orthogonal axis does not start
-(seed 000 L62-66, L375, L381).  The pair comes from MD62800/62805/62806.
+Inclined-axis control (seed 000): the orthogonal axis may start its reference return only
+while the inclined axis stands at its reference point (ZPx = 1); otherwise alarm 65820 and the
+orthogonal axis does not start (seed 000 L62-66, L321, L375, L380).  This holds for the keys,
+G74 and channel-specific referencing alike.  The pair comes from MD62800-62808.
 """
 
 from __future__ import annotations
@@ -16,9 +17,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from vc.config import md_dictionary as MD
-from vc.config.model import ChannelConfig, MachineConfig
+from vc.config.model import MachineConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis import MachineAxis
+from vc.core.inclined_axis_channel import at_reference_point
 from vc.core.nc_memory import NcMemory
 from vc.core.referencing import (
     AxisReferencing,
@@ -27,8 +29,7 @@ from vc.core.referencing import (
     Source,
     passive_distance_coded,
 )
-
-ALARM_INCLINED_ORDER = 65820
+from vc.core.transforms.inclined_axis import InclinedAxisParameters, parameters_for_channel, reference_order_alarm
 
 
 class ReferencingControl:
@@ -50,12 +51,13 @@ class ReferencingControl:
             for axis in axes for encoder in axis.encoders
             if passive_distance_coded(axis, encoder, memory.view(axis.name, axis.config.md))
         ]
-        self._inclined_before: dict[str, str] = {}  # orthogonal axis -> inclined axis that must come first
+        # orthogonal axis -> (its inclined-axis control, the inclined axis that must be at its reference point)
+        self._inclined_before: dict[str, tuple[InclinedAxisParameters, str]] = {}
         for channel in machine.channels:
-            pair = inclined_pair(channel)
-            if pair is not None:
-                inclined, orthogonal = pair
-                self._inclined_before[orthogonal] = inclined
+            parameters = parameters_for_channel(channel)
+            if isinstance(parameters, InclinedAxisParameters):
+                orthogonal = channel.axes[parameters.orthogonal_axis - 1]
+                self._inclined_before[orthogonal] = (parameters, channel.axes[parameters.inclined_axis - 1])
 
     @property
     def any_active(self) -> bool:
@@ -63,11 +65,15 @@ class ReferencingControl:
 
     def start(self, axis: str, source: Source, direction: int, cycle: int) -> bool:
         """Start referencing ``axis``; False if it cannot start now (order, enable, wrong key)."""
-        inclined = self._inclined_before.get(axis)
-        if inclined is not None and not self._axes[inclined].referenced:
-            channel = self._axes[axis].channel
-            self._alarms.raise_alarm(ALARM_INCLINED_ORDER, cycle, channel, axis, inclined, channel=channel, axis=axis)
-            return False
+        order = self._inclined_before.get(axis)
+        if order is not None:
+            parameters, inclined = order
+            alarm = reference_order_alarm(parameters, parameters.orthogonal_axis,
+                                          at_reference_point(self._axes[inclined]))
+            if alarm is not None:
+                channel = self._axes[axis].channel
+                self._alarms.raise_alarm(alarm.number, cycle, channel, axis, inclined, channel=channel, axis=axis)
+                return False
         procedure = self.of[axis]
         started = procedure.start(source, direction)
         if started:
@@ -144,14 +150,3 @@ class ReferencingControl:
             if procedure.source is Source.KEY:
                 procedure.abort()
 
-
-def inclined_pair(channel: ChannelConfig) -> tuple[str, str] | None:
-    """(inclined, orthogonal) machine axes of the channel's inclined-axis control, or None."""
-    md = channel.md
-    if not md.bool(MD.INCL_AXIS_ENABLE):
-        return None
-    inclined, orthogonal = md.int(MD.INCL_AXIS_INCLINED), md.int(MD.INCL_AXIS_ORTHOGONAL)
-    count = len(channel.axes)
-    if not (1 <= inclined <= count and 1 <= orthogonal <= count) or inclined == orthogonal:
-        return None
-    return channel.axes[inclined - 1], channel.axes[orthogonal - 1]

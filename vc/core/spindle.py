@@ -208,6 +208,7 @@ class Spindle:
         self.coupling_hold = False  # leading spindle: a coupled FS's spindle stop brakes the group
         self.sync_speed_reached = False  # following spindle: the differential speed is reached (83.5)
         self.acceleration_override: float | None = None  # deg/s^2 while polygon turning sets the ramp
+        self.start_keys_locked = False  # manual retraction: DBX30.1 / 30.2 start nothing (L35582-35588)
         self.alarm_version = -1
         self._apply_gear_data()
         if md.int(MD.SPIND_DEFAULT_MODE) == 3:
@@ -291,6 +292,8 @@ class Spindle:
         if self.change is None and self.mode in (SpindleMode.CONTROL, SpindleMode.POSITIONING):
             if stop and not inp.plc_stop:
                 self.direction = 0
+            elif self.start_keys_locked:
+                pass
             elif start_cw and not inp.plc_start_cw:
                 self.direction = 1
                 self._enter_control_mode()
@@ -474,6 +477,12 @@ class Spindle:
         self.braking_for_axis_mode = False
         self.position_control = True
         self._apply_gear_data()
+
+    def enter_retraction(self) -> None:
+        """Manual retraction of a thread or tapping block: the spindle in position control again
+        (axis mode), moved with the tool axis (seed 003 L35497-35500)."""
+        self.quiet = False
+        self._enter_axis_mode()
 
     @property
     def in_axis_mode(self) -> bool:

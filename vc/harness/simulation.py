@@ -31,7 +31,7 @@ from vc.core.alarms import Alarm
 from vc.core.nc_memory import NcMemory
 from vc.core.nck import Nck
 from vc.harness.link_faults import FaultInjectable, LinkFault, LinkFaultKind
-from vc.observables import AXIS_QUANTITIES, COUPLING_QUANTITY_MEANINGS, FAULTS
+from vc.observables import AXIS_QUANTITIES, CHANNEL_QUANTITIES, COUPLING_QUANTITY_MEANINGS, FAULTS
 from vc.plant.plant import Plant
 
 
@@ -239,6 +239,11 @@ class Simulation:
 
     # ------------------------------------------------------------------ axes, alarms, HMI
     def axis_quantity(self, axis: str, quantity: str) -> float:
+        channel = self.nck.channels_by_name.get(axis)
+        if channel is not None and quantity == "liftfast" and channel.esr is not None:
+            return channel.esr.liftfast
+        if channel is not None and quantity in CHANNEL_QUANTITIES:  # CHAN1.toolTipX: the five-axis tool
+            return channel.five_axis.quantity(quantity, channel.modal.five_axis)
         item = self.nck.axes_by_name[axis]
         if quantity == "position":
             return item.shown(item.actual)
@@ -250,6 +255,8 @@ class Simulation:
             return item.following_error
         if quantity == "physical":
             return item.physical
+        if quantity == "programPosition":
+            return self.nck.program_position(axis)
         if quantity in COUPLING_QUANTITY_MEANINGS:
             return self.nck.couplings.quantity(axis, quantity)
         raise KeyError(f"unknown axis quantity '{quantity}' (known: {', '.join(AXIS_QUANTITIES)})")

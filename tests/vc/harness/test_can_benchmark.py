@@ -26,7 +26,7 @@ def test_the_command_prints_both_measurements_of_both_buses_and_the_figures_in_j
     for bus in BUSES:
         assert figures[f"{bus}_frames_per_s"] > 100
         assert figures[f"{bus}_lockstep_us_per_cycle"] > 0 and figures[f"{bus}_lockstep_realtime_factor"] > 0
-        # 15 + 1 frames out and 11 + 1 in every PLC period of 5 IPO cycles: 28 / 5 per cycle
-        assert 5.0 < figures[f"{bus}_lockstep_frames_per_s"] / 1e6 * figures[f"{bus}_lockstep_us_per_cycle"] < 6.5
+        # 16 + 1 frames out and 13 + 1 in every PLC period of 5 IPO cycles: 31 / 5 per cycle
+        assert 5.5 < figures[f"{bus}_lockstep_frames_per_s"] / 1e6 * figures[f"{bus}_lockstep_us_per_cycle"] < 7.5
     text = "\n".join(lines[:-1])
     assert "throughput" in text and "lockstep" in text and "frames/s" in text and "us per IPO cycle" in text

@@ -81,8 +81,8 @@ def test_frames_every_ipo_cycle_give_the_same_images() -> None:
         operate(linked)
         operate(local)
         assert images(linked) == images(local)
-        # 15 data frames and the NC link frame in every IPO cycle
-        assert virtual.link.bus.sent - sent >= 16 * (linked.cycle - 1)
+        # 16 data frames and the NC link frame in every IPO cycle
+        assert virtual.link.bus.sent - sent >= 17 * (linked.cycle - 1)
 
 
 def test_the_time_out_monitor_holds_the_sign_of_life_of_a_plc_with_a_missing_frame() -> None:
@@ -95,7 +95,7 @@ def test_the_time_out_monitor_holds_the_sign_of_life_of_a_plc_with_a_missing_fra
         life = plc.sign_of_life
         simulation.inject_link_fault("loss", 1_000_000, ("plc_to_nc",), ("DB31",))
         simulation.step(15)  # 30 ms: X1's frame is older than the 20 ms time-out
-        assert plc.missing == [0x405] and plc.sign_of_life != life  # changed until the time-out
+        assert plc.missing == [0x407] and plc.sign_of_life != life  # changed until the time-out
         held = plc.sign_of_life
         simulation.step(10)
         assert plc.sign_of_life == held
@@ -126,7 +126,8 @@ def test_a_plc_that_cannot_run_the_program_is_reported() -> None:
         with pytest.raises(LinkError) as caught:
             Simulation(TURN_MILL, "basic_machine", connector=link)
         assert "no PLC has started session 1 on the CAN bus" in str(caught.value)
-        assert "cannot run: no PLC program 'nonesuch' (known: basic_machine, polygon, referencing, spindle, sync_spindle)" in str(caught.value)
+        assert ("cannot run: no PLC program 'nonesuch' (known: basic_machine, manual_retraction, polygon, referencing,"
+                " retraction, spindle, sync_spindle)") in str(caught.value)
         assert child.wait(10) == 2
     finally:
         link.close()
@@ -166,7 +167,7 @@ def test_vc_serve_on_a_can_bus_runs_a_scenario_with_a_plc_process() -> None:
         _, errors = plc.communicate(timeout=10)
     assert served.returncode == 0, served.stdout + served.stderr
     assert f"CAN bus {bus}, link frames from 0x100" in served.stdout and "PASS" in served.stdout
-    assert "session 1: machine turn_mill, program basic_machine, lockstep, 26 data frames" in errors
+    assert "session 1: machine turn_mill, program basic_machine, lockstep, 29 data frames" in errors
 
 
 def test_vc_serve_takes_a_can_bus_or_the_servers_not_both() -> None:

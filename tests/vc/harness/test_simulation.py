@@ -208,9 +208,10 @@ def test_axis_quantities_in_display_units(config: MachineConfig) -> None:
     assert sim.axis_quantity("X1", "setpoint") == axis.setpoint
     assert sim.axis_quantity("X1", "followingError") == pytest.approx(axis.following_error)
     assert sim.axis_quantity("X1", "position") > 150.0
+    assert sim.axis_quantity("X1", "programPosition") == pytest.approx(axis.actual)  # Y1 at 0: Cartesian X = X1
     assert set(AXIS_QUANTITIES) == {"position", "setpoint", "velocity", "followingError", "physical",
-                                    "couplingOffset", "couplingOffsetActual", "couplingOffsetProgrammed",
-                                    "couplingCorrection", "syncDeviation"}
+                                    "programPosition", "couplingOffset", "couplingOffsetActual",
+                                    "couplingOffsetProgrammed", "couplingCorrection", "syncDeviation"}
     assert sim.axis_quantity("SP2", "couplingOffset") == 0.0  # follows nobody
 
 

@@ -22,6 +22,7 @@ INCLINED_CONFIGURATION = 65824  # rotary axis, or axes with different increment 
 ROTARY_P_OUT_OF_RANGE = 65850  # Syntec COR-149: G53.1 P other than 0, 1, 2
 ROTARY_NO_SOLUTION = 65851  # Syntec COR-153: no rotary solution for this tool direction
 ROTARY_RANGE = 65852  # a rotary axis outside its five-axis travel range (Pr3009-3012)
+FIVE_AXIS_PROGRAM = 65853  # a five-axis block the control refuses (Syntec HSHP-3551 for G43.4 L2 E / R)
 
 
 @dataclass(frozen=True, slots=True)

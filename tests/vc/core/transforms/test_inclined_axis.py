@@ -219,10 +219,14 @@ def test_the_fallback_needs_the_basic_axes() -> None:
 
 def test_machine_data_of_turn_mill() -> None:
     channel = load_machine(TURN_MILL).channel("CHAN1")
-    assert isinstance(parameters_for_channel(channel), InclinedAxisOff)  # shipped with MD62800 = 0
-    on = load_machine(TURN_MILL, {"CHAN1": {"MD62800": 1, "MD62808": 1}}).channel("CHAN1")
-    assert parameters_for_channel(on) == InclinedAxisParameters(
-        angle=-30.0, inclined_axis=3, orthogonal_axis=1, diameter_factor=2,
+    assert parameters_for_channel(channel) == InclinedAxisParameters(  # shipped on, AZR = 1
+        angle=-30.0, inclined_axis=3, orthogonal_axis=1, reference_keeps_orthogonal_still=True,
+        limits_cartesian=(True, True, True), g28_cartesian=True)
+    off = load_machine(TURN_MILL, {"CHAN1": {"MD62800": 0}}).channel("CHAN1")
+    assert isinstance(parameters_for_channel(off), InclinedAxisOff)
+    diameter = load_machine(TURN_MILL, {"CHAN1": {"MD62808": 1}}).channel("CHAN1")
+    assert parameters_for_channel(diameter) == InclinedAxisParameters(
+        angle=-30.0, inclined_axis=3, orthogonal_axis=1, diameter_factor=2, reference_keeps_orthogonal_still=True,
         limits_cartesian=(True, True, True), g28_cartesian=True)
     # MD62807 = 2 (T series) with MD62805 unset: inclined = geometry X (channel axis 1),
     # orthogonal = geometry Z (channel axis 2, MD20050 = [1, 3, 2])

@@ -1,0 +1,105 @@
+"""manual_retraction: the spindle program plus manual retraction along the tool axis.
+
+After a tapping or thread block was aborted by a reset or by power failure, the NC shows
+"retract data available" (DB21.DBX377.5, seed 003 §16.12).  The machine builder's PLC
+operates the function from the panel, as the seed asks of the PLC user program (L35472-35494).
+Networks after those of ``spindle`` (1-9):
+
+0. Mode, before network 2 writes it: in its first scan the PLC keeps the mode the NC selected
+   itself at power-on (MD10720, or JOG by MD10721 with retract data) instead of selecting JOG;
+   when 377.5 rises (also: found at the first scan) it selects JOG (DB11.DBX0.2).
+
+10. Manual retraction, per channel::
+
+        377.5, JOG active, channel in reset (35.7), 377.4 = 0, and either the first chance
+        since 377.5 rose or the NC start key ──▶ REQUEST: DB21.DBX396.0 = 1 (PI service RETRAC)
+        REQUEST ──397.0 (done) or 397.1 (refused)──▶ request off
+
+    The traverse keys of the panel go to the axes as in JOG (network 4): the NC lets only the
+    tool axis move, in its plus direction unless MD10735 bit 8.  NC stop pauses the
+    retraction and NC start continues it (network 3 passes the keys on).  RESET cancels it
+    (network 3); the data stay, and the NC start key selects it again from where the tool
+    stands.  Back in AUTOMATIC, the axes are referenced and NC start continues the program,
+    which deletes the data (377.5 = 0).
+
+The selection through DB21.DBX396.0 / 397.0 / 397.1 stands in for FB4 with the PI service
+"RETRAC" (REQ, DONE, ERROR): a project-specific location of this harness.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from plc_stub.blocks import R_TRIG
+from plc_stub.io import Bool, PlcIo
+from plc_stub.programs.basic_machine import pressed
+from plc_stub.programs.spindle import Spindle
+
+_ACTIVE_MODE_SIGNALS = (("auto", "MODEGROUP.basic.in.autoModeActive"), ("mda", "MODEGROUP.basic.in.mdaModeActive"),
+                        ("jog", "MODEGROUP.basic.in.jogModeActive"))
+
+
+@dataclass(slots=True)
+class _RetractionChannel:
+    data_available: Bool  # DB21.DBX377.5
+    active: Bool  # DB21.DBX377.4
+    in_reset: Bool  # DB21.DBX35.7
+    request: Bool  # DB21.DBX396.0: PI service RETRAC
+    done: Bool  # DB21.DBX397.0
+    refused: Bool  # DB21.DBX397.1
+    data_edge: R_TRIG
+    first_chance: bool = False  # 377.5 rose and no selection was tried since
+
+
+class ManualRetraction(Spindle):
+    PROGRAM = "manual_retraction"
+
+    def __init__(self, io: PlcIo):
+        super().__init__(io)
+        self.active_modes = {mode: io.input(name) for mode, name in _ACTIVE_MODE_SIGNALS}
+        self.first_scan = True
+        self.start_key_edge = R_TRIG()
+        self.retraction_channels = [
+            _RetractionChannel(
+                data_available=io.input(f"{name}.basic.in.jogRetractDataAvailable"),
+                active=io.input(f"{name}.basic.in.jogRetractActive"),
+                in_reset=io.input(f"{name}.basic.in.stateReset"),
+                request=io.output(f"{name}.piService.out.retracRequest"),
+                done=io.input(f"{name}.piService.in.retracDone"),
+                refused=io.input(f"{name}.piService.in.retracError"),
+                data_edge=R_TRIG(),
+            )
+            for name in io.environment.catalog.layout.channels
+        ]
+
+    def ob1(self) -> None:
+        self.mode_for_retraction()
+        super().ob1()
+        self.manual_retraction()
+
+    # Network 0 ---------------------------------------------------------------------------
+    def mode_for_retraction(self) -> None:
+        if self.first_scan:
+            self.first_scan = False
+            for mode, active in self.active_modes.items():
+                if active.value:
+                    self.selected_mode = mode
+        for channel in self.retraction_channels:
+            if channel.data_edge(channel.data_available.value):
+                self.selected_mode = "jog"
+                self.reference_function = False
+                channel.first_chance = True
+
+    # Network 10 --------------------------------------------------------------------------
+    def manual_retraction(self) -> None:
+        start = self.start_key_edge(pressed(self.key_nc_start))
+        jog = self.active_modes["jog"].value and not self.reference_function
+        for channel in self.retraction_channels:
+            data = channel.data_available.value
+            if channel.request.value:
+                channel.request.value = not (channel.done.value or channel.refused.value)
+                continue
+            selectable = data and jog and channel.in_reset.value and not channel.active.value
+            if selectable and (channel.first_chance or start):
+                channel.first_chance = False
+                channel.request.value = True

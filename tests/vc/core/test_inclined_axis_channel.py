@@ -1,0 +1,178 @@
+"""The inclined-axis control of turn_mill on the NC core: Y1 inclined at -30 degrees to X1 (seed 000).
+
+The test is the PLC.  X1, Y1 and Z1 are absolute and referenced at power-on:
+X1 stands at 150, Y1 at 0, Z1 at 300 (machine = physical), so program and machine agree in Y
+and in X at the start.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from tests.vc.core.core_rig import Rig, machine
+
+TAN = math.tan(math.radians(-30.0))
+COS = math.cos(math.radians(-30.0))
+NOZAGC = "CHAN1.inclinedAxis.out.noOrthogonalCompensation"
+
+
+def _machine_data(channel: str = "", y1: str = "") -> str:
+    """X1, Y1, Z1 absolute and referenced at power-on, no NC start lock, plus the given data."""
+    absolute = "MD30240: [4], MD34210: [2]"
+    return (f"CHAN1: {{MD20700: 0{', ' + channel if channel else ''}}}\nX1: {{{absolute}}}\n"
+            f"Z1: {{{absolute}}}\nY1: {{{absolute}{', ' + y1 if y1 else ''}}}")
+
+
+def _rig(channel: str = "", y1: str = "") -> Rig:
+    rig = Rig(machine(_machine_data(channel, y1)))
+    rig.ready_mda()
+    return rig
+
+
+def _run(rig: Rig, text: str, max_cycles: int = 5000) -> None:
+    rig.mda(text)
+    rig.run_until(lambda: rig.get("CHAN1.basic.in.stateReset") == 1, max_cycles)
+    rig.step(200)  # settled below the fine window: the display reads actual values
+
+
+def _alarms(rig: Rig) -> list[int]:
+    return [alarm.number for alarm in rig.nck.present_alarms()]
+
+
+def test_g0_y_moves_the_inclined_slide_by_y_over_cos_and_compensates_x() -> None:
+    rig = _rig()
+    _run(rig, "G0 Y50")
+    # Ya = 50 / cos(-30) = 57.735; Xa = 150 - 50 tan(-30) = 178.868 (seed 000 L11-20)
+    assert rig.axis("Y1").setpoint == pytest.approx(50.0 / COS)
+    assert rig.axis("X1").setpoint == pytest.approx(150.0 - 50.0 * TAN)
+    assert rig.nck.program_position("X1") == pytest.approx(150.0, abs=1e-3)
+    assert rig.nck.program_position("Y1") == pytest.approx(50.0, abs=1e-3)
+    assert rig.nck.program_position("Z1") == pytest.approx(300.0, abs=1e-3)
+
+
+def test_g1_feed_is_the_cartesian_path_velocity() -> None:
+    rig = _rig()
+    rig.mda("G1 Y50 F1000")
+    rig.step(300)  # 1000 mm/min reached long before
+    # F_ay = F / cos(theta), F_ax = -F tan(theta) (the component form, docs/kinematics.md 1.7)
+    assert rig.axis("Y1").command_velocity == pytest.approx(1000.0 / 60.0 / COS)
+    assert rig.axis("X1").command_velocity == pytest.approx(-1000.0 / 60.0 * TAN)
+
+
+def test_incremental_words_count_in_program_coordinates() -> None:
+    rig = _rig()
+    _run(rig, "G91 G0 Y10")
+    _run(rig, "G91 G0 Y10 X5")
+    assert rig.nck.program_position("Y1") == pytest.approx(20.0, abs=1e-3)
+    assert rig.nck.program_position("X1") == pytest.approx(155.0, abs=1e-3)
+    assert rig.axis("X1").setpoint == pytest.approx(155.0 - 20.0 * TAN)
+
+
+def test_nozagc_leaves_the_orthogonal_axis_and_the_display_keeps_the_program_position() -> None:
+    rig = _rig()
+    rig.set(NOZAGC, 1)
+    _run(rig, "G0 Y50")
+    assert rig.axis("X1").setpoint == pytest.approx(150.0)
+    assert rig.axis("Y1").setpoint == pytest.approx(50.0 / COS)
+    assert rig.nck.program_position("X1") == pytest.approx(150.0, abs=1e-3)
+    rig.set(NOZAGC, 0)
+    _run(rig, "G0 X160")  # the program X goes from 150 to 160: the slide by the same 10
+    assert rig.axis("X1").setpoint == pytest.approx(160.0)
+
+
+def test_g53_targets_are_machine_positions_and_the_display_is_cartesian() -> None:
+    rig = _rig()
+    rig.set(NOZAGC, 1)  # G53 ignores it (seed 000 L158)
+    _run(rig, "G53 Y50")
+    assert rig.axis("X1").setpoint == pytest.approx(150.0)
+    assert rig.axis("Y1").setpoint == pytest.approx(50.0)
+    # Xp = 150 + 50 cos(-30) tan(-30) = 125, Yp = 43.301 (TV-IA-5 at X150)
+    assert rig.nck.program_position("X1") == pytest.approx(125.0, abs=1e-3)
+    assert rig.nck.program_position("Y1") == pytest.approx(50.0 * COS, abs=1e-3)
+
+
+def test_g28_of_the_inclined_axis_goes_via_the_intermediate_point_to_its_reference_point() -> None:
+    rig = _rig(y1="MD34100: [0.0]")
+    _run(rig, "G0 Y40")
+    _run(rig, "G28 Y40")
+    # ARF = 1: the leg to the reference point (Y 0) is Cartesian, X1 is back at 150
+    assert rig.axis("Y1").setpoint == pytest.approx(0.0)
+    assert rig.axis("X1").setpoint == pytest.approx(150.0)
+    assert _alarms(rig) == []
+
+
+def test_g28_with_arf_0_keeps_the_orthogonal_axis_on_the_last_leg() -> None:
+    rig = _rig(channel="MD62803: 0", y1="MD34100: [0.0]")
+    _run(rig, "G0 Y40")
+    x_at_intermediate = rig.axis("X1").setpoint
+    _run(rig, "G28 Y40")
+    assert rig.axis("Y1").setpoint == pytest.approx(0.0)
+    assert rig.axis("X1").setpoint == pytest.approx(x_at_intermediate)
+    assert rig.nck.program_position("X1") == pytest.approx(150.0, abs=1e-3)  # the program X is kept
+
+
+def test_g28_names_both_axes_alarm_65821() -> None:
+    rig = _rig()
+    rig.mda("G28 X150 Y0")
+    rig.step(5)
+    assert 65821 in _alarms(rig)
+
+
+def test_g28_of_the_orthogonal_axis_while_the_inclined_is_not_at_its_reference_point_alarm_65820() -> None:
+    rig = _rig()  # Y1 stands at 0, its reference point is -73
+    rig.mda("G28 X150")
+    rig.step(5)
+    assert 65820 in _alarms(rig)
+
+
+def test_g74_of_the_orthogonal_axis_needs_the_inclined_one_at_its_reference_point() -> None:
+    rig = _rig()  # Y1 is referenced (absolute) but not at its reference point -73
+    rig.mda("G74 X1=0")
+    rig.step(5)
+    assert 65820 in _alarms(rig)
+    assert rig.axis("X1").command_velocity == 0.0
+
+
+def test_cartesian_stroke_limit_is_checked_before_the_move() -> None:
+    rig = _rig()
+    _run(rig, "G0 Y100")  # 115.47 along the slide: inside the Cartesian +100
+    assert _alarms(rig) == []
+    rig.mda("G0 Y100.5")
+    rig.step(5)
+    assert 10720 in _alarms(rig)
+    assert rig.axis("Y1").setpoint == pytest.approx(100.0 / COS)
+
+
+def test_polygon_turning_cannot_run_with_inclined_axis_control() -> None:
+    rig = _rig()
+    rig.mda("G51.2 P2 Q6")
+    rig.step(5)
+    assert 65822 in _alarms(rig)
+
+
+def test_jog_of_the_inclined_axis_carries_the_orthogonal_one_unless_nozagc() -> None:
+    rig = _rig()
+    rig.select_mode("jog")
+    rig.step(2)
+    rig.set("Y1.basic.out.traversKeyPlus", 1)
+    rig.step(200)
+    y1, x1 = rig.axis("Y1"), rig.axis("X1")
+    # the JOG velocity is Cartesian: 1500 mm/min along Y = 1732.05 along the slide (L32, L313)
+    assert y1.command_velocity == pytest.approx(1500.0 / 60.0 / COS)
+    assert x1.setpoint - 150.0 == pytest.approx(0.5 * y1.setpoint)  # -C sin(-30) per unit of travel
+    rig.set("Y1.basic.out.traversKeyPlus", 0)
+    rig.run_until(lambda: y1.at_rest and x1.at_rest, 500)
+    rig.set(NOZAGC, 1)
+    x_before = x1.setpoint
+    rig.set("Y1.basic.out.traversKeyPlus", 1)
+    rig.step(100)
+    assert x1.setpoint == x_before
+    assert rig.nck.program_position("X1") == pytest.approx(150.0, abs=0.05)
+
+
+def test_a_rotary_axis_in_the_pair_raises_65824_and_leaves_the_function_off() -> None:
+    rig = Rig(machine(_machine_data(channel="MD62805: 4")))  # SP1 as the inclined axis
+    assert 65824 in _alarms(rig)
+    assert rig.nck.channels_by_name["CHAN1"].inclined is None

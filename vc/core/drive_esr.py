@@ -1,0 +1,168 @@
+"""Drive-autonomous extended stop and retract (ESR), seed 003 §22.2 (L41550-42088).
+
+The drive itself stops or retracts the axis when the NC-wide trigger ``$AN_ESR_TRIGGER`` reaches
+it, whatever the NC does meanwhile (the NC may be the very thing that failed).  Its configuration
+is drive parameters, written from the part program by ESRS / ESRR (L41912-41993):
+
+* p0888 = 1 extended stop, 2 extended retract, 3 generator operation (L41602-41720);
+* p0892: stop - the time the drive keeps its speed setpoint of the trigger moment, then brakes;
+  retract - the time of running up to p0893 and running at it, then braking (L41628-41693);
+* p0893: retract speed, a motor speed: ESRR's velocity converted with the gear ratio (L41971-41975);
+* p0891 = 0: braking on the OFF3 ramp (p1135), 1: on the ramp-function generator's ramp p1121.
+  The harness's drives have one ramp, the rapid-stop ramp MD36610 (MAX_AX_VELO in that time) [INF].
+
+The trigger must stand at least 2 IPO cycles (PROFIdrive, L41793-41809): the drive sees it in the
+second cycle.  Timeline of one axis (figures 22-1, 22-2, 22-4)::
+
+    ARMED ──$AA_ESR_ENABLE = 1, trigger 2 cycles──▶ REACTING (r0887.12 = r0887.13 = 1, DB31.DBX95.2)
+    REACTING ──stop: p0892, then the ramp; retract: p0892 at p0893, then the ramp──▶ DONE (r0887.13 = 0)
+    DONE ──$AA_ESR_ENABLE 1 -> 0 (acknowledge)──▶ ACKNOWLEDGED: 95.2 = 0
+    REACTING ──enable 1 -> 0──▶ ack pending: 95.2 falls when the reaction ends (red path of fig. 22-4)
+    ACKNOWLEDGED ──enable 0 -> 1 and $AN_ESR_TRIGGER = 0──▶ ARMED
+
+Generator operation (p0888 = 3, Vdc control at the DC-link threshold p1248) needs a DC-link and
+load model that the harness's plant does not have: ESRS / ESRR cannot select it, and its status
+bits DB31.DBX95.1 (undervoltage) and 95.3 (speed below p2161) stay 0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+from vc.config import md_dictionary as MD
+from vc.core.axis import MachineAxis, Owner
+from vc.core.interface_map import SignalTable
+from vc.core.motion import ramp
+
+EXTENDED_STOP = 1
+EXTENDED_RETRACT = 2
+TRIGGER_CYCLES = 2  # $AN_ESR_TRIGGER must stand this many IPO cycles to reach the drive (L41806-41809)
+STAT_REACTION = 1 << 2  # $AA_ESR_STAT bit 2 = r0887.12 = DB31.DBX95.2
+MAX_DELAY_S = 20.0  # ESRS: p0892 range 0.00 - 20.00 s (L41932-41940)
+
+
+@dataclass(frozen=True, slots=True)
+class DriveEsrCommand:
+    """One axis of ESRS(<axis>, <time>, ...) or ESRR(<axis>, <distance>, <velocity>, ...)."""
+
+    axis: str  # machine axis
+    configuration: int  # p0888: 1 = stop (ESRS), 2 = retract (ESRR)
+    delay: float  # p0892, s
+    velocity: float = 0.0  # ESRR: retract velocity, signed by the distance, per minute (mm/min, deg/min)
+
+
+def esrs_command(axis: str, delay: float) -> DriveEsrCommand:
+    return DriveEsrCommand(axis, EXTENDED_STOP, delay)
+
+
+def esrr_command(axis: str, distance: float, velocity: float) -> DriveEsrCommand:
+    """p0892 = distance / velocity (L41977-41980); the distance's sign gives the direction [INF]."""
+    return DriveEsrCommand(axis, EXTENDED_RETRACT, abs(distance) / velocity * 60.0,
+                           velocity if distance >= 0 else -velocity)
+
+
+class Reaction(Enum):
+    ARMED = "armed"
+    REACTING = "reacting"
+    DONE = "done"
+
+
+class DriveEsrSignals:
+    def __init__(self, table: SignalTable):
+        self.dc_undervoltage = table.bit("drive.in.esrDcVoltageAlarmActive")
+        self.response_initiated = table.bit("drive.in.esrResponseInitiated")
+        self.speed_below_minimum = table.bit("drive.in.esrSpeedBelowMin")
+
+
+class DriveEsr:
+    """The drive-autonomous ESR of one axis: its drive parameters, enable, reaction and feedback."""
+
+    def __init__(self, axis: MachineAxis, signals: DriveEsrSignals, area: bytearray, dt: float):
+        self.axis = axis
+        self._signals = signals
+        self._area = area
+        self._dt = dt
+        self.p0888 = 0  # configuration: 0 = none
+        self.p0891 = 0  # braking ramp: OFF3
+        self.p0892 = 0.0  # s
+        self.p0893 = 0.0  # retract speed, motor rev/min (signed)
+        self.retract_velocity = 0.0  # the same on the load side, per second (mm/s, deg/s)
+        self.enabled = False  # $AA_ESR_ENABLE
+        self._acknowledge_pending = False
+        self.reaction = Reaction.ARMED
+        self.triggered = False  # r0887.12: reaction triggered (until acknowledged)
+        self._elapsed = 0
+        self._hold_velocity = 0.0  # stop: the speed setpoint of the trigger moment
+
+    # ------------------------------------------------------------------ configuration (ESRS / ESRR)
+    def configure(self, command: DriveEsrCommand) -> None:
+        self.p0888 = command.configuration
+        self.p0892 = command.delay
+        self.retract_velocity = command.velocity / 60.0
+        self.p0893 = self._motor_speed(command.velocity)
+
+    def _motor_speed(self, load_velocity_per_minute: float) -> float:
+        """Load-side velocity (mm/min or deg/min) -> motor rev/min with the axis's gear ratio
+        (MD31050 / MD31060 load / motor revolutions, MD31030 leadscrew pitch) [control]."""
+        md = self.axis.config.md
+        ratio = md.int(MD.DRIVE_AX_RATIO_NUMERA, 0) / md.int(MD.DRIVE_AX_RATIO_DENOM, 0)
+        if self.axis.config.is_rotary:
+            return load_velocity_per_minute / 360.0 * ratio
+        return load_velocity_per_minute / md.float(MD.LEADSCREW_PITCH) * ratio
+
+    # ------------------------------------------------------------------ $AA_ESR_ENABLE
+    def set_enable(self, enabled: bool) -> None:
+        """1 -> 0 acknowledges a triggered reaction (at once, or when it ends); 0 -> 1 arms again."""
+        if self.enabled and not enabled and self.triggered:
+            if self.reaction is Reaction.DONE:
+                self.triggered = False
+                self.reaction = Reaction.ARMED
+            else:
+                self._acknowledge_pending = True
+        self.enabled = enabled
+
+    @property
+    def status(self) -> int:
+        """$AA_ESR_STAT: bit 2 reaction triggered (bits 3 and 4 belong to generator operation)."""
+        return STAT_REACTION if self.triggered else 0
+
+    # ------------------------------------------------------------------ IPO cycle
+    def cycle(self, trigger_cycles: int) -> None:
+        """``trigger_cycles``: for how many cycles $AN_ESR_TRIGGER has stood at 1."""
+        if self.reaction is Reaction.ARMED and not self.triggered and self.enabled and self.p0888 in (
+                EXTENDED_STOP, EXTENDED_RETRACT) and trigger_cycles >= TRIGGER_CYCLES:
+            self._start()
+        if self.reaction is Reaction.REACTING:
+            self._react()
+        self._signals.response_initiated.put(self._area, self.triggered)
+
+    def _start(self) -> None:
+        axis = self.axis
+        self.reaction = Reaction.REACTING
+        self.triggered = True
+        self._elapsed = 0
+        self._hold_velocity = axis.command_velocity
+        axis.take(Owner.RETRACT)
+
+    def _react(self) -> None:
+        axis, dyn, dt = self.axis, self.axis.dyn, self._dt
+        self._elapsed += 1
+        within_delay = self._elapsed * dt <= self.p0892 + 1e-9
+        if axis.owner is not Owner.RETRACT:
+            within_delay = False  # the NC braked it meanwhile (rapid stop): the reaction has ended
+        if self.p0888 == EXTENDED_STOP:
+            target = self._hold_velocity if within_delay else 0.0
+        else:
+            target = self.retract_velocity if within_delay else 0.0
+        velocity = ramp(axis.command_velocity, target, dyn.rapid_stop_decel, dt)
+        if axis.owner is Owner.RETRACT:
+            axis.set_path_setpoint(axis.setpoint + velocity * dt, velocity)
+        if not within_delay and (velocity == 0.0 or axis.owner is not Owner.RETRACT):
+            if axis.owner is Owner.RETRACT:
+                axis.release()
+            self.reaction = Reaction.DONE
+            if self._acknowledge_pending:
+                self._acknowledge_pending = False
+                self.triggered = False
+                self.reaction = Reaction.ARMED

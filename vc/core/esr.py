@@ -1,0 +1,270 @@
+"""Fast retraction in G33 (LIFTFAST) and NC-controlled extended stop and retract (ESR) of a channel,
+with the system variables and synchronized actions that trigger them.
+
+Triggers (seed 003 L8215-8221, L42180-42195):
+
+* fast retraction: NC stop DB21.DBX7.3 from the PLC [INF: the seed says "NC stop (NC/PLC interface
+  signal)" and names no address], an alarm that interrupts the program (implicit NC stop), or an
+  ESR trigger, while a G33 block runs with LFON;
+* ESR: ``$AC_ESR_TRIGGER`` 0 -> 1 (channel) or ``$AA_ESR_TRIGGER[ax]`` 0 -> 1 (single axis), written
+  by the program or by a synchronized action such as
+  ``IDS=2 WHENEVER ($AC_ALARM_STAT B_AND 'H2000') > 0 DO $AC_ESR_TRIGGER=1``.
+
+Reaction of the channel (SEQ-ESR-2, L42121-42177) per axis with ``$AA_ESR_ENABLE[ax] = 1``:
+
+* MD37500 = 21 (retract axis): leaves the path and moves to its POLF position (POLFMASK axial,
+  POLFMLIN linear) at maximum dynamics; without a POLF position in those masks it stops like a 22 [INF];
+* MD37500 = 22 (stop axis): the path interpolation goes on for MD21380, then brakes to a stop within
+  MD21381 (MD32300 or the deceleration that stops in MD21381, whichever is higher [control]);
+* other values (0, and 10/11/12, the drive-autonomous reactions of the drive's own parameters p0888)
+  take no part in the NC-controlled reaction [control].
+
+An axis in such a reaction keeps its controller enable: alarms that would rapid-stop it (follow-up,
+'H2000') wait until its reaction ends (``holds``; the real control delays the alarm reaction of ESR
+axes likewise [control]).  Couplings stay as they are: a coupled following spindle keeps following its
+leading spindle while the stop axes run on and brake (seed 003 L41545-41546).
+
+A single axis (here: a spindle; the harness has no PLC or command axes [INF]) reacts only to its own
+``$AA_ESR_TRIGGER`` with MD37510 / MD37511 (stop) or POLFA (retract), and the channel trigger
+ignores it (L11505-11558).
+
+``$AC_ALARM_STAT`` bits (the seed gives 'H2000' = an alarm with follow-up, L42182-42186; the others
+are the project's reading of the control's alarm reactions [control])::
+
+    bit 13 'H2000'  an alarm takes the controller enable (rapid stop, follow-up mode)
+    bit  6 'H0040'  an alarm stops the axes of the channel (interpolation stop)
+    bit  4 'H0010'  an alarm refuses NC start
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from vc.config import md_dictionary as MD
+from vc.core.alarms import AlarmList, Reaction
+from vc.core.axis import MachineAxis, Owner
+from vc.core.drive_esr import DriveEsr
+from vc.core.retract_motion import LFPOS, RetractMotion, RetractProgramming, direction_targets, retract_groups
+from vc.core.sync_actions import SyncAction, VariableWrite
+
+if TYPE_CHECKING:
+    from vc.core.path import PathSegment
+
+RETRACT_AXIS = 21  # MD37500
+STOP_AXIS = 22
+ALARM_STAT_BITS = ((Reaction.RAPID_STOP, 1 << 13), (Reaction.STOP_AXES, 1 << 6), (Reaction.NC_START_DISABLED, 1 << 4))
+
+
+class NckEsr:
+    """NC-wide part: ``$AN_ESR_TRIGGER``, the digital NCK inputs ``$A_IN[n]`` and the drives."""
+
+    def __init__(self, drives: dict[str, DriveEsr]):
+        self.drives = drives
+        self.trigger = False  # $AN_ESR_TRIGGER
+        self._trigger_cycles = 0
+        self.inputs = 0  # $A_IN[1..8]: DB10.DBB1, set by the PLC [control]
+
+    def cycle(self) -> None:
+        self._trigger_cycles = self._trigger_cycles + 1 if self.trigger else 0
+        for drive in self.drives.values():
+            drive.cycle(self._trigger_cycles)
+
+
+@dataclass(slots=True)
+class _StopAxes:
+    """The stop axes of a running ESR: the path goes on until ``brake_at``, then stops by ``stopped_by``."""
+
+    brake_at: int
+    stopped_by: int
+    braking_time: float
+
+
+class ChannelEsr:
+    """Trigger variables, synchronized actions and the retract / stop reaction of one channel."""
+
+    def __init__(self, name: str, axes: dict[str, MachineAxis], alarms: AlarmList, dt: float, nck: NckEsr,
+                 geometry: dict[str, str]):
+        self.name = name
+        self.axes = axes
+        self._alarms = alarms
+        self._dt = dt
+        self.nck = nck
+        self._geometry = geometry  # geometry axis name -> machine axis
+        self.liftfast = 0.0  # $AC_LIFTFAST
+        self.trigger = False  # $AC_ESR_TRIGGER
+        self.channel_trigger_pending = False  # its rising edge, for the channel to react in this cycle
+        self.enabled: dict[str, bool] = dict.fromkeys(axes, False)  # $AA_ESR_ENABLE (NC-controlled)
+        self.axis_trigger: dict[str, bool] = dict.fromkeys(axes, False)  # $AA_ESR_TRIGGER
+        self.single_axis_retract: dict[str, tuple[int, float]] = {}  # POLFA: axis -> (type, value)
+        self.actions: dict[int, SyncAction] = {}
+        self.motion: RetractMotion | None = None
+        self._stop: _StopAxes | None = None
+        self._single_stops: dict[str, _StopAxes] = {}
+        self._cycle = 0
+        self.protected: set[str] = set()  # axes whose alarm reaction waits for their ESR reaction
+
+    # ------------------------------------------------------------------ variables
+    def read(self, name: str, index: str) -> float:
+        """A system variable for a synchronized action's condition; KeyError if unknown."""
+        if name == "$AC_ALARM_STAT":
+            reactions = self._alarms.reactions(self.name)
+            return float(sum(bit for reaction, bit in ALARM_STAT_BITS if reactions & reaction.value))
+        if name == "$A_IN" and index.isdigit() and 1 <= int(index) <= 8:
+            return float(self.nck.inputs >> (int(index) - 1) & 1)
+        if name == "$AC_LIFTFAST":
+            return self.liftfast
+        if name == "$AC_ESR_TRIGGER":
+            return float(self.trigger)
+        if name == "$AN_ESR_TRIGGER":
+            return float(self.nck.trigger)
+        axis = self._geometry.get(index, index)
+        if name == "$AA_ESR_STAT" and axis in self.nck.drives:
+            return float(self.nck.drives[axis].status)
+        if name == "$AA_ESR_ENABLE" and axis in self.enabled:
+            return float(self.enabled[axis])
+        raise KeyError(name)
+
+    def write(self, write: VariableWrite) -> None:
+        """A program assignment or a synchronized action's action; a trigger acts on its rising edge."""
+        value = bool(write.value)
+        if write.name == "$AC_LIFTFAST":
+            self.liftfast = write.value
+        elif write.name == "$AN_ESR_TRIGGER":
+            self.nck.trigger = value
+        elif write.name == "$AC_ESR_TRIGGER":
+            rising, self.trigger = value and not self.trigger, value
+            if rising:
+                self.channel_trigger_pending = True
+        elif write.name == "$AA_ESR_ENABLE":
+            self.enabled[write.index] = value
+            drive = self.nck.drives.get(write.index)
+            if drive is not None:
+                drive.set_enable(value)
+        elif write.name == "$AA_ESR_TRIGGER":
+            rising, self.axis_trigger[write.index] = value and not self.axis_trigger[write.index], value
+            if rising:
+                self._single_axis_reaction(write.index)
+
+    def add_actions(self, actions: list[SyncAction]) -> None:
+        for action in actions:
+            self.actions[action.number] = action
+
+    def program_ended(self) -> None:
+        """Reset / program end: the modal synchronized actions (ID=) end, the static ones (IDS=) stay."""
+        self.actions = {number: action for number, action in self.actions.items() if action.static}
+
+    def run_actions(self, cycle: int) -> None:
+        """The synchronized actions of this IPO cycle; an unknown variable raises 12550 and ends the action."""
+        self._cycle = cycle
+        for number, action in list(self.actions.items()):
+            try:
+                due = action.due(self.read)
+            except KeyError as error:
+                self._alarms.raise_alarm(12550, cycle, self.name, f"ID={number}", str(error),
+                                         channel=self.name)
+                del self.actions[number]
+                continue
+            if due:
+                for write in action.actions:
+                    self.write(write)
+
+    def single_axis_retract_command(self, axis: str, kind: int, value: float | None) -> None:
+        """POLFA(ax, type[, value]); without a value the last one stays (L11560-11578)."""
+        if kind == 0:
+            self.single_axis_retract.pop(axis, None)
+            return
+        previous = self.single_axis_retract.get(axis, (kind, 0.0))[1]
+        self.single_axis_retract[axis] = (kind, previous if value is None else value)
+
+    # ------------------------------------------------------------------ reactions
+    @property
+    def running(self) -> bool:
+        return self.motion is not None or self._stop is not None or bool(self._single_stops)
+
+    def path_runs_on(self, cycle: int) -> bool:
+        """The stop axes' delay MD21380: the path goes on whatever holds it."""
+        return self._stop is not None and cycle < self._stop.brake_at
+
+    def start_channel_reaction(self, cycle: int, candidates: list[str], segment: PathSegment | None,
+                               retract: RetractProgramming, delay1: float, delay2: float) -> None:
+        """$AC_ESR_TRIGGER: retract axes to POLF, the path (with the stop axes) on for MD21380."""
+        enabled = [name for name in candidates if self.enabled.get(name) and not self.axes[name].is_spindle]
+        retracting = [name for name in enabled if self.axes[name].config.md.int(MD.ESR_REACTION) == RETRACT_AXIS]
+        groups = retract_groups(retract, self.axes, retracting)
+        moving = {axis.name for group in groups for axis in group}
+        if segment is not None:
+            for name in moving:
+                segment.release_axis(self.axes[name])
+        self.motion = RetractMotion(groups) if groups else None
+        stopping = [name for name in enabled if name not in moving]
+        self._stop = _StopAxes(cycle + round(delay1 / self._dt), cycle + round((delay1 + delay2) / self._dt),
+                               delay2)
+        self.protected = set(moving) | set(stopping)
+
+    def start_liftfast(self, retract: RetractProgramming, plane: str, thread_axes: list[MachineAxis],
+                       default_distance: float) -> None:
+        """G33 with LFON interrupted: retract (DILF/ALF or LFPOS) and stop the thread axes at MD32300."""
+        if retract.target_mode == LFPOS:
+            groups = retract_groups(retract, self.axes, [name for name in self.axes if not self.axes[name].is_spindle])
+        else:
+            where = {name: axis.setpoint for name, axis in self.axes.items()}
+            distance = default_distance if retract.distance is None else retract.distance
+            targets = direction_targets(retract.direction, distance, plane, self._geometry, where)
+            groups = [{self.axes[name]: target for name, target in targets.items()}] if targets else []
+        moving = {axis for group in groups for axis in group}
+        for axis in thread_axes:
+            if axis not in moving:
+                axis.brake()  # the thread axis stops at its maximum acceleration
+        self.motion = RetractMotion(groups) if groups else None
+        self.protected = {axis.name for axis in moving}
+        self.liftfast = 1.0
+
+    def _single_axis_reaction(self, name: str) -> None:
+        """$AA_ESR_TRIGGER[ax]: only a single axis (a spindle here) with $AA_ESR_ENABLE reacts."""
+        axis = self.axes.get(name)
+        if axis is None or not axis.is_spindle or not self.enabled.get(name):
+            return  # not a single axis at the trigger: ignored (L11546-11552)
+        md = axis.config.md
+        reaction = md.int(MD.ESR_REACTION)
+        if reaction == RETRACT_AXIS and name in self.single_axis_retract:
+            kind, value = self.single_axis_retract[name]
+            target = value if kind == 1 else axis.setpoint + value
+            self.motion = RetractMotion([{axis: target}] + ([] if self.motion is None else [
+                {a: s.ends[i] for i, a in enumerate(s.axes)} for s in self.motion.segments]))
+            self.protected.add(name)
+        elif reaction in (RETRACT_AXIS, STOP_AXIS):
+            delay1, delay2 = md.float(MD.AX_ESR_DELAY_TIME1), md.float(MD.AX_ESR_DELAY_TIME2)
+            self._single_stops[name] = _StopAxes(self._cycle + round(delay1 / self._dt),
+                                                 self._cycle + round((delay1 + delay2) / self._dt), delay2)
+            self.protected.add(name)
+
+    def cycle(self, cycle: int, segment: PathSegment | None) -> bool:
+        """One IPO cycle of the running reaction; True in the cycle the path must start braking."""
+        self._cycle = cycle
+        if self.motion is not None:
+            self.motion.cycle(self._dt)
+            if self.motion.finished:
+                self.motion = None
+        start_braking = False
+        if self._stop is not None:
+            if cycle == self._stop.brake_at and segment is not None:
+                segment.accel = max(segment.accel, segment.velocity / max(self._stop.braking_time, self._dt))
+                start_braking = True
+            if cycle >= self._stop.stopped_by and (segment is None or segment.velocity == 0.0):
+                self._stop = None
+        for name, stop in list(self._single_stops.items()):
+            axis = self.axes[name]
+            if cycle == stop.brake_at:
+                axis.brake(max(axis.dyn.max_accel, abs(axis.command_velocity) / max(stop.braking_time, self._dt)))
+            if cycle >= stop.stopped_by and axis.command_velocity == 0.0:
+                del self._single_stops[name]
+        if not self.running:
+            self.protected = set()
+        return start_braking or (self._stop is not None and cycle == self._stop.brake_at)
+
+    def holds(self, axis: str) -> bool:
+        """The axis's alarm reaction (rapid stop, controller enable off) waits for its ESR reaction."""
+        return axis in self.protected and self.axes[axis].owner in (Owner.RETRACT, Owner.PATH, Owner.BRAKE,
+                                                                    Owner.SPINDLE, Owner.COUPLING)
+

@@ -1,0 +1,298 @@
+"""The inclined-axis control of a channel on the NC core (GSK 988TD, seed 000).
+
+The formulas and decisions are the pure functions of ``vc/core/transforms/inclined_axis.py``;
+this module applies them to the channel's two machine axes:
+
+* ``program_positions``: where the pair stands in program (Cartesian) coordinates, the start of
+  incremental words; ``program_position`` the same from the actual values, for the absolute
+  position display (seed 000 L38-41);
+* ``plan``: a decoded block's Cartesian targets become machine end points: G0 / G1 through the
+  mapping of the increment with NOZAGC as the PLC sets it (L194-204), G53 as machine positions
+  (L154-158), G28 / G30 through ``return_path`` with ARF (L72-84).  F is measured along the
+  Cartesian path, stored stroke limit 1 (MD36100 / MD36110) is checked where AOT says
+  (L264-286), and the order rules and the functions that cannot run with this one refuse the
+  block with their alarm (L88-100, L364-370);
+* ``follow``: every IPO cycle; a JOG of the inclined axis with NOZAGC = 0, or its reference
+  return with AZR = 0, is a Cartesian motion: the orthogonal axis travels -C sin(theta) per unit
+  of inclined travel (L52-53, L62, L313);
+* ``leg_finished``: a motion of a block has reached its end point.
+
+Program and machine positions agree through ``to_program`` except after motions that leave the
+orthogonal axis uncompensated (NOZAGC = 1, a G28 leg in the inclined system): ``drift`` is the
+orthogonal program position minus its Cartesian position.  The display keeps the program
+position (L246-260) until the orthogonal axis is referenced again (L378) or G53 sets machine
+positions (L160-189).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Collection
+
+from vc.config import md_dictionary as MD
+from vc.config.model import ChannelConfig
+from vc.core.alarms import AlarmList
+from vc.core.axis import MachineAxis, Owner
+from vc.core.interface_map import Bit, SignalTable
+from vc.core.interpreter import BlockPlan, DecodeAlarm
+from vc.core.transforms.inclined_axis import (
+    AxisPair,
+    ConflictingFunction,
+    InclinedAxisOff,
+    InclinedAxisParameters,
+    Motion,
+    Role,
+    StrokeLimit,
+    configuration_alarms,
+    g28_block_alarm,
+    incompatibility_alarms,
+    machine_increment,
+    parameters_for_channel,
+    reference_return_motion,
+    return_path,
+    stroke_check_position,
+    to_program,
+)
+from vc.core.transforms.transform_alarm import INCLINED_G28_BLOCK, INCLINED_ORDER
+
+SOFTWARE_LIMIT_ALARM = 10720
+
+
+def at_reference_point(axis: MachineAxis, point: int = 0) -> bool:
+    """ZPx: referenced and standing on reference point ``point`` (MD34100[point]) within the exact
+    stop fine window (seed 000 L321, L375)."""
+    reference = axis.config.md.float(MD.REFP_SET_POS, point)
+    return axis.referenced and axis.at_rest and abs(axis.actual - reference) <= axis.dyn.fine_window
+
+
+class InclinedAxisControl:
+    def __init__(self, config: ChannelConfig, parameters: InclinedAxisParameters, axes: dict[str, MachineAxis],
+                 nozagc: Bit, area: bytearray, dt: float):
+        self.parameters = parameters
+        self._channel = config.name
+        self._geometry = {name for name in config.geometry_axes if name}
+        self._axes = axes
+        self.inclined = axes[config.axes[parameters.inclined_axis - 1]]
+        self.orthogonal = axes[config.axes[parameters.orthogonal_axis - 1]]
+        self._nozagc = nozagc
+        self._area = area
+        self._dt = dt
+        self.drift = 0.0  # orthogonal program position minus its Cartesian position
+        self._leg_drifts: list[float] = []  # the drift after each motion of the running block
+        self._carrying = False  # the orthogonal axis travels with a manual motion of the inclined axis
+        theta = math.radians(parameters.angle)
+        self._shift_per_travel = -parameters.diameter_factor * math.sin(theta)
+        # The JOG keys act in the Cartesian system (L313): the programmed velocity F_p becomes
+        # F_p / cos(theta) on the inclined slide (L32), with and without NOZAGC.
+        dyn, factor = self.inclined.dyn, 1.0 / abs(math.cos(theta))
+        self.inclined.dyn = dataclasses.replace(
+            dyn, jog_velocity=min(dyn.jog_velocity * factor, dyn.max_velocity),
+            jog_rapid_velocity=min(dyn.jog_rapid_velocity * factor, dyn.max_velocity))
+
+    @property
+    def nozagc(self) -> bool:
+        """NOZAGC (GSK G63.5) from the PLC: 1 = the orthogonal axis is not compensated (L54-55, L386-396)."""
+        return self._nozagc.get(self._area)
+
+    # ------------------------------------------------------------------ positions
+    def _program(self, machine: AxisPair) -> AxisPair:
+        cartesian = to_program(self.parameters, machine)
+        return AxisPair(cartesian.orthogonal + self.drift, cartesian.inclined)
+
+    def _setpoints(self) -> AxisPair:
+        return AxisPair(self.orthogonal.setpoint, self.inclined.setpoint)
+
+    def program_positions(self) -> dict[str, float]:
+        """The commanded program positions of the pair: where incremental words start."""
+        program = self._program(self._setpoints())
+        return {self.orthogonal.name: program.orthogonal, self.inclined.name: program.inclined}
+
+    def program_position(self, axis: str) -> float | None:
+        """The absolute (program) position of ``axis`` from the actual values; None for other axes."""
+        program = self._program(AxisPair(self.orthogonal.actual, self.inclined.actual))
+        if axis == self.orthogonal.name:
+            return program.orthogonal
+        if axis == self.inclined.name:
+            return program.inclined
+        return None
+
+    # ------------------------------------------------------------------ blocks
+    def plan(self, plan: BlockPlan, label: str) -> DecodeAlarm | None:
+        """Map the block's targets of the pair onto the machine axes, or refuse the block."""
+        self._leg_drifts = []
+        if plan.polygon is not None and plan.polygon.start:
+            alarm = incompatibility_alarms((ConflictingFunction.POLYGON_TURNING,))[0]
+            return DecodeAlarm(alarm.number, (self._channel, label, ConflictingFunction.POLYGON_TURNING.value))
+        pair = (self.orthogonal.name, self.inclined.name)
+        commanded = [name for name in pair if name in plan.targets or name in plan.reference_axes]
+        if commanded and plan.reference_return:
+            refusal = self._return_order(plan, commanded, label)
+            if refusal is not None or plan.reference_axes:
+                return refusal  # unreferenced: the reference point approach keeps the order rule itself
+            return self._plan_return(plan, label)
+        if plan.reference_axes or not any(name in plan.targets for name in pair):
+            return None
+        start = self._setpoints()
+        if plan.machine_coordinates:
+            end = AxisPair(plan.targets.get(self.orthogonal.name, start.orthogonal),
+                           plan.targets.get(self.inclined.name, start.inclined))
+            drift = 0.0  # the display shows the Cartesian position of the new machine position (L160-189)
+        else:
+            program_start = self._program(start)
+            program_end = AxisPair(plan.targets.get(self.orthogonal.name, program_start.orthogonal),
+                                   plan.targets.get(self.inclined.name, program_start.inclined))
+            increment = AxisPair(program_end.orthogonal - program_start.orthogonal,
+                                 program_end.inclined - program_start.inclined)
+            end = start.plus(machine_increment(self.parameters, increment, self.nozagc))
+            drift = program_end.orthogonal - to_program(self.parameters, end).orthogonal
+            plan.path_length = self._program_length(plan, increment)
+        refusal = self._stroke_limit(end, label)
+        if refusal is not None:
+            return refusal
+        self._set_targets(plan.targets, start, end)
+        self._leg_drifts = [drift]
+        return None
+
+    def _set_targets(self, targets: dict[str, float], start: AxisPair, end: AxisPair) -> None:
+        """The pair's end points; an axis of the pair that neither is programmed nor moves stays out
+        of the block, so it keeps its exact-stop state."""
+        for axis, begin, finish in ((self.orthogonal, start.orthogonal, end.orthogonal),
+                                    (self.inclined, start.inclined, end.inclined)):
+            if axis.name in targets or finish != begin:
+                targets[axis.name] = finish
+
+    def _return_order(self, plan: BlockPlan, commanded: Collection[str], label: str) -> DecodeAlarm | None:
+        """G28 / G30: the inclined axis first, and not both in one block (L88-100)."""
+        numbers = {self.parameters.orthogonal_axis if name == self.orthogonal.name else self.parameters.inclined_axis
+                   for name in commanded}
+        alarm = g28_block_alarm(self.parameters, numbers,
+                                at_reference_point(self.inclined, plan.reference_return - 1))
+        if alarm is None:
+            return None
+        if alarm.number == INCLINED_G28_BLOCK:
+            return DecodeAlarm(alarm.number, (self._channel, label, self.orthogonal.name, self.inclined.name),
+                               self.orthogonal.name)
+        assert alarm.number == INCLINED_ORDER
+        return DecodeAlarm(alarm.number, (self._channel, self.orthogonal.name, self.inclined.name),
+                           self.orthogonal.name)
+
+    def _plan_return(self, plan: BlockPlan, label: str) -> DecodeAlarm | None:
+        """G28 / G30 of one axis of the pair: the intermediate point, then the reference point, each
+        a leg of its own (``return_path``).  The seed's ARF = 0 example (TV-IA-8) is followed in its
+        text, not in its printed intermediate point (docs/kinematics.md 1.7)."""
+        start = self._setpoints()
+        program_start = self._program(start)
+        if self.inclined.name in plan.targets:
+            role, axis = Role.INCLINED, self.inclined
+            intermediate = plan.targets[axis.name]
+        else:
+            role, axis = Role.ORTHOGONAL, self.orthogonal
+            intermediate = plan.targets[axis.name] - self.drift  # the Cartesian coordinate of the program one
+        path = return_path(self.parameters, start, role, intermediate, plan.return_targets[axis.name], self.nozagc)
+        refusal = self._stroke_limit(path.intermediate, label)
+        if refusal is not None:
+            return refusal
+        if role is Role.INCLINED:
+            # Both legs keep the orthogonal program position: the Cartesian leg compensates, the
+            # inclined leg and NOZAGC leave the orthogonal axis where it is (L80, L134-150).
+            kept = program_start.orthogonal
+            self._leg_drifts = [kept - to_program(self.parameters, point).orthogonal
+                                for point in (path.intermediate, path.reference)]
+        else:
+            self._leg_drifts = [self.drift, 0.0]  # at its reference point the relation holds again [INF]
+        self._set_targets(plan.targets, start, path.intermediate)
+        self._set_targets(plan.return_targets, path.intermediate, path.reference)
+        for name in set(plan.targets) ^ set(plan.return_targets):  # an axis of one leg stands in the other
+            moved = self.orthogonal if name == self.orthogonal.name else self.inclined
+            plan.targets.setdefault(name, start.orthogonal if moved is self.orthogonal else start.inclined)
+            plan.return_targets.setdefault(name, plan.targets[name])
+        return None
+
+    def _program_length(self, plan: BlockPlan, increment: AxisPair) -> float | None:
+        """The Cartesian length of the block's path: F is the tangential velocity in the program
+        system (L28); the machine axes get F_ay = F_py / cos(theta), F_ax = F_px - F_py tan(theta)."""
+        squares = increment.orthogonal ** 2 + increment.inclined ** 2
+        for name, target in plan.targets.items():
+            if name in self._geometry and name not in (self.orthogonal.name, self.inclined.name):
+                squares += (target - self._axes[name].setpoint) ** 2
+        return math.sqrt(squares) if squares > 0.0 else None
+
+    def _stroke_limit(self, machine: AxisPair, label: str) -> DecodeAlarm | None:
+        """Stored stroke limit 1 = the software limit switches MD36100 / MD36110 of both axes,
+        checked before the move at the Cartesian position when AOT = 1, else at the machine
+        position (L264-286, L414-423)."""
+        position = stroke_check_position(self.parameters, StrokeLimit.FIRST, machine)
+        for axis, value in ((self.orthogonal, position.orthogonal), (self.inclined, position.inclined)):
+            if not axis.software_limits_active:
+                continue
+            if value > axis.dyn.limit_plus + 1e-9:
+                return DecodeAlarm(SOFTWARE_LIMIT_ALARM, (self._channel, axis.name, label, "+"), axis.name)
+            if value < axis.dyn.limit_minus - 1e-9:
+                return DecodeAlarm(SOFTWARE_LIMIT_ALARM, (self._channel, axis.name, label, "-"), axis.name)
+        return None
+
+    def leg_finished(self) -> None:
+        """A motion of the block has reached its end point: the program position it leaves."""
+        if self._leg_drifts:
+            self.drift = self._leg_drifts.pop(0)
+
+    def reset(self) -> None:
+        self._leg_drifts = []
+
+    # ------------------------------------------------------------------ manual motion
+    def follow(self) -> None:
+        """One IPO cycle of a manual motion of the pair (after JOG and referencing, before the
+        position control loops)."""
+        inclined, orthogonal = self.inclined, self.orthogonal
+        if orthogonal.owner is Owner.REF:
+            self.drift = 0.0  # the orthogonal reference return sets program and machine in relation again
+        travel = inclined.command_velocity * self._dt
+        if inclined.owner is Owner.JOG:
+            cartesian = not self.nozagc
+        elif inclined.owner is Owner.REF:
+            cartesian = reference_return_motion(self.parameters) is Motion.CARTESIAN
+        else:
+            cartesian = self._carrying and inclined.owner is Owner.BRAKE
+        if inclined.owner is Owner.JOG and not cartesian:
+            # NOZAGC = 1: the orthogonal program position stays although its Cartesian one moves
+            self.drift += self._shift_per_travel * travel
+        if cartesian and travel:
+            self._carry(travel)
+        elif self._carrying:
+            self._carrying = False
+            if orthogonal.owner is Owner.TRANSFORM:
+                orthogonal.release()
+
+    def _carry(self, travel: float) -> None:
+        orthogonal, shift = self.orthogonal, self._shift_per_travel * travel
+        if orthogonal.owner is Owner.JOG:
+            orthogonal.setpoint += shift  # jogged at the same time: its own travel comes on top
+        elif orthogonal.owner in (Owner.NONE, Owner.TRANSFORM):
+            if orthogonal.owner is Owner.NONE:
+                orthogonal.take(Owner.TRANSFORM)
+            orthogonal.set_path_setpoint(orthogonal.setpoint + shift, shift / self._dt)
+        else:
+            return  # braked or moved by another function: not carried
+        self._carrying = True
+
+
+NOZAGC_SIGNAL = "inclinedAxis.out.noOrthogonalCompensation"  # DB21.DBX398.0, project location of GSK G63.5
+
+
+def inclined_axis_control(config: ChannelConfig, axes: dict[str, MachineAxis], table: SignalTable,
+                          area: bytearray, dt: float, alarms: AlarmList) -> InclinedAxisControl | None:
+    """The channel's inclined-axis control at power-on, or None when MD62800-62808 switch it off.
+    A rotary axis in the pair raises alarm 65824 and leaves the function off (L379-381)."""
+    parameters = parameters_for_channel(config)
+    if isinstance(parameters, InclinedAxisOff):
+        return None
+    inclined = axes[config.axes[parameters.inclined_axis - 1]]
+    orthogonal = axes[config.axes[parameters.orthogonal_axis - 1]]
+    # one increment system for every axis of this control (MD10200 is not modelled): always the same
+    problems = configuration_alarms(parameters, inclined.config.is_rotary, orthogonal.config.is_rotary, True)
+    for problem in problems:
+        alarms.raise_alarm(problem.number, 0, config.name, problem.text, channel=config.name)
+    if problems:
+        return None
+    return InclinedAxisControl(config, parameters, axes, table.bit(NOZAGC_SIGNAL), area, dt)
