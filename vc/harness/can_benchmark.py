@@ -30,7 +30,7 @@ from vc.harness.can_link import CanLinkedPlc, VirtualCanPlc
 from vc.harness.external_plc import CanPlcProcess
 from vc.harness.simulation import Simulation
 
-BURST_IDS = tuple(range(0x200, 0x20F))  # 15 data frames, as the turn_mill NC sends per period
+BURST_IDS = tuple(range(0x200, 0x210))  # 16 data frames, as the turn_mill NC sends per period (docs/can.md)
 BURST_END, ANSWER = 0x100, 0x101
 _FRAME = bytes(range(64))
 _PEER_START_TIMEOUT_S = 60.0

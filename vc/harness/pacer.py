@@ -70,6 +70,10 @@ class RealtimePacer:
         deadline = self._next
         if now < deadline - QUIET_BEFORE_S:
             self.loop.run_until_complete(self._until(deadline - QUIET_BEFORE_S))
+        else:
+            # late, or a period shorter than the quiet time (high --speed): the links are still
+            # served once per cycle, else a PLC never gets an answer
+            self.loop.run_until_complete(asyncio.sleep(0))
         while wallclock.perf_counter() < deadline:
             pass  # the last moments outside the loop: nothing can start late in them
         started = wallclock.perf_counter()

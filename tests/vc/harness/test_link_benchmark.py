@@ -19,7 +19,6 @@ from vc.cli.main import main
 from vc.config.loader import load_machine
 from vc.harness import link_benchmark
 from vc.harness.link_benchmark import (
-    SIGN_OF_LIFE_ALARMS,
     ExchangeClient,
     LinkBenchmark,
     ServerKind,
@@ -92,11 +91,7 @@ def test_real_time_paces_every_cycle_and_the_plc_process_scans(result: LinkBench
     assert pacing.cycles >= REALTIME_SECONDS / 0.002
     assert 0 <= pacing.period_error_p99_ms <= pacing.period_error_max_ms
     assert pacing.error_median_ms <= pacing.error_p99_ms <= pacing.error_max_ms
-    assert pacing.overruns >= 0
     assert realtime.plc_scans > 0 and realtime.plc_writes > 0  # the PLC process was alive and wrote
-    assert set(realtime.sign_of_life_alarms) <= set(SIGN_OF_LIFE_ALARMS)
-    assert realtime.longest_gc_pause_ms >= 0 and realtime.garbage_collections >= 0
-    assert realtime.involuntary_switches >= 0
 
 
 def test_each_measurement_says_its_figures_and_the_targets(lines_and_result: tuple[list[str], LinkBenchmark]) -> None:

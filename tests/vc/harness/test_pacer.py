@@ -22,6 +22,28 @@ def test_the_speed_factor_scales_the_wall_clock_period(speed: float | None, peri
     loop.close()
 
 
+@pytest.mark.parametrize("speed", [1.0, 5.0, 100.0])
+def test_every_cycle_serves_the_links_whatever_the_speed(speed: float) -> None:
+    # a period shorter than the quiet time before a cycle (0.5 ms) must not starve the servers
+    loop = asyncio.new_event_loop()
+    pacer = RealtimePacer(loop, 0.002, speed)
+    served = 0
+
+    async def server() -> None:
+        nonlocal served
+        while True:
+            served += 1
+            await asyncio.sleep(0)
+
+    task = loop.create_task(server())
+    for _ in range(20):
+        pacer.wait_next_cycle()
+    assert served >= 20
+    task.cancel()
+    loop.run_until_complete(asyncio.sleep(0))
+    loop.close()
+
+
 def test_statistics_from_start_errors() -> None:
     loop = asyncio.new_event_loop()
     pacer = RealtimePacer(loop, 0.002)
