@@ -60,6 +60,9 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
                   SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR, "machine control panel key"),
     PlantFunction(rf"MCP\.(plus|minus)\.{_AXIS}", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR,
                   "traverse key of one axis on the machine control panel"),
+    PlantFunction(r"MCP\.noOrthogonalCompensation", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR,
+                  "switch on the machine control panel: move the inclined axis without compensating the "
+                  "orthogonal one (NOZAGC of the inclined-axis control)"),
     PlantFunction(r"MCP\.(feedOverride|spindleOverride|rapidOverride)", SignalType.BYTE,
                   Direction.PLANT_TO_PLC, Owner.OPERATOR, "override switch, binary coded percent (0..200)"),
     PlantFunction(r"EStop\.chainOk", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR,

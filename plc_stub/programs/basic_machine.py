@@ -108,6 +108,11 @@ class BasicMachine:
         self.feed_switch = optional_byte("MCP.feedOverride")
         self.rapid_switch = optional_byte("MCP.rapidOverride")
         self.key_rapid = optional_input("MCP.rapid")
+        # the panel's NOZAGC switch goes to the inclined-axis control of every channel; without the
+        # switch the program leaves the signal alone
+        self.nozagc_switch = optional_input("MCP.noOrthogonalCompensation")
+        self.nozagc_outputs = [io.output(f"{name}.inclinedAxis.out.noOrthogonalCompensation")
+                               for name in layout.channels] if self.nozagc_switch is not None else []
         self.feed_stop_latch = SR()
         self.channels = [
             _ChannelIo(
@@ -192,6 +197,8 @@ class BasicMachine:
             channel.feed_override.value = feed
             channel.rapid_override_active.value = True
             channel.rapid_override.value = rapid
+        for output in self.nozagc_outputs:
+            output.value = pressed(self.nozagc_switch)
 
     # Network 4 ---------------------------------------------------------------------------
     def axis_control(self) -> None:

@@ -21,7 +21,7 @@ DB10.DBB1 (``$A_IN[n]``).  Network 11 (after the door, network 10):
 A lost PLC sign of life needs no network: the NC raises alarm 2000 and a synchronized action on
 ``$AC_ALARM_STAT B_AND 'H2000'`` triggers ESR in the NC.
 
-Parameters, besides those of ``polygon``::
+Parameters, besides those of ``spindle`` and the guard door (``guard_door``)::
 
     plc:
       esr_time: 0.3             # s from the trigger to the e-stop of the NC (and the end of the enables)

@@ -122,6 +122,15 @@ class JogLimits:
     velocity: float = math.inf  # per second
     accel: float = math.inf  # per second squared
 
+    def and_(self, other: JogLimits) -> JogLimits:
+        """Both sets of limits at once."""
+        if other is FREE_JOG:
+            return self
+        if self is FREE_JOG:
+            return other
+        return JogLimits(self.plus and other.plus, self.minus and other.minus,
+                         min(self.velocity, other.velocity), min(self.accel, other.accel))
+
 
 FREE_JOG = JogLimits()
 
@@ -230,6 +239,7 @@ class MachineAxis:
             self.jerk_filter = JerkFilter(config.md.int(MD.AX_JERK_MODE), config.md.float(MD.AX_JERK_TIME),
                                           dt, self.actual)
         self.resting = False  # at rest and no input changed since: the cycle may skip the axis
+        self.coordinate_shift = 0.0  # the sum of every shift(): the NC coordinates against the first ones
         self._status: tuple[bool, ...] = ()  # the status bits last written
         self.is_spindle = config.is_spindle
         # DB31.DBX61.5: a spindle in speed control runs without position control (L16163-16167)
@@ -310,6 +320,7 @@ class MachineAxis:
         """Move the NC coordinates by ``delta`` (the actual value system was set anew)."""
         if delta == 0.0:
             return
+        self.coordinate_shift += delta
         self.actual += delta
         self.setpoint += delta
         self._loop_setpoint += delta

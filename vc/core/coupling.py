@@ -141,6 +141,7 @@ class Coupling:
     helix: tuple[MachineAxis, float] | None = None  # polygon turning: an axis and its lead per LS turn
     pending_shift: float = 0.0  # polygon turning's R: moves the relation once synchronous
     spcon_following: bool = False  # SPCON was programmed on the FS: position control stays after COUPOF
+    shifts_seen: tuple[float, float] = (0.0, 0.0)  # the coordinate shifts of FS and LS the relation knows
 
     @property
     def ratio(self) -> float:
@@ -199,6 +200,7 @@ class Couplings:
         self.definitions: dict[str, PairDefinition] = {}
         self.active: dict[str, Coupling] = {}
         self._written: dict[str, tuple[object, ...]] = {}
+        self._idle_written = False  # the outputs were written with no pair coupled
         for channel in channels:
             configured = self._configured_pair(channel)
             if configured is not None:
@@ -305,7 +307,7 @@ class Couplings:
             self._alarms.raise_alarm(ALARM_NOT_SYNCHRONISED, cycle, channel, block,
                                      following if not fs.axis.referenced else leading, channel=channel,
                                      axis=following)
-        coupling = Coupling(definition, channel)
+        coupling = Coupling(definition, channel, shifts_seen=(fs.axis.coordinate_shift, ls.axis.coordinate_shift))
         coupling.spcon_following = fs.position_control and fs.mode is not SpindleMode.AXIS
         if offset is not None:
             coupling.programmed = offset % 360.0
@@ -540,6 +542,7 @@ class Couplings:
         ls = self._spindles[coupling.definition.leading]
         axis, dt, k = fs.axis, self._dt, coupling.ratio
         ls.speed_cap = fs.max_speed / abs(k) if k else None  # the LS slows so the FS keeps its limits
+        self._follow_coordinate_shifts(coupling, axis, ls.axis)
         position, velocity = self._leading(coupling)
         accel = fs.coupled_acceleration()
         # the LS's disable acts on the FS as well; the FS's own is ignored while coupled (L23212-23230)
@@ -585,6 +588,18 @@ class Couplings:
         if coupling.helix is not None:
             helix_axis, lead = coupling.helix
             helix_axis.add_overlay(lead * velocity * dt / 360.0, lead * velocity / 360.0)
+
+    @staticmethod
+    def _follow_coordinate_shifts(coupling: Coupling, fs: MachineAxis, ls: MachineAxis) -> None:
+        """A spindle that synchronises with its zero mark while coupled moves its coordinates, not
+        itself: the relation moves with them, so the pair keeps its physical relation [control]."""
+        seen_fs, seen_ls = coupling.shifts_seen
+        if fs.coordinate_shift == seen_fs and ls.coordinate_shift == seen_ls:
+            return
+        moved = (fs.coordinate_shift - seen_fs) - coupling.ratio * (ls.coordinate_shift - seen_ls)
+        coupling.relation += moved
+        coupling.target += moved
+        coupling.shifts_seen = (fs.coordinate_shift, ls.coordinate_shift)
 
     def _synchronous(self, following: str, coupling: Coupling, leading_part: float) -> None:
         """Setpoint synchronism: the relation is fixed; a programmed offset follows as overlay
@@ -671,9 +686,12 @@ class Couplings:
     # ------------------------------------------------------------------ monitoring and signals
     def monitor(self, cycle: int) -> None:
         """Synchronism, warning thresholds and the DB31 coupling signals (after the axes moved)."""
+        if not self.active and self._idle_written:
+            return  # no pair coupled and the outputs already say so
         for following, coupling in self.active.items():
             self._monitor_pair(following, coupling, cycle)
         self._write_outputs()
+        self._idle_written = not self.active
 
     def _monitor_pair(self, following: str, coupling: Coupling, cycle: int) -> None:
         fs = self._spindles[following]

@@ -69,10 +69,10 @@ class Reaction(Enum):
 
 
 class DriveEsrSignals:
+    # DB31.DBX95.1 (DC-link undervoltage) and 95.3 (speed below the generator minimum) belong to
+    # generator operation, which needs a DC-link model the plant does not have: they stay 0.
     def __init__(self, table: SignalTable):
-        self.dc_undervoltage = table.bit("drive.in.esrDcVoltageAlarmActive")
         self.response_initiated = table.bit("drive.in.esrResponseInitiated")
-        self.speed_below_minimum = table.bit("drive.in.esrSpeedBelowMin")
 
 
 class DriveEsr:
@@ -91,7 +91,7 @@ class DriveEsr:
         self.enabled = False  # $AA_ESR_ENABLE
         self._acknowledge_pending = False
         self.reaction = Reaction.ARMED
-        self.triggered = False  # r0887.12: reaction triggered (until acknowledged)
+        self._triggered = False  # r0887.12: reaction triggered (until acknowledged)
         self._elapsed = 0
         self._hold_velocity = 0.0  # stop: the speed setpoint of the trigger moment
 
@@ -123,6 +123,20 @@ class DriveEsr:
         self.enabled = enabled
 
     @property
+    def triggered(self) -> bool:
+        return self._triggered
+
+    @triggered.setter
+    def triggered(self, value: bool) -> None:
+        # DB31.DBX95.2 follows r0887.12 where it changes, not every IPO cycle
+        self._triggered = value
+        self._signals.response_initiated.put(self._area, value)
+
+    @property
+    def reacting(self) -> bool:
+        return self.reaction is Reaction.REACTING
+
+    @property
     def status(self) -> int:
         """$AA_ESR_STAT: bit 2 reaction triggered (bits 3 and 4 belong to generator operation)."""
         return STAT_REACTION if self.triggered else 0
@@ -135,7 +149,6 @@ class DriveEsr:
             self._start()
         if self.reaction is Reaction.REACTING:
             self._react()
-        self._signals.response_initiated.put(self._area, self.triggered)
 
     def _start(self) -> None:
         axis = self.axis

@@ -44,7 +44,8 @@ from typing import TYPE_CHECKING
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList, Reaction
 from vc.core.axis import MachineAxis, Owner
-from vc.core.drive_esr import DriveEsr
+from vc.core.drive_esr import TRIGGER_CYCLES, DriveEsr
+from vc.core.drive_esr import Reaction as DriveReaction
 from vc.core.retract_motion import LFPOS, RetractMotion, RetractProgramming, direction_targets, retract_groups
 from vc.core.sync_actions import SyncAction, VariableWrite
 
@@ -63,12 +64,17 @@ class NckEsr:
         self.drives = drives
         self.trigger = False  # $AN_ESR_TRIGGER
         self._trigger_cycles = 0
+        self._reacting = False  # a drive is in its reaction: the drives need their cycle
         self.inputs = 0  # $A_IN[1..8]: DB10.DBB1, set by the PLC [control]
 
     def cycle(self) -> None:
         self._trigger_cycles = self._trigger_cycles + 1 if self.trigger else 0
+        if self._trigger_cycles < TRIGGER_CYCLES and not self._reacting:
+            return  # nothing can start and nothing runs
+        self._reacting = False
         for drive in self.drives.values():
             drive.cycle(self._trigger_cycles)
+            self._reacting = self._reacting or drive.reaction is DriveReaction.REACTING
 
 
 @dataclass(slots=True)
@@ -151,8 +157,12 @@ class ChannelEsr:
             self.actions[action.number] = action
 
     def program_ended(self) -> None:
-        """Reset / program end: the modal synchronized actions (ID=) end, the static ones (IDS=) stay."""
+        """Reset / program end: the modal synchronized actions (ID=) end, the static ones (IDS=) stay;
+        the channel and axis triggers go back to 0, so the next 1 is an edge again [control]."""
         self.actions = {number: action for number, action in self.actions.items() if action.static}
+        self.trigger = False
+        self.channel_trigger_pending = False
+        self.axis_trigger = dict.fromkeys(self.axis_trigger, False)
 
     def run_actions(self, cycle: int) -> None:
         """The synchronized actions of this IPO cycle; an unknown variable raises 12550 and ends the action."""

@@ -33,9 +33,10 @@ from collections.abc import Collection
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
-from vc.core.axis import MachineAxis, Owner
+from vc.core.axis import FREE_JOG, JogLimits, MachineAxis, Owner
 from vc.core.interface_map import Bit, SignalTable
 from vc.core.interpreter import BlockPlan, DecodeAlarm
+from vc.core.motion import stopping_velocity
 from vc.core.transforms.inclined_axis import (
     AxisPair,
     ConflictingFunction,
@@ -51,6 +52,7 @@ from vc.core.transforms.inclined_axis import (
     parameters_for_channel,
     reference_return_motion,
     return_path,
+    rigid_tapping_alarm,
     stroke_check_position,
     to_program,
 )
@@ -124,6 +126,11 @@ class InclinedAxisControl:
         if plan.polygon is not None and plan.polygon.start:
             alarm = incompatibility_alarms((ConflictingFunction.POLYGON_TURNING,))[0]
             return DecodeAlarm(alarm.number, (self._channel, label, ConflictingFunction.POLYGON_TURNING.value))
+        if plan.tapping is not None and plan.tapping.axis == self.inclined.name:
+            tapping = rigid_tapping_alarm(self.parameters, self.parameters.inclined_axis)
+            assert tapping is not None
+            return DecodeAlarm(tapping.number, (self._channel, label, f"rigid tapping {plan.tapping.function} on "
+                                                                      f"the inclined axis {self.inclined.name}"))
         pair = (self.orthogonal.name, self.inclined.name)
         commanded = [name for name in pair if name in plan.targets or name in plan.reference_axes]
         if commanded and plan.reference_return:
@@ -263,6 +270,24 @@ class InclinedAxisControl:
             self._carrying = False
             if orthogonal.owner is Owner.TRANSFORM:
                 orthogonal.release()
+
+    def jog_limits(self, axis: MachineAxis) -> JogLimits:
+        """JOG of the inclined axis in Cartesian mode carries the orthogonal one: it slows so that the
+        carried axis stops on its software limit, and does not start towards it from there [control]."""
+        orthogonal = self.orthogonal
+        if axis is not self.inclined or self.nozagc or not orthogonal.software_limits_active:
+            return FREE_JOG
+        keys = axis.inputs
+        direction = (1 if keys.key_plus else 0) - (1 if keys.key_minus else 0)
+        carried = self._shift_per_travel * direction
+        if carried == 0.0:
+            return FREE_JOG
+        limit = orthogonal.dyn.limit_plus if carried > 0 else orthogonal.dyn.limit_minus
+        room = max((limit - orthogonal.setpoint) / carried, 0.0)  # travel of the inclined axis left
+        accel = min(axis.dyn.max_accel, orthogonal.dyn.max_accel / abs(self._shift_per_travel))
+        velocity = stopping_velocity(room, accel, self._dt)
+        return JogLimits(plus=direction < 0 or room > 0.0, minus=direction > 0 or room > 0.0,
+                         velocity=velocity, accel=accel)
 
     def _carry(self, travel: float) -> None:
         orthogonal, shift = self.orthogonal, self._shift_per_travel * travel

@@ -80,6 +80,7 @@ class ManualRetraction:
         self._request = False
         self._answer: bool | None = None  # True done, False refused, None no request
         self._following: _Following | None = None
+        self._written: tuple[bool, bool, bool, bool] | None = None  # the outputs last written
 
     @property
     def data(self) -> RetractData | None:
@@ -201,8 +202,12 @@ class ManualRetraction:
 
     # ------------------------------------------------------------------ outputs
     def write_outputs(self) -> None:
+        status = (self.data is not None, self.active, self._answer is True, self._answer is False)
+        if status == self._written:
+            return
+        self._written = status
         area, sig = self._area, self._signals
-        sig.data_available.put(area, self.data is not None)
-        sig.active.put(area, self.active)
-        sig.done.put(area, self._answer is True)
-        sig.error.put(area, self._answer is False)
+        sig.data_available.put(area, status[0])
+        sig.active.put(area, status[1])
+        sig.done.put(area, status[2])
+        sig.error.put(area, status[3])

@@ -371,21 +371,31 @@ class Nck:
             feed_disable = channel.inputs.feed_disable
             jog_allowed = allowed and jog_mode
             retraction = self.retractions[channel.name]
+            inclined = channel.inclined
             for axis in channel.axes:
                 # outside JOG only a jog that is still running out needs its cycle
                 if (jog_allowed or axis.owner is Owner.JOG) and not axis.is_spindle:
-                    axis.jog_cycle(jog_allowed, feed_disable, retraction.jog_limits(axis))
+                    limits = retraction.jog_limits(axis)
+                    if inclined is not None:
+                        limits = limits.and_(inclined.jog_limits(axis))
+                    axis.jog_cycle(jog_allowed, feed_disable, limits)
 
     def _extended_stop_and_retract(self) -> None:
         """Synchronized actions (after this cycle's alarms, before their reactions), the channels'
         reaction to $AC_ESR_TRIGGER, then the drives' own reaction to $AN_ESR_TRIGGER."""
         for channel in self.channels:
             assert channel.esr is not None
-            channel.esr.run_actions(self.cycle)
+            if channel.esr.actions:
+                channel.esr.run_actions(self.cycle)
             channel.esr_trigger(self.cycle)
         self.esr.cycle()
 
     def _in_esr_reaction(self, axis: MachineAxis) -> bool:
+        """The NC-controlled reaction of its channel or its drive's own reaction runs: the drive
+        retracts autonomously even when the NC fails (seed 003 L41550-41556)."""
+        drive = self.esr.drives.get(axis.name)
+        if drive is not None and drive.reacting:
+            return True
         channel = self.channels_by_name.get(axis.channel)
         return channel is not None and channel.esr is not None and channel.esr.holds(axis.name)
 
@@ -405,7 +415,7 @@ class Nck:
                     continue
                 axis.rapid_stop(then_servo_off=True)
                 self._servo_held_by_alarm.add(axis.name)
-        for name in sorted(self._rapid_stop_waiting):
+        for name in sorted(self._rapid_stop_waiting) if self._rapid_stop_waiting else ():
             axis = self.axes_by_name[name]
             if not self._in_esr_reaction(axis):
                 self._rapid_stop_waiting.discard(name)

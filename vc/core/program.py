@@ -147,21 +147,27 @@ def parse_program(text: str) -> tuple[Block, ...]:
     return tuple(blocks)
 
 
-def _tokens(code: str) -> list[tuple[str, str]]:
+def tokenize(pattern: re.Pattern[str], code: str, error: type[Exception]) -> list[tuple[str, str]]:
+    """(group name, text) for each match of ``pattern`` (named alternatives) between blanks;
+    ``error`` with the rest of the text where nothing matches."""
     tokens: list[tuple[str, str]] = []
     position = 0
     while position < len(code):
         if code[position].isspace():
             position += 1
             continue
-        match = _TOKEN.match(code, position)
+        match = pattern.match(code, position)
         if match is None or match.end() == position:
-            raise _SyntaxError(code[position:])
+            raise error(code[position:])
         kind = match.lastgroup
         assert kind is not None
         tokens.append((kind, match.group(kind)))
         position = match.end()
     return tokens
+
+
+def _tokens(code: str) -> list[tuple[str, str]]:
+    return tokenize(_TOKEN, code, _SyntaxError)
 
 
 def _split_address_words(tokens: list[tuple[str, str]]) -> list[tuple[str, str]]:

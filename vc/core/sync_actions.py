@@ -26,6 +26,8 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from vc.core.program import tokenize
+
 Reader = Callable[[str, str], float]  # (variable, index) -> value; KeyError for an unknown variable
 
 _TOKEN = re.compile(r"\s*(?:(?P<number>\d+\.?\d*|\.\d+)|'(?P<literal>[HB][0-9A-F]+)'|(?P<variable>\$[A-Z0-9_]+)"
@@ -70,20 +72,7 @@ class VariableWrite:
 
 
 def _tokens(text: str) -> list[tuple[str, str]]:
-    tokens: list[tuple[str, str]] = []
-    position = 0
-    while position < len(text):
-        if text[position].isspace():
-            position += 1
-            continue
-        match = _TOKEN.match(text, position)
-        if match is None or match.end() == position:
-            raise SyncActionError(text[position:])
-        kind = match.lastgroup
-        assert kind is not None
-        tokens.append((kind, match.group(kind).upper()))
-        position = match.end()
-    return tokens
+    return [(kind, token.upper()) for kind, token in tokenize(_TOKEN, text, SyncActionError)]
 
 
 class _Parser:

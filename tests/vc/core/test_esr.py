@@ -279,3 +279,36 @@ def test_tv_esr_7_single_axis_trigger_acts_only_on_a_single_axis() -> None:
     rig.step(300)
     assert axis(rig, "X1").setpoint == 150.0  # X1 is a path axis, not a single axis: ignored
     assert axis(rig, "SP3").setpoint == pytest.approx(20.0, abs=1e-6)  # the spindle retracts to 20 degrees
+
+
+def test_the_channel_trigger_acts_again_after_a_reset() -> None:
+    rig = Rig(machine(ESR_MACHINE))
+    rig.ready_mda()
+    program = ("N10 LFPOS POLF[X]=IC(10) POLFMASK(X)\nN20 $AA_ESR_ENABLE[X]=1\n"
+               "N30 IDS=1 WHENEVER $A_IN[1]==1 DO $AC_ESR_TRIGGER=1\nN40 G1 Z100 F3000\nM30")
+    x1, z1 = axis(rig, "X1"), axis(rig, "Z1")
+    for expected in (160.0, 170.0):
+        run_mda(rig, program)
+        rig.run_until(lambda: z1.command_velocity < 0.0, 20000)
+        rig.set("NC.basic.out.setDigitalInputs", 1)
+        rig.run_until(lambda end=expected: x1.at_rest and x1.setpoint > end - 0.01, 300)
+        assert x1.setpoint == pytest.approx(expected, abs=0.01)
+        rig.set("NC.basic.out.setDigitalInputs", 0)
+        rig.pulse("CHAN1.basic.out.reset", 2)
+        rig.step(200)
+
+
+def test_an_nc_alarm_does_not_cut_the_drives_own_retraction_short() -> None:
+    rig = Rig(machine(ABSOLUTE_XYZ))
+    rig.ready_mda()
+    run_mda(rig, "ESRR(X1,20.0,1000.0)\n$AA_ESR_ENABLE[X1]=1\nM30")
+    rig.step(20)
+    rig.nck.esr.trigger = True
+    rig.step(50)
+    rig.nck.alarms.raise_alarm(2000, rig.nck.cycle)  # the NC fails while the drive retracts
+    x1 = axis(rig, "X1")
+    rig.run_until(lambda: not rig.nck.esr.drives["X1"].reacting, 3000)
+    rig.step(5)
+    assert x1.actual == pytest.approx(170.0, abs=0.05)  # the whole 20 mm of ESRR
+    rig.step(300)
+    assert not x1.servo_on  # then the alarm's rapid stop takes the enable

@@ -176,3 +176,12 @@ def test_a_rotary_axis_in_the_pair_raises_65824_and_leaves_the_function_off() ->
     rig = Rig(machine(_machine_data(channel="MD62805: 4")))  # SP1 as the inclined axis
     assert 65824 in _alarms(rig)
     assert rig.nck.channels_by_name["CHAN1"].inclined is None
+
+
+def test_rigid_tapping_on_the_inclined_axis_is_refused_with_65822() -> None:
+    rig = _rig()
+    rig.mda("G331 Y-10 J2 S600")
+    rig.run_until(lambda: bool(_alarms(rig)), 5000)
+    assert 65822 in _alarms(rig)
+    assert rig.nck.axes_by_name["Y1"].setpoint == 0.0  # nothing moved
+    assert any("rigid tapping G331 on the inclined axis Y1" in str(alarm) for alarm in rig.nck.present_alarms())
