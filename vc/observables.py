@@ -44,6 +44,12 @@ CHANNEL_QUANTITY_MEANINGS = {
 }
 CHANNEL_QUANTITIES = tuple(CHANNEL_QUANTITY_MEANINGS)
 
+# Quantities of the NCK and the drive line-up (NC.dcLinkVoltage).
+NCK_QUANTITY_MEANINGS = {
+    "dcLinkVoltage": "voltage of the drive line-up's DC link, V (a machine without dc_link: shows 0)",
+}
+NCK_QUANTITIES = tuple(NCK_QUANTITY_MEANINGS)
+
 # Faults of the simulated machine a scenario can inject:
 #   zero_marks_missing       the encoder's zero-mark track is not seen (dirty, broken)
 #   reference_marks_missing  distance-coded reference marks missing between two positions
@@ -52,7 +58,12 @@ CHANNEL_QUANTITIES = tuple(CHANNEL_QUANTITY_MEANINGS)
 #                            over the position controller's gain until the fault is cleared
 #   workpiece_clamp          a part clamped in a following spindle and its leading spindle locks the
 #                            FS to the LS, twisted by amount (degrees), until the fault is cleared
-FAULTS = ("zero_marks_missing", "reference_marks_missing", "encoder_slip", "load_disturbance", "workpiece_clamp")
+#   mains_failure            the line supply of the drive line-up fails (no axis): Drives.ready falls,
+#                            the DC link is on its own until the fault is cleared (clear_faults: mains)
+FAULTS = ("zero_marks_missing", "reference_marks_missing", "encoder_slip", "load_disturbance", "workpiece_clamp",
+          "mains_failure")
+MACHINE_FAULTS = ("mains_failure",)  # faults of the whole machine: no axis
+MAINS = "mains"  # clear_faults: mains - the supply is back
 
 # Faults of the bus between the NC and the PLC a scenario can inject (link_fault step; the scenario
 # runs its PLC behind the CAN link, link: can):

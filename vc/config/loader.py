@@ -59,6 +59,10 @@ Rules:
   stroke and whether it is clamped at power-on (default true).  It needs its valve solenoids
   ``<spindle>.chuckClose`` and ``<spindle>.chuckRelease`` and its sensor ``<spindle>.chuckClosed``
   wired (``<spindle>.chuckOpen`` is optional); chuck I/O without a chuck is a mistake.
+* An axis's ``drive:`` holds parameters of its drive that the NC does not write: ESR generator
+  operation ``{p0888: 3, p0892: s, p1240: 2, p1248: V, p2161: rev/min, p0341: kg m^2, p0342: ratio}``
+  (seed 003 L41700-41769); it needs the machine's ``dc_link: {supply_voltage: V (r0208),
+  capacitance_uf: uF, load_power: W}`` (vc/core/dc_link.py).
 * Every machine axis belongs to exactly one channel.  A channel axis without a name in
   MD20080 is called by its machine axis name in part programs.
 * Scenario overrides (``load_machine(..., overrides=...)``) are ``{instance: {key: value}}``
@@ -106,22 +110,44 @@ from vc.config.machine_data import (
     shown,
 )
 from vc.config.model import (
+    DC_LINK_PER_SUPPLY_VOLT,
+    PULSE_CANCELLATION_PER_SUPPLY_VOLT,
     AxisConfig,
     AxisPlant,
     AxisSimulation,
     ChannelConfig,
     ChuckPlant,
+    DcLinkConfig,
+    DriveParameters,
     GearboxPlant,
     MachineConfig,
 )
 from vc.located_yaml import LocatedMap, Mark, Problems, load_file
 
-TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", "axes", "plant_io", "plc", "can")
+TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", "axes", "plant_io", "plc", "can",
+                  "dc_link")
 SIM_KEYS = ("start_position", "zero_mark_offset", "zero_mark_offset_2", "encoder_serial", "encoder_serial_2")
 _WHOLE_SIM_KEYS = ("encoder_serial", "encoder_serial_2")
+AXIS_EXTRA_KEYS = ("sim", "plant", "drive")  # an axis block's keys besides machine data
 PLANT_KEYS = ("ref_cam", "hw_limits", "gearbox", "chuck")
 GEARBOX_KEYS = ("stages", "shift_time", "engaged")
 CHUCK_KEYS = ("travel_time", "closed")
+# drive parameters an axis block may carry under ``drive:``: (lowest, highest, whole number, meaning)
+DRIVE_KEYS: dict[str, tuple[float, float, bool, str]] = {
+    "p0888": (0, 3, True, "ESR configuration, 3 = generator operation"),
+    "p0892": (0, 20, False, "s, how long generator operation may use the motor after the trigger"),
+    "p1240": (0, 3, True, "Vdc controller configuration, 2 = buffer the DC link under ESR"),
+    "p1248": (0, 1000, False, "V, lower DC-link threshold"),
+    "p2161": (0, 100_000, False, "rev/min, minimum generator speed"),
+    "p0341": (0, 1000, False, "kg m^2, motor moment of inertia"),
+    "p0342": (1, 1_000_000, False, "ratio of the total to the motor moment of inertia"),
+}
+# the drive line-up's DC link under ``dc_link:`` (all three needed)
+DC_LINK_KEYS: dict[str, tuple[float, float, bool, str]] = {
+    "supply_voltage": (1, 1000, False, "V, rated supply voltage r0208"),
+    "capacitance_uf": (1, 10_000_000, False, "uF, DC-link capacitance"),
+    "load_power": (0, 1_000_000, False, "W, what the line-up draws from the link without supply"),
+}
 _REQUIRED_GEARBOX_KEYS = {"stages": "the number of gear stages",
                           "shift_time": "the seconds the shift actuator must push while the motor turns"}
 NCK_INSTANCE = "NC"
@@ -260,6 +286,8 @@ class _AxisEntry:
     gearbox_mark: Mark | None = None  # where the gearbox is first declared; None = no gearbox
     chuck: dict[str, _Written] = field(default_factory=dict)  # plant.chuck keys: file, then overrides
     chuck_mark: Mark | None = None  # where the chuck is first declared; None = no chuck
+    drive: DriveParameters = field(default_factory=DriveParameters)
+    drive_mark: Mark | None = None  # where drive: is written last
 
 
 @dataclass(slots=True)
@@ -285,6 +313,7 @@ class _MachineReader:
         self.plant_io = PlantIoMap(())
         self.plant_io_names: dict[str, tuple[str, Mark]] = {}  # function name -> address text, mark
         self.plc_parameters: dict[str, Any] = {}
+        self.dc_link: DcLinkConfig | None = None
         self.channel_lists_complete = True  # every channel's axes list could be read
 
     def add(self, mark: Mark, message: str) -> None:
@@ -320,6 +349,36 @@ class _MachineReader:
         if "can" in document:
             # checked here with the rest of the file; the CAN link reads it again (vc/config/can_config.py)
             read_can_section(document["can"], document.mark_of("can"), self.problems)
+        if "dc_link" in document:
+            self._read_dc_link(document["dc_link"], document.mark_of("dc_link"))
+
+    def _read_dc_link(self, raw: Any, mark: Mark) -> None:
+        values = self._read_parameters(raw, mark, "dc_link", DC_LINK_KEYS)
+        unwritten = [key for key in DC_LINK_KEYS if not isinstance(raw, dict) or key not in raw]
+        if unwritten and isinstance(raw, dict):
+            self.add(mark, f"dc_link: missing {', '.join(unwritten)}")
+        if len(values) == len(DC_LINK_KEYS):
+            self.dc_link = DcLinkConfig(**values)
+
+    def _read_parameters(self, raw: Any, mark: Mark, where: str,
+                         table: Mapping[str, tuple[float, float, bool, str]]) -> dict[str, Any]:
+        """The keys of ``table`` written in ``raw``, each a number inside its range."""
+        values: dict[str, Any] = {}
+        block = self._any_mapping(raw, mark, where)
+        for key, value in block.items():
+            key_mark, value_mark = self.marks.key(block, key), self.marks.value(block, key)
+            if key not in table:
+                self.add(key_mark, f"unknown key '{key}' in {where}; allowed: {', '.join(table)}")
+                continue
+            lowest, highest, whole, meaning = table[key]
+            number = as_number(value)
+            if number is None or not lowest <= number <= highest or (whole and not float(number).is_integer()):
+                kind = "a whole number" if whole else "a number"
+                self.add(value_mark, f"{where}.{key} ({meaning}): {kind} from {lowest:g} to {highest:g},"
+                                     f" got {shown(value)}")
+                continue
+            values[key] = int(number) if whole else float(number)
+        return values
 
     def _read_name(self, document: LocatedMap) -> None:
         if "machine" not in document:
@@ -386,7 +445,7 @@ class _MachineReader:
             block = self._mapping(raw, axes.mark_of(name), f"axes.{name}")
             if block is None:
                 continue
-            self._write_block(block, entry.data, _PLACE_IN_FILE, extra_keys=("sim", "plant"))
+            self._write_block(block, entry.data, _PLACE_IN_FILE, extra_keys=AXIS_EXTRA_KEYS)
             self._apply_sim_and_plant(entry, block, f"axes.{name}")
         self.nck.set_derived(mdd.AXCONF_MACHAX_NAME_TAB, self._padded(mdd.AXCONF_MACHAX_NAME_TAB,
                                                                       tuple(self.axes)), self.nck.mark)
@@ -541,6 +600,10 @@ class _MachineReader:
                 if entry.chuck_mark is None:
                     entry.chuck_mark = declared
             entry.plant = dataclasses.replace(entry.plant, **plant)
+        if "drive" in block:
+            entry.drive_mark = self.marks.value(block, "drive")
+            drive = self._read_parameters(block["drive"], entry.drive_mark, f"{where}.drive", DRIVE_KEYS)
+            entry.drive = dataclasses.replace(entry.drive, **drive)
 
     def _number(self, raw: Any, mark: Mark, what: str) -> float | None:
         number = as_number(raw)
@@ -763,7 +826,7 @@ class _MachineReader:
                 scratch = _Instance(instance.level, name, marks.key(overrides, name))
                 axis_entry = self.axes.get(name)
                 self._write_block(block, scratch, _PLACE_IN_OVERRIDES,
-                                  extra_keys=("sim", "plant") if axis_entry is not None else ())
+                                  extra_keys=AXIS_EXTRA_KEYS if axis_entry is not None else ())
                 if axis_entry is not None:
                     # the slide and the switches of this one test: where the cam sits, where the
                     # scale's first mark is, where the slide stands at power-on
@@ -800,6 +863,7 @@ class _MachineReader:
             plant_io=self.plant_io,
             plc_parameters=self.plc_parameters,
             plc_cycle_ipo=self.plc_cycle_ipo,
+            dc_link=self.dc_link,
         )
 
     def _check_ipo_cycle(self) -> None:
@@ -847,10 +911,32 @@ class _MachineReader:
             values = MachineData(entry.name, data.values())
             plant = dataclasses.replace(entry.plant, gearbox=self._build_gearbox(entry, spindle),
                                         chuck=self._build_chuck(entry, spindle))
-            result[entry.name] = AxisConfig(entry.name, number, values, is_rotary, spindle, entry.sim, plant)
+            self._check_generator(entry)
+            result[entry.name] = AxisConfig(entry.name, number, values, is_rotary, spindle, entry.sim, plant,
+                                            entry.drive)
         self._check_gearbox_io()
         self._check_chuck_io()
         return result
+
+    def _check_generator(self, entry: _AxisEntry) -> None:
+        """Generator operation needs the DC link it buffers, the Vdc_min controller on, a threshold
+        between where the pulses go and where the supply holds the link, and the motor's inertia."""
+        drive, mark = entry.drive, entry.drive_mark
+        if not drive.generator or mark is None:
+            return
+        where = f"{entry.name}: drive p0888 = 3 (generator operation)"
+        if self.dc_link is None:
+            self.add(mark, f"{where} needs the DC link it buffers: a dc_link: section")
+        else:
+            lowest = PULSE_CANCELLATION_PER_SUPPLY_VOLT * self.dc_link.supply_voltage
+            highest = DC_LINK_PER_SUPPLY_VOLT * self.dc_link.supply_voltage
+            if not lowest < drive.p1248 < highest:
+                self.add(mark, f"{where}: p1248 = {drive.p1248:g} V must lie between the pulse cancellation"
+                               f" at {lowest:g} V and the link's {highest:g} V on the supply")
+        if drive.p1240 != 2:
+            self.add(mark, f"{where} needs p1240 = 2 (the Vdc_min controller brakes the motor under ESR)")
+        if drive.p0341 <= 0:
+            self.add(mark, f"{where} needs p0341, the motor's moment of inertia (kg m^2), above 0")
 
     def _build_gearbox(self, entry: _AxisEntry, spindle: int) -> GearboxPlant | None:
         """The axis's gearbox, checked against its machine data and the I/O list; None without one."""

@@ -58,6 +58,40 @@ class AxisPlant:
     chuck: ChuckPlant | None = None  # spindles only
 
 
+GENERATOR_OPERATION = 3  # p0888 = 3 (L41708-41712)
+DC_LINK_PER_SUPPLY_VOLT = 1.35  # a rectified three-phase supply charges the link to 1.35 x its voltage [control]
+PULSE_CANCELLATION_PER_SUPPLY_VOLT = 0.9  # pulses are cancelled below 0.9 x r0208 (L41749-41754)
+
+
+@dataclass(frozen=True, slots=True)
+class DriveParameters:
+    """Parameters of the axis's drive (SINAMICS) that the NC does not write: extended stop and
+    retract in generator operation (seed 003 L41700-41769).  ESRS / ESRR write p0888 and p0892
+    from the part program (stop, retract); generator operation is set up in the drive alone."""
+
+    p0888: int = 0  # ESR configuration: 3 = generator operation (Vdc controller)
+    p0892: float = 0.0  # s: generator operation may use the motor from the trigger T1 to T2 = T1 + p0892
+    p1240: int = 0  # Vdc controller configuration: 2 = at p1248 the motor brakes under ESR to buffer the link
+    p1248: float = 0.0  # V: lower DC-link threshold, the Vdc_min controller's setpoint
+    p2161: float = 0.0  # rev/min: speed threshold 3, the generator's minimum motor speed (r2199.0)
+    p0341: float = 0.0  # kg m^2: motor moment of inertia
+    p0342: float = 1.0  # ratio of the total moment of inertia (motor and load) to the motor's
+
+    @property
+    def generator(self) -> bool:
+        return self.p0888 == GENERATOR_OPERATION
+
+
+@dataclass(frozen=True, slots=True)
+class DcLinkConfig:
+    """The DC link of the drive line-up, for generator operation (seed 003 L41733-41754)."""
+
+    supply_voltage: float  # V: r0208, rated supply voltage of the power unit (pulses off below 0.9 x r0208)
+    capacitance_uf: float  # uF: DC-link capacitance of the line-up
+    load_power: float  # W: what the line-up draws from the link with the supply gone (electronics, brakes,
+    #                    the other drives holding their axes)
+
+
 @dataclass(frozen=True, slots=True)
 class AxisConfig:
     name: str  # machine axis name (MD10000), also the interface instance name
@@ -67,6 +101,7 @@ class AxisConfig:
     spindle_number: int  # MD35000 SPIND_ASSIGN_TO_MACHAX, 0 = not a spindle
     sim: AxisSimulation = field(default_factory=AxisSimulation)
     plant: AxisPlant = field(default_factory=AxisPlant)
+    drive: DriveParameters = field(default_factory=DriveParameters)
 
     @property
     def is_spindle(self) -> bool:
@@ -112,6 +147,7 @@ class MachineConfig:
     plant_io: PlantIoMap
     plc_cycle_ipo: int  # OB1 period in IPO cycles
     plc_parameters: Mapping[str, Any] = field(default_factory=dict)  # ``plc:``, for the PLC program to check
+    dc_link: DcLinkConfig | None = None  # ``dc_link:``; None: the drive line-up's link is not modelled
 
     @property
     def layout(self) -> InterfaceLayout:

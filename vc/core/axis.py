@@ -217,6 +217,7 @@ class MachineAxis:
         self._frequency_exceeded_somewhere = False
         self.actual = self.encoder.actual(self.physical)
         self.external_velocity = 0.0  # the slide moved by hand while the servo is off (physical units/s)
+        self.pulses_cancelled = False  # the power unit cancelled the pulses (DC link below 0.9 x r0208)
         self.setpoint = self.actual  # interpolated position setpoint (before the jerk filter)
         self.command_velocity = 0.0  # velocity of the interpolated setpoint, signed, per second
         self.velocity = 0.0  # actual velocity of the slide, signed, per second
@@ -338,7 +339,8 @@ class MachineAxis:
     @property
     def drive_ready(self) -> bool:
         """Controller and pulse enable present and a measuring system active: position control possible."""
-        return self.inputs.controller_enable and self.inputs.pulse_enable and self.active_encoder is not None
+        return self.inputs.controller_enable and self.inputs.pulse_enable and self.active_encoder is not None \
+            and not self.pulses_cancelled
 
     @property
     def referenced(self) -> bool:

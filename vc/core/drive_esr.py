@@ -20,17 +20,23 @@ second cycle.  Timeline of one axis (figures 22-1, 22-2, 22-4)::
     REACTING ──enable 1 -> 0──▶ ack pending: 95.2 falls when the reaction ends (red path of fig. 22-4)
     ACKNOWLEDGED ──enable 0 -> 1 and $AN_ESR_TRIGGER = 0──▶ ARMED
 
-Generator operation (p0888 = 3, Vdc control at the DC-link threshold p1248) needs a DC-link and
-load model that the harness's plant does not have: ESRS / ESRR cannot select it, and its status
-bits DB31.DBX95.1 (undervoltage) and 95.3 (speed below p2161) stay 0.
+Generator operation (p0888 = 3, set up in the drive: the axis's ``drive:`` parameters) turns the
+motor's kinetic energy into the DC link's when the supply fails (L41700-41769, vc/core/dc_link.py):
+from the trigger T1 until T2 = T1 + p0892 the drive holds its speed setpoint, and its Vdc_min
+controller brakes the motor whenever the link falls to p1248 (DB31.DBX95.1, r0056.15); at T2 it
+brakes on the ramp.  DB31.DBX95.3 (r2199.0) shows the motor below the minimum speed p2161, where
+the generator gives no more energy.  Braking for the link is no harder than the rapid-stop ramp
+MD36610 [INF]; friction and the motor's losses are not modelled (all kinetic energy reaches the link).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from enum import Enum
 
 from vc.config import md_dictionary as MD
+from vc.config.model import GENERATOR_OPERATION
 from vc.core.axis import MachineAxis, Owner
 from vc.core.interface_map import SignalTable
 from vc.core.motion import ramp
@@ -39,6 +45,12 @@ EXTENDED_STOP = 1
 EXTENDED_RETRACT = 2
 TRIGGER_CYCLES = 2  # $AN_ESR_TRIGGER must stand this many IPO cycles to reach the drive (L41806-41809)
 STAT_REACTION = 1 << 2  # $AA_ESR_STAT bit 2 = r0887.12 = DB31.DBX95.2
+STAT_DC_LINK_UNDERVOLTAGE = 1 << 3  # bit 3 = r0056.15 = DB31.DBX95.1 (L41837-41870)
+STAT_BELOW_MINIMUM_SPEED = 1 << 4  # bit 4 = r2199.0 = DB31.DBX95.3
+REACTIONS = (EXTENDED_STOP, EXTENDED_RETRACT, GENERATOR_OPERATION)
+# The generator brakes until its motor runs below p2161, by the hysteresis of the speed comparison
+# (SINAMICS p2150, default 2 rev/min) [control]: there r2199.0 (DB31.DBX95.3) comes and it gives no more.
+SPEED_HYSTERESIS = 2.0  # rev/min
 MAX_DELAY_S = 20.0  # ESRS: p0892 range 0.00 - 20.00 s (L41932-41940)
 
 
@@ -69,10 +81,10 @@ class Reaction(Enum):
 
 
 class DriveEsrSignals:
-    # DB31.DBX95.1 (DC-link undervoltage) and 95.3 (speed below the generator minimum) belong to
-    # generator operation, which needs a DC-link model the plant does not have: they stay 0.
     def __init__(self, table: SignalTable):
         self.response_initiated = table.bit("drive.in.esrResponseInitiated")
+        self.dc_link_undervoltage = table.bit("drive.in.esrDcVoltageAlarmActive")
+        self.below_minimum_speed = table.bit("drive.in.esrSpeedBelowMin")
 
 
 class DriveEsr:
@@ -94,6 +106,16 @@ class DriveEsr:
         self._triggered = False  # r0887.12: reaction triggered (until acknowledged)
         self._elapsed = 0
         self._hold_velocity = 0.0  # stop: the speed setpoint of the trigger moment
+        drive = axis.config.drive
+        self.threshold = drive.p1248  # V: the Vdc_min controller's setpoint
+        self._inertia = drive.p0341 * drive.p0342  # kg m^2 at the motor, load included
+        self._minimum_speed = drive.p2161  # rev/min
+        self._vdc_min_active = False  # r0056.15
+        self._below_minimum_speed = False  # r2199.0
+        self._watched_velocity: float | None = None
+        self.watches_speed = drive.p2161 > 0.0  # r2199.0 is worth a look each cycle
+        if drive.generator:
+            self.p0888, self.p0892 = GENERATOR_OPERATION, drive.p0892
 
     # ------------------------------------------------------------------ configuration (ESRS / ESRR)
     def configure(self, command: DriveEsrCommand) -> None:
@@ -138,14 +160,60 @@ class DriveEsr:
 
     @property
     def status(self) -> int:
-        """$AA_ESR_STAT: bit 2 reaction triggered (bits 3 and 4 belong to generator operation)."""
-        return STAT_REACTION if self.triggered else 0
+        """$AA_ESR_STAT: bit 2 reaction triggered, bit 3 DC-link undervoltage, bit 4 below p2161."""
+        return ((STAT_REACTION if self.triggered else 0)
+                | (STAT_DC_LINK_UNDERVOLTAGE if self._vdc_min_active else 0)
+                | (STAT_BELOW_MINIMUM_SPEED if self._below_minimum_speed else 0))
+
+    # ------------------------------------------------------------------ generator operation
+    @property
+    def buffering(self) -> bool:
+        """The generator reaction runs: the Vdc_min controller may brake the motor for the link."""
+        return self.reaction is Reaction.REACTING and self.p0888 == GENERATOR_OPERATION \
+            and self.axis.owner is Owner.RETRACT
+
+    def feed(self, energy: float) -> float:
+        """The Vdc_min controller: brake the motor so that the link gets ``energy`` (J), down to
+        the minimum speed p2161 and no harder than the rapid-stop ramp; returns the energy given."""
+        self._set_vdc_min_active(energy > 0.0)
+        if energy <= 0.0:
+            return 0.0
+        axis, inertia = self.axis, self._inertia
+        radians_per_unit = abs(self._motor_speed(60.0)) * 2.0 * math.pi / 60.0  # motor rad/s per load unit/s
+        velocity = axis.command_velocity
+        omega = abs(velocity) * radians_per_unit
+        slowest = max((self._minimum_speed - SPEED_HYSTERESIS) * 2.0 * math.pi / 60.0,
+                      omega - axis.dyn.rapid_stop_decel * self._dt * radians_per_unit)
+        if omega <= slowest:
+            return 0.0
+        given = min(energy, 0.5 * inertia * (omega * omega - slowest * slowest))
+        new_velocity = math.copysign(math.sqrt(omega * omega - 2.0 * given / inertia) / radians_per_unit, velocity)
+        axis.set_path_setpoint(axis.setpoint + (new_velocity - velocity) * self._dt, new_velocity)
+        return given
+
+    def watch_speed(self) -> None:
+        """r2199.0 = |n_act| < p2161, the drive's comparison of its actual speed, reported as
+        DB31.DBX95.3 while ESR is enabled for the drive: the seed names the bit "ESR, generator
+        operation: below the minimum speed" (L41862-41872) [INF]."""
+        velocity = self.axis.velocity if self.enabled else None
+        if velocity == self._watched_velocity:
+            return  # most cycles: the motor stands or runs at its speed
+        self._watched_velocity = velocity
+        below = velocity is not None and abs(self._motor_speed(velocity * 60.0)) < self._minimum_speed
+        if below != self._below_minimum_speed:
+            self._below_minimum_speed = below
+            self._signals.below_minimum_speed.put(self._area, below)
+
+    def _set_vdc_min_active(self, active: bool) -> None:
+        if active != self._vdc_min_active:
+            self._vdc_min_active = active
+            self._signals.dc_link_undervoltage.put(self._area, active)
 
     # ------------------------------------------------------------------ IPO cycle
     def cycle(self, trigger_cycles: int) -> None:
         """``trigger_cycles``: for how many cycles $AN_ESR_TRIGGER has stood at 1."""
-        if self.reaction is Reaction.ARMED and not self.triggered and self.enabled and self.p0888 in (
-                EXTENDED_STOP, EXTENDED_RETRACT) and trigger_cycles >= TRIGGER_CYCLES:
+        if self.reaction is Reaction.ARMED and not self.triggered and self.enabled and self.p0888 in REACTIONS \
+                and trigger_cycles >= TRIGGER_CYCLES:
             self._start()
         if self.reaction is Reaction.REACTING:
             self._react()
@@ -166,6 +234,8 @@ class DriveEsr:
             within_delay = False  # the NC braked it meanwhile (rapid stop): the reaction has ended
         if self.p0888 == EXTENDED_STOP:
             target = self._hold_velocity if within_delay else 0.0
+        elif self.p0888 == GENERATOR_OPERATION:
+            target = axis.command_velocity if within_delay else 0.0  # as the Vdc_min controller left it
         else:
             target = self.retract_velocity if within_delay else 0.0
         velocity = ramp(axis.command_velocity, target, dyn.rapid_stop_decel, dt)
@@ -175,6 +245,7 @@ class DriveEsr:
             if axis.owner is Owner.RETRACT:
                 axis.release()
             self.reaction = Reaction.DONE
+            self._set_vdc_min_active(False)
             if self._acknowledge_pending:
                 self._acknowledge_pending = False
                 self.triggered = False

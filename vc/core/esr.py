@@ -62,12 +62,16 @@ class NckEsr:
 
     def __init__(self, drives: dict[str, DriveEsr]):
         self.drives = drives
+        self.generators = [drive for drive in drives.values() if drive.threshold > 0.0]  # may buffer the DC link
+        self._speed_watchers = [drive for drive in drives.values() if drive.watches_speed]
         self.trigger = False  # $AN_ESR_TRIGGER
         self._trigger_cycles = 0
         self._reacting = False  # a drive is in its reaction: the drives need their cycle
         self.inputs = 0  # $A_IN[1..8]: DB10.DBB1, set by the PLC [control]
 
     def cycle(self) -> None:
+        for drive in self._speed_watchers:
+            drive.watch_speed()
         self._trigger_cycles = self._trigger_cycles + 1 if self.trigger else 0
         if self._trigger_cycles < TRIGGER_CYCLES and not self._reacting:
             return  # nothing can start and nothing runs

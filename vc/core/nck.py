@@ -30,6 +30,7 @@ from vc.core.alarms import STOP_AXES, Alarm, AlarmList, Clear, Reaction
 from vc.core.axis import AxisSignals, MachineAxis, Owner
 from vc.core.channel import Channel, ChannelSignals, ChannelState, Mode
 from vc.core.coupling import Couplings, CouplingSignals
+from vc.core.dc_link import DcLink
 from vc.core.drive_esr import DriveEsr, DriveEsrSignals
 from vc.core.esr import ChannelEsr, NckEsr
 from vc.core.inclined_axis_channel import InclinedAxisControl, inclined_axis_control
@@ -143,6 +144,7 @@ class Nck:
         drive_signals = DriveEsrSignals(SignalTable(catalog, InstanceKind.AXIS))
         self.esr = NckEsr({axis.name: DriveEsr(axis, drive_signals, self.image.area(f"DB{axis.config.db}"), self.dt)
                            for axis in self.axes})
+        self.dc_link = DcLink(machine.dc_link, self.dt) if machine.dc_link is not None else None
         for channel in self.channels:
             geometry = {name: axis for name, axis in zip(channel.config.geometry_names, channel.config.geometry_axes,
                                                            strict=True) if axis}
@@ -226,6 +228,9 @@ class Nck:
                 moved = True
         self.couplings.monitor(self.cycle)
         self._extended_stop_and_retract()
+        dc_link = self.dc_link
+        if dc_link is not None and (not dc_link.supply_on or dc_link.pulses_cancelled):
+            self._dc_link_cycle(dc_link)
         self._react_to_new_alarms()
         status = self._status_signature()
         if status != self._last_status:
@@ -389,6 +394,21 @@ class Nck:
                 channel.esr.run_actions(self.cycle)
             channel.esr_trigger(self.cycle)
         self.esr.cycle()
+
+    def _dc_link_cycle(self, dc_link: DcLink) -> None:
+        """The link without supply (the generators buffer it), or back on it: the power units cancel
+        their pulses when it falls below 0.9 x r0208 and take them back with the supply."""
+        cancelled = dc_link.pulses_cancelled
+        dc_link.cycle(self.esr.generators)
+        if dc_link.pulses_cancelled != cancelled:
+            for axis in self.axes:
+                axis.pulses_cancelled = dc_link.pulses_cancelled
+                axis.resting = False
+
+    def supply(self, on: bool) -> None:
+        """The line supply of the drive line-up fails (or returns): the DC link is on its own."""
+        if self.dc_link is not None:
+            self.dc_link.supply_on = on
 
     def _in_esr_reaction(self, axis: MachineAxis) -> bool:
         """The NC-controlled reaction of its channel or its drive's own reaction runs: the drive

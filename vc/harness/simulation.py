@@ -23,7 +23,7 @@ from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import InProcessConnector
 from interfaces.plant_io import Owner
 from interfaces.plc import CyclicPlc, PlcConnector, PlcEnvironment, SoftPlc
-from interfaces.signals import Direction, SignalRef
+from interfaces.signals import NCK_INSTANCE, Direction, SignalRef
 from vc.config.machine_data import MachineData
 from vc.config.md_dictionary import BY_NUMBER
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
@@ -31,7 +31,14 @@ from vc.core.alarms import Alarm
 from vc.core.nc_memory import NcMemory
 from vc.core.nck import Nck
 from vc.harness.link_faults import FaultInjectable, LinkFault, LinkFaultKind
-from vc.observables import AXIS_QUANTITIES, CHANNEL_QUANTITIES, COUPLING_QUANTITY_MEANINGS, FAULTS
+from vc.observables import (
+    AXIS_QUANTITIES,
+    CHANNEL_QUANTITIES,
+    COUPLING_QUANTITY_MEANINGS,
+    FAULTS,
+    MAINS,
+    NCK_QUANTITIES,
+)
 from vc.plant.plant import Plant
 
 
@@ -239,6 +246,9 @@ class Simulation:
 
     # ------------------------------------------------------------------ axes, alarms, HMI
     def axis_quantity(self, axis: str, quantity: str) -> float:
+        if axis == NCK_INSTANCE and quantity in NCK_QUANTITIES:  # NC.dcLinkVoltage
+            dc_link = self.nck.dc_link
+            return dc_link.voltage if dc_link is not None else 0.0
         channel = self.nck.channels_by_name.get(axis)
         if channel is not None and quantity == "liftfast" and channel.esr is not None:
             return channel.esr.liftfast
@@ -288,6 +298,9 @@ class Simulation:
     def inject_fault(self, axis: str, kind: str, start: float = 0.0, end: float = 0.0, amount: float = 0.0,
                      encoder: int = 1) -> None:
         """A fault of the simulated machine (see FAULTS)."""
+        if kind == "mains_failure":
+            self._supply(False)
+            return
         item = self.nck.axes_by_name[axis]
         measuring_system = item.encoders[encoder - 1]
         if kind == "zero_marks_missing":
@@ -319,7 +332,14 @@ class Simulation:
             frozenset(Direction(direction) for direction in directions), frozenset(areas),
             -(-delay_us // cycle_us), every))
 
+    def _supply(self, on: bool) -> None:
+        self.plant.supply_on = on
+        self.nck.supply(on)
+
     def clear_faults(self, axis: str) -> None:
+        if axis == MAINS:
+            self._supply(True)
+            return
         item = self.nck.axes_by_name[axis]
         item.disturbance_velocity = 0.0
         item.clamp = None

@@ -9,8 +9,8 @@ the end-position sensors of each spindle chuck, which the PLC clamps and opens w
 solenoids of its valve (vc/plant/chuck.py; the hydraulics have pressure while the drive line-up
 is ready), and
 ``Drives.ready``, which follows the PLC's ``Drives.on`` output after the infeed's switch-on
-delay.  Operator inputs (panel keys, the emergency-stop button, the guard door switch) are
-not the plant's: a person (a scenario) sets them.
+delay while the line supply is there (a mains failure takes it at once).  Operator inputs
+(panel keys, the emergency-stop button, the guard door switch) are not the plant's: a person (a scenario) sets them.
 """
 
 from __future__ import annotations
@@ -72,6 +72,7 @@ class Plant:
         self._drives_on = on.ref() if on else None
         self._ready_delay_cycles = max(1, round(DRIVE_READY_DELAY_S * 1_000_000 / ipo_cycle_us))
         self._on_cycles = 0
+        self.supply_on = True  # the line supply of the infeed
         self._ready: int | None = None
 
     def _switches_of(self, axis: AxisConfig) -> _AxisSwitches:
@@ -161,7 +162,7 @@ class Plant:
             return
         on = self._drives_on
         switched_on = True if on is None else bool(io.areas["Q"][on.address.byte] >> on.address.bit & 1)
-        self._on_cycles = min(self._on_cycles + 1, self._ready_delay_cycles) if switched_on else 0
+        self._on_cycles = min(self._on_cycles + 1, self._ready_delay_cycles) if switched_on and self.supply_on else 0
         ready = 1 if self._on_cycles >= self._ready_delay_cycles else 0
         if ready != self._ready:
             self._ready = ready

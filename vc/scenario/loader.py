@@ -25,7 +25,7 @@ from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.core.alarms import ALARM_TEXTS
 from vc.located_yaml import LocatedList, LocatedMap, Mark, Problem, Problems, SourceError, load_file
-from vc.observables import FAULTS, LINK_AREA, LINK_DIRECTIONS, LINK_FAULTS
+from vc.observables import FAULTS, LINK_AREA, LINK_DIRECTIONS, LINK_FAULTS, MACHINE_FAULTS, MAINS
 from vc.scenario.durations import Duration, DurationError, parse_duration
 from vc.scenario.expressions import Expression, ExpressionError, parse_expression
 from vc.scenario.model import (
@@ -535,10 +535,14 @@ class _ScenarioChecker:
         if not isinstance(value, LocatedMap):
             self.add(value_mark, f"fault takes a mapping, e.g. {STEP_EXAMPLES['fault']}")
             return None
-        if not self.check_keys(value, ("axis", "kind", "from", "to", "by", "encoder"), ("axis", "kind"), "fault"):
+        kind = value.get("kind")
+        machine_fault = kind in MACHINE_FAULTS
+        if not self.check_keys(value, ("kind",) if machine_fault else ("axis", "kind", "from", "to", "by", "encoder"),
+                               ("kind",) if machine_fault else ("axis", "kind"), "fault"):
             return None
+        if machine_fault:
+            return InjectFault(index, "fault", mark, "", str(kind), 0.0, 0.0, 0.0, 1)
         axis = self.machine_axis(value["axis"], value.mark_of("axis"))
-        kind = value["kind"]
         if kind not in FAULTS:
             hint = _suggest(str(kind), FAULTS) or f" (faults: {', '.join(FAULTS)})"
             self.add(value.mark_of("kind"), f"unknown fault '{kind}'{hint}")
@@ -570,6 +574,8 @@ class _ScenarioChecker:
                            numbers.get("by", 0.0), encoder)
 
     def step_clear_faults(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        if value == MAINS:
+            return ClearFaults(index, "clear_faults", mark, MAINS)
         axis = self.machine_axis(value, value_mark)
         return ClearFaults(index, "clear_faults", mark, axis) if axis is not None else None
 

@@ -6,7 +6,8 @@ Names are resolved once, when the file is loaded, in this order:
    absolute address (``DB31.DBX60.4``, ``DB21.DBB4``, ``DB31.DBD88``),
 2. the machine's plant I/O, by function name (``MCP.jog``) or address (``I0.3``),
 3. ``<axis>.<quantity>`` for a machine axis or spindle (``X1.position``; see ``AXIS_QUANTITIES``),
-   and ``<channel>.<quantity>`` for the tool of a channel (``CHAN1.toolTipX``; ``CHANNEL_QUANTITIES``),
+   ``<channel>.<quantity>`` for the tool of a channel (``CHAN1.toolTipX``; ``CHANNEL_QUANTITIES``)
+   and ``NC.<quantity>`` for the NCK and its drive line-up (``NC.dcLinkVoltage``; ``NCK_QUANTITIES``),
 4. ``<instance>.MD<number>[<index>]``: a machine datum as the control holds it now, with the
    values it wrote itself (``X1.MD34210``, ``X1.MD34090[1]``, ``CHAN1.MD20700``, ``NC.MD10192``),
 5. ``time``: simulated seconds since the scenario started.
@@ -33,7 +34,7 @@ from interfaces.signals import (
 )
 from vc.config.machine_data import MdLevel
 from vc.config.md_dictionary import BY_NUMBER, level_text
-from vc.observables import AXIS_QUANTITIES, CHANNEL_QUANTITIES
+from vc.observables import AXIS_QUANTITIES, CHANNEL_QUANTITIES, NCK_QUANTITIES
 
 TIME = "time"
 
@@ -138,6 +139,8 @@ class NameResolver:
             return axis_quantity(head, tail)
         if head in self.channels and tail in CHANNEL_QUANTITIES:
             return axis_quantity(head, tail)  # read like an axis quantity, from the channel
+        if head == NCK_INSTANCE and tail in NCK_QUANTITIES:
+            return axis_quantity(head, tail)  # read like an axis quantity, from the NCK
         datum = _MACHINE_DATUM.match(tail)
         if datum is not None and head in (NCK_INSTANCE, *self.axes, *self.channels):
             return self._machine_datum(text, head, int(datum.group(1)), datum.group(2))
@@ -187,6 +190,7 @@ class NameResolver:
         names += [point.name for point in self.plant_io.points]
         names += [f"{axis}.{quantity}" for axis in self.axes for quantity in AXIS_QUANTITIES]
         names += [f"{channel}.{quantity}" for channel in self.channels for quantity in CHANNEL_QUANTITIES]
+        names += [f"{NCK_INSTANCE}.{quantity}" for quantity in NCK_QUANTITIES]
         names.append(TIME)
         return names
 

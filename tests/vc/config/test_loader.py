@@ -390,3 +390,23 @@ def test_corpus_is_complete() -> None:
     names = {path.stem for path in CORPUS.glob("*.yaml")}
     assert len(names) >= 15
     assert names == {path.stem for path in CORPUS.glob("*.expected")}
+
+
+# ------------------------------------------------------------------------------ drive line-up
+
+
+def test_the_turn_mill_buffers_its_dc_link_with_the_main_spindle(turn_mill: MachineConfig) -> None:
+    assert turn_mill.dc_link is not None and turn_mill.dc_link.supply_voltage == 400.0
+    drive = turn_mill.axis("SP1").drive
+    assert drive.generator and (drive.p1248, drive.p2161) == (450.0, 1000.0)
+    assert not turn_mill.axis("SP2").drive.generator
+
+
+def test_a_generator_threshold_outside_the_link_s_range_is_refused() -> None:
+    for threshold in (350, 545):
+        overrides = _overrides(f"machine_data:\n  SP1:\n    drive: {{p1248: {threshold}}}\n")
+        with pytest.raises(SourceError) as error:
+            load_machine(TURN_MILL, overrides, "scenario.yaml")
+        assert [str(problem) for problem in error.value.problems] == [
+            f"scenario.yaml:3:12: SP1: drive p0888 = 3 (generator operation): p1248 = {threshold} V must lie"
+            " between the pulse cancellation at 360 V and the link's 540 V on the supply"]
