@@ -90,6 +90,8 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
         AlarmDefinition(12080, "Channel %1 block %2 syntax error in text %3", _STOP, Clear.RESET, "[control]"),
         AlarmDefinition(12550, "Channel %1 block %2 name %3 not defined or option/function not available",
                         _STOP, Clear.RESET, "[control]"),
+        AlarmDefinition(14080, "Channel %1 block %2 jump destination %3 not found", _STOP, Clear.RESET,
+                        "[control]"),
         AlarmDefinition(14800, "Channel %1 block %2 programmed path velocity is less than or equal to zero",
                         _STOP, Clear.RESET, "seed 003 L7841-7858"),
         AlarmDefinition(16105, "Channel %1 block %2 assigned spindle %3 does not exist", _STOP, Clear.RESET,

@@ -55,10 +55,11 @@ from vc.core.interpreter import (
 from vc.core.overrides import OverrideCoding
 from vc.core.path import PathSegment
 from vc.core.polygon import ALARM_AXIS_SYNCHRONISED, PolygonTurning
-from vc.core.program import Block, parse_program
+from vc.core.program import Block, Jump, jump_target, parse_program
 from vc.core.referencing import Source, State
 from vc.core.referencing_control import ReferencingControl
 from vc.core.spindle import SUPPRESS_IN_DRY_RUN, SUPPRESS_IN_PROGRAM_TEST, Spindle, SpindleMode
+from vc.core.sync_actions import SyncActionError, parse_condition
 from vc.core.thread_cutting import THREAD_SPINDLE_STANDS, ThreadSegment
 from vc.core.tool_path import ToolPathSegment
 
@@ -191,6 +192,7 @@ class Channel:
         self.started_in: Mode | None = None
         self._blocks: tuple[Block, ...] = ()
         self._block_index = 0
+        self._leaving_thread_chain = False  # after a fast retraction: skip the chain's other G33 blocks
         self.current_block: Block | None = None
         self._phase = Phase.DECODE
         self._plan: BlockPlan | None = None
@@ -291,6 +293,7 @@ class Channel:
         self.started_in = None
         self._blocks = ()
         self._block_index = 0
+        self._leaving_thread_chain = False
         self.current_block = None
         self._phase = Phase.DECODE
         self._plan = None
@@ -325,6 +328,7 @@ class Channel:
         text = self.mda_text if mode is Mode.MDA else (self.selected_program[1] if self.selected_program else "")
         self._blocks = parse_program(text)
         self._block_index = 0
+        self._leaving_thread_chain = False
         self._phase = Phase.DECODE
         self.modal.reset()
         if self.couplings is not None:
@@ -524,10 +528,18 @@ class Channel:
             return
         block = self._blocks[self._block_index]
         self.current_block = block
+        if block.items and isinstance(block.items[0], Jump):
+            self._jump(block.items[0], block, cycle)
+            return
         positions = self.five_axis.program_positions(self.modal.five_axis)
         if self.inclined is not None:
             positions.update(self.inclined.program_positions())
         plan, alarm = decode(block, self.modal, self.config, self.axes_by_name, positions)
+        if self._leaving_thread_chain and alarm is None:
+            if plan.thread is not None:
+                self._block_index += 1  # a G33 block of the interrupted chain: not cut from the retract position
+                return
+            self._leaving_thread_chain = False
         if alarm is None:
             alarm = self.five_axis.apply(plan, self.modal.five_axis, block.label)
         if alarm is None and self.inclined is not None:
@@ -561,6 +573,31 @@ class Channel:
         self._start_block_body(cycle)
 
     # ------------------------------------------------------------------ couplings, polygon turning
+    def _jump(self, jump: Jump, block: Block, cycle: int) -> None:
+        """IF <condition> GOTOx <target>, evaluated when the block is reached: a condition on $A...
+        variables stops the preprocessing until then on the control [control].  A jump block takes
+        its IPO cycle.  An unreadable condition raises 12080, an unknown variable 12550, a missing
+        destination 14080 (GOTOC: the program goes on after the block)."""
+        holds = True
+        if jump.condition:
+            assert self.esr is not None
+            try:
+                holds = bool(parse_condition(jump.condition)(self.esr.read))
+            except SyncActionError as error:
+                self._raise(12080, cycle, block, str(error) or jump.condition)
+                self.stop()
+                return
+            except KeyError as unknown:
+                self._raise(12550, cycle, block, unknown.args[0])
+                self.stop()
+                return
+        target = jump_target(self._blocks, self._block_index, jump) if holds else self._block_index + 1
+        if target is None and jump.direction != "GOTOC":
+            self._raise(14080, cycle, block, jump.target)
+            self.stop()
+            return
+        self._block_index = self._block_index + 1 if target is None else target
+
     def _raise(self, number: int, cycle: int, block: Block, *parameters: object, axis: str = "") -> None:
         self._alarms.raise_alarm(number, cycle, self.name, block.label, *parameters, channel=self.name, axis=axis)
 
@@ -785,8 +822,9 @@ class Channel:
             self._stopping = True
 
     def _lift_fast(self) -> None:
-        """G33 with LFON interrupted: retract, stop the thread axes; the rest of the thread block is
-        dropped, so NC start goes on with the next block (``IF $AC_LIFTFAST ...``, L8356-8385) [INF]."""
+        """G33 with LFON interrupted: retract, stop the thread axes; the rest of the thread block and
+        the G33 blocks chained to it are dropped, so NC start goes on after the thread, where the
+        seed's example tests ``IF $AC_LIFTFAST GOTOB MM_THREAD`` (L8356-8385) [INF]."""
         thread, esr = self._thread, self.esr
         assert thread is not None and esr is not None
         self._thread = None
@@ -795,6 +833,7 @@ class Channel:
         self._plan = None
         self._phase = Phase.DECODE
         self._block_index += 1
+        self._leaving_thread_chain = True
         self.state = ChannelState.INTERRUPTED
         self.program_state = ProgramState.STOPPED
 

@@ -10,6 +10,10 @@ A block is one line.  Its items::
     COUPON(S2,S1,77)         a call with arguments (names, numbers, "strings")
     LFON  STOPRE             a keyword (a name that is not an address word)
     MM_THREAD:               a label
+    IF $AC_LIFTFAST GOTOB MM_THREAD
+    GOTOF N100               a jump (GOTOB back, GOTOF forward, GOTO / GOTOC forward then back)
+                             to a label or block number, with or without a condition (kept as
+                             text for vc/core/sync_actions.py)
     IDS=2 WHENEVER $A_IN[1]==1 DO $AC_ESR_TRIGGER=1
                              a synchronized action: kept as condition and action text for
                              vc/core/sync_actions.py (ID= modal, IDS= static)
@@ -38,6 +42,9 @@ _BLOCK_NUMBER = re.compile(r"^\s*N(\d+)", re.IGNORECASE)
 _SYNCHRONIZED_ACTION = re.compile(
     r"^(?:N(?P<block>\d+)\s+)?(?P<kind>IDS|ID)\s*=\s*(?P<number>\d+)\s+(?P<mode>WHENEVER|WHEN|EVERY|FROM)\s+"
     r"(?P<condition>.+?)\s+DO\s+(?P<actions>.+)$", re.IGNORECASE)
+_JUMP = re.compile(
+    r"^(?:N(?P<block>\d+)\s+)?(?:IF\s+(?P<condition>.+?)\s+)?(?P<direction>GOTOB|GOTOF|GOTOC|GOTO)\s+"
+    r"(?P<target>[A-Z_][A-Z0-9_]*)$", re.IGNORECASE)
 
 Argument = float | str
 
@@ -101,7 +108,16 @@ class SynchronizedAction:
     actions: str
 
 
-Item = Word | Assignment | Call | Keyword | Label | SynchronizedAction
+@dataclass(frozen=True, slots=True)
+class Jump:
+    """``IF <condition> GOTOB <label>``, ``GOTOF N100``: a program jump, conditional or not."""
+
+    direction: str  # GOTOB, GOTOF, GOTO or GOTOC
+    target: str  # a label, or N and a block number
+    condition: str = ""  # "" = always
+
+
+Item = Word | Assignment | Call | Keyword | Label | SynchronizedAction | Jump
 
 
 @dataclass(frozen=True, slots=True)
@@ -122,6 +138,24 @@ class _SyntaxError(Exception):
     pass
 
 
+def jump_target(blocks: tuple[Block, ...], current: int, jump: Jump) -> int | None:
+    """Index of the block ``jump`` (at ``current``) goes to, or None: GOTOB searches back towards the
+    program start, GOTOF forward to its end, GOTO and GOTOC forward first, then back [control]."""
+    def is_target(block: Block) -> bool:
+        if jump.target.startswith("N") and jump.target[1:].isdigit():
+            return block.number == int(jump.target[1:])
+        return any(isinstance(item, Label) and item.name == jump.target for item in block.items)
+
+    backward = range(current - 1, -1, -1)
+    forward = range(current + 1, len(blocks))
+    searched = {"GOTOB": (backward,), "GOTOF": (forward,)}.get(jump.direction, (forward, backward))
+    for indices in searched:
+        for index in indices:
+            if is_target(blocks[index]):
+                return index
+    return None
+
+
 def parse_program(text: str) -> tuple[Block, ...]:
     """Every non-empty line becomes a block; comments and blank lines are dropped."""
     blocks = []
@@ -135,6 +169,13 @@ def parse_program(text: str) -> tuple[Block, ...]:
             blocks.append(Block(line_number, raw.strip(), number, (SynchronizedAction(
                 int(action.group("number")), action.group("kind").upper() == "IDS", action.group("mode").upper(),
                 action.group("condition").strip(), action.group("actions").strip()),)))
+            continue
+        jump = _JUMP.match(code)
+        if jump is not None:
+            number = int(jump.group("block")) if jump.group("block") else None
+            blocks.append(Block(line_number, raw.strip(), number, (Jump(
+                jump.group("direction").upper(), jump.group("target").upper(),
+                (jump.group("condition") or "").strip()),)))
             continue
         try:
             number, items = _parse_line(code)

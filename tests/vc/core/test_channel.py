@@ -472,3 +472,36 @@ def test_nc_start_disable_refuses_the_start() -> None:
     rig.step(100)
     assert rig.get("CHAN1.basic.in.stateReset") == 1
     assert rig.axis("X1").physical == 150.0
+
+
+# ------------------------------------------------------------------------------ program jumps
+
+
+def test_a_conditional_jump_goes_back_while_its_condition_holds() -> None:
+    rig = mda_rig()
+    rig.mda("N10 $AC_LIFTFAST=1\nAGAIN:\nN20 G91 G1 X1 F3000\nN30 IF $AC_LIFTFAST GOTOB AGAIN\nN40 G90 G0 X140\nM30")
+    rig.run_until(lambda: rig.axis("X1").setpoint > 151.5, 3000)  # the first pass ran on into the jump
+    assert rig.alarm_numbers() == []
+    rig.channel.esr.liftfast = 0.0  # the next test of the condition falls through
+    run_to_reset(rig)
+    assert rig.axis("X1").setpoint == pytest.approx(140.0)
+    assert rig.alarm_numbers() == []
+
+
+@pytest.mark.parametrize(("text", "alarm"), [
+    ("N10 GOTOF NOWHERE\nM30", 14080),
+    ("N10 IF $AC_NOTHING GOTOF END_1\nEND_1:\nM30", 12550),
+    ("N10 IF ($AC_LIFTFAST GOTOF END_1\nEND_1:\nM30", 12080),
+])
+def test_bad_jumps_raise_the_control_alarm(text: str, alarm: int) -> None:
+    rig = mda_rig()
+    rig.mda(text)
+    rig.step(5)
+    assert rig.alarm_numbers() == [alarm]
+
+
+def test_gotoc_goes_on_without_a_destination() -> None:
+    rig = mda_rig()
+    rig.mda("N10 GOTOC NOWHERE\nN20 G1 X160 F3000\nM30")
+    run_to_reset(rig)
+    assert rig.axis("X1").setpoint == pytest.approx(160.0) and rig.alarm_numbers() == []

@@ -199,8 +199,11 @@ def test_tv_lf_1_nc_stop_during_g33_retracts_10_mm_in_minus_x() -> None:
     assert 0.08 <= cycles * DT <= 0.16  # 10 mm at 4 m/s^2: 0.1 s plus the drive's lag
     rig.set("CHAN1.basic.out.ncStop", 0)
     rig.step(2)
-    rig.pulse("CHAN1.basic.out.ncStart", 2)  # NC start goes on with N71 .. the rest of N70 is dropped
-    rig.run_until(lambda: block_number(rig) == 71, 50)
+    stopped_at = z1.setpoint
+    rig.pulse("CHAN1.basic.out.ncStart", 2)  # NC start goes on after the thread chain: N71 is dropped too
+    rig.run_until(lambda: block_number(rig) == 72, 50)
+    rig.step(100)
+    assert z1.setpoint == stopped_at and x1.setpoint > 0.0  # N72 G1 X20 moves X alone
 
 
 # ------------------------------------------------------------------------------ NC-controlled ESR

@@ -4,7 +4,18 @@ from __future__ import annotations
 
 import pytest
 
-from vc.core.program import Assignment, Block, Call, Keyword, Label, ValueFunction, Word, parse_program
+from vc.core.program import (
+    Assignment,
+    Block,
+    Call,
+    Jump,
+    Keyword,
+    Label,
+    ValueFunction,
+    Word,
+    jump_target,
+    parse_program,
+)
 
 
 def single(text: str) -> Block:
@@ -184,3 +195,22 @@ def test_syntax_error_block_keeps_its_block_number() -> None:
     assert blocks[1].error != ""
     assert blocks[1].number == 20
     assert blocks[1].label == "N20"
+
+
+# ------------------------------------------------------------------------------ jumps
+
+
+def test_conditional_and_plain_jumps() -> None:
+    assert single("N69 IF $AC_LIFTFAST GOTOB MM_THREAD").items == (Jump("GOTOB", "MM_THREAD", "$AC_LIFTFAST"),)
+    assert single("if $A_IN[1]==1 gotof n100").items == (Jump("GOTOF", "N100", "$A_IN[1]==1"),)
+    assert single("GOTO END_1").items == (Jump("GOTO", "END_1"),)
+
+
+def test_jump_destinations_by_direction() -> None:
+    blocks = parse_program("START:\nN10 G1 X1\nGOTO START\nN20 G1 X2\nSTART:\nGOTOB N20\nGOTOF N10")
+    assert jump_target(blocks, 2, Jump("GOTOB", "START")) == 0
+    assert jump_target(blocks, 2, Jump("GOTOF", "START")) == 4
+    assert jump_target(blocks, 2, Jump("GOTO", "START")) == 4  # forward first
+    assert jump_target(blocks, 5, Jump("GOTO", "N10")) == 1  # then back
+    assert jump_target(blocks, 5, Jump("GOTOB", "N20")) == 3
+    assert jump_target(blocks, 6, Jump("GOTOF", "N10")) is None
