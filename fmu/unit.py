@@ -12,7 +12,9 @@ Variables, each named as the rest of the project names it (FMI structured names)
     outputs     every NC->PLC signal (``X1.basic.in.enc1Synchronized``) and every plant input
                 I (``X1.refCam``), as they are at the end of the last IPO cycle; and per axis
                 and spindle the continuous quantities of ``vc.observables`` (``X1.position``,
-                ``SP1.velocity`` in rev/min, ``SP1.physical`` = the spindle's angle)
+                ``SP1.velocity`` in rev/min, ``SP1.physical`` = the spindle's angle), per spindle
+                its coupling quantities (``SP2.syncDeviation``, 0 while it follows nobody), and
+                on a machine with a DC link ``NC.dcLinkVoltage``
     parameters  ``ipoCycle`` (s) and per axis ``<axis>.startPosition`` (where the slide stands at
                 power-on); they take effect when initialisation ends
     PLC.signOfLife  an input of the project's own: the PLC changes it every scan; once it has
@@ -40,13 +42,13 @@ from typing import NoReturn
 
 from interfaces.image import ProcessImage, Value, ValueRangeError, decode
 from interfaces.plant_io import Owner
-from interfaces.signals import Direction, SignalRef, SignalType
+from interfaces.signals import NCK_INSTANCE, Direction, SignalRef, SignalType
 from vc.config.loader import load_machine
 from vc.config.md_dictionary import IPO_SYSCLOCK_TIME_RATIO
 from vc.config.model import MachineConfig
 from vc.harness.simulation import Simulation
 from vc.located_yaml import LocatedMap, SourceError, load_text
-from vc.observables import AXIS_QUANTITY_MEANINGS
+from vc.observables import AXIS_QUANTITY_MEANINGS, COUPLING_QUANTITY_MEANINGS, NCK_QUANTITY_MEANINGS
 
 IPO_CYCLE = "ipoCycle"
 PLC_SIGN_OF_LIFE = "PLC.signOfLife"
@@ -131,9 +133,13 @@ class NcUnit:
             units = ("deg", "rev/min") if axis.is_rotary else ("mm", "mm/min")
             for quantity, meaning in AXIS_QUANTITY_MEANINGS.items():
                 unit = units[1] if quantity == "velocity" else units[0]
-                self._add(Variable(f"{axis.name}.{quantity}", Kind.REAL, Causality.OUTPUT, Variability.CONTINUOUS,
-                                   f"{meaning}, {unit}"),
-                          partial(self._axis_quantity, axis.name, quantity), None)
+                self._add_quantity(axis.name, quantity, f"{meaning}, {unit}")
+            if axis.is_spindle:
+                for quantity, meaning in COUPLING_QUANTITY_MEANINGS.items():
+                    self._add_quantity(axis.name, quantity, meaning)
+        if self.machine.dc_link is not None:
+            for quantity, meaning in NCK_QUANTITY_MEANINGS.items():
+                self._add_quantity(NCK_INSTANCE, quantity, meaning)
         self._add(Variable(PLC_SIGN_OF_LIFE, Kind.INTEGER, Causality.INPUT, Variability.DISCRETE,
                            "the PLC's sign of life, a number it changes every scan; once written the NC watches"
                            " it: no change for MD10100 raises alarm 2000 [project variable]"),
@@ -183,6 +189,10 @@ class NcUnit:
                 self._writers[index] = partial(_write_bit, image, ref, area, ref.address.byte, 1 << ref.address.bit)
             else:
                 self._writers[index] = partial(_write_value, image, ref)
+
+    def _add_quantity(self, instance: str, quantity: str, description: str) -> None:
+        self._add(Variable(f"{instance}.{quantity}", Kind.REAL, Causality.OUTPUT, Variability.CONTINUOUS, description),
+                  partial(self._axis_quantity, instance, quantity), None)
 
     def _axis_quantity(self, axis: str, quantity: str) -> float:
         return self.simulation.axis_quantity(axis, quantity)

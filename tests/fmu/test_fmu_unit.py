@@ -164,3 +164,13 @@ def test_the_operators_plant_points_say_that_they_stand_at_their_power_on_positi
     assert descriptions["MCP.ncStart"].startswith("I1.0 ") and "the operator's" in descriptions["MCP.ncStart"]
     assert "the operator's" in descriptions["EStop.chainOk"]
     assert "the operator's" not in descriptions["X1.refCam"]
+
+
+def test_spindles_export_their_coupling_and_the_machine_its_dc_link(unit: NcUnit) -> None:
+    names = {variable.name for variable in unit.variables}
+    assert {"SP2.syncDeviation", "SP2.couplingOffset", "SP3.couplingOffsetActual", "NC.dcLinkVoltage"} <= names
+    assert "X1.syncDeviation" not in names  # an axis follows no spindle
+    voltage = next(variable for variable in unit.variables if variable.name == "NC.dcLinkVoltage")
+    assert voltage.variability is Variability.CONTINUOUS
+    assert value(unit, "NC.dcLinkVoltage") == pytest.approx(540.0)  # 1.35 x the 400 V supply
+    assert value(unit, "SP2.syncDeviation") == 0.0
