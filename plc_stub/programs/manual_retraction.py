@@ -23,7 +23,8 @@ Networks after those of ``spindle`` (1-9):
     which deletes the data (377.5 = 0).
 
 The selection through DB21.DBX396.0 / 397.0 / 397.1 stands in for FB4 with the PI service
-"RETRAC" (REQ, DONE, ERROR): a project-specific location of this harness.
+"RETRAC" (REQ, DONE, ERROR): a project-specific location of this harness.  The networks are a
+function block (``ManualRetractionNetworks``), so that ``retraction`` runs them as well.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ from dataclasses import dataclass
 
 from plc_stub.blocks import R_TRIG
 from plc_stub.io import Bool, PlcIo
-from plc_stub.programs.basic_machine import pressed
+from plc_stub.programs.basic_machine import BasicMachine, pressed
 from plc_stub.programs.spindle import Spindle
 
 _ACTIVE_MODE_SIGNALS = (("auto", "MODEGROUP.basic.in.autoModeActive"), ("mda", "MODEGROUP.basic.in.mdaModeActive"),
@@ -51,15 +52,15 @@ class _RetractionChannel:
     first_chance: bool = False  # 377.5 rose and no selection was tried since
 
 
-class ManualRetraction(Spindle):
-    PROGRAM = "manual_retraction"
+class ManualRetractionNetworks:
+    """Networks 0 and 10 as a function block, for any program built on ``basic_machine``: call
+    ``mode`` before the program's network 2 and ``selection`` after its network 4."""
 
     def __init__(self, io: PlcIo):
-        super().__init__(io)
         self.active_modes = {mode: io.input(name) for mode, name in _ACTIVE_MODE_SIGNALS}
         self.first_scan = True
         self.start_key_edge = R_TRIG()
-        self.retraction_channels = [
+        self.channels = [
             _RetractionChannel(
                 data_available=io.input(f"{name}.basic.in.jogRetractDataAvailable"),
                 active=io.input(f"{name}.basic.in.jogRetractActive"),
@@ -72,29 +73,24 @@ class ManualRetraction(Spindle):
             for name in io.environment.catalog.layout.channels
         ]
 
-    def ob1(self) -> None:
-        self.mode_for_retraction()
-        super().ob1()
-        self.manual_retraction()
-
     # Network 0 ---------------------------------------------------------------------------
-    def mode_for_retraction(self) -> None:
+    def mode(self, program: BasicMachine) -> None:
         if self.first_scan:
             self.first_scan = False
             for mode, active in self.active_modes.items():
                 if active.value:
-                    self.selected_mode = mode
-        for channel in self.retraction_channels:
+                    program.selected_mode = mode
+        for channel in self.channels:
             if channel.data_edge(channel.data_available.value):
-                self.selected_mode = "jog"
-                self.reference_function = False
+                program.selected_mode = "jog"
+                program.reference_function = False
                 channel.first_chance = True
 
     # Network 10 --------------------------------------------------------------------------
-    def manual_retraction(self) -> None:
-        start = self.start_key_edge(pressed(self.key_nc_start))
-        jog = self.active_modes["jog"].value and not self.reference_function
-        for channel in self.retraction_channels:
+    def selection(self, program: BasicMachine) -> None:
+        start = self.start_key_edge(pressed(program.key_nc_start))
+        jog = self.active_modes["jog"].value and not program.reference_function
+        for channel in self.channels:
             data = channel.data_available.value
             if channel.request.value:
                 channel.request.value = not (channel.done.value or channel.refused.value)
@@ -103,3 +99,16 @@ class ManualRetraction(Spindle):
             if selectable and (channel.first_chance or start):
                 channel.first_chance = False
                 channel.request.value = True
+
+
+class ManualRetraction(Spindle):
+    PROGRAM = "manual_retraction"
+
+    def __init__(self, io: PlcIo):
+        super().__init__(io)
+        self.retraction_networks = ManualRetractionNetworks(io)
+
+    def ob1(self) -> None:
+        self.retraction_networks.mode(self)
+        super().ob1()
+        self.retraction_networks.selection(self)

@@ -1,5 +1,5 @@
 """retraction: the spindle program with the guard door, plus the PLC's part of extended stop and
-retract (ESR) and of fast retraction.
+retract (ESR), of fast retraction, and of manual retraction along the tool axis.
 
 The NC reacts to ESR triggers that its part program sets up as static synchronized actions
 (seed 003 L42180-42195); the PLC reaches them through the digital NCK inputs it sets in
@@ -13,13 +13,17 @@ DB10.DBB1 (``$A_IN[n]``).  Network 11 (after the door, network 10):
   machine's PLC delays it in the same way, with the safety relay's stop category 1 delay).
 * A drive fault keeps the controller and pulse enables for ``esr_time`` (the DC link still holds
   the energy for the retraction), then they go as in ``basic_machine``.
-* ``$A_IN[2]`` (DB10.DBX1.1) = "acknowledge ESR", one scan on the reset key's edge.  A program with
+* ``$A_IN[2]`` (DB10.DBX1.1) = "acknowledge ESR", one scan on the reset key's edge (the edge the
+  guard door's network takes as well).  A program with
   ``IDS=5 EVERY $A_IN[2]==1 DO $AA_ESR_ENABLE[X]=0 $AN_ESR_TRIGGER=0`` and
   ``IDS=6 EVERY $A_IN[2]==0 DO $AA_ESR_ENABLE[X]=1`` gives the drives the enable edge 1 -> 0 -> 1
   that acknowledges their reaction (L41874-41907).
 
 A lost PLC sign of life needs no network: the NC raises alarm 2000 and a synchronized action on
 ``$AC_ALARM_STAT B_AND 'H2000'`` triggers ESR in the NC.
+
+A tool left in the thread after a reset or power failure is retracted by hand: networks 0 and 10
+of ``manual_retraction`` (JOG when DB21.DBX377.5 rises, the PI service RETRAC) run here as well.
 
 Parameters, besides those of ``spindle`` and the guard door (``guard_door``)::
 
@@ -29,10 +33,10 @@ Parameters, besides those of ``spindle`` and the guard door (``guard_door``)::
 
 from __future__ import annotations
 
-from plc_stub.blocks import F_TRIG, R_TRIG, TOF, TON
+from plc_stub.blocks import F_TRIG, TOF, TON
 from plc_stub.io import PlcIo
-from plc_stub.programs.basic_machine import pressed
 from plc_stub.programs.guard_door import GuardedSpindle
+from plc_stub.programs.manual_retraction import ManualRetractionNetworks
 from plc_stub.programs.parameters import seconds
 
 ESR_TIME_S = 0.3
@@ -56,14 +60,20 @@ class Retraction(GuardedSpindle):
         self.emergency_stop_delay = TON(esr_time, scan)
         self.drive_fault_edge = F_TRIG()
         self.drive_fault_hold = TOF(esr_time, scan)
-        self.acknowledge_edge = R_TRIG()
         self.drive_fault = False
+        self.manual_retraction = ManualRetractionNetworks(io)  # networks 0 and 10 of manual_retraction
+
+    def ob1(self) -> None:
+        self.manual_retraction.mode(self)
+        super().ob1()
+        self.manual_retraction.selection(self)
 
     def process_networks(self, reset: bool) -> None:
-        self.extended_stop_and_retract()
+        self.extended_stop_and_retract(reset)
 
     # Network 11 --------------------------------------------------------------------------
-    def extended_stop_and_retract(self) -> None:
+    def extended_stop_and_retract(self, reset: bool) -> None:
+        """``reset``: the reset key's edge."""
         chain_ok = self.chain_ok.value if self.chain_ok is not None else True
         ready = self.drives_ready.value if self.drives_ready is not None else True
         if self.drive_fault_edge(ready) and chain_ok:
@@ -78,5 +88,4 @@ class Retraction(GuardedSpindle):
                 axis.controller_enable.value = True
                 axis.pulse_enable.value = True
                 axis.follow_up_mode.value = False
-        acknowledge = self.acknowledge_edge(pressed(self.key_reset))
-        self.nck_inputs.value = (RETRACT_INPUT if retract else 0) | (ACKNOWLEDGE_INPUT if acknowledge else 0)
+        self.nck_inputs.value = (RETRACT_INPUT if retract else 0) | (ACKNOWLEDGE_INPUT if reset else 0)

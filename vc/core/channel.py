@@ -216,6 +216,7 @@ class Channel:
         self.esr: ChannelEsr | None = None  # fast retraction and ESR, given by the NCK
         self._thread: ThreadSegment | None = None  # the running G33 block
         self._thread_chain: float | None = None  # spindle position where the last G33 block ended
+        self._thread_interrupted = False  # an ESR trigger retracted from the running G33 block (LFON)
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -277,6 +278,7 @@ class Channel:
                 axis.brake()
             self._thread = None
         self._thread_chain = None
+        self._thread_interrupted = False
         if self.esr is not None:
             self.esr.program_ended()
 
@@ -357,7 +359,7 @@ class Channel:
         """NC stop: brake on the path, the program is stopped and can continue with NC start.
         In G33 the thread block runs to its end, or with LFON the tool retracts at once (L8215-8221)."""
         if self.state is ChannelState.ACTIVE and self._thread is not None and self.modal.retract.enabled:
-            self._lift_fast()
+            self._lift_fast(None)
         if self.state is ChannelState.ACTIVE:
             self.state = ChannelState.INTERRUPTED
             self.program_state = ProgramState.STOPPED
@@ -376,7 +378,7 @@ class Channel:
         esr = self.esr
         path_runs_on = False
         if esr is not None and esr.running:
-            esr.cycle(cycle, self._segment if isinstance(self._segment, PathSegment) else None)
+            esr.cycle(cycle, self._thread or self._segment)
             path_runs_on = esr.path_runs_on(cycle)  # MD21380: the stop axes' path goes on
         reactions = self._alarms.reactions(self.name)
         if reactions & CHANNEL_INTERRUPT and self.state is ChannelState.ACTIVE:
@@ -403,7 +405,7 @@ class Channel:
 
     def _dwell_cycle(self) -> None:
         if self._dwell_degrees > 0.0:
-            master = self.spindles.get(self._master_spindle() or "")
+            master = self.spindles.get(self.master_spindle() or "")
             if master is not None:
                 self._dwell_degrees -= abs(master.axis.velocity) * self._dt
             if self._dwell_degrees <= 1e-9 or master is None:
@@ -419,7 +421,12 @@ class Channel:
         self._phase = Phase.BLOCK_END
         self._block_end()
 
-    def _master_spindle(self) -> str | None:
+    @property
+    def thread_in_progress(self) -> ThreadSegment | None:
+        """The G33 block's thread while it runs."""
+        return self._thread
+
+    def master_spindle(self) -> str | None:
         number = self.config.md.int(MD.SPIND_DEF_MASTER_SPIND)
         return next((name for name, spindle in self.spindles.items() if spindle.number == number), None)
 
@@ -799,7 +806,7 @@ class Channel:
             if drive is not None:
                 drive.configure(command)  # [control] the drive acknowledges within the block
         for write in plan.variables:
-            esr.write(write)
+            esr.write(write, cycle)
         self.esr_trigger(cycle)
 
     def esr_trigger(self, cycle: int) -> None:
@@ -808,40 +815,51 @@ class Channel:
         if esr is None or not esr.channel_trigger_pending:
             return
         esr.channel_trigger_pending = False
-        if self._thread is not None and self.modal.retract.enabled:
-            self._lift_fast()
+        if self._thread is not None and self.modal.retract.enabled and not self._thread_interrupted:
+            self._lift_fast(cycle)
             return
-        segment = self._segment if isinstance(self._segment, PathSegment) and self._phase is Phase.INTERPOLATE \
-            else None
-        md = self.config.md
+        segment = self._segment if self._phase is Phase.INTERPOLATE else None
         esr.start_channel_reaction(cycle, [axis.name for axis in self.axes], segment, self.modal.retract,
-                                   md.float(MD.ESR_DELAY_TIME1), md.float(MD.ESR_DELAY_TIME2))
+                                   self._esr_delays(), self.inclined)
         if self.state is ChannelState.ACTIVE:
             self.state = ChannelState.INTERRUPTED
             self.program_state = ProgramState.STOPPED
             self._stopping = True
 
-    def _lift_fast(self) -> None:
-        """G33 with LFON interrupted: retract, stop the thread axes; the rest of the thread block and
-        the G33 blocks chained to it are dropped, so NC start goes on after the thread, where the
-        seed's example tests ``IF $AC_LIFTFAST GOTOB MM_THREAD`` (L8356-8385) [INF]."""
+    def _esr_delays(self) -> tuple[float, float]:
+        md = self.config.md
+        return md.float(MD.ESR_DELAY_TIME1), md.float(MD.ESR_DELAY_TIME2)
+
+    def _lift_fast(self, esr_cycle: int | None) -> None:
+        """G33 with LFON interrupted: retract; the thread axes that stay stop at once, or after an ESR
+        trigger in ``esr_cycle`` when MD21380 / MD21381 say.  The rest of the thread block and the
+        G33 blocks chained to it are dropped, so NC start goes on after the thread, where the seed's
+        example tests ``IF $AC_LIFTFAST GOTOB MM_THREAD`` (L8356-8385) [INF]."""
         thread, esr = self._thread, self.esr
         assert thread is not None and esr is not None
+        esr.start_liftfast(self.modal.retract, self.modal.plane, thread, self.config.md.float(MD.LIFTFAST_DIST),
+                           self.inclined, None if esr_cycle is None else (esr_cycle, self._esr_delays()))
+        if esr_cycle is None or not thread.axes:
+            self._drop_thread_block()
+        else:
+            self._thread_interrupted = True  # the thread runs on until the ESR brakes it
+        self.state = ChannelState.INTERRUPTED
+        self.program_state = ProgramState.STOPPED
+
+    def _drop_thread_block(self) -> None:
         self._thread = None
         self._thread_chain = None
-        esr.start_liftfast(self.modal.retract, self.modal.plane, thread.axes, self.config.md.float(MD.LIFTFAST_DIST))
+        self._thread_interrupted = False
         self._plan = None
         self._phase = Phase.DECODE
         self._block_index += 1
         self._leaving_thread_chain = True
-        self.state = ChannelState.INTERRUPTED
-        self.program_state = ProgramState.STOPPED
 
     def _start_thread(self, cycle: int) -> None:
         """G33: the axes follow the master spindle; a standing spindle cannot cut a thread (alarm 65870)."""
         plan, block = self._plan, self.current_block
         assert plan is not None and plan.thread is not None and block is not None
-        master_name = self._master_spindle()
+        master_name = self.master_spindle()
         master = self.spindles.get(master_name or "")
         if master is None or (master.axis.velocity == 0.0 and self._thread_chain is None):
             self._raise(THREAD_SPINDLE_STANDS, cycle, block, master_name or "-")
@@ -860,6 +878,9 @@ class Channel:
         thread = self._thread
         assert thread is not None
         if any(axis.owner is not Owner.PATH for axis in thread.axes):
+            if self._thread_interrupted:
+                self._drop_thread_block()  # the ESR braked the thread axes after MD21380
+                return
             self._thread = None  # braked off the thread (rapid stop): the contour is lost
             self._phase = Phase.CONTOUR_LOST
             self.stop()
@@ -869,6 +890,7 @@ class Channel:
             for axis in thread.axes:
                 axis.release()
             self._thread = None
+            self._thread_interrupted = False
             self._thread_chain = thread.end_position
             self._phase = Phase.BLOCK_END
             self._block_end()

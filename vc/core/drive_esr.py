@@ -32,6 +32,7 @@ MD36610 [INF]; friction and the motor's losses are not modelled (all kinetic ene
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 
@@ -90,8 +91,10 @@ class DriveEsrSignals:
 class DriveEsr:
     """The drive-autonomous ESR of one axis: its drive parameters, enable, reaction and feedback."""
 
-    def __init__(self, axis: MachineAxis, signals: DriveEsrSignals, area: bytearray, dt: float):
+    def __init__(self, axis: MachineAxis, signals: DriveEsrSignals, area: bytearray, dt: float,
+                 parameter_set: Callable[[], int] = lambda: 0):
         self.axis = axis
+        self._parameter_set = parameter_set  # the active gear stage's parameter set (a spindle's gear)
         self._signals = signals
         self._area = area
         self._dt = dt
@@ -125,10 +128,12 @@ class DriveEsr:
         self.p0893 = self._motor_speed(command.velocity)
 
     def _motor_speed(self, load_velocity_per_minute: float) -> float:
-        """Load-side velocity (mm/min or deg/min) -> motor rev/min with the axis's gear ratio
-        (MD31050 / MD31060 load / motor revolutions, MD31030 leadscrew pitch) [control]."""
+        """Load-side velocity (mm/min or deg/min) -> motor rev/min with the axis's gear ratio of the
+        active gear stage (MD31050 / MD31060 load / motor revolutions, "the current total gear ratio",
+        L41971-41975; MD31030 leadscrew pitch) [control]."""
         md = self.axis.config.md
-        ratio = md.int(MD.DRIVE_AX_RATIO_NUMERA, 0) / md.int(MD.DRIVE_AX_RATIO_DENOM, 0)
+        stage = self._parameter_set()
+        ratio = md.int(MD.DRIVE_AX_RATIO_NUMERA, stage) / md.int(MD.DRIVE_AX_RATIO_DENOM, stage)
         if self.axis.config.is_rotary:
             return load_velocity_per_minute / 360.0 * ratio
         return load_velocity_per_minute / md.float(MD.LEADSCREW_PITCH) * ratio

@@ -19,6 +19,14 @@ Reaction of the channel (SEQ-ESR-2, L42121-42177) per axis with ``$AA_ESR_ENABLE
 * other values (0, and 10/11/12, the drive-autonomous reactions of the drive's own parameters p0888)
   take no part in the NC-controlled reaction [control].
 
+In G33 with LFON the channel trigger is a fast retraction (DILF / ALF or LFPOS); the thread axes
+that do not retract follow the spindle on for MD21380 and then brake within MD21381 as the stop
+axes do ("Z keeps moving normally until it stops", L42197-42200).  With a transformation active
+(the inclined-axis pair) the retract positions are program positions, provided every axis of the
+transformation is ESR-enabled; otherwise its group is dissolved and its axes react as machine axes
+(L42098-42104).  Under a five-axis tool path a retract axis leaves the path and the other axes go
+on along it (POLF of a geometry axis is then its machine axis's position [control]).
+
 An axis in such a reaction keeps its controller enable: alarms that would rapid-stop it (follow-up,
 'H2000') wait until its reaction ends (``holds``; the real control delays the alarm reaction of ESR
 axes likewise [control]).  Couplings stay as they are: a coupled following spindle keeps following its
@@ -46,11 +54,25 @@ from vc.core.alarms import AlarmList, Reaction
 from vc.core.axis import MachineAxis, Owner
 from vc.core.drive_esr import TRIGGER_CYCLES, DriveEsr
 from vc.core.drive_esr import Reaction as DriveReaction
-from vc.core.retract_motion import LFPOS, RetractMotion, RetractProgramming, direction_targets, retract_groups
+from vc.core.retract_motion import (
+    LFPOS,
+    RetractMotion,
+    RetractProgramming,
+    TransformGroup,
+    direction_targets,
+    machine_groups,
+    retract_groups,
+    retract_positions,
+    through_transform,
+)
 from vc.core.sync_actions import SyncAction, VariableWrite
+from vc.core.thread_cutting import ThreadSegment
 
 if TYPE_CHECKING:
     from vc.core.path import PathSegment
+    from vc.core.tool_path import ToolPathSegment
+
+    Interpolation = PathSegment | ToolPathSegment | ThreadSegment  # what the stop axes run on
 
 RETRACT_AXIS = 21  # MD37500
 STOP_AXIS = 22
@@ -89,6 +111,15 @@ class _StopAxes:
     stopped_by: int
     braking_time: float
 
+    @classmethod
+    def after(cls, cycle: int, delay: float, braking_time: float, dt: float) -> _StopAxes:
+        """Triggered in ``cycle``: on for ``delay`` (MD21380 / MD37510), braked within ``braking_time``."""
+        return cls(cycle + round(delay / dt), cycle + round((delay + braking_time) / dt), braking_time)
+
+    def deceleration(self, axis: MachineAxis, dt: float) -> float:
+        """MD32300, or what stops the axis within the braking time if that is more [control]."""
+        return max(axis.dyn.max_accel, abs(axis.command_velocity) / max(self.braking_time, dt))
+
 
 class ChannelEsr:
     """Trigger variables, synchronized actions and the retract / stop reaction of one channel."""
@@ -104,17 +135,21 @@ class ChannelEsr:
         self.liftfast = 0.0  # $AC_LIFTFAST
         self.trigger = False  # $AC_ESR_TRIGGER
         self.channel_trigger_pending = False  # its rising edge, for the channel to react in this cycle
-        self.enabled: dict[str, bool] = dict.fromkeys(axes, False)  # $AA_ESR_ENABLE (NC-controlled)
         self.axis_trigger: dict[str, bool] = dict.fromkeys(axes, False)  # $AA_ESR_TRIGGER
         self.single_axis_retract: dict[str, tuple[int, float]] = {}  # POLFA: axis -> (type, value)
         self.actions: dict[int, SyncAction] = {}
         self.motion: RetractMotion | None = None
         self._stop: _StopAxes | None = None
         self._single_stops: dict[str, _StopAxes] = {}
-        self._cycle = 0
         self.protected: set[str] = set()  # axes whose alarm reaction waits for their ESR reaction
 
     # ------------------------------------------------------------------ variables
+    def enabled(self, axis: str) -> bool:
+        """$AA_ESR_ENABLE[ax]: one enable for the NC-controlled reaction and the drive's own (L41782-41792,
+        L42173-42177), kept by the axis's drive."""
+        drive = self.nck.drives.get(axis)
+        return drive is not None and drive.enabled
+
     def read(self, name: str, index: str) -> float:
         """A system variable for a synchronized action's condition; KeyError if unknown."""
         if name == "$AC_ALARM_STAT":
@@ -131,11 +166,11 @@ class ChannelEsr:
         axis = self._geometry.get(index, index)
         if name == "$AA_ESR_STAT" and axis in self.nck.drives:
             return float(self.nck.drives[axis].status)
-        if name == "$AA_ESR_ENABLE" and axis in self.enabled:
-            return float(self.enabled[axis])
+        if name == "$AA_ESR_ENABLE" and axis in self.axes:
+            return float(self.enabled(axis))
         raise KeyError(name)
 
-    def write(self, write: VariableWrite) -> None:
+    def write(self, write: VariableWrite, cycle: int) -> None:
         """A program assignment or a synchronized action's action; a trigger acts on its rising edge."""
         value = bool(write.value)
         if write.name == "$AC_LIFTFAST":
@@ -147,14 +182,12 @@ class ChannelEsr:
             if rising:
                 self.channel_trigger_pending = True
         elif write.name == "$AA_ESR_ENABLE":
-            self.enabled[write.index] = value
-            drive = self.nck.drives.get(write.index)
-            if drive is not None:
-                drive.set_enable(value)
+            self.nck.drives[self._geometry.get(write.index, write.index)].set_enable(value)
         elif write.name == "$AA_ESR_TRIGGER":
-            rising, self.axis_trigger[write.index] = value and not self.axis_trigger[write.index], value
+            axis = self._geometry.get(write.index, write.index)  # a synchronized action may name X, Y, Z
+            rising, self.axis_trigger[axis] = value and not self.axis_trigger[axis], value
             if rising:
-                self._single_axis_reaction(write.index)
+                self._single_axis_reaction(axis, cycle)
 
     def add_actions(self, actions: list[SyncAction]) -> None:
         for action in actions:
@@ -170,7 +203,6 @@ class ChannelEsr:
 
     def run_actions(self, cycle: int) -> None:
         """The synchronized actions of this IPO cycle; an unknown variable raises 12550 and ends the action."""
-        self._cycle = cycle
         for number, action in list(self.actions.items()):
             try:
                 due = action.due(self.read)
@@ -180,8 +212,12 @@ class ChannelEsr:
                 del self.actions[number]
                 continue
             if due:
-                for write in action.actions:
-                    self.write(write)
+                try:
+                    for write in action.actions:
+                        self.write(write, cycle)
+                except KeyError as error:
+                    self._alarms.raise_alarm(12550, cycle, self.name, f"ID={number}", str(error), channel=self.name)
+                    del self.actions[number]
 
     def single_axis_retract_command(self, axis: str, kind: int, value: float | None) -> None:
         """POLFA(ax, type[, value]); without a value the last one stays (L11560-11578)."""
@@ -200,85 +236,102 @@ class ChannelEsr:
         """The stop axes' delay MD21380: the path goes on whatever holds it."""
         return self._stop is not None and cycle < self._stop.brake_at
 
-    def start_channel_reaction(self, cycle: int, candidates: list[str], segment: PathSegment | None,
-                               retract: RetractProgramming, delay1: float, delay2: float) -> None:
-        """$AC_ESR_TRIGGER: retract axes to POLF, the path (with the stop axes) on for MD21380."""
-        enabled = [name for name in candidates if self.enabled.get(name) and not self.axes[name].is_spindle]
+    def start_channel_reaction(self, cycle: int, candidates: list[str], segment: Interpolation | None,
+                               retract: RetractProgramming, delays: tuple[float, float],
+                               transform: TransformGroup | None) -> None:
+        """$AC_ESR_TRIGGER: retract axes to POLF, the path (with the stop axes) on for MD21380.
+
+        ``transform``: the active transformation; unless all its axes are ESR-enabled its group is
+        dissolved and its axes react as machine axes (seed 003 L42098-42104)."""
+        enabled = [name for name in candidates if self.enabled(name) and not self.axes[name].is_spindle]
+        if transform is not None and not all(self.enabled(name) for name in transform.machine_axes):
+            transform = None
         retracting = [name for name in enabled if self.axes[name].config.md.int(MD.ESR_REACTION) == RETRACT_AXIS]
-        groups = retract_groups(retract, self.axes, retracting)
+        groups = retract_groups(retract, self.axes, retracting, transform)
         moving = {axis.name for group in groups for axis in group}
         if segment is not None:
             for name in moving:
                 segment.release_axis(self.axes[name])
         self.motion = RetractMotion(groups) if groups else None
-        stopping = [name for name in enabled if name not in moving]
-        self._stop = _StopAxes(cycle + round(delay1 / self._dt), cycle + round((delay1 + delay2) / self._dt),
-                               delay2)
-        self.protected = set(moving) | set(stopping)
+        self._stop = _StopAxes.after(cycle, *delays, self._dt)
+        self.protected = moving | set(enabled)
 
-    def start_liftfast(self, retract: RetractProgramming, plane: str, thread_axes: list[MachineAxis],
-                       default_distance: float) -> None:
-        """G33 with LFON interrupted: retract (DILF/ALF or LFPOS) and stop the thread axes at MD32300."""
+    def start_liftfast(self, retract: RetractProgramming, plane: str, thread: ThreadSegment,
+                       default_distance: float, transform: TransformGroup | None,
+                       esr: tuple[int, tuple[float, float]] | None) -> None:
+        """G33 with LFON interrupted: retract (DILF/ALF or LFPOS).  The thread axes that stay stop at
+        MD32300 at once (NC stop, an alarm), or, for an ESR trigger (``esr``: its cycle and MD21380 /
+        MD21381), follow the spindle on for MD21380 and then brake within MD21381, as the stop axes
+        of an ESR do (L42121-42128, L42197-42200)."""
         if retract.target_mode == LFPOS:
-            groups = retract_groups(retract, self.axes, [name for name in self.axes if not self.axes[name].is_spindle])
+            groups = retract_groups(retract, self.axes, [name for name in self.axes if not self.axes[name].is_spindle],
+                                    transform)
         else:
-            where = {name: axis.setpoint for name, axis in self.axes.items()}
+            where = retract_positions(self.axes, transform)
             distance = default_distance if retract.distance is None else retract.distance
             targets = direction_targets(retract.direction, distance, plane, self._geometry, where)
-            groups = [{self.axes[name]: target for name, target in targets.items()}] if targets else []
+            groups = machine_groups(through_transform([targets] if targets else [], transform), self.axes)
         moving = {axis for group in groups for axis in group}
-        for axis in thread_axes:
-            if axis not in moving:
+        for axis in moving:
+            thread.release_axis(axis)
+        if esr is None:
+            for axis in thread.axes:
                 axis.brake()  # the thread axis stops at its maximum acceleration
+        else:
+            cycle, delays = esr
+            self._stop = _StopAxes.after(cycle, *delays, self._dt)
         self.motion = RetractMotion(groups) if groups else None
         self.protected = {axis.name for axis in moving}
         self.liftfast = 1.0
 
-    def _single_axis_reaction(self, name: str) -> None:
+    def _single_axis_reaction(self, name: str, cycle: int) -> None:
         """$AA_ESR_TRIGGER[ax]: only a single axis (a spindle here) with $AA_ESR_ENABLE reacts."""
         axis = self.axes.get(name)
-        if axis is None or not axis.is_spindle or not self.enabled.get(name):
+        if axis is None or not axis.is_spindle or not self.enabled(name):
             return  # not a single axis at the trigger: ignored (L11546-11552)
         md = axis.config.md
         reaction = md.int(MD.ESR_REACTION)
         if reaction == RETRACT_AXIS and name in self.single_axis_retract:
             kind, value = self.single_axis_retract[name]
-            target = value if kind == 1 else axis.setpoint + value
-            self.motion = RetractMotion([{axis: target}] + ([] if self.motion is None else [
-                {a: s.ends[i] for i, a in enumerate(s.axes)} for s in self.motion.segments]))
+            group = {axis: value if kind == 1 else axis.setpoint + value}
+            if self.motion is None:
+                self.motion = RetractMotion([group])
+            else:
+                self.motion.add(group)  # the running retractions go on as they are
             self.protected.add(name)
         elif reaction in (RETRACT_AXIS, STOP_AXIS):
-            delay1, delay2 = md.float(MD.AX_ESR_DELAY_TIME1), md.float(MD.AX_ESR_DELAY_TIME2)
-            self._single_stops[name] = _StopAxes(self._cycle + round(delay1 / self._dt),
-                                                 self._cycle + round((delay1 + delay2) / self._dt), delay2)
+            self._single_stops[name] = _StopAxes.after(cycle, md.float(MD.AX_ESR_DELAY_TIME1),
+                                                       md.float(MD.AX_ESR_DELAY_TIME2), self._dt)
             self.protected.add(name)
 
-    def cycle(self, cycle: int, segment: PathSegment | None) -> bool:
-        """One IPO cycle of the running reaction; True in the cycle the path must start braking."""
-        self._cycle = cycle
+    def cycle(self, cycle: int, segment: Interpolation | None) -> None:
+        """One IPO cycle of the running reaction: the retract motions, and after MD21380 the path
+        (``segment``: the block's path, tool path or thread) starts braking."""
         if self.motion is not None:
             self.motion.cycle(self._dt)
             if self.motion.finished:
                 self.motion = None
-        start_braking = False
-        if self._stop is not None:
-            if cycle == self._stop.brake_at and segment is not None:
-                segment.accel = max(segment.accel, segment.velocity / max(self._stop.braking_time, self._dt))
-                start_braking = True
-            if cycle >= self._stop.stopped_by and (segment is None or segment.velocity == 0.0):
+        stop = self._stop
+        if stop is not None:
+            if cycle == stop.brake_at and segment is not None:
+                if isinstance(segment, ThreadSegment):
+                    for axis in segment.axes:
+                        axis.brake(stop.deceleration(axis, self._dt))
+                else:
+                    segment.accel = max(segment.accel, segment.velocity / max(stop.braking_time, self._dt))
+            if cycle >= stop.stopped_by and (segment is None or all(axis.command_velocity == 0.0
+                                                                    for axis in segment.axes)):
                 self._stop = None
-        for name, stop in list(self._single_stops.items()):
+        for name, single in list(self._single_stops.items()):
             axis = self.axes[name]
-            if cycle == stop.brake_at:
-                axis.brake(max(axis.dyn.max_accel, abs(axis.command_velocity) / max(stop.braking_time, self._dt)))
-            if cycle >= stop.stopped_by and axis.command_velocity == 0.0:
+            if cycle == single.brake_at:
+                axis.brake(single.deceleration(axis, self._dt))
+            if cycle >= single.stopped_by and axis.command_velocity == 0.0:
                 del self._single_stops[name]
         if not self.running:
             self.protected = set()
-        return start_braking or (self._stop is not None and cycle == self._stop.brake_at)
 
     def holds(self, axis: str) -> bool:
         """The axis's alarm reaction (rapid stop, controller enable off) waits for its ESR reaction."""
         return axis in self.protected and self.axes[axis].owner in (Owner.RETRACT, Owner.PATH, Owner.BRAKE,
                                                                     Owner.SPINDLE, Owner.COUPLING)
-

@@ -110,6 +110,24 @@ class InclinedAxisControl:
         program = self._program(self._setpoints())
         return {self.orthogonal.name: program.orthogonal, self.inclined.name: program.inclined}
 
+    @property
+    def machine_axes(self) -> tuple[str, str]:
+        return self.orthogonal.name, self.inclined.name
+
+    def machine_targets(self, program_targets: dict[str, float]) -> dict[str, float]:
+        """ESR / fast retraction: the pair's machine end points for program end points of one or both
+        (keyed by machine axis); an axis without one keeps its program position: it leaves the path
+        with the other, or, standing where it is to stay, is left out."""
+        start = self._setpoints()
+        program_start = self._program(start)
+        orthogonal, inclined = self.machine_axes
+        increment = AxisPair(program_targets.get(orthogonal, program_start.orthogonal) - program_start.orthogonal,
+                             program_targets.get(inclined, program_start.inclined) - program_start.inclined)
+        end = start.plus(machine_increment(self.parameters, increment, self.nozagc))
+        return {axis.name: finish for axis, begin, finish in ((self.orthogonal, start.orthogonal, end.orthogonal),
+                                                              (self.inclined, start.inclined, end.inclined))
+                if axis.name in program_targets or finish != begin or axis.command_velocity != 0.0}
+
     def program_position(self, axis: str) -> float | None:
         """The absolute (program) position of ``axis`` from the actual values; None for other axes."""
         program = self._program(AxisPair(self.orthogonal.actual, self.inclined.actual))

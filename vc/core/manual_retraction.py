@@ -2,8 +2,8 @@
 
 A part program in AUTOMATIC or MDA that is aborted by a channel reset or by power failure
 while a thread block runs (G33, or tapping G331 / G332) leaves the tool in the workpiece.
-The NC keeps the retract data of that block (tool axis, plane, the axes' positions, the
-thread's pitch) in its memory, which survives the power cycle, and shows DB21.DBX377.5.
+The NC keeps the retract data of that block (tool axis, spindle, the thread's pitch) in its
+memory, which survives the power cycle, and shows DB21.DBX377.5.
 In JOG the PLC selects the function; then only the tool axis moves, with the traverse keys,
 and the spindle turns with it by the thread's pitch, so the tap unscrews itself.
 
@@ -37,9 +37,7 @@ from vc.core.interface_map import SignalTable
 from vc.core.nc_memory import NcMemory, RetractData
 
 BOTH_DIRECTIONS = 1 << 8  # MD10735 bit 8: retraction in plus and minus direction (L35396-35400)
-PLANE_OF_TOOL_AXIS = ("G19", "G18", "G17")  # the plane whose normal is geometry axis 1, 2, 3
 THREAD_FUNCTIONS = ("G33", "G331", "G332")
-_TINY = 1e-9
 STANDING = JogLimits(plus=False, minus=False)
 
 
@@ -92,33 +90,36 @@ class ManualRetraction:
         running (or stopped in the middle).  Called before the channel forgets its block."""
         channel = self.channel
         plan = channel.block_in_progress
-        function = channel.modal.thread
-        if plan is None or function not in THREAD_FUNCTIONS or not plan.targets:
+        if plan is None or channel.modal.thread not in THREAD_FUNCTIONS or not plan.targets:
             return
-        geometry = channel.config.geometry_axes
-        axes = channel.axes_by_name
         if plan.tapping is not None:
             tool_axis, spindle, ratio = plan.tapping.axis, plan.tapping.spindle, plan.tapping.spindle_per_mm
-        else:
-            # G33: the thread axis is the geometry axis with the longest travel of the block, and the
-            # spindle the one that turns; the pitch is what the two did at the abort [INF]
-            travels = {name: abs(target - axes[name].setpoint) for name, target in plan.targets.items()
-                       if name in geometry}
-            if not travels:
+        elif plan.thread is not None and plan.thread.lead_axis in plan.targets:
+            # G33: the tool axis is the axis the lead names (K: Z), the spindle the master spindle the
+            # thread follows, 360 / lead degrees per mm; the sign from the spindle's sense of rotation
+            # and the block's travel along the tool axis [INF]
+            tool_axis = plan.thread.lead_axis
+            thread = channel.thread_in_progress
+            spindle = thread.spindle.name if thread is not None else channel.master_spindle() or ""
+            if not spindle:
                 return
-            tool_axis = max(travels, key=lambda name: travels[name])
-            spindle = next((name for name, each in channel.spindles.items() if each.axis.velocity), "")
-            tool_velocity = axes[tool_axis].velocity
-            ratio = axes[spindle].velocity / tool_velocity if spindle and abs(tool_velocity) > _TINY else 0.0
-        involved = [name for name in geometry if name] + ([spindle] if spindle else [])
-        self._memory.retract[channel.name] = RetractData(
-            function, tool_axis, PLANE_OF_TOOL_AXIS[min(geometry.index(tool_axis), 2)], spindle, ratio,
-            tuple((name, axes[name].actual) for name in involved))
+            start = thread.starts[thread.axes.index(channel.axes_by_name[tool_axis])] \
+                if thread is not None and channel.axes_by_name[tool_axis] in thread.axes \
+                else channel.axes_by_name[tool_axis].setpoint
+            turning = thread.direction if thread is not None else (-1 if channel.axes_by_name[spindle].velocity < 0
+                                                                   else 1)
+            travel = -1 if plan.targets[tool_axis] < start else 1
+            ratio = turning * travel * 360.0 / plan.thread.lead
+        else:
+            return
+        self._memory.retract[channel.name] = RetractData(tool_axis, spindle, ratio)
 
     # ------------------------------------------------------------------ commands
     def commands(self, mode: Mode, reference_function: bool, reset: bool) -> None:
         """Cancel, select (PI service RETRAC), pause and continue; one IPO cycle."""
         request = self._signals.request.get(self._area)
+        if not (request or self._request or reset or self.active):
+            return  # no selection asked for, none running: the usual IPO cycle
         request_edge = request and not self._request
         self._request = request
         if reset or (self.active and (mode is not Mode.JOG or reference_function)):
@@ -202,7 +203,7 @@ class ManualRetraction:
 
     # ------------------------------------------------------------------ outputs
     def write_outputs(self) -> None:
-        status = (self.data is not None, self.active, self._answer is True, self._answer is False)
+        status = (self.channel.name in self._memory.retract, self.active, self._answer is True, self._answer is False)
         if status == self._written:
             return
         self._written = status

@@ -33,16 +33,15 @@ class BufferedEncoder:
 class RetractData:
     """What a channel keeps when a thread block is aborted, for manual retraction (seed 003 §16.12).
 
-    The control keeps references to the data of the abort, not copies (L35344-35348); this
-    core has no tool offsets, toolholders or transformations, so the data are the thread's own.
+    The control keeps references to the data of the abort, not copies (L35344-35348): tool offset,
+    plane, toolholder, transformation and thread data.  This core has no tool offsets, toolholders
+    or frames, and a selection starts from where the axes stand (L35655-35656), so what the
+    retraction needs of them is the tool axis and the thread's spindle and pitch.
     """
 
-    function: str  # the thread block aborted: "G33", "G331" or "G332"
     tool_axis: str  # machine axis of the drilling / thread axis: the retract axis
-    plane: str  # the working plane whose third axis is the tool axis: "G17", "G18" or "G19"
     spindle: str  # machine axis of the spindle interpolated with it ("" = none)
     spindle_per_mm: float  # thread data: spindle degrees per mm of the tool axis (signed)
-    positions: tuple[tuple[str, float], ...]  # actual values of the axes involved at the abort
 
 
 @dataclass(slots=True)

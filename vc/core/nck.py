@@ -21,6 +21,7 @@ writes, buffered positions) is an :class:`NcMemory` handed in by whoever powers 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 from interfaces.image import ProcessImage
 from interfaces.signals import Catalog, Direction, InstanceKind, expand
@@ -142,7 +143,8 @@ class Nck:
                                    {spindle.name: self.image.area(f"DB{spindle.axis.config.db}")
                                     for spindle in self.spindles}, self.dt, self.alarms)
         drive_signals = DriveEsrSignals(SignalTable(catalog, InstanceKind.AXIS))
-        self.esr = NckEsr({axis.name: DriveEsr(axis, drive_signals, self.image.area(f"DB{axis.config.db}"), self.dt)
+        self.esr = NckEsr({axis.name: DriveEsr(axis, drive_signals, self.image.area(f"DB{axis.config.db}"), self.dt,
+                                               self._parameter_set_of(axis.name))
                            for axis in self.axes})
         self.dc_link = DcLink(machine.dc_link, self.dt) if machine.dc_link is not None else None
         for channel in self.channels:
@@ -177,6 +179,13 @@ class Nck:
             channel.write_axis_summary()
         for retraction in self.retractions.values():
             retraction.write_outputs()
+
+    def _parameter_set_of(self, axis: str) -> Callable[[], int]:
+        """The active parameter set of ``axis``: a spindle's gear stage, else the first."""
+        spindle = self._spindle_of.get(axis)
+        if spindle is None:
+            return lambda: 0
+        return lambda: spindle.parameter_set
 
     def _power_on_mode(self) -> Mode:
         """MD10720 of the mode group (0 AUTOMATIC, 3 MDA, 7 JOG; the sub-modes count as JOG [control]);
@@ -389,10 +398,12 @@ class Nck:
         """Synchronized actions (after this cycle's alarms, before their reactions), the channels'
         reaction to $AC_ESR_TRIGGER, then the drives' own reaction to $AN_ESR_TRIGGER."""
         for channel in self.channels:
-            assert channel.esr is not None
-            if channel.esr.actions:
-                channel.esr.run_actions(self.cycle)
-            channel.esr_trigger(self.cycle)
+            esr = channel.esr
+            assert esr is not None
+            if esr.actions:
+                esr.run_actions(self.cycle)
+            if esr.channel_trigger_pending:  # idle cycles end here: nothing armed fired
+                channel.esr_trigger(self.cycle)
         self.esr.cycle()
 
     def _dc_link_cycle(self, dc_link: DcLink) -> None:

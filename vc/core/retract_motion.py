@@ -12,6 +12,12 @@ Two ways to say where the tool goes:
   machine axis an MCS value, IC() incremental from where the axis stands at the trigger (L8314-8333).
   The harness has no frames, so WCS = MCS.
 
+With a transformation active (the inclined Y slide of seed 000) the geometry axes of the
+transformation are program (Cartesian) axes: their POLF and DILF / ALF end points are program
+positions, and the transformation's machine axes move together on the straight program line to
+the machine end points of those positions (``TransformGroup``).  A geometry axis of the group
+without a retract target keeps its program position at the trigger [control].
+
 A retraction runs at the axes' maximum dynamics (MD32000 / MD32300, L8340-8349; the jerk limit
 MD32431 is not modelled): each group of axes is a rapid linear segment, owned by the retraction
 (``Owner.RETRACT``), so neither feed stop nor the single-axis stop signal holds it (L11394-11396).
@@ -20,7 +26,9 @@ MD32431 is not modelled): each group of axes is a rapid linear segment, owned by
 from __future__ import annotations
 
 import math
+from collections.abc import Collection
 from dataclasses import dataclass, field
+from typing import Protocol
 
 from vc.core.axis import MachineAxis, Owner
 from vc.core.path import PathSegment
@@ -75,19 +83,61 @@ def direction_targets(direction: int, distance: float, plane: str, machine_axis_
     return targets
 
 
+class TransformGroup(Protocol):
+    """The machine axes of an active transformation and their program (Cartesian) positions."""
+
+    @property
+    def machine_axes(self) -> Collection[str]: ...
+
+    def program_positions(self) -> dict[str, float]:
+        """Program positions of the group's axes, keyed by their machine axis names."""
+        ...
+
+    def machine_targets(self, program_targets: dict[str, float]) -> dict[str, float]:
+        """Machine end points of every axis of the group for program end points of some of them."""
+        ...
+
+
+def retract_positions(axes: dict[str, MachineAxis], transform: TransformGroup | None) -> dict[str, float]:
+    """Where the axes stand at the trigger, as the retract programming counts: the program positions
+    of a transformation's axes, else the machine setpoints."""
+    where = {name: axis.setpoint for name, axis in axes.items()}
+    if transform is not None:
+        where.update(transform.program_positions())
+    return where
+
+
+def through_transform(groups: list[dict[str, float]], transform: TransformGroup | None) -> list[dict[str, float]]:
+    """The groups with program end points of a transformation's axes turned into machine end points:
+    the groups that hold an axis of the transformation become one group with all its axes, so the
+    tool leaves on the straight program line [control]."""
+    if transform is None:
+        return groups
+    members = set(transform.machine_axes)
+    touching = [group for group in groups if members & set(group)]
+    if not touching:
+        return groups
+    merged = {name: target for group in touching for name, target in group.items()}
+    merged.update(transform.machine_targets({name: merged[name] for name in members if name in merged}))
+    return [group for group in groups if not members & set(group)] + [merged]
+
+
 class RetractMotion:
     """Retract moves running at maximum dynamics: one rapid linear segment per group of axes."""
 
     def __init__(self, groups: list[dict[MachineAxis, float]]):
         self.segments: list[PathSegment] = []
         for group in groups:
-            axes = list(group)
-            if not axes:
-                continue
-            for axis in axes:
-                axis.take(Owner.RETRACT)
-            self.segments.append(PathSegment.plan(axes, [group[axis] for axis in axes], [True] * len(axes),
-                                                  0.0, True))
+            self.add(group)
+
+    def add(self, group: dict[MachineAxis, float]) -> None:
+        """One more group: it starts from where its axes stand; the running groups go on unchanged."""
+        axes = list(group)
+        if not axes:
+            return
+        for axis in axes:
+            axis.take(Owner.RETRACT)
+        self.segments.append(PathSegment.plan(axes, [group[axis] for axis in axes], [True] * len(axes), 0.0, True))
 
     @property
     def axes(self) -> list[MachineAxis]:
@@ -112,14 +162,18 @@ class RetractMotion:
         self.segments = running
 
 
-def retract_groups(programming: RetractProgramming, axes: dict[str, MachineAxis], candidates: list[str]
-                   ) -> list[dict[MachineAxis, float]]:
+def retract_groups(programming: RetractProgramming, axes: dict[str, MachineAxis], candidates: list[str],
+                   transform: TransformGroup | None = None) -> list[dict[MachineAxis, float]]:
     """LFPOS: the POLFMLIN axes as one group, every POLFMASK axis as a group of its own, restricted
     to ``candidates`` (the axes allowed to retract) that have a POLF position."""
-    where = {name: axes[name].setpoint for name in axes}
+    where = retract_positions(axes, transform)
     linear = [name for name in programming.linear if name in candidates]
-    groups = [{axes[name]: target for name, target in programming.position_targets(linear, where).items()}]
+    groups = [programming.position_targets(linear, where)]
     for name in programming.axial:
         if name in candidates and name not in linear:
-            groups += [{axes[name]: target for name, target in programming.position_targets([name], where).items()}]
-    return [group for group in groups if group]
+            groups.append(programming.position_targets([name], where))
+    return machine_groups(through_transform([group for group in groups if group], transform), axes)
+
+
+def machine_groups(groups: list[dict[str, float]], axes: dict[str, MachineAxis]) -> list[dict[MachineAxis, float]]:
+    return [{axes[name]: target for name, target in group.items()} for group in groups]

@@ -68,6 +68,14 @@ class ThreadSegment:
     def finished(self) -> bool:
         return self.fraction >= 1.0
 
+    def release_axis(self, axis: MachineAxis) -> None:
+        """``axis`` leaves the thread (a retraction takes it); the others go on with the spindle."""
+        if axis not in self.axes:
+            return
+        index = self.axes.index(axis)
+        for values in (self.axes, self.starts, self.ends, self._units):
+            del values[index]
+
     @property
     def end_position(self) -> float:
         """The spindle position at which the block's end point is reached."""

@@ -49,6 +49,7 @@ class ToolPathSegment:
     s: float = 0.0
     velocity: float = 0.0
     _previous: list[float] = field(default_factory=list)  # axis positions handed out last cycle
+    _released: set[int] = field(default_factory=set)  # indices in ``positions_at`` of axes an ESR retract took
 
     @classmethod
     def plan(cls, axes: list[MachineAxis], positions_at: PositionsAt, length: float, feed: float,
@@ -76,9 +77,19 @@ class ToolPathSegment:
         if self.length > 0.0:
             self._hand_out(self.s / self.length, dt)
 
+    def release_axis(self, axis: MachineAxis) -> None:
+        """``axis`` leaves the tool path (an ESR retract takes it); the others go on along it."""
+        if axis in self.axes:
+            index = self.axes.index(axis)
+            following = [number for number in range(len(self._previous)) if number not in self._released]
+            self._released.add(following[index])
+            del self.axes[index]
+
     def _hand_out(self, fraction: float, dt: float) -> None:
         positions = list(self.positions_at(fraction))
-        for axis, position, previous in zip(self.axes, positions, self._previous, strict=True):
+        following = (item for number, item in enumerate(zip(positions, self._previous, strict=True))
+                     if number not in self._released)
+        for axis, (position, previous) in zip(self.axes, following, strict=True):
             axis.set_path_setpoint(position, (position - previous) / dt)
         self._previous = positions
 

@@ -7,6 +7,7 @@ the test acts as the PLC.  Turn-mill: X1 / Z1 / Y1 with absolute encoders, 30 m/
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import pytest
@@ -19,6 +20,7 @@ from vc.core.interpreter import ModalState, decode
 from vc.core.program import parse_program
 from vc.core.retract_motion import RetractProgramming, direction_targets, retract_groups
 from vc.core.sync_actions import SyncActionError, parse_actions, parse_condition
+from vc.core.tool_path import ToolPathSegment
 
 ESR_MACHINE = ("CHAN1: {MD20700: 0, MD21380: 0.1, MD21381: 0.04}\n"
                "X1: {MD30240: [4], MD34210: [2], MD37500: 21}\n"
@@ -315,3 +317,166 @@ def test_an_nc_alarm_does_not_cut_the_drives_own_retraction_short() -> None:
     assert x1.actual == pytest.approx(170.0, abs=0.05)  # the whole 20 mm of ESRR
     rig.step(300)
     assert not x1.servo_on  # then the alarm's rapid stop takes the enable
+
+
+# ------------------------------------------------------------------------------ POLF programs end to end
+# Seed 003 §22.4.3-22.4.5 (TV-ESR-4/5/6): the fast input is $A_IN[1] with a static synchronized action.
+# Turn-mill with the inclined-axis control off (MD62800 = 0): X1, Y1, Z1 orthogonal, all retract axes.
+POLF_MACHINE = ("CHAN1: {MD20700: 0, MD21380: 0.1, MD21381: 0.04, MD62800: 0}\n"
+                "X1: {MD30240: [4], MD34210: [2], MD37500: 21}\n"
+                "Z1: {MD30240: [4], MD34210: [2], MD37500: 21}\n"
+                "Y1: {MD30240: [4], MD34210: [2], MD37500: 21}")
+POLF_ARMING = ("N1 IDS=1 WHENEVER $A_IN[1]==1 DO $AC_ESR_TRIGGER=1\n"
+               "N2 $AA_ESR_ENABLE[X]=1 $AA_ESR_ENABLE[Y]=1 $AA_ESR_ENABLE[Z]=1\nN3 LFPOS\n")
+
+
+def _trigger_in_block(rig: Rig, program: str, number: int, moving: str, cycles_into_block: int = 50) -> None:
+    """Run ``program`` from reset, give $A_IN[1] ``cycles_into_block`` cycles into block ``number``
+    (while ``moving`` moves) and wait until every axis of the channel stands."""
+    run_mda(rig, program)
+    rig.run_until(lambda: block_number(rig) == number and axis(rig, moving).command_velocity != 0.0, 20000)
+    rig.step(cycles_into_block)
+    rig.set("NC.basic.out.setDigitalInputs", 1)
+    rig.step(2)
+    esr = rig.nck.channels[0].esr
+    assert esr is not None
+    rig.run_until(lambda: not esr.running and all(axis(rig, name).command_velocity == 0.0
+                                                  for name in ("X1", "Y1", "Z1")), 2000)
+    rig.set("NC.basic.out.setDigitalInputs", 0)
+
+
+def _polf_rig() -> tuple[Rig, MachineAxis, MachineAxis, MachineAxis]:
+    rig = Rig(machine(POLF_MACHINE))
+    rig.ready_mda()
+    return rig, axis(rig, "X1"), axis(rig, "Y1"), axis(rig, "Z1")
+
+
+def _reset(rig: Rig) -> None:
+    rig.pulse("CHAN1.basic.out.reset", 2)
+    rig.step(100)
+
+
+def test_tv_esr_4_fast_input_retracts_x_and_y_then_the_new_mask_only_z() -> None:
+    rig, x1, y1, z1 = _polf_rig()
+    head = POLF_ARMING + "N40 POLF[X]=19.5 POLF[Y]=33.3\nN50 POLF[Z]=100\nN60 G0 X0 Y0\nN65 POLFMASK(X,Y)\n"
+    _trigger_in_block(rig, head + "N70 Z100 G1 F1000\nN80 POLFMASK(Z)\nN90 Y10\nM30", 70, "Z1")
+    assert (x1.setpoint, y1.setpoint) == (pytest.approx(19.5, abs=1e-6), pytest.approx(33.3, abs=1e-6))
+    assert 100.0 < z1.setpoint < 300.0  # Z1 (no POLFMASK) stopped on the path, short of Z100
+    _reset(rig)
+    _trigger_in_block(rig, head + "N70 Z100 G1 F1000\nN80 POLFMASK(Z)\nN90 Y10\nM30", 90, "Y1", 20)
+    assert x1.setpoint == pytest.approx(0.0, abs=1e-6)  # X1 left the mask: no retraction to 19.5
+    assert 0.0 < y1.setpoint < 10.0  # Y1 stopped on the path of N90
+    assert z1.setpoint == pytest.approx(100.0, abs=1e-6)  # Z1 to its POLF 100 (it stands there already)
+
+
+def test_tv_esr_5_incremental_then_absolute_polf_and_the_new_mask() -> None:
+    rig, x1, y1, z1 = _polf_rig()
+    program = (POLF_ARMING + "N40 POLF[X]=IC(3.0) POLF[Y]=-4.0\nN50 POLF[Z]=100\nN60 G0 X50 Y20\n"
+               "N80 POLFMASK(X,Y)\nN90 Z100 G1 F1000\nN100 POLF[X]=10\nN110 Y0\nN120 POLFMASK(Z)\nN130 Y10\nM30")
+    _trigger_in_block(rig, program, 90, "Z1")
+    assert (x1.setpoint, y1.setpoint) == (pytest.approx(53.0, abs=1e-6), pytest.approx(-4.0, abs=1e-6))
+    _reset(rig)
+    _trigger_in_block(rig, program, 110, "Y1", 20)
+    assert (x1.setpoint, y1.setpoint) == (pytest.approx(10.0, abs=1e-6), pytest.approx(-4.0, abs=1e-6))
+    _reset(rig)
+    _trigger_in_block(rig, program, 130, "Y1", 20)
+    assert x1.setpoint == pytest.approx(50.0, abs=1e-6) and 0.0 < y1.setpoint < 10.0
+    assert z1.setpoint == pytest.approx(100.0, abs=1e-6)
+
+
+def test_tv_esr_6_polfmlin_axes_arrive_together_on_a_line() -> None:
+    rig, x1, y1, z1 = _polf_rig()
+    program = (POLF_ARMING + "N40 POLF[X]=IC(3.0) POLF[Z]=-4.0\nN50 POLF[Y]=100\nN60 G0 X50 Y0\n"
+               "N70 POLFMLIN(X,Y)\nN80 POLFMASK(Z)\nN90 Z100 G1 F1000\nM30")
+    run_mda(rig, program)
+    rig.run_until(lambda: block_number(rig) == 90 and z1.command_velocity != 0.0, 20000)
+    rig.step(50)
+    x_start = x1.setpoint  # N90 moves only Z1
+    rig.set("NC.basic.out.setDigitalInputs", 1)
+    arrivals: dict[str, int] = {}
+    for count in range(1, 2000):
+        rig.step(1)
+        # on the line: X1's share of the way equals Y1's in every cycle
+        assert (x1.setpoint - x_start) / 3.0 == pytest.approx(y1.setpoint / 100.0, abs=1e-9)
+        for name, target in (("X1", x_start + 3.0), ("Y1", 100.0), ("Z1", -4.0)):
+            if name not in arrivals and abs(axis(rig, name).setpoint - target) < 1e-9:
+                arrivals[name] = count
+        if len(arrivals) == 3:
+            break
+    assert arrivals["X1"] == arrivals["Y1"]  # POLFMLIN: together
+    assert arrivals["Z1"] != arrivals["X1"]  # POLFMASK: Z1 on its own (about 200 mm, longer)
+
+
+def test_seq_esr_3_single_axis_stop_runs_on_for_md37510_and_stops_within_md37511() -> None:
+    rig = Rig(machine(ESR_MACHINE + "\nSP3: {MD37500: 22, MD37510: 0.3, MD37511: 0.06}"))
+    rig.ready_mda()
+    rig.set("SP3.spindle.out.ovrFactor", 100)
+    spindle = axis(rig, "SP3")
+    run_mda(rig, "N10 M3=3 S3=1000\nN20 $AA_ESR_ENABLE[SP3]=1\nN30 G4 F1\nN40 $AA_ESR_TRIGGER[SP3]=1\nN50 G4 F5\nM30")
+    rig.run_until(lambda: block_number(rig) == 40, 20000)
+    assert spindle.command_velocity == pytest.approx(6000.0)  # 1000 rev/min
+    trigger_cycle = rig.nck.cycle
+    rig.run_until(lambda: spindle.command_velocity < 6000.0, 1000)
+    assert (rig.nck.cycle - trigger_cycle) * DT == pytest.approx(0.3, abs=DT)  # MD37510: turning on
+    rig.run_until(lambda: spindle.command_velocity == 0.0, 1000)
+    assert (rig.nck.cycle - trigger_cycle) * DT <= 0.36 + DT  # MD37511: stopped within 0.06 s
+
+
+def test_a_single_axis_trigger_leaves_the_running_retraction_alone() -> None:
+    rig = Rig(machine(ESR_MACHINE + "\nSP3: {MD37500: 21}"))
+    rig.ready_mda()
+    run_mda(rig, "N10 LFPOS POLF[X]=IC(100) POLFMASK(X)\nN20 $AA_ESR_ENABLE[X]=1 $AA_ESR_ENABLE[SP3]=1\n"
+                 "N30 POLFA(SP3,1,90.0)\nN40 IDS=1 WHENEVER $A_IN[1]==1 DO $AC_ESR_TRIGGER=1\n"
+                 "N50 IDS=2 WHENEVER $A_IN[2]==1 DO $AA_ESR_TRIGGER[SP3]=1\nN60 G1 Z100 F3000\nM30")
+    x1, spindle = axis(rig, "X1"), axis(rig, "SP3")
+    rig.run_until(lambda: axis(rig, "Z1").command_velocity < 0.0, 20000)
+    rig.set("NC.basic.out.setDigitalInputs", 1)
+    rig.run_until(lambda: x1.command_velocity > 200.0, 200)  # X1 retracting, accelerating
+    rig.set("NC.basic.out.setDigitalInputs", 3)  # now SP3 on its own trigger
+    velocities = [x1.command_velocity]
+    while x1.command_velocity > 0.0 or len(velocities) < 3:
+        rig.step(1)
+        velocities.append(x1.command_velocity)
+    # the velocity of X1's retraction goes on without a jump (MD32300 4 m/s^2 = 8 mm/s per cycle)
+    assert max(abs(b - a) for a, b in itertools.pairwise(velocities)) <= 4000.0 * DT + 1e-6
+    rig.run_until(lambda: spindle.command_velocity == 0.0, 1000)
+    assert x1.setpoint == pytest.approx(250.0, abs=1e-6) and spindle.setpoint == pytest.approx(90.0, abs=1e-6)
+
+
+# ------------------------------------------------------------------------------ transformations
+
+
+def test_without_esr_on_every_axis_of_the_inclined_pair_its_group_is_dissolved() -> None:
+    # seed 003 L42098-42104: Y1 of the inclined pair without $AA_ESR_ENABLE - POLF[X] is a machine X1 position
+    rig = Rig(machine(ESR_MACHINE))
+    rig.ready_mda()
+    run_mda(rig, "N10 G0 G90 X100 Y0\nN20 LFPOS POLF[X]=150 POLFMASK(X)\nN30 $AA_ESR_ENABLE[X]=1\n"
+                 "N40 IDS=1 WHENEVER $A_IN[1]==1 DO $AC_ESR_TRIGGER=1\nN50 G1 X120 Y80 F3000\nM30")
+    x1, y1 = axis(rig, "X1"), axis(rig, "Y1")
+    rig.run_until(lambda: rig.nck.program_position("Y1") > 40.0, 20000)
+    rig.set("NC.basic.out.setDigitalInputs", 1)
+    rig.step(2)
+    esr = rig.nck.channels[0].esr
+    assert esr is not None
+    rig.run_until(lambda: not esr.running, 500)
+    assert x1.setpoint == pytest.approx(150.0, abs=1e-6)  # the machine axis, not program X
+    assert y1.command_velocity == 0.0
+
+
+def test_a_retract_axis_leaves_a_tool_path_and_the_others_follow_it() -> None:
+    rig = Rig(machine(ABSOLUTE_XYZ))
+    x1, z1, y1 = axis(rig, "X1"), axis(rig, "Z1"), axis(rig, "Y1")
+    segment = ToolPathSegment.plan([x1, z1, y1], lambda f: (150.0 + 10.0 * f, 300.0 + 20.0 * f, 30.0 * f), 30.0,
+                                   600.0, False)
+    segment.release_axis(z1)
+    while not segment.finished:
+        segment.cycle(1.0, False, DT)
+    assert (x1.setpoint, z1.setpoint, y1.setpoint) == (160.0, 300.0, 30.0)  # Z1 stays where it was left
+
+
+def test_esrr_converts_with_the_gear_ratio_of_the_active_gear_stage() -> None:
+    # SP1 in gear stage 1 (7.5 motor revolutions per load revolution); parameter set 0 would give 1:1
+    rig = spindle_rig("SP1: {MD31050: [1, 2, 1, 3], MD31060: [1, 15, 3, 4]}")
+    run_mda(rig, "ESRR(SP1,90.0,3600.0)\nM30")
+    rig.step(20)
+    assert rig.nck.esr.drives["SP1"].p0893 == pytest.approx(75.0)  # 10 rev/min at the load x 7.5

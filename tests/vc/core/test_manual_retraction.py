@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import pytest
 from core_rig import MILL, Rig, machine
+from test_spindle import spindle_rig
 
 from vc.config.model import MachineConfig
 from vc.core.nc_memory import RetractData
@@ -99,9 +100,8 @@ def test_power_failure_during_g331_keeps_the_retract_data_and_md10721_selects_jo
     rig = abort_tapping_by_power_failure(mill("CHAN1: {MD20700: 0}\nNC: {MD10720: [0], MD10721: [1]}"))
     data = rig.nck.memory.retract["CHAN1"]
     assert isinstance(data, RetractData)
-    assert (data.function, data.tool_axis, data.plane, data.spindle) == ("G331", "Z1", "G17", "SP1")
+    assert (data.tool_axis, data.spindle) == ("Z1", "SP1")
     assert data.spindle_per_mm == pytest.approx(-180.0)  # 360 degrees per 2 mm, back up when Z rises
-    assert dict(data.positions)["Z1"] == pytest.approx(rig.axis("Z1").actual)
     assert rig.get("CHAN1.basic.in.jogRetractDataAvailable") == 1
     assert rig.get("MODEGROUP.basic.in.jogModeActive") == 1  # MD10720 = 0 would be AUTOMATIC
 
@@ -119,6 +119,19 @@ def test_a_reset_outside_a_thread_keeps_no_data() -> None:
     rig.pulse("CHAN1.basic.out.reset", 3)
     rig.step(5)
     assert rig.nck.memory.retract == {} and rig.get("CHAN1.basic.in.jogRetractDataAvailable") == 0
+
+
+def test_a_reset_in_g33_keeps_the_lead_axis_the_thread_spindle_and_360_over_the_lead() -> None:
+    rig = spindle_rig()  # turn-mill, SP1 the master spindle
+    rig.mda("N10 M3 S500 G90 G18\nN20 G0 Z5\nN30 X10\nN40 G33 X60 Z20 K5\nM30")
+    rig.run_until(lambda: rig.channel.current_block is not None and rig.channel.current_block.number == 40
+                  and rig.axis("X1").actual > 20.0, 20_000)
+    rig.pulse("CHAN1.basic.out.reset", 3)
+    data = rig.nck.memory.retract["CHAN1"]
+    # K names Z: Z1 is the tool axis although X travels farther (50 mm against 15 mm); SP1 turns
+    # 360 / 5 degrees per mm of Z1, M3 while Z1 rises
+    assert (data.tool_axis, data.spindle) == ("Z1", "SP1")
+    assert data.spindle_per_mm == pytest.approx(72.0)
 
 
 # ------------------------------------------------------------------------------ selection and retraction
