@@ -525,9 +525,11 @@ class Channel:
         block = self._blocks[self._block_index]
         self.current_block = block
         positions = self.five_axis.program_positions(self.modal.five_axis)
+        pair: tuple[str, ...] = ()
         if self.inclined is not None:
             positions.update(self.inclined.program_positions())
-        plan, alarm = decode(block, self.modal, self.config, self.axes_by_name, positions)
+            pair = self.inclined.axis_names
+        plan, alarm = decode(block, self.modal, self.config, self.axes_by_name, positions, pair)
         if alarm is None:
             alarm = self.five_axis.apply(plan, self.modal.five_axis, block.label)
         if alarm is None and self.inclined is not None:
