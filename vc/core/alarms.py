@@ -184,9 +184,6 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         Clear.RESET, "seed 000 L364-370 (rigid tapping on the inclined axis, feed axis synchronous"
                         " control, polygon turning, hypothetical axis, PMC axis, superimposed control); project"
                         " alarm number"),
-        AlarmDefinition(65823, "Channel %1 inclined-axis control: %2", _STOP, Clear.RESET,
-                        "seed 000 L330-362 (2-path synchronous / composite control pairs inclined with inclined,"
-                        " orthogonal with orthogonal); project alarm number"),
         AlarmDefinition(65824, "Channel %1 inclined-axis control not possible: %2", Reaction.NC_START_DISABLED,
                         Clear.POWER_ON, "seed 000 L379-381 (linear axes of one increment system only; the"
                         " machine data take effect at power-on, L403-405); project alarm number"),

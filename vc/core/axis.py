@@ -121,6 +121,9 @@ class JogLimits:
     minus: bool = True
     velocity: float = math.inf  # per second
     accel: float = math.inf  # per second squared
+    # The setpoints between which JOG keeps the axis in place of its software limit switches
+    # MD36100 / MD36110, where a transform checks them in other coordinates (inclined axis, AOT).
+    window: tuple[float, float] | None = None
 
     def and_(self, other: JogLimits) -> JogLimits:
         """Both sets of limits at once."""
@@ -128,8 +131,10 @@ class JogLimits:
             return self
         if self is FREE_JOG:
             return other
+        window = self.window if other.window is None else other.window if self.window is None else \
+            (max(self.window[0], other.window[0]), min(self.window[1], other.window[1]))
         return JogLimits(self.plus and other.plus, self.minus and other.minus,
-                         min(self.velocity, other.velocity), min(self.accel, other.accel))
+                         min(self.velocity, other.velocity), min(self.accel, other.accel), window)
 
 
 FREE_JOG = JogLimits()
@@ -235,6 +240,7 @@ class MachineAxis:
         self._motion_end_cycle = 0  # cycles since the interpolator reached its end point
         self._fine_reached = True
         self.at_software_limit = 0  # -1 / +1 while resting on the minus / plus software limit switch
+        self._jog_window: tuple[float, float] | None = None  # JogLimits.window of the last JOG cycle
         self.jerk_filter: JerkFilter | None = None
         if config.md.bool(MD.AX_JERK_ENABLE):
             self.jerk_filter = JerkFilter(config.md.int(MD.AX_JERK_MODE), config.md.float(MD.AX_JERK_TIME),
@@ -410,6 +416,7 @@ class MachineAxis:
         """Continuous JOG with the traverse keys (level-triggered), one IPO cycle."""
         inp = self.inputs
         direction = 0
+        self._jog_window = limits.window
         if allowed and inp.key_plus != inp.key_minus:
             direction = 1 if inp.key_plus else -1
             if (direction > 0 and not limits.plus) or (direction < 0 and not limits.minus):
@@ -417,8 +424,8 @@ class MachineAxis:
             elif (direction > 0 and inp.hw_limit_plus) or (direction < 0 and inp.hw_limit_minus):
                 direction = 0  # only away from an actuated limit switch
             elif self.software_limits_active and self.owner is Owner.NONE and (
-                    (direction > 0 and self.setpoint >= self.dyn.limit_plus)
-                    or (direction < 0 and self.setpoint <= self.dyn.limit_minus)):
+                    (direction > 0 and self.setpoint >= self._soft_limits[1])
+                    or (direction < 0 and self.setpoint <= self._soft_limits[0])):
                 direction = 0  # resting on a software limit switch: only away from it
         if direction and self.owner is Owner.NONE and self.drive_ready:
             self.take(Owner.JOG)
@@ -438,24 +445,29 @@ class MachineAxis:
         if velocity == 0.0 and (direction == 0 or self.at_software_limit == direction):
             self.release()  # stopped: key released, or resting on the software limit it points to
 
+    @property
+    def _soft_limits(self) -> tuple[float, float]:
+        """The software limits JOG keeps: MD36100 / MD36110, or the window a transform gave."""
+        return self._jog_window if self._jog_window is not None else (self.dyn.limit_minus, self.dyn.limit_plus)
+
     def _limit_to_software_limits(self, velocity: float, accel: float) -> float:
         """Brake so as to stop exactly on a software limit switch (JOG), never harder than ``accel``."""
         dt = self._dt
+        minus, plus = self._soft_limits
         if velocity > 0.0:
-            limit = stopping_velocity(self.dyn.limit_plus - self.setpoint, accel, dt)
-            return min(velocity, limit)
+            return min(velocity, stopping_velocity(plus - self.setpoint, accel, dt))
         if velocity < 0.0:
-            limit = stopping_velocity(self.setpoint - self.dyn.limit_minus, accel, dt)
-            return max(velocity, -limit)
+            return max(velocity, -stopping_velocity(self.setpoint - minus, accel, dt))
         return velocity
 
     def _arrive_at_software_limits(self) -> None:
         """Snap the rounding rest when the setpoint reached a software limit switch."""
-        if self.command_velocity > 0.0 and self.dyn.limit_plus - self.setpoint <= _TINY:
-            self.setpoint = self.dyn.limit_plus
+        minus, plus = self._soft_limits
+        if self.command_velocity > 0.0 and plus - self.setpoint <= _TINY:
+            self.setpoint = plus
             self.at_software_limit = 1
-        elif self.command_velocity < 0.0 and self.setpoint - self.dyn.limit_minus <= _TINY:
-            self.setpoint = self.dyn.limit_minus
+        elif self.command_velocity < 0.0 and self.setpoint - minus <= _TINY:
+            self.setpoint = minus
             self.at_software_limit = -1
 
     def _brake_cycle(self) -> None:
@@ -613,8 +625,14 @@ class MachineAxis:
         delta = value - self.actual
         for encoder in self.encoders:
             encoder.offset += delta
-            encoder.referenced = encoder.restored = False
+        self.drop_reference()
         self.shift(delta)
+
+    def drop_reference(self) -> None:
+        """Every measuring system loses its reference: the axis must be referenced again."""
+        for encoder in self.encoders:
+            encoder.referenced = encoder.restored = False
+        self.resting = False  # the status bits change
 
     def _monitor(self, cycle: int, alarms: AlarmList) -> None:
         dyn = self.dyn
@@ -632,8 +650,9 @@ class MachineAxis:
         else:
             self._fine_reached = False
         if self.at_software_limit:
-            resting_on_limit = (self.at_software_limit > 0 and self.setpoint >= dyn.limit_plus - _TINY) or \
-                               (self.at_software_limit < 0 and self.setpoint <= dyn.limit_minus + _TINY)
+            minus, plus = self._soft_limits
+            resting_on_limit = (self.at_software_limit > 0 and self.setpoint >= plus - _TINY) or \
+                               (self.at_software_limit < 0 and self.setpoint <= minus + _TINY)
             if resting_on_limit:
                 alarms.raise_alarm(10621, cycle, self.channel, self.name,
                                    "+" if self.at_software_limit > 0 else "-", channel=self.channel, axis=self.name)

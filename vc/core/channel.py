@@ -539,9 +539,11 @@ class Channel:
             self._jump(block.items[0], block, cycle)
             return
         positions = self.five_axis.program_positions(self.modal.five_axis)
+        pair: tuple[str, ...] = ()
         if self.inclined is not None:
             positions.update(self.inclined.program_positions())
-        plan, alarm = decode(block, self.modal, self.config, self.axes_by_name, positions)
+            pair = self.inclined.axis_names
+        plan, alarm = decode(block, self.modal, self.config, self.axes_by_name, positions, pair)
         if self._leaving_thread_chain and alarm is None:
             if plan.thread is not None:
                 self._block_index += 1  # a G33 block of the interrupted chain: not cut from the retract position

@@ -46,7 +46,7 @@ from vc.core.five_axis_program import (
     FiveAxisModal,
     FiveAxisWords,
 )
-from vc.core.interpreter import BlockPlan, DecodeAlarm
+from vc.core.interpreter import BlockPlan, DecodeAlarm, software_limit_alarm
 from vc.core.tool_path import ToolPathSegment
 from vc.core.transforms.five_axis import (
     NO_ROTATION,
@@ -55,7 +55,7 @@ from vc.core.transforms.five_axis import (
     RotaryAngles,
     ToolPose,
     forward,
-    in_travel_range,
+    leaving_range,
     parameters_from_machine_data,
     resolve,
     tool_axes,
@@ -69,8 +69,8 @@ from vc.core.transforms.transform_alarm import FIVE_AXIS_PROGRAM, ROTARY_RANGE, 
 _ARGUMENTS = {TOOL_CENTER_POINT: "HLER", LENGTH_COMPENSATION: "H", TILTED_PLANE: "IJK", ALIGN_TOOL: "P"}
 # Codes that change what program coordinates mean: incremental words in their block are refused.
 _SWITCHING = {TOOL_CENTER_POINT, LENGTH_COMPENSATION, LENGTH_CANCEL, TILTED_PLANE, TILTED_PLANE_CANCEL}
-STO_TOLERANCE_RANGE = (0.001, 179.999)  # G43.4 L2 E, degrees (seed 001 L44)
-LIMIT_SAMPLES = 64  # points of a transformed path checked against the software limits
+# What scenarios read of the tool: CHAN1.toolTipX .. toolDirZ, CHAN1.tcpActive
+TOOL_QUANTITIES = ("toolTipX", "toolTipY", "toolTipZ", "toolDirX", "toolDirY", "toolDirZ", "tcpActive")
 
 
 class FiveAxisControl:
@@ -149,6 +149,10 @@ class FiveAxisControl:
             return None
         if self.kinematics is None:
             return DecodeAlarm(12550, (self._channel, label, f"G{words.codes[0]:g}"))
+        if TOOL_CENTER_POINT in words.codes and words.arguments.get("L") == 2.0:
+            # STO, smooth tool orientation (Pr3051, seed 001 L30-31, L42-46), is not part of this
+            # control: refused like a function whose option is missing [control]
+            return DecodeAlarm(12550, (self._channel, label, "G43.4 L2"))
         refusal = self._refusal(plan, words)
         if refusal:
             return self._refuse(label, refusal)
@@ -158,11 +162,9 @@ class FiveAxisControl:
                 refusal = self._tool_center_point(modal, arguments)
             elif code == LENGTH_COMPENSATION:
                 modal.tool_center_point, modal.length_compensation = False, True
-                modal.end_smoothing()
                 self._length_offset(modal, arguments)
             elif code == LENGTH_CANCEL:
                 modal.tool_center_point = modal.length_compensation = False
-                modal.end_smoothing()
             elif code == TILTED_PLANE:
                 origin = Vec3(*(words.origin.get(axis, 0.0) for axis in self._geometry_names[:3]))
                 modal.plane = euler_frame(origin, arguments.get("I", 0.0), arguments.get("J", 0.0),
@@ -201,29 +203,12 @@ class FiveAxisControl:
         return ""
 
     def _tool_center_point(self, modal: FiveAxisModal, arguments: dict[str, float]) -> str:
-        """G43.4 [H_] [L0 | L2 [E_] [R_]] (seed 001 L42-46)."""
+        """G43.4 [H_] [L0] (seed 001 L42); L2 (STO) is refused in ``apply``, L0 switches it off."""
         smoothing = arguments.get("L")
-        if smoothing not in (None, 0.0, 2.0):
+        if smoothing not in (None, 0.0):
             return f"G43.4 L{smoothing:g}: L is 0 or 2"
-        if smoothing != 2.0 and ("E" in arguments or "R" in arguments):
+        if "E" in arguments or "R" in arguments:
             return "E and R belong to G43.4 L2"
-        if smoothing == 2.0 and modal.plane is not None:
-            return "G43.4 L2 (STO) with G68.2 active"  # STO excludes G68 / G68.2 / G69 (L44)
-        tolerance, radius = arguments.get("E"), arguments.get("R")
-        low, high = STO_TOLERANCE_RANGE
-        if tolerance is not None and not low <= tolerance <= high:
-            return f"G43.4 L2 E{tolerance:g}: E is {low:g} .. {high:g} degrees (HSHP-3551)"
-        if radius is not None and radius < 0.0:
-            return f"G43.4 L2 R{radius:g}: R must not be negative (HSHP-3551)"
-        if smoothing == 0.0:
-            modal.end_smoothing()
-        elif smoothing == 2.0:
-            # E and R persist within one L2 session; a new session starts from the defaults (L44-46).
-            if not modal.smoothing:
-                modal.end_smoothing()
-                modal.smoothing = True
-            modal.tolerance = modal.tolerance if tolerance is None else tolerance
-            modal.ball_radius = modal.ball_radius if radius is None else radius
         modal.tool_center_point, modal.length_compensation = True, False
         self._length_offset(modal, arguments)
         return ""
@@ -244,10 +229,7 @@ class FiveAxisControl:
         """
         aligning = plan.five_axis is not None and ALIGN_TOOL in plan.five_axis.codes
         if self.kinematics is None or not (modal.transformed or aligning):
-            if plan.five_axis is not None:  # the block switched the transform off: an ordinary block
-                axes = [self._axes[name] for name in plan.targets]
-                return self._limit_alarm(label, axes, [[plan.targets[axis.name] for axis in axes]])
-            return None
+            return None  # an ordinary block, its end points checked by the interpreter
         chain = self.linear + self.rotary
         others = sorted(set(plan.targets) - {axis.name for axis in chain})
         if others:
@@ -275,11 +257,10 @@ class FiveAxisControl:
                 return range_alarm
         segment = self._segment(modal, plan, (linear, angles), (start, end), target_angles,
                                 keep_linear=aligning and not modal.tool_center_point)
-        ends = list(segment.positions_at(1.0))
-        path = [list(segment.positions_at(index / LIMIT_SAMPLES)) for index in range(1, LIMIT_SAMPLES + 1)]
-        limit_alarm = self._limit_alarm(label, chain, path)
+        limit_alarm = self._limit_alarm(label, chain, segment.samples)
         if limit_alarm is not None:
             return limit_alarm
+        ends = segment.samples[-1]  # a segment of no length stands at its start
         plan.targets = {axis.name: end_position for axis, end_position in zip(chain, ends, strict=True)}
         return segment
 
@@ -309,25 +290,22 @@ class FiveAxisControl:
         """Alarm 65852 when a rotary axis would leave its Pr3009-3012 range on the way (seed 001 L13-15)."""
         kinematics = self.kinematics
         assert kinematics is not None
-        chain_axes = [kinematics.first] + ([kinematics.second] if kinematics.second is not None else [])
-        for axis, machine_axis, begin, finish in zip(chain_axes, self.rotary, (start.first, start.second),
-                                                      (end.first, end.second), strict=False):
-            if not in_travel_range(axis.travel_range, begin, finish - begin):
-                low, high = axis.travel_range
-                return DecodeAlarm(ROTARY_RANGE, (self._channel, label, machine_axis.name, f"{low:g} -> {high:g}"),
-                                   machine_axis.name)
-        return None
+        number = leaving_range(kinematics, start, end)
+        if not number:
+            return None
+        axis = kinematics.first if number == 1 else kinematics.second
+        assert axis is not None
+        low, high = axis.travel_range
+        name = self.rotary[number - 1].name
+        return DecodeAlarm(ROTARY_RANGE, (self._channel, label, name, f"{low:g} -> {high:g}"), name)
 
     def _limit_alarm(self, label: str, axes: list[MachineAxis], path: list[list[float]]) -> DecodeAlarm | None:
         """Alarm 10720 when a point of ``path`` (positions of ``axes``) lies beyond a software limit."""
         for positions in path:
             for axis, position in zip(axes, positions, strict=True):
-                if not axis.software_limits_active:
-                    continue
-                if position > axis.dyn.limit_plus + 1e-9:
-                    return DecodeAlarm(10720, (self._channel, axis.name, label, "+"), axis.name)
-                if position < axis.dyn.limit_minus - 1e-9:
-                    return DecodeAlarm(10720, (self._channel, axis.name, label, "-"), axis.name)
+                alarm = software_limit_alarm(self._channel, label, axis, position)
+                if alarm is not None:
+                    return alarm
         return None
 
     # ------------------------------------------------------------------ what scenarios see
@@ -347,9 +325,11 @@ class FiveAxisControl:
         return pose
 
     def quantity(self, name: str, modal: FiveAxisModal) -> float:
-        """``toolTipX`` .. ``toolDirZ`` or ``tcpActive`` (vc/observables.py CHANNEL_QUANTITY_MEANINGS)."""
+        """One of ``TOOL_QUANTITIES`` (vc/observables.py CHANNEL_QUANTITY_MEANINGS)."""
         if name == "tcpActive":
             return 1.0 if modal.tool_center_point else 0.0
+        if name not in TOOL_QUANTITIES:
+            raise KeyError(f"unknown five-axis quantity '{name}' (known: {', '.join(TOOL_QUANTITIES)})")
         pose = self.tool_pose(modal)
         vector = pose.tip if name.startswith("toolTip") else pose.direction
         return {"X": vector.x, "Y": vector.y, "Z": vector.z}[name[-1]]

@@ -4,7 +4,8 @@ The words (spec 8.4, seed 001 L42-46, L54-60):
 
 * ``G43.4 [H_]``: tool centre point control (RTCP type 1): the programmed X Y Z are the tool
   tip in workpiece coordinates, A / C (the rotary axes) the attitude; ``G43.4 L2 [E_] [R_]``
-  switches smooth tool orientation (STO) on, ``G43.4 L0`` off;
+  (smooth tool orientation, STO) is refused with alarm 12550, this control has no STO;
+  ``G43.4 L0`` (STO off) is accepted;
 * ``G43 [H_]``: tool length compensation along the tool (used after G53.1, L59-60);
 * ``G49``: cancels G43.4 and G43;
 * ``G68.2 X_ Y_ Z_ I_ J_ K_``: the tilted working plane, origin X Y Z and Euler angles I J K
@@ -34,7 +35,6 @@ FIVE_AXIS_G_CODES = frozenset({TOOL_CENTER_POINT, LENGTH_COMPENSATION, LENGTH_CA
 # R ball radius, P solution choice, I J K Euler angles); elsewhere they are no words of this control.
 FIVE_AXIS_ADDRESSES = frozenset("HLERPIJK")
 
-DEFAULT_STO_TOLERANCE = 0.5  # degrees: Pr3052 / Pr3053 default 500 x 0.001 (seed 001 L31, L44)
 
 
 @dataclass(slots=True)
@@ -54,15 +54,12 @@ class FiveAxisModal:
     Reset and program end cancel all of it: G43.4 / G43 -> G49 [control: the SINUMERIK
     deselects a transformation on reset with MD20110 / MD20140 at their defaults; seed 001
     is silent], G68.2 -> G69 (Pr3014 = 0, "not kept on reset", seed 001 L18; Pr3014 is not
-    carried).  E and R of STO revert after G49, G43.4 L0 and reset (seed 001 L44-46).
+    carried).
     """
 
     tool_center_point: bool = False  # G43.4 until G49
     length_compensation: bool = False  # G43 until G49
     length_offset: int = 0  # H: the tool offset number whose length applies
-    smoothing: bool = False  # G43.4 L2 (STO) until G43.4 L0 or G49
-    tolerance: float = DEFAULT_STO_TOLERANCE  # STO E, degrees
-    ball_radius: float = 0.0  # STO R, mm
     plane: Frame | None = None  # G68.2 until G69
 
     @property
@@ -74,14 +71,21 @@ class FiveAxisModal:
     def tool_length_active(self) -> bool:
         return self.tool_center_point or self.length_compensation
 
-    def end_smoothing(self) -> None:
-        self.smoothing = False
-        self.tolerance = DEFAULT_STO_TOLERANCE
-        self.ball_radius = 0.0
-
     def reset(self) -> None:
         self.tool_center_point = False
         self.length_compensation = False
         self.length_offset = 0
-        self.end_smoothing()
         self.plane = None
+
+
+def transformed_after(modal: FiveAxisModal, words: FiveAxisWords | None) -> bool:
+    """Whether the block's end points are program coordinates of a transform: the state its
+    codes leave (as the channel's five-axis control applies them), so a block that switches the
+    transform off is an ordinary block and one that switches it on is not."""
+    if words is None:
+        return modal.transformed
+    codes = set(words.codes)
+    tool = (modal.tool_length_active and LENGTH_CANCEL not in codes) or \
+        bool(codes & {TOOL_CENTER_POINT, LENGTH_COMPENSATION})
+    plane = (modal.plane is not None and TILTED_PLANE_CANCEL not in codes) or TILTED_PLANE in codes
+    return tool or plane

@@ -21,7 +21,10 @@ Program and machine positions agree through ``to_program`` except after motions 
 orthogonal axis uncompensated (NOZAGC = 1, a G28 leg in the inclined system): ``drift`` is the
 orthogonal program position minus its Cartesian position.  The display keeps the program
 position (L246-260) until the orthogonal axis is referenced again (L378) or G53 sets machine
-positions (L160-189).
+positions (L160-189).  After the inclined axis has moved with NOZAGC = 1 a manual reference
+return is mandatory (L378): the orthogonal axis loses its reference (DB31.DBX60.4 / 60.5 = 0,
+software limits off, NC start locked by MD20700) until it is referenced again, after the
+inclined axis as always [control: how the SINUMERIK asks for a reference return].
 """
 
 from __future__ import annotations
@@ -35,8 +38,7 @@ from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis import FREE_JOG, JogLimits, MachineAxis, Owner
 from vc.core.interface_map import Bit, SignalTable
-from vc.core.interpreter import BlockPlan, DecodeAlarm
-from vc.core.motion import stopping_velocity
+from vc.core.interpreter import BlockPlan, DecodeAlarm, software_limit_alarm
 from vc.core.transforms.inclined_axis import (
     AxisPair,
     ConflictingFunction,
@@ -50,6 +52,7 @@ from vc.core.transforms.inclined_axis import (
     incompatibility_alarms,
     machine_increment,
     parameters_for_channel,
+    reference_lost,
     reference_return_motion,
     return_path,
     rigid_tapping_alarm,
@@ -57,8 +60,6 @@ from vc.core.transforms.inclined_axis import (
     to_program,
 )
 from vc.core.transforms.transform_alarm import INCLINED_G28_BLOCK, INCLINED_ORDER
-
-SOFTWARE_LIMIT_ALARM = 10720
 
 
 def at_reference_point(axis: MachineAxis, point: int = 0) -> bool:
@@ -82,6 +83,7 @@ class InclinedAxisControl:
         self._dt = dt
         self.drift = 0.0  # orthogonal program position minus its Cartesian position
         self._leg_drifts: list[float] = []  # the drift after each motion of the running block
+        self._block_loses_reference = False  # the running block moves the inclined axis with NOZAGC = 1
         self._carrying = False  # the orthogonal axis travels with a manual motion of the inclined axis
         theta = math.radians(parameters.angle)
         self._shift_per_travel = -parameters.diameter_factor * math.sin(theta)
@@ -91,6 +93,11 @@ class InclinedAxisControl:
         self.inclined.dyn = dataclasses.replace(
             dyn, jog_velocity=min(dyn.jog_velocity * factor, dyn.max_velocity),
             jog_rapid_velocity=min(dyn.jog_rapid_velocity * factor, dyn.max_velocity))
+
+    @property
+    def axis_names(self) -> tuple[str, str]:
+        """The machine axes of the pair: orthogonal, inclined."""
+        return self.orthogonal.name, self.inclined.name
 
     @property
     def nozagc(self) -> bool:
@@ -141,15 +148,16 @@ class InclinedAxisControl:
     def plan(self, plan: BlockPlan, label: str) -> DecodeAlarm | None:
         """Map the block's targets of the pair onto the machine axes, or refuse the block."""
         self._leg_drifts = []
+        self._block_loses_reference = False
         if plan.polygon is not None and plan.polygon.start:
             alarm = incompatibility_alarms((ConflictingFunction.POLYGON_TURNING,))[0]
-            return DecodeAlarm(alarm.number, (self._channel, label, ConflictingFunction.POLYGON_TURNING.value))
+            return DecodeAlarm(alarm.number, (self._channel, label, alarm.detail))
         if plan.tapping is not None and plan.tapping.axis == self.inclined.name:
             tapping = rigid_tapping_alarm(self.parameters, self.parameters.inclined_axis)
             assert tapping is not None
-            return DecodeAlarm(tapping.number, (self._channel, label, f"rigid tapping {plan.tapping.function} on "
-                                                                      f"the inclined axis {self.inclined.name}"))
-        pair = (self.orthogonal.name, self.inclined.name)
+            return DecodeAlarm(tapping.number, (self._channel, label, f"{tapping.detail} {self.inclined.name}"
+                                                                      f" ({plan.tapping.function})"))
+        pair = self.axis_names
         commanded = [name for name in pair if name in plan.targets or name in plan.reference_axes]
         if commanded and plan.reference_return:
             refusal = self._return_order(plan, commanded, label)
@@ -177,6 +185,8 @@ class InclinedAxisControl:
             return refusal
         self._set_targets(plan.targets, start, end)
         self._leg_drifts = [drift]
+        self._block_loses_reference = not plan.machine_coordinates and \
+            reference_lost(AxisPair(0.0, end.inclined - start.inclined), self.nozagc)
         return None
 
     def _set_targets(self, targets: dict[str, float], start: AxisPair, end: AxisPair) -> None:
@@ -249,21 +259,24 @@ class InclinedAxisControl:
         position (L264-286, L414-423)."""
         position = stroke_check_position(self.parameters, StrokeLimit.FIRST, machine)
         for axis, value in ((self.orthogonal, position.orthogonal), (self.inclined, position.inclined)):
-            if not axis.software_limits_active:
-                continue
-            if value > axis.dyn.limit_plus + 1e-9:
-                return DecodeAlarm(SOFTWARE_LIMIT_ALARM, (self._channel, axis.name, label, "+"), axis.name)
-            if value < axis.dyn.limit_minus - 1e-9:
-                return DecodeAlarm(SOFTWARE_LIMIT_ALARM, (self._channel, axis.name, label, "-"), axis.name)
+            alarm = software_limit_alarm(self._channel, label, axis, value)
+            if alarm is not None:
+                return alarm
         return None
 
     def leg_finished(self) -> None:
         """A motion of the block has reached its end point: the program position it leaves."""
         if self._leg_drifts:
             self.drift = self._leg_drifts.pop(0)
+        if self._block_loses_reference and not self._leg_drifts:
+            self._block_loses_reference = False
+            self.orthogonal.drop_reference()
 
     def reset(self) -> None:
         self._leg_drifts = []
+        if self._block_loses_reference:  # interrupted on the way: the inclined axis has moved
+            self._block_loses_reference = False
+            self.orthogonal.drop_reference()
 
     # ------------------------------------------------------------------ manual motion
     def follow(self) -> None:
@@ -272,6 +285,8 @@ class InclinedAxisControl:
         inclined, orthogonal = self.inclined, self.orthogonal
         if orthogonal.owner is Owner.REF:
             self.drift = 0.0  # the orthogonal reference return sets program and machine in relation again
+        if inclined.command_velocity == 0.0 and not self._carrying:
+            return  # nothing moves that could carry the orthogonal axis: the usual idle cycle
         travel = inclined.command_velocity * self._dt
         if inclined.owner is Owner.JOG:
             cartesian = not self.nozagc
@@ -279,9 +294,11 @@ class InclinedAxisControl:
             cartesian = reference_return_motion(self.parameters) is Motion.CARTESIAN
         else:
             cartesian = self._carrying and inclined.owner is Owner.BRAKE
-        if inclined.owner is Owner.JOG and not cartesian:
+        if inclined.owner is Owner.JOG and not cartesian and travel:
             # NOZAGC = 1: the orthogonal program position stays although its Cartesian one moves
             self.drift += self._shift_per_travel * travel
+            if orthogonal.referenced and reference_lost(AxisPair(0.0, travel), self.nozagc):
+                orthogonal.drop_reference()
         if cartesian and travel:
             self._carry(travel)
         elif self._carrying:
@@ -290,22 +307,50 @@ class InclinedAxisControl:
                 orthogonal.release()
 
     def jog_limits(self, axis: MachineAxis) -> JogLimits:
-        """JOG of the inclined axis in Cartesian mode carries the orthogonal one: it slows so that the
-        carried axis stops on its software limit, and does not start towards it from there [control]."""
-        orthogonal = self.orthogonal
-        if axis is not self.inclined or self.nozagc or not orthogonal.software_limits_active:
+        """JOG of an axis of the pair stops on stored stroke limit 1 where AOT checks it: the
+        Cartesian position with AOT = 1, the machine positions with AOT = 0 (L264-286, L414-423).
+
+        The inclined axis jogs in Cartesian mode (NOZAGC = 0) and carries the orthogonal one, so
+        the orthogonal axis's limit bounds it too.  The jogged axis stops on the first limit its
+        motion reaches and raises 10621 there like on its own software limit [control]; from
+        there it moves only away.
+        """
+        if axis is not self.inclined and axis is not self.orthogonal:
             return FREE_JOG
         keys = axis.inputs
-        direction = (1 if keys.key_plus else 0) - (1 if keys.key_minus else 0)
-        carried = self._shift_per_travel * direction
-        if carried == 0.0:
+        if not (keys.key_plus or keys.key_minus or axis.owner is Owner.JOG or axis.at_software_limit):
+            return FREE_JOG  # idle: JOG does nothing with the axis this cycle
+        if axis is self.inclined:
+            carried = 0.0 if self.nozagc else self._shift_per_travel
+            travel = AxisPair(carried, 1.0)  # machine travel of the pair per unit of jogged travel
+        else:
+            carried, travel = 0.0, AxisPair(1.0, 0.0)
+        room = self._stroke_room(travel)
+        if room is None:
             return FREE_JOG
-        limit = orthogonal.dyn.limit_plus if carried > 0 else orthogonal.dyn.limit_minus
-        room = max((limit - orthogonal.setpoint) / carried, 0.0)  # travel of the inclined axis left
-        accel = min(axis.dyn.max_accel, orthogonal.dyn.max_accel / abs(self._shift_per_travel))
-        velocity = stopping_velocity(room, accel, self._dt)
-        return JogLimits(plus=direction < 0 or room > 0.0, minus=direction > 0 or room > 0.0,
-                         velocity=velocity, accel=accel)
+        accel = min(axis.dyn.max_accel, self.orthogonal.dyn.max_accel / abs(carried)) if carried else math.inf
+        return JogLimits(plus=room[1] > 0.0, minus=room[0] < 0.0, accel=accel,
+                         window=(axis.setpoint + room[0], axis.setpoint + room[1]))
+
+    def _stroke_room(self, travel: AxisPair) -> tuple[float, float] | None:
+        """How far (minus, plus) the pair may travel along ``travel`` from its setpoints within
+        stored stroke limit 1 of both axes; None when neither axis has active limits.  The check
+        position is linear in the machine position, so one step along ``travel`` gives its rate.
+        An axis already beyond a limit may move only back towards it."""
+        machine = self._setpoints()
+        start = stroke_check_position(self.parameters, StrokeLimit.FIRST, machine)
+        step = stroke_check_position(self.parameters, StrokeLimit.FIRST, machine.plus(travel))
+        low, high = -math.inf, math.inf
+        for axis, begin, end in ((self.orthogonal, start.orthogonal, step.orthogonal),
+                                 (self.inclined, start.inclined, step.inclined)):
+            rate = end - begin
+            if abs(rate) < 1e-12 or not axis.software_limits_active:
+                continue
+            bounds = sorted(((axis.dyn.limit_minus - begin) / rate, (axis.dyn.limit_plus - begin) / rate))
+            low, high = max(low, bounds[0]), min(high, bounds[1])
+        if math.isinf(low) and math.isinf(high):
+            return None
+        return min(low, 0.0), max(high, 0.0)
 
     def _carry(self, travel: float) -> None:
         orthogonal, shift = self.orthogonal, self._shift_per_travel * travel
@@ -335,7 +380,7 @@ def inclined_axis_control(config: ChannelConfig, axes: dict[str, MachineAxis], t
     # one increment system for every axis of this control (MD10200 is not modelled): always the same
     problems = configuration_alarms(parameters, inclined.config.is_rotary, orthogonal.config.is_rotary, True)
     for problem in problems:
-        alarms.raise_alarm(problem.number, 0, config.name, problem.text, channel=config.name)
+        alarms.raise_alarm(problem.number, 0, config.name, problem.detail, channel=config.name)
     if problems:
         return None
     return InclinedAxisControl(config, parameters, axes, table.bit(NOZAGC_SIGNAL), area, dt)

@@ -10,7 +10,7 @@ available", as on a control without the function.  Later NC functions add handle
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Collection, Mapping
 from dataclasses import dataclass, field
 
 from vc.config import md_dictionary as MD
@@ -24,6 +24,7 @@ from vc.core.five_axis_program import (
     TILTED_PLANE,
     FiveAxisModal,
     FiveAxisWords,
+    transformed_after,
 )
 from vc.core.program import (
     Assignment,
@@ -178,15 +179,32 @@ class DecodeAlarm:
     axis: str = ""
 
 
+SOFTWARE_LIMIT = 10720
+LIMIT_TOLERANCE = 1e-9  # mm: an end point a transform computes onto the limit is on it, not beyond
+
+
+def software_limit_alarm(channel: str, label: str, axis: MachineAxis, position: float) -> DecodeAlarm | None:
+    """Alarm 10720 when ``position`` of ``axis`` lies beyond its software limit switches MD36100 /
+    MD36110 (active once referenced): the check before a block moves, for ordinary end points, for
+    the Cartesian position of the inclined pair and for the points of a transformed path."""
+    if not axis.software_limits_active:
+        return None
+    if position > axis.dyn.limit_plus + LIMIT_TOLERANCE:
+        return DecodeAlarm(SOFTWARE_LIMIT, (channel, axis.name, label, "+"), axis.name)
+    if position < axis.dyn.limit_minus - LIMIT_TOLERANCE:
+        return DecodeAlarm(SOFTWARE_LIMIT, (channel, axis.name, label, "-"), axis.name)
+    return None
+
+
 class _Decoder:
     def __init__(self, block: Block, modal: ModalState, channel: ChannelConfig, axes: dict[str, MachineAxis],
-                 program_positions: Mapping[str, float]):
+                 program_positions: Mapping[str, float], limits_checked_elsewhere: Collection[str]):
         self.block = block
         self.modal = modal
         self.channel = channel
         self.axes = axes
         self.program_positions = program_positions  # where a transform puts an axis in program coordinates
-        self.transform_axes = frozenset(program_positions)  # their software limits: the transform's to check
+        self.limits_checked_elsewhere = limits_checked_elsewhere  # a transform checks their software limits
         if any(isinstance(item, Word) and item.address == "G" and item.value == 53 for item in block.items):
             self.program_positions = {}  # G53: machine coordinates; incremental words count from the setpoint
         self.plan = BlockPlan()
@@ -687,14 +705,16 @@ _CALL_HANDLERS: dict[str, Callable[[_Decoder, Call], None]] = {
 
 def decode(
     block: Block, modal: ModalState, channel: ChannelConfig, axes: dict[str, MachineAxis],
-    program_positions: Mapping[str, float] | None = None,
+    program_positions: Mapping[str, float] | None = None, limits_checked_elsewhere: Collection[str] = (),
 ) -> tuple[BlockPlan, DecodeAlarm | None]:
     """Decode ``block`` (updating ``modal``) into what the channel must do, or an alarm.
 
     ``program_positions``: where a transform (G43.4, G68.2) puts axes in program coordinates;
     incremental words count from there instead of from the machine setpoint.
+    ``limits_checked_elsewhere``: axes whose software limits a transform checks in its own
+    coordinates (the inclined pair, where its AOT bit says).
     """
-    decoder = _Decoder(block, modal, channel, axes, program_positions or {})
+    decoder = _Decoder(block, modal, channel, axes, program_positions or {}, limits_checked_elsewhere)
     if block.error:
         decoder.fail(12080, channel.name, block.label, block.error)
         return decoder.plan, decoder.alarm
@@ -915,14 +935,12 @@ def _finish(decoder: _Decoder) -> None:
         else:
             plan.feed = modal.feed
     # Under a transform the targets are program coordinates: the five-axis control checks the path.
-    transformed = plan.five_axis is not None or modal.five_axis.transformed
-    for name, target in ({} if transformed else plan.targets).items():
-        if name in decoder.transform_axes:
-            continue  # the inclined-axis control checks its pair where its AOT bit says
-        axis = decoder.axes[name]
-        if not axis.software_limits_active:
+    if transformed_after(modal.five_axis, plan.five_axis):
+        return
+    for name, target in plan.targets.items():
+        if name in decoder.limits_checked_elsewhere:
             continue
-        if target > axis.dyn.limit_plus:
-            decoder.fail(10720, channel.name, name, decoder.block.label, "+", axis=name)
-        elif target < axis.dyn.limit_minus:
-            decoder.fail(10720, channel.name, name, decoder.block.label, "-", axis=name)
+        alarm = software_limit_alarm(channel.name, decoder.block.label, decoder.axes[name], target)
+        if alarm is not None:
+            decoder.fail(alarm.number, *alarm.parameters, axis=alarm.axis)
+            return

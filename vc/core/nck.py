@@ -119,6 +119,7 @@ class Nck:
             if inclined is not None:
                 channel.inclined = inclined
                 self.inclined_axes.append(inclined)
+        self.referencing.order_inclined_pairs(self.inclined_axes)
         retraction_signals = RetractionSignals(SignalTable(catalog, InstanceKind.CHANNEL))
         self.retractions = {channel.name: ManualRetraction(channel, self.memory, retraction_signals,
                                                            self.image.area(f"DB{channel.config.db}"),

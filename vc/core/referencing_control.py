@@ -9,7 +9,9 @@ key) and aborts them on reset or when REF is left.
 Inclined-axis control (seed 000): the orthogonal axis may start its reference return only
 while the inclined axis stands at its reference point (ZPx = 1); otherwise alarm 65820 and the
 orthogonal axis does not start (seed 000 L62-66, L321, L375, L380).  This holds for the keys,
-G74 and channel-specific referencing alike.  The pair comes from MD62800-62808.
+G74 and channel-specific referencing alike.  The pairs are those of the channels' active
+inclined-axis controls (``order_inclined_pairs``): a control that MD62800-62808 switch off, or
+that alarm 65824 leaves off, imposes no order.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis import MachineAxis
-from vc.core.inclined_axis_channel import at_reference_point
+from vc.core.inclined_axis_channel import InclinedAxisControl, at_reference_point
 from vc.core.nc_memory import NcMemory
 from vc.core.referencing import (
     AxisReferencing,
@@ -29,7 +31,7 @@ from vc.core.referencing import (
     Source,
     passive_distance_coded,
 )
-from vc.core.transforms.inclined_axis import InclinedAxisParameters, parameters_for_channel, reference_order_alarm
+from vc.core.transforms.inclined_axis import reference_order_alarm
 
 
 class ReferencingControl:
@@ -51,13 +53,12 @@ class ReferencingControl:
             for axis in axes for encoder in axis.encoders
             if passive_distance_coded(axis, encoder, memory.view(axis.name, axis.config.md))
         ]
-        # orthogonal axis -> (its inclined-axis control, the inclined axis that must be at its reference point)
-        self._inclined_before: dict[str, tuple[InclinedAxisParameters, str]] = {}
-        for channel in machine.channels:
-            parameters = parameters_for_channel(channel)
-            if isinstance(parameters, InclinedAxisParameters):
-                orthogonal = channel.axes[parameters.orthogonal_axis - 1]
-                self._inclined_before[orthogonal] = (parameters, channel.axes[parameters.inclined_axis - 1])
+        # orthogonal axis -> the inclined-axis control whose inclined axis must be at its reference point
+        self._inclined_before: dict[str, InclinedAxisControl] = {}
+
+    def order_inclined_pairs(self, controls: Sequence[InclinedAxisControl]) -> None:
+        """The active inclined-axis controls, once the NCK has built them."""
+        self._inclined_before = {control.orthogonal.name: control for control in controls}
 
     @property
     def any_active(self) -> bool:
@@ -65,14 +66,14 @@ class ReferencingControl:
 
     def start(self, axis: str, source: Source, direction: int, cycle: int) -> bool:
         """Start referencing ``axis``; False if it cannot start now (order, enable, wrong key)."""
-        order = self._inclined_before.get(axis)
-        if order is not None:
-            parameters, inclined = order
-            alarm = reference_order_alarm(parameters, parameters.orthogonal_axis,
-                                          at_reference_point(self._axes[inclined]))
+        control = self._inclined_before.get(axis)
+        if control is not None:
+            parameters = control.parameters
+            alarm = reference_order_alarm(parameters, parameters.orthogonal_axis, at_reference_point(control.inclined))
             if alarm is not None:
                 channel = self._axes[axis].channel
-                self._alarms.raise_alarm(alarm.number, cycle, channel, axis, inclined, channel=channel, axis=axis)
+                self._alarms.raise_alarm(alarm.number, cycle, channel, axis, control.inclined.name, channel=channel,
+                                         axis=axis)
                 return False
         procedure = self.of[axis]
         started = procedure.start(source, direction)

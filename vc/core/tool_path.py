@@ -6,9 +6,10 @@ cycle, a transform turns the program point at ``s`` into machine axis positions
 (``positions_at``).  The machine axes then move on curves, and their velocities are not in
 a fixed ratio to the path velocity as in a linear block (``vc/core/path.py``).
 
-Axis limits.  When the segment is planned, ``positions_at`` is sampled along the path; the
-largest first and second derivatives of every axis position with respect to ``s`` (q' and
-q'') bound what the axis needs at path velocity v and path acceleration a::
+Axis limits.  When the segment is planned, ``positions_at`` is sampled along the path once
+(``samples``, also the points the software limits are checked at); the largest first and second
+derivatives of every axis position with respect to ``s`` (q' and q'') bound what the axis needs
+at path velocity v and path acceleration a::
 
     axis velocity      = q' v                     <= MD32000 of the axis
     axis acceleration  = q' a + q'' v^2           <= MD32300 of the axis
@@ -46,6 +47,7 @@ class ToolPathSegment:
     velocity_limit: float  # the largest path velocity the axes allow
     accel: float  # path acceleration the axes allow
     rapid: bool
+    samples: list[list[float]]  # axis positions at evenly spaced points from start to end
     s: float = 0.0
     velocity: float = 0.0
     _previous: list[float] = field(default_factory=list)  # axis positions handed out last cycle
@@ -57,10 +59,12 @@ class ToolPathSegment:
         """Plan a move of ``length`` along ``positions_at``; ``feed`` per second (ignored for G0)."""
         start = list(positions_at(0.0))
         if length <= 0.0:
-            return cls(axes, positions_at, 0.0, 0.0, 0.0, 1.0, rapid, _previous=start)
-        velocity_limit, accel = _axis_limits(axes, positions_at, length)
+            return cls(axes, positions_at, 0.0, 0.0, 0.0, 1.0, rapid, [start], _previous=start)
+        count = max(SAMPLES_MIN, min(SAMPLES_MAX, math.ceil(length)))
+        samples = [start] + [list(positions_at(index / count)) for index in range(1, count + 1)]
+        velocity_limit, accel = _axis_limits(axes, samples, length / count)
         command = velocity_limit if rapid else min(feed, velocity_limit)
-        return cls(axes, positions_at, length, command, velocity_limit, accel, rapid, _previous=start)
+        return cls(axes, positions_at, length, command, velocity_limit, accel, rapid, samples, _previous=start)
 
     @property
     def finished(self) -> bool:
@@ -94,11 +98,10 @@ class ToolPathSegment:
         self._previous = positions
 
 
-def _axis_limits(axes: list[MachineAxis], positions_at: PositionsAt, length: float) -> tuple[float, float]:
-    """The path velocity and acceleration within every axis's MD32000 / MD32300 (module docstring)."""
-    count = max(SAMPLES_MIN, min(SAMPLES_MAX, math.ceil(length)))
-    step = length / count
-    samples = [list(positions_at(index / count)) for index in range(count + 1)]
+def _axis_limits(axes: list[MachineAxis], samples: list[list[float]], step: float) -> tuple[float, float]:
+    """The path velocity and acceleration within every axis's MD32000 / MD32300 (module docstring),
+    from the axis positions at path points ``step`` apart."""
+    count = len(samples) - 1
     derivatives = []  # per axis: the largest |q'| and |q''| along the path
     for number in range(len(axes)):
         values = [sample[number] for sample in samples]

@@ -28,6 +28,8 @@ from vc.config.machine_data import MachineData
 from vc.config.md_dictionary import BY_NUMBER
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import Alarm
+from vc.core.channel import Channel
+from vc.core.five_axis_channel import TOOL_QUANTITIES
 from vc.core.nc_memory import NcMemory
 from vc.core.nck import Nck
 from vc.harness.link_faults import FaultInjectable, LinkFault, LinkFaultKind
@@ -246,15 +248,17 @@ class Simulation:
 
     # ------------------------------------------------------------------ axes, alarms, HMI
     def axis_quantity(self, axis: str, quantity: str) -> float:
-        if axis == NCK_INSTANCE and quantity in NCK_QUANTITIES:  # NC.dcLinkVoltage
+        """``X1.position`` and the like; a channel's quantities (``CHAN1.toolTipX``) and the NCK's
+        (``NC.dcLinkVoltage``) come this way too."""
+        if axis == NCK_INSTANCE and quantity in NCK_QUANTITIES:
             dc_link = self.nck.dc_link
             return dc_link.voltage if dc_link is not None else 0.0
         channel = self.nck.channels_by_name.get(axis)
-        if channel is not None and quantity == "liftfast" and channel.esr is not None:
-            return channel.esr.liftfast
-        if channel is not None and quantity in CHANNEL_QUANTITIES:  # CHAN1.toolTipX: the five-axis tool
-            return channel.five_axis.quantity(quantity, channel.modal.five_axis)
-        item = self.nck.axes_by_name[axis]
+        if channel is not None:
+            return self._channel_quantity(channel, quantity)
+        item = self.nck.axes_by_name.get(axis)
+        if item is None:
+            raise KeyError(f"'{axis}' is neither an axis nor a channel of this machine")
         if quantity == "position":
             return item.shown(item.actual)
         if quantity == "setpoint":
@@ -270,6 +274,14 @@ class Simulation:
         if quantity in COUPLING_QUANTITY_MEANINGS:
             return self.nck.couplings.quantity(axis, quantity)
         raise KeyError(f"unknown axis quantity '{quantity}' (known: {', '.join(AXIS_QUANTITIES)})")
+
+    @staticmethod
+    def _channel_quantity(channel: Channel, quantity: str) -> float:
+        if quantity == "liftfast" and channel.esr is not None:
+            return channel.esr.liftfast
+        if quantity in TOOL_QUANTITIES:  # CHAN1.toolTipX: the five-axis tool
+            return channel.five_axis.quantity(quantity, channel.modal.five_axis)
+        raise KeyError(f"unknown channel quantity '{quantity}' (known: {', '.join(CHANNEL_QUANTITIES)})")
 
     def alarms(self) -> Sequence[Alarm]:
         return list(self.nck.alarms.present)

@@ -110,14 +110,15 @@ def test_a_move_leaving_the_rotary_range_is_refused_before_it_starts() -> None:
     ("G53.1", 65853),  # G53.1 must follow G68.2
     ("G68.2 X300 Y250 Z-380 I0 J-30 K0\nG53.1 P3", 65850),  # COR-149
     ("G68.2 X300 Y250 Z-380 I0 J125 K0\nG53.1", 65851),  # COR-153: A -125 / +125 outside -120 .. 30
-    ("G43.4 H1 L2 E200", 65853),  # HSHP-3551: E 0.001 .. 179.999
-    ("G43.4 H1 L2 R-1", 65853),  # HSHP-3551: R negative
+    ("G43.4 H1 L3", 65853),  # L is 0 or 2
     ("G43.4 H1 E1", 65853),  # E belongs to L2
     ("G43.4 H11", 65853),  # offsets H0 .. H10
     ("G43.4 G91 Z1", 65853),  # incremental in the switching block
     ("G43 G49 H1", 65853),
     ("G68.2 I0 J-30\nG1 A-30 F1000", 65853),  # rotary axes with G68.2 only through G53.1
     ("G43.4 H1\nG1 A10 X1000 F1000", 10720),  # the path leaves the software limits
+    ("G43.4 H1\nG49 G1 X1000 F1000", 10720),  # switched off in the block: an ordinary end point
+    ("G68.2 X0 Y0 Z0 I0 J0 K0\nG69 G1 X1000 F1000", 10720),
 ])
 def test_refused_five_axis_blocks(program: str, alarm: int) -> None:
     rig = _rig()
@@ -134,19 +135,19 @@ def test_five_axis_words_on_a_machine_without_the_chain_raise_12550() -> None:
     assert rig.alarm_numbers() == [12550]
 
 
-def test_sto_tolerance_and_radius_persist_within_one_l2_session() -> None:
-    """Seed 001 L44-46, TV-5X-3/4: L2 re-issued keeps E and R; L0 and G49 revert them."""
+def test_sto_g43_4_l2_is_refused_as_a_missing_function() -> None:
+    """STO (seed 001 L42-46) is not part of this control: 12550 before the block does anything."""
     rig = _rig()
-    modal = rig.channel.modal.five_axis
-    rig.mda("G43.4 H1 L2 E2 R3\nG43.4 L2\nM0")
-    _run_to_stop(rig)
-    assert (modal.smoothing, modal.tolerance, modal.ball_radius) == (True, 2.0, 3.0)
+    rig.mda("G43.4 H1 L2 E0.2 R1")
+    _run_to_stop(rig, 500)
+    assert rig.alarm_numbers() == [12550]
+    assert not rig.channel.modal.five_axis.tool_center_point
+    assert any("G43.4 L2" in str(alarm) for alarm in rig.sim.alarms())
     rig.pulse("CHAN1.basic.out.reset")
     rig.step(2)
-    assert (modal.smoothing, modal.tolerance, modal.ball_radius) == (False, 0.5, 0.0)  # reset reverts them
-    rig.mda("G43.4 H1 L2 E0.2 R1\nG43.4 L0\nG43.4 L2\nM0")
+    rig.mda("G43.4 H1 L0\nM0")  # STO off: accepted, G43.4 on
     _run_to_stop(rig)
-    assert (modal.smoothing, modal.tolerance, modal.ball_radius) == (True, 0.5, 0.0)  # Pr3052 default
+    assert rig.alarm_numbers() == [] and rig.channel.modal.five_axis.tool_center_point
 
 
 def test_tilted_plane_g53_1_then_moves_in_the_plane() -> None:

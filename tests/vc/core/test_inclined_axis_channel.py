@@ -12,6 +12,7 @@ import math
 import pytest
 
 from tests.vc.core.core_rig import Rig, machine
+from vc.core.referencing import Source
 
 TAN = math.tan(math.radians(-30.0))
 COS = math.cos(math.radians(-30.0))
@@ -80,6 +81,17 @@ def test_nozagc_leaves_the_orthogonal_axis_and_the_display_keeps_the_program_pos
     rig.set(NOZAGC, 0)
     _run(rig, "G0 X160")  # the program X goes from 150 to 160: the slide by the same 10
     assert rig.axis("X1").setpoint == pytest.approx(160.0)
+
+
+def test_an_inclined_move_with_nozagc_drops_the_orthogonal_reference() -> None:
+    """Seed 000 L378: a manual reference return is mandatory afterwards."""
+    rig = _rig()
+    rig.set(NOZAGC, 1)
+    _run(rig, "G0 X160")  # the orthogonal axis alone: nothing lost
+    assert rig.axis("X1").referenced
+    _run(rig, "G0 Y10")
+    assert not rig.axis("X1").referenced and rig.axis("Y1").referenced
+    assert rig.get("X1.basic.in.enc1Synchronized") == 0
 
 
 def test_g53_targets_are_machine_positions_and_the_display_is_cartesian() -> None:
@@ -176,6 +188,15 @@ def test_a_rotary_axis_in_the_pair_raises_65824_and_leaves_the_function_off() ->
     rig = Rig(machine(_machine_data(channel="MD62805: 4")))  # SP1 as the inclined axis
     assert 65824 in _alarms(rig)
     assert rig.nck.channels_by_name["CHAN1"].inclined is None
+    # ... and its referencing order with it: X1 references without SP1 at a reference point
+    rig.nck.referencing.start("X1", Source.G74, 0, rig.nck.cycle)
+    assert 65820 not in _alarms(rig)
+
+
+def test_the_referencing_order_comes_from_the_active_control() -> None:
+    rig = _rig()  # Y1 is referenced (absolute) but not at its reference point -73
+    assert not rig.nck.referencing.start("X1", Source.G74, 0, rig.nck.cycle)
+    assert 65820 in _alarms(rig)
 
 
 def test_rigid_tapping_on_the_inclined_axis_is_refused_with_65822() -> None:
@@ -184,4 +205,39 @@ def test_rigid_tapping_on_the_inclined_axis_is_refused_with_65822() -> None:
     rig.run_until(lambda: bool(_alarms(rig)), 5000)
     assert 65822 in _alarms(rig)
     assert rig.nck.axes_by_name["Y1"].setpoint == 0.0  # nothing moved
-    assert any("rigid tapping G331 on the inclined axis Y1" in str(alarm) for alarm in rig.nck.present_alarms())
+    assert any("rigid tapping on the inclined axis Y1 (G331)" in str(alarm) for alarm in rig.nck.present_alarms())
+
+
+def _jog(rig: Rig, key: str, cycles: int) -> None:
+    rig.set(key, 1)
+    rig.step(cycles)
+    rig.set(key, 0)
+    rig.step(50)
+
+
+def test_jog_stops_on_the_cartesian_stroke_limit_with_aot_1() -> None:
+    rig = _rig()
+    rig.select_mode("jog")
+    rig.step(2)
+    y1, x1 = rig.axis("Y1"), rig.axis("X1")
+    _jog(rig, "Y1.basic.out.traversKeyPlus", 4000)
+    # program Y +100 = 115.470 along the slide (its machine limit 100 is passed); X1 carried by 0.5 per mm
+    assert y1.setpoint == pytest.approx(100.0 / COS, abs=1e-9)
+    assert x1.setpoint == pytest.approx(150.0 + 0.5 * 100.0 / COS, abs=1e-9)
+    assert rig.nck.program_position("X1") == pytest.approx(150.0, abs=1e-3)
+    assert [(alarm.number, alarm.axis) for alarm in rig.nck.present_alarms()] == [(10621, "Y1")]
+    _jog(rig, "X1.basic.out.traversKeyMinus", 3000)
+    # program X -5: Xa = -5 + C Ya sin(30) = 52.735
+    assert x1.setpoint == pytest.approx(-5.0 - 100.0 * TAN, abs=1e-9)
+    assert rig.nck.program_position("X1") == pytest.approx(-5.0, abs=1e-3)
+    _jog(rig, "X1.basic.out.traversKeyMinus", 100)  # resting on the limit: the key does nothing
+    assert x1.setpoint == pytest.approx(-5.0 - 100.0 * TAN, abs=1e-9)
+
+
+def test_jog_stops_on_the_machine_stroke_limit_with_aot_0() -> None:
+    rig = _rig(channel="MD62802: [0, 1, 1]")
+    rig.select_mode("jog")
+    rig.step(2)
+    _jog(rig, "Y1.basic.out.traversKeyPlus", 4000)
+    assert rig.axis("Y1").setpoint == pytest.approx(100.0, abs=1e-9)
+    assert rig.axis("X1").setpoint == pytest.approx(200.0, abs=1e-9)

@@ -221,6 +221,15 @@ def test_unknown_axis_quantity_lists_the_known_ones(config: MachineConfig) -> No
         sim.axis_quantity("X1", "speed")
 
 
+def test_unknown_channel_quantity_or_instance_says_so(config: MachineConfig) -> None:
+    sim = Simulation(config, plc=None)
+    assert sim.axis_quantity("CHAN1", "tcpActive") == 0.0
+    with pytest.raises(KeyError, match=r"unknown channel quantity 'position' .*toolTipX"):
+        sim.axis_quantity("CHAN1", "position")
+    with pytest.raises(KeyError, match="'X9' is neither an axis nor a channel"):
+        sim.axis_quantity("X9", "position")
+
+
 # ------------------------------------------------------------------------------ alarms and HMI
 
 

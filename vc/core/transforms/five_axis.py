@@ -68,7 +68,7 @@ from vc.core.transforms.geometry import (
     signed_degrees,
     wrap_degrees,
 )
-from vc.core.transforms.transform_alarm import ROTARY_NO_SOLUTION, ROTARY_RANGE, TransformAlarm
+from vc.core.transforms.transform_alarm import ROTARY_NO_SOLUTION, TransformAlarm
 
 BLU_DEGREES = 0.001  # a Syntec angle BLU (290 degrees = 290000, seed 001 L15)
 BLU_MM = 0.001  # a Syntec length BLU, by the same rule [INF]
@@ -502,19 +502,16 @@ def in_travel_range(travel_range: tuple[float, float], start: float, travel: flo
     return -ANGLE_TOLERANCE <= position + travel <= span + ANGLE_TOLERANCE
 
 
-def range_alarms(kinematics: Kinematics, rotary: RotaryAngles) -> tuple[TransformAlarm, ...]:
-    """The rotary axes outside their five-axis travel ranges Pr3009-3012 (L13-15)."""
-    alarms: list[TransformAlarm] = []
-    axes = [(1, kinematics.first, rotary.first, "Pr3009/3010")]
+def leaving_range(kinematics: Kinematics, start: RotaryAngles, end: RotaryAngles) -> int:
+    """The number (1, 2) of the first rotary axis that is outside its five-axis travel range
+    Pr3009-3012 at ``start`` or leaves it turning to ``end`` (L13-15); 0 when both stay inside."""
+    axes = [(1, kinematics.first, start.first, end.first)]
     if kinematics.second is not None:
-        axes.append((2, kinematics.second, rotary.second, "Pr3011/3012"))
-    for number, axis, angle, parameters in axes:
-        if not in_travel_range(axis.travel_range, angle):
-            low, high = axis.travel_range
-            alarms.append(TransformAlarm(ROTARY_RANGE,
-                                         f"rotary axis {number} at {angle:.3f} degrees is outside its five-axis range"
-                                         f" {low:g} -> {high:g} ({parameters})", "seed 001 L13-15"))
-    return tuple(alarms)
+        axes.append((2, kinematics.second, start.second, end.second))
+    for number, axis, begin, finish in axes:
+        if not in_travel_range(axis.travel_range, begin, finish - begin):
+            return number
+    return 0
 
 
 def choose_solution(kinematics: Kinematics, solutions: tuple[RotaryAngles, ...], current: RotaryAngles,
@@ -543,8 +540,7 @@ def choose_solution(kinematics: Kinematics, solutions: tuple[RotaryAngles, ...],
     for _, fits, target in options:
         if fits:
             return target
-    return TransformAlarm(ROTARY_NO_SOLUTION, "no solution for this tool direction within the rotary ranges"
-                          " Pr3009-3012", "seed 001 L59-60", code="COR-153")
+    return TransformAlarm(ROTARY_NO_SOLUTION, "seed 001 L59-60", code="COR-153")
 
 
 def _first_travel(difference: float, preference: Preference) -> float:

@@ -21,8 +21,10 @@ manual reference return (L378).
 
 Feeds (L26-36): the seed prints F_ay = F_p / cos(theta) and F_ax = F_p - F_p tan(theta).
 Read as velocity components, the derivative of the position formulas:
-F_ay = F_py / cos(theta), F_ax = F_px - F_py tan(theta), in real (radius) units, which is why
-the seed's feed formulas carry no C.  See :func:`machine_feeds` for the choice.
+F_ay = F_py / cos(theta), F_ax = F_px - F_py tan(theta).  Taken literally, L33 would run the
+orthogonal axis at 1577 mm/min for a pure Y move at 1000 mm/min, although its position changes
+by only 0.577 mm per mm of Y.  The NC core measures F along the Cartesian path and moves the
+machine axes by their increments (``machine_increment``), which gives the derivative form.
 
 The parameters (L398-464) are GSK numbers; the project carries them as machine data
 MD62800-62808 (vc/config/md_dictionary.py): 8200 #0 AAC, 8200 #2 AZR, 8201 #0-2 AOT/AO2/AO3,
@@ -38,7 +40,7 @@ inclined axis first, alarm otherwise), and the functions that cannot run with th
 from __future__ import annotations
 
 import math
-from collections.abc import Collection, Iterable, Sequence
+from collections.abc import Collection, Iterable
 from dataclasses import dataclass
 from enum import IntEnum, StrEnum
 from typing import NamedTuple
@@ -51,7 +53,6 @@ from vc.core.transforms.transform_alarm import (
     INCLINED_G28_BLOCK,
     INCLINED_INCOMPATIBLE,
     INCLINED_ORDER,
-    INCLINED_PAIRING,
     TransformAlarm,
 )
 
@@ -69,8 +70,6 @@ class AxisPair(NamedTuple):
     def plus(self, other: AxisPair) -> AxisPair:
         return AxisPair(self.orthogonal + other.orthogonal, self.inclined + other.inclined)
 
-
-NO_OFFSET = AxisPair(0.0, 0.0)
 
 
 class AxisFallback(IntEnum):
@@ -119,13 +118,6 @@ class InclinedAxisParameters:
     reference_keeps_orthogonal_still: bool = False  # AZR
     limits_cartesian: tuple[bool, bool, bool] = (False, False, False)  # AOT, AO2, AO3
     g28_cartesian: bool = False  # ARF
-
-    def role_of(self, channel_axis: int) -> Role | None:
-        if channel_axis == self.inclined_axis:
-            return Role.INCLINED
-        if channel_axis == self.orthogonal_axis:
-            return Role.ORTHOGONAL
-        return None
 
 
 @dataclass(frozen=True, slots=True)
@@ -259,41 +251,6 @@ def machine_increment(p: InclinedAxisParameters, program_increment: AxisPair, no
                     inclined=program_increment.inclined / math.cos(theta))
 
 
-def machine_feeds(p: InclinedAxisParameters, program_feeds: AxisPair, nozagc: bool) -> AxisPair:
-    """Machine axis velocities for programmed path velocity components (real units, mm/min).
-
-    Seed ambiguity (spec 6.1, 9.2): L33 prints F_ax = F_p - F_p tan(theta) with the total
-    feed.  Taken literally the orthogonal axis would run at 1577 mm/min for a pure Y move at
-    1000 mm/min and theta = -30, although its position changes by only 0.577 mm per mm of Y.
-    The derivative of the position formula is used instead: F_ax = F_px - F_py tan(theta),
-    F_ay = F_py / cos(theta), which equals L32 for the inclined axis.  Velocities are real
-    (radius) speeds, so C does not enter, as in the seed's feed formulas.
-    """
-    theta = math.radians(p.angle)
-    compensation = 0.0 if nozagc else program_feeds.inclined * math.tan(theta)
-    return AxisPair(orthogonal=program_feeds.orthogonal - compensation,
-                    inclined=program_feeds.inclined / math.cos(theta))
-
-
-@dataclass(frozen=True, slots=True)
-class Display:
-    absolute: AxisPair  # program (Cartesian) system, work offset removed
-    machine: AxisPair  # inclined machine system
-
-
-def display(p: InclinedAxisParameters, machine: AxisPair,
-            work_offset: AxisPair = NO_OFFSET) -> Display:
-    """What the position display shows for a machine position (L38-41).
-
-    Valid while program and machine agree; after inclined moves with NOZAGC = 1 the core
-    shows the program position it tracked (L246-260: X 0 / Y 100 at machine X 0 / Y 115.47).
-    """
-    cartesian = to_program(p, machine)
-    return Display(absolute=AxisPair(cartesian.orthogonal - work_offset.orthogonal,
-                                     cartesian.inclined - work_offset.inclined),
-                   machine=machine)
-
-
 def reference_lost(program_increment: AxisPair, nozagc: bool) -> bool:
     """True when a travel leaves program and machine positions inconsistent: an inclined
     travel with NOZAGC = 1, after which a manual reference return is mandatory (L378)."""
@@ -374,10 +331,7 @@ def reference_order_alarm(p: InclinedAxisParameters, channel_axis: int,
     """
     if channel_axis != p.orthogonal_axis or inclined_at_reference_point:
         return None
-    return TransformAlarm(INCLINED_ORDER,
-                          f"orthogonal axis {p.orthogonal_axis} referenced before the inclined axis"
-                          f" {p.inclined_axis} is at its reference point",
-                          "seed 000 L62-66, L321, L375, L380")
+    return TransformAlarm(INCLINED_ORDER, "seed 000 L62-66, L321, L375, L380")
 
 
 def g28_block_alarm(p: InclinedAxisParameters, commanded_axes: Collection[int],
@@ -390,10 +344,7 @@ def g28_block_alarm(p: InclinedAxisParameters, commanded_axes: Collection[int],
     if p.orthogonal_axis not in commanded_axes:
         return None
     if p.inclined_axis in commanded_axes:
-        return TransformAlarm(INCLINED_G28_BLOCK,
-                              f"G28/G30 names the orthogonal axis {p.orthogonal_axis} and the inclined axis"
-                              f" {p.inclined_axis} in one block: return the inclined axis first",
-                              "seed 000 L88-100")
+        return TransformAlarm(INCLINED_G28_BLOCK, "seed 000 L88-100")
     return reference_order_alarm(p, p.orthogonal_axis, inclined_at_reference_point)
 
 
@@ -406,34 +357,11 @@ class StrokeLimit(IntEnum):
     THIRD = 3  # stored stroke limit 3: 8201 #2 AO3
 
 
-@dataclass(frozen=True, slots=True)
-class StrokeArea:
-    """A stored stroke limit as a box: the machine must stay inside it, or (``inside_forbidden``)
-    must not enter it."""
-
-    lower: AxisPair
-    upper: AxisPair
-    inside_forbidden: bool = False
-
-
 def stroke_check_position(p: InclinedAxisParameters, limit: StrokeLimit, machine: AxisPair) -> AxisPair:
     """The position ``limit`` is checked at: the Cartesian (virtual orthogonal machine) position
     when its bit AOT/AO2/AO3 is 1, else the inclined machine position, where a box becomes a
     rhombus in Cartesian terms (L264-277, L414-429)."""
     return to_program(p, machine) if p.limits_cartesian[limit - 1] else machine
-
-
-def stroke_limit_violated(p: InclinedAxisParameters, limit: StrokeLimit, machine: AxisPair,
-                          area: StrokeArea) -> bool:
-    position = stroke_check_position(p, limit, machine)
-    if area.inside_forbidden:
-        return all(low < value < high for value, low, high in zip(position, area.lower, area.upper, strict=True))
-    return not all(low <= value <= high for value, low, high in zip(position, area.lower, area.upper, strict=True))
-
-
-def pre_move_check_possible(p: InclinedAxisParameters, limit: StrokeLimit) -> bool:
-    """The stroke check before a move works only in the Cartesian system (L284-286)."""
-    return p.limits_cartesian[limit - 1]
 
 
 # ------------------------------------------------------------------------------ incompatibilities
@@ -451,17 +379,14 @@ class ConflictingFunction(StrEnum):
 
 def incompatibility_alarms(active: Iterable[ConflictingFunction]) -> tuple[TransformAlarm, ...]:
     """One alarm for each function in ``active`` while inclined-axis control is on."""
-    return tuple(TransformAlarm(INCLINED_INCOMPATIBLE,
-                                f"{function.value} cannot be used with inclined-axis control", "seed 000 L368-370")
-                 for function in active)
+    return tuple(TransformAlarm(INCLINED_INCOMPATIBLE, "seed 000 L368-370", function.value) for function in active)
 
 
 def rigid_tapping_alarm(p: InclinedAxisParameters, tapping_axis: int) -> TransformAlarm | None:
     """The inclined axis cannot be the tapping axis of rigid tapping (L364-366)."""
     if tapping_axis != p.inclined_axis:
         return None
-    return TransformAlarm(INCLINED_INCOMPATIBLE,
-                          f"the inclined axis {tapping_axis} cannot be the rigid tapping axis", "seed 000 L364-366")
+    return TransformAlarm(INCLINED_INCOMPATIBLE, "seed 000 L364-366", "rigid tapping on the inclined axis")
 
 
 def configuration_alarms(p: InclinedAxisParameters, inclined_is_rotary: bool, orthogonal_is_rotary: bool,
@@ -471,40 +396,11 @@ def configuration_alarms(p: InclinedAxisParameters, inclined_is_rotary: bool, or
     for role, axis, rotary in ((Role.INCLINED, p.inclined_axis, inclined_is_rotary),
                                (Role.ORTHOGONAL, p.orthogonal_axis, orthogonal_is_rotary)):
         if rotary:
-            alarms.append(TransformAlarm(INCLINED_CONFIGURATION,
+            alarms.append(TransformAlarm(INCLINED_CONFIGURATION, "seed 000 L381",
                                          f"the {role.value} axis {axis} is a rotary axis; only linear axes can be"
-                                         " inclined or orthogonal axes", "seed 000 L381"))
+                                         " inclined or orthogonal axes"))
     if not same_increment_system:
-        alarms.append(TransformAlarm(INCLINED_CONFIGURATION,
+        alarms.append(TransformAlarm(INCLINED_CONFIGURATION, "seed 000 L379",
                                      f"the inclined axis {p.inclined_axis} and the orthogonal axis"
-                                     f" {p.orthogonal_axis} use different increment systems", "seed 000 L379"))
-    return tuple(alarms)
-
-
-def pairing_alarms(first: InclinedAxisParameters | None, second: InclinedAxisParameters | None,
-                   pairs: Sequence[tuple[int, int]]) -> tuple[TransformAlarm, ...]:
-    """2-path synchronous or composite control (T series): ``pairs`` couple channel axis
-    numbers of path 1 with those of path 2.
-
-    Inclined goes with inclined and orthogonal with orthogonal, and a path's inclined and
-    orthogonal axes take part together or not at all (L330-362).
-    """
-    alarms: list[TransformAlarm] = []
-    for axis_1, axis_2 in pairs:
-        role_1 = first.role_of(axis_1) if first is not None else None
-        role_2 = second.role_of(axis_2) if second is not None else None
-        if role_1 != role_2:
-            alarms.append(TransformAlarm(INCLINED_PAIRING,
-                                         f"path 1 axis {axis_1} ({role_1 or 'plain'}) is coupled with path 2 axis"
-                                         f" {axis_2} ({role_2 or 'plain'})", "seed 000 L330-362"))
-    for path, parameters, coupled in ((1, first, {pair[0] for pair in pairs}),
-                                      (2, second, {pair[1] for pair in pairs})):
-        if parameters is None:
-            continue
-        both = {parameters.inclined_axis, parameters.orthogonal_axis}
-        if coupled & both and not both <= coupled:
-            alarms.append(TransformAlarm(INCLINED_PAIRING,
-                                         f"path {path}: couple the inclined axis {parameters.inclined_axis} and the"
-                                         f" orthogonal axis {parameters.orthogonal_axis} together",
-                                         "seed 000 L330-362"))
+                                     f" {p.orthogonal_axis} use different increment systems"))
     return tuple(alarms)

@@ -102,7 +102,6 @@ def align_tool(kinematics: Kinematics, frame: Frame, current: RotaryAngles, p: i
     COR-149 for P other than 0, 1, 2; COR-153 when no solution fits the ranges (L59-60).
     """
     if p not in tuple(Preference):
-        return TransformAlarm(ROTARY_P_OUT_OF_RANGE, f"G53.1 P{p}: P must be 0, 1 or 2", "seed 001 L59",
-                              code="COR-149")
+        return TransformAlarm(ROTARY_P_OUT_OF_RANGE, "seed 001 L59", code="COR-149")
     solutions = orientation_solutions(kinematics, frame.normal, current, zero)
     return choose_solution(kinematics, solutions, current, Preference(p))

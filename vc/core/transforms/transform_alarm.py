@@ -3,8 +3,9 @@
 A decision function of the transforms answers a question (may the orthogonal axis be
 referenced now? is there a rotary solution for this tool direction?) and returns a
 :class:`TransformAlarm` or None.  ``number`` is the project alarm number the NC core raises
-(the GSK seed names no alarm numbers; 65820 is already defined in vc/core/alarms.py, the
-others are to be added there when the core calls these functions); ``code`` is the control's
+(the seeds name none; the texts are in vc/core/alarms.py); ``detail`` is the part of the
+alarm text only the decision knows (which function conflicts, what the configuration lacks),
+empty where the NC core fills in the axes and values it has itself; ``code`` is the control's
 own designation where the seed prints one (Syntec ``COR-153``).
 
 Numbers: 6582x inclined-axis control (seed 000), 6585x five-axis kinematics (seed 001).
@@ -17,7 +18,6 @@ from dataclasses import dataclass
 INCLINED_ORDER = 65820  # orthogonal axis referenced while the inclined axis is not at its reference point
 INCLINED_G28_BLOCK = 65821  # G28/G30 names the inclined and the orthogonal axis in one block
 INCLINED_INCOMPATIBLE = 65822  # a function that cannot run together with inclined-axis control
-INCLINED_PAIRING = 65823  # 2-path synchronous/composite control pairs the axes of the two paths wrongly
 INCLINED_CONFIGURATION = 65824  # rotary axis, or axes with different increment systems
 ROTARY_P_OUT_OF_RANGE = 65850  # Syntec COR-149: G53.1 P other than 0, 1, 2
 ROTARY_NO_SOLUTION = 65851  # Syntec COR-153: no rotary solution for this tool direction
@@ -28,6 +28,6 @@ FIVE_AXIS_PROGRAM = 65853  # a five-axis block the control refuses (Syntec HSHP-
 @dataclass(frozen=True, slots=True)
 class TransformAlarm:
     number: int  # project alarm number the NC core raises
-    text: str  # with the axes and values filled in
     source: str  # seed lines
+    detail: str = ""  # the alarm text's part that only the decision knows
     code: str = ""  # the control's designation where the seed gives one, e.g. "COR-153"

@@ -31,17 +31,17 @@ from vc.core.transforms.five_axis import (
     forward,
     in_travel_range,
     inverse,
+    leaving_range,
     orientation_solutions,
     parameters_from_machine_data,
     parameters_from_syntec,
-    range_alarms,
     resolve,
     table_zero,
     tool_axes,
     tool_center_point,
 )
 from vc.core.transforms.geometry import ORIGIN, Vec3, signed_degrees
-from vc.core.transforms.transform_alarm import ROTARY_NO_SOLUTION, ROTARY_RANGE, TransformAlarm
+from vc.core.transforms.transform_alarm import ROTARY_NO_SOLUTION, TransformAlarm
 
 MILL_5AXIS = str(Path(__file__).resolve().parents[4] / "scenarios" / "machines" / "mill_5axis.yaml")
 RIGHT, LEFT = 1, 2  # Pr3007/3008
@@ -171,8 +171,10 @@ def test_mill_5axis_a_point_on_both_axes_stays_put() -> None:
     for angles in (RotaryAngles(0.0, 0.0), RotaryAngles(-90.0, 45.0), RotaryAngles(30.0, 270.0)):
         assert near(tool_center_point(kinematics, Vec3(300.0, 250.0, -380.0), angles, 120.0),
                     (300.0, 250.0, -260.0), 1e-9)
-    assert range_alarms(kinematics, RotaryAngles(-120.0, 123.0)) == ()
-    assert [alarm.number for alarm in range_alarms(kinematics, RotaryAngles(31.0, 0.0))] == [ROTARY_RANGE]
+    assert leaving_range(kinematics, RotaryAngles(-120.0, 123.0), RotaryAngles(-120.0, 123.0)) == 0
+    assert leaving_range(kinematics, RotaryAngles(31.0, 0.0), RotaryAngles(31.0, 0.0)) == 1
+    assert leaving_range(kinematics, RotaryAngles(0.0, 0.0), RotaryAngles(31.0, 0.0)) == 1  # on the way
+    assert leaving_range(kinematics, RotaryAngles(0.0, 0.0), RotaryAngles(-120.0, 270.0)) == 0
 
 
 # ------------------------------------------------------------------------------ parameters

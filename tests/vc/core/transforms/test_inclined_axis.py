@@ -23,19 +23,14 @@ from vc.core.transforms.inclined_axis import (
     InclinedAxisParameters,
     Motion,
     Role,
-    StrokeArea,
     StrokeLimit,
     configuration_alarms,
-    display,
     g28_block_alarm,
     g28_leg_motion,
     incompatibility_alarms,
-    machine_feeds,
     machine_increment,
     move_inclined_axis,
-    pairing_alarms,
     parameters_for_channel,
-    pre_move_check_possible,
     reference_lost,
     reference_order_alarm,
     reference_return_motion,
@@ -44,7 +39,6 @@ from vc.core.transforms.inclined_axis import (
     rigid_tapping_alarm,
     settings_from_gsk,
     stroke_check_position,
-    stroke_limit_violated,
     to_machine,
     to_program,
 )
@@ -53,7 +47,6 @@ from vc.core.transforms.transform_alarm import (
     INCLINED_G28_BLOCK,
     INCLINED_INCOMPATIBLE,
     INCLINED_ORDER,
-    INCLINED_PAIRING,
 )
 
 TURN_MILL = str(Path(__file__).resolve().parents[4] / "scenarios" / "machines" / "turn_mill.yaml")
@@ -101,11 +94,7 @@ def test_tv_ia_5_6_g53_absolute_display() -> None:
     # G53 Y100 (machine): Yp = 100 cos(-30) = 86.603; Xp = 0 + 86.603 * tan(-30) = -50.000
     assert close(to_program(SEED, AxisPair(0.0, 100.0)), (-50.0, 86.603))
     # G53 X200: Xp = 200 - 50 = 150.000, Yp unchanged
-    shown = display(SEED, AxisPair(200.0, 100.0))
-    assert close(shown.absolute, (150.0, 86.603))
-    assert shown.machine == AxisPair(200.0, 100.0)
-    # with a work offset X 10 / Y 6.603 the absolute display shifts by it
-    assert close(display(SEED, AxisPair(200.0, 100.0), AxisPair(10.0, 6.603)).absolute, (140.0, 80.0))
+    assert close(to_program(SEED, AxisPair(200.0, 100.0)), (150.0, 86.603))
 
 
 def test_tv_ia_7_g28_with_arf_1_is_cartesian() -> None:
@@ -136,17 +125,16 @@ def test_tv_ia_8_g28_with_arf_0_keeps_the_orthogonal_axis_on_the_last_leg() -> N
 
 
 def test_tv_ia_9_feed_components() -> None:
-    # Pure Y move at F = 1000: F_ay = 1000 / cos(-30) = 1154.70,
+    # The machine axes move by their increments in the same time, so their velocities are in the
+    # ratio of the increments.  Pure Y move at F = 1000: F_ay = 1000 / cos(-30) = 1154.70,
     # F_ax = 0 - 1000 * tan(-30) = +577.35 (the orthogonal axis compensates at that speed)
-    feeds = machine_feeds(SEED, AxisPair(0.0, 1000.0), nozagc=False)
+    feeds = machine_increment(SEED, AxisPair(0.0, 1000.0), nozagc=False)
     assert close(feeds, (577.35, 1154.70), 0.005)
-    # The formula as printed, F_p - F_p tan(theta) = 1000 + 577.35 = 1577.35, is not used:
+    # The formula as printed, F_p - F_p tan(theta) = 1000 + 577.35 = 1577.35, is not what results:
     assert abs(feeds.orthogonal - 1577.35) > 999.0
-    # the orthogonal velocity is the derivative of its position: 57.735 mm per 100 mm of Yp
-    assert math.isclose(feeds.orthogonal / feeds.inclined * 115.470, 57.735, abs_tol=1e-3)
     # NOZAGC = 1: no compensation; a pure X move is not converted at all
-    assert close(machine_feeds(SEED, AxisPair(0.0, 1000.0), nozagc=True), (0.0, 1154.70), 0.005)
-    assert machine_feeds(SEED, AxisPair(800.0, 0.0), nozagc=False) == AxisPair(800.0, 0.0)
+    assert close(machine_increment(SEED, AxisPair(0.0, 1000.0), nozagc=True), (0.0, 1154.70), 0.005)
+    assert machine_increment(SEED, AxisPair(800.0, 0.0), nozagc=False) == AxisPair(800.0, 0.0)
 
 
 def test_tv_ia_10_diameter_programming_doubles_the_compensation() -> None:
@@ -283,19 +271,12 @@ def test_g28_block_order() -> None:
 
 
 def test_stroke_limits_in_cartesian_or_inclined_coordinates() -> None:
-    # Machine P1 = (57.735, 115.470) is program (0, 100).  Limit box X -10 .. 10, Y -200 .. 200.
+    # Machine P1 = (57.735, 115.470) is program (0, 100).
     p1 = AxisPair(57.73503, 115.47005)
-    box = StrokeArea(lower=AxisPair(-10.0, -200.0), upper=AxisPair(10.0, 200.0))
-    cartesian = InclinedAxisParameters(-30.0, Y_INCLINED, X_ORTHOGONAL, limits_cartesian=(True, False, True))
-    # AOT = 1: checked at X 0 -> inside; AO2 = 0: checked at machine X 57.735 -> outside
+    cartesian = InclinedAxisParameters(-30.0, Y_INCLINED, X_ORTHOGONAL, limits_cartesian=(True, False, False))
+    # AOT = 1: checked at the Cartesian position; AOT = 0: at the machine position
     assert close(stroke_check_position(cartesian, StrokeLimit.FIRST, p1), (0.0, 100.0))
-    assert not stroke_limit_violated(cartesian, StrokeLimit.FIRST, p1, box)
-    assert stroke_limit_violated(cartesian, StrokeLimit.SECOND, p1, box)
-    # stored stroke limit 3 forbids the inside of its box: program (0, 100) is inside
-    assert stroke_limit_violated(cartesian, StrokeLimit.THIRD, p1,
-                                 StrokeArea(AxisPair(-10.0, 50.0), AxisPair(10.0, 150.0), inside_forbidden=True))
-    assert pre_move_check_possible(cartesian, StrokeLimit.FIRST)
-    assert not pre_move_check_possible(cartesian, StrokeLimit.SECOND)
+    assert stroke_check_position(SEED, StrokeLimit.FIRST, p1) == p1
 
 
 # ------------------------------------------------------------------------------ incompatibilities
@@ -304,7 +285,7 @@ def test_stroke_limits_in_cartesian_or_inclined_coordinates() -> None:
 def test_incompatible_functions() -> None:
     alarms = incompatibility_alarms([ConflictingFunction.POLYGON_TURNING, ConflictingFunction.PMC_AXIS])
     assert [alarm.number for alarm in alarms] == [INCLINED_INCOMPATIBLE] * 2
-    assert "polygon turning" in alarms[0].text
+    assert alarms[0].detail == "polygon turning"
     tapping = rigid_tapping_alarm(SEED, Y_INCLINED)
     assert tapping is not None and tapping.number == INCLINED_INCOMPATIBLE
     assert rigid_tapping_alarm(SEED, 2) is None
@@ -314,17 +295,5 @@ def test_configuration_rules() -> None:
     assert configuration_alarms(SEED, False, False, True) == ()
     alarms = configuration_alarms(SEED, True, False, False)
     assert [alarm.number for alarm in alarms] == [INCLINED_CONFIGURATION] * 2
-    assert "rotary" in alarms[0].text and "increment" in alarms[1].text
+    assert "rotary" in alarms[0].detail and "increment" in alarms[1].detail
 
-
-def test_two_path_coupling_pairs_like_with_like() -> None:
-    path_2 = InclinedAxisParameters(-30.0, inclined_axis=2, orthogonal_axis=1)
-    # X1 <-> X2 (orthogonal), Y1 <-> Y2 (inclined): allowed (L344-346)
-    assert pairing_alarms(SEED, path_2, [(X_ORTHOGONAL, 1), (Y_INCLINED, 2)]) == ()
-    # inclined with orthogonal
-    crossed = pairing_alarms(SEED, path_2, [(X_ORTHOGONAL, 2), (Y_INCLINED, 1)])
-    assert crossed and all(alarm.number == INCLINED_PAIRING for alarm in crossed)
-    # only the orthogonal axes coupled: the inclined ones must come along
-    assert len(pairing_alarms(SEED, path_2, [(X_ORTHOGONAL, 1)])) == 2
-    # a plain axis of path 2 with the inclined axis of path 1
-    assert pairing_alarms(SEED, None, [(X_ORTHOGONAL, 1), (Y_INCLINED, 2)])
