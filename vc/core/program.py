@@ -32,12 +32,13 @@ from dataclasses import dataclass
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)"
 _NAME = r"[A-Z_$][A-Z0-9_$]*"
 _TOKEN = re.compile(
-    rf"\s*(?:(?P<number>{_NUMBER})|(?P<name>{_NAME})|(?P<string>\"[^\"]*\")|(?P<symbol>[=\[\](),:]))",
+    rf"\s*(?:(?P<number>{_NUMBER})|(?P<name>{_NAME}(?:(?<=\d)\.(?!\d))?)|(?P<string>\"[^\"]*\")|(?P<symbol>[=\[\](),:]))",
     re.IGNORECASE,
 )
 _ADDRESS_WORD = re.compile(rf"^([A-Z])({_NUMBER})$", re.IGNORECASE)
-# Address words written without blanks: "G1X10Y20", or "G1X" followed by the number "-10".
-_CHAINED_WORDS = re.compile(r"^(?:[A-Z]\d+)+[A-Z]?$", re.IGNORECASE)
+# Address words written without blanks: "G1X10Y20", or "G1X" followed by the number "-10".  A
+# number may end in its decimal point ("Y100.", "G1X10."): the point stays with the name.
+_CHAINED_WORDS = re.compile(r"^(?:[A-Z]\d+)+(?:[A-Z]|\.)?$", re.IGNORECASE)
 _BLOCK_NUMBER = re.compile(r"^\s*N(\d+)", re.IGNORECASE)
 _SYNCHRONIZED_ACTION = re.compile(
     r"^(?:N(?P<block>\d+)\s+)?(?P<kind>IDS|ID)\s*=\s*(?P<number>\d+)\s+(?P<mode>WHENEVER|WHEN|EVERY|FROM)\s+"

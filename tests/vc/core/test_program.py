@@ -214,3 +214,10 @@ def test_jump_destinations_by_direction() -> None:
     assert jump_target(blocks, 5, Jump("GOTO", "N10")) == 1  # then back
     assert jump_target(blocks, 5, Jump("GOTOB", "N20")) == 3
     assert jump_target(blocks, 6, Jump("GOTOF", "N10")) is None
+
+
+def test_a_number_may_end_in_its_decimal_point() -> None:
+    assert single("G0 Y100.").items == (Word("G", 0.0), Word("Y", 100.0))
+    assert single("G1X10.Z-2. F500").items == (Word("G", 1.0), Word("X", 10.0), Word("Z", -2.0), Word("F", 500.0))
+    assert single("X100.5 Y.5").items == (Word("X", 100.5), Word("Y", 0.5))
+    assert single("LFON.").error  # a point after a name is no number
