@@ -363,6 +363,17 @@ class MachineAxis:
         return self._loop_setpoint - self.actual
 
     @property
+    def lag_per_velocity(self) -> float:
+        """Following error per unit of a constant velocity (s), by the loop of
+        ``_close_position_loop``: with feedforward the symmetrising model, and the slide on it,
+        lags the setpoint by the drive's MD32810 less the cycle it is compared in; without it the
+        Kv loop needs velocity / Kv."""
+        dyn = self.dyn
+        if dyn.feedforward:
+            return max(dyn.drive_time_constant - self._dt, 0.0)
+        return 1.0 / dyn.kv if dyn.kv else 0.0
+
+    @property
     def distance_to_end_point(self) -> float:
         """Interpolated end point minus actual value: what the exact stop windows measure
         (seed 003 §13.8.8: the windows are counted from the target position)."""

@@ -496,6 +496,8 @@ class Channel:
         assert plan is not None
         if any(self.spindles[name].holds_block_end for name in plan.spindles):
             return  # SPOS / M19: the block ends when the spindle is in position (L16475-16496)
+        if any(not self.spindles[name].positioned_or_stopped() for name in plan.spindle_waits):
+            return  # WAITS
         couplings = self.couplings
         if couplings is not None and (
                 any(couplings.holds_block(name, criterion) for name, criterion in self._waits)

@@ -113,6 +113,7 @@ class Overlay:
     velocity: float = 0.0
     waits: bool = True  # SPOS holds its block until done; SPOSA does not
     resync: bool = False  # started by DBX31.4: DBX99.4 while it runs
+    positioning: bool = False  # SPOS / SPOSA on the FS: DBX2.2 deletes its distance to go
 
 
 @dataclass(slots=True)
@@ -121,12 +122,16 @@ class Coupling:
 
     definition: PairDefinition
     channel: str
+    block: str = ""  # the COUPON block, shown by the stage-2 alarms
     phase: Phase = Phase.SYNCHRONISING
     relation: float = 0.0  # $AA_COUP_OFFS: FS setpoint - k x LS position (without the correction)
     target: float = 0.0  # the relation the coupling heads for
     programmed: float | None = None  # $P_COUP_OFFS
     offset_pending: bool = False  # COUPON with POSFS: applied at setpoint synchronism
     overlay: Overlay | None = None
+    # SPOS [IC] on the FS before setpoint synchronism: (distance, FA[Sn] limit, waits), run one after
+    # the other once the relation is defined and COUPON's offset is reached
+    queued: list[tuple[float, float, bool]] = field(default_factory=list)
     differential: float = 0.0  # programmed differential speed, rev/min, signed
     differential_velocity: float = 0.0  # its ramped value, deg/s
     correction: float = 0.0  # $AA_COUP_CORR
@@ -149,7 +154,8 @@ class Coupling:
 
     @property
     def setpoint_synchronous(self) -> bool:
-        return self.phase is Phase.SYNCHRONOUS and self.overlay is None and not self.offset_pending
+        return (self.phase is Phase.SYNCHRONOUS and self.overlay is None and not self.offset_pending
+                and not self.queued)
 
 
 class CouplingSignals:
@@ -293,7 +299,8 @@ class Couplings:
         present = self.active.get(following)
         if present is not None:
             if offset is not None and present.phase is Phase.SYNCHRONOUS:
-                self._set_offset(present, offset, waits=True)  # a new offset as overlaid motion
+                # a new offset as overlaid motion; COUPON's block change criterion decides the wait
+                self._set_offset(present, offset, waits=False)
             return 0
         busy = self.involved(leading) and leading not in [c.definition.leading for c in self.active.values()]
         in_channel = sum(1 for coupling in self.active.values() if coupling.channel == channel)
@@ -307,15 +314,16 @@ class Couplings:
             self._alarms.raise_alarm(ALARM_NOT_SYNCHRONISED, cycle, channel, block,
                                      following if not fs.axis.referenced else leading, channel=channel,
                                      axis=following)
-        coupling = Coupling(definition, channel, shifts_seen=(fs.axis.coordinate_shift, ls.axis.coordinate_shift))
+        coupling = Coupling(definition, channel, block,
+                            shifts_seen=(fs.axis.coordinate_shift, ls.axis.coordinate_shift))
         coupling.spcon_following = fs.position_control and fs.mode is not SpindleMode.AXIS
         if offset is not None:
             coupling.programmed = offset % 360.0
             coupling.offset_pending = True
         if keep_speed:
             # COUPONC: the FS's own M3/M4 S stays as differential speed (L22719-22721, L23466-23470)
-            direction = -fs.direction if fs.inputs.invert_m3_m4 else fs.direction
-            coupling.differential = direction * fs.speed
+            coupling.differential = fs.direction * fs.speed
+            coupling.differential_velocity = fs.axis.command_velocity  # taken over without a jump
         self.active[following] = coupling
         fs.enter_synchronous_mode()
         axis = fs.axis
@@ -361,20 +369,37 @@ class Couplings:
             coupling.helix[0].fold_overlay()
         return 0
 
-    def _set_offset(self, coupling: Coupling, offset: float, waits: bool, limit: float | None = None) -> None:
+    def _set_offset(self, coupling: Coupling, offset: float, waits: bool, limit: float | None = None,
+                    positioning: bool = False) -> None:
         """Move the relation to ``offset`` (degrees, relative to the LS's 0) the short way."""
         coupling.programmed = offset % 360.0
-        self._move_relation(coupling, wrap180(offset - coupling.target), waits, limit)
+        self._move_relation(coupling, wrap180(offset - coupling.target), waits, limit, positioning=positioning)
 
     def _move_relation(self, coupling: Coupling, distance: float, waits: bool, limit: float | None = None,
-                       resync: bool = False) -> None:
-        fs = self._spindles[coupling.definition.following]
-        speed = limit if limit else fs.axis.dyn.max_velocity * 0.9  # "the highest possible velocity"
+                       resync: bool = False, positioning: bool = False) -> None:
+        # COUPON's offset, the resynchronisation and polygon turning's R move "at the highest possible
+        # velocity" (L22015-22021): the FS's largest set speed of its gear stage, which under
+        # position control keeps the 10 % control reserve (L22089-22094) and MD35135
+        speed = limit if limit else self._spindles[coupling.definition.following].max_speed * RPM
         if coupling.overlay is not None:
             distance += coupling.overlay.left
         coupling.target += distance
         coupling.overlay = Overlay(distance, speed, coupling.overlay.velocity if coupling.overlay else 0.0,
-                                   waits, resync)
+                                   waits, resync, positioning)
+
+    def _delete_positioning(self, coupling: Coupling) -> None:
+        """Delete distance to go of the FS's SPOS / SPOSA: the overlay brakes as fast as it can and
+        the relation stays where it stops; COUPON's offset motion goes on (L23299-23303) [control]."""
+        coupling.queued.clear()
+        overlay = coupling.overlay
+        if overlay is None or not overlay.positioning:
+            return
+        accel = self._spindles[coupling.definition.following].coupled_acceleration()
+        speed = abs(overlay.velocity)
+        braking = math.copysign(speed * speed / (2.0 * accel) + speed * self._dt, overlay.velocity) if speed else 0.0
+        if abs(braking) < abs(overlay.left):
+            coupling.target -= overlay.left - braking
+            overlay.left = braking
 
     def position_following(self, following: str, mode: str, value: float, feed: float, wait: bool) -> None:
         """SPOS / SPOSA on a coupled FS: the offset changes as overlaid motion at FA[Sn]
@@ -384,11 +409,23 @@ class Couplings:
         limit = feed * RPM / 360.0 if feed > 0.0 else fs.positioning_speed() * RPM
         if fs.inputs.use_feed_override:
             limit *= fs.override()
+        if coupling.phase is Phase.SYNCHRONISING:
+            # no relation yet: the motion follows COUPON's pending offset once setpoint synchronism
+            # is reached; an absolute position replaces that offset [control]
+            if mode == "IC":
+                coupling.queued.append((value, limit, wait))
+                if coupling.programmed is not None:
+                    coupling.programmed = (coupling.programmed + value) % 360.0
+            else:
+                coupling.queued.clear()
+                coupling.programmed = value % 360.0
+                coupling.offset_pending = True
+            return
         if mode == "IC":
             coupling.programmed = (coupling.target + value) % 360.0
-            self._move_relation(coupling, value, wait, limit)
+            self._move_relation(coupling, value, wait, limit, positioning=True)
         else:
-            self._set_offset(coupling, value, wait, limit)
+            self._set_offset(coupling, value, wait, limit, positioning=True)
 
     def program_differential(self, following: str, direction: int | None, speed: float | None, cycle: int,
                              block: str) -> int:
@@ -416,7 +453,7 @@ class Couplings:
         if coupling is None:
             return False
         wanted = coupling.definition.block_change if criterion is None else criterion
-        if coupling.overlay is not None and coupling.overlay.waits and criterion is None:
+        if criterion is None and self.overlay_holds_block(following):
             return True
         if wanted is BlockChange.NOC:
             return False
@@ -430,7 +467,8 @@ class Couplings:
 
     def overlay_holds_block(self, following: str) -> bool:
         coupling = self.active.get(following)
-        return coupling is not None and coupling.overlay is not None and coupling.overlay.waits
+        return coupling is not None and ((coupling.overlay is not None and coupling.overlay.waits)
+                                         or any(waits for _, _, waits in coupling.queued))
 
     # ------------------------------------------------------------------ channel events
     def nc_start(self, channel: str) -> None:
@@ -474,6 +512,20 @@ class Couplings:
                 coupling.differential = 0.0  # reset ends the FS's own motion, not the coupling
 
     # ------------------------------------------------------------------ PLC inputs
+    def reset_movement(self, name: str) -> None:
+        """DB31.DBX2.2 delete distance to go / spindle reset on its rising edge (the spindle itself
+        brakes, vc/core/spindle.py).  On an FS: the differential speed and its direction are
+        deleted (L23529-23532) and a SPOS offset motion ends; on an LS: the overlaid motions of
+        its FSs end as fast as possible, those of COUPON / COUPONC excepted, and the coupling stays
+        (L23299-23303)."""
+        coupling = self.active.get(name)
+        if coupling is not None:
+            coupling.differential = 0.0
+            self._delete_positioning(coupling)
+        for each in self.active.values():
+            if each.definition.leading == name:
+                self._delete_positioning(each)
+
     def decode_inputs(self, name: str) -> None:
         area, sig = self._areas[name], self._signals
         inputs = self.inputs[name]
@@ -553,7 +605,7 @@ class Couplings:
         ls.coupling_hold = fs_stop and not fs.md.int(MD.MISC_FUNCTION_MASK) & FEED_STOP_ON_FS_ONLY
         if fs_stop:
             coupling.differential_velocity = ramp(coupling.differential_velocity, 0.0, accel, dt)
-        wanted_differential = 0.0 if fs.inputs.delete_s else coupling.differential * RPM
+        wanted_differential = self._differential_setpoint(fs, coupling)
         if not self.inputs[following].overlay_enable:
             wanted_differential = 0.0
         coupling.differential_velocity = ramp(coupling.differential_velocity, wanted_differential, accel, dt)
@@ -566,6 +618,13 @@ class Couplings:
                 axis.take(Owner.COUPLING)
             return
         if not axis.servo_on and (axis.follow_up or not axis.drive_ready):
+            if coupling.phase is Phase.SYNCHRONISING:
+                axis.command_velocity = 0.0
+                if velocity != 0.0:
+                    return  # the FS stands until both spindles have their enables (L23240-23243)
+                # selected without enables at standstill: the setpoint relation holds from now on,
+                # 98.0 / 98.1 follow the actual positions (L23240-23243) [control]
+                self._synchronous(following, coupling, k * position)
             if axis.follow_up:
                 coupling.relation = axis.actual - k * position  # follow-up: the relation is lost (L23080)
             axis.setpoint = k * position + coupling.relation + coupling.correction_applied
@@ -588,6 +647,15 @@ class Couplings:
         if coupling.helix is not None:
             helix_axis, lead = coupling.helix
             helix_axis.add_overlay(lead * velocity * dt / 360.0, lead * velocity / 360.0)
+
+    @staticmethod
+    def _differential_setpoint(fs: Spindle, coupling: Coupling) -> float:
+        """The FS's own speed component (deg/s): DBX17.6 inverts it, the FS's override DBB19 scales
+        it, DBX16.7 deletes it while set; the coupled component sees none of them (L23529-23552)."""
+        if fs.inputs.delete_s or not coupling.differential:
+            return 0.0
+        direction = -1.0 if fs.inputs.invert_m3_m4 else 1.0
+        return direction * coupling.differential * fs.override() * RPM
 
     @staticmethod
     def _follow_coordinate_shifts(coupling: Coupling, fs: MachineAxis, ls: MachineAxis) -> None:
@@ -613,8 +681,19 @@ class Couplings:
         if coupling.offset_pending:
             coupling.offset_pending = False
             assert coupling.programmed is not None
+            # $P_COUP_OFFS already counts the increments queued meanwhile: COUPON's own offset first
+            coupon_offset = coupling.programmed - sum(distance for distance, _, _ in coupling.queued)
             if not self.inputs[following].sync_disable:
-                self._set_offset(coupling, coupling.programmed, waits=True)
+                self._set_offset(coupling, coupon_offset, waits=False)  # the block change criterion waits
+        if coupling.overlay is None:
+            self._start_queued(coupling)
+
+    def _start_queued(self, coupling: Coupling) -> None:
+        """The next SPOS increment programmed before setpoint synchronism."""
+        if coupling.queued:
+            distance, limit, waits = coupling.queued.pop(0)
+            coupling.programmed = (coupling.target + distance) % 360.0
+            self._move_relation(coupling, distance, waits, limit, positioning=True)
 
     def _overlay_step(self, coupling: Coupling, accel: float) -> float:
         overlay = coupling.overlay
@@ -624,6 +703,7 @@ class Couplings:
             # done: setpoint synchronism again, which also ends DBX99.4 of a resynchronisation
             # even while DBX31.4 is still set (L23134-23145)
             coupling.overlay = None
+            self._start_queued(coupling)
             return 0.0
         direction = 1.0 if overlay.left > 0 else -1.0
         speed = min(ramp(abs(overlay.velocity), overlay.limit, accel, self._dt),
@@ -705,9 +785,10 @@ class Couplings:
             # ``left`` to go to the target
             heading = coupling.target - (coupling.overlay.left if coupling.overlay and coupling.overlay.resync else 0.0)
             # the FS's own motion (differential speed) lags like any setpoint behind its position
-            # controller; the coupled part lags as the LS does and cancels
-            own = coupling.differential_velocity
-            lag = own * axis.following_error / axis.command_velocity if own and axis.command_velocity else 0.0
+            # controller; the coupled part lags as the LS does and cancels.  The lag comes from the
+            # FS's loop, not from its present following error: with k x n_LS + n_diff = 0 the FS
+            # stands without any following error while the LS lags by its own
+            lag = coupling.differential_velocity * axis.lag_per_velocity
             deviation = abs(wrap180(self._actual_relation(coupling) - heading - coupling.correction + lag))
             coarse_tolerance, fine_tolerance = md.float(MD.COUPLE_POS_TOL_COARSE), md.float(MD.COUPLE_POS_TOL_FINE)
         coupling.deviation = deviation
@@ -717,8 +798,8 @@ class Couplings:
         for number, tolerance in ((ALARM_FINE_2_EXCEEDED, md.float(MD.COUPLE_POS_TOL_FINE_2)),
                                   (ALARM_COARSE_2_EXCEEDED, md.float(MD.COUPLE_POS_TOL_COARSE_2))):
             if tolerance > 0.0 and synchronous and deviation > tolerance:
-                self._alarms.raise_alarm(number, cycle, coupling.channel, following, channel=coupling.channel,
-                                         axis=following)
+                self._alarms.raise_alarm(number, cycle, coupling.channel, coupling.block, following,
+                                         channel=coupling.channel, axis=following)
             elif tolerance > 0.0 and self._alarms.is_present(number, following):
                 self._alarms.clear(number, axis=following)  # a display alarm: gone with its cause
         coupling.acceleration = (axis.command_velocity - coupling.last_velocity) / self._dt

@@ -158,6 +158,7 @@ class BlockPlan:
     feeds: dict[str, float] = field(default_factory=dict)  # FA[Sn]: machine axis -> deg/min (0 = MD)
     position_control: dict[str, bool] = field(default_factory=dict)  # SPCON / SPCOF: machine axis -> on
     dwell_revolutions: float = 0.0  # G4 S: revolutions of the master spindle
+    spindle_waits: list[str] = field(default_factory=list)  # WAITS: machine axes of the spindles waited for
     polygon: PolygonCommand | None = None
     five_axis: FiveAxisWords | None = None  # G43.4 / G43 / G49 / G68.2 / G69 / G53.1 and their words
     tapping: Tapping | None = None  # G331 / G332 with a drilling axis
@@ -484,6 +485,19 @@ def _waitc(decoder: _Decoder, call: Call) -> None:
         decoder.plan.couplings.append(CouplingCommand("WAITC", following, block_change=condition or None))
 
 
+def _waits(decoder: _Decoder, call: Call | None) -> None:
+    """WAITS / WAITS(n, m, ...): the block change waits until the spindles (the master spindle
+    without arguments) stand on their SPOSA position or, after M5, stand still (seed 003 L23963
+    uses it after SPOSA[2]=0) [control: the 840D command, its page is not in the seed]."""
+    numbers = [float(decoder.channel.md.int(MD.SPIND_DEF_MASTER_SPIND))] if call is None or not call.arguments \
+        else list(call.arguments)
+    for number in numbers:
+        axis = decoder.spindle_axis(f"S{number:g}" if isinstance(number, float) else number)
+        if axis is None:
+            return
+        decoder.plan.spindle_waits.append(axis)
+
+
 def _spcon(decoder: _Decoder, call: Call | None, on: bool) -> None:
     """SPCON / SPCON(n) / SPCOF: position control of a spindle on or off (L22100, L23918-23921)."""
     numbers = [None] if call is None or not call.arguments else list(call.arguments)
@@ -691,10 +705,11 @@ _ADDRESS_EXTENSION = re.compile(r"([MS])(\d+)$")  # M2=3, S2=500: the function o
 _KEYWORD_HANDLERS: dict[str, Callable[[_Decoder], None]] = {
     "SPCON": lambda decoder: _spcon(decoder, None, True),
     "SPCOF": lambda decoder: _spcon(decoder, None, False),
+    "WAITS": lambda decoder: _waits(decoder, None),
     **_RETRACT_KEYWORDS,
 }
 _CALL_HANDLERS: dict[str, Callable[[_Decoder, Call], None]] = {
-    "PRESETON": _preseton, "WAITC": _waitc,
+    "PRESETON": _preseton, "WAITC": _waitc, "WAITS": _waits,
     "SPCON": lambda decoder, call: _spcon(decoder, call, True),
     "SPCOF": lambda decoder, call: _spcon(decoder, call, False),
     **{name: _coupling_call for name in ("COUPDEF", "COUPON", "COUPONC", "COUPOF", "COUPOFS", "COUPDEL",

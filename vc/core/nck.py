@@ -162,7 +162,6 @@ class Nck:
                 self.polygons.append(polygon)
         for spindle in self.spindles:
             spindle.write_outputs()  # the power-on state
-        self._spindle_resets = {spindle.name: False for spindle in self.spindles}
         self.emergency_stop = False
         self._plc_life: int | None = None  # the PLC's last sign of life; None while no PLC is attached
         self._plc_started = False  # the sign of life has changed once: the PLC scans
@@ -285,15 +284,9 @@ class Nck:
                 self._hardware_limit_switches(axis)
                 spindle = self._spindle_of.get(axis.name)
                 if spindle is not None:
-                    spindle.decode_inputs()
+                    if spindle.decode_inputs():
+                        self.couplings.reset_movement(axis.name)  # DB31.DBX2.2 on its rising edge
                     self.couplings.decode_inputs(axis.name)
-                    reset = axis.inputs.reset_movement
-                    if reset and not self._spindle_resets[axis.name]:
-                        spindle.spindle_reset()  # DB31.DBX2.2 on its rising edge
-                        coupling = self.couplings.coupled(axis.name)
-                        if coupling is not None:
-                            coupling.differential = 0.0  # on the FS: deletes the differential speed
-                    self._spindle_resets[axis.name] = reset
 
     def _hardware_limit_switches(self, axis: MachineAxis) -> None:
         """An actuated hardware limit switch stops the axis and raises alarm 21614 (on its edge)."""

@@ -126,6 +126,7 @@ class SpindleInputs:
     delete_s: bool = False
     use_feed_override: bool = False
     invert_m3_m4: bool = False
+    reset_movement: bool = False  # DB31.DBX2.2 as last seen (edge-evaluated)
     oscillation_by_plc: bool = False
     oscillation_enable: bool = False
     oscillation_cw: bool = False
@@ -258,7 +259,9 @@ class Spindle:
         return min(limit, position_control_limit) if position_control_limit > 0.0 else limit
 
     # ------------------------------------------------------------------ inputs
-    def decode_inputs(self) -> None:
+    def decode_inputs(self) -> bool:
+        """Take the PLC's DB31 spindle signals; True on the rising edge of DBX2.2, delete distance
+        to go / spindle reset, which the spindle carries out here (the coupling has its part)."""
         self.quiet = False
         area, sig, inp = self._area, self._signals, self.inputs
         reported = sig.gear_reported.get(area)
@@ -284,6 +287,12 @@ class Spindle:
         inp.resync_for_positioning = (sig.resync_for_positioning[0].get(area),
                                       sig.resync_for_positioning[1].get(area))
         self._plc_spindle_keys(sig.plc_stop.get(area), sig.plc_start_cw.get(area), sig.plc_start_ccw.get(area))
+        reset = self.axis.inputs.reset_movement
+        reset_edge = reset and not inp.reset_movement
+        inp.reset_movement = reset
+        if reset_edge:
+            self.spindle_reset()
+        return reset_edge
 
     def _plc_spindle_keys(self, stop: bool, start_cw: bool, start_ccw: bool) -> None:
         """The simple spindle interface DBB30: start CW / CCW with the last S, stop along the
@@ -404,6 +413,16 @@ class Spindle:
         if not positioning.done:
             return True
         return abs(self.axis.distance_to_end_point) > self.axis.dyn.coarse_window
+
+    def positioned_or_stopped(self) -> bool:
+        """WAITS: on the position of SPOS / SPOSA / M19, or standing after M5; a spindle turning
+        with M3 / M4 or coupled has nothing to wait for [control]."""
+        positioning = self.positioning
+        if positioning is not None:
+            return positioning.done and abs(self.axis.distance_to_end_point) <= self.axis.dyn.fine_window
+        if self.mode is SpindleMode.CONTROL and self.direction == 0:
+            return self.stationary()
+        return True
 
     # ------------------------------------------------------------------ coupling (vc/core/coupling.py)
     def enter_synchronous_mode(self) -> None:

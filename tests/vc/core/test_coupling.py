@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from core_rig import Rig, machine
 
 from interfaces.catalog import load_catalog
 from vc.config.loader import load_machine
@@ -142,3 +143,52 @@ def test_g51_2_arguments_and_signed_master_speed(nck: Nck) -> None:
     plan, alarm = decode(blocks[1], modal, channel.config, channel.axes_by_name)
     command = plan.spindles["SP1"]
     assert alarm is None and command.speed == 300.0 and command.direction == 4  # S < 0: M4 (seed 002 L41-47)
+
+
+def test_waits_names_the_spindles_or_the_master_spindle(nck: Nck) -> None:
+    plan, alarm = _decode(nck, "N365 WAITS(2)")
+    assert alarm is None and plan.spindle_waits == ["SP2"] and not plan.spindles  # type: ignore[attr-defined]
+    plan, alarm = _decode(nck, "N366 WAITS")
+    assert alarm is None and plan.spindle_waits == ["SP1"]  # type: ignore[attr-defined]
+    plan, alarm = _decode(nck, "N367 WAITS(2,3)")
+    assert alarm is None and plan.spindle_waits == ["SP2", "SP3"]  # type: ignore[attr-defined]
+    _, alarm = _decode(nck, "N368 WAITS(7)")
+    assert alarm is not None and alarm.number == 16105  # type: ignore[attr-defined]
+
+
+def _coupling_rig(overrides: str = "") -> Rig:
+    """The turn_mill machine in MDA with the test as PLC: enables, overrides 100 %, SP1 in gear 1."""
+    rig = Rig(machine("CHAN1: {MD20700: 0}" + ("\n" + overrides if overrides else "")))
+    rig.ready_mda()
+    for spindle in ("SP1", "SP2"):
+        rig.set(f"{spindle}.spindle.out.ovrFactor", 100)
+    rig.set("SP1.spindle.out.gearStageSelection", 1)  # the gearbox reports stage 1
+    rig.step(12)
+    return rig
+
+
+def test_coupon_offset_moves_at_the_largest_position_control_speed_of_the_gear_stage() -> None:
+    # "the highest possible velocity" (L22015-22021) is the FS's MD35135 here: 100 rev/min
+    rig = _coupling_rig("SP2: {MD35135: [100, 100]}")
+    rig.mda("N10 COUPON(S2,S1,180)\nN20 G4 F1\n")
+    fastest = 0.0
+    for _ in range(400):
+        rig.step()
+        fastest = max(fastest, abs(rig.sim.axis_quantity("SP2", "velocity")))
+    assert abs(fastest - 100.0) < 1e-6
+    assert abs(rig.nck.couplings.quantity("SP2", "couplingOffset") - 180.0) < 1e-6
+
+
+def test_differential_speed_that_cancels_the_coupled_speed_shows_no_deviation() -> None:
+    # TV-SS-4 with S2=500: n_FS = -1 x 500 + 500 = 0.  The FS stands without following error
+    # while the LS lags by its own (MD32810 4 ms - 2 ms cycle: 3000 deg/s x 2 ms = 6 degrees);
+    # the lag of the differential part comes from the FS's loop, so the deviation stays 0
+    rig = _coupling_rig()
+    rig.set("SP2.coupling.out.enableFollowOverlay", 1)
+    rig.mda("N10 M3 S500\nN20 COUPDEF(S2,S1,-1)\nN30 COUPON(S2,S1)\nN40 M2=3 S2=500\nN50 G4 F3\n")
+    rig.step(1000)
+    fs, ls = rig.axis("SP2"), rig.axis("SP1")
+    assert abs(ls.velocity / 6.0 - 500.0) < 1e-6 and fs.velocity == 0.0
+    assert abs(ls.following_error - 6.0) < 1e-6 and fs.following_error == 0.0
+    assert rig.nck.couplings.quantity("SP2", "syncDeviation") < 1e-6
+    assert rig.get("SP2.coupling.in.syncFineReached") == 1 and rig.get("SP2.spindle.in.speedSetpointReached") == 1
