@@ -93,7 +93,7 @@ from interfaces.plant_io import (
     gearbox_point,
 )
 from vc.config import md_dictionary as mdd
-from vc.config.can_config import read_can_section
+from vc.config.can_config import CanSection, check_against_machine, read_can_section
 from vc.config.machine_data import (
     MachineData,
     MdDef,
@@ -113,6 +113,7 @@ from vc.config.model import (
     ChuckPlant,
     GearboxPlant,
     MachineConfig,
+    machine_ipo_cycle_us,
 )
 from vc.located_yaml import LocatedMap, Mark, Problems, load_file
 
@@ -285,6 +286,8 @@ class _MachineReader:
         self.plant_io = PlantIoMap(())
         self.plant_io_names: dict[str, tuple[str, Mark]] = {}  # function name -> address text, mark
         self.plc_parameters: dict[str, Any] = {}
+        self.can = CanSection()
+        self.can_mark: Mark | None = None  # where the ``can:`` section is; None: there is none
         self.channel_lists_complete = True  # every channel's axes list could be read
 
     def add(self, mark: Mark, message: str) -> None:
@@ -318,8 +321,8 @@ class _MachineReader:
             if parameters is not None:
                 self.plc_parameters = dict(parameters)
         if "can" in document:
-            # checked here with the rest of the file; the CAN link reads it again (vc/config/can_config.py)
-            read_can_section(document["can"], document.mark_of("can"), self.problems)
+            self.can_mark = document.mark_of_key("can")
+            self.can = read_can_section(document["can"], document.mark_of("can"), self.problems)
 
     def _read_name(self, document: LocatedMap) -> None:
         if "machine" not in document:
@@ -791,7 +794,7 @@ class _MachineReader:
                          for number, entry in enumerate(self.channels.values(), start=1))
         if self.problems:
             return None
-        return MachineConfig(
+        config = MachineConfig(
             name=self.name,
             source=self.path,
             nck=MachineData(NCK_INSTANCE, self.nck.values()),
@@ -800,7 +803,12 @@ class _MachineReader:
             plant_io=self.plant_io,
             plc_parameters=self.plc_parameters,
             plc_cycle_ipo=self.plc_cycle_ipo,
+            can=self.can.config,
         )
+        if self.can_mark is not None:  # without a section the defaults fit every machine the loader accepts
+            check_against_machine(self.can, machine_ipo_cycle_us(config), config.layout,
+                                  self.plant_io.area_sizes(), self.can_mark, self.problems)
+        return None if self.problems else config
 
     def _check_ipo_cycle(self) -> None:
         clock = float(self.nck.value(mdd.SYSCLOCK_CYCLE_TIME))
