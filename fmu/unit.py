@@ -106,7 +106,6 @@ class NcUnit:
         self._written: dict[int, float | int | bool] = {}  # inputs set by the host, kept over a new power-on
         self._sign_of_life = 0
         self.start_time = 0.0
-        self._start_cycle = 0
         self._declare_variables()
         self._bind_signals()
 
@@ -183,11 +182,7 @@ class NcUnit:
                 self._readers[index] = partial(_read_bit, area, ref.address.byte, 1 << ref.address.bit)
             else:
                 self._readers[index] = partial(_read_number, area, ref, float if kind is Kind.REAL else int)
-            if self._writers[index] is None:
-                continue
-            if kind is Kind.BOOLEAN:
-                self._writers[index] = partial(_write_bit, image, ref, area, ref.address.byte, 1 << ref.address.bit)
-            else:
+            if self._writers[index] is not None:
                 self._writers[index] = partial(_write_value, image, ref)
 
     def _add_quantity(self, instance: str, quantity: str, description: str) -> None:
@@ -256,7 +251,6 @@ class NcUnit:
         self.machine = _load(self.machine_path, overrides)
         self.simulation = Simulation(self.machine, plc=None)
         self.ipo_cycle_s = self.simulation.ipo_cycle_s
-        self._start_cycle = 0
         self._bind_signals()
         for index, value in self._written.items():
             writer = self._writers[index]
@@ -265,7 +259,7 @@ class NcUnit:
 
     @property
     def time(self) -> float:
-        return self.start_time + (self.simulation.cycle - self._start_cycle) * self.ipo_cycle_s
+        return self.start_time + self.simulation.cycle * self.ipo_cycle_s
 
     def step(self, current_time: float, step_size: float) -> None:
         """Advance from ``current_time`` by ``step_size`` (s): a whole number of IPO cycles."""
@@ -293,18 +287,8 @@ def _read_number(area: bytearray, ref: SignalRef, kind: Callable[[Value], float 
     return kind(decode(area, ref))
 
 
-def _write_bit(image: ProcessImage, ref: SignalRef, area: bytearray, byte: int, mask: int,
-               value: float | int | bool) -> None:
-    if value is True or value == 1:
-        area[byte] |= mask
-    elif value is False or value == 0:
-        area[byte] &= ~mask
-    else:
-        raise UnitError(f"{ref.name} is a bool; {value} is neither 0 nor 1; the value was not taken")
-    image.version += 1  # the NC takes over the PLC's bytes only when the image changed
-
-
 def _write_value(image: ProcessImage, ref: SignalRef, value: float | int | bool) -> None:
+    """Through the image, which counts the write: the NC takes over the PLC's bytes only when it changed."""
     try:
         image.write(ref, int(value) if isinstance(value, bool) else value)
     except ValueRangeError as error:

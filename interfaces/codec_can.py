@@ -49,7 +49,8 @@ Convention, stated once (``vc map --format dbc`` writes it as a DBC file, the te
         6     0
         7     checksum
       PLC link (0x101), PLC -> NC, after the PLC's data frames at the end of every scan
-        0     link version 1 | flags: bit 0 = the PLC needs the description (no session running)
+        0     link version 1 | flags: bit 0 = the PLC needs the description (no session running),
+              bit 1 = the PLC's time-out monitor misses frames of the NC (it runs on substitute values 0)
         1     PLC sign of life: counts every scan, 0..255 (the NC watches it: alarm 2000)
         2..3  session ready: the session the PLC runs its program for
         4..5  scan done: the granted scan the PLC finished (lockstep)
@@ -84,18 +85,25 @@ DEFAULT_LINK_ID = 0x100
 DEFAULT_NC_TO_PLC_ID = 0x200
 DEFAULT_PLC_TO_NC_ID = 0x400
 MAX_STANDARD_ID = 0x7FF
+DEFAULT_TIMEOUT_US = 50_000  # a frame missing for longer: the receiver's time-out monitor reacts
 FD_FRAME_BYTES = 64
 CLASSIC_FRAME_BYTES = 8
 LINK_FRAME_BYTES = 8
 FD_LENGTHS = (0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24, 32, 48, 64)
 NEEDS_DESCRIPTION = 0x01  # PLC link frame, byte 0, low nibble
+MISSES_NC_FRAMES = 0x02  # PLC link frame, byte 0, low nibble
 DESCRIPTION_HEADER_BYTES = 8  # stream: length (4), CRC-32 (4)
 _SEGMENT_NUMBER = struct.Struct(">H")
 _LINK = struct.Struct(">BBHHB")  # version|low nibble, life, session, grant/done, reserved
 
 
 class CanMapError(ValueError):
-    """The interface does not fit the identifiers (overlapping or beyond 0x7FF)."""
+    """The interface does not fit the identifiers (overlapping or beyond 0x7FF): every clash in
+    ``problems``, joined in the message."""
+
+    def __init__(self, problems: Sequence[str]):
+        super().__init__("; ".join(problems))
+        self.problems = tuple(problems)
 
 
 class Frame(NamedTuple):
@@ -307,15 +315,16 @@ def _check_identifiers(settings: CanSettings, slots: Mapping[Direction, Sequence
     blocks = [("the link frames", settings.link_id, 3)]
     blocks += [(f"the {_SHOWN[direction]} data frames", items[0].can_id, len(items))
                for direction, items in slots.items() if items]
-    for name, first, count in blocks:
-        if first < 0 or first + count - 1 > MAX_STANDARD_ID:
-            raise CanMapError(f"{name} need identifiers 0x{first:03X}..0x{first + count - 1:03X}; standard"
-                              f" identifiers end at 0x{MAX_STANDARD_ID:03X}")
+    problems = [f"{name} need identifiers 0x{first:03X}..0x{first + count - 1:03X}; standard identifiers end at"
+                f" 0x{MAX_STANDARD_ID:03X}" for name, first, count in blocks
+                if first < 0 or first + count - 1 > MAX_STANDARD_ID]
     for index, (name, first, count) in enumerate(blocks):
         for other, other_first, other_count in blocks[index + 1:]:
             if first < other_first + other_count and other_first < first + count:
-                raise CanMapError(f"{name} (0x{first:03X}..0x{first + count - 1:03X}) overlap {other}"
-                                  f" (0x{other_first:03X}..0x{other_first + other_count - 1:03X})")
+                problems.append(f"{name} (0x{first:03X}..0x{first + count - 1:03X}) overlap {other}"
+                                f" (0x{other_first:03X}..0x{other_first + other_count - 1:03X})")
+    if problems:
+        raise CanMapError(problems)
 
 
 # ---------------------------------------------------------------------------------- link frames
@@ -365,23 +374,28 @@ class NcLink:
 
 @dataclass(frozen=True, slots=True)
 class PlcLink:
-    """The PLC link frame: the PLC's sign of life, session ready, scan done, description wanted."""
+    """The PLC link frame: the PLC's sign of life, session ready, scan done, description wanted,
+    the NC's frames missing."""
 
     life: int
     session_ready: int
     scan_done: int
     needs_description: bool = False
+    misses_nc_frames: bool = False
     version: int = LINK_VERSION
 
     def encode(self, settings: CanSettings, fd: bool) -> Frame:
-        return _pack_link(settings.plc_link_id, self.version, NEEDS_DESCRIPTION if self.needs_description else 0,
-                          self.life, self.session_ready, self.scan_done, fd)
+        flags = (NEEDS_DESCRIPTION if self.needs_description else 0) | \
+            (MISSES_NC_FRAMES if self.misses_nc_frames else 0)
+        return _pack_link(settings.plc_link_id, self.version, flags, self.life, self.session_ready, self.scan_done,
+                          fd)
 
     @classmethod
     def decode(cls, can_id: int, data: bytes) -> PlcLink | None:
         fields = _unpack_link(can_id, data)
         return None if fields is None else cls(fields.life, fields.session, fields.number,
-                                               bool(fields.nibble & NEEDS_DESCRIPTION), fields.version)
+                                               bool(fields.nibble & NEEDS_DESCRIPTION),
+                                               bool(fields.nibble & MISSES_NC_FRAMES), fields.version)
 
 
 # ---------------------------------------------------------------------------------- description

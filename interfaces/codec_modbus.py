@@ -77,6 +77,8 @@ DATA_START_BYTE = 2 * LINK_REGISTERS
 MAX_TABLE_REGISTERS = 4096  # 65536 bits: the highest coil / discrete input number is 65535
 DESCRIPTION_REGISTER = 4096  # first input register of the description
 MAX_DESCRIPTION_BYTES = 2 * 4096
+READ_LIMIT = 125  # registers in one read request or response (FC 3, 4): the protocol's limit
+WRITE_LIMIT = 123  # registers in one write request (FC 16)
 LINK_VERSION = 1
 
 # Link block, NC-to-PLC table (input registers)

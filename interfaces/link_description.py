@@ -9,11 +9,13 @@ fixed program ignores it).  It travels as UTF-8 JSON (input registers from 4096 
      "plant_io": {"I0.0": "EStop.chainOk", ...}, "ipo_cycle_us": 2000, "plc_cycle_ipo": 5,
      "program": "basic_machine", "parameters": {...},
      "nc_to_plc_registers": 323, "plc_to_nc_registers": 132,
-     "can": {"link_id": 256, "nc_to_plc_id": 512, "plc_to_nc_id": 1024, "fd": true, "checksum": true}}
+     "can": {"link_id": 256, "nc_to_plc_id": 512, "plc_to_nc_id": 1024, "fd": true, "checksum": true},
+     "can_timeout_us": 50000}
 
 The register counts let a client check that it computes the same layout as the server.  ``can``
 comes only over the CAN link (:mod:`interfaces.codec_can`, there as segments of the description
-frame): the identifiers and frame format the PLC must use.
+frame): the identifiers and frame format the PLC must use, and the time after which its
+time-out monitor treats a missing frame of the NC as a failure.
 """
 
 from __future__ import annotations
@@ -24,10 +26,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_can import CanLayout, CanMapError, CanSettings
+from interfaces.codec_can import DEFAULT_TIMEOUT_US, CanLayout, CanMapError, CanSettings
 from interfaces.codec_modbus import RegisterMap, Table
 from interfaces.plant_io import PlantIoError, PlantIoMap
-from interfaces.plc import PlcEnvironment
+from interfaces.plc import PlcEnvironment, PlcFactory, SoftPlc
 from interfaces.signals import InterfaceLayout, expand
 
 FORMAT = 1
@@ -35,6 +37,10 @@ FORMAT = 1
 
 class DescriptionError(ValueError):
     """A description that cannot be read or does not fit this side's catalogue."""
+
+
+class PlcSetupError(Exception):
+    """The PLC cannot run what the harness describes (unknown program, other catalogue)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -50,15 +56,17 @@ class LinkDescription:
     nc_to_plc_registers: int = 0
     plc_to_nc_registers: int = 0
     can: CanSettings | None = None  # the CAN link's identifiers and frame format
+    can_timeout_us: int = DEFAULT_TIMEOUT_US  # the CAN link's time-out monitor
 
     @classmethod
     def of(cls, environment: PlcEnvironment, program: str | None, register_map: RegisterMap,
-           can: CanSettings | None = None) -> LinkDescription:
+           can: CanSettings | None = None, can_timeout_us: int = DEFAULT_TIMEOUT_US) -> LinkDescription:
         layout = environment.catalog.layout
         entries = {str(point.address): point.name for point in environment.plant_io.points}
         return cls(environment.machine, layout.channels, layout.axes, entries, environment.ipo_cycle_us,
                    environment.plc_cycle_ipo, program, dict(environment.parameters),
-                   register_map.registers(Table.NC_TO_PLC), register_map.registers(Table.PLC_TO_NC), can)
+                   register_map.registers(Table.NC_TO_PLC), register_map.registers(Table.PLC_TO_NC), can,
+                   can_timeout_us)
 
     def to_json(self) -> bytes:
         document = {
@@ -69,6 +77,7 @@ class LinkDescription:
         }
         if self.can is not None:
             document["can"] = self.can.as_dict()
+            document["can_timeout_us"] = self.can_timeout_us
         return json.dumps(document, separators=(",", ":"), sort_keys=True).encode()
 
     @classmethod
@@ -82,7 +91,8 @@ class LinkDescription:
                        dict(document["plant_io"]), int(document["ipo_cycle_us"]), int(document["plc_cycle_ipo"]),
                        document.get("program"), dict(document.get("parameters") or {}),
                        int(document["nc_to_plc_registers"]), int(document["plc_to_nc_registers"]),
-                       None if can is None else CanSettings.from_dict(can))
+                       None if can is None else CanSettings.from_dict(can),
+                       int(document.get("can_timeout_us", DEFAULT_TIMEOUT_US)))
         except (UnicodeDecodeError, ValueError, KeyError, TypeError, AttributeError) as error:
             if isinstance(error, DescriptionError):
                 raise
@@ -108,6 +118,23 @@ class LinkDescription:
         environment = PlcEnvironment(catalog, plant_io, self.scan_time_s, self.parameters, self.machine,
                                      self.ipo_cycle_us, self.plc_cycle_ipo)
         return environment, register_map
+
+    def start_program(self, programs: Mapping[str, PlcFactory],
+                      requested: str | None) -> tuple[PlcEnvironment, RegisterMap, SoftPlc, str]:
+        """A PLC's start for this description, whatever the transport: its environment, the register
+        layout, the program (``requested``, else the one the harness asks for) and its name;
+        raises :class:`PlcSetupError` with what prevents it."""
+        try:
+            environment, register_map = self.environment()
+        except DescriptionError as error:
+            raise PlcSetupError(str(error)) from None
+        name = requested or self.program
+        if name is None:
+            raise PlcSetupError("the harness asks for no program: start the PLC with --program NAME")
+        factory = programs.get(name)
+        if factory is None:
+            raise PlcSetupError(f"no PLC program '{name}' (known: {', '.join(sorted(programs))})")
+        return environment, register_map, factory(environment), name
 
     def can_layout(self, environment: PlcEnvironment) -> CanLayout:
         """The CAN frames the harness uses, from the settings it sent."""

@@ -25,6 +25,7 @@ from interfaces.codec_modbus import (
     LINK_REGISTERS,
     LINK_VERSION,
     MODE_LOCKSTEP,
+    READ_LIMIT,
     REG_DESCRIPTION_BYTES,
     REG_DESCRIPTION_START,
     REG_MODE,
@@ -39,16 +40,13 @@ from interfaces.codec_modbus import (
     registers_text,
 )
 from interfaces.image import ProcessImage
-from interfaces.link_description import DescriptionError, LinkDescription
-from interfaces.links.modbus_tcp import READ_LIMIT, LinkError, ModbusLinkClient
+from interfaces.link_description import DescriptionError, LinkDescription, PlcSetupError
+from interfaces.links.modbus_tcp import LinkError, ModbusLinkClient
 from interfaces.plc import SoftPlc
 from plc_stub.programs import REGISTRY
+from plc_stub.scan_loop import EXIT_NO_HARNESS, EXIT_STOPPED, exit_code, run_scans
 
 _WORD = struct.Struct(">H")
-
-
-class RemoteSetupError(Exception):
-    """The PLC cannot run what the server describes (unknown program, other catalogue)."""
 
 
 @dataclass(slots=True)
@@ -90,7 +88,7 @@ class RemotePlc:
             wallclock.sleep(0.01)
             return False
         if head[REG_VERSION] != LINK_VERSION:
-            raise RemoteSetupError(f"the server speaks link version {head[REG_VERSION]}, this PLC {LINK_VERSION}")
+            raise PlcSetupError(f"the server speaks link version {head[REG_VERSION]}, this PLC {LINK_VERSION}")
         session = self.session
         if session is None or session.number != head[REG_SESSION]:
             session = self._start_session(head)
@@ -117,18 +115,12 @@ class RemotePlc:
                               length)
         try:
             description = LinkDescription.from_json(text)
-            environment, register_map = description.environment()
         except DescriptionError as error:
-            raise RemoteSetupError(str(error)) from None
-        name = self.program or description.program
-        if name is None:
-            raise RemoteSetupError("the server asks for no program: start the PLC with --program NAME")
-        factory = REGISTRY.get(name)
-        if factory is None:
-            raise RemoteSetupError(f"no PLC program '{name}' (known: {', '.join(sorted(REGISTRY))})")
+            raise PlcSetupError(str(error)) from None
+        environment, register_map, plc, name = description.start_program(REGISTRY, self.program)
         sizes = register_map.table_bytes
         self.session = _Session(
-            head[REG_SESSION], head[REG_MODE] == MODE_LOCKSTEP, description, register_map, factory(environment),
+            head[REG_SESSION], head[REG_MODE] == MODE_LOCKSTEP, description, register_map, plc,
             ProcessImage(environment.catalog.area_sizes), ProcessImage(environment.plant_io.area_sizes()),
             bytearray(sizes[Table.NC_TO_PLC]), bytearray(sizes[Table.PLC_TO_NC]))
         self.client.write_registers(REG_SESSION_READY, [self.session.number])
@@ -158,22 +150,24 @@ class RemotePlc:
         self.client.write_registers_last_first(0, values)
         self.scans += 1
 
-    # ------------------------------------------------------------------ the loop
+    # ------------------------------------------------------------------ the loop (plc_stub.scan_loop)
     def run(self, should_stop: Callable[[], bool] = lambda: False) -> None:
         """Poll (lockstep) or scan on the clock (free-running) until ``should_stop``; a lost
         connection raises :class:`LinkError` to the caller, which may reconnect."""
-        next_scan = wallclock.perf_counter()
-        while not should_stop():
-            session = self.session
-            if session is None or session.lockstep:
-                self.poll()
-                continue
-            period = self.period_s or session.description.scan_time_s
-            now = wallclock.perf_counter()
-            if now < next_scan:
-                wallclock.sleep(next_scan - now)
-            next_scan = max(next_scan + period, wallclock.perf_counter() - period)
-            self.poll()
+        run_scans(self, self.period_s, should_stop)
+
+    def free_running_period(self) -> float | None:
+        session = self.session
+        return None if session is None or session.lockstep else session.description.scan_time_s
+
+    def follow(self) -> None:
+        self.poll()
+
+    def idle(self, seconds: float) -> None:
+        wallclock.sleep(seconds)
+
+    def scan(self) -> None:
+        self.poll()
 
     def restart(self) -> None:
         """After a reconnect: the next poll sets the session up again (a PLC restart)."""
@@ -185,14 +179,15 @@ def run_forever(host: str, port: int, program: str | None, period_s: float | Non
     """Connect (and reconnect) to the harness and run; the exit code of ``python -m plc_stub``."""
     client = ModbusLinkClient(host, port)
     plc = RemotePlc(client, program, period_s, log)
-    deadline = wallclock.monotonic() + connect_timeout_s
-    connected = False
-    try:
+
+    def run() -> int:
+        deadline = wallclock.monotonic() + connect_timeout_s
+        connected = False
         while not should_stop():
             if not client.connect():
                 if wallclock.monotonic() > deadline:
                     log(f"no Modbus server at {host}:{port} after {connect_timeout_s:.0f} s")
-                    return 1
+                    return EXIT_NO_HARNESS
                 wallclock.sleep(0.1)
                 continue
             if not connected:
@@ -206,9 +201,9 @@ def run_forever(host: str, port: int, program: str | None, period_s: float | Non
                 plc.restart()
                 connected = False
                 deadline = wallclock.monotonic() + connect_timeout_s
-            except RemoteSetupError as error:
-                log(f"cannot run: {error}")
-                return 2
+        return EXIT_STOPPED
+
+    try:
+        return exit_code(run, log)
     finally:
         client.close()
-    return 0

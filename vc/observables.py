@@ -69,7 +69,28 @@ MAINS = "mains"  # clear_faults: mains - the supply is back
 # runs its PLC behind the CAN link, link: can):
 #   loss     frames are lost (with every: n, every n-th of them)
 #   delay    frames arrive later (by: the delay); nothing overtakes them
-#   bus_off  the harness's CAN controller is bus-off: it sends and receives nothing
+#   bus_off  a disturbance of the bus drives the NC's CAN controller bus-off; it restarts after
+#            can.restart once the bus is quiet again
 LINK_FAULTS = ("loss", "delay", "bus_off")
 LINK_DIRECTIONS = ("nc_to_plc", "plc_to_nc")
 LINK_AREA = "link"  # the link frames (NC link, PLC link) among a fault's frames
+
+# Quantities of the CAN link (CAN.lostFromPlc) of a scenario whose PLC sits behind it (link: can),
+# counted from the power-on (the session).
+LINK_INSTANCE = "CAN"
+LINK_QUANTITY_MEANINGS = {
+    "framesSent": "frames the NC's controller put on the bus",
+    "framesTaken": "frames of the PLC the NC took (after the faults)",
+    "lostToPlc": "frames of the NC lost to a fault or to the controller (bus-off)",
+    "lostFromPlc": "frames of the PLC lost to a fault or to the controller (bus-off)",
+    "delayedToPlc": "frames of the NC a delay held back",
+    "delayedFromPlc": "frames of the PLC a delay held back",
+    "plcFrameAge": "seconds since the oldest of the PLC's frames arrived (the time-out monitor: can.timeout)",
+    "timedOut": "1 while one of the PLC's frames is older than can.timeout: the NC gets no new sign of life",
+    "plcSignOfLife": "the PLC's sign of life as the NC watches it (MD10100, alarm 2000)",
+    "plcMissesNcFrames": "1 while the PLC's time-out monitor misses frames of the NC (its link frame says so)",
+    "busState": "the NC's CAN controller: 0 error active, 1 error passive, 2 bus-off",
+    "transmitErrors": "the transmit error counter of the NC's CAN controller",
+    "busOffs": "times the NC's CAN controller went bus-off",
+}
+LINK_QUANTITIES = tuple(LINK_QUANTITY_MEANINGS)

@@ -10,8 +10,14 @@ A bus is named by a text (:meth:`BusSpec.parse`)::
 
 A node receives only the identifiers it listens to (:meth:`CanBus.listen`): on UDP multicast every
 sender also receives its own frames, and a node never listens to the identifiers it sends itself,
-so its own frames are dropped here, as is traffic of other nodes.  Error frames count; one that
-reports bus-off (SocketCAN) sets :attr:`CanBus.bus_off` until a frame arrives again.
+so its own frames are dropped here, as is traffic of other nodes.
+
+The node's CAN controller state (:class:`ControllerState`, ISO 11898-1 fault confinement) is what
+the hardware reports: python-can's ``BusABC.state`` where the interface knows it, and SocketCAN's
+error frames (``linux/can/error.h``): controller problems (error passive, back to error active,
+with the error counters) and bus-off, until the controller is restarted or a frame arrives again.
+A send the bus refuses raises :class:`LinkError`; while the controller is bus-off the node sends
+nothing (:attr:`CanBus.state`, read by the link before it sends).
 """
 
 from __future__ import annotations
@@ -24,6 +30,7 @@ import socket
 import time as wallclock
 from collections.abc import Collection
 from dataclasses import dataclass
+from enum import IntEnum
 
 import can
 
@@ -35,11 +42,31 @@ DEFAULT_GROUP = "239.74.163.2"  # python-can's IPv4 default group
 DEFAULT_PORT = 43113
 DEFAULT_VIRTUAL_CHANNEL = "vc"
 DEFAULT_SOCKETCAN = "can0"
-CAN_ERR_BUSOFF = 0x40  # SocketCAN error class in the identifier of an error frame (linux/can/error.h)
+# SocketCAN error frames (linux/can/error.h): error classes in the identifier, details in the data
+CAN_ERR_CRTL = 0x04  # controller problems, data[1]
+CAN_ERR_BUSOFF = 0x40
+CAN_ERR_RESTARTED = 0x100  # the controller restarted after bus-off
+CAN_ERR_CNT = 0x200  # data[6] transmit error counter, data[7] receive error counter
+CAN_ERR_CRTL_RX_PASSIVE = 0x10
+CAN_ERR_CRTL_TX_PASSIVE = 0x20
+CAN_ERR_CRTL_ACTIVE = 0x40  # back to error active
 _PRIVATE_GROUPS = 0xFFFF  # 239.74.0.0 .. 239.74.255.255 for private channels
 
 # python-can logs every socket it could not configure; the link reports what matters itself.
 logging.getLogger("can").setLevel(logging.ERROR)
+
+
+class ControllerState(IntEnum):
+    """A CAN controller's fault confinement state (ISO 11898-1), as a number for observers."""
+
+    ERROR_ACTIVE = 0  # error counters below 128: takes part normally
+    ERROR_PASSIVE = 1  # a counter at 128 or above: still sends, signals errors passively
+    BUS_OFF = 2  # transmit error counter beyond 255: neither sends nor receives until restarted
+
+
+_PYTHON_CAN_STATES = {can.BusState.ACTIVE: ControllerState.ERROR_ACTIVE,
+                      can.BusState.PASSIVE: ControllerState.ERROR_PASSIVE,
+                      can.BusState.ERROR: ControllerState.BUS_OFF}
 
 
 @dataclass(frozen=True, slots=True)
@@ -111,7 +138,9 @@ def socketcan_available(interface: str = "vcan0") -> bool:
 class CanBus:
     """One node on a bus: sends frames, receives the identifiers it listens to."""
 
-    def __init__(self, spec: BusSpec, fd: bool = True, listen: Collection[int] = ()):
+    def __init__(self, spec: BusSpec, fd: bool = True, listen: Collection[int] = (),
+                 opened: can.BusABC | None = None):
+        """``opened``: a python-can bus opened elsewhere (a test's stand-in for an interface)."""
         self.spec = spec
         self.fd = fd
         self._listen = frozenset(listen)
@@ -119,10 +148,14 @@ class CanBus:
         self.received = 0  # frames received that the node listens to
         self.dropped = 0  # own frames and other traffic
         self.error_frames = 0
-        self.bus_off = False
+        self.transmit_errors = 0  # the controller's error counters, as its last error frame gave them
+        self.receive_errors = 0
+        self._reported = ControllerState.ERROR_ACTIVE  # by error frames
         try:
-            if spec.kind == "virtual":
-                self._bus: can.BusABC = can.Bus(interface="virtual", channel=spec.channel,
+            if opened is not None:
+                self._bus: can.BusABC = opened
+            elif spec.kind == "virtual":
+                self._bus = can.Bus(interface="virtual", channel=spec.channel,
                                                 protocol=can.CanProtocol.CAN_FD if fd else can.CanProtocol.CAN_20)
             elif spec.kind == "udp_multicast":
                 self._bus = can.Bus(interface="udp_multicast", channel=spec.channel, port=spec.port, hop_limit=0,
@@ -131,6 +164,35 @@ class CanBus:
                 self._bus = can.Bus(interface="socketcan", channel=spec.channel, fd=fd)
         except (can.CanError, OSError, ValueError) as error:
             raise LinkError(f"cannot open the CAN bus {spec}: {error}") from None
+
+    @property
+    def state(self) -> ControllerState:
+        """The controller's state: the worse of what the interface reports and what its error frames said."""
+        try:
+            reported = _PYTHON_CAN_STATES.get(self._bus.state, ControllerState.ERROR_ACTIVE)
+        except (NotImplementedError, can.CanError, OSError):
+            reported = ControllerState.ERROR_ACTIVE
+        return max(reported, self._reported)
+
+    @property
+    def bus_off(self) -> bool:
+        return self.state is ControllerState.BUS_OFF
+
+    def _error_frame(self, message: can.Message) -> None:
+        """Follow the controller's state through a SocketCAN error frame."""
+        self.error_frames += 1
+        error_class, data = message.arbitration_id, bytes(message.data) + bytes(8)
+        if error_class & CAN_ERR_CNT:
+            self.transmit_errors, self.receive_errors = data[6], data[7]
+        if error_class & CAN_ERR_BUSOFF:
+            self._reported = ControllerState.BUS_OFF
+        elif error_class & CAN_ERR_RESTARTED:
+            self._reported = ControllerState.ERROR_ACTIVE
+        elif error_class & CAN_ERR_CRTL:
+            if data[1] & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE):
+                self._reported = ControllerState.ERROR_PASSIVE
+            elif data[1] & CAN_ERR_CRTL_ACTIVE:
+                self._reported = ControllerState.ERROR_ACTIVE
 
     def listen(self, identifiers: Collection[int]) -> None:
         """Receive these identifiers from now on (and nothing else)."""
@@ -157,12 +219,11 @@ class CanBus:
             if message is None:
                 return None
             if message.is_error_frame:
-                self.error_frames += 1
-                if message.arbitration_id & CAN_ERR_BUSOFF:
-                    self.bus_off = True
+                self._error_frame(message)
             elif message.arbitration_id in self._listen and not message.is_remote_frame:
                 self.received += 1
-                self.bus_off = False
+                if self._reported is ControllerState.BUS_OFF:
+                    self._reported = ControllerState.ERROR_ACTIVE  # a frame arrived: the controller is back
                 return Frame(message.arbitration_id, bytes(message.data), message.is_fd)
             else:
                 self.dropped += 1

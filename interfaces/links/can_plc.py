@@ -13,8 +13,16 @@ session ready.  Then it follows the NC's mode:
   data frames received so far.
 
 Data frames are copied into the PLC's image as they arrive (a frame with a wrong checksum is
-dropped).  ``python -m plc_stub --can`` runs this node with the built-in programs; the harness
-runs it on a virtual bus in its own process for scenarios that ask for a CAN link.
+dropped).  **Time-out monitor**: every NC-to-PLC data frame, and a new sign of life in the NC link
+frame, must have arrived within the description's ``can_timeout_us``, counted in the PLC's scans.
+While one is missing the PLC does what an S7 CPU does with the inputs of a failed station
+([control]: substitute value 0): it scans with every NC-to-PLC byte and plant input at 0, so the
+normally closed emergency-stop chain reads open, the drives not ready and no key pressed; the
+program drops the enables and reports the emergency stop to the NC.  The PLC link frame's flag
+bit 1 tells the NC the PLC misses its frames.
+
+``python -m plc_stub --can`` runs this node with the built-in programs; the harness runs it on a
+virtual bus in its own process for scenarios that ask for a CAN link.
 """
 
 from __future__ import annotations
@@ -35,16 +43,12 @@ from interfaces.codec_can import (
 )
 from interfaces.exchange import MODE_LOCKSTEP
 from interfaces.image import ProcessImage
-from interfaces.link_description import DescriptionError, LinkDescription
+from interfaces.link_description import DescriptionError, LinkDescription, PlcSetupError
 from interfaces.links.can_bus import CanBus
 from interfaces.plc import PlcFactory, SoftPlc
 from interfaces.signals import Direction
 
 REQUEST_AGAIN_S = 0.5
-
-
-class PlcSetupError(Exception):
-    """The PLC cannot run what the harness describes (unknown program, other catalogue)."""
 
 
 @dataclass(slots=True)
@@ -57,8 +61,23 @@ class _Session:
     interface: ProcessImage
     plant: ProcessImage
     areas: dict[str, bytearray]
+    timeout_scans: float  # scans a frame of the NC may be missing (the time-out monitor)
+    arrived: dict[int, int]  # NC-to-PLC data frame or NC link frame -> the scan count at its last arrival
     last_grant: int = 0
     inputs_seen: bool = False  # an NC link frame arrived since the start: the inputs are complete
+    scans: int = 0
+    nc_life: int = -1  # the NC's last sign of life
+    misses_nc_frames: bool = False
+
+    def watch(self) -> bool:
+        """The time-out monitor before a scan: True while a frame of the NC is missing; then the
+        NC's bytes are substitute values 0 for this scan."""
+        missing = any(self.scans - at > self.timeout_scans for at in self.arrived.values())
+        if missing:
+            for slot in self.layout.slots[Direction.NC_TO_PLC]:
+                self.areas[slot.area][slot.start: slot.stop] = bytes(slot.stop - slot.start)
+        self.misses_nc_frames = missing
+        return missing
 
 
 class CanPlcNode:
@@ -121,8 +140,8 @@ class CanPlcNode:
         session = self.session
         if session is not None:
             slot = session.layout.by_id.get(frame.can_id)
-            if slot is not None and slot.direction is Direction.NC_TO_PLC:
-                slot.decode(frame.data, session.areas)
+            if slot is not None and slot.direction is Direction.NC_TO_PLC and slot.decode(frame.data, session.areas):
+                session.arrived[frame.can_id] = session.scans
         return False
 
     def _nc_link(self, frame: Frame) -> bool:
@@ -146,6 +165,9 @@ class CanPlcNode:
             self.bus.send(self._answer)  # the harness missed the answer (session ready, scan done)
             return False
         session.inputs_seen = True
+        if link.life != session.nc_life:
+            session.nc_life = link.life
+            session.arrived[frame.can_id] = session.scans
         if not session.lockstep or link.grant in (0, session.last_grant):
             return False
         self._scan(session, link.grant)
@@ -159,20 +181,20 @@ class CanPlcNode:
     def _start(self, text: bytes) -> None:
         try:
             description = LinkDescription.from_json(text)
-            environment, _ = description.environment()
+        except DescriptionError as error:
+            raise PlcSetupError(str(error)) from None
+        environment, _, plc, name = description.start_program(self.programs, self.program)
+        try:
             layout = description.can_layout(environment)
         except DescriptionError as error:
             raise PlcSetupError(str(error)) from None
-        name = self.program or description.program
-        if name is None:
-            raise PlcSetupError("the harness asks for no program: start the PLC with --program NAME")
-        factory = self.programs.get(name)
-        if factory is None:
-            raise PlcSetupError(f"no PLC program '{name}' (known: {', '.join(sorted(self.programs))})")
         interface = ProcessImage(environment.catalog.area_sizes)
         plant = ProcessImage(environment.plant_io.area_sizes())
-        session = _Session(self._wanted, self._wanted_lockstep, description, layout, factory(environment),
-                           interface, plant, {**interface.areas, **plant.areas})
+        scan_us = environment.ipo_cycle_us * environment.plc_cycle_ipo
+        watched = {self.link.nc_link_id, *layout.ids(Direction.NC_TO_PLC)}
+        session = _Session(self._wanted, self._wanted_lockstep, description, layout, plc,
+                           interface, plant, {**interface.areas, **plant.areas},
+                           description.can_timeout_us / scan_us, dict.fromkeys(watched, 0))
         self.session, self._wanted = session, 0
         self._listen_to_link(layout)
         self._answer = PlcLink(self.life, session.number, 0).encode(self.link, self._fd)
@@ -196,10 +218,16 @@ class CanPlcNode:
         return True
 
     def _scan(self, session: _Session, done: int) -> None:
+        was_missing = session.misses_nc_frames
+        if session.watch() != was_missing:
+            self.log(f"session {session.number}: " + ("the NC's frames are back" if was_missing else
+                     "frames of the NC missing: scanning with substitute values 0"))
         session.plc.scan(session.interface, session.plant)
+        session.scans += 1
         self.life = (self.life + 1) & 0xFF
         for frame in session.layout.frames(Direction.PLC_TO_NC, session.areas):
             self.bus.send(frame)
-        self._answer = PlcLink(self.life, session.number, done).encode(self.link, self._fd)
+        self._answer = PlcLink(self.life, session.number, done,
+                               misses_nc_frames=session.misses_nc_frames).encode(self.link, self._fd)
         self.bus.send(self._answer)
         self.scans += 1

@@ -40,8 +40,10 @@ from interfaces.codec_modbus import (
     READ_COILS,
     READ_DISCRETE_INPUTS,
     READ_INPUT,
+    READ_LIMIT,
     WRITE_COIL,
     WRITE_COILS,
+    WRITE_LIMIT,
     bits_writable,
     read_registers,
     text_registers,
@@ -51,8 +53,6 @@ from interfaces.codec_modbus import (
 )
 from interfaces.links.errors import LinkError as LinkError  # the links' error, raised here for pymodbus's
 
-READ_LIMIT = 125  # registers in one read request (FC 3, 4)
-WRITE_LIMIT = 123  # registers in one write request (FC 16)
 _COIL_CODES = (READ_COILS, WRITE_COIL, WRITE_COILS)
 
 # pymodbus logs every refused request and every dropped connection at warning/error level;

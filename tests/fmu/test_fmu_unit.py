@@ -63,6 +63,10 @@ def test_outputs_cannot_be_set_and_bad_values_are_not_taken(unit: NcUnit) -> Non
     with pytest.raises(UnitError, match=r"2\.5 is not a whole number"):
         unit.set(override, 2.5)
     assert unit.get(override) == 80
+    start = index_of(unit, "CHAN1.basic.out.ncStart")
+    with pytest.raises(UnitError, match=r"is a bool; 2 is outside 0\.\.1; the value was not taken"):
+        unit.set(start, 2)
+    assert unit.get(start) is False
 
 
 @pytest.mark.parametrize(("step", "reason"), [

@@ -52,9 +52,7 @@ def _map(arguments: argparse.Namespace) -> int:
 
         sys.stdout.write(modbus_guide(machine.name, machine.source, catalog, machine.plant_io))
         return 0
-    from vc.config.can_config import can_config_of
-
-    can = can_config_of(machine)
+    can = machine.can
     if arguments.format == DBC_FORMAT:
         from interfaces.can_dbc import dbc_text
         from interfaces.codec_can import CanLayout

@@ -32,6 +32,7 @@ from interfaces.codec_modbus import (
     READ_DISCRETE_INPUTS,
     READ_HOLDING,
     READ_INPUT,
+    READ_LIMIT,
     READ_WRITE_REGISTERS,
     REG_MODE,
     REG_NC_TO_PLC_REGISTERS,
@@ -44,6 +45,7 @@ from interfaces.codec_modbus import (
     REG_VERSION,
     WRITE_COIL,
     WRITE_COILS,
+    WRITE_LIMIT,
     WRITE_REGISTER,
     WRITE_REGISTERS,
     Location,
@@ -58,8 +60,6 @@ from vc.config.machine_data import MdDef
 from vc.config.md_dictionary import PLC_CYCLIC_TIMEOUT, PLC_RUNNINGUP_TIMEOUT
 from vc.core.nck import PLC_NOT_STARTED_ALARM, PLC_SIGN_OF_LIFE_ALARM
 
-READ_REGISTERS_LIMIT = 125  # registers in one FC 3/4 response (the protocol's limit)
-WRITE_REGISTERS_LIMIT = 123  # registers in one FC 16 request
 OPENPLC_FIRST = 100  # slave devices start at %IX100.0, %QX100.0, %IW100, %QW100
 OPENPLC_SLAVE_ENTRIES = 400  # OpenPLC v3 copies 400 bits and 400 words each way (MAX_MB_IO)
 OPENPLC_POLLING_MS = 10  # the slave devices' polling period to set (OpenPLC's default of 100 ms is too slow)
@@ -141,8 +141,8 @@ def codesys_channels(register_map: RegisterMap) -> list[RegisterBlock]:
     inputs, outputs = register_map.registers(Table.NC_TO_PLC), register_map.registers(Table.PLC_TO_NC)
     return [
         RegisterBlock("Link in", Table.NC_TO_PLC, 0, LINK_REGISTERS),
-        *_chunks("NC in", Table.NC_TO_PLC, LINK_REGISTERS, inputs, READ_REGISTERS_LIMIT),
-        *_chunks("NC out", Table.PLC_TO_NC, LINK_REGISTERS, outputs, WRITE_REGISTERS_LIMIT),
+        *_chunks("NC in", Table.NC_TO_PLC, LINK_REGISTERS, inputs, READ_LIMIT),
+        *_chunks("NC out", Table.PLC_TO_NC, LINK_REGISTERS, outputs, WRITE_LIMIT),
         RegisterBlock("Link out", Table.PLC_TO_NC, 0, LINK_REGISTERS),
     ]
 
@@ -151,8 +151,8 @@ def openplc_devices(register_map: RegisterMap) -> list[OpenPlcDevice]:
     """Slave devices that read the NC-to-PLC table and write the PLC-to-NC table from register 0,
     a request each within the protocol's limits.  OpenPLC numbers the devices' words on from
     %IW100 / %QW100, so with the devices in this order register r is %IW(100 + r) / %QW(100 + r)."""
-    reads = _chunks("inputs", Table.NC_TO_PLC, 0, register_map.registers(Table.NC_TO_PLC), READ_REGISTERS_LIMIT)
-    writes = _chunks("outputs", Table.PLC_TO_NC, 0, register_map.registers(Table.PLC_TO_NC), WRITE_REGISTERS_LIMIT)
+    reads = _chunks("inputs", Table.NC_TO_PLC, 0, register_map.registers(Table.NC_TO_PLC), READ_LIMIT)
+    writes = _chunks("outputs", Table.PLC_TO_NC, 0, register_map.registers(Table.PLC_TO_NC), WRITE_LIMIT)
     return [OpenPlcDevice(f"nc{k + 1}", reads[k] if k < len(reads) else None,
                           writes[k] if k < len(writes) else None)
             for k in range(max(len(reads), len(writes)))]
@@ -408,7 +408,7 @@ def _openplc(register_map: RegisterMap, signals: Sequence[GuideSignal], catalog:
         f" bytes 0..{bit_bytes - 1} only, while this machine's tables have {16 * inputs} and {16 * outputs} bits:"
         " use registers for everything and leave the bit ranges empty.",
         "",
-        f"One request carries at most {READ_REGISTERS_LIMIT} registers read or {WRITE_REGISTERS_LIMIT} written,"
+        f"One request carries at most {READ_LIMIT} registers read or {WRITE_LIMIT} written,"
         " and OpenPLC sends one request per range of a device, so the tables are split over several devices"
         f" on the same server. Start the harness in real time (`{serve} --realtime`), then:",
         "",
@@ -519,7 +519,7 @@ def _codesys(register_map: RegisterMap, signals: Sequence[GuideSignal], catalog:
         f" {SERVER_PORT}; the unit id does not matter. Start the harness with `--realtime` (cyclic channels run"
         " beside the program, not in step with it). Then, on the slave's *Modbus Slave Channel* tab, one"
         f" channel per row, trigger *Cyclic* with {CODESYS_CYCLE_MS} ms (no channel reads more than"
-        f" {READ_REGISTERS_LIMIT} or writes more than {WRITE_REGISTERS_LIMIT} registers, the protocol's limits):",
+        f" {READ_LIMIT} or writes more than {WRITE_LIMIT} registers, the protocol's limits):",
         "",
         *_table(("channel", "access type", "offset", "length", "registers", "trigger"), channel_rows),
         "",

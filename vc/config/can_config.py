@@ -11,18 +11,21 @@
       checksum: true      # CRC-8 in the last byte of every data frame
       period: plc         # NC-to-PLC frames: plc = with every PLC scan, ipo = every IPO cycle, or seconds
                           # (a whole number of IPO cycles, e.g. 0.004)
-      timeout: 0.05       # seconds: a PLC-to-NC frame missing for longer stops the PLC's sign of life
+      timeout: 0.05       # seconds: a PLC-to-NC frame missing for longer stops the PLC's sign of life;
+                          # the PLC watches the NC's frames with the same time
+      restart: 0.1        # seconds after bus-off until the NC's CAN controller restarts itself
+                          # (SocketCAN restart-ms); 0: it stays bus-off until the next power-on
 
 Every key is optional; a machine file without the section uses the defaults.  Frame layout and
-identifiers: :mod:`interfaces.codec_can`.  Every problem is reported with ``file:line:column``.
-
-Until the machine loader takes the section itself (the key ``can`` among its top-level keys, and
-:func:`read_can_section` called from it), :func:`can_config_of` reads it from the machine file.
+identifiers: :mod:`interfaces.codec_can`.  The machine loader reads the section with the rest of
+the file (:func:`read_can_section`), checks it against the machine once its IPO cycle, channels,
+axes and plant I/O are known (:func:`check_against_machine`) and keeps the result in
+``MachineConfig.can``; every problem is reported with ``file:line:column``.
 """
 
 from __future__ import annotations
 
-import os
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -36,45 +39,33 @@ from interfaces.codec_can import (
     CanMapError,
     CanSettings,
 )
-from interfaces.signals import expand
+from interfaces.signals import InterfaceLayout, expand
 from vc.config.machine_data import as_number, shown
-from vc.config.model import MachineConfig, machine_ipo_cycle_us
-from vc.located_yaml import LocatedMap, Mark, Problems, load_file
+from vc.config.model import DEFAULT_RESTART_S, DEFAULT_TIMEOUT_S, PERIOD_IPO, PERIOD_PLC, CanConfig
+from vc.located_yaml import LocatedMap, Mark, Problems
 
 SECTION = "can"
-KEYS = ("ids", "fd", "checksum", "period", "timeout")
+KEYS = ("ids", "fd", "checksum", "period", "timeout", "restart")
 ID_KEYS = {"link": "link_id", "nc_to_plc": "nc_to_plc_id", "plc_to_nc": "plc_to_nc_id"}
-PERIOD_PLC = "plc"  # with every PLC scan
-PERIOD_IPO = "ipo"  # every IPO cycle
-DEFAULT_TIMEOUT_S = 0.05
 
 
 @dataclass(frozen=True, slots=True)
-class CanConfig:
-    settings: CanSettings = field(default_factory=CanSettings)  # what the PLC must agree on
-    period: str | float = PERIOD_PLC  # PERIOD_PLC, PERIOD_IPO or seconds
-    timeout_s: float = DEFAULT_TIMEOUT_S
-    period_mark: Mark | None = None  # where the period is written, for the check against the IPO cycle
+class CanSection:
+    """The section as read: the values, and where the period and the identifiers are written for
+    the checks against the machine (None: not written)."""
 
-    def period_cycles(self, ipo_cycle_us: int, plc_cycle_ipo: int) -> int:
-        """IPO cycles between two transmissions of the NC-to-PLC frames (checked whole by can_config_of)."""
-        if self.period == PERIOD_PLC:
-            return plc_cycle_ipo
-        if self.period == PERIOD_IPO:
-            return 1
-        return max(1, round(float(self.period) * 1_000_000 / ipo_cycle_us))
-
-    def timeout_cycles(self, ipo_cycle_us: int) -> int:
-        return max(1, round(self.timeout_s * 1_000_000 / ipo_cycle_us))
+    config: CanConfig = field(default_factory=CanConfig)
+    period_mark: Mark | None = None
+    ids_mark: Mark | None = None
 
 
-def read_can_section(raw: Any, mark: Mark, problems: Problems) -> CanConfig:
+def read_can_section(raw: Any, mark: Mark, problems: Problems) -> CanSection:
     """The section's values; each problem goes to ``problems`` and its default is used."""
     if raw is None:
-        return CanConfig()
+        return CanSection()
     if not isinstance(raw, LocatedMap):
         problems.add(mark, f"can: expected a mapping with {', '.join(KEYS)}, got {shown(raw)}")
-        return CanConfig()
+        return CanSection()
     for key in raw:
         if key not in KEYS:
             problems.add(raw.mark_of_key(key), f"unknown key '{key}' in can; allowed: {', '.join(KEYS)}")
@@ -118,48 +109,32 @@ def read_can_section(raw: Any, mark: Mark, problems: Problems) -> CanConfig:
                          f" got {shown(raw['timeout'])}")
         else:
             timeout = float(number)
+    restart = DEFAULT_RESTART_S
+    if "restart" in raw:
+        number = as_number(raw["restart"])
+        if number is None or number < 0:
+            problems.add(raw.mark_of("restart"), f"can.restart: expected seconds, 0 or more (e.g. 0.1; 0: no"
+                         f" automatic restart after bus-off), got {shown(raw['restart'])}")
+        else:
+            restart = float(number)
     settings = CanSettings(identifiers["link_id"], identifiers["nc_to_plc_id"], identifiers["plc_to_nc_id"],
                            flags["fd"], flags["checksum"])
-    return CanConfig(settings, period, timeout, raw.mark_of("period") if "period" in raw else None)
+    return CanSection(CanConfig(settings, period, timeout, restart), raw.mark_of("period") if "period" in raw else None,
+                      raw.mark_of("ids") if "ids" in raw else None)
 
 
-def check_against_machine(config: CanConfig, machine: MachineConfig, mark: Mark, problems: Problems) -> None:
-    """What needs the machine: a period of whole IPO cycles, identifiers that do not clash."""
-    ipo_us = machine_ipo_cycle_us(machine)
+def check_against_machine(section: CanSection, ipo_cycle_us: int, layout: InterfaceLayout,
+                          plant_sizes: Mapping[str, int], mark: Mark, problems: Problems) -> None:
+    """What needs the machine: a period of whole IPO cycles, identifiers that do not clash and fit
+    11 bits for the machine's frames (``mark``: the section, where a value has no mark of its own)."""
+    config = section.config
     if isinstance(config.period, float):
-        cycles = config.period * 1_000_000 / ipo_us
+        cycles = config.period * 1_000_000 / ipo_cycle_us
         if abs(cycles - round(cycles)) > 1e-6 or round(cycles) < 1:
-            problems.add(config.period_mark or mark, f"can.period = {config.period:g} s is not a whole number"
-                         f" of IPO cycles ({ipo_us / 1000:g} ms)")
+            problems.add(section.period_mark or mark, f"can.period = {config.period:g} s is not a whole number"
+                         f" of IPO cycles ({ipo_cycle_us / 1000:g} ms)")
     try:
-        CanLayout.build(expand(load_catalog(), machine.layout), machine.plant_io.area_sizes(), config.settings)
+        CanLayout.build(expand(load_catalog(), layout), plant_sizes, config.settings)
     except CanMapError as error:
-        problems.add(mark, f"can.ids: {error}")
-
-
-_cache: dict[tuple[object, ...], CanConfig] = {}
-
-
-def can_config_of(machine: MachineConfig) -> CanConfig:
-    """The ``can:`` section of the machine's file (defaults when there is none); raises
-    :class:`~vc.located_yaml.SourceError` with every problem.  Kept per file version, IPO cycle
-    and layout: a scenario library reads it once per machine."""
-    try:
-        version = os.stat(machine.source).st_mtime_ns
-    except OSError:
-        version = 0  # load_file reports the file
-    key = (machine.source, version, machine_ipo_cycle_us(machine), machine.layout, machine.plant_io)
-    cached = _cache.get(key)
-    if cached is not None:
-        return cached
-    document, parse_problems = load_file(machine.source)
-    problems = Problems()
-    problems.extend(parse_problems)
-    config = CanConfig()
-    if isinstance(document, LocatedMap) and SECTION in document:
-        mark = document.mark_of_key(SECTION)
-        config = read_can_section(document[SECTION], document.mark_of(SECTION), problems)
-        check_against_machine(config, machine, mark, problems)
-    problems.raise_if_any()
-    _cache[key] = config
-    return config
+        for problem in error.problems:
+            problems.add(section.ids_mark or mark, f"can.ids: {problem}")

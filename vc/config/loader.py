@@ -97,7 +97,7 @@ from interfaces.plant_io import (
     gearbox_point,
 )
 from vc.config import md_dictionary as mdd
-from vc.config.can_config import read_can_section
+from vc.config.can_config import CanSection, check_against_machine, read_can_section
 from vc.config.machine_data import (
     MachineData,
     MdDef,
@@ -121,6 +121,7 @@ from vc.config.model import (
     DriveParameters,
     GearboxPlant,
     MachineConfig,
+    machine_ipo_cycle_us,
 )
 from vc.located_yaml import LocatedMap, Mark, Problems, load_file
 
@@ -314,6 +315,8 @@ class _MachineReader:
         self.plant_io_names: dict[str, tuple[str, Mark]] = {}  # function name -> address text, mark
         self.plc_parameters: dict[str, Any] = {}
         self.dc_link: DcLinkConfig | None = None
+        self.can = CanSection()
+        self.can_mark: Mark | None = None  # where the ``can:`` section is; None: there is none
         self.channel_lists_complete = True  # every channel's axes list could be read
 
     def add(self, mark: Mark, message: str) -> None:
@@ -347,8 +350,8 @@ class _MachineReader:
             if parameters is not None:
                 self.plc_parameters = dict(parameters)
         if "can" in document:
-            # checked here with the rest of the file; the CAN link reads it again (vc/config/can_config.py)
-            read_can_section(document["can"], document.mark_of("can"), self.problems)
+            self.can_mark = document.mark_of_key("can")
+            self.can = read_can_section(document["can"], document.mark_of("can"), self.problems)
         if "dc_link" in document:
             self._read_dc_link(document["dc_link"], document.mark_of("dc_link"))
 
@@ -854,7 +857,7 @@ class _MachineReader:
                          for number, entry in enumerate(self.channels.values(), start=1))
         if self.problems:
             return None
-        return MachineConfig(
+        config = MachineConfig(
             name=self.name,
             source=self.path,
             nck=MachineData(NCK_INSTANCE, self.nck.values()),
@@ -864,7 +867,12 @@ class _MachineReader:
             plc_parameters=self.plc_parameters,
             plc_cycle_ipo=self.plc_cycle_ipo,
             dc_link=self.dc_link,
+            can=self.can.config,
         )
+        if self.can_mark is not None:  # without a section the defaults fit every machine the loader accepts
+            check_against_machine(self.can, machine_ipo_cycle_us(config), config.layout,
+                                  self.plant_io.area_sizes(), self.can_mark, self.problems)
+        return None if self.problems else config
 
     def _check_ipo_cycle(self) -> None:
         clock = float(self.nck.value(mdd.SYSCLOCK_CYCLE_TIME))

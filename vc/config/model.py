@@ -12,6 +12,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from interfaces.codec_can import DEFAULT_TIMEOUT_US, CanSettings
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import InterfaceLayout
 from vc.config.machine_data import MachineData
@@ -137,6 +138,43 @@ class ChannelConfig:
         return name if name in self.axes else None
 
 
+PERIOD_PLC = "plc"  # with every PLC scan
+PERIOD_IPO = "ipo"  # every IPO cycle
+DEFAULT_TIMEOUT_S = DEFAULT_TIMEOUT_US / 1_000_000
+# [INF] SocketCAN restarts a bus-off controller only when told (restart-ms 0); a harness that stayed
+# bus-off until the next power-on would hide every later reaction, so it restarts after 100 ms.
+DEFAULT_RESTART_S = 0.1
+
+
+@dataclass(frozen=True, slots=True)
+class CanConfig:
+    """The machine file's ``can:`` section (vc/config/can_config.py reads and checks it)."""
+
+    settings: CanSettings = field(default_factory=CanSettings)  # what the PLC must agree on
+    period: str | float = PERIOD_PLC  # PERIOD_PLC, PERIOD_IPO or seconds
+    timeout_s: float = DEFAULT_TIMEOUT_S
+    restart_s: float = DEFAULT_RESTART_S  # 0: no automatic restart after bus-off
+
+    def period_cycles(self, ipo_cycle_us: int, plc_cycle_ipo: int) -> int:
+        """IPO cycles between two transmissions of the NC-to-PLC frames (checked whole by the loader)."""
+        if self.period == PERIOD_PLC:
+            return plc_cycle_ipo
+        if self.period == PERIOD_IPO:
+            return 1
+        return max(1, round(float(self.period) * 1_000_000 / ipo_cycle_us))
+
+    def timeout_cycles(self, ipo_cycle_us: int) -> int:
+        return max(1, round(self.timeout_s * 1_000_000 / ipo_cycle_us))
+
+    @property
+    def timeout_us(self) -> int:
+        return round(self.timeout_s * 1_000_000)
+
+    def restart_cycles(self, ipo_cycle_us: int) -> int:
+        """IPO cycles from bus-off to the controller's restart; 0: none."""
+        return 0 if self.restart_s == 0 else max(1, round(self.restart_s * 1_000_000 / ipo_cycle_us))
+
+
 @dataclass(frozen=True, slots=True)
 class MachineConfig:
     name: str
@@ -148,6 +186,7 @@ class MachineConfig:
     plc_cycle_ipo: int  # OB1 period in IPO cycles
     plc_parameters: Mapping[str, Any] = field(default_factory=dict)  # ``plc:``, for the PLC program to check
     dc_link: DcLinkConfig | None = None  # ``dc_link:``; None: the drive line-up's link is not modelled
+    can: CanConfig = field(default_factory=CanConfig)  # ``can:``, checked against the machine by the loader
 
     @property
     def layout(self) -> InterfaceLayout:

@@ -3,8 +3,9 @@
 Two measurements per bus, each a function that returns its figures:
 
 * :func:`measure_throughput`: frames per second through the adapter (:class:`CanBus`).  The
-  harness's side sends bursts as it does every PLC period (the turn_mill exchange: 15 data
-  frames of up to 64 bytes and the link frame) to a peer that counts them and answers with one
+  harness's side sends bursts as it does every PLC period (:func:`burst_of`: the machine's
+  NC-to-PLC data frames with their identifiers and lengths, then its NC link frame; turn_mill: 16
+  data frames of up to 64 bytes) to a peer that counts them and answers with the PLC link
   frame; the next burst waits for that answer, so no frame is lost to a full socket buffer.  The
   peer is a second node in this process (virtual) or a spawned process (UDP multicast).
 * :func:`measure_lockstep`: the workload of ``vc bench`` (MDA program moving two axes) with the
@@ -22,19 +23,41 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 
-from interfaces.codec_can import Frame
+from interfaces.catalog import load_catalog
+from interfaces.codec_can import CanLayout, Frame
 from interfaces.links.can_bus import BusSpec, CanBus, private_udp_bus, private_virtual_bus
 from interfaces.links.errors import LinkError
+from interfaces.signals import Direction, expand
+from vc.config.loader import load_machine
+from vc.config.model import MachineConfig
 from vc.harness.benchmark import Workload, benchmark_machine
 from vc.harness.can_link import CanLinkedPlc, VirtualCanPlc
 from vc.harness.external_plc import CanPlcProcess
 from vc.harness.simulation import Simulation
 
-BURST_IDS = tuple(range(0x200, 0x210))  # 16 data frames, as the turn_mill NC sends per period (docs/can.md)
-BURST_END, ANSWER = 0x100, 0x101
-_FRAME = bytes(range(64))
 _PEER_START_TIMEOUT_S = 60.0
 _ANSWER_TIMEOUT_S = 5.0
+
+
+@dataclass(frozen=True, slots=True)
+class Burst:
+    """What the NC sends a PLC period: data frames (identifier, length), then the link frame
+    ``end``; the peer answers each burst with ``answer``."""
+
+    data: tuple[tuple[int, int], ...]
+    end: int
+    answer: int
+
+    def frames(self) -> list[Frame]:
+        return [Frame(can_id, bytes(range(length))) for can_id, length in self.data] + [Frame(self.end, bytes(8))]
+
+
+def burst_of(machine: MachineConfig) -> Burst:
+    """The burst of ``machine``: its NC-to-PLC frame table with its ``can:`` settings."""
+    settings = machine.can.settings
+    layout = CanLayout.build(expand(load_catalog(), machine.layout), machine.plant_io.area_sizes(), settings)
+    return Burst(tuple((slot.can_id, slot.length) for slot in layout.slots[Direction.NC_TO_PLC]),
+                 settings.nc_link_id, settings.plc_link_id)
 
 
 @dataclass(frozen=True, slots=True)
@@ -42,6 +65,7 @@ class ThroughputFigures:
     bus: str
     frames: int  # frames moved: the bursts and the answers
     wall_s: float
+    burst: int  # frames a burst: data frames and the link frame
 
     @property
     def frames_per_s(self) -> float:
@@ -49,7 +73,7 @@ class ThroughputFigures:
 
     def line(self) -> str:
         return (f"  {self.bus:<14} {self.frames_per_s:9.0f} frames/s ({self.frames} frames in bursts of"
-                f" {len(BURST_IDS) + 1} with an answer, {self.wall_s:.2f} s)")
+                f" {self.burst} with an answer, {self.wall_s:.2f} s)")
 
 
 @dataclass(frozen=True, slots=True)
@@ -104,10 +128,11 @@ class CanBenchmark:
 def run_can_benchmark(machine_path: str, simulated_seconds: float = 10.0, frames: int = 20000,
                       say: Callable[[str], None] = print) -> CanBenchmark:
     """Both measurements on both buses; each line is said as soon as it is measured."""
-    say("throughput (adapter, bursts as one PLC period of turn_mill):")
+    burst = burst_of(load_machine(machine_path))
+    say(f"throughput (adapter, bursts as one PLC period of the machine: {len(burst.data)} data frames):")
     throughput = []
     for spec in (private_virtual_bus(), private_udp_bus()):
-        figures = measure_throughput(spec, frames)
+        figures = measure_throughput(spec, burst, frames)
         say(figures.line())
         throughput.append(figures)
     say(f"lockstep (the vc bench workload, {simulated_seconds:g} s simulated):")
@@ -125,8 +150,9 @@ def run_can_benchmark(machine_path: str, simulated_seconds: float = 10.0, frames
 class _Counter:
     """The peer: counts data frames and answers every burst end with one frame."""
 
-    def __init__(self, spec: BusSpec):
-        self.bus = CanBus(spec, listen=(*BURST_IDS, BURST_END))
+    def __init__(self, spec: BusSpec, burst: Burst):
+        self.bus = CanBus(spec, listen=(*(can_id for can_id, _ in burst.data), burst.end))
+        self.burst = burst
         self.counted = 0
 
     def serve(self, timeout: float) -> bool:
@@ -135,17 +161,17 @@ class _Counter:
         if frame is None:
             return False
         while frame is not None:
-            if frame.can_id == BURST_END:
-                self.bus.send(Frame(ANSWER, self.counted.to_bytes(4, "big").ljust(8, b"\0")))
+            if frame.can_id == self.burst.end:
+                self.bus.send(Frame(self.burst.answer, self.counted.to_bytes(4, "big").ljust(8, b"\0")))
             else:
                 self.counted += 1
             frame = self.bus.receive(0)
         return True
 
 
-def count_until_told(spec: BusSpec, connection: Connection) -> None:
+def count_until_told(spec: BusSpec, burst: Burst, connection: Connection) -> None:
     """The child process of the UDP measurement: count and answer until the parent says stop."""
-    counter = _Counter(spec)
+    counter = _Counter(spec, burst)
     connection.send("ready")
     try:
         while not connection.poll():
@@ -155,25 +181,27 @@ def count_until_told(spec: BusSpec, connection: Connection) -> None:
         connection.close()
 
 
-def measure_throughput(spec: BusSpec, frames: int = 20000, warmup_bursts: int = 50) -> ThroughputFigures:
+def measure_throughput(spec: BusSpec, burst: Burst, frames: int = 20000,
+                       warmup_bursts: int = 50) -> ThroughputFigures:
     """``frames`` data frames in bursts, against a peer in this process (virtual) or a child (UDP)."""
-    sender = CanBus(spec, listen=(ANSWER,))
-    local = _Counter(spec) if spec.kind == "virtual" else None
+    sender = CanBus(spec, listen=(burst.answer,))
+    local = _Counter(spec, burst) if spec.kind == "virtual" else None
     child, connection = None, None
     if local is None:
         context = multiprocessing.get_context("spawn")
         connection, child_end = context.Pipe()
-        child = context.Process(target=count_until_told, args=(spec, child_end), daemon=True)
+        child = context.Process(target=count_until_told, args=(spec, burst, child_end), daemon=True)
         child.start()
         child_end.close()
         if not connection.poll(_PEER_START_TIMEOUT_S):
             raise LinkError(f"the counting peer on {spec} did not start")
         connection.recv()
     try:
-        def burst() -> None:
-            for can_id in BURST_IDS:
-                sender.send(Frame(can_id, _FRAME))
-            sender.send(Frame(BURST_END, bytes(8)))
+        outgoing = burst.frames()
+
+        def send_burst() -> None:
+            for frame in outgoing:
+                sender.send(frame)
             deadline = wallclock.monotonic() + _ANSWER_TIMEOUT_S
             while True:
                 if local is not None:
@@ -184,11 +212,11 @@ def measure_throughput(spec: BusSpec, frames: int = 20000, warmup_bursts: int = 
                     raise LinkError(f"no answer from the counting peer on {spec}")
 
         for _ in range(warmup_bursts):
-            burst()
-        bursts = max(1, frames // len(BURST_IDS))
+            send_burst()
+        bursts = max(1, frames // len(burst.data))
         began = wallclock.perf_counter()
         for _ in range(bursts):
-            burst()
+            send_burst()
         wall = wallclock.perf_counter() - began
     finally:
         sender.close()
@@ -198,7 +226,7 @@ def measure_throughput(spec: BusSpec, frames: int = 20000, warmup_bursts: int = 
             connection.send("stop")
             child.join(5)
             connection.close()
-    return ThroughputFigures(spec.kind, bursts * (len(BURST_IDS) + 2), wall)
+    return ThroughputFigures(spec.kind, bursts * (len(outgoing) + 1), wall, len(outgoing))
 
 
 # ---------------------------------------------------------------------------------- lockstep

@@ -20,13 +20,23 @@ MD10100 has passed without a change: the axes stop; a reset clears it when the f
 
 **Faults** (:mod:`vc.harness.link_faults`) act on the frames between the bus and the NC: frames
 the NC sends are lost or wait before they go on the bus, frames from the PLC are lost or wait
-before the NC takes them.  In lockstep the link frames are also the stepping's handshake: a
-fault never withholds a grant or a scan-done report from the stepping, only their content from
-the other side (the PLC's sign of life from the NC); the data frames are withheld completely.
+before the NC takes them.  A disturbance (``bus_off``) acts through the NC's CAN controller
+(:class:`~vc.harness.link_faults.CanController`): failed transmissions count its error counter
+up until it is bus-off; then it sends and hears nothing until its restart (``can.restart``).  On
+a real bus the controller state python-can and SocketCAN report (:attr:`CanBus.state`) counts as
+well: while it is bus-off the NC sends nothing.  In lockstep the link frames are also the
+stepping's handshake: a fault never withholds a grant or a scan-done report from the stepping,
+only their content from the other side (the NC's sign of life from the PLC, the PLC's from the
+NC); the data frames are withheld completely.  The PLC watches the NC's frames in turn
+(:mod:`interfaces.links.can_plc`) and says so in its link frame.
+
+The link's counters and states are scenario quantities (``CAN.lostFromPlc``, ``CAN.busState``
+...: ``LINK_QUANTITIES`` in vc/observables.py), counted per session.
 """
 
 from __future__ import annotations
 
+import asyncio
 import weakref
 from collections.abc import Callable, Mapping
 from types import TracebackType
@@ -36,15 +46,14 @@ from interfaces.codec_modbus import RegisterMap
 from interfaces.exchange import MODE_FREE_RUNNING, MODE_LOCKSTEP, grant_of_scan, next_session
 from interfaces.image import ProcessImage
 from interfaces.link_description import LinkDescription
-from interfaces.links.can_bus import BusSpec, CanBus, private_virtual_bus
+from interfaces.links.can_bus import BusSpec, CanBus, ControllerState, private_virtual_bus
 from interfaces.links.can_plc import CanPlcNode
 from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import plc_programs
 from interfaces.plc import PlcEnvironment
 from interfaces.signals import Direction
-from vc.config.can_config import CanConfig, can_config_of
-from vc.config.model import MachineConfig
-from vc.harness.link_faults import LINK_AREA, FaultyWire, LinkFault, active
+from vc.config.model import CanConfig, MachineConfig
+from vc.harness.link_faults import LINK_AREA, CanController, FaultyWire, LinkFault, active, disturbed
 from vc.harness.plc_link import LinkMode, Patience
 from vc.harness.simulation import Simulation
 
@@ -56,12 +65,15 @@ class CanLink:
 
     ``peer`` serves a PLC node in this process (a virtual bus): the link calls it whenever it
     waits and nothing has arrived.  ``peer_ended`` tells why the PLC process the harness started
-    is gone (None while it runs)."""
+    is gone (None while it runs); ``node`` is the harness's node when it was opened elsewhere."""
+
+    loop: asyncio.AbstractEventLoop | None = None  # the CAN link needs no event loop
+    watched = " and the time-out of its frames"  # besides the PLC's sign of life
 
     def __init__(self, mode: LinkMode, bus: BusSpec, *, config: CanConfig | None = None,
                  first_scan_timeout_s: float | None = 30.0, scan_timeout_s: float | None = 10.0,
                  on_wait: Callable[[str], None] | None = None, peer_ended: Callable[[], str | None] = lambda: None,
-                 peer: Callable[[], None] | None = None):
+                 peer: Callable[[], None] | None = None, node: CanBus | None = None):
         self.mode = mode
         self.spec = bus
         self.config = config or CanConfig()
@@ -71,11 +83,39 @@ class CanLink:
         self.peer_ended = peer_ended
         self.peer = peer
         self.session = 0
-        self.bus = CanBus(bus)
+        self.bus = node or CanBus(bus)
 
     def configure(self, config: CanConfig) -> None:
-        """The ``can:`` settings of the machine the next power-on uses."""
+        """The ``can:`` settings the next power-on uses."""
         self.config = config
+
+    def configure_for(self, machine: MachineConfig) -> None:
+        """The ``can:`` settings of the machine the next power-on uses."""
+        self.configure(machine.can)
+
+    @property
+    def plc_command(self) -> str:
+        return f"python -m plc_stub --can {self.spec}"
+
+    def banner(self, machine: MachineConfig) -> list[str]:
+        return [f"CAN bus {self.spec}, link frames from 0x{machine.can.settings.link_id:03X} (frames: vc map"
+                f" --machine {machine.source} --format dbc)"]
+
+    def peer_state(self, simulation: Simulation) -> str:
+        """The bus as the statistics line shows it: frames, errors, the controller, and what the
+        time-out monitor misses."""
+        bus = self.bus
+        state = f"CAN: {bus.sent} frames sent, {bus.received} received, {bus.error_frames} error frames"
+        plc = simulation.plc
+        if isinstance(plc, CanLinkedPlc):
+            if plc.missing:
+                state += ", missing " + " ".join(f"0x{can_id:03X}" for can_id in plc.missing)
+            if plc.bus_errors:
+                state += f", {plc.bus_errors} refused by the bus (last: {plc.last_bus_error})"
+            controller = ControllerState(int(plc.quantity("busState")))
+        else:
+            controller = bus.state
+        return state + ("" if controller is ControllerState.ERROR_ACTIVE else f", {controller.name.replace('_', ' ')}")
 
     def connect(self, environment: PlcEnvironment, program: str) -> CanLinkedPlc:
         """A power-on: a new session; the PLC (re)starts its program for it."""
@@ -83,7 +123,7 @@ class CanLink:
         settings = self.config.settings
         layout = CanLayout.build(environment.catalog, environment.plant_io.area_sizes(), settings)
         register_map = RegisterMap.build(environment.catalog, environment.plant_io.area_sizes())
-        description = LinkDescription.of(environment, program, register_map, settings)
+        description = LinkDescription.of(environment, program, register_map, settings, self.config.timeout_us)
         self.bus.listen({settings.plc_link_id, *layout.ids(Direction.PLC_TO_NC)})
         return CanLinkedPlc(self, layout, environment, description_frames(settings, description.to_json()))
 
@@ -100,13 +140,18 @@ class CanLinkedPlc:
         self.session = link.session
         self.lockstep = link.mode is LinkMode.LOCKSTEP
         self.plc_cycle_ipo = environment.plc_cycle_ipo
+        self.ipo_cycle_s = environment.ipo_cycle_us / 1_000_000
         self.period = link.config.period_cycles(environment.ipo_cycle_us, environment.plc_cycle_ipo)
         self.timeout = link.config.timeout_cycles(environment.ipo_cycle_us)
+        self.controller = CanController.for_cycle(link.config.restart_cycles(environment.ipo_cycle_us),
+                                                  environment.ipo_cycle_us)
         self.scans = 0
         self.cycle = 0  # the NC cycle of the last call
         self.faults: list[LinkFault] = []
         self.to_plc: FaultyWire[Frame] = FaultyWire(Direction.NC_TO_PLC)
         self.to_nc: FaultyWire[Frame] = FaultyWire(Direction.PLC_TO_NC)
+        self.sent = 0  # frames the NC put on the bus (their content reached it)
+        self.taken = 0  # frames from the PLC the NC took
         self.bus_errors = 0  # free-running: sends and receives the bus refused (the NC's watch reacts)
         self.last_bus_error = ""
         self._plc_link_id = layout.settings.plc_link_id
@@ -116,19 +161,46 @@ class CanLinkedPlc:
         self._areas: Mapping[str, bytearray] = {}
         self._grant = 0
         self._nc_life = 0
+        self._nc_life_out = 0  # the NC's sign of life as the PLC got it (lockstep: held while its frame is lost)
         self._nc_link = Frame(0, b"")  # the last NC link frame sent
         self._ready = False  # the PLC reported this session started
         self._done = 0  # the scan the PLC reported done (its raw handshake)
         self._life = 0  # the PLC's sign of life as the NC got it
         self._shown_life = 0  # ... as the NC sees it: held while a frame is missing
+        self._plc_misses_nc = False  # the PLC's time-out monitor misses the NC's frames
+        self._quantities = self._readers()
 
     @property
     def sign_of_life(self) -> int:
         return self._shown_life
 
-    # ------------------------------------------------------------------ faults
+    # ------------------------------------------------------------------ faults, observables
     def inject_fault(self, fault: LinkFault) -> None:
         self.faults = [*active(self.faults, self.cycle), fault]
+
+    def quantity(self, name: str) -> float:
+        """One of ``LINK_QUANTITIES`` (vc/observables.py) now."""
+        return float(self._quantities[name]())
+
+    def _readers(self) -> dict[str, Callable[[], float]]:
+        return {
+            "framesSent": lambda: self.sent,
+            "framesTaken": lambda: self.taken,
+            "lostToPlc": lambda: self.to_plc.lost,
+            "lostFromPlc": lambda: self.to_nc.lost,
+            "delayedToPlc": lambda: self.to_plc.delayed,
+            "delayedFromPlc": lambda: self.to_nc.delayed,
+            "plcFrameAge": lambda: (self.cycle - min(self._arrived.values())) * self.ipo_cycle_s,
+            "timedOut": lambda: float(bool(self.missing)),
+            "plcSignOfLife": lambda: self._shown_life,
+            "plcMissesNcFrames": lambda: float(self._plc_misses_nc),
+            "busState": lambda: max(self.controller.state, self.link.bus.state),
+            "transmitErrors": lambda: max(self.controller.transmit_errors, self.link.bus.transmit_errors),
+            "busOffs": lambda: self.controller.bus_offs,
+        }
+
+    def _disturbed(self, cycle: int) -> bool:
+        return disturbed(self.faults, cycle)
 
     # ------------------------------------------------------------------ the simulation's calls
     def scan(self, interface: ProcessImage, plant: ProcessImage) -> None:
@@ -136,6 +208,7 @@ class CanLinkedPlc:
             raise LinkError(f"session {self.session} was replaced by session {self.link.session}")
         self._areas = {**interface.areas, **plant.areas}
         cycle = self.cycle = self.scans * self.plc_cycle_ipo
+        self.controller.tick(cycle, self._disturbed(cycle))
         self.scans += 1
         if self.lockstep:
             self._grant = grant_of_scan(self.scans)
@@ -158,6 +231,7 @@ class CanLinkedPlc:
         """Between two scans: send when the period is due, take what arrived; True when PLC-to-NC
         bytes changed."""
         self.cycle = cycle
+        self.controller.tick(cycle, self._disturbed(cycle))
         if cycle % self.period == 0:
             self._areas = {**interface.areas, **plant.areas}
             self._publish(cycle, data=True)
@@ -177,17 +251,43 @@ class CanLinkedPlc:
                 self.to_plc.put(frame, area, cycle, faults)
         self._nc_life = (self._nc_life + 1) & 0xFF
         mode = MODE_LOCKSTEP if self.lockstep else MODE_FREE_RUNNING
-        link = self._nc_link = NcLink(mode, self._nc_life, self.session, self._grant).encode(self.layout.settings)
-        if self.lockstep:
+        settings = self.layout.settings
+        if not self.lockstep:
+            self.to_plc.put(NcLink(mode, self._nc_life, self.session, 0).encode(settings), LINK_AREA, cycle, faults)
             self._flush_to_plc(cycle)
-            self.link.bus.send(link)  # the stepping's handshake: never withheld
-        else:
-            self.to_plc.put(link, LINK_AREA, cycle, faults)
-            self._flush_to_plc(cycle)
+            return
+        self._flush_to_plc(cycle)
+        # The stepping's handshake is never withheld, only what the frame carries for the PLC:
+        # the NC's sign of life stands while a fault or the controller keeps the frame off the bus.
+        if not self.to_plc.loses(LINK_AREA, cycle, faults) and self._transmits(cycle, self._bus_state(cycle)):
+            self._nc_life_out = self._nc_life
+        self._nc_link = NcLink(mode, self._nc_life_out, self.session, self._grant).encode(settings)
+        self.link.bus.send(self._nc_link)
 
     def _flush_to_plc(self, cycle: int) -> None:
+        if not self.to_plc.waiting:
+            return
+        state = self._bus_state(cycle)
         for frame in self.to_plc.take(cycle):
-            self._send(frame)
+            if self._transmits(cycle, state):
+                self._send(frame)
+            else:
+                self.to_plc.lost += 1
+
+    def _bus_state(self, cycle: int) -> tuple[bool, bool]:
+        """What holds the controller's frames now: the interface reports bus-off (a real bus), a
+        disturbance (simulated); read once for a burst of frames."""
+        return self.link.bus.bus_off, self._disturbed(cycle)
+
+    def _transmits(self, cycle: int, state: tuple[bool, bool]) -> bool:
+        """Whether the controller puts a frame on the bus now (not while bus-off, simulated or reported)."""
+        reported_off, disturbance = state
+        if reported_off:
+            return False
+        if self.controller.transmit(cycle, disturbance):
+            self.sent += 1
+            return True
+        return False
 
     def _send(self, frame: Frame) -> None:
         """In lockstep a refused frame ends the run; free-running the frame is lost, as on a bus
@@ -240,7 +340,7 @@ class CanLinkedPlc:
         if frame.can_id != self._plc_link_id:
             slot = self.layout.by_id.get(frame.can_id)
             if slot is not None:
-                self.to_nc.put(frame, slot.area, cycle, self.faults)
+                self._take_in(frame, slot.area, cycle)
             return
         link = PlcLink.decode(frame.can_id, frame.data)
         if link is None:
@@ -255,7 +355,15 @@ class CanLinkedPlc:
         if not self._ready:
             self._ready = True
             self._publish(cycle, data=True)  # what the PLC missed while it started
-        self.to_nc.put(frame, LINK_AREA, cycle, self.faults)
+        self._take_in(frame, LINK_AREA, cycle)
+
+    def _take_in(self, frame: Frame, area: str, cycle: int) -> None:
+        """A frame of the PLC on its way to the NC: through the controller (a bus-off one hears
+        nothing), then the faults."""
+        if self.controller.receives(self._disturbed(cycle)):
+            self.to_nc.put(frame, area, cycle, self.faults)
+        else:
+            self.to_nc.lost += 1
 
     def _deliver(self, cycle: int) -> bool:
         """Give the NC the PLC's frames that are due; True when data bytes changed."""
@@ -266,9 +374,12 @@ class CanLinkedPlc:
                 link = PlcLink.decode(frame.can_id, frame.data)
                 if link is not None:
                     self._life = link.life
+                    self._plc_misses_nc = link.misses_nc_frames
                     arrived[frame.can_id] = cycle
+                    self.taken += 1
             elif by_id[frame.can_id].decode(frame.data, areas):
                 arrived[frame.can_id] = cycle
+                self.taken += 1
                 changed = True
         return changed
 
@@ -294,14 +405,17 @@ class VirtualCanPlc:
     def __init__(self, on_log: Callable[[str], None] = lambda text: None):
         spec = private_virtual_bus()
         self.plc_bus = CanBus(spec)
-        self.node = CanPlcNode(self.plc_bus, plc_programs(), log=on_log)
-        self.link = CanLink(LinkMode.LOCKSTEP, spec, peer=self.node.service_pending)
+        try:
+            self.node = CanPlcNode(self.plc_bus, plc_programs(), log=on_log)
+            self.link = CanLink(LinkMode.LOCKSTEP, spec, peer=self.node.service_pending)
+        except BaseException:
+            self.plc_bus.close()  # nobody gets the half-built PLC to close it
+            raise
 
     def simulation(self, machine: MachineConfig, program: str) -> Simulation:
         """A power-on of ``machine`` with the program behind the bus (its ``can:`` settings)."""
-        config = can_config_of(machine)
-        self.link.configure(config)
-        self.node.use_link_id(config.settings.link_id)
+        self.link.configure_for(machine)
+        self.node.use_link_id(machine.can.settings.link_id)
         return Simulation(machine, program, connector=self.link)
 
     def close(self) -> None:
@@ -319,6 +433,10 @@ class VirtualCanPlc:
 def virtual_can_simulation(machine: MachineConfig, program: str) -> Simulation:
     """A simulation whose PLC program sits behind its own virtual CAN bus; the bus closes with it."""
     virtual = VirtualCanPlc()
-    simulation = virtual.simulation(machine, program)
+    try:
+        simulation = virtual.simulation(machine, program)
+    except BaseException:
+        virtual.close()
+        raise
     weakref.finalize(simulation, virtual.close)
     return simulation

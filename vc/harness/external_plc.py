@@ -17,7 +17,6 @@ from types import TracebackType
 from typing import Generic, Protocol, Self, TypeVar
 
 from interfaces.links.can_bus import BusSpec, private_udp_bus
-from vc.config.can_config import can_config_of
 from vc.config.model import MachineConfig
 from vc.harness.can_link import CanLink
 from vc.harness.plc_link import Endpoint, LinkMode, PlcLink
@@ -124,7 +123,7 @@ class CanPlcProcess(_ChildPlcRun[CanLink]):
     def simulation(self, machine: MachineConfig, program: str, pacer: Pacer | None = None) -> Simulation:
         """A power-on of ``machine`` (with its ``can:`` settings) and ``program`` in the process, over
         the bus; the process starts now if it does not run for these link identifiers."""
-        self.link.configure(can_config_of(machine))
+        self.link.configure_for(machine)
         link_id = self.link.config.settings.link_id
         if self._child is None or link_id != self._link_id:
             self._close_child()

@@ -37,10 +37,8 @@ from multiprocessing.connection import Connection
 from typing import Any
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import REG_SCAN_DONE, RegisterMap, Table
+from interfaces.codec_modbus import READ_LIMIT, REG_SCAN_DONE, WRITE_LIMIT, RegisterMap, Table
 from interfaces.links.modbus_tcp import (
-    READ_LIMIT,
-    WRITE_LIMIT,
     LinkError,
     ModbusLinkClient,
     ModbusServerLink,

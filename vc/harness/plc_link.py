@@ -54,6 +54,8 @@ from interfaces.links.errors import LinkError
 from interfaces.links.modbus_tcp import ModbusServerLink, ModbusTables
 from interfaces.links.s7 import S7ServerLink
 from interfaces.plc import PlcEnvironment
+from vc.config.model import MachineConfig
+from vc.harness.simulation import Simulation
 
 _WORD = struct.Struct(">H")
 
@@ -165,6 +167,25 @@ class PlcLink:
         except LinkError:
             self.close()
             raise
+
+    # ------------------------------------------------------------------ what vc serve shows
+    plc_command = "python -m plc_stub --modbus ..."  # how plc_stub follows the harness
+    watched = ""  # the NC watches the PLC's sign of life only
+
+    def configure_for(self, machine: MachineConfig) -> None:
+        """Nothing per machine: the tables follow from the interface at every power-on."""
+
+    def banner(self, machine: MachineConfig) -> list[str]:
+        lines = []
+        if self.modbus is not None:
+            lines.append(f"Modbus TCP on {self.modbus.host}:{self.modbus.port} (register map: vc map --machine"
+                         f" {machine.source} --format csv)")
+        if self.s7 is not None:
+            lines.append(f"S7 on {self.s7.host}:{self.s7.port} (DB10, DB11, DB21.., DB31.., inputs PE, outputs PA)")
+        return lines
+
+    def peer_state(self, simulation: Simulation) -> str:
+        return f"{self.modbus.clients if self.modbus is not None else 0} Modbus client(s)"
 
     # ------------------------------------------------------------------ sessions
     def connect(self, environment: PlcEnvironment, program: str) -> LinkedPlc:

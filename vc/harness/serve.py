@@ -15,19 +15,49 @@ import asyncio
 import time as wallclock
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Protocol
 
 from interfaces.links.can_bus import BusSpec
 from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import plc_programs
-from vc.config.can_config import can_config_of
+from interfaces.plc import PlcEnvironment, SoftPlc
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
-from vc.harness.can_link import CanLink, CanLinkedPlc
+from vc.harness.can_link import CanLink
 from vc.harness.pacer import RealtimePacer
 from vc.harness.plc_link import Endpoint, LinkMode, PlcLink, check_bind
 from vc.harness.simulation import Simulation
 from vc.scenario.command import EXIT_PASSED, run_command
 from vc.scenario.model import Scenario
+
+
+class ServedLink(Protocol):
+    """What ``vc serve`` needs of a link to a PLC in another process (Modbus TCP / S7, or CAN)."""
+
+    @property
+    def loop(self) -> asyncio.AbstractEventLoop | None:
+        """The link's event loop, which the pacer shares; None: it has none."""
+
+    @property
+    def plc_command(self) -> str:
+        """How plc_stub follows the harness on this link."""
+
+    @property
+    def watched(self) -> str:
+        """What the NC watches besides the PLC's sign of life, for the banner."""
+
+    def connect(self, environment: PlcEnvironment, program: str) -> SoftPlc: ...
+
+    def configure_for(self, machine: MachineConfig) -> None:
+        """The settings of the machine the next power-on uses."""
+
+    def banner(self, machine: MachineConfig) -> list[str]:
+        """Where the link listens and where its map comes from."""
+
+    def peer_state(self, simulation: Simulation) -> str:
+        """The PLC's side for the statistics line."""
+
+    def close(self) -> None: ...
 
 
 @dataclass(slots=True)
@@ -83,14 +113,13 @@ def serve(options: ServeOptions) -> int:
     def on_wait(text: str) -> None:
         say(f"waiting: {text}")
 
-    link: PlcLink | CanLink
+    link: ServedLink
     if options.can is not None:
         link = CanLink(mode, options.can, first_scan_timeout_s=None, scan_timeout_s=None, on_wait=on_wait)
-        loop = asyncio.new_event_loop()  # the pacer's: the CAN link needs none
     else:
         link = PlcLink(mode, modbus=modbus, s7=options.s7, allowed_clients=options.allowed_clients,
                        first_scan_timeout_s=None, scan_timeout_s=None, on_wait=on_wait)
-        loop = link.loop
+    loop = link.loop or asyncio.new_event_loop()  # the pacer's
     try:
         ipo_s = Simulation.ipo_seconds(machine)
         pacer = RealtimePacer(loop, ipo_s, options.speed) if options.realtime else None
@@ -99,8 +128,7 @@ def serve(options: ServeOptions) -> int:
 
         def power_on(scenario: Scenario | None = None) -> Simulation:
             powered = scenario.machine if scenario else machine
-            if isinstance(link, CanLink):
-                link.configure(can_config_of(powered))
+            link.configure_for(powered)
             simulation = Simulation(powered, program, connector=link, pacer=pacer)
             simulations.append(simulation)
             return simulation
@@ -119,7 +147,7 @@ def serve(options: ServeOptions) -> int:
         return code
     finally:
         link.close()
-        if loop is not getattr(link, "loop", None):
+        if loop is not link.loop:
             loop.close()
 
 
@@ -132,44 +160,20 @@ def _machine_and_program(options: ServeOptions) -> tuple[MachineConfig, str, str
     return scenario.machine, scenario.plc_program or options.program, options.scenario
 
 
-def _banner(options: ServeOptions, machine: MachineConfig, link: PlcLink | CanLink, program: str, mode: LinkMode,
+def _banner(options: ServeOptions, machine: MachineConfig, link: ServedLink, program: str, mode: LinkMode,
             say: Callable[[str], None]) -> None:
     say(f"machine {machine.name} ({machine.source})")
-    if isinstance(link, CanLink):
-        settings = can_config_of(machine).settings
-        say(f"CAN bus {link.spec}, link frames from 0x{settings.link_id:03X} (frames: vc map --machine"
-            f" {machine.source} --format dbc)")
-        say(f"lockstep: the NC advances one PLC period per scan the PLC reports done; a PLC that follows the"
-            f" harness runs '{program}' (python -m plc_stub --can {link.spec})" if mode is LinkMode.LOCKSTEP else
-            "real time; the NC watches the PLC's sign of life (alarm 2000) and the time-out of its frames")
-        return
-    if link.modbus is not None:
-        say(f"Modbus TCP on {link.modbus.host}:{link.modbus.port} (register map: vc map --machine"
-            f" {machine.source} --format csv)")
-    if link.s7 is not None:
-        say(f"S7 on {link.s7.host}:{link.s7.port} (DB10, DB11, DB21.., DB31.., inputs PE, outputs PA)")
+    for line in link.banner(machine):
+        say(line)
     if mode is LinkMode.LOCKSTEP:
-        say(f"lockstep: the NC advances one PLC period per scan the PLC reports done; a PLC that follows"
-            f" the harness runs '{program}' (python -m plc_stub --modbus ...)")
+        say(f"lockstep: the NC advances one PLC period per scan the PLC reports done; a PLC that follows the"
+            f" harness runs '{program}' ({link.plc_command})")
     else:
         speed = "as fast as possible" if options.speed is None else f"{options.speed:g} x real time"
-        say(f"real time, {speed}; the NC watches the PLC's sign of life (alarm 2000)")
+        say(f"real time, {speed}; the NC watches the PLC's sign of life (alarm 2000){link.watched}")
 
 
-def _can_state(link: CanLink, simulation: Simulation) -> str:
-    """The bus as the statistics line shows it: frames, errors, and what the time-out monitor misses."""
-    bus = link.bus
-    state = f"CAN: {bus.sent} frames sent, {bus.received} received, {bus.error_frames} error frames"
-    plc = simulation.plc
-    if isinstance(plc, CanLinkedPlc):
-        if plc.missing:
-            state += ", missing " + " ".join(f"0x{can_id:03X}" for can_id in plc.missing)
-        if plc.bus_errors:
-            state += f", {plc.bus_errors} refused by the bus (last: {plc.last_bus_error})"
-    return state + (", BUS-OFF" if bus.bus_off else "")
-
-
-def _keep_running(simulation: Simulation, pacer: RealtimePacer | None, link: PlcLink | CanLink,
+def _keep_running(simulation: Simulation, pacer: RealtimePacer | None, link: ServedLink,
                   options: ServeOptions) -> None:
     alarms = AlarmWatch(simulation, options.say)
     stop_cycle = None if options.duration_s is None else round(options.duration_s / simulation.ipo_cycle_s)
@@ -180,9 +184,6 @@ def _keep_running(simulation: Simulation, pacer: RealtimePacer | None, link: Plc
         alarms.check()
         if pacer is not None and wallclock.monotonic() >= next_stats:
             next_stats += options.stats_every_s
-            if isinstance(link, CanLink):
-                peer = _can_state(link, simulation)
-            else:
-                peer = f"{link.modbus.clients if link.modbus is not None else 0} Modbus client(s)"
+            peer = link.peer_state(simulation)
             options.say(f"{simulation.time_s:9.3f} s  {pacer.stats(reported)}; {peer}")
             reported = len(pacer.errors)

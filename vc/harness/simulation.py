@@ -330,16 +330,24 @@ class Simulation:
         else:
             raise KeyError(f"unknown fault '{kind}' (known: {', '.join(FAULTS)})")
 
+    def link_quantity(self, name: str) -> float:
+        """A counter or state of the CAN link the PLC sits behind (see LINK_QUANTITIES)."""
+        return self._faulty_link().quantity(name)
+
+    def _faulty_link(self) -> FaultInjectable:
+        if not isinstance(self.plc, FaultInjectable):
+            where = "no PLC" if self.plc is None else "a PLC without a bus (in process, Modbus TCP)"
+            raise LinkError(f"a link fault or quantity needs the PLC behind the CAN link; this simulation has {where}")
+        return self.plc
+
     def inject_link_fault(self, kind: str, duration_us: int, directions: Sequence[str] = ("nc_to_plc", "plc_to_nc"),
                           areas: Sequence[str] = (), delay_us: int = 0, every: int = 1) -> None:
         """A fault of the bus between NC and PLC from now on for ``duration_us`` (see LINK_FAULTS);
         only a PLC behind a link with a bus (CAN) takes it."""
-        if not isinstance(self.plc, FaultInjectable):
-            where = "no PLC" if self.plc is None else "a PLC without a bus (in process, Modbus TCP)"
-            raise LinkError(f"a link fault needs the PLC behind the CAN link; this simulation has {where}")
+        link = self._faulty_link()
         cycle_us = self.nck.cycle_us
         start = self.nck.cycle
-        self.plc.inject_fault(LinkFault(
+        link.inject_fault(LinkFault(
             LinkFaultKind(kind), start, start + -(-duration_us // cycle_us),
             frozenset(Direction(direction) for direction in directions), frozenset(areas),
             -(-delay_us // cycle_us), every))

@@ -335,7 +335,7 @@ class _ScenarioChecker:
         machine = self.machine
         self.resolver = NameResolver(expand(catalog, machine.layout), machine.plant_io,
                                      (axis.name for axis in machine.axes),
-                                     (channel.name for channel in machine.channels))
+                                     (channel.name for channel in machine.channels), link=self.link == LINK_CAN)
         return machine_file
 
     def invariants(self, document: LocatedMap) -> list[Invariant]:
@@ -834,8 +834,8 @@ class _ScenarioChecker:
     def signal_refusal(self, quantity: Quantity, kind: str) -> str:
         if quantity.kind is QuantityKind.SIGNAL:
             return ""
-        what = {QuantityKind.AXIS: "the simulated axis", QuantityKind.MACHINE_DATUM: "the control's machine data"}.get(
-            quantity.kind, "the simulation")
+        what = {QuantityKind.AXIS: "the simulated axis", QuantityKind.MACHINE_DATUM: "the control's machine data",
+                QuantityKind.LINK: "the CAN link"}.get(quantity.kind, "the simulation")
         return f"cannot {kind} {quantity.label}: it is a quantity of {what}, not a signal"
 
     def write_refusal(self, quantity: Quantity, kind: str) -> str:

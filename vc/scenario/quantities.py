@@ -10,7 +10,9 @@ Names are resolved once, when the file is loaded, in this order:
    and ``NC.<quantity>`` for the NCK and its drive line-up (``NC.dcLinkVoltage``; ``NCK_QUANTITIES``),
 4. ``<instance>.MD<number>[<index>]``: a machine datum as the control holds it now, with the
    values it wrote itself (``X1.MD34210``, ``X1.MD34090[1]``, ``CHAN1.MD20700``, ``NC.MD10192``),
-5. ``time``: simulated seconds since the scenario started.
+5. ``CAN.<quantity>``: the CAN link's counters and states (``CAN.lostFromPlc``; ``LINK_QUANTITIES``),
+   for a scenario whose PLC sits behind the link (``link: can``),
+6. ``time``: simulated seconds since the scenario started.
 """
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ from interfaces.signals import (
 )
 from vc.config.machine_data import MdLevel
 from vc.config.md_dictionary import BY_NUMBER, level_text
-from vc.observables import AXIS_QUANTITIES, CHANNEL_QUANTITIES, NCK_QUANTITIES
+from vc.observables import AXIS_QUANTITIES, CHANNEL_QUANTITIES, LINK_INSTANCE, LINK_QUANTITIES, NCK_QUANTITIES
 
 TIME = "time"
 
@@ -43,6 +45,7 @@ class QuantityKind(Enum):
     SIGNAL = "signal"  # interface signal or plant I/O point
     AXIS = "axis"  # a quantity of a machine axis or spindle
     MACHINE_DATUM = "machine datum"  # a machine datum as the control holds it now (X1.MD34210)
+    LINK = "link"  # a counter or state of the CAN link (CAN.lostFromPlc)
     TIME = "time"
 
 
@@ -73,6 +76,8 @@ class Quantity:
             return "AXES"
         if self.kind is QuantityKind.MACHINE_DATUM:
             return "MD"
+        if self.kind is QuantityKind.LINK:
+            return LINK_INSTANCE
         if self.kind is QuantityKind.TIME:
             return "SIM"
         assert self.ref is not None
@@ -110,7 +115,9 @@ class NameResolver:
     """Resolves the names of one machine; unknown names raise :class:`UnknownSignalError`."""
 
     def __init__(self, catalog: ExpandedCatalog, plant_io: PlantIoMap, axes: Iterable[str],
-                 channels: Iterable[str]):
+                 channels: Iterable[str], link: bool = False):
+        """``link``: the PLC sits behind the CAN link, whose quantities can be read."""
+        self.link = link
         self.catalog = catalog
         self.plant_io = plant_io
         self.axes = tuple(axes)
@@ -141,6 +148,11 @@ class NameResolver:
             return axis_quantity(head, tail)  # read like an axis quantity, from the channel
         if head == NCK_INSTANCE and tail in NCK_QUANTITIES:
             return axis_quantity(head, tail)  # read like an axis quantity, from the NCK
+        if head == LINK_INSTANCE and tail in LINK_QUANTITIES:
+            if not self.link:
+                raise UnknownSignalError(f"'{text}' is a quantity of the CAN link: write 'link: can' at the top of"
+                                         " the scenario")
+            return Quantity(text, QuantityKind.LINK, quantity=tail)
         datum = _MACHINE_DATUM.match(tail)
         if datum is not None and head in (NCK_INSTANCE, *self.axes, *self.channels):
             return self._machine_datum(text, head, int(datum.group(1)), datum.group(2))
@@ -175,6 +187,10 @@ class NameResolver:
             hint = f"; did you mean {head}.{close[0]}?" if close else ""
             return (f"'{text}' is not a quantity of axis {head}{hint}"
                     f" (axis quantities: {', '.join(AXIS_QUANTITIES)})")
+        if head == LINK_INSTANCE and tail:
+            close = difflib.get_close_matches(tail, LINK_QUANTITIES, n=1, cutoff=0.6)
+            hint = f"; did you mean {head}.{close[0]}?" if close else ""
+            return f"'{text}' is not a quantity of the CAN link{hint} (link quantities: {', '.join(LINK_QUANTITIES)})"
         if head in self._instances:
             return catalog_error.message
         if plant_function(text) is not None:

@@ -142,6 +142,9 @@ class _Probe:
         if quantity.kind is QuantityKind.MACHINE_DATUM:
             datum, instance, number, index = target.machine_datum, quantity.axis, int(quantity.quantity), quantity.index
             return lambda: datum(instance, number, index)
+        if quantity.kind is QuantityKind.LINK:
+            link_value, name = target.link_quantity, quantity.quantity
+            return lambda: link_value(name)
         start, seconds_per_cycle = self.start_cycle, target.ipo_cycle_us / 1e6
         return lambda: (target.cycle - start) * seconds_per_cycle
 

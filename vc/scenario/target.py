@@ -50,6 +50,9 @@ class ScenarioTarget(Protocol):
     def axis_quantity(self, axis: str, quantity: str) -> float:
         """One of ``vc.observables.AXIS_QUANTITIES`` for a machine axis or spindle."""
 
+    def link_quantity(self, name: str) -> float:
+        """One of ``vc.observables.LINK_QUANTITIES`` of the CAN link the PLC sits behind."""
+
     def alarms(self) -> Sequence[Alarm]:
         """Alarms present now."""
 

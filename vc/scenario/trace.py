@@ -127,7 +127,8 @@ class Recorder:
             self._add(quantity)
         self._signals = [h for h in self._histories.values() if h.quantity.kind is QuantityKind.SIGNAL]
         self._axes = [h for h in self._histories.values() if h.quantity.kind is QuantityKind.AXIS]
-        self._data = [h for h in self._histories.values() if h.quantity.kind is QuantityKind.MACHINE_DATUM]
+        self._data = [h for h in self._histories.values()
+                      if h.quantity.kind in (QuantityKind.MACHINE_DATUM, QuantityKind.LINK)]
         self._by_byte = {}
         for history in self._signals:
             ref = history.quantity.ref
@@ -203,8 +204,7 @@ class Recorder:
             if abs(value - history.last) > AXIS_DEADBAND:
                 history.add(cycle, value)
         for history in self._data:
-            quantity = history.quantity
-            value = self.target.machine_datum(quantity.axis, int(quantity.quantity), quantity.index)
+            value = self._read(history.quantity)
             if value != history.last or not len(history):
                 history.add(cycle, value)
 
@@ -271,6 +271,8 @@ class Recorder:
             return self.target.axis_quantity(quantity.axis, quantity.quantity)
         if quantity.kind is QuantityKind.MACHINE_DATUM:
             return self.target.machine_datum(quantity.axis, int(quantity.quantity), quantity.index)
+        if quantity.kind is QuantityKind.LINK:
+            return self.target.link_quantity(quantity.quantity)
         assert quantity.ref is not None
         return self.target.read(quantity.ref)
 

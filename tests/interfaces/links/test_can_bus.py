@@ -1,12 +1,26 @@
 """The python-can adapter: bus names, a node hears only what it listens to (on UDP multicast not its
-own frames), errors become LinkError; SocketCAN where the kernel has it (skipped otherwise)."""
+own frames), errors become LinkError; the controller's state from python-can and SocketCAN's error
+frames (with a stand-in interface); SocketCAN where the kernel has it (skipped otherwise)."""
 
 from __future__ import annotations
 
+import can
 import pytest
 
 from interfaces.codec_can import Frame
-from interfaces.links.can_bus import BusSpec, CanBus, private_udp_bus, private_virtual_bus, socketcan_available
+from interfaces.links.can_bus import (
+    CAN_ERR_BUSOFF,
+    CAN_ERR_CNT,
+    CAN_ERR_CRTL,
+    CAN_ERR_CRTL_TX_PASSIVE,
+    CAN_ERR_RESTARTED,
+    BusSpec,
+    CanBus,
+    ControllerState,
+    private_udp_bus,
+    private_virtual_bus,
+    socketcan_available,
+)
 from interfaces.links.errors import LinkError
 
 TIMEOUT_S = 2.0
@@ -82,3 +96,55 @@ def test_the_own_frames_of_udp_multicast_are_counted_as_dropped() -> None:
 @pytest.mark.skipif(not socketcan_available("vcan0"), reason="this kernel has no SocketCAN / no vcan0 interface")
 def test_two_nodes_on_socketcan_vcan0() -> None:
     _exchange(BusSpec("socketcan", "vcan0"))
+
+
+class _Interface(can.BusABC):
+    """A stand-in for a SocketCAN interface: hands out the messages given, refuses sends when told,
+    and reports a state as python-can's interfaces do."""
+
+    def __init__(self, messages: list[can.Message], state: can.BusState = can.BusState.ACTIVE):
+        super().__init__(channel="fake")
+        self.messages = messages
+        self.reported = state
+        self.sent: list[can.Message] = []
+
+    @property
+    def state(self) -> can.BusState:
+        return self.reported
+
+    def send(self, msg: can.Message, timeout: float | None = None) -> None:
+        self.sent.append(msg)
+
+    def _recv_internal(self, timeout: float | None) -> tuple[can.Message | None, bool]:
+        return (self.messages.pop(0) if self.messages else None), False
+
+
+def _error_frame(error_class: int, data: bytes = bytes(8)) -> can.Message:
+    return can.Message(arbitration_id=error_class, data=data, is_error_frame=True, is_extended_id=False)
+
+
+def test_socketcan_error_frames_give_the_controller_state_and_its_counters() -> None:
+    interface = _Interface([])
+    bus = CanBus(BusSpec("socketcan", "can0"), listen={0x101}, opened=interface)
+    assert bus.state is ControllerState.ERROR_ACTIVE
+    interface.messages = [_error_frame(CAN_ERR_CRTL | CAN_ERR_CNT,
+                                       bytes([0, CAN_ERR_CRTL_TX_PASSIVE, 0, 0, 0, 0, 131, 7]))]
+    assert bus.receive(0) is None
+    assert (bus.state, bus.transmit_errors, bus.receive_errors) == (ControllerState.ERROR_PASSIVE, 131, 7)
+    interface.messages = [_error_frame(CAN_ERR_BUSOFF)]
+    assert bus.receive(0) is None and bus.bus_off
+    interface.messages = [_error_frame(CAN_ERR_RESTARTED)]
+    assert bus.receive(0) is None and bus.state is ControllerState.ERROR_ACTIVE
+    interface.messages = [_error_frame(CAN_ERR_BUSOFF), can.Message(arbitration_id=0x101, data=b"x",
+                                                                    is_extended_id=False)]
+    assert bus.receive(0) == Frame(0x101, b"x", False)
+    assert bus.state is ControllerState.ERROR_ACTIVE  # a frame arrived: the controller is back
+    assert bus.error_frames == 4
+
+
+def test_the_state_python_can_reports_counts_too() -> None:
+    interface = _Interface([], can.BusState.ERROR)
+    bus = CanBus(BusSpec("socketcan", "can0"), opened=interface)
+    assert bus.state is ControllerState.BUS_OFF
+    interface.reported = can.BusState.PASSIVE
+    assert bus.state is ControllerState.ERROR_PASSIVE

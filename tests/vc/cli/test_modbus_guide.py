@@ -8,14 +8,11 @@ from pathlib import Path
 import pytest
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import RegisterMap, Table, display_number
-from interfaces.links.modbus_tcp import READ_LIMIT, WRITE_LIMIT
+from interfaces.codec_modbus import READ_LIMIT, WRITE_LIMIT, RegisterMap, Table, display_number
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import ExpandedCatalog, expand
 from vc.cli.main import main
 from vc.cli.modbus_guide import (
-    READ_REGISTERS_LIMIT,
-    WRITE_REGISTERS_LIMIT,
     RegisterBlock,
     codesys_channels,
     modbus_guide,
@@ -105,8 +102,8 @@ def test_openplc_devices_put_register_r_at_word_100_plus_r(register_map: Registe
         assert [part.offset for part in present] == [sum(p.length for p in present[:k]) for k in range(len(present))]
         assert sum(part.length for part in present) == register_map.registers(table)
     for device in devices:
-        assert device.inputs is None or device.inputs.length <= READ_REGISTERS_LIMIT
-        assert device.outputs is None or device.outputs.length <= WRITE_REGISTERS_LIMIT
+        assert device.inputs is None or device.inputs.length <= READ_LIMIT
+        assert device.outputs is None or device.outputs.length <= WRITE_LIMIT
         inputs = f"{device.inputs.offset} / {device.inputs.length}" if device.inputs else "0 / 0"
         assert re.search(rf"\| {device.name} \| 127\.0\.0\.1 \| 5020 \| 1 \| 0 / 0 \| 0 / 0 \| {inputs} \|", guide)
 
@@ -116,10 +113,6 @@ def test_vc_map_format_guide_prints_the_guide(capsys: pytest.CaptureFixture[str]
     monkeypatch.chdir(ROOT)
     assert main(["map", "--machine", MACHINE, "--format", "guide"]) == 0
     assert capsys.readouterr().out == guide
-
-
-def test_the_limits_are_those_of_the_link() -> None:
-    assert (READ_REGISTERS_LIMIT, WRITE_REGISTERS_LIMIT) == (READ_LIMIT, WRITE_LIMIT)
 
 
 def _assert_channels_cover(channels: list[RegisterBlock], table: Table, registers: int, limit: int) -> None:

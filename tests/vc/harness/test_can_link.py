@@ -9,24 +9,28 @@ limit 0: nothing leaves the host."""
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import subprocess
 import sys
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any, ClassVar
 
+import can
 import pytest
 from panel_operator import images, operate
 
-from interfaces.links.can_bus import BusSpec, private_udp_bus, socketcan_available
+from interfaces.links.can_bus import BusSpec, CanBus, private_udp_bus, socketcan_available
 from interfaces.links.errors import LinkError
-from vc.config.can_config import CanConfig
 from vc.config.loader import load_machine
-from vc.config.model import MachineConfig
-from vc.harness.can_link import CanLink, CanLinkedPlc, VirtualCanPlc
+from vc.config.model import CanConfig, MachineConfig
+from vc.harness import can_link
+from vc.harness.can_link import CanLink, CanLinkedPlc, VirtualCanPlc, virtual_can_simulation
 from vc.harness.external_plc import CanPlcProcess
 from vc.harness.pacer import RealtimePacer
 from vc.harness.plc_link import LinkMode
 from vc.harness.simulation import Simulation
+from vc.observables import LINK_QUANTITIES
 
 ROOT = Path(__file__).resolve().parents[3]
 TURN_MILL = load_machine(str(ROOT / "scenarios" / "machines" / "turn_mill.yaml"))
@@ -103,11 +107,28 @@ def test_the_time_out_monitor_holds_the_sign_of_life_of_a_plc_with_a_missing_fra
         assert 2000 in [alarm.number for alarm in simulation.alarms()]  # MD10100 = 0.1 s after the last change
 
 
+def test_the_links_counters_as_scenario_quantities() -> None:
+    """Every PLC period the NC sends 16 data frames and its link frame and takes the PLC's 13 and
+    its link frame; nothing lost, every frame fresh."""
+    with VirtualCanPlc() as virtual:
+        simulation = virtual.simulation(TURN_MILL, "basic_machine")
+        simulation.step(50)
+        before = {name: simulation.link_quantity(name) for name in LINK_QUANTITIES}
+        simulation.step(50)  # ten PLC periods
+        after = {name: simulation.link_quantity(name) for name in LINK_QUANTITIES}
+    assert after["framesSent"] - before["framesSent"] == 170
+    assert after["framesTaken"] - before["framesTaken"] == 140
+    assert after["plcSignOfLife"] - before["plcSignOfLife"] == 10
+    assert all(after[name] == 0 for name in ("lostToPlc", "lostFromPlc", "delayedToPlc", "delayedFromPlc",
+                                             "plcFrameAge", "timedOut", "plcMissesNcFrames", "busState",
+                                             "transmitErrors", "busOffs"))
+
+
 def test_a_link_fault_needs_the_can_link() -> None:
     simulation = Simulation(TURN_MILL, "basic_machine")
     with pytest.raises(LinkError) as caught:
         simulation.inject_link_fault("loss", 100_000)
-    assert str(caught.value) == ("a link fault needs the PLC behind the CAN link; this simulation has a PLC"
+    assert str(caught.value) == ("a link fault or quantity needs the PLC behind the CAN link; this simulation has a PLC"
                                  " without a bus (in process, Modbus TCP)")
 
 
@@ -139,9 +160,12 @@ def test_a_plc_that_cannot_run_the_program_is_reported() -> None:
 
 
 def test_in_real_time_the_nc_watches_the_plc_on_the_bus() -> None:
+    # The PLC watches the NC's frames on its own clock: on a host shared with other work the harness
+    # may stall for longer than 50 ms, and the PLC would rightly react (emergency stop).
+    machine = dataclasses.replace(TURN_MILL, can=dataclasses.replace(TURN_MILL.can, timeout_s=1.0))
     with CanPlcProcess(LinkMode.FREE_RUNNING) as running:
-        pacer = RealtimePacer(asyncio.new_event_loop(), Simulation.ipo_seconds(TURN_MILL), 1.0)
-        simulation = running.simulation(TURN_MILL, "basic_machine", pacer=pacer)
+        pacer = RealtimePacer(asyncio.new_event_loop(), Simulation.ipo_seconds(machine), 1.0)
+        simulation = running.simulation(machine, "basic_machine", pacer=pacer)
         simulation.step(250)  # the PLC process starts: MD10120 (50 s) allows it
         simulation.step(500)  # one second with the PLC scanning on its own clock
         assert [alarm.number for alarm in simulation.alarm_history()] == []
@@ -151,6 +175,43 @@ def test_in_real_time_the_nc_watches_the_plc_on_the_bus() -> None:
         simulation.step(100)  # 0.2 s: longer than MD10100 (0.1 s)
         assert 2000 in [alarm.number for alarm in simulation.alarms()]
         pacer.loop.close()
+
+
+class _Interface(can.BusABC):
+    """A stand-in for a SocketCAN interface whose controller state the test sets."""
+
+    def __init__(self) -> None:
+        super().__init__(channel="fake")
+        self.reported = can.BusState.ACTIVE
+        self.sent = 0
+
+    @property
+    def state(self) -> can.BusState:
+        return self.reported
+
+    def send(self, msg: can.Message, timeout: float | None = None) -> None:
+        self.sent += 1
+
+    def _recv_internal(self, timeout: float | None) -> tuple[can.Message | None, bool]:
+        return None, False
+
+
+def test_free_running_the_nc_sends_nothing_while_the_interface_reports_bus_off() -> None:
+    interface = _Interface()
+    spec = BusSpec("socketcan", "can0")
+    link = CanLink(LinkMode.FREE_RUNNING, spec, node=CanBus(spec, opened=interface))
+    simulation = Simulation(TURN_MILL, "basic_machine", connector=link)
+    plc = simulation.plc
+    assert isinstance(plc, CanLinkedPlc)
+    simulation.step(10)
+    sent = interface.sent
+    assert sent > 0 and plc.quantity("busState") == 0 and plc.quantity("lostToPlc") == 0
+    interface.reported = can.BusState.ERROR
+    simulation.step(10)  # two periods: 16 data frames and the link frame each, none sent
+    assert interface.sent == sent and plc.quantity("lostToPlc") == 34 and plc.quantity("busState") == 2
+    interface.reported = can.BusState.ACTIVE
+    simulation.step(5)
+    assert interface.sent == sent + 17 and plc.quantity("busState") == 0
 
 
 def test_vc_serve_on_a_can_bus_runs_a_scenario_with_a_plc_process() -> None:
@@ -185,3 +246,47 @@ def test_lockstep_over_socketcan_gives_the_in_process_images() -> None:
         operate(linked)
         operate(local)
         assert images(linked) == images(local)
+
+
+class _RecordedBus(CanBus):
+    """A node that remembers it was opened and whether it was closed."""
+
+    opened: ClassVar[list[_RecordedBus]] = []
+
+    def __init__(self, *arguments: Any, **options: Any) -> None:
+        super().__init__(*arguments, **options)
+        self.closed = False
+        _RecordedBus.opened.append(self)
+
+    def close(self) -> None:
+        self.closed = True
+        super().close()
+
+
+@pytest.fixture()
+def recorded_buses(monkeypatch: pytest.MonkeyPatch) -> list[_RecordedBus]:
+    _RecordedBus.opened = []
+    monkeypatch.setattr(can_link, "CanBus", _RecordedBus)
+    return _RecordedBus.opened
+
+
+def test_a_virtual_plc_whose_setup_fails_closes_the_bus_it_opened(recorded_buses: list[_RecordedBus],
+                                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    def no_second_node(*arguments: object, **options: object) -> CanLink:
+        raise LinkError("cannot open the CAN bus")
+
+    monkeypatch.setattr(can_link, "CanLink", no_second_node)
+    with pytest.raises(LinkError):
+        VirtualCanPlc()
+    assert len(recorded_buses) == 1 and recorded_buses[0].closed
+
+
+def test_a_simulation_behind_a_virtual_bus_that_cannot_start_closes_both_nodes(
+        recorded_buses: list[_RecordedBus], monkeypatch: pytest.MonkeyPatch) -> None:
+    def refused(*arguments: object, **options: object) -> Simulation:
+        raise ValueError("the machine cannot power on")
+
+    monkeypatch.setattr(can_link, "Simulation", refused)
+    with pytest.raises(ValueError):
+        virtual_can_simulation(TURN_MILL, "basic_machine")
+    assert len(recorded_buses) == 2 and all(bus.closed for bus in recorded_buses)

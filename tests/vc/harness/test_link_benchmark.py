@@ -13,8 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from interfaces.codec_modbus import Table
-from interfaces.links.modbus_tcp import READ_LIMIT, WRITE_LIMIT
+from interfaces.codec_modbus import READ_LIMIT, WRITE_LIMIT, Table
 from vc.cli.main import main
 from vc.config.loader import load_machine
 from vc.harness import link_benchmark
