@@ -61,6 +61,7 @@ _LINK_FRAMES = (
      "the NC's link frame, after its data frames and with every scan grant"),
     ("PLC_LINK", PLC_NODE, (
         ("needsDescription", 0, 1, "1: the PLC asks for the interface description"),
+        ("missesNcFrames", 1, 1, "1: the PLC's time-out monitor misses frames of the NC (substitute values 0)"),
         ("version", 4, 4, "link version (1)"),
         ("plcLife", 8, 8, "the PLC's sign of life: counts every scan (the NC watches it)"),
         ("sessionReady", 16, 16, "the session the PLC runs its program for"),

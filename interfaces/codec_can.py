@@ -75,6 +75,7 @@ import struct
 import zlib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from enum import IntEnum
 from typing import NamedTuple
 
 from interfaces.exchange import exchange_ranges, link_direction
@@ -90,6 +91,14 @@ FD_FRAME_BYTES = 64
 CLASSIC_FRAME_BYTES = 8
 LINK_FRAME_BYTES = 8
 FD_LENGTHS = (0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24, 32, 48, 64)
+class ControllerState(IntEnum):
+    """A CAN controller's fault confinement state (ISO 11898-1), as a number for observers."""
+
+    ERROR_ACTIVE = 0  # error counters below 128: takes part normally
+    ERROR_PASSIVE = 1  # a counter at 128 or above: still sends, signals errors passively
+    BUS_OFF = 2  # transmit error counter beyond 255: neither sends nor receives until restarted
+
+
 NEEDS_DESCRIPTION = 0x01  # PLC link frame, byte 0, low nibble
 MISSES_NC_FRAMES = 0x02  # PLC link frame, byte 0, low nibble
 DESCRIPTION_HEADER_BYTES = 8  # stream: length (4), CRC-32 (4)

@@ -30,11 +30,10 @@ import socket
 import time as wallclock
 from collections.abc import Collection
 from dataclasses import dataclass
-from enum import IntEnum
 
 import can
 
-from interfaces.codec_can import Frame
+from interfaces.codec_can import ControllerState, Frame
 from interfaces.links.errors import LinkError
 
 KINDS = ("virtual", "udp_multicast", "socketcan")
@@ -54,14 +53,6 @@ _PRIVATE_GROUPS = 0xFFFF  # 239.74.0.0 .. 239.74.255.255 for private channels
 
 # python-can logs every socket it could not configure; the link reports what matters itself.
 logging.getLogger("can").setLevel(logging.ERROR)
-
-
-class ControllerState(IntEnum):
-    """A CAN controller's fault confinement state (ISO 11898-1), as a number for observers."""
-
-    ERROR_ACTIVE = 0  # error counters below 128: takes part normally
-    ERROR_PASSIVE = 1  # a counter at 128 or above: still sends, signals errors passively
-    BUS_OFF = 2  # transmit error counter beyond 255: neither sends nor receives until restarted
 
 
 _PYTHON_CAN_STATES = {can.BusState.ACTIVE: ControllerState.ERROR_ACTIVE,

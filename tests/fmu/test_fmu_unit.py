@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import pytest
 from conftest import REPOSITORY, TURN_MILL
 
@@ -178,3 +181,10 @@ def test_spindles_export_their_coupling_and_the_machine_its_dc_link(unit: NcUnit
     assert voltage.variability is Variability.CONTINUOUS
     assert value(unit, "NC.dcLinkVoltage") == pytest.approx(540.0)  # 1.35 x the 400 V supply
     assert value(unit, "SP2.syncDeviation") == 0.0
+
+
+def test_the_unit_loads_without_python_can() -> None:
+    """The FMU bundles vc and interfaces but not the bus adapters: a host without python-can loads it."""
+    code = "import sys; sys.modules['can'] = None; import fmu.unit"
+    result = subprocess.run([sys.executable, "-c", code], cwd=REPOSITORY, capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr

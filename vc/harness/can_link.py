@@ -41,12 +41,12 @@ import weakref
 from collections.abc import Callable, Mapping
 from types import TracebackType
 
-from interfaces.codec_can import CanLayout, Frame, NcLink, PlcLink, description_frames
+from interfaces.codec_can import CanLayout, ControllerState, Frame, NcLink, PlcLink, description_frames
 from interfaces.codec_modbus import RegisterMap
 from interfaces.exchange import MODE_FREE_RUNNING, MODE_LOCKSTEP, grant_of_scan, next_session
 from interfaces.image import ProcessImage
 from interfaces.link_description import LinkDescription
-from interfaces.links.can_bus import BusSpec, CanBus, ControllerState, private_virtual_bus
+from interfaces.links.can_bus import BusSpec, CanBus, private_virtual_bus
 from interfaces.links.can_plc import CanPlcNode
 from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import plc_programs

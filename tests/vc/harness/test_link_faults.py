@@ -3,7 +3,7 @@ drives the NC's CAN controller bus-off, its error counter and its restart."""
 
 from __future__ import annotations
 
-from interfaces.links.can_bus import ControllerState
+from interfaces.codec_can import ControllerState
 from interfaces.signals import Direction
 from vc.harness.link_faults import CanController, FaultyWire, LinkFault, LinkFaultKind, active, disturbed
 from vc.observables import LINK_FAULTS
