@@ -119,6 +119,14 @@ class LinkDescription:
                                      self.ipo_cycle_us, self.plc_cycle_ipo)
         return environment, register_map
 
+    @classmethod
+    def for_plc(cls, text: bytes) -> LinkDescription:
+        """The description as a PLC received it; :class:`PlcSetupError` when it cannot be read."""
+        try:
+            return cls.from_json(text)
+        except DescriptionError as error:
+            raise PlcSetupError(str(error)) from None
+
     def start_program(self, programs: Mapping[str, PlcFactory],
                       requested: str | None) -> tuple[PlcEnvironment, RegisterMap, SoftPlc, str]:
         """A PLC's start for this description, whatever the transport: its environment, the register
@@ -137,10 +145,11 @@ class LinkDescription:
         return environment, register_map, factory(environment), name
 
     def can_layout(self, environment: PlcEnvironment) -> CanLayout:
-        """The CAN frames the harness uses, from the settings it sent."""
+        """The CAN frames the harness uses, from the settings it sent; :class:`PlcSetupError` when
+        they do not fit."""
         if self.can is None:
-            raise DescriptionError("the description carries no CAN settings")
+            raise PlcSetupError("the description carries no CAN settings")
         try:
             return CanLayout.build(environment.catalog, environment.plant_io.area_sizes(), self.can)
         except CanMapError as error:
-            raise DescriptionError(f"CAN identifiers of the description: {error}") from None
+            raise PlcSetupError(f"CAN identifiers of the description: {error}") from None

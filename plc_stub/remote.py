@@ -40,7 +40,7 @@ from interfaces.codec_modbus import (
     registers_text,
 )
 from interfaces.image import ProcessImage
-from interfaces.link_description import DescriptionError, LinkDescription, PlcSetupError
+from interfaces.link_description import LinkDescription, PlcSetupError
 from interfaces.links.modbus_tcp import LinkError, ModbusLinkClient
 from interfaces.plc import SoftPlc
 from plc_stub.programs import REGISTRY
@@ -113,10 +113,7 @@ class RemotePlc:
         length = head[REG_DESCRIPTION_BYTES]
         text = registers_text(self.client.read_input_registers(head[REG_DESCRIPTION_START], math.ceil(length / 2)),
                               length)
-        try:
-            description = LinkDescription.from_json(text)
-        except DescriptionError as error:
-            raise PlcSetupError(str(error)) from None
+        description = LinkDescription.for_plc(text)
         environment, register_map, plc, name = description.start_program(REGISTRY, self.program)
         sizes = register_map.table_bytes
         self.session = _Session(

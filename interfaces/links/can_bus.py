@@ -178,12 +178,17 @@ class CanBus:
         if error_class & CAN_ERR_BUSOFF:
             self._reported = ControllerState.BUS_OFF
         elif error_class & CAN_ERR_RESTARTED:
-            self._reported = ControllerState.ERROR_ACTIVE
+            self._back_on_the_bus()
         elif error_class & CAN_ERR_CRTL:
             if data[1] & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE):
                 self._reported = ControllerState.ERROR_PASSIVE
             elif data[1] & CAN_ERR_CRTL_ACTIVE:
                 self._reported = ControllerState.ERROR_ACTIVE
+
+    def _back_on_the_bus(self) -> None:
+        """A restart leaves the controller error active with its counters at 0 (ISO 11898-1)."""
+        self._reported = ControllerState.ERROR_ACTIVE
+        self.transmit_errors = self.receive_errors = 0
 
     def listen(self, identifiers: Collection[int]) -> None:
         """Receive these identifiers from now on (and nothing else)."""
@@ -214,7 +219,7 @@ class CanBus:
             elif message.arbitration_id in self._listen and not message.is_remote_frame:
                 self.received += 1
                 if self._reported is ControllerState.BUS_OFF:
-                    self._reported = ControllerState.ERROR_ACTIVE  # a frame arrived: the controller is back
+                    self._back_on_the_bus()  # a frame arrived: the controller is back
                 return Frame(message.arbitration_id, bytes(message.data), message.is_fd)
             else:
                 self.dropped += 1

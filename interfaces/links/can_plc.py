@@ -14,7 +14,9 @@ session ready.  Then it follows the NC's mode:
 
 Data frames are copied into the PLC's image as they arrive (a frame with a wrong checksum is
 dropped).  **Time-out monitor**: every NC-to-PLC data frame, and a new sign of life in the NC link
-frame, must have arrived within the description's ``can_timeout_us``, counted in the PLC's scans.
+frame, must have arrived within the description's ``can_timeout_us``: in lockstep counted in the PLC's
+scans (each one the NC's PLC period), free-running on the PLC's own monotonic clock, whatever its
+scan rate or the harness's speed.
 While one is missing the PLC does what an S7 CPU does with the inputs of a failed station
 ([control]: substitute value 0): it scans with every NC-to-PLC byte and plant input at 0, so the
 normally closed emergency-stop chain reads open, the drives not ready and no key pressed; the
@@ -43,7 +45,7 @@ from interfaces.codec_can import (
 )
 from interfaces.exchange import MODE_LOCKSTEP
 from interfaces.image import ProcessImage
-from interfaces.link_description import DescriptionError, LinkDescription, PlcSetupError
+from interfaces.link_description import LinkDescription, PlcSetupError
 from interfaces.links.can_bus import CanBus
 from interfaces.plc import PlcFactory, SoftPlc
 from interfaces.signals import Direction
@@ -61,18 +63,24 @@ class _Session:
     interface: ProcessImage
     plant: ProcessImage
     areas: dict[str, bytearray]
-    timeout_scans: float  # scans a frame of the NC may be missing (the time-out monitor)
-    arrived: dict[int, int]  # NC-to-PLC data frame or NC link frame -> the scan count at its last arrival
+    timeout_s: float  # how long a frame of the NC may be missing (the time-out monitor)
+    scan_s: float  # lockstep: the NC's PLC period, the time one scan stands for
+    arrived: dict[int, float]  # NC-to-PLC data frame or NC link frame -> when it arrived last (:meth:`now`)
     last_grant: int = 0
     inputs_seen: bool = False  # an NC link frame arrived since the start: the inputs are complete
     scans: int = 0
     nc_life: int = -1  # the NC's last sign of life
     misses_nc_frames: bool = False
 
+    def now(self) -> float:
+        """Seconds on the monitor's clock: the scans in lockstep, the wall clock free-running."""
+        return self.scans * self.scan_s if self.lockstep else wallclock.monotonic()
+
     def watch(self) -> bool:
         """The time-out monitor before a scan: True while a frame of the NC is missing; then the
         NC's bytes are substitute values 0 for this scan."""
-        missing = any(self.scans - at > self.timeout_scans for at in self.arrived.values())
+        now = self.now()
+        missing = any(now - at > self.timeout_s + 1e-9 for at in self.arrived.values())
         if missing:
             for slot in self.layout.slots[Direction.NC_TO_PLC]:
                 self.areas[slot.area][slot.start: slot.stop] = bytes(slot.stop - slot.start)
@@ -141,7 +149,7 @@ class CanPlcNode:
         if session is not None:
             slot = session.layout.by_id.get(frame.can_id)
             if slot is not None and slot.direction is Direction.NC_TO_PLC and slot.decode(frame.data, session.areas):
-                session.arrived[frame.can_id] = session.scans
+                session.arrived[frame.can_id] = session.now()
         return False
 
     def _nc_link(self, frame: Frame) -> bool:
@@ -167,7 +175,7 @@ class CanPlcNode:
         session.inputs_seen = True
         if link.life != session.nc_life:
             session.nc_life = link.life
-            session.arrived[frame.can_id] = session.scans
+            session.arrived[frame.can_id] = session.now()
         if not session.lockstep or link.grant in (0, session.last_grant):
             return False
         self._scan(session, link.grant)
@@ -179,22 +187,17 @@ class CanPlcNode:
         self._asked_at = wallclock.monotonic()
 
     def _start(self, text: bytes) -> None:
-        try:
-            description = LinkDescription.from_json(text)
-        except DescriptionError as error:
-            raise PlcSetupError(str(error)) from None
+        description = LinkDescription.for_plc(text)
         environment, _, plc, name = description.start_program(self.programs, self.program)
-        try:
-            layout = description.can_layout(environment)
-        except DescriptionError as error:
-            raise PlcSetupError(str(error)) from None
+        layout = description.can_layout(environment)
         interface = ProcessImage(environment.catalog.area_sizes)
         plant = ProcessImage(environment.plant_io.area_sizes())
-        scan_us = environment.ipo_cycle_us * environment.plc_cycle_ipo
+        scan_s = environment.ipo_cycle_us * environment.plc_cycle_ipo / 1_000_000
         watched = {self.link.nc_link_id, *layout.ids(Direction.NC_TO_PLC)}
-        session = _Session(self._wanted, self._wanted_lockstep, description, layout, plc,
-                           interface, plant, {**interface.areas, **plant.areas},
-                           description.can_timeout_us / scan_us, dict.fromkeys(watched, 0))
+        lockstep = self._wanted_lockstep
+        session = _Session(self._wanted, lockstep, description, layout, plc, interface, plant,
+                           {**interface.areas, **plant.areas}, description.can_timeout_us / 1_000_000, scan_s,
+                           dict.fromkeys(watched, 0.0 if lockstep else wallclock.monotonic()))
         self.session, self._wanted = session, 0
         self._listen_to_link(layout)
         self._answer = PlcLink(self.life, session.number, 0).encode(self.link, self._fd)

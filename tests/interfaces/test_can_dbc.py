@@ -104,3 +104,6 @@ def test_link_frames_decode_with_the_dbc() -> None:
     decoded = database().decode_message(plc.can_id, plc.data)
     assert (decoded["needsDescription"], decoded["plcLife"], decoded["sessionReady"], decoded["scanDone"]) == (
         1, 9, 3, 42)
+    missing = PlcLink(10, 3, 43, misses_nc_frames=True).encode(CanSettings(), fd=True)
+    decoded = database().decode_message(missing.can_id, missing.data)
+    assert (decoded["needsDescription"], decoded["missesNcFrames"]) == (0, 1)

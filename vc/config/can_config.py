@@ -13,8 +13,9 @@
                           # (a whole number of IPO cycles, e.g. 0.004)
       timeout: 0.05       # seconds: a PLC-to-NC frame missing for longer stops the PLC's sign of life;
                           # the PLC watches the NC's frames with the same time
-      restart: 0.1        # seconds after bus-off until the NC's CAN controller restarts itself
-                          # (SocketCAN restart-ms); 0: it stays bus-off until the next power-on
+      restart: 0.1        # seconds after bus-off until the simulated NC controller restarts itself
+                          # (bus_off faults); 0: it stays bus-off until the next power-on.  A real
+                          # interface restarts by its own setting (ip link ... restart-ms)
 
 Every key is optional; a machine file without the section uses the defaults.  Frame layout and
 identifiers: :mod:`interfaces.codec_can`.  The machine loader reads the section with the rest of
@@ -57,6 +58,7 @@ class CanSection:
     config: CanConfig = field(default_factory=CanConfig)
     period_mark: Mark | None = None
     ids_mark: Mark | None = None
+    timeout_mark: Mark | None = None
 
 
 def read_can_section(raw: Any, mark: Mark, problems: Problems) -> CanSection:
@@ -119,13 +121,17 @@ def read_can_section(raw: Any, mark: Mark, problems: Problems) -> CanSection:
             restart = float(number)
     settings = CanSettings(identifiers["link_id"], identifiers["nc_to_plc_id"], identifiers["plc_to_nc_id"],
                            flags["fd"], flags["checksum"])
-    return CanSection(CanConfig(settings, period, timeout, restart), raw.mark_of("period") if "period" in raw else None,
-                      raw.mark_of("ids") if "ids" in raw else None)
+    def mark_of(key: str) -> Mark | None:
+        return raw.mark_of(key) if key in raw else None
+
+    return CanSection(CanConfig(settings, period, timeout, restart), mark_of("period"), mark_of("ids"),
+                      mark_of("timeout"))
 
 
-def check_against_machine(section: CanSection, ipo_cycle_us: int, layout: InterfaceLayout,
+def check_against_machine(section: CanSection, ipo_cycle_us: int, plc_cycle_ipo: int, layout: InterfaceLayout,
                           plant_sizes: Mapping[str, int], mark: Mark, problems: Problems) -> None:
-    """What needs the machine: a period of whole IPO cycles, identifiers that do not clash and fit
+    """What needs the machine: a period of whole IPO cycles, a time-out longer than the time between
+    two frames either way (the NC's period, the PLC's scan), identifiers that do not clash and fit
     11 bits for the machine's frames (``mark``: the section, where a value has no mark of its own)."""
     config = section.config
     if isinstance(config.period, float):
@@ -133,6 +139,11 @@ def check_against_machine(section: CanSection, ipo_cycle_us: int, layout: Interf
         if abs(cycles - round(cycles)) > 1e-6 or round(cycles) < 1:
             problems.add(section.period_mark or mark, f"can.period = {config.period:g} s is not a whole number"
                          f" of IPO cycles ({ipo_cycle_us / 1000:g} ms)")
+    longest_gap = max(config.period_cycles(ipo_cycle_us, plc_cycle_ipo), plc_cycle_ipo) * ipo_cycle_us / 1_000_000
+    if config.timeout_s <= longest_gap:
+        problems.add(section.timeout_mark or mark, f"can.timeout = {config.timeout_s:g} s must be longer than the"
+                     f" time between two frames ({longest_gap * 1000:g} ms: the NC's period, the PLC's scan),"
+                     " or every gap counts as a lost frame")
     try:
         CanLayout.build(expand(load_catalog(), layout), plant_sizes, config.settings)
     except CanMapError as error:

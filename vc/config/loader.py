@@ -870,7 +870,7 @@ class _MachineReader:
             can=self.can.config,
         )
         if self.can_mark is not None:  # without a section the defaults fit every machine the loader accepts
-            check_against_machine(self.can, machine_ipo_cycle_us(config), config.layout,
+            check_against_machine(self.can, machine_ipo_cycle_us(config), config.plc_cycle_ipo, config.layout,
                                   self.plant_io.area_sizes(), self.can_mark, self.problems)
         return None if self.problems else config
 

@@ -41,7 +41,15 @@ import weakref
 from collections.abc import Callable, Mapping
 from types import TracebackType
 
-from interfaces.codec_can import CanLayout, ControllerState, Frame, NcLink, PlcLink, description_frames
+from interfaces.codec_can import (
+    DEFAULT_LINK_ID,
+    CanLayout,
+    ControllerState,
+    Frame,
+    NcLink,
+    PlcLink,
+    description_frames,
+)
 from interfaces.codec_modbus import RegisterMap
 from interfaces.exchange import MODE_FREE_RUNNING, MODE_LOCKSTEP, grant_of_scan, next_session
 from interfaces.image import ProcessImage
@@ -95,7 +103,10 @@ class CanLink:
 
     @property
     def plc_command(self) -> str:
-        return f"python -m plc_stub --can {self.spec}"
+        link_id = self.config.settings.link_id
+        if link_id == DEFAULT_LINK_ID:
+            return f"python -m plc_stub --can {self.spec}"
+        return f"python -m plc_stub --can {self.spec} --can-link-id 0x{link_id:03X}"
 
     def banner(self, machine: MachineConfig) -> list[str]:
         return [f"CAN bus {self.spec}, link frames from 0x{machine.can.settings.link_id:03X} (frames: vc map"
@@ -346,8 +357,10 @@ class CanLinkedPlc:
         if link is None:
             return
         if link.needs_description:
+            state = self._bus_state(cycle)
             for segment in self._description:
-                self._send(segment)
+                if self._transmits(cycle, state):  # a bus-off controller answers nobody
+                    self._send(segment)
             return
         if link.session_ready != self.session:
             return  # a frame of an earlier session

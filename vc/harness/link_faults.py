@@ -133,10 +133,12 @@ NOMINAL_BITRATE = 500_000  # [INF] bit/s of the arbitration phase (docs/can.md: 
 class CanController:
     """The NC's CAN controller under disturbances of the bus: error counter, state, restarts.
 
-    While the bus is disturbed every transmission fails: after 32 of them the counter passes 255
+    Each frame is sent once (SocketCAN's one-shot mode; a controller that retransmits on its own
+    would fail 32 times on one frame within milliseconds [INF]).  While the bus is disturbed every
+    transmission fails: after 32 of them the counter passes 255
     and the controller is bus-off, so a short disturbance keeps it off the bus far longer than
-    it lasts.  ``restart_cycles`` after it went bus-off the controller restarts (SocketCAN
-    ``restart-ms``; 0: never by itself) and takes part again, counter at 0, once it has seen
+    it lasts.  ``restart_cycles`` after it went bus-off the controller restarts (``can.restart``;
+    0: never by itself) and takes part again, counter at 0, once it has seen
     ``recovery_cycles`` of undisturbed bus (128 x 11 recessive bits, which a disturbed bus does
     not give).  Time is the NC cycle."""
 

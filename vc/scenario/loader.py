@@ -598,7 +598,8 @@ class _ScenarioChecker:
             self.add(value_mark, f"link_fault takes a mapping, e.g. {STEP_EXAMPLES['link_fault']}")
             return None
         if self.link != LINK_CAN:
-            self.add(mark, f"a link fault acts on the CAN bus: write 'link: {LINK_CAN}' at the top of the scenario")
+            self.add(mark, f"a link fault acts on the CAN bus: the scenario needs 'link: {LINK_CAN}' and a PLC"
+                     " program behind it")
         if not self.check_keys(value, LINK_FAULT_KEYS, ("kind", "for"), "link_fault"):
             return None
         kind = value["kind"]

@@ -150,8 +150,8 @@ class NameResolver:
             return axis_quantity(head, tail)  # read like an axis quantity, from the NCK
         if head == LINK_INSTANCE and tail in LINK_QUANTITIES:
             if not self.link:
-                raise UnknownSignalError(f"'{text}' is a quantity of the CAN link: write 'link: can' at the top of"
-                                         " the scenario")
+                raise UnknownSignalError(f"'{text}' is a quantity of the CAN link: the scenario needs 'link: can'"
+                                         " and a PLC program behind it")
             return Quantity(text, QuantityKind.LINK, quantity=tail)
         datum = _MACHINE_DATUM.match(tail)
         if datum is not None and head in (NCK_INSTANCE, *self.axes, *self.channels):

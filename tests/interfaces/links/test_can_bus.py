@@ -135,6 +135,7 @@ def test_socketcan_error_frames_give_the_controller_state_and_its_counters() -> 
     assert bus.receive(0) is None and bus.bus_off
     interface.messages = [_error_frame(CAN_ERR_RESTARTED)]
     assert bus.receive(0) is None and bus.state is ControllerState.ERROR_ACTIVE
+    assert (bus.transmit_errors, bus.receive_errors) == (0, 0)  # the restart clears the counters
     interface.messages = [_error_frame(CAN_ERR_BUSOFF), can.Message(arbitration_id=0x101, data=b"x",
                                                                     is_extended_id=False)]
     assert bus.receive(0) == Frame(0x101, b"x", False)

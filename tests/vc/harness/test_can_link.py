@@ -290,3 +290,16 @@ def test_a_simulation_behind_a_virtual_bus_that_cannot_start_closes_both_nodes(
     with pytest.raises(ValueError):
         virtual_can_simulation(TURN_MILL, "basic_machine")
     assert len(recorded_buses) == 2 and all(bus.closed for bus in recorded_buses)
+
+
+def test_the_plc_command_names_a_link_id_other_than_the_default() -> None:
+    spec = BusSpec("udp_multicast", "239.0.0.1")
+    node = CanBus(BusSpec("virtual", "plc-command"))
+    try:
+        link = CanLink(LinkMode.LOCKSTEP, spec, node=node)
+        assert link.plc_command == f"python -m plc_stub --can {spec}"
+        moved = CanConfig(dataclasses.replace(CanConfig().settings, link_id=0x300))
+        link.configure(moved)
+        assert link.plc_command == f"python -m plc_stub --can {spec} --can-link-id 0x300"
+    finally:
+        node.close()
