@@ -354,8 +354,10 @@ class MachineAxis:
 
     @property
     def software_limits_active(self) -> bool:
-        """After referencing, and also with a restored position (seed 003 L2777-2778)."""
-        return (self.encoder.referenced or self.encoder.restored) and not self.is_spindle
+        """After referencing, and also with a restored position (seed 003 L2777-2778) or one that
+        is exact but waits for a reference return (``require_reference_return``)."""
+        encoder = self.encoder
+        return (encoder.referenced or encoder.restored or encoder.reference_return_due) and not self.is_spindle
 
     @property
     def following_error(self) -> float:
@@ -434,7 +436,7 @@ class MachineAxis:
                 direction = 0
             elif (direction > 0 and inp.hw_limit_plus) or (direction < 0 and inp.hw_limit_minus):
                 direction = 0  # only away from an actuated limit switch
-            elif self.software_limits_active and self.owner is Owner.NONE and (
+            elif self._jog_bounded and self.owner is Owner.NONE and (
                     (direction > 0 and self.setpoint >= self._soft_limits[1])
                     or (direction < 0 and self.setpoint <= self._soft_limits[0])):
                 direction = 0  # resting on a software limit switch: only away from it
@@ -447,14 +449,20 @@ class MachineAxis:
         target = 0.0 if stopped else direction * min(speed * self.override, limits.velocity)
         accel = min(self.dyn.max_accel, limits.accel)
         velocity = ramp(self.command_velocity, target, accel, self._dt)
-        if self.software_limits_active:
+        if self._jog_bounded:
             velocity = self._limit_to_software_limits(velocity, accel)
         self.command_velocity = velocity
         self.setpoint += velocity * self._dt
-        if self.software_limits_active:
+        if self._jog_bounded:
             self._arrive_at_software_limits()
         if velocity == 0.0 and (direction == 0 or self.at_software_limit == direction):
             self.release()  # stopped: key released, or resting on the software limit it points to
+
+    @property
+    def _jog_bounded(self) -> bool:
+        """JOG stops on ``_soft_limits``: its own once they are active, and a transform's window
+        (the limits of an axis it carries) even while this axis is not referenced."""
+        return self.software_limits_active or self._jog_window is not None
 
     @property
     def _soft_limits(self) -> tuple[float, float]:
@@ -622,7 +630,7 @@ class MachineAxis:
             if speed > encoder.limit_velocity:
                 if not encoder.frequency_exceeded:
                     encoder.frequency_exceeded = True
-                    encoder.referenced = encoder.restored = False
+                    encoder.referenced = encoder.restored = encoder.reference_return_due = False
                     if encoder is self.encoder and not self.is_spindle:
                         alarms.raise_alarm(21610, cycle, self.channel, self.name, encoder.index + 1,
                                            channel=self.channel, axis=self.name)
@@ -642,7 +650,17 @@ class MachineAxis:
     def drop_reference(self) -> None:
         """Every measuring system loses its reference: the axis must be referenced again."""
         for encoder in self.encoders:
-            encoder.referenced = encoder.restored = False
+            encoder.referenced = encoder.restored = encoder.reference_return_due = False
+        self.resting = False  # the status bits change
+
+    def require_reference_return(self) -> None:
+        """The machine position is still exact, only its relation to the program is lost: the axis
+        shows itself unreferenced (DB31.DBX60.4 / 60.5 = 0, NC start locked by MD20700) until it is
+        referenced again, and its software limits stay active [control]."""
+        for encoder in self.encoders:
+            if encoder.referenced or encoder.restored or encoder.reference_return_due:
+                encoder.referenced = encoder.restored = False
+                encoder.reference_return_due = True
         self.resting = False  # the status bits change
 
     def _monitor(self, cycle: int, alarms: AlarmList) -> None:

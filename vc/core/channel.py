@@ -544,7 +544,7 @@ class Channel:
         pair: tuple[str, ...] = ()
         if self.inclined is not None:
             positions.update(self.inclined.program_positions())
-            pair = self.inclined.axis_names
+            pair = self.inclined.machine_axes
         plan, alarm = decode(block, self.modal, self.config, self.axes_by_name, positions, pair)
         if self._leaving_thread_chain and alarm is None:
             if plan.thread is not None:
@@ -552,7 +552,7 @@ class Channel:
                 return
             self._leaving_thread_chain = False
         if alarm is None:
-            alarm = self.five_axis.apply(plan, self.modal.five_axis, block.label)
+            alarm = self.five_axis.apply(plan, self.modal.five_axis, block.label, pair)
         if alarm is None and self.inclined is not None:
             alarm = self.inclined.plan(plan, block.label)  # the inclined Y1 slide (seed 000)
         if alarm is not None:

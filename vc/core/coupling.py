@@ -40,7 +40,7 @@ from vc.core.alarms import AlarmList
 from vc.core.axis import MachineAxis, Owner
 from vc.core.coupling_types import BlockChange, Kind
 from vc.core.interface_map import SignalTable
-from vc.core.motion import ramp, stopping_velocity
+from vc.core.motion import ramp, stopping_distance, stopping_velocity
 from vc.core.spindle import RPM, Spindle, SpindleMode
 
 ALARM_OVERLAY_NOT_ENABLED = 16771  # differential speed without DB31.DBX26.4 (L23450-23456)
@@ -388,22 +388,26 @@ class Couplings:
                                    waits, resync, positioning)
 
     def _delete_positioning(self, coupling: Coupling) -> None:
-        """Delete distance to go of the FS's SPOS / SPOSA: the overlay brakes as fast as it can and
-        the relation stays where it stops; COUPON's offset motion goes on (L23299-23303) [control]."""
+        """Delete distance to go of the FS's SPOS / SPOSA: the queued ones are dropped (with their
+        share of $P_COUP_OFFS), the running overlay brakes as fast as it can and the relation stays
+        where it stops; COUPON's offset motion goes on (L23299-23303) [control]."""
+        if coupling.queued and coupling.programmed is not None:
+            coupling.programmed = (coupling.programmed - sum(distance for distance, _, _ in coupling.queued)) % 360.0
         coupling.queued.clear()
         overlay = coupling.overlay
         if overlay is None or not overlay.positioning:
             return
         accel = self._spindles[coupling.definition.following].coupled_acceleration()
-        speed = abs(overlay.velocity)
-        braking = math.copysign(speed * speed / (2.0 * accel) + speed * self._dt, overlay.velocity) if speed else 0.0
+        braking = math.copysign(stopping_distance(abs(overlay.velocity), accel, self._dt), overlay.velocity)
         if abs(braking) < abs(overlay.left):
             coupling.target -= overlay.left - braking
             overlay.left = braking
 
     def position_following(self, following: str, mode: str, value: float, feed: float, wait: bool) -> None:
         """SPOS / SPOSA on a coupled FS: the offset changes as overlaid motion at FA[Sn]
-        (L21993-22021); an absolute value names the new offset, IC an increment of it [INF]."""
+        (L21993-22021); an absolute value names the new offset, IC an increment of it [INF].  Behind
+        COUPON's offset motion (or a resynchronisation) the SPOS waits in ``queued`` and runs as a
+        motion of its own, so DBX2.2 deletes only the SPOS [control]."""
         coupling = self.active[following]
         fs = self._spindles[following]
         limit = feed * RPM / 360.0 if feed > 0.0 else fs.positioning_speed() * RPM
@@ -420,6 +424,12 @@ class Couplings:
                 coupling.queued.clear()
                 coupling.programmed = value % 360.0
                 coupling.offset_pending = True
+            return
+        if coupling.queued or (coupling.overlay is not None and not coupling.overlay.positioning):
+            start = coupling.target + sum(distance for distance, _, _ in coupling.queued)
+            distance = value if mode == "IC" else wrap180(value - start)
+            coupling.queued.append((distance, limit, wait))
+            coupling.programmed = (start + distance) % 360.0
             return
         if mode == "IC":
             coupling.programmed = (coupling.target + value) % 360.0
@@ -490,10 +500,14 @@ class Couplings:
 
     def reset(self, channel: str) -> None:
         """Reset / program end: configured pair per MD21330 bits 1/6 with MD20110 bit 0, programmed
-        pairs kept only with MD20110 bits 0 and 10 (L22968-22981)."""
+        pairs kept only with MD20110 bits 0 and 10 (L22968-22981).  A kept coupling loses the SPOS
+        motions of its FS, running and queued, as reset ends every motion of a spindle [control]."""
         config = self._channels[channel]
         reset_mode = config.md.int(MD.RESET_MODE_MASK)
         if not reset_mode & RESET_BEHAVIOUR:
+            for following, kept in self.active.items():
+                if self._spindles[following].channel == channel:
+                    self._delete_positioning(kept)  # reset ends SPOS on the FS, not the coupling
             return
         for following, definition in list(self.definitions.items()):
             if self._spindles[following].channel != channel:
@@ -510,6 +524,7 @@ class Couplings:
                 self.decouple(following, stop=False)
             elif coupling is not None:
                 coupling.differential = 0.0  # reset ends the FS's own motion, not the coupling
+                self._delete_positioning(coupling)
 
     # ------------------------------------------------------------------ PLC inputs
     def reset_movement(self, name: str) -> None:

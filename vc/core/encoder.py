@@ -176,6 +176,9 @@ class MeasuringSystem:
     offset: float  # NC actual value minus physical position
     referenced: bool = False
     restored: bool = False  # position restored after power-on, not referenced (DB31.DBX71.4/71.5)
+    # The position is exact but its relation to the program is lost: a reference return is due
+    # (not referenced, the software limits stay active) [control]
+    reference_return_due: bool = False
     zero_marks_visible: bool = True  # a fault can make the zero-mark track invisible
     missing_marks: list[tuple[float, float]] = field(default_factory=list)  # physical ranges without marks
     limit_velocity: float = math.inf  # above it the signal exceeds the encoder limit frequency MD36300
@@ -204,7 +207,7 @@ class MeasuringSystem:
         """Synchronise: the actual value becomes ``actual`` at ``physical``; the encoder is referenced."""
         self.offset = actual - physical
         self.referenced = True
-        self.restored = False
+        self.restored = self.reference_return_due = False
 
     def _visible(self, position: float) -> bool:
         return not any(low <= position <= high for low, high in self.missing_marks)

@@ -31,7 +31,7 @@ SINUMERIK does) and listed in docs/kinematics.md section 4.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
@@ -46,7 +46,7 @@ from vc.core.five_axis_program import (
     FiveAxisModal,
     FiveAxisWords,
 )
-from vc.core.interpreter import BlockPlan, DecodeAlarm, software_limit_alarm
+from vc.core.interpreter import BlockPlan, DecodeAlarm, end_point_limit_alarm, software_limit_alarm
 from vc.core.tool_path import ToolPathSegment
 from vc.core.transforms.five_axis import (
     NO_ROTATION,
@@ -69,8 +69,6 @@ from vc.core.transforms.transform_alarm import FIVE_AXIS_PROGRAM, ROTARY_RANGE, 
 _ARGUMENTS = {TOOL_CENTER_POINT: "HLER", LENGTH_COMPENSATION: "H", TILTED_PLANE: "IJK", ALIGN_TOOL: "P"}
 # Codes that change what program coordinates mean: incremental words in their block are refused.
 _SWITCHING = {TOOL_CENTER_POINT, LENGTH_COMPENSATION, LENGTH_CANCEL, TILTED_PLANE, TILTED_PLANE_CANCEL}
-# What scenarios read of the tool: CHAN1.toolTipX .. toolDirZ, CHAN1.tcpActive
-TOOL_QUANTITIES = ("toolTipX", "toolTipY", "toolTipZ", "toolDirX", "toolDirY", "toolDirZ", "tcpActive")
 
 
 class FiveAxisControl:
@@ -142,8 +140,11 @@ class FiveAxisControl:
         return Vec3(*(axis.setpoint for axis in self.linear))
 
     # ------------------------------------------------------------------ the block's words
-    def apply(self, plan: BlockPlan, modal: FiveAxisModal, label: str) -> DecodeAlarm | None:
-        """Check the block's five-axis words and set the modal state; an alarm refuses the block."""
+    def apply(self, plan: BlockPlan, modal: FiveAxisModal, label: str,
+              limits_checked_elsewhere: Collection[str] = ()) -> DecodeAlarm | None:
+        """Check the block's five-axis words and set the modal state; an alarm refuses the block.
+        A block that leaves no transform in force (G49, G69) has machine end points: their software
+        limits are checked here, the interpreter leaves blocks with five-axis words to this control."""
         words = plan.five_axis
         if words is None:
             return None
@@ -175,7 +176,9 @@ class FiveAxisControl:
                 refusal = "G53.1 without G68.2 (G53.1 must follow G68.2)"
             if refusal:
                 return self._refuse(label, refusal)
-        return None
+        if modal.transformed or ALIGN_TOOL in words.codes:
+            return None  # program coordinates: ``plan`` checks the machine path
+        return end_point_limit_alarm(plan, self._channel, label, self._axes, limits_checked_elsewhere)
 
     def _refuse(self, label: str, text: str) -> DecodeAlarm:
         return DecodeAlarm(FIVE_AXIS_PROGRAM, (self._channel, label, text))
@@ -325,11 +328,10 @@ class FiveAxisControl:
         return pose
 
     def quantity(self, name: str, modal: FiveAxisModal) -> float:
-        """One of ``TOOL_QUANTITIES`` (vc/observables.py CHANNEL_QUANTITY_MEANINGS)."""
+        """What scenarios read of the tool: CHAN1.toolTipX .. toolDirZ, CHAN1.tcpActive (their
+        meanings: CHANNEL_QUANTITY_MEANINGS in vc/observables.py)."""
         if name == "tcpActive":
             return 1.0 if modal.tool_center_point else 0.0
-        if name not in TOOL_QUANTITIES:
-            raise KeyError(f"unknown five-axis quantity '{name}' (known: {', '.join(TOOL_QUANTITIES)})")
         pose = self.tool_pose(modal)
         vector = pose.tip if name.startswith("toolTip") else pose.direction
         return {"X": vector.x, "Y": vector.y, "Z": vector.z}[name[-1]]

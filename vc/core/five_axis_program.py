@@ -77,15 +77,3 @@ class FiveAxisModal:
         self.length_offset = 0
         self.plane = None
 
-
-def transformed_after(modal: FiveAxisModal, words: FiveAxisWords | None) -> bool:
-    """Whether the block's end points are program coordinates of a transform: the state its
-    codes leave (as the channel's five-axis control applies them), so a block that switches the
-    transform off is an ordinary block and one that switches it on is not."""
-    if words is None:
-        return modal.transformed
-    codes = set(words.codes)
-    tool = (modal.tool_length_active and LENGTH_CANCEL not in codes) or \
-        bool(codes & {TOOL_CENTER_POINT, LENGTH_COMPENSATION})
-    plane = (modal.plane is not None and TILTED_PLANE_CANCEL not in codes) or TILTED_PLANE in codes
-    return tool or plane

@@ -23,8 +23,9 @@ orthogonal program position minus its Cartesian position.  The display keeps the
 position (L246-260) until the orthogonal axis is referenced again (L378) or G53 sets machine
 positions (L160-189).  After the inclined axis has moved with NOZAGC = 1 a manual reference
 return is mandatory (L378): the orthogonal axis loses its reference (DB31.DBX60.4 / 60.5 = 0,
-software limits off, NC start locked by MD20700) until it is referenced again, after the
-inclined axis as always [control: how the SINUMERIK asks for a reference return].
+NC start locked by MD20700) until it is referenced again, after the inclined axis as always; its
+machine position is still exact, so its software limits stay active [control: how the SINUMERIK
+asks for a reference return].
 """
 
 from __future__ import annotations
@@ -84,6 +85,7 @@ class InclinedAxisControl:
         self.drift = 0.0  # orthogonal program position minus its Cartesian position
         self._leg_drifts: list[float] = []  # the drift after each motion of the running block
         self._block_loses_reference = False  # the running block moves the inclined axis with NOZAGC = 1
+        self._block_start_inclined = 0.0  # the inclined axis's setpoint when that block was planned
         self._carrying = False  # the orthogonal axis travels with a manual motion of the inclined axis
         theta = math.radians(parameters.angle)
         self._shift_per_travel = -parameters.diameter_factor * math.sin(theta)
@@ -93,11 +95,6 @@ class InclinedAxisControl:
         self.inclined.dyn = dataclasses.replace(
             dyn, jog_velocity=min(dyn.jog_velocity * factor, dyn.max_velocity),
             jog_rapid_velocity=min(dyn.jog_rapid_velocity * factor, dyn.max_velocity))
-
-    @property
-    def axis_names(self) -> tuple[str, str]:
-        """The machine axes of the pair: orthogonal, inclined."""
-        return self.orthogonal.name, self.inclined.name
 
     @property
     def nozagc(self) -> bool:
@@ -119,6 +116,7 @@ class InclinedAxisControl:
 
     @property
     def machine_axes(self) -> tuple[str, str]:
+        """The machine axes of the pair: orthogonal, inclined."""
         return self.orthogonal.name, self.inclined.name
 
     def machine_targets(self, program_targets: dict[str, float]) -> dict[str, float]:
@@ -157,7 +155,7 @@ class InclinedAxisControl:
             assert tapping is not None
             return DecodeAlarm(tapping.number, (self._channel, label, f"{tapping.detail} {self.inclined.name}"
                                                                       f" ({plan.tapping.function})"))
-        pair = self.axis_names
+        pair = self.machine_axes
         commanded = [name for name in pair if name in plan.targets or name in plan.reference_axes]
         if commanded and plan.reference_return:
             refusal = self._return_order(plan, commanded, label)
@@ -185,9 +183,15 @@ class InclinedAxisControl:
             return refusal
         self._set_targets(plan.targets, start, end)
         self._leg_drifts = [drift]
-        self._block_loses_reference = not plan.machine_coordinates and \
-            reference_lost(AxisPair(0.0, end.inclined - start.inclined), self.nozagc)
+        self._expect_reference_loss(start, not plan.machine_coordinates and
+                                    reference_lost(AxisPair(0.0, end.inclined - start.inclined), self.nozagc))
         return None
+
+    def _expect_reference_loss(self, start: AxisPair, lost: bool) -> None:
+        """The planned block moves the inclined axis without compensation (``lost``): the orthogonal
+        axis loses its reference once the inclined axis has left ``start``."""
+        self._block_loses_reference = lost
+        self._block_start_inclined = start.inclined
 
     def _set_targets(self, targets: dict[str, float], start: AxisPair, end: AxisPair) -> None:
         """The pair's end points; an axis of the pair that neither is programmed nor moves stays out
@@ -234,6 +238,9 @@ class InclinedAxisControl:
             kept = program_start.orthogonal
             self._leg_drifts = [kept - to_program(self.parameters, point).orthogonal
                                 for point in (path.intermediate, path.reference)]
+            # up to the intermediate point an ordinary programmed move: with NOZAGC = 1 uncompensated
+            self._expect_reference_loss(start, reference_lost(
+                AxisPair(0.0, intermediate - program_start.inclined), self.nozagc))
         else:
             self._leg_drifts = [self.drift, 0.0]  # at its reference point the relation holds again [INF]
         self._set_targets(plan.targets, start, path.intermediate)
@@ -270,13 +277,13 @@ class InclinedAxisControl:
             self.drift = self._leg_drifts.pop(0)
         if self._block_loses_reference and not self._leg_drifts:
             self._block_loses_reference = False
-            self.orthogonal.drop_reference()
+            self.orthogonal.require_reference_return()
 
     def reset(self) -> None:
         self._leg_drifts = []
-        if self._block_loses_reference:  # interrupted on the way: the inclined axis has moved
-            self._block_loses_reference = False
-            self.orthogonal.drop_reference()
+        if self._block_loses_reference and self.inclined.setpoint != self._block_start_inclined:
+            self.orthogonal.require_reference_return()  # interrupted on the way: the inclined axis has moved
+        self._block_loses_reference = False  # a block still waiting (e.g. for a gear change) took nothing
 
     # ------------------------------------------------------------------ manual motion
     def follow(self) -> None:
@@ -298,7 +305,7 @@ class InclinedAxisControl:
             # NOZAGC = 1: the orthogonal program position stays although its Cartesian one moves
             self.drift += self._shift_per_travel * travel
             if orthogonal.referenced and reference_lost(AxisPair(0.0, travel), self.nozagc):
-                orthogonal.drop_reference()
+                orthogonal.require_reference_return()
         if cartesian and travel:
             self._carry(travel)
         elif self._carrying:
@@ -311,9 +318,11 @@ class InclinedAxisControl:
         Cartesian position with AOT = 1, the machine positions with AOT = 0 (L264-286, L414-423).
 
         The inclined axis jogs in Cartesian mode (NOZAGC = 0) and carries the orthogonal one, so
-        the orthogonal axis's limit bounds it too.  The jogged axis stops on the first limit its
-        motion reaches and raises 10621 there like on its own software limit [control]; from
-        there it moves only away.
+        the orthogonal axis's limit bounds it too; with AOT = 1 the carried axis's Cartesian
+        position does not change, so its machine position is bounded by its own MD36100 / MD36110
+        as well: a machine axis never passes its own software limit switch [control].  The jogged
+        axis stops on the first limit its motion reaches and raises 10621 there like on its own
+        software limit [control]; from there it moves only away.
         """
         if axis is not self.inclined and axis is not self.orthogonal:
             return FREE_JOG
@@ -325,24 +334,28 @@ class InclinedAxisControl:
             travel = AxisPair(carried, 1.0)  # machine travel of the pair per unit of jogged travel
         else:
             carried, travel = 0.0, AxisPair(1.0, 0.0)
-        room = self._stroke_room(travel)
+        room = self._stroke_room(travel, carried_orthogonal=carried != 0.0)
         if room is None:
             return FREE_JOG
         accel = min(axis.dyn.max_accel, self.orthogonal.dyn.max_accel / abs(carried)) if carried else math.inf
         return JogLimits(plus=room[1] > 0.0, minus=room[0] < 0.0, accel=accel,
                          window=(axis.setpoint + room[0], axis.setpoint + room[1]))
 
-    def _stroke_room(self, travel: AxisPair) -> tuple[float, float] | None:
+    def _stroke_room(self, travel: AxisPair, carried_orthogonal: bool = False) -> tuple[float, float] | None:
         """How far (minus, plus) the pair may travel along ``travel`` from its setpoints within
-        stored stroke limit 1 of both axes; None when neither axis has active limits.  The check
-        position is linear in the machine position, so one step along ``travel`` gives its rate.
-        An axis already beyond a limit may move only back towards it."""
+        stored stroke limit 1 of both axes, and, when the orthogonal axis is carried, within its
+        machine limits too; None when neither axis has active limits.  The check position is
+        linear in the machine position, so one step along ``travel`` gives its rate.  An axis
+        already beyond a limit may move only back towards it."""
         machine = self._setpoints()
         start = stroke_check_position(self.parameters, StrokeLimit.FIRST, machine)
         step = stroke_check_position(self.parameters, StrokeLimit.FIRST, machine.plus(travel))
+        checks = [(self.orthogonal, start.orthogonal, step.orthogonal),
+                  (self.inclined, start.inclined, step.inclined)]
+        if carried_orthogonal:
+            checks.append((self.orthogonal, machine.orthogonal, machine.orthogonal + travel.orthogonal))
         low, high = -math.inf, math.inf
-        for axis, begin, end in ((self.orthogonal, start.orthogonal, step.orthogonal),
-                                 (self.inclined, start.inclined, step.inclined)):
+        for axis, begin, end in checks:
             rate = end - begin
             if abs(rate) < 1e-12 or not axis.software_limits_active:
                 continue

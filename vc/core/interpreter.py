@@ -24,7 +24,6 @@ from vc.core.five_axis_program import (
     TILTED_PLANE,
     FiveAxisModal,
     FiveAxisWords,
-    transformed_after,
 )
 from vc.core.program import (
     Assignment,
@@ -194,6 +193,18 @@ def software_limit_alarm(channel: str, label: str, axis: MachineAxis, position: 
         return DecodeAlarm(SOFTWARE_LIMIT, (channel, axis.name, label, "+"), axis.name)
     if position < axis.dyn.limit_minus - LIMIT_TOLERANCE:
         return DecodeAlarm(SOFTWARE_LIMIT, (channel, axis.name, label, "-"), axis.name)
+    return None
+
+
+def end_point_limit_alarm(plan: BlockPlan, channel: str, label: str, axes: Mapping[str, MachineAxis],
+                          limits_checked_elsewhere: Collection[str] = ()) -> DecodeAlarm | None:
+    """10720 for the first machine end point of an ordinary block beyond its software limits;
+    ``limits_checked_elsewhere`` are axes a transform checks in its own coordinates."""
+    for name, target in plan.targets.items():
+        if name not in limits_checked_elsewhere:
+            alarm = software_limit_alarm(channel, label, axes[name], target)
+            if alarm is not None:
+                return alarm
     return None
 
 
@@ -950,12 +961,10 @@ def _finish(decoder: _Decoder) -> None:
         else:
             plan.feed = modal.feed
     # Under a transform the targets are program coordinates: the five-axis control checks the path.
-    if transformed_after(modal.five_axis, plan.five_axis):
+    # A block with five-axis words is checked by that control once it has applied them.
+    if plan.five_axis is not None or modal.five_axis.transformed:
         return
-    for name, target in plan.targets.items():
-        if name in decoder.limits_checked_elsewhere:
-            continue
-        alarm = software_limit_alarm(channel.name, decoder.block.label, decoder.axes[name], target)
-        if alarm is not None:
-            decoder.fail(alarm.number, *alarm.parameters, axis=alarm.axis)
-            return
+    alarm = end_point_limit_alarm(plan, channel.name, decoder.block.label, decoder.axes,
+                                  decoder.limits_checked_elsewhere)
+    if alarm is not None:
+        decoder.fail(alarm.number, *alarm.parameters, axis=alarm.axis)

@@ -48,6 +48,17 @@ def stopping_velocity(remaining: float, accel: float, dt: float) -> float:
     return min(velocity, (n + 1) * accel * dt)
 
 
+def stopping_distance(speed: float, accel: float, dt: float) -> float:
+    """The distance a motion at ``speed`` still covers when it brakes as hard as ``accel`` allows
+    from the next cycle on: ``T(v)`` of ``stopping_velocity``, whose inverse it is."""
+    if speed <= 0.0:
+        return 0.0
+    if accel <= 0.0:
+        return math.inf
+    n = math.floor(speed / (accel * dt))
+    return (n + 1) * speed * dt - accel * dt * dt * n * (n + 1) / 2.0
+
+
 def path_step(s: float, length: float, velocity: float, target: float, accel: float, dt: float) -> tuple[float, float]:
     """One IPO cycle along a path of ``length`` at ``s``: the velocity ramps toward ``target``
     and never exceeds the velocity from which the path can stop at its end.  Returns the new

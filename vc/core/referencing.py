@@ -508,7 +508,7 @@ class AxisReferencing:
         axis = self.axis
         encoder = self.encoder
         encoder.referenced = True
-        encoder.restored = False
+        encoder.restored = encoder.reference_return_due = False
         if self._data.sync_encoders:
             for other in axis.encoders:
                 if other is not encoder and not passive_distance_coded(axis, other, self.md):
@@ -712,8 +712,7 @@ def encoder_slip(axis: MachineAxis, encoder_index: int, amount: float, memory: N
     """
     encoder = axis.encoders[encoder_index]
     encoder.offset += amount
-    encoder.referenced = False
-    encoder.restored = False
+    encoder.referenced = encoder.restored = encoder.reference_return_due = False
     alarms.raise_alarm(ALARM_ZERO_MARK_MONITORING, 0, axis.name, channel=axis.channel, axis=axis.name)
     if encoder.absolute:
         memory.write(axis.name, MD.ENC_REFP_STATE, ENC_STATE_NOT_CALIBRATED, encoder_index, axis.config.md)

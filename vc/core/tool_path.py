@@ -32,7 +32,7 @@ from vc.core.axis import MachineAxis
 from vc.core.motion import path_step
 
 SAMPLES_MIN = 32  # samples along a segment for its axis limits ...
-SAMPLES_MAX = 512  # ... about one per mm (or degree) of path, within these bounds
+SAMPLES_MAX = 512  # ... about one per mm or degree of the path or of the largest machine-axis travel
 CURVATURE_SHARE = 0.5  # share of an axis's acceleration the path velocity may use on curved axis motion
 
 PositionsAt = Callable[[float], Sequence[float]]  # fraction of the path 0 .. 1 -> positions of the axes
@@ -60,7 +60,10 @@ class ToolPathSegment:
         start = list(positions_at(0.0))
         if length <= 0.0:
             return cls(axes, positions_at, 0.0, 0.0, 0.0, 1.0, rapid, [start], _previous=start)
-        count = max(SAMPLES_MIN, min(SAMPLES_MAX, math.ceil(length)))
+        # a swing of the rotary axes with the tip standing or nearly so moves the machine axes far
+        end = positions_at(1.0)
+        travel = max((abs(finish - begin) for begin, finish in zip(start, end, strict=True)), default=0.0)
+        count = max(SAMPLES_MIN, min(SAMPLES_MAX, math.ceil(max(length, travel))))
         samples = [start] + [list(positions_at(index / count)) for index in range(1, count + 1)]
         velocity_limit, accel = _axis_limits(axes, samples, length / count)
         command = velocity_limit if rapid else min(feed, velocity_limit)

@@ -29,7 +29,6 @@ from vc.config.md_dictionary import BY_NUMBER
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import Alarm
 from vc.core.channel import Channel
-from vc.core.five_axis_channel import TOOL_QUANTITIES
 from vc.core.nc_memory import NcMemory
 from vc.core.nck import Nck
 from vc.harness.link_faults import FaultInjectable, LinkFault, LinkFaultKind
@@ -277,9 +276,10 @@ class Simulation:
 
     @staticmethod
     def _channel_quantity(channel: Channel, quantity: str) -> float:
-        if quantity == "liftfast" and channel.esr is not None:
-            return channel.esr.liftfast
-        if quantity in TOOL_QUANTITIES:  # CHAN1.toolTipX: the five-axis tool
+        if quantity == "liftfast":
+            if channel.esr is not None:
+                return channel.esr.liftfast
+        elif quantity in CHANNEL_QUANTITIES:  # CHAN1.toolTipX: the five-axis tool
             return channel.five_axis.quantity(quantity, channel.modal.five_axis)
         raise KeyError(f"unknown channel quantity '{quantity}' (known: {', '.join(CHANNEL_QUANTITIES)})")
 

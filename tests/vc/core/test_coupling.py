@@ -156,9 +156,10 @@ def test_waits_names_the_spindles_or_the_master_spindle(nck: Nck) -> None:
     assert alarm is not None and alarm.number == 16105  # type: ignore[attr-defined]
 
 
-def _coupling_rig(overrides: str = "") -> Rig:
+def _coupling_rig(overrides: str = "", channel: str = "") -> Rig:
     """The turn_mill machine in MDA with the test as PLC: enables, overrides 100 %, SP1 in gear 1."""
-    rig = Rig(machine("CHAN1: {MD20700: 0}" + ("\n" + overrides if overrides else "")))
+    channel_data = "CHAN1: {MD20700: 0" + (", " + channel if channel else "") + "}"
+    rig = Rig(machine(channel_data + ("\n" + overrides if overrides else "")))
     rig.ready_mda()
     for spindle in ("SP1", "SP2"):
         rig.set(f"{spindle}.spindle.out.ovrFactor", 100)
@@ -192,3 +193,51 @@ def test_differential_speed_that_cancels_the_coupled_speed_shows_no_deviation() 
     assert abs(ls.following_error - 6.0) < 1e-6 and fs.following_error == 0.0
     assert rig.nck.couplings.quantity("SP2", "syncDeviation") < 1e-6
     assert rig.get("SP2.coupling.in.syncFineReached") == 1 and rig.get("SP2.spindle.in.speedSetpointReached") == 1
+
+
+@pytest.mark.parametrize("reset_mode", [0, 1025])
+@pytest.mark.parametrize("running", [False, True])
+def test_reset_that_keeps_the_coupling_ends_the_spos_of_the_following_spindle(reset_mode: int, running: bool) -> None:
+    # The configured pair survives reset (MD21330 = 0), with MD20110 bit 0 off or bits 0 and 10 on:
+    # the increment queued behind COUPON's 45 degrees, or already running at 6 deg/s, ends [control];
+    # COUPON's offset stays
+    rig = _coupling_rig(channel=f"MD20110: {reset_mode}")
+    rig.mda('N05 M3 S500 M2=4 S2=500\nN10 COUPDEF(S2,S1,1,1,"No","Dv")\nN80 COUPON(S2,S1,45)\n'
+            'N200 FA[S2]=360\nN205 SPOS[2]=IC(-90)\nN210 G4 F10\n')
+    couplings = rig.nck.couplings
+
+    def spos_started() -> bool:
+        coupling = couplings.active.get("SP2")
+        if coupling is None:
+            return False
+        return coupling.overlay is not None and coupling.overlay.positioning if running else bool(coupling.queued)
+
+    rig.run_until(spos_started, 3000)
+    coupling = couplings.active["SP2"]
+    rig.step(50 if running else 0)
+    offset = couplings.quantity("SP2", "couplingOffset")
+    rig.pulse("CHAN1.basic.out.reset")
+    rig.step(3000)  # 6 s: the 90 degrees at 6 deg/s would still run
+    assert couplings.active.get("SP2") is coupling and not coupling.queued
+    assert rig.get("SP2.coupling.in.MotionOverlaid") == 0
+    # queued: COUPON's 45 degrees reached; running: 0.6 degrees on the way from 45, stopped at once
+    expected = offset - 0.0 if running else 45.0
+    assert abs(couplings.quantity("SP2", "couplingOffset") - expected) < 0.02
+
+
+def test_delete_distance_to_go_on_the_fs_ends_the_spos_and_not_couponss_offset_motion() -> None:
+    # N60's SPOS waits behind COUPON's 180 degrees (100 rev/min = 600 deg/s, 0.3 s) as a motion of
+    # its own at FA 3600 deg/min: DBX2.2 50 ms into COUPON's motion deletes only the SPOS [control]
+    rig = _coupling_rig("SP2: {MD35135: [100, 100]}")
+    rig.mda('N20 COUPDEF(S2,S1,1,1,"NOC","DV")\nN30 COUPON(S2,S1,0)\nN40 G4 F0.3\nN50 COUPON(S2,S1,180)\n'
+            'N60 SPOS[2]=IC(90) FA[S2]=3600\nN70 G4 F10\n')
+    couplings = rig.nck.couplings
+    rig.run_until(lambda: "SP2" in couplings.active and couplings.active["SP2"].programmed == 270.0, 1000)
+    coupling = couplings.active["SP2"]
+    assert coupling.overlay is not None and coupling.overlay.limit == pytest.approx(600.0)
+    rig.step(25)
+    rig.pulse("SP2.basic.out.resetMovement")
+    rig.step(500)
+    assert coupling.overlay is None and not coupling.queued
+    assert abs(couplings.quantity("SP2", "couplingOffset") - 180.0) < 1e-6
+    assert coupling.programmed == pytest.approx(180.0)

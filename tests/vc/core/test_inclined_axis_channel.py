@@ -11,7 +11,7 @@ import math
 
 import pytest
 
-from tests.vc.core.core_rig import Rig, machine
+from tests.vc.core.core_rig import Rig, machine, with_start_position
 from vc.core.referencing import Source
 
 TAN = math.tan(math.radians(-30.0))
@@ -92,6 +92,48 @@ def test_an_inclined_move_with_nozagc_drops_the_orthogonal_reference() -> None:
     _run(rig, "G0 Y10")
     assert not rig.axis("X1").referenced and rig.axis("Y1").referenced
     assert rig.get("X1.basic.in.enc1Synchronized") == 0
+
+
+def test_the_orthogonal_axis_keeps_its_software_limits_while_a_reference_return_is_due() -> None:
+    """Only the program relation is lost: MD36110 = 305 of X1 still refuses a target beyond it."""
+    rig = _rig()
+    rig.set(NOZAGC, 1)
+    _run(rig, "G0 Y10")
+    assert not rig.axis("X1").referenced
+    rig.mda("G0 X400")
+    rig.step(200)
+    assert _alarms(rig) == [10720]
+    assert rig.axis("X1").setpoint == pytest.approx(150.0)
+
+
+def test_g28_of_the_inclined_axis_with_nozagc_drops_the_orthogonal_reference() -> None:
+    """Up to the intermediate point G28 is an ordinary move (L72-74): with NOZAGC = 1 uncompensated."""
+    rig = _rig()
+    _run(rig, "G0 Y50")  # compensated: X1 keeps its reference
+    assert rig.axis("X1").referenced
+    rig.set(NOZAGC, 1)
+    _run(rig, "G28 Y0")
+    assert rig.axis("Y1").setpoint == pytest.approx(-73.0)  # at its reference point MD34100
+    assert not rig.axis("X1").referenced and rig.get("X1.basic.in.enc1Synchronized") == 0
+
+
+def test_reset_of_a_nozagc_block_that_has_not_moved_keeps_the_orthogonal_reference() -> None:
+    """G0 Y50 M42 S100 waits for the gear change the test (as PLC) never acknowledges."""
+    rig = _rig()
+    rig.set(NOZAGC, 1)
+    rig.mda("N20 G0 Y50 M42 S100")
+    rig.step(50)
+    assert rig.axis("Y1").setpoint == 0.0 and rig.get("CHAN1.basic.in.stateReset") == 0
+    rig.pulse("CHAN1.basic.out.reset")
+    rig.step(5)
+    assert rig.axis("X1").referenced
+    rig.set(NOZAGC, 1)
+    rig.mda("N20 G0 Y50")
+    rig.step(20)  # on the way
+    assert rig.axis("Y1").setpoint > 0.0
+    rig.pulse("CHAN1.basic.out.reset")
+    rig.step(5)
+    assert not rig.axis("X1").referenced
 
 
 def test_g53_targets_are_machine_positions_and_the_display_is_cartesian() -> None:
@@ -241,3 +283,19 @@ def test_jog_stops_on_the_machine_stroke_limit_with_aot_0() -> None:
     _jog(rig, "Y1.basic.out.traversKeyPlus", 4000)
     assert rig.axis("Y1").setpoint == pytest.approx(100.0, abs=1e-9)
     assert rig.axis("X1").setpoint == pytest.approx(200.0, abs=1e-9)
+
+
+def test_jog_of_an_unreferenced_inclined_axis_stops_where_the_carried_axis_reaches_its_limit() -> None:
+    """Y1 not referenced (no own limits), X1 absolute at 295: Y1+ carries X1 by 0.5 per mm up to
+    its MD36110 = 305, so Y1 stops 20 mm on (shipped AOT = 1, [control])."""
+    config = with_start_position(machine("CHAN1: {MD20700: 0}\nX1: {MD30240: [4], MD34210: [2]}"), "X1", 295.0)
+    rig = Rig(config)
+    rig.ready_mda()
+    y1, x1 = rig.axis("Y1"), rig.axis("X1")
+    assert x1.referenced and not y1.software_limits_active
+    rig.select_mode("jog")
+    rig.step(2)
+    _jog(rig, "Y1.basic.out.traversKeyPlus", 3000)
+    assert x1.setpoint == pytest.approx(305.0, abs=1e-9)
+    assert y1.setpoint == pytest.approx(20.0, abs=1e-9)
+    assert [(alarm.number, alarm.axis) for alarm in rig.nck.present_alarms()] == [(10621, "Y1")]

@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from vc.core.motion import JerkFilter, braking_distance, ramp, stopping_velocity
+from vc.core.motion import JerkFilter, braking_distance, ramp, stopping_distance, stopping_velocity
 
 DT = 0.002  # s, one IPO cycle
 ACCEL = 4000.0  # mm/s^2 = MD32300 4 m/s^2
@@ -54,6 +54,14 @@ def test_ramp_reaches_a_velocity_in_the_cycles_the_acceleration_allows() -> None
 
 
 # ------------------------------------------------------------------------------ stopping velocity
+
+
+@pytest.mark.parametrize("speed", [0.5, 8.0, 100.0, 123.456])
+def test_stopping_distance_is_the_distance_of_braking_as_hard_as_allowed(speed: float) -> None:
+    distance, _ = brake(speed, ACCEL, DT)
+    assert stopping_distance(speed, ACCEL, DT) == pytest.approx(distance, rel=1e-12)
+    assert stopping_velocity(stopping_distance(speed, ACCEL, DT), ACCEL, DT) == pytest.approx(speed, rel=1e-12)
+    assert stopping_distance(0.0, ACCEL, DT) == 0.0
 
 
 def test_stopping_velocity_is_zero_without_distance() -> None:

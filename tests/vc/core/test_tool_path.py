@@ -108,3 +108,12 @@ def test_a_block_without_travel_is_finished_at_once() -> None:
     axes = _axes(100.0, 1000.0)
     segment = ToolPathSegment.plan(cast(list[MachineAxis], axes), lambda f: [1.0, 2.0], 0.0, 50.0, rapid=False)
     assert segment.finished
+
+
+def test_a_swing_with_little_tip_travel_is_sampled_by_the_largest_axis_travel() -> None:
+    # 1 mm of tip path while a rotary axis turns 300 degrees: one sample per degree, not 32
+    axes = _axes(1000.0, 5000.0)
+    segment = ToolPathSegment.plan(cast(list[MachineAxis], axes), lambda f: [1.0 * f, 300.0 * f],
+                                   1.0, 20.0, rapid=False)
+    assert len(segment.samples) == 301
+    assert segment.samples[150] == pytest.approx([0.5, 150.0])
