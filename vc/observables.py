@@ -46,7 +46,7 @@ CHANNEL_QUANTITIES = tuple(CHANNEL_QUANTITY_MEANINGS)
 
 # Quantities of the NCK and the drive line-up (NC.dcLinkVoltage).
 NCK_QUANTITY_MEANINGS = {
-    "dcLinkVoltage": "voltage of the drive line-up's DC link, V (a machine without dc_link: shows 0)",
+    "dcLinkVoltage": "voltage of the drive line-up's DC link, V (only on a machine with dc_link:)",
 }
 NCK_QUANTITIES = tuple(NCK_QUANTITY_MEANINGS)
 
@@ -58,8 +58,9 @@ NCK_QUANTITIES = tuple(NCK_QUANTITY_MEANINGS)
 #                            over the position controller's gain until the fault is cleared
 #   workpiece_clamp          a part clamped in a following spindle and its leading spindle locks the
 #                            FS to the LS, twisted by amount (degrees), until the fault is cleared
-#   mains_failure            the line supply of the drive line-up fails (no axis): Drives.ready falls,
-#                            the DC link is on its own until the fault is cleared (clear_faults: mains)
+#   mains_failure            the line supply of the drive line-up fails (no axis; a machine with dc_link:):
+#                            Drives.ready falls, the DC link is on its own until the fault is cleared
+#                            (clear_faults: mains)
 FAULTS = ("zero_marks_missing", "reference_marks_missing", "encoder_slip", "load_disturbance", "workpiece_clamp",
           "mains_failure")
 MACHINE_FAULTS = ("mains_failure",)  # faults of the whole machine: no axis

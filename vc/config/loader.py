@@ -61,8 +61,9 @@ Rules:
   wired (``<spindle>.chuckOpen`` is optional); chuck I/O without a chuck is a mistake.
 * An axis's ``drive:`` holds parameters of its drive that the NC does not write: ESR generator
   operation ``{p0888: 3, p0892: s, p1240: 2, p1248: V, p2161: rev/min, p0341: kg m^2, p0342: ratio}``
-  (seed 003 L41700-41769); it needs the machine's ``dc_link: {supply_voltage: V (r0208),
-  capacitance_uf: uF, load_power: W}`` (vc/core/dc_link.py).
+  (seed 003 L41700-41769); none of it without p0888 = 3 (1 and 2 are written by ESRS / ESRR from
+  the program).  It needs the machine's ``dc_link: {supply_voltage: V (r0208), capacitance_uf: uF,
+  load_power: W}`` (vc/core/dc_link.py).
 * Every machine axis belongs to exactly one channel.  A channel axis without a name in
   MD20080 is called by its machine axis name in part programs.
 * Scenario overrides (``load_machine(..., overrides=...)``) are ``{instance: {key: value}}``
@@ -111,7 +112,10 @@ from vc.config.machine_data import (
 )
 from vc.config.model import (
     DC_LINK_PER_SUPPLY_VOLT,
+    EXTENDED_RETRACT,
+    EXTENDED_STOP,
     PULSE_CANCELLATION_PER_SUPPLY_VOLT,
+    SPEED_HYSTERESIS,
     AxisConfig,
     AxisPlant,
     AxisSimulation,
@@ -358,7 +362,7 @@ class _MachineReader:
     def _read_dc_link(self, raw: Any, mark: Mark) -> None:
         values = self._read_parameters(raw, mark, "dc_link", DC_LINK_KEYS)
         unwritten = [key for key in DC_LINK_KEYS if not isinstance(raw, dict) or key not in raw]
-        if unwritten and isinstance(raw, dict):
+        if unwritten and (raw is None or isinstance(raw, dict)):  # an empty dc_link: is no DC link either
             self.add(mark, f"dc_link: missing {', '.join(unwritten)}")
         if len(values) == len(DC_LINK_KEYS):
             self.dc_link = DcLinkConfig(**values)
@@ -606,7 +610,16 @@ class _MachineReader:
         if "drive" in block:
             entry.drive_mark = self.marks.value(block, "drive")
             drive = self._read_parameters(block["drive"], entry.drive_mark, f"{where}.drive", DRIVE_KEYS)
+            if drive.get("p0888") in (EXTENDED_STOP, EXTENDED_RETRACT):
+                self.add(self.marks.value(block["drive"], "p0888"),
+                         f"{where}.drive.p0888 = {drive.pop('p0888')}: extended stop (1) and retract (2) are"
+                         f" written by ESRS / ESRR from the part program; the file takes 0 or 3 (generator"
+                         f" operation)")
             entry.drive = dataclasses.replace(entry.drive, **drive)
+            ignored = [key for key in drive if key != "p0888"]
+            if ignored and not entry.drive.generator:  # an override may still switch generator operation off
+                self.add(entry.drive_mark, f"{where}.drive: {', '.join(ignored)} belong to generator operation:"
+                                           f" without p0888 = 3 the drive would ignore them")
 
     def _number(self, raw: Any, mark: Mark, what: str) -> float | None:
         number = as_number(raw)
@@ -928,7 +941,8 @@ class _MachineReader:
 
     def _check_generator(self, entry: _AxisEntry) -> None:
         """Generator operation needs the DC link it buffers, the Vdc_min controller on, a threshold
-        between where the pulses go and where the supply holds the link, and the motor's inertia."""
+        between where the pulses go and where the supply holds the link, the motor's inertia and a
+        minimum speed the drive can tell from standstill."""
         drive, mark = entry.drive, entry.drive_mark
         if not drive.generator or mark is None:
             return
@@ -945,6 +959,9 @@ class _MachineReader:
             self.add(mark, f"{where} needs p1240 = 2 (the Vdc_min controller brakes the motor under ESR)")
         if drive.p0341 <= 0:
             self.add(mark, f"{where} needs p0341, the motor's moment of inertia (kg m^2), above 0")
+        if drive.p2161 <= SPEED_HYSTERESIS:
+            self.add(mark, f"{where} needs p2161, the minimum generator speed, above the speed comparison's"
+                           f" hysteresis {SPEED_HYSTERESIS:g} rev/min (got {drive.p2161:g})")
 
     def _build_gearbox(self, entry: _AxisEntry, spindle: int) -> GearboxPlant | None:
         """The axis's gearbox, checked against its machine data and the I/O list; None without one."""

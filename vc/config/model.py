@@ -59,9 +59,14 @@ class AxisPlant:
     chuck: ChuckPlant | None = None  # spindles only
 
 
+EXTENDED_STOP = 1  # p0888 = 1, written by ESRS from the part program
+EXTENDED_RETRACT = 2  # p0888 = 2, written by ESRR
 GENERATOR_OPERATION = 3  # p0888 = 3 (L41708-41712)
 DC_LINK_PER_SUPPLY_VOLT = 1.35  # a rectified three-phase supply charges the link to 1.35 x its voltage [control]
 PULSE_CANCELLATION_PER_SUPPLY_VOLT = 0.9  # pulses are cancelled below 0.9 x r0208 (L41749-41754)
+# The generator brakes until its motor runs below p2161, by the hysteresis of the speed comparison
+# (SINAMICS p2150, default 2 rev/min) [control]: there r2199.0 (DB31.DBX95.3) comes and it gives no more.
+SPEED_HYSTERESIS = 2.0  # rev/min
 
 
 @dataclass(frozen=True, slots=True)

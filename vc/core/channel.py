@@ -217,6 +217,7 @@ class Channel:
         self._thread: ThreadSegment | None = None  # the running G33 block
         self._thread_chain: float | None = None  # spindle position where the last G33 block ended
         self._thread_interrupted = False  # an ESR trigger retracted from the running G33 block (LFON)
+        self.esr_run_on_spindle: str | None = None  # the master spindle of a thread in the ESR's MD21380
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -380,6 +381,8 @@ class Channel:
         if esr is not None and esr.running:
             esr.cycle(cycle, self._thread or self._segment)
             path_runs_on = esr.path_runs_on(cycle)  # MD21380: the stop axes' path goes on
+        # a thread's run-on needs its spindle turning through the alarms' interpolation stop [control]
+        self.esr_run_on_spindle = self._thread.spindle.name if path_runs_on and self._thread is not None else None
         reactions = self._alarms.reactions(self.name)
         if reactions & CHANNEL_INTERRUPT and self.state is ChannelState.ACTIVE:
             self.stop()
@@ -537,8 +540,9 @@ class Channel:
             return
         block = self._blocks[self._block_index]
         self.current_block = block
-        if block.items and isinstance(block.items[0], Jump):
-            self._jump(block.items[0], block, cycle)
+        jump = next((item for item in block.items if isinstance(item, Jump)), None)
+        if jump is not None:  # alone, or after its label ("MM: IF ... GOTOB MM")
+            self._jump(jump, block, cycle)
             return
         positions = self.five_axis.program_positions(self.modal.five_axis)
         pair: tuple[str, ...] = ()
@@ -589,6 +593,7 @@ class Channel:
         variables stops the preprocessing until then on the control [control].  A jump block takes
         its IPO cycle.  An unreadable condition raises 12080, an unknown variable 12550, a missing
         destination 14080 (GOTOC: the program goes on after the block)."""
+        self._leaving_thread_chain = False  # a jump leaves the thread chain: a G33 block at its target is cut
         holds = True
         if jump.condition:
             assert self.esr is not None
@@ -822,9 +827,16 @@ class Channel:
         if self._thread is not None and self.modal.retract.enabled and not self._thread_interrupted:
             self._lift_fast(cycle)
             return
-        segment = self._segment if self._phase is Phase.INTERPOLATE else None
-        esr.start_channel_reaction(cycle, [axis.name for axis in self.axes], segment, self.modal.retract,
+        interpolation = (self._thread or self._segment) if self._phase is Phase.INTERPOLATE else None
+        esr.start_channel_reaction(cycle, [axis.name for axis in self.axes], interpolation, self.modal.retract,
                                    self._esr_delays(), self.inclined)
+        if self._thread is not None:
+            # G33 without LFON: the retract axes have left the thread, the others follow the spindle on
+            # for MD21380; the block is dropped when the ESR has braked them [control]
+            if self._thread.axes:
+                self._thread_interrupted = True
+            else:
+                self._drop_thread_block()
         if self.state is ChannelState.ACTIVE:
             self.state = ChannelState.INTERRUPTED
             self.program_state = ProgramState.STOPPED
@@ -885,7 +897,10 @@ class Channel:
             if self._thread_interrupted:
                 self._drop_thread_block()  # the ESR braked the thread axes after MD21380
                 return
-            self._thread = None  # braked off the thread (rapid stop): the contour is lost
+            for axis in thread.axes:
+                if axis.owner is Owner.PATH:
+                    axis.brake()  # braked off the thread (rapid stop): the others stop too, the contour is lost
+            self._thread = None
             self._phase = Phase.CONTOUR_LOST
             self.stop()
             return
@@ -893,6 +908,9 @@ class Channel:
         if thread.finished:
             for axis in thread.axes:
                 axis.release()
+            if self._thread_interrupted:
+                self._drop_thread_block()  # ended in the ESR's run-on: the chain is left all the same
+                return
             self._thread = None
             self._thread_interrupted = False
             self._thread_chain = thread.end_position

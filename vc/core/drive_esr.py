@@ -37,21 +37,16 @@ from dataclasses import dataclass
 from enum import Enum
 
 from vc.config import md_dictionary as MD
-from vc.config.model import GENERATOR_OPERATION
+from vc.config.model import EXTENDED_RETRACT, EXTENDED_STOP, GENERATOR_OPERATION, SPEED_HYSTERESIS
 from vc.core.axis import MachineAxis, Owner
 from vc.core.interface_map import SignalTable
 from vc.core.motion import ramp
 
-EXTENDED_STOP = 1
-EXTENDED_RETRACT = 2
 TRIGGER_CYCLES = 2  # $AN_ESR_TRIGGER must stand this many IPO cycles to reach the drive (L41806-41809)
 STAT_REACTION = 1 << 2  # $AA_ESR_STAT bit 2 = r0887.12 = DB31.DBX95.2
 STAT_DC_LINK_UNDERVOLTAGE = 1 << 3  # bit 3 = r0056.15 = DB31.DBX95.1 (L41837-41870)
 STAT_BELOW_MINIMUM_SPEED = 1 << 4  # bit 4 = r2199.0 = DB31.DBX95.3
 REACTIONS = (EXTENDED_STOP, EXTENDED_RETRACT, GENERATOR_OPERATION)
-# The generator brakes until its motor runs below p2161, by the hysteresis of the speed comparison
-# (SINAMICS p2150, default 2 rev/min) [control]: there r2199.0 (DB31.DBX95.3) comes and it gives no more.
-SPEED_HYSTERESIS = 2.0  # rev/min
 MAX_DELAY_S = 20.0  # ESRS: p0892 range 0.00 - 20.00 s (L41932-41940)
 
 
@@ -187,8 +182,8 @@ class DriveEsr:
         radians_per_unit = abs(self._motor_speed(60.0)) * 2.0 * math.pi / 60.0  # motor rad/s per load unit/s
         velocity = axis.command_velocity
         omega = abs(velocity) * radians_per_unit
-        slowest = max((self._minimum_speed - SPEED_HYSTERESIS) * 2.0 * math.pi / 60.0,
-                      omega - axis.dyn.rapid_stop_decel * self._dt * radians_per_unit)
+        slowest = max(0.0, (self._minimum_speed - SPEED_HYSTERESIS) * 2.0 * math.pi / 60.0,
+                      omega - axis.dyn.rapid_stop_decel * self._dt * radians_per_unit)  # never through standstill
         if omega <= slowest:
             return 0.0
         given = min(energy, 0.5 * inertia * (omega * omega - slowest * slowest))

@@ -171,7 +171,8 @@ class ChannelEsr:
         raise KeyError(name)
 
     def write(self, write: VariableWrite, cycle: int) -> None:
-        """A program assignment or a synchronized action's action; a trigger acts on its rising edge."""
+        """A program assignment or a synchronized action's action, its axis a machine axis of the channel
+        (the interpreter maps X to X1 and refuses the others with 12550); a trigger acts on its rising edge."""
         value = bool(write.value)
         if write.name == "$AC_LIFTFAST":
             self.liftfast = write.value
@@ -182,12 +183,11 @@ class ChannelEsr:
             if rising:
                 self.channel_trigger_pending = True
         elif write.name == "$AA_ESR_ENABLE":
-            self.nck.drives[self._geometry.get(write.index, write.index)].set_enable(value)
+            self.nck.drives[write.index].set_enable(value)
         elif write.name == "$AA_ESR_TRIGGER":
-            axis = self._geometry.get(write.index, write.index)  # a synchronized action may name X, Y, Z
-            rising, self.axis_trigger[axis] = value and not self.axis_trigger[axis], value
+            rising, self.axis_trigger[write.index] = value and not self.axis_trigger[write.index], value
             if rising:
-                self._single_axis_reaction(axis, cycle)
+                self._single_axis_reaction(write.index, cycle)
 
     def add_actions(self, actions: list[SyncAction]) -> None:
         for action in actions:
@@ -202,7 +202,8 @@ class ChannelEsr:
         self.axis_trigger = dict.fromkeys(self.axis_trigger, False)
 
     def run_actions(self, cycle: int) -> None:
-        """The synchronized actions of this IPO cycle; an unknown variable raises 12550 and ends the action."""
+        """The synchronized actions of this IPO cycle; a condition on an unknown variable raises 12550
+        and ends the action (its writes were checked when the block was decoded)."""
         for number, action in list(self.actions.items()):
             try:
                 due = action.due(self.read)
@@ -212,12 +213,8 @@ class ChannelEsr:
                 del self.actions[number]
                 continue
             if due:
-                try:
-                    for write in action.actions:
-                        self.write(write, cycle)
-                except KeyError as error:
-                    self._alarms.raise_alarm(12550, cycle, self.name, f"ID={number}", str(error), channel=self.name)
-                    del self.actions[number]
+                for write in action.actions:
+                    self.write(write, cycle)
 
     def single_axis_retract_command(self, axis: str, kind: int, value: float | None) -> None:
         """POLFA(ax, type[, value]); without a value the last one stays (L11560-11578)."""
@@ -282,6 +279,10 @@ class ChannelEsr:
             self._stop = _StopAxes.after(cycle, *delays, self._dt)
         self.motion = RetractMotion(groups) if groups else None
         self.protected = {axis.name for axis in moving}
+        if esr is not None:
+            # the run-on and braking of the thread axes are the ESR's too, and they follow the master
+            # spindle: it turns on with them ("Z keeps moving normally until it stops", L42197-42200) [control]
+            self.protected |= {axis.name for axis in thread.axes} | {thread.spindle.name}
         self.liftfast = 1.0
 
     def _single_axis_reaction(self, name: str, cycle: int) -> None:

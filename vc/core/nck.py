@@ -218,7 +218,8 @@ class Nck:
         for spindle in self.spindles:
             if not spindle.quiet or spindle.alarm_version != alarm_version or spindle.axis.velocity:
                 channel = self.channels_by_name[spindle.channel]
-                spindle.cycle(self.cycle, self.alarms, channel.state is ChannelState.RESET)
+                spindle.cycle(self.cycle, self.alarms, channel.state is ChannelState.RESET,
+                              channel.esr_run_on_spindle == spindle.axis.name)
         if self.couplings.active:
             self.couplings.cycle(self.cycle)
         for watcher in self.referencing.passive_watchers:
@@ -396,8 +397,7 @@ class Nck:
             assert esr is not None
             if esr.actions:
                 esr.run_actions(self.cycle)
-            if esr.channel_trigger_pending:  # idle cycles end here: nothing armed fired
-                channel.esr_trigger(self.cycle)
+            channel.esr_trigger(self.cycle)  # returns at once unless a trigger rose
         self.esr.cycle()
 
     def _dc_link_cycle(self, dc_link: DcLink) -> None:

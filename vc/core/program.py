@@ -3,7 +3,8 @@
 A block is one line.  Its items::
 
     N10                      block number
-    G1  X100.5  Z-2  F.5     address words: one letter followed by a number ("X1" is X = 1)
+    G1  X100.5  Z-2  F.5     address words: one letter followed by a number ("X1" is X = 1),
+    G1X10.5Z-2               also without blanks between them
     X1=100  DILF=10  M2=3    assignments: a name (letters and digits) '=' a value
     SPOS[2]=IC(-90)          assignment with an index and a value function (AC, IC, DC, ACP, ACN)
     FA[S2]=3600  POLF[X]=10  index by name
@@ -13,7 +14,7 @@ A block is one line.  Its items::
     IF $AC_LIFTFAST GOTOB MM_THREAD
     GOTOF N100               a jump (GOTOB back, GOTOF forward, GOTO / GOTOC forward then back)
                              to a label or block number, with or without a condition (kept as
-                             text for vc/core/sync_actions.py)
+                             text for vc/core/sync_actions.py); a label may stand before it
     IDS=2 WHENEVER $A_IN[1]==1 DO $AC_ESR_TRIGGER=1
                              a synchronized action: kept as condition and action text for
                              vc/core/sync_actions.py (ID= modal, IDS= static)
@@ -31,21 +32,23 @@ from dataclasses import dataclass
 
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)"
 _NAME = r"[A-Z_$][A-Z0-9_$]*"
+# Address words, one or several written without blanks: "X100.5", "G1X10.5Z-2", "Y100." (a number
+# may end in its decimal point).  Not when the run goes on as a name ("X10ABC", "S1_SPEED") or is
+# a name followed by '=', '(', '[' or ':' ("X1=5", "M2=3", "R1[2]").
+_ADDRESS_WORD = rf"[A-Z]{_NUMBER}"
 _TOKEN = re.compile(
-    rf"\s*(?:(?P<number>{_NUMBER})|(?P<name>{_NAME}(?:(?<=\d)\.(?!\d))?)|(?P<string>\"[^\"]*\")|(?P<symbol>[=\[\](),:]))",
+    rf"\s*(?:(?P<words>(?:{_ADDRESS_WORD})+(?![A-Z0-9_$.])(?!\s*[=(\[:]))|(?P<number>{_NUMBER})|(?P<name>{_NAME})"
+    r"|(?P<string>\"[^\"]*\")|(?P<symbol>[=\[\](),:]))",
     re.IGNORECASE,
 )
-_ADDRESS_WORD = re.compile(rf"^([A-Z])({_NUMBER})$", re.IGNORECASE)
-# Address words written without blanks: "G1X10Y20", or "G1X" followed by the number "-10".  A
-# number may end in its decimal point ("Y100.", "G1X10."): the point stays with the name.
-_CHAINED_WORDS = re.compile(r"^(?:[A-Z]\d+)+(?:[A-Z]|\.)?$", re.IGNORECASE)
+_ONE_ADDRESS_WORD = re.compile(rf"([A-Z])({_NUMBER})", re.IGNORECASE)
 _BLOCK_NUMBER = re.compile(r"^\s*N(\d+)", re.IGNORECASE)
 _SYNCHRONIZED_ACTION = re.compile(
     r"^(?:N(?P<block>\d+)\s+)?(?P<kind>IDS|ID)\s*=\s*(?P<number>\d+)\s+(?P<mode>WHENEVER|WHEN|EVERY|FROM)\s+"
     r"(?P<condition>.+?)\s+DO\s+(?P<actions>.+)$", re.IGNORECASE)
 _JUMP = re.compile(
-    r"^(?:N(?P<block>\d+)\s+)?(?:IF\s+(?P<condition>.+?)\s+)?(?P<direction>GOTOB|GOTOF|GOTOC|GOTO)\s+"
-    r"(?P<target>[A-Z_][A-Z0-9_]*)$", re.IGNORECASE)
+    r"^(?:N(?P<block>\d+)\s+)?(?:(?P<label>[A-Z_][A-Z0-9_]*)\s*:\s*)?(?:IF\s+(?P<condition>.+?)\s+)?"
+    r"(?P<direction>GOTOB|GOTOF|GOTOC|GOTO)\s+(?P<target>[A-Z_][A-Z0-9_]*)$", re.IGNORECASE)
 
 Argument = float | str
 
@@ -141,13 +144,15 @@ class _SyntaxError(Exception):
 
 def jump_target(blocks: tuple[Block, ...], current: int, jump: Jump) -> int | None:
     """Index of the block ``jump`` (at ``current``) goes to, or None: GOTOB searches back towards the
-    program start, GOTOF forward to its end, GOTO and GOTOC forward first, then back [control]."""
+    program start, GOTOF forward to its end, GOTO and GOTOC forward first, then back [control].
+    Searching back starts at the jump's own block, whose label stands before the jump: ``MM: IF
+    $A_IN[1]==0 GOTOB MM`` waits in its block [control]."""
     def is_target(block: Block) -> bool:
         if jump.target.startswith("N") and jump.target[1:].isdigit():
             return block.number == int(jump.target[1:])
         return any(isinstance(item, Label) and item.name == jump.target for item in block.items)
 
-    backward = range(current - 1, -1, -1)
+    backward = range(current, -1, -1)
     forward = range(current + 1, len(blocks))
     searched = {"GOTOB": (backward,), "GOTOF": (forward,)}.get(jump.direction, (forward, backward))
     for indices in searched:
@@ -174,9 +179,10 @@ def parse_program(text: str) -> tuple[Block, ...]:
         jump = _JUMP.match(code)
         if jump is not None:
             number = int(jump.group("block")) if jump.group("block") else None
-            blocks.append(Block(line_number, raw.strip(), number, (Jump(
+            label = (Label(jump.group("label").upper()),) if jump.group("label") else ()
+            blocks.append(Block(line_number, raw.strip(), number, (*label, Jump(
                 jump.group("direction").upper(), jump.group("target").upper(),
-                (jump.group("condition") or "").strip()),)))
+                (jump.group("condition") or "").strip()))))
             continue
         try:
             number, items = _parse_line(code)
@@ -213,11 +219,11 @@ def _tokens(code: str) -> list[tuple[str, str]]:
 
 
 def _split_address_words(tokens: list[tuple[str, str]]) -> list[tuple[str, str]]:
-    """``X100`` is one name token to the tokenizer; split it into address and number.
+    """Split a run of address words (``G1X10.5``) into address and number tokens.
 
-    ``X1=5`` stays a name (the '=' makes it an assignment), and so do ``SP1`` (two
-    letters) and names inside brackets (``FA[S2]``, ``COUPON(S2,S1)``).  ``X100.5``
-    arrives as name ``X100`` and number ``.5``: they are joined.
+    Inside brackets it is a name (``FA[S2]``, ``COUPON(S2,S1)``); ``SP1`` (two letters) and
+    ``X1=5`` (an assignment) are names to the tokenizer already.  ``X -10``: a single letter
+    followed by a number is an address word too.
     """
     result: list[tuple[str, str]] = []
     depth = 0  # inside (...) or [...] names are arguments or indices: S2 stays S2
@@ -229,29 +235,18 @@ def _split_address_words(tokens: list[tuple[str, str]]) -> list[tuple[str, str]]
         elif text in (")", "]"):
             depth -= 1
         following = tokens[index + 1] if index + 1 < len(tokens) else ("", "")
-        if kind == "name" and depth == 0 and following[1] not in ("=", "(", "[", ":") and len(text) > 2 \
-                and _CHAINED_WORDS.match(text) and not _ADDRESS_WORD.match(text):
-            for letter, digits in re.findall(r"([A-Z])(\d*)", text.upper()):
-                result.append(("address", letter))
-                if digits:
-                    result.append(("number", digits))
+        if kind == "words":
+            if depth:
+                result.append(("name", text.upper()))
+            else:
+                for letter, number in _ONE_ADDRESS_WORD.findall(text):
+                    result.extend((("address", letter.upper()), ("number", number)))
             index += 1
             continue
-        if kind == "name" and depth == 0 and following[1] not in ("=", "(", "[", ":"):
-            match = _ADDRESS_WORD.match(text)
-            if match:
-                number = match.group(2)
-                if following[0] == "number" and following[1].startswith(".") and "." not in number:
-                    number += following[1]
-                    index += 1
-                result.append(("address", match.group(1).upper()))
-                result.append(("number", number))
-                index += 1
-                continue
-            if len(text) == 1 and following[0] == "number":
-                result.append(("address", text.upper()))
-                index += 1
-                continue
+        if kind == "name" and depth == 0 and len(text) == 1 and following[0] == "number":
+            result.append(("address", text.upper()))
+            index += 1
+            continue
         result.append((kind, text.upper() if kind == "name" else text))
         index += 1
     return result

@@ -781,8 +781,9 @@ class Spindle:
         return axis.setpoint + direction * ahead
 
     # ------------------------------------------------------------------ the cycle
-    def cycle(self, cycle: int, alarms: AlarmList, channel_in_reset: bool) -> None:
-        """Synchronise, run the mode, ramp the speed and drive the axis; monitor; outputs."""
+    def cycle(self, cycle: int, alarms: AlarmList, channel_in_reset: bool, esr_run_on: bool = False) -> None:
+        """Synchronise, run the mode, ramp the speed and drive the axis; monitor; outputs.
+        ``esr_run_on``: a G33 thread on this spindle runs on for MD21380 through the alarms' stop."""
         axis = self.axis
         self.alarm_version = alarms.version
         self._synchronise()
@@ -810,7 +811,8 @@ class Spindle:
             command = None  # the coupling drives the following spindle
         else:
             command = None
-        stopped = self.inputs.rapid_stop or self.held or bool(alarms.reactions(self.channel) & STOP_AXES) or \
+        stopped = self.inputs.rapid_stop or self.held or \
+            (bool(alarms.reactions(self.channel) & STOP_AXES) and not esr_run_on) or \
             not axis.drive_ready or axis.disabled
         if stopped and command is not None:
             command = 0.0

@@ -335,7 +335,8 @@ class _ScenarioChecker:
         machine = self.machine
         self.resolver = NameResolver(expand(catalog, machine.layout), machine.plant_io,
                                      (axis.name for axis in machine.axes),
-                                     (channel.name for channel in machine.channels), link=self.link == LINK_CAN)
+                                     (channel.name for channel in machine.channels), link=self.link == LINK_CAN,
+                                     dc_link=machine.dc_link is not None)
         return machine_file
 
     def invariants(self, document: LocatedMap) -> list[Invariant]:
@@ -539,6 +540,10 @@ class _ScenarioChecker:
         machine_fault = kind in MACHINE_FAULTS
         if not self.check_keys(value, ("kind",) if machine_fault else ("axis", "kind", "from", "to", "by", "encoder"),
                                ("kind",) if machine_fault else ("axis", "kind"), "fault"):
+            return None
+        if machine_fault and self.machine is not None and self.machine.dc_link is None:
+            self.add(value.mark_of("kind"), f"a {kind} fault needs the machine's DC link: this machine has no"
+                                            " dc_link: section (only Drives.ready would fall)")
             return None
         if machine_fault:
             return InjectFault(index, "fault", mark, "", str(kind), 0.0, 0.0, 0.0, 1)

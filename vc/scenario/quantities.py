@@ -115,9 +115,11 @@ class NameResolver:
     """Resolves the names of one machine; unknown names raise :class:`UnknownSignalError`."""
 
     def __init__(self, catalog: ExpandedCatalog, plant_io: PlantIoMap, axes: Iterable[str],
-                 channels: Iterable[str], link: bool = False):
-        """``link``: the PLC sits behind the CAN link, whose quantities can be read."""
+                 channels: Iterable[str], link: bool = False, dc_link: bool = False):
+        """``link``: the PLC sits behind the CAN link, whose quantities can be read; ``dc_link``: the
+        machine models its drive line-up's DC link (``NC.dcLinkVoltage``)."""
         self.link = link
+        self.dc_link = dc_link
         self.catalog = catalog
         self.plant_io = plant_io
         self.axes = tuple(axes)
@@ -147,6 +149,9 @@ class NameResolver:
         if head in self.channels and tail in CHANNEL_QUANTITIES:
             return axis_quantity(head, tail)  # read like an axis quantity, from the channel
         if head == NCK_INSTANCE and tail in NCK_QUANTITIES:
+            if not self.dc_link:
+                raise UnknownSignalError(f"'{text}' is a quantity of the DC link: this machine has no dc_link:"
+                                         " section (it would read 0)")
             return axis_quantity(head, tail)  # read like an axis quantity, from the NCK
         if head == LINK_INSTANCE and tail in LINK_QUANTITIES:
             if not self.link:
@@ -206,7 +211,7 @@ class NameResolver:
         names += [point.name for point in self.plant_io.points]
         names += [f"{axis}.{quantity}" for axis in self.axes for quantity in AXIS_QUANTITIES]
         names += [f"{channel}.{quantity}" for channel in self.channels for quantity in CHANNEL_QUANTITIES]
-        names += [f"{NCK_INSTANCE}.{quantity}" for quantity in NCK_QUANTITIES]
+        names += [f"{NCK_INSTANCE}.{quantity}" for quantity in NCK_QUANTITIES if self.dc_link]
         names.append(TIME)
         return names
 

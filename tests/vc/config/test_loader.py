@@ -410,3 +410,13 @@ def test_a_generator_threshold_outside_the_link_s_range_is_refused() -> None:
         assert [str(problem) for problem in error.value.problems] == [
             f"scenario.yaml:3:12: SP1: drive p0888 = 3 (generator operation): p1248 = {threshold} V must lie"
             " between the pulse cancellation at 360 V and the link's 540 V on the supply"]
+
+
+def test_an_override_may_switch_generator_operation_off_but_not_give_its_parameters_without_it() -> None:
+    off = load_machine(TURN_MILL, _overrides("machine_data:\n  SP1:\n    drive: {p0888: 0}\n"), "scenario.yaml")
+    assert not off.axis("SP1").drive.generator
+    with pytest.raises(SourceError) as error:
+        load_machine(TURN_MILL, _overrides("machine_data:\n  SP2:\n    drive: {p2161: 500}\n"), "scenario.yaml")
+    assert [str(problem) for problem in error.value.problems] == [
+        "scenario.yaml:3:12: machine_data.SP2.drive: p2161 belong to generator operation: without p0888 = 3"
+        " the drive would ignore them"]

@@ -488,6 +488,16 @@ def test_a_conditional_jump_goes_back_while_its_condition_holds() -> None:
     assert rig.alarm_numbers() == []
 
 
+def test_a_labelled_jump_block_jumps_to_its_own_label_while_the_condition_holds() -> None:
+    rig = mda_rig()
+    rig.mda("N10 $AC_LIFTFAST=1\nN20 G91\nMM: IF $AC_LIFTFAST GOTOB MM\nN40 G90 G1 X140.5 F3000\nM30")
+    rig.step(50)
+    assert rig.alarm_numbers() == [] and rig.channel.current_block.label == "line 3"  # loops on itself
+    rig.channel.esr.liftfast = 0.0
+    run_to_reset(rig)
+    assert rig.axis("X1").setpoint == pytest.approx(140.5) and rig.alarm_numbers() == []
+
+
 @pytest.mark.parametrize(("text", "alarm"), [
     ("N10 GOTOF NOWHERE\nM30", 14080),
     ("N10 IF $AC_NOTHING GOTOF END_1\nEND_1:\nM30", 12550),

@@ -6,6 +6,7 @@ operation: p1248 = 450 V, p2161 = 1000 rev/min, 0.02 kg m^2 x 2 at the motor, ge
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
@@ -138,3 +139,19 @@ def test_the_generator_stops_giving_below_its_minimum_speed(sp1_turning: Simulat
     drive.watch_speed()
     assert drive.status & STAT_BELOW_MINIMUM_SPEED
     assert sp1_turning.read(sp1_turning.catalog.resolve("SP1.drive.in.esrSpeedBelowMin")) == 1
+
+
+def test_a_minimum_speed_inside_the_hysteresis_never_drives_the_motor() -> None:
+    # the loader refuses p2161 <= 2 rev/min; the controller itself still only brakes, down to standstill
+    config = machine()
+    axes = tuple(dataclasses.replace(item, drive=dataclasses.replace(item.drive, p2161=0.0))
+                 if item.name == "SP1" else item for item in config.axes)
+    simulation = Simulation(dataclasses.replace(config, axes=axes), plc=None)
+    drive = simulation.nck.esr.drives["SP1"]
+    drive.enabled = True
+    drive.cycle(trigger_cycles=2)
+    axis = drive.axis
+    axis.set_path_setpoint(axis.setpoint, 0.05)  # deg/s: almost standing
+    given = [drive.feed(50.0) for _ in range(5)]
+    assert axis.command_velocity == 0.0
+    assert sum(given) == pytest.approx(_motor_energy(0.05))  # what was left in the motor, nothing more

@@ -11,7 +11,7 @@ import itertools
 import math
 
 import pytest
-from core_rig import ABSOLUTE_XYZ, DT, Rig, machine
+from core_rig import ABSOLUTE_XYZ, DT, FIVE_AXIS, Rig, machine
 from test_spindle import spindle_rig
 
 from vc.core.axis import MachineAxis
@@ -76,12 +76,22 @@ def test_tv_esr_1_esrr_and_esrs_give_the_drive_parameters() -> None:
     ("ALF=9", 12080),
     ("$AA_ESR_ENABLE=1", 12080),  # needs its axis
     ("$AC_UNKNOWN=1", 12550),
+    ("IDS=1 WHENEVER $A_IN[1]==1 DO $AA_ESR_TRIGGER[Q]=1", 12550),  # refused at decode, not when it fires
+    ("IDS=1 WHENEVER $A_IN[1]==1 DO $AC_UNKNOWN=1", 12550),
     ("IDS=1 WHENEVER $A_IN[1] >> 1 DO $AC_ESR_TRIGGER=1", 12080),
     ("G33 Z10", 12080),  # no lead yet
 ])
 def test_bad_retract_words_raise_the_control_alarm(text: str, alarm: int) -> None:
     _, found, _ = _decode(text)
     assert found is not None and found.number == alarm
+
+
+def test_a_synchronized_action_s_writes_name_machine_axes() -> None:
+    plan, alarm, _ = _decode("IDS=1 WHENEVER $A_IN[1]==1 DO $AA_ESR_ENABLE[X]=1 $AA_ESR_TRIGGER[Z]=1")
+    assert alarm is None
+    (action,) = plan.sync_actions  # type: ignore[attr-defined]
+    assert [(write.name, write.index) for write in action.actions] == [("$AA_ESR_ENABLE", "X1"),
+                                                                        ("$AA_ESR_TRIGGER", "Z1")]
 
 
 def test_g33_is_modal_thread_mode_and_keeps_its_lead() -> None:
@@ -480,3 +490,149 @@ def test_esrr_converts_with_the_gear_ratio_of_the_active_gear_stage() -> None:
     run_mda(rig, "ESRR(SP1,90.0,3600.0)\nM30")
     rig.step(20)
     assert rig.nck.esr.drives["SP1"].p0893 == pytest.approx(75.0)  # 10 rev/min at the load x 7.5
+
+
+# ------------------------------------------------------------------------------ ESR during G33
+
+
+THREAD_ESR_ARMING = "N1 IDS=1 WHENEVER $A_IN[1]==1 DO $AC_ESR_TRIGGER=1\n"
+
+
+def _esr_in_thread(program: str, trigger_at_z: float) -> tuple[Rig, int]:
+    """Run ``program`` on ESR_MACHINE (SP1 in gear stage 1) and give $A_IN[1] when Z1 passes
+    ``trigger_at_z`` in N70; returns the rig one cycle later and the trigger's cycle."""
+    rig = spindle_rig(base=ESR_MACHINE)
+    run_mda(rig, THREAD_ESR_ARMING + program)
+    rig.run_until(lambda: block_number(rig) == 70 and axis(rig, "Z1").setpoint > trigger_at_z, 20000)
+    rig.set("NC.basic.out.setDigitalInputs", 1)
+    rig.step(1)
+    return rig, rig.nck.cycle
+
+
+def _assert_z1_runs_on_then_brakes(rig: Rig, trigger_cycle: int) -> None:
+    """Z1 follows the spindle at 41.7 mm/s for MD21380 = 0.1 s, then stops within MD21381 = 0.04 s."""
+    z1 = axis(rig, "Z1")
+    rig.run_until(lambda: z1.command_velocity < 41.0, 200)
+    assert (rig.nck.cycle - trigger_cycle) * DT == pytest.approx(0.1, abs=2 * DT)
+    rig.run_until(lambda: z1.command_velocity == 0.0, 200)
+    assert (rig.nck.cycle - trigger_cycle) * DT <= 0.14 + 2 * DT
+
+
+def test_a_thread_block_ending_in_the_esr_run_on_still_leaves_the_chain() -> None:
+    # ESR trigger 2 mm before the end of N70 (LFON): Z1 runs on for MD21380 = 0.1 s (4.2 mm at
+    # 41.7 mm/s) and reaches Z30 in the run-on; NC start must not cut N71 from the retract position.
+    rig, _ = _esr_in_thread("N55 M3 S500 G90 G18\nN68 G0 Z5\nN69 X10\nN70 G33 Z30 K5 LFON DILF=10 LFWP ALF=7\n"
+                            "N71 G33 Z55 X15\nN72 G1 X20 F100\nM30", 28.0)
+    x1, z1 = axis(rig, "X1"), axis(rig, "Z1")
+    rig.step(400)
+    assert x1.setpoint == pytest.approx(0.0, abs=1e-6) and z1.setpoint == pytest.approx(30.0, abs=1e-6)
+    rig.set("NC.basic.out.setDigitalInputs", 0)
+    rig.pulse("CHAN1.basic.out.ncStart", 2)
+    rig.run_until(lambda: block_number(rig) == 72, 50)
+    rig.step(100)
+    assert z1.setpoint == pytest.approx(30.0, abs=1e-6) and 0.0 < x1.setpoint < 20.0  # N72 moves X alone
+
+
+def test_an_esr_in_g33_without_lfon_retracts_x_and_runs_z_on_for_md21380() -> None:
+    rig, trigger_cycle = _esr_in_thread("N2 $AA_ESR_ENABLE[X]=1 $AA_ESR_ENABLE[Z]=1\n"
+                                        "N3 LFPOS POLF[X]=IC(10) POLFMASK(X)\nN55 M3 S500 G90 G18\nN68 G0 Z5\n"
+                                        "N69 X10\nN70 G33 Z50 X30 K5\nN71 G33 Z60\nN72 G1 X40 F100\nM30", 20.0)
+    x1, z1 = axis(rig, "X1"), axis(rig, "Z1")
+    x_at_trigger = x1.setpoint
+    _assert_z1_runs_on_then_brakes(rig, trigger_cycle)
+    rig.run_until(lambda: x1.at_rest, 500)
+    assert x1.setpoint == pytest.approx(x_at_trigger + 10.0, abs=0.02)
+    z_stopped = z1.setpoint
+    rig.set("NC.basic.out.setDigitalInputs", 0)
+    rig.pulse("CHAN1.basic.out.ncStart", 2)  # the thread block and the G33 block chained to it are dropped
+    rig.run_until(lambda: block_number(rig) == 72, 50)
+    rig.step(100)
+    assert z1.setpoint == z_stopped and x1.setpoint > x_at_trigger + 10.0
+
+
+def test_a_thread_axis_braked_off_the_thread_brakes_the_others_too() -> None:
+    rig = spindle_rig(base=ESR_MACHINE)
+    run_mda(rig, "N55 M3 S500 G90 G18\nN68 G0 Z5\nN69 X10\nN70 G33 Z50 X30 K5\nN72 G1 X40 F100\nM30")
+    x1, z1 = axis(rig, "X1"), axis(rig, "Z1")
+    rig.run_until(lambda: block_number(rig) == 70 and z1.setpoint > 20.0, 20000)
+    velocity = z1.command_velocity
+    x1.rapid_stop(then_servo_off=False)  # a reaction takes X1 off the thread
+    cycles = rig.run_until(lambda: z1.command_velocity == 0.0, 200)
+    assert cycles * DT == pytest.approx(velocity / 4000.0, abs=2 * DT)  # Z1 brakes at MD32300 4 m/s^2
+    assert rig.nck.channels[0].thread_in_progress is None
+
+
+def test_a_rapid_stop_alarm_waits_for_the_thread_axes_run_on_after_an_esr_in_g33() -> None:
+    rig, trigger_cycle = _esr_in_thread("N55 M3 S500 G90 G18\nN68 G0 Z5\nN69 X10\n"
+                                        "N70 G33 Z50 K5 LFON DILF=10 LFWP ALF=7\nN72 G1 X20 F100\nM30", 20.0)
+    rig.nck.alarms.raise_alarm(2000, rig.nck.cycle)  # rapid stop with follow-up during MD21380
+    _assert_z1_runs_on_then_brakes(rig, trigger_cycle)  # the thread axis and its spindle go on regardless
+
+
+def test_a_jump_after_a_fast_retraction_leaves_the_chain_so_its_target_thread_is_cut() -> None:
+    rig = spindle_rig()
+    run_mda(rig, "N55 M3 S500 G90 G18\nN68 G0 Z5\nN69 X10\nN70 G33 Z30 K5 LFON DILF=10 LFWP ALF=7\n"
+                 "N71 G33 Z55 X15\nN72 GOTOF SECOND\nN73 G0 X99\nSECOND: G33 Z90 K5\nN90 G0 X40\nM30")
+    x1, z1 = axis(rig, "X1"), axis(rig, "Z1")
+    rig.run_until(lambda: block_number(rig) == 70 and z1.setpoint > 15.0, 20000)
+    rig.set("CHAN1.basic.out.ncStop", 1)
+    rig.step(200)
+    rig.set("CHAN1.basic.out.ncStop", 0)
+    rig.step(2)
+    rig.pulse("CHAN1.basic.out.ncStart", 2)  # N71 is dropped with the chain, the jump ends the chain
+    rig.run_until(lambda: rig.get("CHAN1.basic.in.stateReset") == 1, 20000)
+    assert z1.setpoint == pytest.approx(90.0, abs=1e-6) and x1.setpoint == pytest.approx(40.0, abs=1e-6)
+
+
+FIVE_AXIS_CHAIN = ("X1", "Y1", "Z1", "A1", "C1")  # mill_5axis, see test_five_axis_channel.py
+
+
+def _tool_tip(rig: Rig) -> tuple[float, ...]:
+    return tuple(rig.sim.axis_quantity("CHAN1", f"toolTip{axis}") for axis in "XYZ")
+
+
+def test_an_esr_under_g43_4_retracts_z1_off_the_tool_path_while_the_others_run_on_along_it() -> None:
+    # Z1 retract axis (MD37500 = 21, POLF[Z] = IC(20)), the others stop axes: MD21380 0.1 s, MD21381 0.04 s.
+    # N50 turns C1 under the fixed tip (350, 250, -280): X1 / Y1 follow on a circle, Z1's share is constant.
+    esr = ("CHAN1: {MD20700: 0, MD62950: [100.0, 50.0], MD21380: 0.1, MD21381: 0.04}\n" + "\n".join(
+        f"{axis}: {{MD30240: [4], MD34210: [2], MD37500: {21 if axis == 'Z1' else 22}}}" for axis in FIVE_AXIS_CHAIN))
+    rig = Rig(machine(esr, FIVE_AXIS))
+    rig.ready_mda(*FIVE_AXIS_CHAIN)
+    rig.mda("N1 IDS=1 WHENEVER $A_IN[1]==1 DO $AC_ESR_TRIGGER=1\n"
+            "N2 $AA_ESR_ENABLE[X]=1 $AA_ESR_ENABLE[Y]=1 $AA_ESR_ENABLE[Z]=1 $AA_ESR_ENABLE[A1]=1 $AA_ESR_ENABLE[C1]=1\n"
+            "N3 LFPOS POLF[Z]=IC(20) POLFMASK(Z)\nG90 G0 X350 Y250 Z-180 A0 C0\nG43.4 H1\nN50 G1 C90 F2000\nM30")
+    c1, z1 = rig.axis("C1"), rig.axis("Z1")
+    rig.run_until(lambda: block_number(rig) == 50 and c1.setpoint > 20.0, 20000)
+    velocity = c1.command_velocity  # 33.3 deg/s
+    rig.set("NC.basic.out.setDigitalInputs", 1)
+    rig.step(1)
+    trigger_cycle, z_at_trigger = rig.nck.cycle, z1.setpoint
+    rig.run_until(lambda: c1.command_velocity < velocity - 1e-6, 200)
+    assert (rig.nck.cycle - trigger_cycle) * DT == pytest.approx(0.1, abs=2 * DT)  # MD21380 along the tool path
+    rig.run_until(lambda: c1.command_velocity == 0.0, 200)
+    assert (rig.nck.cycle - trigger_cycle) * DT <= 0.14 + 2 * DT  # braked within MD21381
+    assert 20.0 + velocity * 0.1 < c1.setpoint < 90.0
+    rig.step(300)
+    assert z1.setpoint == pytest.approx(z_at_trigger + 20.0, abs=1e-6)  # POLF: the machine axis + 20
+    # X1 / Y1 stayed on the tool path: the tip is still above (350, 250), 20 mm higher with Z1
+    assert _tool_tip(rig) == pytest.approx((350.0, 250.0, -260.0), abs=5e-3)
+
+
+def test_a_fast_retraction_under_the_inclined_pair_moves_on_the_program_line() -> None:
+    # turn_mill: Y1 inclined at theta = -30 degrees to X1 (radius programming, C = 1): program
+    # (Xp, Yp) stands on the slides at Ya = Yp / cos(theta), Xa = Xp - Yp tan(theta).  G17, ALF=3:
+    # 10 mm in +Y, from program Y 20 to 30 with X 60 kept.
+    rig = spindle_rig()
+    channel = rig.nck.channels[0]
+    assert channel.inclined is not None and channel.inclined.parameters.diameter_factor == 1.0
+    run_mda(rig, "N55 M3 S500 G90 G17\nN68 G0 Z5 Y20\nN69 X60\nN70 G33 Z30 K5 LFON DILF=10 LFWP ALF=3\n"
+                 "N72 G1 X70 F100\nM30")
+    x1, y1, z1 = axis(rig, "X1"), axis(rig, "Y1"), axis(rig, "Z1")
+    rig.run_until(lambda: block_number(rig) == 70 and z1.actual > 15, 20000)
+    rig.set("CHAN1.basic.out.ncStop", 1)
+    for _ in range(300):
+        rig.step(1)
+        assert rig.nck.program_position("X1") == pytest.approx(60.0, abs=1e-6)  # on the program line
+    theta = math.radians(-30.0)
+    assert y1.setpoint == pytest.approx(30.0 / math.cos(theta), abs=1e-6)  # 34.641
+    assert x1.setpoint == pytest.approx(60.0 - 30.0 * math.tan(theta), abs=1e-6)  # 77.321

@@ -221,3 +221,23 @@ def test_a_number_may_end_in_its_decimal_point() -> None:
     assert single("G1X10.Z-2. F500").items == (Word("G", 1.0), Word("X", 10.0), Word("Z", -2.0), Word("F", 500.0))
     assert single("X100.5 Y.5").items == (Word("X", 100.5), Word("Y", 0.5))
     assert single("LFON.").error  # a point after a name is no number
+
+
+def test_chained_address_words_with_fractions() -> None:
+    assert single("G1X10.5").items == (Word("G", 1.0), Word("X", 10.5))
+    assert single("N10G1X10.5Z-2.25F.5").items == (Word("G", 1.0), Word("X", 10.5), Word("Z", -2.25),
+                                                    Word("F", 0.5))
+    assert single("G1X+.5Y100.").items == (Word("G", 1.0), Word("X", 0.5), Word("Y", 100.0))
+    assert single("X1.5=2").error  # a name cannot hold a point
+    assert single("X10ABC").items == (Keyword("X10ABC"),)  # goes on as a name: no address words
+    assert single("FA[S2]=3600 COUPON(S2,S1,77)").items == (Assignment("FA", "S2", 3600.0),
+                                                            Call("COUPON", ("S2", "S1", 77.0)))
+
+
+def test_a_labelled_jump_block_carries_its_label_and_jumps_to_it() -> None:
+    blocks = parse_program("N10 G1 X1\nMM: IF $AC_LIFTFAST GOTOB MM\nN20 GOTOB MM")
+    assert blocks[1].items == (Label("MM"), Jump("GOTOB", "MM", "$AC_LIFTFAST"))
+    assert jump_target(blocks, 2, Jump("GOTOB", "MM")) == 1
+    assert jump_target(blocks, 1, Jump("GOTOB", "MM")) == 1  # its own label, before the jump
+    assert jump_target(blocks, 1, Jump("GOTOF", "MM")) is None
+    assert single("N5 LOOP_1: GOTOF END").items == (Label("LOOP_1"), Jump("GOTOF", "END"))

@@ -24,10 +24,10 @@ from vc.core.spindle import Spindle, SpindleMode
 IPO = 0.002
 
 
-def spindle_rig(extra: str = "") -> Rig:
-    """The machine in MDA with the overrides at 100 %; the PLC reports SP1's gearbox in stage 1
-    (16.0-16.2), which the NC takes over in reset state."""
-    rig = Rig(machine(ABSOLUTE_XYZ + ("\n" + extra if extra else "")))
+def spindle_rig(extra: str = "", base: str = ABSOLUTE_XYZ) -> Rig:
+    """The machine (``base`` machine data, then ``extra``) in MDA with the overrides at 100 %; the PLC
+    reports SP1's gearbox in stage 1 (16.0-16.2), which the NC takes over in reset state."""
+    rig = Rig(machine(base + ("\n" + extra if extra else "")))
     rig.ready_mda()
     for name in ("SP1", "SP2"):
         rig.set(f"{name}.spindle.out.ovrFactor", 100)
