@@ -259,6 +259,9 @@ class MachineAxis:
         self.overlay = 0.0
         self.overlay_velocity = 0.0
         self.disturbance_velocity = 0.0  # a load the drive must hold against (plant fault), per second
+        # on the speed controller alone (the FS of a VV coupling without position control, L21965-21968):
+        # the drive gets the setpoint's speed and nothing pulls the slide back to the setpoint position
+        self.speed_control = False
         # a part clamped in this spindle and another: the slide is held at k x the other's position + offset
         self.clamp: tuple[MachineAxis, float, float] | None = None
 
@@ -561,7 +564,10 @@ class MachineAxis:
         symmetrising = bool(feedforward or self._model_velocity)
         # The model and the slide are compared at the same instant, then both move on.
         compare = self._model_position if symmetrising else loop_setpoint
-        velocity_command = dyn.kv * (compare - self.actual) + feedforward
+        if self.speed_control:
+            velocity_command = (loop_setpoint - previous) / dt
+        else:
+            velocity_command = dyn.kv * (compare - self.actual) + feedforward
         limit = 1.2 * dyn.max_velocity
         velocity_command = max(-limit, min(limit, velocity_command))
         self._drive_velocity += (velocity_command - self._drive_velocity) * lag
@@ -570,7 +576,7 @@ class MachineAxis:
             self._model_position += self._model_velocity * dt
         else:
             self._model_position = loop_setpoint
-        if (self.command_velocity == 0.0 and abs(loop_setpoint - self.actual) < _RESOLUTION
+        if (not self.speed_control and self.command_velocity == 0.0 and abs(loop_setpoint - self.actual) < _RESOLUTION
                 and abs(self._drive_velocity) < _RESOLUTION / dt and abs(self._model_velocity) < _RESOLUTION / dt):
             # Settled below the measuring resolution: the slide stands on the setpoint.
             self.physical += loop_setpoint - self.actual
@@ -610,6 +616,15 @@ class MachineAxis:
         encoder.limit_velocity = rotary_frequency_limit_velocity(md, encoder.index, turn)
         encoder.resync_velocity = encoder.limit_velocity * md.float(MD.ENC_FREQ_LIMIT_LOW, encoder.index) / 100.0
         self._lowest_limit_velocity = min(each.limit_velocity for each in self.encoders)
+
+    def set_speed_control(self, on: bool) -> None:
+        """Position control off (``on``) or back on: the position loop takes over where the slide is,
+        not where the setpoint ran ahead of it."""
+        if self.speed_control and not on:
+            self.setpoint = self._loop_setpoint = self._model_position = self.actual
+            if self.jerk_filter:
+                self.jerk_filter.reset(self.actual)
+        self.speed_control = on
 
     def set_loop_gain(self, kv: float) -> None:
         """The servo gain of the active parameter set (MD32200[n], e.g. a spindle's gear stage)."""

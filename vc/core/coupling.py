@@ -18,7 +18,8 @@ coupled FS's position setpoint once per IPO cycle after the LS has moved::
   the FS, which needs DBX26.4) and follow-up while the FS has no controller enable.
 
 The LS position is its setpoint for DV and VV and its actual value for AV (and for DV while
-the LS has no controller enable, which the control does internally, L23232-23246).
+the LS has no controller enable, which the control does internally, L23232-23246).  A VV FS
+without position control runs on its speed controller: a load shifts its position for good.
 
 Monitoring (every IPO cycle, L22434, L29557-29560): for DV/AV the deviation is the actual
 relation ``phi_FS - k x phi_LS`` minus the relation the coupling heads for (programmed offset,
@@ -359,6 +360,7 @@ class Couplings:
             return 0 if following in self.definitions else ALARM_COUPLING_NOT_DEFINED
         fs = self._spindles[following]
         velocity = fs.axis.command_velocity
+        fs.axis.set_speed_control(False)
         self._switch_position_control(coupling, on=False)
         fs.leave_synchronous_mode(0.0 if stop else velocity / RPM)
         self._alarms.clear(ALARM_OVERLAY_NOT_ENABLED, axis=following)
@@ -612,6 +614,9 @@ class Couplings:
         self._follow_coordinate_shifts(coupling, axis, ls.axis)
         position, velocity = self._leading(coupling)
         accel = fs.coupled_acceleration()
+        # VV: only the speed is coupled; an FS without position control runs on its speed controller,
+        # so what a load takes from its position stays lost (L21965-21968)
+        axis.set_speed_control(coupling.definition.kind is Kind.VV and not fs.position_control)
         # the LS's disable acts on the FS as well; the FS's own is ignored while coupled (L23212-23230)
         axis.disable_by_coupling = ls.axis.inputs.disable
         # the FS's spindle stop brakes the coupled group unless MD30455 bit 4 limits it to the FS's own

@@ -30,7 +30,7 @@ File grammar (``[...]`` = optional)::
       program: {name: NAME, text: TEXT | file: PATH, channel: CHANNEL}   select for AUTOMATIC
       wait: DURATION | {until: CONDITION, timeout: DURATION}   timeout default: the scenario's
       expect: CONDITION | {NAME: EXPECTED, ...}
-      expect_alarm: NUMBER | {number: NUMBER, axis: AXIS | channel: CHANNEL}       present now
+      expect_alarm: NUMBER | {number: NUMBER, axis: AXIS | channel: CHANNEL, text: TEXT}   present now
       expect_no_alarm: NUMBER | all | {number: NUMBER, axis: AXIS | channel: CHANNEL}
       expect_order: [EVENT, EVENT, ...]                  two or more
       expect_timing: {from: EVENT, to: EVENT, min: DURATION, max: DURATION}    min, max or both

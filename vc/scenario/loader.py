@@ -722,10 +722,10 @@ class _ScenarioChecker:
 
     def alarm_step(self, index: int, mark: Mark, value: Any, value_mark: Mark, present: bool) -> Step | None:
         kind = "expect_alarm" if present else "expect_no_alarm"
-        place = ""
+        place, text = "", ""
         number_value, number_mark = value, value_mark
         if isinstance(value, LocatedMap):
-            if not self.check_keys(value, ("number", "axis", "channel"), ("number",), kind):
+            if not self.check_keys(value, ("number", "axis", "channel", "text"), ("number",), kind):
                 return None
             if "axis" in value and "channel" in value:
                 self.add(value.mark, f"{kind} takes 'axis' or 'channel', not both")
@@ -736,6 +736,10 @@ class _ScenarioChecker:
                     if not place:
                         return None
             number_value, number_mark = value["number"], value.mark_of("number")
+            text = value.get("text", "")
+            if not isinstance(text, str):
+                self.add(value.mark_of("text"), f"{kind}: text takes a part of the alarm text, e.g. 'block N20'")
+                return None
         if not present and number_value == "all" and not place:
             return ExpectAlarm(index, kind, mark, 0, "", present)
         if isinstance(number_value, bool) or not isinstance(number_value, int):
@@ -749,7 +753,7 @@ class _ScenarioChecker:
             self.add(number_mark, f"alarm {number_value} is not an alarm of the simulated control"
                      f" (known: {known})")
             return None
-        return ExpectAlarm(index, kind, mark, number_value, place, present)
+        return ExpectAlarm(index, kind, mark, number_value, place, present, text)
 
     def step_expect_order(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
         if not isinstance(value, LocatedList) or len(value) < 2:

@@ -162,6 +162,7 @@ class ExpectAlarm(Step):
     number: int
     place: str  # axis or channel; "" = anywhere
     present: bool
+    text: str = ""  # a part of the alarm text it must show (its block, spindle ...); "" = any
 
 
 @dataclass(frozen=True, slots=True)

@@ -148,9 +148,9 @@ class _Probe:
         start, seconds_per_cycle = self.start_cycle, target.ipo_cycle_us / 1e6
         return lambda: (target.cycle - start) * seconds_per_cycle
 
-    def alarm_present(self, number: int, place: str) -> bool:
+    def alarm_present(self, number: int, place: str, text: str = "") -> bool:
         return any(alarm.number == number and (not place or place in (alarm.axis, alarm.channel))
-                   for alarm in self.target.alarms())
+                   and text in alarm.text for alarm in self.target.alarms())
 
 
 @dataclass(slots=True)
@@ -373,11 +373,12 @@ class _Run:
 
     def expect_alarm(self, step: ExpectAlarm) -> None:
         place = f" ({step.place})" if step.place else ""
+        place += f" showing '{step.text}'" if step.text else ""
         alarms = list(self.target.alarms())
         present = ", ".join(_alarm_text(alarm.number, alarm.axis or alarm.channel, alarm.text)
                             for alarm in alarms) or "none"
         if step.present:
-            if not self.probe.alarm_present(step.number, step.place):
+            if not self.probe.alarm_present(step.number, step.place, step.text):
                 raise self.fail(step, f"expected alarm {step.number}{place} to be present;"
                                 f" present alarms: {present}")
             return
@@ -385,7 +386,7 @@ class _Run:
             if alarms:
                 raise self.fail(step, f"expected no alarm; present alarms: {present}")
             return
-        if self.probe.alarm_present(step.number, step.place):
+        if self.probe.alarm_present(step.number, step.place, step.text):
             raise self.fail(step, f"expected no alarm {step.number}{place}; present alarms: {present}")
 
     def occurrences(self, event: Event) -> list[int]:
