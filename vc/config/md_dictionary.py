@@ -138,6 +138,13 @@ REFP_NC_START_LOCK = MdDef(20700, "REFP_NC_START_LOCK", C, INT, 1,
 SPOS_TO_VDI = MdDef(20850, "SPOS_TO_VDI", C, INT, 0,
                     "bit 0 = 1: SPOS/SPOSA output the auxiliary function M19 to the PLC",
                     "seed 003 L16406-16420; [control] default", "", 0, 1)
+CIRCLE_ERROR_CONST = MdDef(21000, "CIRCLE_ERROR_CONST", C, FLOAT, 0.01,
+                           "G2/G3: the end point's radius may differ from the start radius by this or by"
+                           " MD21010 x the start radius, whichever is larger (else alarm 14040)",
+                           "[control] number, name and default (not in the seeds)", "mm", 0.0, 1.0e3)
+CIRCLE_ERROR_FACTOR = MdDef(21010, "CIRCLE_ERROR_FACTOR", C, FLOAT, 0.001,
+                            "G2/G3: radius difference allowed at the end point as a share of the start radius",
+                            "[control] number, name and default (not in the seeds)", "", 0.0, 1.0)
 LIFTFAST_DIST = MdDef(21200, "LIFTFAST_DIST", C, FLOAT, 0.1,
                       "default retract distance of fast retraction (LFON); DILF overrides it until reset",
                       "seed 003 L8266-8273, L8398; [control] default", "mm", 0.0, 1.0e6)
@@ -598,6 +605,35 @@ INCL_AXIS_ORTHO_DIAMETER = MdDef(62808, "INCL_AXIS_ORTHO_DIAMETER", C, BOOL, Fal
                                  "the orthogonal axis is programmed in diameter: coefficient C = 2 in"
                                  " Xa = Xp - C Yp tan(theta) (0: radius, C = 1); project machine datum",
                                  "seed 000 L20-22")
+
+# Stored stroke limits 2 (G22 / G23) and 3, which seed 000 L264-291, L414-429 names for the
+# inclined-axis control with the FANUC / GSK convention but without their parameters: the
+# control's parameters 1300 #0, 1310 #0 / #1 and 1322-1325 as project machine data (62810..),
+# each saying which parameter it carries (vc/core/stroke_limits.py).
+STROKE2_OUTSIDE_FORBIDDEN = MdDef(62810, "STROKE2_OUTSIDE_FORBIDDEN", C, BOOL, False,
+                                  "stored stroke limit 2: 0 = the inside of its box is forbidden, 1 = the outside"
+                                  " (FANUC / GSK parameter 1300 #0 OUT); project machine datum",
+                                  "seed 000 L264-291 (G22/G23); [control] parameter")
+STROKE2_CHECK = MdDef(62811, "STROKE2_CHECK", A, BOOL, False,
+                      "the axis is checked by stored stroke limit 2 (FANUC / GSK parameter 1310 #0 OT2x); project"
+                      " machine datum", "seed 000 L264-291; [control] parameter")
+STROKE2_LIMIT_PLUS = MdDef(62812, "STROKE2_LIMIT_PLUS", A, FLOAT, 0.0,
+                           "stored stroke limit 2, upper bound of the axis (FANUC / GSK parameter 1322; G22 sets"
+                           " it); project machine datum", "seed 000 L264-291; [control] parameter", "mm",
+                           -1.0e9, 1.0e9)
+STROKE2_LIMIT_MINUS = MdDef(62813, "STROKE2_LIMIT_MINUS", A, FLOAT, 0.0,
+                            "stored stroke limit 2, lower bound of the axis (FANUC / GSK parameter 1323; G22 sets"
+                            " it); project machine datum", "seed 000 L264-291; [control] parameter", "mm",
+                            -1.0e9, 1.0e9)
+STROKE3_CHECK = MdDef(62814, "STROKE3_CHECK", A, BOOL, False,
+                      "the axis is checked by stored stroke limit 3, inside forbidden (FANUC / GSK parameter 1310"
+                      " #1 OT3x); project machine datum", "seed 000 L264-291, L427-429; [control] parameter")
+STROKE3_LIMIT_PLUS = MdDef(62815, "STROKE3_LIMIT_PLUS", A, FLOAT, 0.0,
+                           "stored stroke limit 3, upper bound of the axis (FANUC / GSK parameter 1324); project"
+                           " machine datum", "seed 000 L264-291; [control] parameter", "mm", -1.0e9, 1.0e9)
+STROKE3_LIMIT_MINUS = MdDef(62816, "STROKE3_LIMIT_MINUS", A, FLOAT, 0.0,
+                            "stored stroke limit 3, lower bound of the axis (FANUC / GSK parameter 1325); project"
+                            " machine datum", "seed 000 L264-291; [control] parameter", "mm", -1.0e9, 1.0e9)
 
 # ---------------------------------------------------------------------------------- five-axis kinematics (Syntec)
 # The five-axis mechanism chain of seed 001 (Syntec parameters of chain group 1) as machine

@@ -77,6 +77,11 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         " reset clears it once the PLC shows its sign of life again"),
         AlarmDefinition(2001, "PLC has not started up", Reaction.RAPID_STOP | _STOP | Reaction.MODE_GROUP,
                         Clear.RESET, "[control] number and text; cleared by a reset once the PLC runs"),
+        *(AlarmDefinition(number, f"Channel %1 block %2 axis %3 {sign} overtravel (stored stroke limit {limit}, "
+                                  f"OT0{number})", _STOP, Clear.RESET,
+                          "seed 000 L264-291, L414-429 (stored stroke limits 2 and 3 of the inclined-axis control;"
+                          " the seed names no numbers); [control] FANUC / GSK OT0502-OT0505; block = JOG in JOG")
+          for number, sign, limit in ((502, "+", 2), (503, "-", 2), (504, "+", 3), (505, "-", 3))),
         AlarmDefinition(3000, "Emergency stop", Reaction.RAPID_STOP | _STOP | Reaction.MODE_GROUP,
                         Clear.EMERGENCY_STOP_ACK, "[control]"),
         AlarmDefinition(10203, "Channel %1 NC start without reference point (action=%2)",
@@ -90,6 +95,9 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
         AlarmDefinition(12080, "Channel %1 block %2 syntax error in text %3", _STOP, Clear.RESET, "[control]"),
         AlarmDefinition(12550, "Channel %1 block %2 name %3 not defined or option/function not available",
                         _STOP, Clear.RESET, "[control]"),
+        AlarmDefinition(14040, "Channel %1 block %2 error in end point of circle: %3", _STOP, Clear.RESET,
+                        "[control] number and text (G2/G3: end point off the circle beyond MD21000 / MD21010,"
+                        " radius too small, full circle with a radius); the reason as %3"),
         AlarmDefinition(14080, "Channel %1 block %2 jump destination %3 not found", _STOP, Clear.RESET,
                         "[control]"),
         AlarmDefinition(14800, "Channel %1 block %2 programmed path velocity is less than or equal to zero",

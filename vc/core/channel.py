@@ -16,6 +16,7 @@ Block execution, one phase at a time::
     DECODE ──spindle gear change or M70 in the block──▶ SPINDLE ──done──▶ (motion, dwell, BLOCK_END)
     BLOCK_END ──window reached, read-in not disabled──▶ DECODE (next block)
     INTERPOLATE ──an axis braked off the path (e-stop, limit switch)──▶ CONTOUR_LOST ──RESET──▶ DECODE
+    INTERPOLATE ──the path ended on a stored stroke limit 2 / 3 (G22)──▶ CONTOUR_LOST
 
 A block is decoded only when it is about to run, so a faulty block raises its alarm when
 execution reaches it, and a software limit switch in the block stops the program before
@@ -30,13 +31,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import CHANNEL_INTERRUPT, NC_START_DISABLED, STOP_AXES, AlarmList, Clear
-from vc.core.axis import MachineAxis, Owner
+from vc.core.axis import FREE_JOG, JogLimits, MachineAxis, Owner
 from vc.core.coupling import ALARM_COUPLING_ACTIVE, Couplings
 from vc.core.coupling_types import BlockChange, block_change_of, kind_of
 from vc.core.esr import ChannelEsr
@@ -48,9 +50,11 @@ from vc.core.interpreter import (
     EXACT_STOP_FINE,
     BlockPlan,
     CouplingCommand,
+    DecodeAlarm,
     ModalState,
     SpindleCommand,
     decode,
+    software_limit_alarm,
 )
 from vc.core.overrides import OverrideCoding
 from vc.core.path import PathSegment
@@ -59,6 +63,7 @@ from vc.core.program import Block, Jump, jump_target, parse_program
 from vc.core.referencing import Source, State
 from vc.core.referencing_control import ReferencingControl
 from vc.core.spindle import SUPPRESS_IN_DRY_RUN, SUPPRESS_IN_PROGRAM_TEST, Spindle, SpindleMode
+from vc.core.stroke_limits import BOUNDARY, StrokeLimitControl, StrokeStop
 from vc.core.sync_actions import SyncActionError, parse_condition
 from vc.core.thread_cutting import THREAD_SPINDLE_STANDS, ThreadSegment
 from vc.core.tool_path import ToolPathSegment
@@ -173,6 +178,9 @@ class Channel:
         self.axes = axes
         self.axes_by_name = {axis.name: axis for axis in axes}
         self.five_axis = FiveAxisControl(config, self.axes_by_name)  # G43.4, G43, G68.2, G53.1 (seed 001)
+        self.stroke_limits = StrokeLimitControl(self.axes_by_name,  # G22 / G23, stroke limit 3 (seed 000)
+                                                not config.md.bool(MD.STROKE2_OUTSIDE_FORBIDDEN))
+        self._stroke_stop: StrokeStop | None = None  # the running block ends on a stroke limit boundary
         self.inclined: InclinedAxisControl | None = None  # inclined-axis control (seed 000), given by the NCK
         self._alarms = alarms
         self._feed_coding = feed_coding
@@ -263,10 +271,13 @@ class Channel:
         self._end_program()
         if self.inclined is not None:
             self.inclined.reset()
+        self._stroke_stop = None
         self.reference_groups = []
         for axis in self.axes:
             if axis.owner is Owner.JOG:
                 axis.brake()
+            if axis.at_software_limit:
+                self._alarms.clear(10621, axis=axis.name)  # its monitor only clears what it still sees
             axis.at_software_limit = 0
         self._reset_couplings()
         for spindle in self.spindles.values():
@@ -393,7 +404,7 @@ class Channel:
             return
         hold = (self.state is not ChannelState.ACTIVE or bool(reactions & STOP_AXES)) and not path_runs_on
         if self._phase is Phase.INTERPOLATE:
-            self._interpolate(hold)
+            self._interpolate(hold, cycle)
         elif self._phase is Phase.REFERENCE:
             self._g74(cycle)
         elif self._phase is Phase.SPINDLE and not hold:
@@ -452,7 +463,7 @@ class Channel:
                     axis.release()
         self._segment = None
 
-    def _interpolate(self, hold: bool) -> None:
+    def _interpolate(self, hold: bool, cycle: int) -> None:
         if self._thread is not None:
             self._thread_cycle()
             return
@@ -475,6 +486,10 @@ class Channel:
         segment.cycle(override, blocked, self._dt)
         if segment.finished:
             self._release_segment()
+            if self._stroke_stop is not None:
+                self._phase = Phase.CONTOUR_LOST  # the block cannot go on; RESET ends it
+                self._raise_stroke_alarm(self._stroke_stop, cycle)
+                return
             if self._leg_finished():
                 return
             self._phase = Phase.BLOCK_END
@@ -565,6 +580,8 @@ class Channel:
             return
         self._plan = plan
         self._waits = []
+        if plan.stroke_limit is not None:
+            self.stroke_limits.apply(plan.stroke_limit)
         if not self._coupling_functions(plan, cycle, block):
             self.stop()
             return
@@ -765,10 +782,18 @@ class Channel:
         if plan.tapping is not None and not self._plan_tapping(plan, cycle):
             return
         axes = [self.axes_by_name[name] for name in plan.targets]
+        if tool_path is None and plan.arc is not None:
+            arc_path = self._arc_path(plan, axes)
+            if isinstance(arc_path, DecodeAlarm):
+                self._alarms.raise_alarm(arc_path.number, cycle, *arc_path.parameters, channel=self.name,
+                                         axis=arc_path.axis)
+                self.stop()
+                return
+            tool_path = arc_path
         for axis in axes:
             if axis.owner is not Owner.NONE and axis.owner is not Owner.PATH:
                 axis.brake()
-        self._segment = tool_path if tool_path is not None else PathSegment.plan(
+        segment = tool_path if tool_path is not None else PathSegment.plan(
             axes,
             [plan.targets[axis.name] for axis in axes],
             [axis.name in self._geometry for axis in axes],
@@ -776,10 +801,104 @@ class Channel:
             plan.rapid,
             plan.path_length,
         )
+        stop = self.stroke_limits.path_stop(self._segment_point(segment), isinstance(segment, PathSegment),
+                                            self._stroke_point)
+        if stop is not None and stop.fraction <= BOUNDARY:
+            self._raise_stroke_alarm(stop, cycle)  # starts in a forbidden area or at its boundary towards it
+            return
+        if stop is not None:
+            segment = self._shortened(segment, stop.fraction, plan.path_length)
+        self._stroke_stop = stop
+        self._segment = segment
         for axis in axes:
             axis.take(Owner.PATH)
         self._phase = Phase.INTERPOLATE
-        self._interpolate(False)
+        self._interpolate(False, cycle)
+
+    def _arc_path(self, plan: BlockPlan, axes: list[MachineAxis]) -> ToolPathSegment | DecodeAlarm:
+        """G2 / G3: the arc is interpolated in program coordinates and every IPO cycle its point goes
+        to the machine axes, through the inclined-axis mapping for the pair (seed 000 L194-204); the
+        end is the block's machine end point.  The software limits of the other axes are checked
+        along the arc before it moves (the pair's where its AOT bit says, when it was planned)."""
+        arc = plan.arc
+        assert arc is not None
+        names = [axis.name for axis in axes]
+        inclined = self.inclined
+
+        def positions_at(fraction: float) -> list[float]:
+            if fraction >= 1.0:
+                return [plan.targets[name] for name in names]
+            point = arc.point(fraction)
+            if inclined is not None:
+                point = inclined.path_positions(point)
+            return [point[name] for name in names]
+
+        segment = ToolPathSegment.plan(axes, positions_at, arc.length, plan.feed / 60.0, plan.rapid)
+        checked_elsewhere = inclined.machine_axes if inclined is not None else ()
+        label = self.current_block.label if self.current_block is not None else ""
+        for sample in segment.samples:
+            for axis, position in zip(axes, sample, strict=True):
+                alarm = None if axis.name in checked_elsewhere else \
+                    software_limit_alarm(self.name, label, axis, position)
+                if alarm is not None:
+                    return alarm
+        return segment
+
+    # ------------------------------------------------------------------ stored stroke limits 2 and 3
+    def _stroke_point(self, limit: int, machine: dict[str, float]) -> dict[str, float]:
+        """Machine positions in the coordinates stroke limit ``limit`` is checked in."""
+        return self.inclined.stroke_point(limit, machine) if self.inclined is not None else machine
+
+    @staticmethod
+    def _segment_point(segment: PathSegment | ToolPathSegment) -> Callable[[float], dict[str, float]]:
+        """The machine positions of the segment's axes at a fraction of its path."""
+        names = [axis.name for axis in segment.axes]
+        if isinstance(segment, PathSegment):
+            starts, ends = list(segment.starts), list(segment.ends)
+            return lambda fraction: {name: start + (end - start) * fraction
+                                     for name, start, end in zip(names, starts, ends, strict=True)}
+        positions_at = segment.positions_at
+        return lambda fraction: dict(zip(names, positions_at(fraction), strict=True))
+
+    def _shortened(self, segment: PathSegment | ToolPathSegment, fraction: float,
+                   program_length: float | None) -> PathSegment | ToolPathSegment:
+        """The same path up to ``fraction``: it decelerates onto the stroke limit's boundary."""
+        if isinstance(segment, PathSegment):
+            point = self._segment_point(segment)(fraction)
+            return PathSegment.plan(segment.axes, [point[axis.name] for axis in segment.axes],
+                                    [axis.name in self._geometry for axis in segment.axes],
+                                    segment.command_velocity, segment.rapid,
+                                    program_length * fraction if program_length else None)
+        positions_at = segment.positions_at
+        return ToolPathSegment.plan(segment.axes, lambda part: positions_at(part * fraction),
+                                    segment.length * fraction, segment.command_velocity, segment.rapid)
+
+    def _raise_stroke_alarm(self, stop: StrokeStop, cycle: int) -> None:
+        label = self.current_block.label if self.current_block is not None else ""
+        self._stroke_stop = None
+        self._alarms.raise_alarm(stop.number, cycle, self.name, label, stop.axis, channel=self.name, axis=stop.axis)
+        self.stop()
+
+    def stroke_jog_limits(self, axis: MachineAxis, cycle: int) -> JogLimits:
+        """JOG stops on the boundary of stored stroke limits 2 and 3; held against it, the key raises
+        the limit's alarm (docstring of ``vc/core/stroke_limits.py``)."""
+        keys = axis.inputs
+        if not (keys.key_plus or keys.key_minus or axis.owner is Owner.JOG):
+            return FREE_JOG
+        inclined = self.inclined
+        travel = inclined.jog_travel(axis) if inclined is not None else {axis.name: 1.0}
+        room = self.stroke_limits.jog_room(travel, self._stroke_point)
+        if room is None:
+            return FREE_JOG
+        low, high, low_number, high_number, reached = room
+        pressed = 1 if keys.key_plus and not keys.key_minus else -1 if keys.key_minus and not keys.key_plus else 0
+        if axis.command_velocity == 0.0 and ((pressed > 0 and high <= BOUNDARY) or (pressed < 0 and low >= -BOUNDARY)):
+            self._alarms.raise_alarm(high_number if pressed > 0 else low_number, cycle, self.name, "JOG", reached,
+                                     channel=self.name, axis=reached)
+        window = (axis.setpoint + low, axis.setpoint + high)
+        if axis.software_limits_active and (inclined is None or axis.name not in inclined.machine_axes):
+            window = (max(window[0], axis.dyn.limit_minus), min(window[1], axis.dyn.limit_plus))
+        return JogLimits(plus=high > BOUNDARY, minus=low < -BOUNDARY, window=window)
 
     def _plan_tapping(self, plan: BlockPlan, cycle: int) -> bool:
         """G331 / G332: the spindle's end point from the drilling travel and the pitch, and the path

@@ -275,16 +275,24 @@ class FiveAxisControl:
         first = (angles.first, target_angles.first)
         second = (angles.second, target_angles.second)
         single = len(self.rotary) == 1
+        arc, names = plan.arc, [axis.name for axis in self.linear]
+
+        def program_at(fraction: float) -> Vec3:
+            if arc is None or fraction >= 1.0:
+                return start + (end - start) * fraction
+            point = arc.point(fraction)  # G2 / G3: the tip on the arc in program coordinates
+            return Vec3(*(point.get(name, value) for name, value in zip(names, (start.x, start.y, start.z),
+                                                                          strict=True)))
 
         def positions_at(fraction: float) -> list[float]:
             turned = RotaryAngles(first[0] + (first[1] - first[0]) * fraction,
                                   second[0] + (second[1] - second[0]) * fraction)
-            point = linear if keep_linear else self.to_machine(modal, start + (end - start) * fraction, turned)
+            point = linear if keep_linear else self.to_machine(modal, program_at(fraction), turned)
             return [point.x, point.y, point.z, turned.first] + ([] if single else [turned.second])
 
         # F is the velocity of the tool tip; when the tip stands (a pure orientation change) it is
         # the rotary axes' velocity in degrees/min [control: as for an ordinary rotary-axis block].
-        length = end.distance(start)
+        length = arc.length if arc is not None else end.distance(start)
         if length < 1e-9:
             length = math.hypot(first[1] - first[0], second[1] - second[0])
         return ToolPathSegment.plan(self.linear + self.rotary, positions_at, length, plan.feed / 60.0, plan.rapid)

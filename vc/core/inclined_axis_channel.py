@@ -8,7 +8,8 @@ this module applies them to the channel's two machine axes:
   position display (seed 000 L38-41);
 * ``plan``: a decoded block's Cartesian targets become machine end points: G0 / G1 through the
   mapping of the increment with NOZAGC as the PLC sets it (L194-204), G53 as machine positions
-  (L154-158), G28 / G30 through ``return_path`` with ARF (L72-84).  F is measured along the
+  (L154-158), G28 / G30 through ``return_path`` with ARF (L72-84); a G2 / G3 arc is mapped point
+  by point (``path_positions``) like G1 (L194-204).  F is measured along the
   Cartesian path, stored stroke limit 1 (MD36100 / MD36110) is checked where AOT says
   (L264-286), and the order rules and the functions that cannot run with this one refuse the
   block with their alarm (L88-100, L364-370);
@@ -32,12 +33,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Collection
+from collections.abc import Collection, Mapping
 
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis import FREE_JOG, JogLimits, MachineAxis, Owner
+from vc.core.circle import Arc
 from vc.core.interface_map import Bit, SignalTable
 from vc.core.interpreter import BlockPlan, DecodeAlarm, software_limit_alarm
 from vc.core.transforms.inclined_axis import (
@@ -61,6 +63,9 @@ from vc.core.transforms.inclined_axis import (
     to_program,
 )
 from vc.core.transforms.transform_alarm import INCLINED_G28_BLOCK, INCLINED_ORDER
+
+ARC_CHECK_POINTS_MIN = 32  # points of an arc checked against the stroke limits before it moves ...
+ARC_CHECK_POINTS_MAX = 512  # ... about one per mm of its path
 
 
 def at_reference_point(axis: MachineAxis, point: int = 0) -> bool:
@@ -86,6 +91,8 @@ class InclinedAxisControl:
         self._leg_drifts: list[float] = []  # the drift after each motion of the running block
         self._block_loses_reference = False  # the running block moves the inclined axis with NOZAGC = 1
         self._block_start_inclined = 0.0  # the inclined axis's setpoint when that block was planned
+        # the planned block's start, machine and program, and NOZAGC then: the mapping of its path
+        self._path_start = (AxisPair(0.0, 0.0), AxisPair(0.0, 0.0), False)
         self._carrying = False  # the orthogonal axis travels with a manual motion of the inclined axis
         theta = math.radians(parameters.angle)
         self._shift_per_travel = -parameters.diameter_factor * math.sin(theta)
@@ -178,13 +185,58 @@ class InclinedAxisControl:
             end = start.plus(machine_increment(self.parameters, increment, self.nozagc))
             drift = program_end.orthogonal - to_program(self.parameters, end).orthogonal
             plan.path_length = self._program_length(plan, increment)
+            self._path_start = (start, program_start, self.nozagc)
         refusal = self._stroke_limit(end, label)
+        if refusal is None and plan.arc is not None and not plan.machine_coordinates:
+            refusal = self._arc_stroke_limit(plan.arc, label)
         if refusal is not None:
             return refusal
         self._set_targets(plan.targets, start, end)
         self._leg_drifts = [drift]
         self._expect_reference_loss(start, not plan.machine_coordinates and
                                     reference_lost(AxisPair(0.0, end.inclined - start.inclined), self.nozagc))
+        return None
+
+    def path_positions(self, program: Mapping[str, float]) -> dict[str, float]:
+        """A point of the planned block's path in program coordinates (G2 / G3, cycle by cycle) as
+        machine positions: the pair's increment from the block's start goes through
+        ``machine_increment`` with NOZAGC as the block was planned, as for G0 / G1 (L194-204);
+        the other axes are as given."""
+        start, program_start, nozagc = self._path_start
+        orthogonal, inclined = self.machine_axes
+        increment = AxisPair(program.get(orthogonal, program_start.orthogonal) - program_start.orthogonal,
+                             program.get(inclined, program_start.inclined) - program_start.inclined)
+        machine = start.plus(machine_increment(self.parameters, increment, nozagc))
+        return {**program, orthogonal: machine.orthogonal, inclined: machine.inclined}
+
+    def stroke_point(self, limit: int, machine: dict[str, float]) -> dict[str, float]:
+        """Machine positions in the coordinates stored stroke limit ``limit`` (2 or 3) is checked in:
+        the pair's Cartesian position when AO2 / AO3 is 1, else as they are (L264-291, L424-429)."""
+        orthogonal, inclined = self.machine_axes
+        pair = AxisPair(machine.get(orthogonal, self.orthogonal.setpoint),
+                        machine.get(inclined, self.inclined.setpoint))
+        checked = stroke_check_position(self.parameters, StrokeLimit(limit), pair)
+        return {**machine, orthogonal: checked.orthogonal, inclined: checked.inclined}
+
+    def jog_travel(self, axis: MachineAxis) -> dict[str, float]:
+        """The machine travel of the axes per unit of JOG travel of ``axis``: the inclined axis carries
+        the orthogonal one with NOZAGC = 0 (L313, L377)."""
+        if axis is self.inclined and not self.nozagc:
+            return {axis.name: 1.0, self.orthogonal.name: self._shift_per_travel}
+        return {axis.name: 1.0}
+
+    def _arc_stroke_limit(self, arc: Arc, label: str) -> DecodeAlarm | None:
+        """Stored stroke limit 1 along an arc of the pair, at points at most 1 mm apart (at least 32,
+        at most 512), where AOT says."""
+        if not set(arc.plane_axes) & set(self.machine_axes):
+            return None
+        count = max(ARC_CHECK_POINTS_MIN, min(ARC_CHECK_POINTS_MAX, math.ceil(arc.length)))
+        orthogonal, inclined = self.machine_axes
+        for point in arc.points(count):
+            machine = self.path_positions(point)
+            refusal = self._stroke_limit(AxisPair(machine[orthogonal], machine[inclined]), label)
+            if refusal is not None:
+                return refusal
         return None
 
     def _expect_reference_loss(self, start: AxisPair, lost: bool) -> None:

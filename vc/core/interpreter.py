@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.axis import MachineAxis
+from vc.core.circle import CENTRE_WORDS, CIRCLE_END_POINT, PLANES, Arc, ArcTolerance, plan_arc
 from vc.core.coupling_types import block_change_of, kind_of
 from vc.core.drive_esr import MAX_DELAY_S, DriveEsrCommand, esrr_command, esrs_command
 from vc.core.five_axis_program import (
@@ -37,6 +38,7 @@ from vc.core.program import (
     Word,
 )
 from vc.core.retract_motion import LFPOS, LFTXT, LFWP, RetractProgramming
+from vc.core.stroke_limits import StrokeCommand
 from vc.core.sync_actions import SyncAction, SyncActionError, VariableWrite, parse_actions, parse_condition
 from vc.core.thread_cutting import ThreadCommand
 
@@ -62,6 +64,7 @@ class ModalState:
     # group 1 thread modes: "G33" (thread cutting), "G331"/"G332" (tapping); "" after G0/G1
     thread: str = ""
     plane: str = "G17"  # G17 / G18 / G19 working plane; reset value G17 (MD20150 as delivered) [control]
+    circle: str = ""  # group 1 circular interpolation: "G2" (clockwise) / "G3"; "" after G0/G1/G33/G331
     thread_lead: ThreadCommand | None = None  # the last G33 lead: it holds for G33 blocks without one
     retract: RetractProgramming = field(default_factory=RetractProgramming)  # LFON, DILF, ALF, POLF ...
 
@@ -74,6 +77,7 @@ class ModalState:
         self.five_axis.reset()
         self.thread = ""
         self.plane = "G17"
+        self.circle = ""
         self.thread_lead = None
         self.retract.reset()
 
@@ -170,6 +174,8 @@ class BlockPlan:
     reference_return: int = 0  # G28 = 1, G30 = 2: via the axis words (intermediate point) to reference point n
     return_targets: dict[str, float] = field(default_factory=dict)  # G28 / G30: machine axis -> reference point
     path_length: float | None = None  # the length F is measured along where a transform makes it differ
+    arc: Arc | None = None  # G2 / G3: the path in program coordinates (``targets`` hold its end point)
+    stroke_limit: StrokeCommand | None = None  # G22 (with the box corners it sets) / G23
 
 
 @dataclass(frozen=True, slots=True)
@@ -233,7 +239,8 @@ class _Decoder:
                                 if isinstance(item, Word) and item.address == "G"} & FIVE_AXIS_G_CODES
         if self.five_axis_codes:
             self.plan.five_axis = FiveAxisWords()
-        self.pitch_words: dict[str, float] = {}  # I / J / K: thread pitch of geometry axis 1 / 2 / 3
+        self.pitch_words: dict[str, float] = {}  # I / J / K: thread pitch (G33, G331) or circle centre (G2, G3)
+        self.radius_word: float | None = None  # R / CR=: circle radius (G2, G3)
         self.start_angle: float | None = None  # SF= of a G33 block
 
     def fail(self, number: int, *parameters: object, axis: str = "") -> None:
@@ -303,10 +310,12 @@ def _g_word(decoder: _Decoder, value: float) -> None:
     modal = decoder.modal
     if code != 74:
         decoder.other_g_words = True
+    if code in (0, 1, 2, 3, 33, 331, 332):
+        modal.circle = f"G{code:g}" if code in (2, 3) else ""  # one G group: the last motion word holds
     if code == 0:
         modal.rapid = True
         modal.thread = ""
-    elif code == 1:
+    elif code in (1, 2, 3):
         modal.rapid = False
         modal.thread = ""
     elif code == 33:
@@ -325,6 +334,8 @@ def _g_word(decoder: _Decoder, value: float) -> None:
         decoder.plan.machine_coordinates = True
     elif code in (28, 30):
         decoder.plan.reference_return = 1 if code == 28 else 2
+    elif code in (22, 23):
+        decoder.plan.stroke_limit = StrokeCommand(code == 22, {})
     elif code == 90:
         modal.absolute = True
     elif code == 91:
@@ -422,6 +433,10 @@ def _m_word(decoder: _Decoder, value: float) -> None:
 
 def _f_word(decoder: _Decoder, value: float) -> None:
     decoder.feed_word = value
+
+
+def _radius_word(decoder: _Decoder, value: float) -> None:
+    decoder.radius_word = value
 
 
 def _preseton(decoder: _Decoder, call: Call) -> None:
@@ -709,7 +724,7 @@ def _pitch_word(address: str) -> Callable[[_Decoder, float], None]:
 
 _PITCH_OF_GEOMETRY_AXIS = ("I", "J", "K")  # the pitch word of geometry axis 1, 2, 3 (seed 003 L17668-17675)
 _WORD_HANDLERS: dict[str, Callable[[_Decoder, float], None]] = {"G": _g_word, "M": _m_word, "F": _f_word,
-                                                                  "S": _s_word,
+                                                                  "S": _s_word, "R": _radius_word,
                                                                   **{address: _pitch_word(address)
                                                                      for address in _PITCH_OF_GEOMETRY_AXIS}}
 _ADDRESS_EXTENSION = re.compile(r"([MS])(\d+)$")  # M2=3, S2=500: the function of spindle 2
@@ -817,6 +832,9 @@ def _assignment(decoder: _Decoder, item: Assignment) -> None:
     if item.name == "S" and not item.index and isinstance(item.value, float):
         _s_word(decoder, item.value)
         return
+    if item.name == "CR" and not item.index and isinstance(item.value, float):
+        decoder.radius_word = item.value  # the SINUMERIK's circle radius (the ISO dialect's R)
+        return
     if item.index:
         decoder.unknown(f"{item.name}[{item.index}]")
     else:
@@ -904,6 +922,70 @@ def _reference_return(decoder: _Decoder) -> bool:
     return True
 
 
+def _circle(decoder: _Decoder) -> None:
+    """G2 / G3 in the working plane (``vc/core/circle.py``): the end point from the axis words, the
+    centre from I J K (incremental from the start point) or the radius from R / CR=; the start
+    point is the program position.  The plane's axes join the targets (a full circle names none)."""
+    plan, modal, channel, label = decoder.plan, decoder.modal, decoder.channel, decoder.block.label
+    words, radius = decoder.pitch_words, decoder.radius_word
+    if not plan.targets and not words and radius is None:
+        return  # G2 / G3 alone (or with F): only the modal state changes
+    function = modal.circle
+    indices = PLANES[modal.plane]
+    names = [channel.geometry_axes[index] if index < len(channel.geometry_axes) else "" for index in indices]
+    plane_words = {CENTRE_WORDS[index] for index in indices[:2]}
+    if not names[0] or not names[1] or names[0] not in decoder.axes or names[1] not in decoder.axes:
+        decoder.fail(12080, channel.name, label, f"{function}: no geometry axes in {modal.plane}")
+        return
+    if (radius is None) == (not words):
+        # [control] neither centre nor radius, or both: the control cannot tell which circle is meant
+        decoder.fail(12080, channel.name, label, f"{function}: centre I J K or radius CR= / R")
+        return
+    if set(words) - plane_words:
+        decoder.fail(12080, channel.name, label, f"{function} {modal.plane}: {sorted(set(words) - plane_words)[0]}"
+                                                 " is no centre word of the plane")  # [control]
+        return
+    starts = [decoder.program_positions.get(name, decoder.axes[name].setpoint) for name in names[:2]]
+    ends = [plan.targets.get(name, start) for name, start in zip(names[:2], starts, strict=True)]
+    for name, end in zip(names[:2], ends, strict=True):
+        plan.targets[name] = end
+    geometry = set(channel.geometry_axes)
+    linear = [(name, decoder.program_positions.get(name, decoder.axes[name].setpoint), end, name in geometry)
+              for name, end in plan.targets.items() if name not in names[:2]]
+    centre = None if radius is not None else tuple(words.get(CENTRE_WORDS[index], 0.0) for index in indices[:2])
+    md = channel.md
+    arc = plan_arc(function == "G3", (names[0], names[1]), (starts[0], starts[1]), (ends[0], ends[1]),
+                   (centre[0], centre[1]) if centre is not None else None, radius, linear,
+                   ArcTolerance(md.float(MD.CIRCLE_ERROR_CONST), md.float(MD.CIRCLE_ERROR_FACTOR)))
+    if isinstance(arc, str):
+        decoder.fail(CIRCLE_END_POINT, channel.name, label, arc)
+        return
+    plan.arc = arc
+
+
+def _stroke_limit(decoder: _Decoder) -> None:
+    """G22 [X_ I_] [Y_ J_] [Z_ K_] / G23 in a block of their own: each geometry axis word and the
+    I / J / K of that axis are two corners of the box of stored stroke limit 2 (seed 000 L264-291,
+    ``vc/core/stroke_limits.py``); G23 takes no words [control: FANUC / GSK]."""
+    plan, channel, label = decoder.plan, decoder.channel, decoder.block.label
+    command = plan.stroke_limit
+    assert command is not None
+    corners: dict[str, tuple[float, float]] = {}
+    for index, name in enumerate(channel.geometry_axes[:3]):
+        word = CENTRE_WORDS[index]
+        if (name in plan.targets) != (word in decoder.pitch_words):
+            decoder.fail(12080, channel.name, label, f"G22: {name or word} needs both corners")
+            return
+        if name in plan.targets:
+            corners[name] = (plan.targets[name], decoder.pitch_words[word])
+    if set(plan.targets) - set(corners) or plan.spindles or plan.program_end or plan.program_stop or \
+            decoder.dwell_requested or (corners and not command.on) or decoder.radius_word is not None:
+        decoder.fail(12080, channel.name, label, "G22/G23")
+        return
+    plan.stroke_limit = StrokeCommand(command.on, corners)
+    plan.targets = {}
+
+
 def _finish(decoder: _Decoder) -> None:
     modal, plan, channel = decoder.modal, decoder.plan, decoder.channel
     if plan.polygon is not None:
@@ -913,6 +995,9 @@ def _finish(decoder: _Decoder) -> None:
         if plan.targets or decoder.reference_requested or decoder.dwell_requested or plan.program_stop or \
                 plan.program_end or plan.spindles:
             decoder.fail(12080, channel.name, decoder.block.label, "PRESETON")
+        return
+    if plan.stroke_limit is not None:
+        _stroke_limit(decoder)
         return
     if decoder.reference_requested:
         # G74 <axis>=0 ...: reference these axes; the values are not used.  G74 stands in a block of
@@ -946,14 +1031,18 @@ def _finish(decoder: _Decoder) -> None:
     tapping = modal.thread in ("G331", "G332") and bool(plan.targets)
     if tapping:
         _tapping(decoder)
+    elif modal.circle and not plan.machine_coordinates and not plan.reference_return:
+        _circle(decoder)
     elif decoder.pitch_words and not modal.thread:
         decoder.unknown(next(iter(decoder.pitch_words)))  # I / J / K outside a thread: no such axis
+    if decoder.radius_word is not None and plan.arc is None and decoder.alarm is None:
+        decoder.unknown("R")  # a radius outside G2 / G3: no such axis
     thread_cutting = modal.thread == "G33" and bool(plan.targets)
     if thread_cutting:
         _thread_cutting(decoder)  # the master spindle's turning sets the feed, not F
     if plan.drive_esr and (plan.targets or plan.spindles or plan.variables or plan.sync_actions):
         decoder.fail(12080, channel.name, decoder.block.label, "ESRS/ESRR")  # in a block of its own (L41922)
-    if plan.targets and not plan.rapid and not tapping and not thread_cutting:
+    if (plan.targets or plan.arc) and not plan.rapid and not tapping and not thread_cutting:
         if modal.feed is None:
             decoder.fail(10860, channel.name, decoder.block.label)
         elif modal.feed <= 0.0:

@@ -387,6 +387,7 @@ class Nck:
                     limits = retraction.jog_limits(axis)
                     if inclined is not None:
                         limits = limits.and_(inclined.jog_limits(axis))
+                    limits = limits.and_(channel.stroke_jog_limits(axis, self.cycle))  # G22, stroke limit 3
                     axis.jog_cycle(jog_allowed, feed_disable, limits)
 
     def _extended_stop_and_retract(self) -> None:

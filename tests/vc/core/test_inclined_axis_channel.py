@@ -299,3 +299,64 @@ def test_jog_of_an_unreferenced_inclined_axis_stops_where_the_carried_axis_reach
     assert x1.setpoint == pytest.approx(305.0, abs=1e-9)
     assert y1.setpoint == pytest.approx(20.0, abs=1e-9)
     assert [(alarm.number, alarm.axis) for alarm in rig.nck.present_alarms()] == [(10621, "Y1")]
+
+
+def _arc_on_the_circle(rig: Rig, centre: tuple[float, float], radius: float, nozagc: bool = False) -> float:
+    """Run the program to its end; the largest distance of the Cartesian point of the X1 / Y1
+    setpoints from the circle, cycle by cycle (NOZAGC: X1 is not compensated, Xp = Xa)."""
+    x1, y1 = rig.axis("X1"), rig.axis("Y1")
+    off = 0.0
+    for _ in range(20000):
+        rig.step()
+        yp = y1.setpoint * COS
+        xp = x1.setpoint if nozagc else x1.setpoint + yp * TAN
+        off = max(off, abs(math.hypot(xp - centre[0], yp - centre[1]) - radius))
+        if rig.get("CHAN1.basic.in.stateReset") == 1:
+            return off
+    raise AssertionError("the program did not end")
+
+
+def test_g3_is_interpolated_in_cartesian_coordinates_and_mapped_to_the_slides() -> None:
+    # from X150 Y0 about (130, 0) to X130 Y20: every point on the Cartesian circle; at the end
+    # Ya = 20 / cos(-30) = 23.094, Xa = 130 - 20 tan(-30) = 141.547 (seed 000 L11-20, L194-204)
+    rig = _rig()
+    rig.mda("G3 X130 Y20 I-20 J0 F600")
+    assert _arc_on_the_circle(rig, (130.0, 0.0), 20.0) < 1e-9
+    assert rig.axis("Y1").setpoint == pytest.approx(20.0 / COS, abs=1e-9)
+    assert rig.axis("X1").setpoint == pytest.approx(130.0 - 20.0 * TAN, abs=1e-9)
+    rig.step(200)  # settled: the display reads actual values
+    assert rig.nck.program_position("X1") == pytest.approx(130.0, abs=1e-3)
+
+
+def test_g2_with_nozagc_converts_only_the_inclined_component() -> None:
+    # NOZAGC = 1: Xa = Xp, Ya = Yp / cos(theta); the display keeps the program X
+    rig = _rig()
+    rig.set(NOZAGC, 1)
+    rig.step(2)
+    rig.mda("G2 X130 Y-20 R20 F600")
+    assert _arc_on_the_circle(rig, (130.0, 0.0), 20.0, nozagc=True) < 1e-9
+    assert rig.axis("X1").setpoint == pytest.approx(130.0, abs=1e-9)
+    assert rig.axis("Y1").setpoint == pytest.approx(-20.0 / COS, abs=1e-9)
+    rig.step(200)
+    assert rig.nck.program_position("X1") == pytest.approx(130.0, abs=1e-3)
+
+
+def test_the_feed_of_an_arc_is_the_cartesian_path_velocity() -> None:
+    rig = _rig()
+    x1, y1 = rig.axis("X1"), rig.axis("Y1")
+    rig.mda("G2 I-20 F600")
+    rig.step(400)  # 10 mm/s reached long before
+    # the Cartesian velocity of the slides: Vy = Vya cos(theta), Vx = Vxa + Vy tan(theta)
+    vy = y1.command_velocity * COS
+    vx = x1.command_velocity + vy * TAN
+    assert math.hypot(vx, vy) == pytest.approx(10.0, rel=1e-6)
+
+
+def test_an_arc_beyond_the_cartesian_stroke_limit_is_refused_before_it_moves() -> None:
+    # AOT = 1: the circle about (150, 60) reaches Y 120, beyond Y1's Cartesian +100, although it ends
+    # where it starts; the machine position 120 / cos(-30) ... never comes: 10720 for Y1, nothing moves
+    rig = _rig()
+    rig.mda("G2 J60 F600")
+    rig.step(5)
+    assert _alarms(rig) == [10720]
+    assert rig.axis("Y1").setpoint == 0.0 and rig.axis("X1").setpoint == 150.0

@@ -276,3 +276,64 @@ def test_spindle_words_are_refused_beside_g74_and_preseton(dec: Decoder) -> None
     for text in ("G74 X1=0 M3", "PRESETON(X1, 1) S100"):
         _, alarm = dec(text)
         assert alarm is not None and alarm.number == 12080, text
+
+
+# ------------------------------------------------------------------------------ circles G2 / G3
+
+
+def test_g2_with_i_j_gives_the_arc_from_the_program_position(dec: Decoder) -> None:
+    # X1 stands at 150, Y1 at 0: centre (150 - 20, 0), end (130, 20): a quarter, counter-clockwise
+    plan = dec.ok("G3 X130 Y20 I-20 J0 F500")
+    assert plan.arc is not None and not plan.rapid and plan.feed == 500.0
+    assert plan.arc.plane_axes == ("X1", "Y1")
+    assert plan.arc.centre == pytest.approx((130.0, 0.0))
+    assert plan.arc.sweep == pytest.approx(1.5707963)
+    assert plan.targets == {"X1": 130.0, "Y1": 20.0}
+    assert dec.modal.circle == "G3" and not dec.modal.rapid
+
+
+def test_a_full_circle_puts_the_plane_axes_into_the_block(dec: Decoder) -> None:
+    plan = dec.ok("G2 I-20 F500")
+    assert plan.targets == {"X1": 150.0, "Y1": 0.0}
+    assert plan.arc is not None and plan.arc.sweep == pytest.approx(-6.2831853)
+
+
+def test_g18_is_the_z_x_plane_with_k_and_i(dec: Decoder) -> None:
+    # Z1 at 300, X1 at 150: G18 G3 Z280 X170 K-20 turns about (Z 280, X 150) from +Z towards +X (normal Y)
+    plan = dec.ok("G18 G3 Z280 X170 K-20 F500")
+    assert plan.arc is not None and plan.arc.plane_axes == ("Z1", "X1")
+    assert plan.arc.centre == pytest.approx((280.0, 150.0))
+    assert plan.arc.sweep == pytest.approx(1.5707963)
+
+
+def test_the_helix_axis_and_cr_radius(dec: Decoder) -> None:
+    plan = dec.ok("G2 X130 Y20 Z290 CR=20 F500")
+    assert plan.arc is not None and plan.arc.linear == (("Z1", 300.0, 290.0),)
+    assert plan.arc.centre == pytest.approx((150.0, 20.0))  # G2 R+: the short way, clockwise
+
+
+def test_g1_and_g0_end_circular_interpolation(dec: Decoder) -> None:
+    dec.ok("G2 X130 Y20 R20 F500")
+    assert dec.ok("G1 X100").arc is None and dec.modal.circle == ""
+    dec.ok("G3 X130 Y20 R20")
+    assert dec.ok("G0 X100").arc is None and dec.modal.circle == ""
+
+
+@pytest.mark.parametrize(("text", "number", "detail"), [
+    ("G3 X130 Y20 I-20 J5 F500", 14040, "radius at the end point"),
+    ("G3 X150 Y0 R20 F500", 14040, "full circle programmed with a radius"),
+    ("G2 X100 Y0 R20 F500", 14040, "radius 20 too small"),
+    ("G2 X130 Y20 F500", 12080, "G2: centre I J K or radius CR= / R"),
+    ("G2 X130 Y20 R20 I-20 F500", 12080, "G2: centre I J K or radius CR= / R"),
+    ("G2 X130 Y20 K5 F500", 12080, "K is no centre word of the plane"),
+    ("G1 X130 R20 F500", 12550, "R"),
+])
+def test_circle_alarms(dec: Decoder, text: str, number: int, detail: str) -> None:
+    _, alarm = dec(text)
+    assert alarm is not None and alarm.number == number
+    assert detail in str(alarm.parameters[-1])
+
+
+def test_an_arc_without_feed_raises_10860(dec: Decoder) -> None:
+    _, alarm = dec("G2 I-20")
+    assert alarm is not None and alarm.number == 10860
