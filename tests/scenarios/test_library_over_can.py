@@ -39,6 +39,8 @@ def _run(paths: list[str], make_target: Callable[[Scenario], Simulation]) -> tup
     return code, output.getvalue()
 
 
+# The whole library runs here: the global 300 s hang guard is too short for it on a busy machine.
+@pytest.mark.timeout(1200)
 def test_the_library_over_a_virtual_can_bus_gives_the_in_process_golden_traces() -> None:
     with VirtualCanPlc() as virtual:
         def make(scenario: Scenario) -> Simulation:
