@@ -26,6 +26,8 @@ COUPLING_QUANTITY_MEANINGS = {
     "couplingCorrection": "$AA_COUP_CORR: the synchronism correction (DB31.DBX31.6)",
     "syncDeviation": "synchronism deviation the monitoring compares with MD37200 / MD37210 (degrees;"
                      " rev/min for a VV coupling)",
+    "couplingRelationError": "actual relation FS - k x LS minus the relation commanded now (setpoint relation"
+                             " and applied correction), -180..180, signed; 0 until setpoint synchronism",
 }
 AXIS_QUANTITIES = tuple(AXIS_QUANTITY_MEANINGS) + tuple(COUPLING_QUANTITY_MEANINGS)
 

@@ -159,7 +159,10 @@ class GuardDoor:
                 not axis.resync_running.value and axis.fine.value for axis in self.resynchronised)):
             self.fault = self.fault or gave_up
             step = DoorStep.RUNNING_UP
-        if step is DoorStep.RUNNING_UP and all(axis.at_speed.value for axis in self.were_at_speed):
+        # a spindle coupled as following spindle meanwhile has 83.5 only for a differential speed
+        # (L23507-23511): its speed is its leading spindle's, its synchronism WAIT_SYNC's
+        if step is DoorStep.RUNNING_UP and all(axis.at_speed.value or axis.following.value
+                                               for axis in self.were_at_speed):
             step = DoorStep.CLOSED
         self.step = step
         self._outputs()

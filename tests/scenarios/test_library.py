@@ -100,3 +100,20 @@ def test_a_missing_or_different_golden_trace_fails_the_run(tmp_path: Path) -> No
 def test_golden_paths_drop_the_library_directory() -> None:
     assert golden_path("tests/golden", "scenarios/foundation/jog.yaml") == Path("tests/golden/foundation/jog.json")
     assert isinstance(GoldenCheck(Path("x")), GoldenCheck)
+
+
+def test_a_relation_error_the_scenario_names_is_kept_in_its_golden_trace() -> None:
+    path = "scenarios/sync_spindle/polygon_turning_p2_q6.yaml"
+    actual = _summary_of(path)
+    golden = load(golden_path(GOLDEN, path))
+    assert golden is not None and compare(golden, actual, 0.01) == []
+    end, lowest, highest = golden.quantities["SP3.couplingRelationError"]
+    assert end == 0.0 and -0.5 <= lowest <= highest <= 0.5  # within MD37210 throughout
+    assert GoldenSummary.from_json(golden.to_json()) == golden
+
+    disturbed = copy.deepcopy(golden)
+    disturbed.quantities["SP3.couplingRelationError"] = (end, -0.7, highest)
+    assert compare(disturbed, actual, 0.01) == [
+        f"SP3.couplingRelationError lowest: expected -0.7000, got {lowest:.4f}"]
+    unnamed = load(golden_path(GOLDEN, "scenarios/foundation/emergency_stop.yaml"))
+    assert unnamed is not None and "quantities" not in unnamed.to_json()

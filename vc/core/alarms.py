@@ -171,6 +171,9 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         "[control]"),
         AlarmDefinition(25080, "Axis %1 positioning monitoring", _STOP | Reaction.RAPID_STOP, Clear.RESET,
                         "[control]"),
+        AlarmDefinition(207900, "Axis %1 drive: motor blocked", _STOP | Reaction.RAPID_STOP, Clear.RESET,
+                        "[control] SINAMICS F07900 as the NC shows it; the seeds name no drive fault: a part"
+                        " twisted between two chucks blocks the counter spindle (vc/plant/workpiece.py)"),
         AlarmDefinition(65830, "Channel %1 spindle %2 gear stage change not acknowledged within MD10192 = %3 s",
                         _STOP, Clear.RESET, "seed 003 L19127-19147 (MD10192; the seed names no number);"
                         " project alarm number"),

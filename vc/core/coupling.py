@@ -15,7 +15,9 @@ coupled FS's position setpoint once per IPO cycle after the LS has moved::
 * SYNCHRONOUS: ``FS setpoint = k x LS position + relation + correction``.  The relation moves
   only by overlaid motion: a programmed offset (COUPON with POSFS, SPOS on the FS, resync
   with DB31.DBX31.4) at the FS's highest speed or FA[Sn], a differential speed (M3/M4 S on
-  the FS, which needs DBX26.4) and follow-up while the FS has no controller enable.
+  the FS, which needs DBX26.4), the JOG keys of the FS in JOG (L21993-22021, L23349-23356: not
+  inhibited, the PLC blocks them if unwanted; not on a polygon slave, which holds its relation
+  in manual operation too, seed 002 L63-65) and follow-up while the FS has no controller enable.
 
 The LS position is its setpoint for DV and VV and its actual value for AV (and for DV while
 the LS has no controller enable, which the control does internally, L23232-23246).  A VV FS
@@ -146,6 +148,8 @@ class Coupling:
     acceleration: float = 0.0
     helix: tuple[MachineAxis, float] | None = None  # polygon turning: an axis and its lead per LS turn
     pending_shift: float = 0.0  # polygon turning's R: moves the relation once synchronous
+    jog_allowed: bool = True  # the FS's JOG keys move the relation (not on a polygon slave)
+    jog_velocity: float = 0.0  # deg/s of the relation moved by the JOG keys
     spcon_following: bool = False  # SPCON was programmed on the FS: position control stays after COUPOF
     shifts_seen: tuple[float, float] = (0.0, 0.0)  # the coordinate shifts of FS and LS the relation knows
 
@@ -459,6 +463,22 @@ class Couplings:
                                      channel=coupling.channel, axis=following)
         return 0
 
+    def jog(self, following: str, direction: int, stopped: bool) -> None:
+        """The JOG keys of a coupled FS in JOG, one IPO cycle: the relation moves at the FS's JOG
+        velocity (MD32020 with its override) as overlaid motion, DBX98.4 while it moves
+        (L21993-22021, L23349-23356) [control: the velocity of a spindle's JOG]; ``stopped`` (feed
+        stop, feed disable) brakes it as an axis's JOG.  Ignored until setpoint synchronism and on a
+        polygon slave (seed 002 L63-65: the relation holds in manual operation too)."""
+        coupling = self.active.get(following)
+        if coupling is None or coupling.phase is not Phase.SYNCHRONOUS:
+            return
+        fs = self._spindles[following]
+        axis = fs.axis
+        wanted = 0.0 if stopped or not coupling.jog_allowed else direction * axis.dyn.jog_velocity * fs.override()
+        if wanted or coupling.jog_velocity:
+            coupling.jog_velocity = ramp(coupling.jog_velocity, wanted, fs.coupled_acceleration(), self._dt)
+            axis.resting = False
+
     def holds_block(self, following: str, criterion: BlockChange | None = None) -> bool:
         """The block change after COUPON (or WAITC) waits for the criterion (L22583-22592, L22659-22690)."""
         coupling = self.active.get(following)
@@ -659,11 +679,12 @@ class Couplings:
                 self._synchronous(following, coupling, k * position)
             return
         overlay_velocity = 0.0 if fs_stop else self._overlay_step(coupling, accel)
-        coupling.relation += (overlay_velocity + coupling.differential_velocity) * dt
-        coupling.target += coupling.differential_velocity * dt
+        own_velocity = coupling.differential_velocity + coupling.jog_velocity  # the relation moves on with them
+        coupling.relation += (overlay_velocity + own_velocity) * dt
+        coupling.target += own_velocity * dt
         correction_velocity = self._correction_step(coupling, accel)
         axis.setpoint = k * position + coupling.relation + coupling.correction_applied
-        axis.command_velocity = k * velocity + overlay_velocity + coupling.differential_velocity + correction_velocity
+        axis.command_velocity = k * velocity + overlay_velocity + own_velocity + correction_velocity
         if coupling.helix is not None:
             helix_axis, lead = coupling.helix
             helix_axis.add_overlay(lead * velocity * dt / 360.0, lead * velocity / 360.0)
@@ -769,7 +790,19 @@ class Couplings:
             return coupling.programmed or 0.0
         if name == "couplingCorrection":
             return coupling.correction
+        if name == "couplingRelationError":
+            return self.relation_error(coupling)
         return coupling.deviation
+
+    def relation_error(self, coupling: Coupling) -> float:
+        """How far the actual angle relation of FS and LS is from the one commanded in this cycle
+        (``phi_FS - k x phi_LS - relation - correction``, degrees, wrapped): the following errors
+        of both spindles and whatever disturbs the FS.  Unlike the deviation the monitoring judges
+        it does not count an overlaid motion still to go; before setpoint synchronism the
+        relation is not defined and it reads 0."""
+        if coupling.phase is not Phase.SYNCHRONOUS:
+            return 0.0
+        return wrap180(self._actual_relation(coupling) - coupling.relation - coupling.correction_applied)
 
     def clamp(self, following: str, twist: float) -> bool:
         """A part clamped in FS and LS: the FS is held at the LS's angle plus its present relation
@@ -808,7 +841,7 @@ class Couplings:
             # controller; the coupled part lags as the LS does and cancels.  The lag comes from the
             # FS's loop, not from its present following error: with k x n_LS + n_diff = 0 the FS
             # stands without any following error while the LS lags by its own
-            lag = coupling.differential_velocity * axis.lag_per_velocity
+            lag = (coupling.differential_velocity + coupling.jog_velocity) * axis.lag_per_velocity
             deviation = abs(wrap180(self._actual_relation(coupling) - heading - coupling.correction + lag))
             coarse_tolerance, fine_tolerance = md.float(MD.COUPLE_POS_TOL_COARSE), md.float(MD.COUPLE_POS_TOL_FINE)
         coupling.deviation = deviation
@@ -837,7 +870,8 @@ class Couplings:
                 warning = md.float(MD.EG_VEL_WARNING) / 100.0
                 accel_threshold = md.float(MD.EG_ACC_TOL) / 100.0 * axis.dyn.max_accel
                 overlay = coupling.overlay
-                overlaid = (overlay is not None and overlay.left != 0.0) or coupling.differential_velocity != 0.0
+                overlaid = (overlay is not None and overlay.left != 0.0) or coupling.differential_velocity != 0.0 \
+                    or coupling.jog_velocity != 0.0
                 status = (
                     name in leaders, coupling.fine, coupling.coarse, overlaid,
                     abs(axis.command_velocity) > warning * axis.dyn.max_velocity,

@@ -382,6 +382,11 @@ class Nck:
             retraction = self.retractions[channel.name]
             inclined = channel.inclined
             for axis in channel.axes:
+                if axis.is_spindle and axis.name in self.couplings.active:
+                    inputs = axis.inputs
+                    direction = (1 if inputs.key_plus else -1) if jog_allowed and inputs.key_plus != inputs.key_minus \
+                        else 0
+                    self.couplings.jog(axis.name, direction, inputs.feed_stop or feed_disable)
                 # outside JOG only a jog that is still running out needs its cycle
                 if (jog_allowed or axis.owner is Owner.JOG) and not axis.is_spindle:
                     limits = retraction.jog_limits(axis)
@@ -517,6 +522,13 @@ class Nck:
     def encoder_slip(self, axis: str, encoder: int, amount: float) -> None:
         """A fault of the machine: the measuring system miscounts by ``amount``."""
         encoder_slip(self.axes_by_name[axis], encoder, amount, self.memory, self.alarms)
+
+    def drive_blocked(self, axis: str) -> None:
+        """A fault of the machine: the drive of ``axis`` reports its motor blocked (a part twisted
+        between two chucks holds it); the alarm's rapid stop takes the axis out of position control."""
+        item = self.axes_by_name[axis]
+        self.alarms.raise_alarm(207900, self.cycle, axis, channel=item.channel, axis=axis)
+        item.resting = False
 
     # ------------------------------------------------------------------ operator access (HMI)
     def load_mda(self, channel: str, text: str) -> None:

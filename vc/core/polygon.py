@@ -84,6 +84,7 @@ class PolygonTurning:
             return alarm
         coupling = self._couplings.active[self.slave]
         coupling.pending_shift = -command.q / command.p * command.r
+        coupling.jog_allowed = False  # the relation holds in manual operation too (L63-65)
         if command.a and self._helix_axis is not None:
             coupling.helix = (self._helix_axis, command.a)
         self._master_ramp(on=True)

@@ -139,6 +139,8 @@ class Simulation:
                 pacer.wait_next_cycle()
             nck.step(interface)
             plant.step(plant_image)
+            for axis in plant.blocked_drives:
+                nck.drive_blocked(axis)
             if plant_forces:
                 self._apply(plant_forces, plant_image)
             if nck.cycle % self.plc_period == 0:

@@ -7,7 +7,8 @@ hardware limit switches (normally closed: 0 while actuated), the gear stage sens
 each spindle gearbox, which the PLC shifts with its actuator outputs (vc/plant/gearbox.py),
 the end-position sensors of each spindle chuck, which the PLC clamps and opens with the
 solenoids of its valve (vc/plant/chuck.py; the hydraulics have pressure while the drive line-up
-is ready), and
+is ready) - a part clamped in two chucks ties their spindles together and, twisted, blocks the
+counter spindle's drive (vc/plant/workpiece.py, reported by ``blocked_drives``) - and
 ``Drives.ready``, which follows the PLC's ``Drives.on`` output after the infeed's switch-on
 delay while the line supply is there (a mains failure takes it at once).  Operator inputs
 (panel keys, the emergency-stop button, the guard door switch) are not the plant's: a person (a scenario) sets them.
@@ -24,6 +25,7 @@ from interfaces.signals import SignalRef
 from vc.config.model import AxisConfig, MachineConfig
 from vc.plant.chuck import Chuck
 from vc.plant.gearbox import Gearbox
+from vc.plant.workpiece import ClampedPart
 
 DRIVE_READY_DELAY_S = 0.1  # infeed switch-on to "ready", a typical line module figure
 # The operator's side as it stands at power-on: e-stop button released, override switches at 100 %,
@@ -66,6 +68,12 @@ class Plant:
         clamped = chucks_clamped or {}
         self._chucks = [chuck for axis in machine.axes
                         if (chuck := Chuck.of_axis(axis, self._io, ipo_cycle_us, clamped.get(axis.name))) is not None]
+        # a part can sit between the chucks of two spindles: the first chucked spindle is the main
+        # spindle, each later one a counter spindle taking the part over from it
+        slide_of = {axis.name: slide for axis, slide in zip(machine.axes, self._slides, strict=True)}
+        self._parts = [ClampedPart(self._chucks[0], counter, slide_of[self._chucks[0].axis], slide_of[counter.axis])
+                       for counter in self._chucks[1:]]
+        self.blocked_drives: list[str] = []  # spindles whose drive a twisted part blocked in this cycle
         ready = self._io.by_name("Drives.ready")
         on = self._io.by_name("Drives.on")
         self._drives_ready = ready.ref() if ready else None
@@ -132,6 +140,8 @@ class Plant:
         pressure = self._drives_ready is None or self._ready == 1
         for chuck in self._chucks:
             chuck.step(io, pressure)
+        if self._parts:
+            self.blocked_drives = [part.counter.axis for part in self._parts if part.step()]
 
     def _switches(self, io: ProcessImage) -> None:
         for switches, slide in zip(self._axes, self._slides, strict=True):

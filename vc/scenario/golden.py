@@ -9,7 +9,9 @@ Compared by meaning, not byte by byte:
   through the same sequence of values; each change may move by up to one PLC scan in time,
   so an unrelated change of timing inside a scan does not count;
 * the alarms raised, in order;
-* per axis, the end position and the smallest and largest position reached, within 1 um.
+* per axis, the end position and the smallest and largest position reached, within 1 um;
+* likewise for the quantities of ``GOLDEN_QUANTITIES`` a scenario names (the relation error of a
+  coupled spindle: that it stayed within its tolerance is part of the behaviour).
 
 A signal that changes in one trace but not in the other is a difference too.
 """
@@ -18,7 +20,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +29,7 @@ from vc.scenario.runner import Failure, ScenarioResult
 from vc.scenario.trace import Recorder
 
 POSITION_TOLERANCE = 1e-3  # mm or degrees
+GOLDEN_QUANTITIES = ("couplingRelationError",)  # axis quantities kept when a scenario names them
 FORMAT_VERSION = 1
 
 
@@ -35,14 +38,20 @@ class GoldenSummary:
     digital: dict[str, list[tuple[float, int]]]  # name -> [(time s, value), ...]
     alarms: list[int]
     positions: dict[str, tuple[float, float, float]]  # axis -> (end, lowest, highest)
+    # "SP3.couplingRelationError" -> (end, lowest, highest); only written when there are any
+    quantities: dict[str, tuple[float, float, float]] = field(default_factory=dict)
 
     def to_json(self) -> dict[str, Any]:
-        return {
+        document: dict[str, Any] = {
             "format": FORMAT_VERSION,
             "alarms": self.alarms,
             "positions": {axis: list(values) for axis, values in sorted(self.positions.items())},
-            "digital": {name: [[round(t, 6), v] for t, v in changes] for name, changes in sorted(self.digital.items())},
         }
+        if self.quantities:
+            document["quantities"] = {name: list(values) for name, values in sorted(self.quantities.items())}
+        document["digital"] = {name: [[round(t, 6), v] for t, v in changes]
+                               for name, changes in sorted(self.digital.items())}
+        return document
 
     @classmethod
     def from_json(cls, document: dict[str, Any]) -> GoldenSummary:
@@ -50,23 +59,29 @@ class GoldenSummary:
             digital={name: [(float(t), int(v)) for t, v in changes] for name, changes in document["digital"].items()},
             alarms=[int(number) for number in document["alarms"]],
             positions={axis: (float(a), float(b), float(c)) for axis, (a, b, c) in document["positions"].items()},
+            quantities={name: (float(a), float(b), float(c))
+                        for name, (a, b, c) in document.get("quantities", {}).items()},
         )
 
 
 def summarize(recorder: Recorder, alarm_numbers: Sequence[int]) -> GoldenSummary:
     digital: dict[str, list[tuple[float, int]]] = {}
     positions: dict[str, tuple[float, float, float]] = {}
+    quantities: dict[str, tuple[float, float, float]] = {}
     for history in recorder.histories:
         quantity = history.quantity
         if quantity.kind is QuantityKind.AXIS:
-            if quantity.name.endswith(".position") and len(history):
+            if len(history) and quantity.name.endswith(".position"):
                 values = list(history.values)
                 positions[quantity.name.rsplit(".", 1)[0]] = (values[-1], min(values), max(values))
+            elif len(history) and quantity.quantity in GOLDEN_QUANTITIES:
+                values = list(history.values)
+                quantities[quantity.name] = (values[-1], min(values), max(values))
             continue
         if not quantity.is_integer or len(history) < 2:
             continue  # a signal that never changed says nothing about behaviour
         digital[quantity.name] = [(recorder.time_of(cycle), int(value)) for cycle, value in history.entries()]
-    return GoldenSummary(digital, list(alarm_numbers), positions)
+    return GoldenSummary(digital, list(alarm_numbers), positions, quantities)
 
 
 def compare(golden: GoldenSummary, actual: GoldenSummary, time_tolerance_s: float) -> list[str]:
@@ -83,6 +98,14 @@ def compare(golden: GoldenSummary, actual: GoldenSummary, time_tolerance_s: floa
                                        ("highest position", high, found[2])):
             if abs(expected - value) > POSITION_TOLERANCE:
                 differences.append(f"{axis} {label}: expected {expected:.4f}, got {value:.4f}")
+    for name in sorted(set(golden.quantities) | set(actual.quantities)):
+        expected_range, found_range = golden.quantities.get(name), actual.quantities.get(name)
+        if expected_range is None or found_range is None:
+            differences.append(f"{name} is {'no longer' if found_range is None else 'now'} recorded")
+            continue
+        for label, expected, value in zip(("end", "lowest", "highest"), expected_range, found_range, strict=True):
+            if abs(expected - value) > POSITION_TOLERANCE:
+                differences.append(f"{name} {label}: expected {expected:.4f}, got {value:.4f}")
     for name in sorted(set(golden.digital) | set(actual.digital)):
         expected_changes = golden.digital.get(name)
         found_changes = actual.digital.get(name)

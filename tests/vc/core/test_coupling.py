@@ -195,6 +195,23 @@ def test_differential_speed_that_cancels_the_coupled_speed_shows_no_deviation() 
     assert rig.get("SP2.coupling.in.syncFineReached") == 1 and rig.get("SP2.spindle.in.speedSetpointReached") == 1
 
 
+def test_relation_error_shows_a_disturbed_following_spindle_and_nothing_else() -> None:
+    # DV with matched dynamics: the actual relation is the commanded one; a load that pushes the FS
+    # puts it ahead by the load over the position controller's gain, which the monitoring sees too
+    rig = _coupling_rig()
+    rig.mda('N10 M3 S500\nN20 COUPDEF(S2,S1,1,1,"FINE","DV")\nN30 COUPON(S2,S1,90)\nN40 G4 F3\n')
+    rig.step(800)
+    couplings = rig.nck.couplings
+    assert rig.get("SP2.coupling.in.syncFineReached") == 1
+    assert abs(couplings.quantity("SP2", "couplingRelationError")) < 1e-6
+    rig.sim.inject_fault("SP2", "load_disturbance", amount=30.0)
+    rig.step(100)
+    error = couplings.quantity("SP2", "couplingRelationError")
+    assert error > 0.5 and abs(error - couplings.quantity("SP2", "syncDeviation")) < 1e-9
+    assert rig.get("SP2.coupling.in.syncFineReached") == 0
+    assert couplings.quantity("SP3", "couplingRelationError") == 0.0  # follows nobody
+
+
 @pytest.mark.parametrize("reset_mode", [0, 1025])
 @pytest.mark.parametrize("running", [False, True])
 def test_reset_that_keeps_the_coupling_ends_the_spos_of_the_following_spindle(reset_mode: int, running: bool) -> None:

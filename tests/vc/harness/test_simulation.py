@@ -211,7 +211,8 @@ def test_axis_quantities_in_display_units(config: MachineConfig) -> None:
     assert sim.axis_quantity("X1", "programPosition") == pytest.approx(axis.actual)  # Y1 at 0: Cartesian X = X1
     assert set(AXIS_QUANTITIES) == {"position", "setpoint", "velocity", "followingError", "physical",
                                     "programPosition", "couplingOffset", "couplingOffsetActual",
-                                    "couplingOffsetProgrammed", "couplingCorrection", "syncDeviation"}
+                                    "couplingOffsetProgrammed", "couplingCorrection", "syncDeviation",
+                                    "couplingRelationError"}
     assert sim.axis_quantity("SP2", "couplingOffset") == 0.0  # follows nobody
 
 
