@@ -5,7 +5,7 @@ Convention, stated once (``vc map --format dbc`` writes it as a DBC file, the te
 * **Frames.** CAN FD frames of up to 64 data bytes with 11-bit identifiers (``fd: false`` in the
   machine file's ``can:`` section: classic frames of 8 bytes).
 * **Data frames.** Every byte range a link moves (:mod:`interfaces.exchange`: the plant area, then
-  the data-block ranges of DB10, DB11, DB21.., DB31.., per direction) is cut into frames of up to P
+  the data-block ranges of DB10, DB11, DB19, DB21.., DB31.., per direction) is cut into frames of up to P
   bytes, P = 63 (7 classic) with the checksum byte, 64 (8) without; a cut that would split a word
   or double word moves back to its first byte.  A frame carries its bytes from its byte 0 on; a
   range never shares a frame with another one.  A frame is
@@ -20,16 +20,17 @@ Convention, stated once (``vc map --format dbc`` writes it as a DBC file, the te
       0x200  IB0..9                12       0x400  QB0..1              3
       0x201  DB10.DBB106..109      5        0x401  DB10.DBB1..56       64
       0x202  DB11.DBB6..7          3        0x402  DB11.DBB0..1        3
-      0x203  DB21.DBB33..95        64       0x403  DB21.DBB0..31       48
-      ..     up to 63 bytes a frame         0x404  DB21.DBB321         2
-      0x207  DB21.DBB284..318      48       0x405  DB21.DBB396         2
-      0x208  DB21.DBB333..377      48       0x406  DB21.DBB398         2
-      0x209  DB21.DBB397           2        0x407  DB31.DBB0..31       48
-      0x20A  DB31.DBB60..103       48       ..     one frame per axis
-      ..     one frame per axis             0x40C  DB36.DBB0..31       48
-      0x20F  DB36.DBB60..103       48
+      0x203  DB19.DBB20            2        0x403  DB19.DBB0           2
+      0x204  DB21.DBB33..95        64       0x404  DB21.DBB0..31       48
+      ..     up to 63 bytes a frame         0x405  DB21.DBB321         2
+      0x208  DB21.DBB284..318      48       0x406  DB21.DBB396         2
+      0x209  DB21.DBB333..377      48       0x407  DB21.DBB398         2
+      0x20A  DB21.DBB397           2        0x408  DB31.DBB0..31       48
+      0x20B  DB31.DBB60..103       48       ..     one frame per axis
+      ..     one frame per axis             0x40D  DB36.DBB0..31       48
+      0x210  DB36.DBB60..103       48
 
-  16 frames from the NC and 13 from the PLC per exchange (classic frames: 95 and 48).
+  17 frames from the NC and 14 from the PLC per exchange (classic frames: 96 and 49).
 
 * **Values.** Data-block words and double words are big-endian as in S7 (a DBC marks them
   Motorola, start bit = the most significant bit, frame byte x 8 + 7); a bit ``n.b`` or a byte

@@ -16,7 +16,7 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
   inside the word: coil ``16r + k`` is bit ``(k + 8) mod 16`` of register ``r``, because the
   even byte is the high byte.
 * **Layout.** Registers 0..15 of each table are the link block (below). The data follow from
-  register 16: first the plant area (``I`` or ``Q``), then the byte ranges of DB10, DB11, DB21..,
+  register 16: first the plant area (``I`` or ``Q``), then the byte ranges of DB10, DB11, DB19, DB21..,
   DB31.. in catalogue order. Each range starts on a new register; a range that begins at an odd
   DB byte begins in that register's low byte, and its high byte is padding. Padding carries no
   signal: it reads 0, a register write leaves it 0, a coil write to it is refused::
@@ -26,7 +26,8 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
       ...
       21        DB10.DBB106      DB10.DBB107    DB10 NC->PLC bytes 106..109
       ...
-      24        (padding)        DB21.DBB33     DB21 NC->PLC bytes 33..318 (odd start)
+      24        DB19.DBB20       (padding)      DB19 NC->PLC byte 20
+      25        (padding)        DB21.DBB33     DB21 NC->PLC bytes 33..318 (odd start)
 
 * **Link block**, NC-to-PLC table (input registers 0..15)::
 

@@ -2,7 +2,7 @@
 
 * **The bytes.** Per direction the link moves the plant area and the data-block byte ranges of
   that direction, in this order: NC-to-PLC = plant inputs ``I``, then the NC->PLC ranges of
-  DB10, DB11, DB21.., DB31..; PLC-to-NC = plant outputs ``Q``, then the PLC->NC ranges.  The
+  DB10, DB11, DB19, DB21.., DB31..; PLC-to-NC = plant outputs ``Q``, then the PLC->NC ranges.  The
   Modbus tables and the CAN frames are two packings of the same list.
 * **Sessions.** Every power-on of the harness opens a session, numbered 1, 2, .. 65535, 1, ..;
   a new session restarts the PLC program.

@@ -1,14 +1,16 @@
 """The signal catalogue: what each interface location means, and its names per machine.
 
 The catalogue lists every signal once, in the first data block of its kind (DB10 NCK,
-DB11 mode group, DB21 channel, DB31 axis/spindle), with a symbol that still carries the
+DB11 mode group, DB19 operator panel (HMI), DB21 channel, DB31 axis/spindle), with a symbol that still carries the
 placeholder of its instance (``<Axis>.basic.in.enc1Synchronized``).  A machine's
 :class:`InterfaceLayout` (its channels and machine axes) expands the catalogue into
 :class:`SignalInstance` objects with concrete names and addresses:
 
 * channel k is ``DB(20+k)`` and ``<Chan>`` becomes the channel name (``CHAN1``),
 * machine axis n is ``DB(30+n)`` and ``<Axis>`` becomes the axis name (``X1``),
-* ``<ModeGroup>`` becomes ``MODEGROUP`` and ``<Nc>`` becomes ``NC``.
+* ``<ModeGroup>`` becomes ``MODEGROUP``, ``<Nc>`` becomes ``NC`` and ``<Hmi>`` becomes ``HMI``
+  (the operator panel's DB19: its ``.out.`` signals go PLC -> OP, its ``.in.`` signals OP -> PLC,
+  so the OP stands on the NC's side of the interface).
 
 This module is pure: it builds the catalogue from already parsed documents
 (``interfaces.catalog.load_catalog`` reads the YAML files).
@@ -73,6 +75,7 @@ class Origin(StrEnum):
 class InstanceKind(StrEnum):
     NCK = "nck"
     MODE_GROUP = "mode_group"
+    HMI = "hmi"  # the operator panel (OP): DB19
     CHANNEL = "channel"
     AXIS = "axis"
 
@@ -80,17 +83,20 @@ class InstanceKind(StrEnum):
 FIRST_DB: dict[InstanceKind, int] = {
     InstanceKind.NCK: 10,
     InstanceKind.MODE_GROUP: 11,
+    InstanceKind.HMI: 19,
     InstanceKind.CHANNEL: 21,
     InstanceKind.AXIS: 31,
 }
 PLACEHOLDER: dict[InstanceKind, str] = {
     InstanceKind.NCK: "<Nc>",
     InstanceKind.MODE_GROUP: "<ModeGroup>",
+    InstanceKind.HMI: "<Hmi>",
     InstanceKind.CHANNEL: "<Chan>",
     InstanceKind.AXIS: "<Axis>",
 }
 NCK_INSTANCE = "NC"
 MODE_GROUP_INSTANCE = "MODEGROUP"
+HMI_INSTANCE = "HMI"
 
 _TYPE_BYTES: dict[SignalType, int] = {
     SignalType.BOOL: 1,
@@ -333,6 +339,8 @@ class InterfaceLayout:
             return ((NCK_INSTANCE, 10),)
         if kind is InstanceKind.MODE_GROUP:
             return ((MODE_GROUP_INSTANCE, 11),)
+        if kind is InstanceKind.HMI:
+            return ((HMI_INSTANCE, 19),)
         if kind is InstanceKind.CHANNEL:
             return tuple((name, 20 + k) for k, name in enumerate(self.channels, start=1))
         return tuple((name, 30 + n) for n, name in enumerate(self.axes, start=1))

@@ -13,7 +13,7 @@ import yaml
 
 from interfaces.signals import Catalog
 
-CATALOG_FILES = ("db10_nck.yaml", "db11_mode_group.yaml", "db21_channel.yaml", "db31_axis.yaml")
+CATALOG_FILES = ("db10_nck.yaml", "db11_mode_group.yaml", "db19_hmi.yaml", "db21_channel.yaml", "db31_axis.yaml")
 
 
 @lru_cache(maxsize=1)

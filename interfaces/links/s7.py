@@ -1,7 +1,7 @@
 """S7: the interface data blocks as real S7 data blocks, served by python-snap7.
 
 This is the only module that imports snap7.  An S7 client reads ``DB31.DBX60.4`` as it is:
-DB10, DB11, DB21.., DB31.. are data blocks of their own number and size, the plant inputs
+DB10, DB11, DB19, DB21.., DB31.. are data blocks of their own number and size, the plant inputs
 are the process inputs (PE, ``I``), the plant outputs the process outputs (PA, ``Q``).
 
 Write protection, as on the Modbus link: a client may write the PLC->NC byte ranges of the

@@ -22,6 +22,10 @@ Networks after those of ``spindle`` (1-9):
     stands.  Back in AUTOMATIC, the axes are referenced and NC start continues the program,
     which deletes the data (377.5 = 0).
 
+11. Coordinate system of the operator panel: the MCS/WCS softkey (DB19.DBX20.7, rising edge)
+    toggles DB19.DBX0.7 (1 = WCS); when 377.4 rises the PLC selects the WCS, in which the
+    retraction traverses the tool axis (SEQ-MR step 7, L35486-35488).
+
 The selection through DB21.DBX396.0 / 397.0 / 397.1 stands in for FB4 with the PI service
 "RETRAC" (REQ, DONE, ERROR): a project-specific location of this harness.  The networks are a
 function block (``ManualRetractionNetworks``), so that ``retraction`` runs them as well.
@@ -49,6 +53,7 @@ class _RetractionChannel:
     done: Bool  # DB21.DBX397.0
     refused: Bool  # DB21.DBX397.1
     data_edge: R_TRIG
+    active_edge: R_TRIG
     first_chance: bool = False  # 377.5 rose and no selection was tried since
 
 
@@ -60,6 +65,9 @@ class ManualRetractionNetworks:
         self.active_modes = {mode: io.input(name) for mode, name in _ACTIVE_MODE_SIGNALS}
         self.first_scan = True
         self.start_key_edge = R_TRIG()
+        self.show_wcs = io.output("HMI.basic.out.displayWcsValues")  # DB19.DBX0.7
+        self.mcs_wcs_softkey = io.input("HMI.basic.in.mcsWcsSwitched")  # DB19.DBX20.7
+        self.softkey_edge = R_TRIG()
         self.channels = [
             _RetractionChannel(
                 data_available=io.input(f"{name}.basic.in.jogRetractDataAvailable"),
@@ -69,6 +77,7 @@ class ManualRetractionNetworks:
                 done=io.input(f"{name}.piService.in.retracDone"),
                 refused=io.input(f"{name}.piService.in.retracError"),
                 data_edge=R_TRIG(),
+                active_edge=R_TRIG(),
             )
             for name in io.environment.catalog.layout.channels
         ]
@@ -99,6 +108,15 @@ class ManualRetractionNetworks:
             if selectable and (channel.first_chance or start):
                 channel.first_chance = False
                 channel.request.value = True
+        self.coordinate_system()
+
+    # Network 11 --------------------------------------------------------------------------
+    def coordinate_system(self) -> None:
+        if self.softkey_edge(self.mcs_wcs_softkey.value):
+            self.show_wcs.value = not self.show_wcs.value
+        for channel in self.channels:
+            if channel.active_edge(channel.active.value):
+                self.show_wcs.value = True
 
 
 class ManualRetraction(Spindle):

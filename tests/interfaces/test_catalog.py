@@ -60,7 +60,7 @@ def seed_lines() -> list[str] | None:
 # 1. loading and uniqueness
 
 
-def test_catalog_loads_with_the_four_kinds() -> None:
+def test_catalog_loads_with_the_five_kinds() -> None:
     catalog = load_catalog()
     assert {section.kind for section in catalog.sections} == set(InstanceKind)
     for section in catalog.sections:
@@ -73,8 +73,8 @@ def test_catalog_loads_with_the_four_kinds() -> None:
 
 def test_sizes_cover_the_highest_signals() -> None:
     catalog = load_catalog()
-    minimum = {InstanceKind.NCK: 110, InstanceKind.MODE_GROUP: 8, InstanceKind.CHANNEL: 378,
-               InstanceKind.AXIS: 104}
+    minimum = {InstanceKind.NCK: 110, InstanceKind.MODE_GROUP: 8, InstanceKind.HMI: 21,
+               InstanceKind.CHANNEL: 378, InstanceKind.AXIS: 104}
     for kind, size in minimum.items():
         assert catalog.section(kind).size >= size
 
@@ -87,17 +87,19 @@ def test_expanded_symbols_and_addresses_are_unique() -> None:
     assert len({symbol.casefold() for symbol in symbols}) == len(symbols)
     assert len(set(addresses)) == len(addresses)
     per_kind = {section.kind: len(section.signals) for section in load_catalog().sections}
-    expected = (per_kind[InstanceKind.NCK] + per_kind[InstanceKind.MODE_GROUP]
+    expected = (per_kind[InstanceKind.NCK] + per_kind[InstanceKind.MODE_GROUP] + per_kind[InstanceKind.HMI]
                 + 2 * per_kind[InstanceKind.CHANNEL] + 3 * per_kind[InstanceKind.AXIS])
     assert len(items) == expected
 
 
 def test_instances_land_in_their_data_blocks() -> None:
-    assert expanded().area_sizes.keys() == {"DB10", "DB11", "DB21", "DB22", "DB31", "DB32", "DB33"}
+    assert expanded().area_sizes.keys() == {"DB10", "DB11", "DB19", "DB21", "DB22", "DB31", "DB32",
+                                               "DB33"}
     assert expanded().resolve("CHAN2.basic.out.reset").address == Address.parse("DB22.DBX7.7")
     assert expanded().resolve("SP1.basic.in.enc1Synchronized").address == Address.parse("DB33.DBX60.4")
     assert expanded().resolve("MODEGROUP.basic.out.jogMode").address == Address.parse("DB11.DBX0.2")
     assert expanded().resolve("NC.basic.out.emergencyStop").address == Address.parse("DB10.DBX56.1")
+    assert expanded().resolve("HMI.basic.out.displayWcsValues").address == Address.parse("DB19.DBX0.7")
 
 
 # --------------------------------------------------------------------------------------------
@@ -220,7 +222,7 @@ def test_control_entries_are_the_agreed_ones() -> None:
 
 
 def test_symbols_are_well_formed_and_match_the_direction() -> None:
-    form = re.compile(r"^<(Nc|ModeGroup|Chan|Axis)>(\.[A-Za-z][A-Za-z0-9]*(\[\d+\])?)+$")
+    form = re.compile(r"^<(Nc|ModeGroup|Hmi|Chan|Axis)>(\.[A-Za-z][A-Za-z0-9]*(\[\d+\])?)+$")
     for signal in load_catalog().signals:
         assert form.match(signal.symbol), signal.symbol
         expected = Direction.PLC_TO_NC if ".out." in signal.symbol else Direction.NC_TO_PLC
@@ -263,6 +265,8 @@ def test_symbols_are_well_formed_and_match_the_direction() -> None:
         ("DB21.DBX7.0", "<Chan>.basic.out.disableNcStart", "plc_to_nc", "bool", 1, "level"),
         ("DB21.DBX33.0", "<Chan>.basic.in.refActive", "nc_to_plc", "bool", 1, "level"),
         ("DB10.DBX56.1", "<Nc>.basic.out.emergencyStop", "plc_to_nc", "bool", 1, "level"),
+        ("DB19.DBX0.7", "<Hmi>.basic.out.displayWcsValues", "plc_to_nc", "bool", 1, "level"),
+        ("DB19.DBX20.7", "<Hmi>.basic.in.mcsWcsSwitched", "nc_to_plc", "bool", 1, "level"),
     ],
 )
 def test_spot_checks(address: str, symbol: str, direction: str, signal_type: str, bits: int,
@@ -280,7 +284,7 @@ def test_signals_that_must_not_be_catalogued() -> None:
     catalog = load_catalog()
     symbols = {signal.symbol for signal in catalog.signals}
     addresses = {str(signal.address) for signal in catalog.signals}
-    assert not any(s.startswith(("<Hmi", "<HmiChan>", "<HmiModeGroup>")) for s in symbols)
+    assert not any(s.startswith(("<HmiChan>", "<HmiModeGroup>")) for s in symbols)
     assert "DB31.DBX29.4" not in addresses
     assert "DB31.DBX7.0" not in addresses  # the channel's NC start disable lives in DB21
     assert not any(signal.address.db == 31 and signal.address.byte >= 132 for signal in catalog.signals)
@@ -295,7 +299,7 @@ def test_signals_that_must_not_be_catalogued() -> None:
     [
         ("Y9.basic.in.enc1Synchronized",
          "unknown signal 'Y9.basic.in.enc1Synchronized': 'Y9' is not an instance of this machine"
-         " (known: CHAN1, CHAN2, MODEGROUP, NC, SP1, X1, Z1)"),
+         " (known: CHAN1, CHAN2, HMI, MODEGROUP, NC, SP1, X1, Z1)"),
         ("X1.basic.in.enc1Synchronised",
          "unknown signal 'X1.basic.in.enc1Synchronised'; did you mean X1.basic.in.enc1Synchronized"
          " or X1.basic.in.enc2Synchronized?"),

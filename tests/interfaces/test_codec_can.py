@@ -86,23 +86,24 @@ def test_frame_lengths_identifiers_and_sizes(settings: CanSettings) -> None:
 def test_turn_mill_frames_as_the_docstring_draws_them() -> None:
     nc = layout().slots[Direction.NC_TO_PLC]
     plc = layout().slots[Direction.PLC_TO_NC]
-    assert (len(nc), len(plc)) == (16, 13)
-    assert [(hex(s.can_id), s.name, s.length) for s in nc[:4]] == [
+    assert (len(nc), len(plc)) == (17, 14)
+    assert [(hex(s.can_id), s.name, s.length) for s in nc[:5]] == [
         ("0x200", "NC_I_0_9", 12), ("0x201", "NC_DB10_106_109", 5), ("0x202", "NC_DB11_6_7", 3),
-        ("0x203", "NC_DB21_33_95", 64)]
-    assert (hex(nc[-6].can_id), nc[-6].name, nc[-6].length) == ("0x20a", "NC_DB31_60_103", 48)
-    assert (hex(plc[7].can_id), plc[7].name) == ("0x407", "PLC_DB31_0_31")
+        ("0x203", "NC_DB19_20_20", 2), ("0x204", "NC_DB21_33_95", 64)]
+    assert (hex(plc[3].can_id), plc[3].name, plc[3].length) == ("0x403", "PLC_DB19_0_0", 2)
+    assert (hex(nc[-6].can_id), nc[-6].name, nc[-6].length) == ("0x20b", "NC_DB31_60_103", 48)
+    assert (hex(plc[8].can_id), plc[8].name) == ("0x408", "PLC_DB31_0_31")
     classic = layout(CanSettings(fd=False))
-    assert (len(classic.slots[Direction.NC_TO_PLC]), len(classic.slots[Direction.PLC_TO_NC])) == (95, 48)
+    assert (len(classic.slots[Direction.NC_TO_PLC]), len(classic.slots[Direction.PLC_TO_NC])) == (96, 49)
 
 
 def test_identifiers_that_clash_or_overflow_are_refused_with_their_ranges() -> None:
     with pytest.raises(CanMapError) as caught:
         CanLayout.build(catalog(), PLANT.area_sizes(), CanSettings(nc_to_plc_id=0x102))
-    assert str(caught.value) == ("the link frames (0x100..0x102) overlap the NC-to-PLC data frames (0x102..0x111)")
+    assert str(caught.value) == ("the link frames (0x100..0x102) overlap the NC-to-PLC data frames (0x102..0x112)")
     with pytest.raises(CanMapError) as caught:
         CanLayout.build(catalog(), PLANT.area_sizes(), CanSettings(plc_to_nc_id=0x7FA))
-    assert str(caught.value) == ("the PLC-to-NC data frames need identifiers 0x7FA..0x806; standard identifiers"
+    assert str(caught.value) == ("the PLC-to-NC data frames need identifiers 0x7FA..0x807; standard identifiers"
                                  " end at 0x7FF")
 
 
@@ -180,11 +181,11 @@ def test_every_signal_sits_at_the_bit_its_location_names(seed: int, which: int) 
 def test_locations_of_known_signals() -> None:
     synchronized = layout().location(catalog().resolve("X1.basic.in.enc1Synchronized"))  # DB31.DBX60.4
     assert synchronized is not None
-    assert (synchronized.can_id, synchronized.start_bit, synchronized.length) == (0x20A, 4, 1)
+    assert (synchronized.can_id, synchronized.start_bit, synchronized.length) == (0x20B, 4, 1)
     cam = layout().location(catalog().resolve("X1.basic.out.refPointApproachCam"))  # DB31.DBX12.7
-    assert cam is not None and (cam.can_id, cam.start_bit) == (0x407, 12 * 8 + 7)
+    assert cam is not None and (cam.can_id, cam.start_bit) == (0x408, 12 * 8 + 7)
     override = layout().location(catalog().resolve("CHAN1.basic.out.pathFeedrateOvrFactor"))  # DB21.DBB4
-    assert override is not None and (override.can_id, override.start_bit, override.big_endian) == (0x403, 32, False)
+    assert override is not None and (override.can_id, override.start_bit, override.big_endian) == (0x404, 32, False)
     jog = layout().location(PLANT.resolve("MCP.jog"))  # I8.3
     assert jog is not None and (jog.can_id, jog.start_bit) == (0x200, 8 * 8 + 3)
 

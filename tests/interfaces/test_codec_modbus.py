@@ -54,7 +54,7 @@ def images() -> tuple[ProcessImage, dict[str, bytearray]]:
 def test_plant_area_then_db_ranges_from_register_16() -> None:
     nc_to_plc = register_map().segments[Table.NC_TO_PLC]
     assert (nc_to_plc[0].area, nc_to_plc[0].start, nc_to_plc[0].table_byte) == ("I", 0, DATA_START_BYTE)
-    assert [segment.area for segment in nc_to_plc[1:4]] == ["DB10", "DB11", "DB21"]
+    assert [segment.area for segment in nc_to_plc[1:5]] == ["DB10", "DB11", "DB19", "DB21"]
     plc_to_nc = register_map().segments[Table.PLC_TO_NC]
     assert (plc_to_nc[0].area, plc_to_nc[0].table_byte) == ("Q", DATA_START_BYTE)
     assert [segment.area for segment in plc_to_nc][-6:] == ["DB31", "DB32", "DB33", "DB34", "DB35", "DB36"]

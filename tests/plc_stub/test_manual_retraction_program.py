@@ -67,3 +67,22 @@ def test_the_nc_start_key_selects_it_again_after_a_cancel() -> None:
     plc.input("MCP.ncStart", 1)
     plc.scan(PUBLISH)
     assert plc.out("CHAN1.piService.out.retracRequest") == 1
+
+
+def test_the_selection_shows_the_wcs_and_the_softkey_toggles_it() -> None:
+    plc = bench("jogModeActive")
+    plc.scan(PUBLISH)
+    assert plc.out("HMI.basic.out.displayWcsValues") == 0
+    plc.nc("HMI.basic.in.mcsWcsSwitched", 1)  # the MCS/WCS softkey
+    plc.scan(PUBLISH)
+    assert plc.out("HMI.basic.out.displayWcsValues") == 1
+    plc.scan(5)
+    assert plc.out("HMI.basic.out.displayWcsValues") == 1  # once per press
+    plc.nc("HMI.basic.in.mcsWcsSwitched", 0)
+    plc.scan(1)
+    plc.nc("HMI.basic.in.mcsWcsSwitched", 1)
+    plc.scan(PUBLISH)
+    assert plc.out("HMI.basic.out.displayWcsValues") == 0
+    plc.nc("CHAN1.basic.in.jogRetractActive", 1)  # SEQ-MR step 7: the PLC selects the WCS
+    plc.scan(PUBLISH)
+    assert plc.out("HMI.basic.out.displayWcsValues") == 1

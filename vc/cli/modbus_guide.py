@@ -312,7 +312,7 @@ def _convention(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[str
         ]),
         "",
         "* **Layout.** Registers 0..15 of each table are the link block (below); the data follow from"
-        " register 16: the plant area first, then the byte ranges of DB10, DB11, DB21.., DB31.. in catalogue"
+        " register 16: the plant area first, then the byte ranges of DB10, DB11, DB19, DB21.., DB31.. in catalogue"
         " order (table *Layout* below). Each range starts on a new register; a range that begins at an odd"
         " DB byte begins in the low byte of its first register.",
         "* **Padding.** The high byte before a range that starts at an odd byte, the low byte after a range"

@@ -58,6 +58,7 @@ class AxisDynamics:
 
     max_velocity: float
     max_accel: float
+    max_jerk: float  # MD32431: the retract motion's jerk limit (vc/core/retract_motion.py)
     jog_velocity: float
     jog_rapid_velocity: float
     rapid_stop_decel: float
@@ -91,6 +92,7 @@ def dynamics_of(axis: AxisConfig) -> AxisDynamics:
     return AxisDynamics(
         max_velocity=max_velocity,
         max_accel=max_accel,
+        max_jerk=md.float(MD.MAX_AX_JERK, 0) * accel_unit,  # m/s^3 -> mm/s^3, rev/s^3 -> deg/s^3
         jog_velocity=min(md.float(MD.JOG_VELO) * velocity_unit, max_velocity),
         jog_rapid_velocity=min(md.float(MD.JOG_VELO_RAPID) * velocity_unit, max_velocity),
         # MD36610: the rapid-stop ramp takes the axis from MAX_AX_VELO to standstill in this time
@@ -264,6 +266,7 @@ class MachineAxis:
         self.speed_control = False
         # a part clamped in this spindle and another: the slide is held at k x the other's position + offset
         self.clamp: tuple[MachineAxis, float, float] | None = None
+        self.handwheel_rest = 0.0  # JOG: the handwheel's distance still to travel (vc/core/handwheel.py)
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -428,8 +431,13 @@ class MachineAxis:
         self.setpoint = position
         self.command_velocity = velocity
 
+    def add_handwheel_travel(self, distance: float) -> None:
+        """Handwheel pulses in JOG: ``distance`` more to travel (sign = direction)."""
+        self.handwheel_rest += distance
+        self.resting = False
+
     def jog_cycle(self, allowed: bool, channel_feed_disable: bool, limits: JogLimits = FREE_JOG) -> None:
-        """Continuous JOG with the traverse keys (level-triggered), one IPO cycle."""
+        """Continuous JOG with the traverse keys (level-triggered), or the handwheel's travel, one IPO cycle."""
         inp = self.inputs
         direction = 0
         self._jog_window = limits.window
@@ -443,23 +451,54 @@ class MachineAxis:
                     (direction > 0 and self.setpoint >= self._soft_limits[1])
                     or (direction < 0 and self.setpoint <= self._soft_limits[0])):
                 direction = 0  # resting on a software limit switch: only away from it
-        if direction and self.owner is Owner.NONE and self.drive_ready:
+        handwheel = self._handwheel_direction(allowed, direction, limits)
+        if (direction or handwheel) and self.owner is Owner.NONE and self.drive_ready:
             self.take(Owner.JOG)
         if self.owner is not Owner.JOG:
+            self.handwheel_rest = 0.0
             return
         speed = self.dyn.jog_rapid_velocity if inp.rapid_key else self.dyn.jog_velocity
         stopped = inp.feed_stop or channel_feed_disable or not self.drive_ready
         target = 0.0 if stopped else direction * min(speed * self.override, limits.velocity)
         accel = min(self.dyn.max_accel, limits.accel)
+        if handwheel and not stopped:
+            # the handwheel's distance at JOG velocity, braking to stop on its end point
+            target = handwheel * min(speed * self.override, limits.velocity,
+                                     stopping_velocity(abs(self.handwheel_rest), accel, self._dt))
         velocity = ramp(self.command_velocity, target, accel, self._dt)
         if self._jog_bounded:
             velocity = self._limit_to_software_limits(velocity, accel)
         self.command_velocity = velocity
         self.setpoint += velocity * self._dt
+        if handwheel:
+            self._travel_handwheel(velocity * self._dt, handwheel)
         if self._jog_bounded:
             self._arrive_at_software_limits()
-        if velocity == 0.0 and (direction == 0 or self.at_software_limit == direction):
+        if handwheel and velocity == 0.0 and self.at_software_limit == handwheel:
+            self.handwheel_rest = 0.0  # the rest lies beyond the software limit switch
+        if velocity == 0.0 and not self.handwheel_rest and (direction == 0 or self.at_software_limit == direction):
             self.release()  # stopped: key released, or resting on the software limit it points to
+
+    def _handwheel_direction(self, allowed: bool, key_direction: int, limits: JogLimits) -> int:
+        """The direction of the handwheel's travel this cycle (0: none); the traverse keys, a
+        direction JOG may not go and an actuated limit switch drop what is left of it."""
+        rest = self.handwheel_rest
+        if not rest:
+            return 0
+        way = 1 if rest > 0 else -1
+        if not allowed or key_direction or not (limits.plus if way > 0 else limits.minus) or \
+                (self.inputs.hw_limit_plus if way > 0 else self.inputs.hw_limit_minus):
+            self.handwheel_rest = 0.0
+            return 0
+        return way
+
+    def _travel_handwheel(self, travelled: float, way: int) -> None:
+        """Count the travel off the handwheel's distance; land exactly on its end point."""
+        rest = self.handwheel_rest - travelled
+        if rest * way <= _TINY:
+            self.setpoint += rest
+            rest = 0.0
+        self.handwheel_rest = rest
 
     @property
     def _jog_bounded(self) -> bool:

@@ -20,7 +20,12 @@ While ACTIVE: the tool axis only in its plus direction unless MD10735 bit 8 = 1 
 the channel's other geometry axes stand (they place the tool in the thread) [INF: seed 003
 L35547-35549 lets only the retract axis retract, L35533 leaves the axes not involved free];
 software limits as in JOG (L35531-35533); NC stop pauses, NC start continues (L35534-35535);
-the spindle start keys DB31.DBX30.1 / 30.2 do nothing (L35582-35588).
+the spindle start keys DB31.DBX30.1 / 30.2 do nothing (L35582-35588).  The tool axis is the
+geometry axis of the WCS (L35530-35531): its keys retract while the PLC shows the WCS
+(DB19.DBX0.7 = 1, selected after 377.4, L35486-35488); in the MCS (0.7 = 0) they do not move it
+[control: the real PLC routes the panel's keys to the geometry axis in the WCS and to the machine
+axis in the MCS, and a machine-axis traverse of an axis taking part in the retraction is refused;
+the harness has no frames, so WCS and MCS positions are equal].
 
 The selection: the real PLC calls the PI service "RETRAC" with FB4 (L35481-35483).  Here the
 PLC sets DB21.DBX396.0 (project-specific, rising edge) and the NC answers DB21.DBX397.0 (done)
@@ -75,6 +80,7 @@ class ManualRetraction:
         self.both_directions = bool(jog_mode_mask & BOTH_DIRECTIONS)
         self.active = False
         self.paused = False  # NC stop during the retraction, until NC start
+        self.wcs_shown = False  # DB19.DBX0.7: the keys traverse in the WCS
         self._request = False
         self._answer: bool | None = None  # True done, False refused, None no request
         self._following: _Following | None = None
@@ -172,6 +178,8 @@ class ManualRetraction:
         if not self.active or data is None:
             return FREE_JOG
         if axis.name == data.tool_axis:
+            if not self.wcs_shown:
+                return STANDING  # MCS: the retraction is a traverse of the WCS geometry axis [control]
             following = self._following
             if following is None:
                 return JogLimits(not self.paused, not self.paused and self.both_directions)
@@ -181,6 +189,26 @@ class ManualRetraction:
         if axis.name in self.channel.config.geometry_axes:
             return STANDING  # the tool stays on the thread's axis
         return FREE_JOG
+
+    def handwheel_priority(self, receivers: list[tuple[int, MachineAxis]]) -> list[tuple[int, MachineAxis]]:
+        """Which of the turning handwheels' (number, axis) assignments count this cycle (L35590-35598):
+        none while the tool axis is moved by its keys; else only the handwheels of the highest
+        rank among those turning - the tool axis, then the spindle, then the axes not involved."""
+        data = self.data
+        if not self.active or data is None or not receivers:
+            return receivers
+        tool = self.channel.axes_by_name[data.tool_axis]
+        if tool.owner is Owner.JOG and tool.inputs.key_plus != tool.inputs.key_minus:
+            return []
+
+        def rank(axis: MachineAxis) -> int:
+            return 0 if axis is tool else 1 if axis.name == data.spindle else 2
+
+        best: dict[int, int] = {}
+        for number, axis in receivers:
+            best[number] = min(best.get(number, 2), rank(axis))
+        top = min(best.values())
+        return [(number, axis) for number, axis in receivers if best[number] == top]
 
     def follow(self) -> None:
         """The spindle turns with the tool axis by the thread's pitch while the tool axis moves,

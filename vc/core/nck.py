@@ -34,6 +34,7 @@ from vc.core.coupling import Couplings, CouplingSignals
 from vc.core.dc_link import DcLink
 from vc.core.drive_esr import DriveEsr, DriveEsrSignals
 from vc.core.esr import ChannelEsr, NckEsr
+from vc.core.handwheel import Handwheels, HandwheelSignals
 from vc.core.inclined_axis_channel import InclinedAxisControl, inclined_axis_control
 from vc.core.interface_map import SignalTable
 from vc.core.manual_retraction import ManualRetraction, RetractionSignals
@@ -60,6 +61,13 @@ class NckSignals:
         self.digital_inputs = table.field("basic.out.setDigitalInputs")  # $A_IN[1..8]
 
 
+class HmiSignals:
+    """The operator panel's DB19, as far as the NC's functions depend on it."""
+
+    def __init__(self, table: SignalTable):
+        self.display_wcs = table.bit("basic.out.displayWcsValues")  # DB19.DBX0.7: 1 WCS, 0 MCS
+
+
 class Nck:
     def __init__(self, machine: MachineConfig, catalog: Catalog, memory: NcMemory | None = None,
                  physical: dict[str, float] | None = None):
@@ -82,6 +90,9 @@ class Nck:
         self._servo_check_version = -1
         self._nck_signals = NckSignals(SignalTable(catalog, InstanceKind.NCK))
         self._nck_area = self.image.area("DB10")
+        self._hmi_signals = HmiSignals(SignalTable(catalog, InstanceKind.HMI))
+        self.handwheels = Handwheels()
+        self._handwheel_signals = HandwheelSignals(SignalTable(catalog, InstanceKind.AXIS))
         self.mode_group = ModeGroup(ModeGroupSignals(SignalTable(catalog, InstanceKind.MODE_GROUP)),
                                     self.image.area("DB11"))
         axis_signals = AxisSignals(SignalTable(catalog, InstanceKind.AXIS))
@@ -275,6 +286,10 @@ class Nck:
             self.esr.inputs = sig.digital_inputs.get(area)
         if "DB11" in changed:
             self.mode_group.decode_inputs()
+        if "DB19" in changed:
+            wcs = self._hmi_signals.display_wcs.get(self.image.area("DB19"))
+            for retraction in self.retractions.values():
+                retraction.wcs_shown = wcs
         for channel in self.channels:
             if channel.area_key in changed:
                 channel.decode_inputs()
@@ -373,9 +388,12 @@ class Nck:
         reference_keys = mode_group.reference_function and mode_group.mode in (Mode.JOG, Mode.MDA)
         jog_mode = mode_group.mode is Mode.JOG and not mode_group.reference_function
         keys_followed = reference_keys or jog_mode
+        pulses = self.handwheels.pulses() if self.handwheels.any_turning else {}
         for channel in self.channels:
             allowed = keys_followed and not self.emergency_stop and not channel.is_active and \
                 not self.alarms.reactions(channel.name) & STOP_AXES
+            if pulses and allowed and jog_mode:
+                self._handwheel_pulses(channel, pulses)
             self.referencing.traverse_keys(channel.name, channel.axes, allowed and reference_keys, self.cycle)
             feed_disable = channel.inputs.feed_disable
             jog_allowed = allowed and jog_mode
@@ -394,6 +412,21 @@ class Nck:
                         limits = limits.and_(inclined.jog_limits(axis))
                     limits = limits.and_(channel.stroke_jog_limits(axis, self.cycle))  # G22, stroke limit 3
                     axis.jog_cycle(jog_allowed, feed_disable, limits)
+
+    def _handwheel_pulses(self, channel: Channel, pulses: dict[int, int]) -> None:
+        """Hand this cycle's pulses of the turning handwheels to the axes the PLC assigned them to
+        (DB31.DBX4.0..4.2), by the increment it selects (DB31.DBX5.0..5.4); spindles take none."""
+        signals = self._handwheel_signals
+        receivers = [(number, axis) for axis in channel.axes for number in pulses
+                     if signals.assigned(self.image.area(axis.area_key)) & (1 << (number - 1))]
+        for number, axis in self.retractions[channel.name].handwheel_priority(receivers):
+            increment = signals.increment(self.image.area(axis.area_key))
+            if pulses[number] and increment and not axis.is_spindle:
+                axis.add_handwheel_travel(pulses[number] * increment)
+
+    def turn_handwheel(self, number: int, detents: int, cycles: int) -> None:
+        """The operator turns handwheel ``number`` (1..3) by ``detents`` over ``cycles`` IPO cycles."""
+        self.handwheels.turn(number, detents, cycles)
 
     def _extended_stop_and_retract(self) -> None:
         """Synchronized actions (after this cycle's alarms, before their reactions), the channels'

@@ -18,9 +18,10 @@ positions, and the transformation's machine axes move together on the straight p
 the machine end points of those positions (``TransformGroup``).  A geometry axis of the group
 without a retract target keeps its program position at the trigger [control].
 
-A retraction runs at the axes' maximum dynamics (MD32000 / MD32300, L8340-8349; the jerk limit
-MD32431 is not modelled): each group of axes is a rapid linear segment, owned by the retraction
-(``Owner.RETRACT``), so neither feed stop nor the single-axis stop signal holds it (L11394-11396).
+A retraction runs at the axes' maximum dynamics (MD32000 / MD32300 / MD32431, L8340-8349): each
+group of axes is a straight line from standstill to standstill with a jerk-limited (S-curve)
+velocity profile, owned by the retraction (``Owner.RETRACT``), so neither feed stop nor the
+single-axis stop signal holds it (L11394-11396).
 """
 
 from __future__ import annotations
@@ -31,7 +32,6 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from vc.core.axis import MachineAxis, Owner
-from vc.core.path import PathSegment
 
 LFTXT, LFWP, LFPOS = "LFTXT", "LFWP", "LFPOS"  # G group 46: how the retract target is given
 # The plane's first and second axis (geometry axis names): ALF=1 points along the first, ALF=3 along the second.
@@ -122,11 +122,116 @@ def through_transform(groups: list[dict[str, float]], transform: TransformGroup 
     return [group for group in groups if not members & set(group)] + [merged]
 
 
+@dataclass(frozen=True, slots=True)
+class SCurve:
+    """A rest-to-rest motion over ``length`` at velocity, acceleration and jerk limits: jerk +J, (hold
+    the acceleration), -J up to the velocity, cruise, and the mirror image down to standstill.
+
+    Closed form, sampled at the IPO cycles: ``peak_accel`` = min(A, sqrt(V J)); the acceleration
+    phase lasts ``ramp_time`` = V / A + A / J (2 sqrt(V / J) without a constant-acceleration part)
+    and covers V x ramp_time / 2; a line too short for the velocity limit lowers V until both
+    ramps fit (no cruise)."""
+
+    length: float
+    velocity: float  # the cruise velocity reached
+    peak_accel: float
+    jerk: float
+    ramp_time: float
+    cruise_time: float
+
+    @classmethod
+    def plan(cls, length: float, velocity: float, accel: float, jerk: float) -> SCurve:
+        def ramp_time(v: float) -> float:
+            return v / accel + accel / jerk if v * jerk >= accel * accel else 2.0 * math.sqrt(v / jerk)
+
+        if length <= 0.0:
+            return cls(0.0, 0.0, 0.0, jerk, 0.0, 0.0)
+        if velocity * ramp_time(velocity) > length:  # both ramps at V are longer than the line
+            low, high = 0.0, velocity
+            for _ in range(100):  # the ramps' length V x ramp_time(V) grows with V
+                middle = 0.5 * (low + high)
+                low, high = (middle, high) if middle * ramp_time(middle) <= length else (low, middle)
+            velocity = low
+        ramp = ramp_time(velocity)
+        return cls(length, velocity, min(accel, math.sqrt(velocity * jerk)), jerk, ramp,
+                   (length - velocity * ramp) / velocity if velocity > 0.0 else 0.0)
+
+    @property
+    def duration(self) -> float:
+        return 2.0 * self.ramp_time + self.cruise_time
+
+    def at(self, t: float) -> tuple[float, float]:
+        """Path position and velocity ``t`` seconds after the start."""
+        if t >= self.duration:
+            return self.length, 0.0
+        if t > self.ramp_time + self.cruise_time:  # braking: the acceleration mirrored in time
+            s, v = self._ramp(self.duration - t)
+            return self.length - s, v
+        if t > self.ramp_time:
+            ramp_length = self.velocity * self.ramp_time / 2.0
+            return ramp_length + self.velocity * (t - self.ramp_time), self.velocity
+        return self._ramp(t)
+
+    def _ramp(self, t: float) -> tuple[float, float]:
+        """Position and velocity ``t`` into the acceleration phase."""
+        jerk, peak = self.jerk, self.peak_accel
+        jerk_time = peak / jerk
+        if t <= jerk_time:
+            return jerk * t ** 3 / 6.0, jerk * t * t / 2.0
+        rest = self.ramp_time - t
+        if rest <= jerk_time:  # jerk -J up to the velocity: the first phase mirrored
+            return self.velocity * self.ramp_time / 2.0 - (self.velocity * rest - jerk * rest ** 3 / 6.0), \
+                self.velocity - jerk * rest * rest / 2.0
+        held = t - jerk_time
+        start_velocity = jerk * jerk_time * jerk_time / 2.0
+        return jerk * jerk_time ** 3 / 6.0 + start_velocity * held + peak * held * held / 2.0, \
+            start_velocity + peak * held
+
+
+@dataclass(slots=True)
+class RetractSegment:
+    """One group of retract axes on the straight line from where they stand to their end points."""
+
+    axes: list[MachineAxis]
+    starts: list[float]
+    ends: list[float]
+    profile: SCurve
+    time: float = 0.0
+
+    @classmethod
+    def plan(cls, axes: list[MachineAxis], ends: list[float]) -> RetractSegment:
+        starts = [axis.setpoint for axis in axes]
+        deltas = [end - start for start, end in zip(starts, ends, strict=True)]
+        length = math.sqrt(sum(d * d for d in deltas))
+        units = [abs(d) / length for d in deltas] if length > 0.0 else []
+
+        def limit(value_of: str) -> float:
+            return min((getattr(axis.dyn, value_of) / unit for axis, unit in zip(axes, units, strict=False) if unit),
+                       default=math.inf)
+
+        return cls(axes, starts, ends, SCurve.plan(length, limit("max_velocity"), limit("max_accel"),
+                                                  limit("max_jerk")))
+
+    @property
+    def finished(self) -> bool:
+        """At the end point and standing: the cycle after the one that arrived."""
+        return self.time > self.profile.duration
+
+    def cycle(self, dt: float) -> None:
+        """Advance one IPO cycle and hand each axis its position setpoint."""
+        self.time += dt
+        s, v = self.profile.at(self.time)
+        length = self.profile.length
+        for axis, start, end in zip(self.axes, self.starts, self.ends, strict=True):
+            share = (end - start) / length if length > 0.0 else 0.0
+            axis.set_path_setpoint(end if s >= length else start + share * s, share * v)
+
+
 class RetractMotion:
-    """Retract moves running at maximum dynamics: one rapid linear segment per group of axes."""
+    """Retract moves running at maximum dynamics: one jerk-limited straight line per group of axes."""
 
     def __init__(self, groups: list[dict[MachineAxis, float]]):
-        self.segments: list[PathSegment] = []
+        self.segments: list[RetractSegment] = []
         for group in groups:
             self.add(group)
 
@@ -137,7 +242,7 @@ class RetractMotion:
             return
         for axis in axes:
             axis.take(Owner.RETRACT)
-        self.segments.append(PathSegment.plan(axes, [group[axis] for axis in axes], [True] * len(axes), 0.0, True))
+        self.segments.append(RetractSegment.plan(axes, [group[axis] for axis in axes]))
 
     @property
     def axes(self) -> list[MachineAxis]:
@@ -153,7 +258,7 @@ class RetractMotion:
         for segment in self.segments:
             if any(axis.owner is not Owner.RETRACT for axis in segment.axes):
                 continue
-            segment.cycle(1.0, False, dt)
+            segment.cycle(dt)
             if segment.finished:
                 for axis in segment.axes:
                     axis.release()

@@ -181,7 +181,8 @@ class PlcLink:
             lines.append(f"Modbus TCP on {self.modbus.host}:{self.modbus.port} (register map: vc map --machine"
                          f" {machine.source} --format csv)")
         if self.s7 is not None:
-            lines.append(f"S7 on {self.s7.host}:{self.s7.port} (DB10, DB11, DB21.., DB31.., inputs PE, outputs PA)")
+            lines.append(f"S7 on {self.s7.host}:{self.s7.port}"
+                         " (DB10, DB11, DB19, DB21.., DB31.., inputs PE, outputs PA)")
         return lines
 
     def peer_state(self, simulation: Simulation) -> str:

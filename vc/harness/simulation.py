@@ -195,7 +195,7 @@ class Simulation:
         if self._forces and ref in self._forces:
             self._underlying[ref] = value  # the force wins; the value applies when it is released
             return
-        self._image_of(ref).write(ref, value)
+        self.image_of(ref).write(ref, value)  # NC->PLC: a request of the operator panel (DB19)
         self._observed_cycle = -1
 
     def force(self, ref: SignalRef, value: Value) -> None:
@@ -378,6 +378,10 @@ class Simulation:
         item = self.nck.axes_by_name[axis]
         item.external_velocity = velocity / item.dyn.display_velocity_factor
         item.resting = False
+
+    def turn_handwheel(self, number: int, detents: int, cycles: int) -> None:
+        """The operator turns handwheel ``number`` by ``detents`` evenly over ``cycles`` IPO cycles."""
+        self.nck.turn_handwheel(number, detents, cycles)
 
     def load_mda(self, channel: str, text: str) -> None:
         self.nck.load_mda(channel, text)

@@ -20,10 +20,11 @@ from typing import Any
 
 from interfaces.image import Value, value_range
 from interfaces.plant_io import Owner
-from interfaces.signals import Catalog, Direction, SignalType, UnknownSignalError, expand
+from interfaces.signals import HMI_INSTANCE, Catalog, Direction, SignalType, UnknownSignalError, expand
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.core.alarms import ALARM_TEXTS
+from vc.core.handwheel import HANDWHEELS
 from vc.located_yaml import LocatedList, LocatedMap, Mark, Problem, Problems, SourceError, load_file
 from vc.observables import FAULTS, LINK_AREA, LINK_DIRECTIONS, LINK_FAULTS, MACHINE_FAULTS, MAINS
 from vc.scenario.durations import Duration, DurationError, parse_duration
@@ -52,6 +53,7 @@ from vc.scenario.model import (
     SelectProgram,
     SetValues,
     Step,
+    TurnHandwheels,
     Wait,
     WaitUntil,
 )
@@ -63,7 +65,7 @@ TOP_KEYS = ("name", "description", "machine", "plc", "link", "machine_data", "pl
 REQUIRED_TOP_KEYS = ("name", "machine", "plc", "steps")
 STEP_KINDS = ("press", "hold", "release", "set", "force", "pulse", "mda", "program", "wait", "expect",
               "expect_alarm", "expect_no_alarm", "expect_order", "expect_timing", "power_cycle", "fault",
-              "clear_faults", "move_by_hand", "link_fault")
+              "clear_faults", "move_by_hand", "link_fault", "turn")
 STEP_EXAMPLES = {
     "press": "press: MCP.jog", "hold": "hold: MCP.plus.X1", "release": "release: MCP.plus.X1",
     "set": "set: {MCP.feedOverride: 50}", "force": "force: {X1.basic.out.enableCtrl: 0}",
@@ -74,7 +76,7 @@ STEP_EXAMPLES = {
     "expect_timing": "expect_timing: {from: MCP.jog rises, to: MCP.jog falls, max: 1s}",
     "power_cycle": "power_cycle: 2s", "fault": "fault: {axis: X1, kind: zero_marks_missing}",
     "clear_faults": "clear_faults: X1", "move_by_hand": "move_by_hand: {axis: X1, velocity: 600}",
-    "link_fault": "link_fault: {kind: loss, for: 300ms}",
+    "link_fault": "link_fault: {kind: loss, for: 300ms}", "turn": "turn: {handwheel1: 20, for: 200ms}",
 }
 LINKS = (LINK_CAN,)
 LINK_FAULT_KEYS = ("kind", "for", "direction", "frames", "by", "every")
@@ -598,6 +600,34 @@ class _ScenarioChecker:
             return None
         return MoveByHand(index, "move_by_hand", mark, axis, float(velocity)) if axis is not None else None
 
+    def step_turn(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        """``turn: {handwheel1: 20, handwheel2: -5, for: 200ms}``: detents per handwheel, turned together."""
+        if not isinstance(value, LocatedMap):
+            self.add(value_mark, f"turn takes a mapping, e.g. {STEP_EXAMPLES['turn']}")
+            return None
+        wheels = tuple(f"handwheel{number}" for number in range(1, HANDWHEELS + 1))
+        if not self.check_keys(value, (*wheels, "for"), (), "turn"):
+            return None
+        detents = []
+        for number, key in enumerate(wheels, start=1):
+            if key not in value:
+                continue
+            count = value[key]
+            if isinstance(count, bool) or not isinstance(count, int):
+                self.add(value.mark_of(key), f"{key} takes a whole number of detents, not {_kind_of_value(count)}")
+                return None
+            detents.append((number, count))
+        if not detents:
+            self.add(value_mark, f"turn names no handwheel, e.g. {STEP_EXAMPLES['turn']}")
+            return None
+        duration = DEFAULT_PRESS
+        if "for" in value:
+            parsed = self.duration(value["for"], value.mark_of("for"), positive=True)
+            if parsed is None:
+                return None
+            duration = parsed
+        return TurnHandwheels(index, "turn", mark, tuple(detents), duration)
+
     def step_link_fault(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
         if not isinstance(value, LocatedMap):
             self.add(value_mark, f"link_fault takes a mapping, e.g. {STEP_EXAMPLES['link_fault']}")
@@ -642,7 +672,7 @@ class _ScenarioChecker:
         return InjectLinkFault(index, "link_fault", mark, str(kind), duration, directions, areas, delay, every)
 
     def link_frames(self, value: Any, mark: Mark) -> tuple[str, ...] | None:
-        """The areas whose frames a link fault hits: instance names (X1, CHAN1, NC, MODEGROUP), data
+        """The areas whose frames a link fault hits: instance names (X1, CHAN1, NC, MODEGROUP, HMI), data
         blocks (DB31), the plant areas I and Q, or link (the link frames)."""
         if self.machine is None:
             return None
@@ -650,7 +680,7 @@ class _ScenarioChecker:
         if names is None:
             return None
         layout = self.machine.layout
-        instances = {"NC": "DB10", "MODEGROUP": "DB11",
+        instances = {"NC": "DB10", "MODEGROUP": "DB11", "HMI": "DB19",
                      **{name: f"DB{layout.channel_db(name)}" for name in layout.channels},
                      **{name: f"DB{layout.axis_db(name)}" for name in layout.axes}}
         known = {*instances.values(), "I", "Q", LINK_AREA}
@@ -855,7 +885,7 @@ class _ScenarioChecker:
         assert quantity.ref is not None
         direction = quantity.ref.direction
         owner = ""
-        if direction is Direction.NC_TO_PLC:
+        if direction is Direction.NC_TO_PLC and not _operator_panel_key(quantity):
             owner = "it is written by the NC"
         elif direction in (Direction.PLC_TO_NC, Direction.PLC_TO_PLANT) and self.plc != NO_PLC:
             owner = f"it is written by the PLC program {self.plc}"
@@ -990,3 +1020,10 @@ class _ScenarioChecker:
                      f" ({plural}: {', '.join(names)})")
             return None
         return value
+
+
+def _operator_panel_key(quantity: Quantity) -> bool:
+    """A request of the operator panel to the PLC (DB19 OP -> PLC, e.g. the MCS/WCS softkey
+    HMI.basic.in.mcsWcsSwitched): the operator works it, as the panel's keys."""
+    signal = quantity.ref.signal if quantity.ref is not None else None
+    return signal is not None and signal.instance == HMI_INSTANCE

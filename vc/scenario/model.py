@@ -231,6 +231,14 @@ class MoveByHand(Step):
 
 
 @dataclass(frozen=True, slots=True)
+class TurnHandwheels(Step):
+    """``turn``: the operator turns handwheels by detents (sign = direction), evenly over ``duration``."""
+
+    detents: tuple[tuple[int, int], ...]  # (handwheel number, detents)
+    duration: Duration
+
+
+@dataclass(frozen=True, slots=True)
 class Invariant:
     condition: Expression
     mark: Mark

@@ -44,6 +44,7 @@ from vc.scenario.model import (
     SelectProgram,
     SetValues,
     Step,
+    TurnHandwheels,
     Wait,
     WaitUntil,
 )
@@ -341,6 +342,11 @@ class _Run:
             target.clear_faults(step.axis)
         elif isinstance(step, MoveByHand):
             target.move_by_hand(step.axis, step.velocity)
+        elif isinstance(step, TurnHandwheels):
+            cycles = step.duration.cycles(self.ipo_cycle_us)
+            for number, detents in step.detents:
+                target.turn_handwheel(number, detents, cycles)
+            self.advance(cycles)
         else:  # pragma: no cover - the loader builds only the kinds above
             raise TypeError(f"unknown step {step!r}")
         self.steps_done += 1

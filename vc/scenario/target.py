@@ -84,3 +84,6 @@ class ScenarioTarget(Protocol):
 
     def move_by_hand(self, axis: str, velocity: float) -> None:
         """Someone moves the slide from outside (only a slide without position control moves)."""
+
+    def turn_handwheel(self, number: int, detents: int, cycles: int) -> None:
+        """The operator turns handwheel ``number`` by ``detents`` evenly over ``cycles`` IPO cycles."""

@@ -32,9 +32,9 @@ def test_the_csv_map_gives_the_frame_and_the_start_bit(capsys: pytest.CaptureFix
     assert main(["map", "--machine", MACHINE, "--format", "csv"]) == 0
     rows = {row["symbol"]: row for row in csv.DictReader(io.StringIO(capsys.readouterr().out))}
     assert (rows["X1.basic.in.enc1Synchronized"]["can_id"], rows["X1.basic.in.enc1Synchronized"]["can_start_bit"]) == (
-        "0x20A", "4")  # DB31.DBX60.4: byte 0, bit 4 of the frame with DB31.DBB60..103
+        "0x20B", "4")  # DB31.DBX60.4: byte 0, bit 4 of the frame with DB31.DBB60..103
     assert (rows["X1.basic.out.refPointApproachCam"]["can_id"],
-            rows["X1.basic.out.refPointApproachCam"]["can_start_bit"]) == ("0x407", "103")  # DB31.DBX12.7
+            rows["X1.basic.out.refPointApproachCam"]["can_start_bit"]) == ("0x408", "103")  # DB31.DBX12.7
     assert (rows["MCP.jog"]["can_id"], rows["MCP.jog"]["can_start_bit"]) == ("0x200", "2")  # I0.2
     assert (rows["LINK.scanDone"]["can_id"], rows["LINK.scanDone"]["can_start_bit"]) == ("", "")
 

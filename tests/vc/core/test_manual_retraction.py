@@ -42,12 +42,14 @@ def abort_tapping_by_power_failure(config: MachineConfig, below: float = -310.0)
     return prepared(rig, mode="")
 
 
-def select(rig: Rig) -> tuple[int, int]:
-    """The PI service RETRAC: request, answer (done, refused), request off."""
+def select(rig: Rig, wcs: bool = True) -> tuple[int, int]:
+    """The PI service RETRAC: request, answer (done, refused), request off; then the PLC shows
+    the WCS (DB19.DBX0.7), or leaves the MCS with ``wcs=False``."""
     rig.set("CHAN1.piService.out.retracRequest", 1)
     rig.step(2)
     answer = (int(rig.get("CHAN1.piService.in.retracDone")), int(rig.get("CHAN1.piService.in.retracError")))
     rig.set("CHAN1.piService.out.retracRequest", 0)
+    rig.set("HMI.basic.out.displayWcsValues", int(wcs))
     rig.step(2)
     return answer
 
@@ -170,6 +172,20 @@ def test_only_the_tool_axis_plus_moves_and_the_spindle_follows_the_pitch() -> No
     jog(rig, "Z1", "Plus", 300)
     assert z.physical - start_z > 5.0
     assert spindle.physical - start_spindle == pytest.approx(-180.0 * (z.physical - start_z), abs=0.05)
+
+
+def test_in_the_mcs_the_keys_of_the_tool_axis_do_not_retract() -> None:
+    rig = abort_tapping_by_power_failure(mill())
+    rig.select_mode("jog")
+    rig.step(2)
+    assert select(rig, wcs=False) == (1, 0)
+    z, spindle = rig.axis("Z1"), rig.axis("SP1")
+    start_z, start_spindle = z.physical, spindle.physical
+    jog(rig, "Z1", "Plus", 300)
+    assert (z.physical, spindle.physical) == (start_z, start_spindle)
+    rig.set("HMI.basic.out.displayWcsValues", 1)  # the PLC shows the WCS: the same key retracts
+    jog(rig, "Z1", "Plus", 300)
+    assert z.physical - start_z > 5.0
 
 
 def test_md10735_bit_8_enables_the_minus_direction() -> None:
