@@ -470,6 +470,8 @@ class Channel:
         segment = self._segment
         assert segment is not None and self._plan is not None
         axes_hold = False
+        inclined = self.inclined
+        carried = inclined.orthogonal if inclined is not None and inclined.orthogonal_only_carried else None
         for axis in segment.axes:
             if axis.owner is not Owner.PATH:
                 # A reaction (rapid stop, limit switch) braked an axis off the path: the contour is
@@ -480,7 +482,8 @@ class Channel:
                 return
             # Feed disable, an axis feed stop or a missing enable hold the path; the program
             # keeps its state "running" (only read-in disable makes it "waiting").
-            axes_hold = axes_hold or axis.inputs.feed_stop or not axis.drive_ready
+            interlocked = axis.inputs.feed_stop and axis is not carried
+            axes_hold = axes_hold or interlocked or not axis.drive_ready
         blocked = hold or self.inputs.feed_disable or axes_hold
         override = self.inputs.rapid_override if segment.rapid else self.inputs.feed_override
         segment.cycle(override, blocked, self._dt)

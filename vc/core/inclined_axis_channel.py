@@ -94,6 +94,9 @@ class InclinedAxisControl:
         # the planned block's start, machine and program, and NOZAGC then: the mapping of its path
         self._path_start = (AxisPair(0.0, 0.0), AxisPair(0.0, 0.0), False)
         self._carrying = False  # the orthogonal axis travels with a manual motion of the inclined axis
+        # The planned block moves the orthogonal axis only because the inclined axis moves: the
+        # orthogonal axis's interlock, a Cartesian-class signal, does not hold that motion (L308).
+        self.orthogonal_only_carried = False
         theta = math.radians(parameters.angle)
         self._shift_per_travel = -parameters.diameter_factor * math.sin(theta)
         # The JOG keys act in the Cartesian system (L313): the programmed velocity F_p becomes
@@ -154,6 +157,7 @@ class InclinedAxisControl:
         """Map the block's targets of the pair onto the machine axes, or refuse the block."""
         self._leg_drifts = []
         self._block_loses_reference = False
+        self.orthogonal_only_carried = False
         if plan.polygon is not None and plan.polygon.start:
             alarm = incompatibility_alarms((ConflictingFunction.POLYGON_TURNING,))[0]
             return DecodeAlarm(alarm.number, (self._channel, label, alarm.detail))
@@ -191,6 +195,7 @@ class InclinedAxisControl:
             refusal = self._arc_stroke_limit(plan.arc, label)
         if refusal is not None:
             return refusal
+        self.orthogonal_only_carried = not plan.machine_coordinates and self.orthogonal.name not in plan.targets
         self._set_targets(plan.targets, start, end)
         self._leg_drifts = [drift]
         self._expect_reference_loss(start, not plan.machine_coordinates and
