@@ -150,11 +150,11 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
         AlarmDefinition(22020, "Channel %1 block %2 spindle %3 gear stage change position not reached",
                         _STOP | Reaction.READ_IN_DISABLED, Clear.RESET, "seed 003 L19697-19701"),
         AlarmDefinition(22025, "Channel %1 block %2 following axis/spindle %3 synchronism (2): fine tolerance"
-                        " exceeded", Reaction.NONE, Clear.SELF, "seed 003 L29878-29888 (text; display alarm,"
-                        " machining continues; block = the coupling's COUPON [control])"),
+                        " exceeded", Reaction.NONE, Clear.CANCEL, "seed 003 L29878-29888 (text; a display alarm the"
+                        " operator clears, machining continues; block = the coupling's COUPON [control])"),
         AlarmDefinition(22026, "Channel %1 block %2 following axis/spindle %3 synchronism (2): coarse tolerance"
-                        " exceeded", Reaction.NONE, Clear.SELF, "seed 003 L29878-29888 (text; display alarm,"
-                        " machining continues; block = the coupling's COUPON [control])"),
+                        " exceeded", Reaction.NONE, Clear.CANCEL, "seed 003 L29878-29888 (text; a display alarm the"
+                        " operator clears, machining continues; block = the coupling's COUPON [control])"),
         AlarmDefinition(22040, "Channel %1 block %2 spindle %3 is not referenced with zero mark", Reaction.NONE,
                         Clear.CANCEL, "seed 003 L22214-22231 (coupling activated unsynchronised: allowed,"
                         " with an alarm); L30398-30399 (CPMALARM bit 10: the same check of FS and LS)"

@@ -220,7 +220,8 @@ class Channel:
         self.polygon: PolygonTurning | None = None
         self._coupling_feeds: dict[str, float] = {}  # FA[Sn], deg/min (modal)
         self._waits: list[tuple[str, BlockChange | None]] = []  # COUPON / WAITC block-change conditions
-        self._dwell_degrees = 0.0  # G4 S: master spindle degrees still to turn
+        self._dwell_degrees = 0.0  # G4 S: degrees the counted spindle still has to turn
+        self._dwell_spindle = ""  # G4 S: the spindle whose revolutions count
         self.esr: ChannelEsr | None = None  # fast retraction and ESR, given by the NCK
         self._thread: ThreadSegment | None = None  # the running G33 block
         self._thread_chain: float | None = None  # spindle position where the last G33 block ended
@@ -419,10 +420,10 @@ class Channel:
 
     def _dwell_cycle(self) -> None:
         if self._dwell_degrees > 0.0:
-            master = self.spindles.get(self.master_spindle() or "")
-            if master is not None:
-                self._dwell_degrees -= abs(master.axis.velocity) * self._dt
-            if self._dwell_degrees <= 1e-9 or master is None:
+            counted = self.spindles.get(self._dwell_spindle)
+            if counted is not None:
+                self._dwell_degrees -= abs(counted.axis.velocity) * self._dt
+            if self._dwell_degrees <= 1e-9 or counted is None:
                 self._dwell_degrees = 0.0
                 self._end_dwell()
             return
@@ -666,6 +667,8 @@ class Channel:
                 polygon.cancel()
         if couplings is None:
             return not plan.couplings
+        for following, thresholds in plan.coupling_thresholds.items():
+            couplings.program_thresholds(following, thresholds)  # before a COUPON of the same block
         for command in plan.couplings:
             alarm = self._coupling_call(couplings, command, cycle, block)
             if alarm:
@@ -766,6 +769,7 @@ class Channel:
         if plan.dwell_revolutions > 0.0:
             self._phase = Phase.DWELL
             self._dwell_degrees = plan.dwell_revolutions * 360.0
+            self._dwell_spindle = plan.dwell_spindle
             return
         # G43.4 / G68.2 / G53.1: the path in program coordinates, or a refusal before anything moves
         tool_path = self.five_axis.plan(plan, self.modal.five_axis, self.current_block.label

@@ -28,7 +28,9 @@ relation ``phi_FS - k x phi_LS`` minus the relation the coupling heads for (prog
 overlays, correction), wrapped to +-180 degrees; within MD37200 = coarse (DBX98.1), within
 MD37210 = fine (DBX98.0).  VV compares speeds with MD37220 / MD37230.  DBX99.4 while the
 coupling synchronises or the deviation is beyond coarse.  Stage 2 (MD37202 / MD37212, 0 =
-off) gives the display alarms 22025 / 22026 and DBX103.4 / 103.5.
+off) gives DBX103.4 / 103.5 and the display alarms 22025 / 22026, which stay until the operator
+clears them.  CPSYNCOP[FS]= and the other threshold keywords replace these machine data from the
+FS's next COUPON on.
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 
 from vc.config import md_dictionary as MD
+from vc.config.machine_data import MachineData, MdDef
 from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis import MachineAxis, Owner
@@ -96,6 +99,8 @@ class PairDefinition:
     kind: Kind = Kind.DV
     configured: bool = False  # the channel's pair of MD21300
     write_protected: bool = False  # MD21340
+    # CPSYNCOP.. in force, MD number -> value: they replace MD37200.. until COUPRES or COUPDEL [INF]
+    thresholds: dict[int, float] = field(default_factory=dict)
 
     @property
     def ratio(self) -> float:
@@ -152,6 +157,7 @@ class Coupling:
     jog_velocity: float = 0.0  # deg/s of the relation moved by the JOG keys
     spcon_following: bool = False  # SPCON was programmed on the FS: position control stays after COUPOF
     shifts_seen: tuple[float, float] = (0.0, 0.0)  # the coordinate shifts of FS and LS the relation knows
+    stage_2_exceeded: set[int] = field(default_factory=set)  # 22025 / 22026 whose tolerance is exceeded now
 
     @property
     def ratio(self) -> float:
@@ -161,6 +167,12 @@ class Coupling:
     def setpoint_synchronous(self) -> bool:
         return (self.phase is Phase.SYNCHRONOUS and self.overlay is None and not self.offset_pending
                 and not self.queued)
+
+
+def threshold(coupling: Coupling, md: MachineData, datum: MdDef) -> float:
+    """A synchronism threshold of the FS: its programmed CPSYNCOP.. value, else the machine datum."""
+    programmed = coupling.definition.thresholds.get(datum.number)
+    return md.float(datum) if programmed is None else programmed
 
 
 class CouplingSignals:
@@ -212,6 +224,8 @@ class Couplings:
         self.active: dict[str, Coupling] = {}
         self._written: dict[str, tuple[object, ...]] = {}
         self._idle_written = False  # the outputs were written with no pair coupled
+        # CPSYNCOP[FS].. programmed, waiting for the FS's next COUPON / COUPONC (L29849)
+        self._programmed_thresholds: dict[str, dict[int, float]] = {}
         for channel in channels:
             configured = self._configured_pair(channel)
             if configured is not None:
@@ -278,6 +292,7 @@ class Couplings:
             self.decouple(following, stop=stop)
         if not definition.configured:
             del self.definitions[following]
+        self._programmed_thresholds.pop(following, None)
         return 0
 
     def restore(self, following: str) -> int:
@@ -290,9 +305,17 @@ class Couplings:
                  else PairDefinition(following, definition.leading))
         definition.numerator, definition.denominator = fresh.numerator, fresh.denominator
         definition.block_change = fresh.block_change
+        definition.thresholds.clear()  # MD37200.. apply again [INF]
+        self._programmed_thresholds.pop(following, None)
         if following not in self.active:
             definition.kind = fresh.kind
         return 0
+
+    def program_thresholds(self, following: str, thresholds: dict[int, float]) -> None:
+        """CPSYNCOP[FS]=.. and the other threshold keywords: like every CP property programmed in a
+        part program they act with the next switching command (L29849, L28387), here the FS's
+        next COUPON / COUPONC, also one in the same block or on a pair already coupled."""
+        self._programmed_thresholds.setdefault(following, {}).update(thresholds)
 
     # ------------------------------------------------------------------ activation
     def couple(self, channel: str, following: str, leading: str, offset: float | None, keep_speed: bool,
@@ -301,6 +324,7 @@ class Couplings:
         definition = self.definitions.get(following)
         if definition is None or definition.leading != leading:
             return ALARM_COUPLING_NOT_DEFINED
+        definition.thresholds.update(self._programmed_thresholds.pop(following, {}))  # L29849
         present = self.active.get(following)
         if present is not None:
             if offset is not None and present.phase is Phase.SYNCHRONOUS:
@@ -525,6 +549,8 @@ class Couplings:
         pairs kept only with MD20110 bits 0 and 10 (L22968-22981).  A kept coupling loses the SPOS
         motions of its FS, running and queued, as reset ends every motion of a spindle [control]."""
         config = self._channels[channel]
+        for following in [name for name in self._programmed_thresholds if self._spindles[name].channel == channel]:
+            del self._programmed_thresholds[following]  # programmed, but no COUPON switched them in [control]
         reset_mode = config.md.int(MD.RESET_MODE_MASK)
         if not reset_mode & RESET_BEHAVIOUR:
             for following, kept in self.active.items():
@@ -832,7 +858,8 @@ class Couplings:
         if coupling.definition.kind is Kind.VV:
             ls = self._spindles[coupling.definition.leading].axis
             deviation = abs(axis.velocity - coupling.ratio * ls.velocity - coupling.differential_velocity) / RPM
-            coarse_tolerance, fine_tolerance = md.float(MD.COUPLE_VELO_TOL_COARSE), md.float(MD.COUPLE_VELO_TOL_FINE)
+            coarse_tolerance = threshold(coupling, md, MD.COUPLE_VELO_TOL_COARSE)
+            fine_tolerance = threshold(coupling, md, MD.COUPLE_VELO_TOL_FINE)
         else:
             # a resynchronisation is judged against the relation commanded now, which still has
             # ``left`` to go to the target
@@ -843,18 +870,22 @@ class Couplings:
             # stands without any following error while the LS lags by its own
             lag = (coupling.differential_velocity + coupling.jog_velocity) * axis.lag_per_velocity
             deviation = abs(wrap180(self._actual_relation(coupling) - heading - coupling.correction + lag))
-            coarse_tolerance, fine_tolerance = md.float(MD.COUPLE_POS_TOL_COARSE), md.float(MD.COUPLE_POS_TOL_FINE)
+            coarse_tolerance = threshold(coupling, md, MD.COUPLE_POS_TOL_COARSE)
+            fine_tolerance = threshold(coupling, md, MD.COUPLE_POS_TOL_FINE)
         coupling.deviation = deviation
         synchronous = coupling.setpoint_synchronous
         coupling.coarse = synchronous and deviation <= coarse_tolerance
         coupling.fine = synchronous and deviation <= fine_tolerance
-        for number, tolerance in ((ALARM_FINE_2_EXCEEDED, md.float(MD.COUPLE_POS_TOL_FINE_2)),
-                                  (ALARM_COARSE_2_EXCEEDED, md.float(MD.COUPLE_POS_TOL_COARSE_2))):
-            if tolerance > 0.0 and synchronous and deviation > tolerance:
+        for number, tolerance in ((ALARM_FINE_2_EXCEEDED, threshold(coupling, md, MD.COUPLE_POS_TOL_FINE_2)),
+                                  (ALARM_COARSE_2_EXCEEDED, threshold(coupling, md, MD.COUPLE_POS_TOL_COARSE_2))):
+            if not (tolerance > 0.0 and synchronous and deviation > tolerance):
+                coupling.stage_2_exceeded.discard(number)
+            elif number not in coupling.stage_2_exceeded:
+                # raised as the deviation leaves the tolerance; a display alarm the operator clears
+                # (L29878-29879), it stays when the deviation returns
+                coupling.stage_2_exceeded.add(number)
                 self._alarms.raise_alarm(number, cycle, coupling.channel, coupling.block, following,
                                          channel=coupling.channel, axis=following)
-            elif tolerance > 0.0 and self._alarms.is_present(number, following):
-                self._alarms.clear(number, axis=following)  # a display alarm: gone with its cause
         coupling.acceleration = (axis.command_velocity - coupling.last_velocity) / self._dt
         coupling.last_velocity = axis.command_velocity
 
@@ -879,8 +910,8 @@ class Couplings:
                     coupling.correction_done, abs(coupling.acceleration) > accel_threshold,
                     not coupling.coarse or (overlay is not None and overlay.resync),
                     coupling.correction_applied != 0.0,
-                    self._within(coupling, md.float(MD.COUPLE_POS_TOL_FINE_2)),
-                    self._within(coupling, md.float(MD.COUPLE_POS_TOL_COARSE_2)),
+                    self._within(coupling, threshold(coupling, md, MD.COUPLE_POS_TOL_FINE_2)),
+                    self._within(coupling, threshold(coupling, md, MD.COUPLE_POS_TOL_COARSE_2)),
                 )
             if self._written.get(name) == status:
                 continue

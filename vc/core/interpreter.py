@@ -17,7 +17,7 @@ from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.axis import MachineAxis
 from vc.core.circle import CENTRE_WORDS, CIRCLE_END_POINT, PLANES, Arc, ArcTolerance, plan_arc
-from vc.core.coupling_types import block_change_of, kind_of
+from vc.core.coupling_types import SYNCHRONISM_THRESHOLDS, block_change_of, kind_of
 from vc.core.drive_esr import MAX_DELAY_S, DriveEsrCommand, esrr_command, esrs_command
 from vc.core.five_axis_program import (
     FIVE_AXIS_ADDRESSES,
@@ -158,9 +158,12 @@ class BlockPlan:
     preset: dict[str, float] = field(default_factory=dict)  # PRESETON: machine axis -> new actual value
     spindles: dict[str, SpindleCommand] = field(default_factory=dict)  # machine axis -> its part of the block
     couplings: list[CouplingCommand] = field(default_factory=list)
+    # CPSYNCOP[Sn]=.. and the other synchronism thresholds: machine axis of the FS -> MD number -> value
+    coupling_thresholds: dict[str, dict[int, float]] = field(default_factory=dict)
     feeds: dict[str, float] = field(default_factory=dict)  # FA[Sn]: machine axis -> deg/min (0 = MD)
     position_control: dict[str, bool] = field(default_factory=dict)  # SPCON / SPCOF: machine axis -> on
-    dwell_revolutions: float = 0.0  # G4 S: revolutions of the master spindle
+    dwell_revolutions: float = 0.0  # G4 S: revolutions of the spindle ``dwell_spindle``
+    dwell_spindle: str = ""  # the machine axis of the spindle whose revolutions G4 S / G4 S<n>= counts
     spindle_waits: list[str] = field(default_factory=list)  # WAITS: machine axes of the spindles waited for
     polygon: PolygonCommand | None = None
     five_axis: FiveAxisWords | None = None  # G43.4 / G43 / G49 / G68.2 / G69 / G53.1 and their words
@@ -497,6 +500,20 @@ def _coupling_call(decoder: _Decoder, call: Call) -> None:
         decoder.plan.couplings.append(CouplingCommand(name, following, leading))
 
 
+def _synchronism_threshold(decoder: _Decoder, name: str, index: str, value: object) -> None:
+    """CPSYNCOP[FS]= / CPSYNFIP / CPSYNCOV / CPSYNFIV / CPSYNCOP2 / CPSYNFIP2: a threshold of the
+    synchronism monitoring of the following spindle FS, a REAL >= 0 in degrees (rev/min for the
+    ..V keywords; stage 2: 0 = off), L29655-29850.  The coupling takes it at the FS's next COUPON."""
+    if not index or not isinstance(value, float) or value < 0.0:
+        text = f"{value:g}" if isinstance(value, float) else str(value)
+        decoder.fail(12080, decoder.channel.name, decoder.block.label,
+                     f"{name}[{index}]={text}" if index else f"{name}={text}")  # [control]
+        return
+    following = decoder.spindle_axis(index)
+    if following is not None:
+        decoder.plan.coupling_thresholds.setdefault(following, {})[SYNCHRONISM_THRESHOLDS[name].number] = value
+
+
 def _waitc(decoder: _Decoder, call: Call) -> None:
     """WAITC(FS[, condition][, FS2[, condition]]): wait for the synchronism condition (L22659-22690)."""
     arguments = list(call.arguments)
@@ -820,6 +837,9 @@ def _assignment(decoder: _Decoder, item: Assignment) -> None:
         if axis is not None:
             decoder.plan.feeds[axis] = item.value
         return
+    if item.name in SYNCHRONISM_THRESHOLDS:
+        _synchronism_threshold(decoder, item.name, item.index, item.value)
+        return
     extended = _ADDRESS_EXTENSION.match(item.name)
     if extended and not item.index and isinstance(item.value, float) and \
             decoder.channel.axis_for_program_name(item.name) is None:
@@ -1010,11 +1030,13 @@ def _finish(decoder: _Decoder) -> None:
         return
     if decoder.dwell_requested:
         # G4 F<seconds>: the F of a dwell block is a time and does not change the modal feed;
-        # G4 S<n>: n revolutions of the master spindle (L23907-23963).
-        master = next(iter(plan.spindles.values()), None) if len(plan.spindles) == 1 else None
-        if decoder.feed_word is None and master is not None and master.speed is not None and \
-                master == SpindleCommand(speed=master.speed) and master.speed > 0 and not plan.targets:
-            plan.dwell_revolutions = master.speed
+        # G4 S<n>: n revolutions of the master spindle, coupled or not (L20367, L23932-23933);
+        # G4 S<m>=<n>: n revolutions of spindle m [control].
+        counted, turns = next(iter(plan.spindles.items()), ("", None)) if len(plan.spindles) == 1 else ("", None)
+        if decoder.feed_word is None and turns is not None and turns.speed is not None and \
+                turns == SpindleCommand(speed=turns.speed) and turns.speed > 0 and not plan.targets:
+            plan.dwell_revolutions = turns.speed
+            plan.dwell_spindle = counted
             plan.spindles.clear()
             return
         if decoder.feed_word is None or decoder.feed_word < 0 or plan.targets:

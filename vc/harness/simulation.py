@@ -358,6 +358,9 @@ class Simulation:
         self.plant.supply_on = on
         self.nck.supply(on)
 
+    def acknowledge_alarms(self) -> None:
+        self.nck.acknowledge()
+
     def clear_faults(self, axis: str) -> None:
         if axis == MAINS:
             self._supply(True)

@@ -37,6 +37,7 @@ File grammar (``[...]`` = optional)::
       power_cycle: DURATION | {off: DURATION}            machine off and on again (default 1 s off)
       fault: {axis: AXIS, kind: FAULT, [from: X, to: X], [by: X], [encoder: 1|2]}   vc.scenario.target.FAULTS
       clear_faults: AXIS
+      acknowledge: alarms                                the alarm cancel key: alarms cleared with it go
       link_fault: {kind: loss | delay | bus_off, for: DURATION, [direction: nc_to_plc | plc_to_nc | both],
                    [frames: NAMES], [by: DURATION], [every: N]}   a fault of the CAN bus (link: can)
       move_by_hand: {axis: AXIS, velocity: NUMBER}       the slide moved from outside (servo off); 0 stops

@@ -32,6 +32,7 @@ from vc.scenario.expressions import Expression, ExpressionError, parse_expressio
 from vc.scenario.model import (
     LINK_CAN,
     NO_PLC,
+    AcknowledgeAlarms,
     ClearFaults,
     EdgeKind,
     Event,
@@ -65,7 +66,8 @@ TOP_KEYS = ("name", "description", "machine", "plc", "link", "machine_data", "pl
 REQUIRED_TOP_KEYS = ("name", "machine", "plc", "steps")
 STEP_KINDS = ("press", "hold", "release", "set", "force", "pulse", "mda", "program", "wait", "expect",
               "expect_alarm", "expect_no_alarm", "expect_order", "expect_timing", "power_cycle", "fault",
-              "clear_faults", "move_by_hand", "link_fault", "turn")
+              "clear_faults", "move_by_hand", "link_fault", "turn",
+              "acknowledge")
 STEP_EXAMPLES = {
     "press": "press: MCP.jog", "hold": "hold: MCP.plus.X1", "release": "release: MCP.plus.X1",
     "set": "set: {MCP.feedOverride: 50}", "force": "force: {X1.basic.out.enableCtrl: 0}",
@@ -77,6 +79,7 @@ STEP_EXAMPLES = {
     "power_cycle": "power_cycle: 2s", "fault": "fault: {axis: X1, kind: zero_marks_missing}",
     "clear_faults": "clear_faults: X1", "move_by_hand": "move_by_hand: {axis: X1, velocity: 600}",
     "link_fault": "link_fault: {kind: loss, for: 300ms}", "turn": "turn: {handwheel1: 20, for: 200ms}",
+    "acknowledge": "acknowledge: alarms",
 }
 LINKS = (LINK_CAN,)
 LINK_FAULT_KEYS = ("kind", "for", "direction", "frames", "by", "every")
@@ -585,6 +588,12 @@ class _ScenarioChecker:
             return ClearFaults(index, "clear_faults", mark, MAINS)
         axis = self.machine_axis(value, value_mark)
         return ClearFaults(index, "clear_faults", mark, axis) if axis is not None else None
+
+    def step_acknowledge(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
+        if value != "alarms":
+            self.add(value_mark, f"acknowledge takes 'alarms' (the alarm cancel key): {STEP_EXAMPLES['acknowledge']}")
+            return None
+        return AcknowledgeAlarms(index, "acknowledge", mark)
 
     def step_move_by_hand(self, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
         if not isinstance(value, LocatedMap):

@@ -223,6 +223,11 @@ class ClearFaults(Step):
 
 
 @dataclass(frozen=True, slots=True)
+class AcknowledgeAlarms(Step):
+    """The operator's alarm acknowledge (cancel) key on the HMI: the alarms cleared with it go."""
+
+
+@dataclass(frozen=True, slots=True)
 class MoveByHand(Step):
     """The slide is moved from outside at ``velocity`` (mm/min or rev/min; 0 = stops)."""
 

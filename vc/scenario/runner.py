@@ -24,6 +24,7 @@ from vc.located_yaml import Mark
 from vc.scenario.durations import Duration, format_seconds
 from vc.scenario.expressions import EvaluationError, Evaluator, Expression
 from vc.scenario.model import (
+    AcknowledgeAlarms,
     ClearFaults,
     EdgeKind,
     Event,
@@ -340,6 +341,8 @@ class _Run:
                                      step.delay.microseconds, step.every)
         elif isinstance(step, ClearFaults):
             target.clear_faults(step.axis)
+        elif isinstance(step, AcknowledgeAlarms):
+            target.acknowledge_alarms()
         elif isinstance(step, MoveByHand):
             target.move_by_hand(step.axis, step.velocity)
         elif isinstance(step, TurnHandwheels):

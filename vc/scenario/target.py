@@ -82,6 +82,9 @@ class ScenarioTarget(Protocol):
     def clear_faults(self, axis: str) -> None:
         """The machine's faults on ``axis`` are repaired."""
 
+    def acknowledge_alarms(self) -> None:
+        """The operator's alarm acknowledge (cancel) key on the HMI: the alarms cleared with it go."""
+
     def move_by_hand(self, axis: str, velocity: float) -> None:
         """Someone moves the slide from outside (only a slide without position control moves)."""
 

@@ -121,6 +121,46 @@ def test_interpreter_coupling_calls(nck: Nck) -> None:
     assert plan.feeds == {"SP2": 3600.0} and plan.position_control == {"SP2": True}  # type: ignore[attr-defined]
     plan, alarm = _decode(nck, "N57 G4 S50")  # 50 revolutions of the master spindle
     assert alarm is None and plan.dwell_revolutions == 50.0 and not plan.spindles  # type: ignore[attr-defined]
+    assert plan.dwell_spindle == "SP1"  # type: ignore[attr-defined]
+    plan, alarm = _decode(nck, "N58 G4 S2=10")  # 10 revolutions of spindle 2
+    assert alarm is None and plan.dwell_revolutions == 10.0 and plan.dwell_spindle == "SP2"  # type: ignore[attr-defined]
+    assert not plan.spindles  # type: ignore[attr-defined]
+
+
+def test_tv_ss_9_threshold_keywords_name_the_machine_data_they_replace(nck: Nck) -> None:
+    plan, alarm = _decode(nck, "N60 CPSYNCOP[S2]=0.5 CPSYNFIP[S2]=0.25 CPSYNCOP2[S2]=1.6 CPSYNFIP2[S2]=0.8")
+    assert alarm is None
+    assert plan.coupling_thresholds == {"SP2": {37200: 0.5, 37210: 0.25, 37202: 1.6, 37212: 0.8}}  # type: ignore[attr-defined]
+    plan, alarm = _decode(nck, "N61 CPSYNCOV[S2]=3 CPSYNFIV[S2]=1.5 CPSYNCOP2[S2]=0")  # 0: stage 2 off
+    assert alarm is None
+    assert plan.coupling_thresholds == {"SP2": {37220: 3.0, 37230: 1.5, 37202: 0.0}}  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize(("text", "number", "shown"), [
+    ("N62 CPSYNFIP[S2]=-0.1", 12080, "CPSYNFIP[S2]=-0.1"), ("N62 CPSYNCOP=0.5", 12080, "CPSYNCOP=0.5"),
+    ("N62 CPSYNFIP2[S9]=0.8", 16105, "9"), ("N62 CPSYNCOP2[X]=1.6", 16105, "X"),
+])
+def test_bad_threshold_words_raise_the_alarm_with_the_block(nck: Nck, text: str, number: int, shown: str) -> None:
+    _, alarm = _decode(nck, text)
+    assert alarm is not None and alarm.number == number  # type: ignore[attr-defined]
+    assert alarm.parameters[1] == "N62" and str(alarm.parameters[2]) == shown  # type: ignore[attr-defined]
+
+
+def test_programmed_thresholds_act_from_the_next_coupon_until_coupres(nck: Nck) -> None:
+    couplings = nck.couplings
+    definition = couplings.definitions["SP2"]
+    couplings.program_thresholds("SP2", {37210: 0.25})
+    assert definition.thresholds == {}  # only the next switching command takes them (L29849)
+    assert couplings.couple("CHAN1", "SP2", "SP1", None, False, 0, "N10") == 0
+    assert definition.thresholds == {37210: 0.25}
+    couplings.program_thresholds("SP2", {37200: 0.5})
+    assert couplings.couple("CHAN1", "SP2", "SP1", None, False, 0, "N20") == 0  # coupled already: taken too
+    assert definition.thresholds == {37210: 0.25, 37200: 0.5}
+    couplings.program_thresholds("SP2", {37212: 0.8})
+    couplings.reset("CHAN1")  # MD21330 = 0: the pair and what it took stay; what no COUPON took is gone
+    assert couplings.couple("CHAN1", "SP2", "SP1", None, False, 0, "N30") == 0
+    assert definition.thresholds == {37210: 0.25, 37200: 0.5}
+    assert couplings.restore("SP2") == 0 and definition.thresholds == {}  # COUPRES: the machine data
 
 
 @pytest.mark.parametrize(("text", "number"), [

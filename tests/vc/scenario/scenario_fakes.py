@@ -17,7 +17,7 @@ from interfaces.image import ProcessImage, Value
 from interfaces.signals import SignalRef, expand
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
-from vc.core.alarms import ALARM_TEXTS, Alarm
+from vc.core.alarms import ALARM_TEXTS, Alarm, Clear
 from vc.scenario.loader import load_scenario
 from vc.scenario.model import Scenario
 
@@ -131,6 +131,9 @@ class FakeTarget:
                       self._cycle)
         self.present.append(alarm)
         self.raised.append(alarm)
+
+    def acknowledge_alarms(self) -> None:
+        self.present = [alarm for alarm in self.present if alarm.clear is not Clear.CANCEL]
 
 
 class ImageFakeTarget(FakeTarget):

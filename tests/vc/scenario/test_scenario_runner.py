@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 from scenario_fakes import CachingImageFakeTarget, FakeTarget, ImageFakeTarget, SimpleNc, machine, scenario
 
+from vc.located_yaml import SourceError
 from vc.scenario.model import Scenario
 from vc.scenario.runner import ScenarioResult, run_scenario, run_scenarios
 from vc.scenario.trace import Recorder
@@ -178,6 +179,25 @@ steps:
     missing = run(tmp_path, "steps:\n  - expect_alarm: {number: 3000, channel: CHAN1}\n")
     assert missing.failure is not None
     assert missing.failure.message == "expected alarm 3000 (CHAN1) to be present; present alarms: none"
+
+
+def test_acknowledge_clears_the_alarms_of_the_cancel_key_only(tmp_path: Path) -> None:
+    def two_alarms(target: FakeTarget) -> None:
+        if target.cycle == 1:
+            target.raise_alarm(22025, axis="X1")  # cleared with the cancel key
+            target.raise_alarm(21614, axis="X1")  # cleared with a reset
+
+    body = """\
+steps:
+  - wait: 10ms
+  - expect_alarm: 22025
+  - acknowledge: alarms
+  - expect_no_alarm: 22025
+  - expect_alarm: 21614
+"""
+    assert run(tmp_path, body, FakeTarget(machine(), two_alarms)).passed
+    with pytest.raises(SourceError, match="acknowledge takes 'alarms'"):
+        run(tmp_path, "steps:\n  - acknowledge: 22025\n")
 
 
 def test_force_holds_against_the_owner_until_released(tmp_path: Path) -> None:
