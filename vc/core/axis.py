@@ -422,6 +422,11 @@ class MachineAxis:
         self._brake_decel = self.dyn.max_accel if decel is None else decel
         self.take(Owner.BRAKE)
 
+    @property
+    def rapid_stopping(self) -> bool:
+        """Braking on the rapid-stop ramp (MD36610): alarm reaction, emergency stop, enable removed."""
+        return self.owner is Owner.BRAKE and self._brake_decel == self.dyn.rapid_stop_decel
+
     def rapid_stop(self, then_servo_off: bool) -> None:
         self.brake(self.dyn.rapid_stop_decel)
         if then_servo_off and self._servo_off_countdown < 0:

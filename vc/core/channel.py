@@ -64,7 +64,7 @@ from vc.core.referencing import Source, State
 from vc.core.referencing_control import ReferencingControl
 from vc.core.spindle import SUPPRESS_IN_DRY_RUN, SUPPRESS_IN_PROGRAM_TEST, Spindle, SpindleMode
 from vc.core.stroke_limits import BOUNDARY, StrokeLimitControl, StrokeStop
-from vc.core.sync_actions import SyncActionError, parse_condition
+from vc.core.sync_actions import SyncActionError, VariableWrite, parse_condition
 from vc.core.thread_cutting import THREAD_SPINDLE_STANDS, ThreadSegment
 from vc.core.tool_path import ToolPathSegment
 
@@ -695,9 +695,22 @@ class Channel:
         if function == "COUPRES":
             return couplings.restore(following)
         # WAITC: no effect on a spindle that is not a coupled FS (L22659-22690)
-        criterion = block_change_of(command.block_change) if command.block_change else BlockChange.IPOSTOP
+        criterion = (block_change_of(command.block_change) if command.block_change
+                     else couplings.waitc_criterion(following))
         self._waits.append((following, criterion))
         return 0
+
+    def spindle_indices(self) -> dict[str, str]:
+        """How a program names this channel's spindles as a variable's index: S<n> (MD35000) or the
+        machine axis name."""
+        indices = {name: name for name in self.spindles}
+        indices.update({f"S{spindle.axis.config.spindle_number}": name for name, spindle in self.spindles.items()})
+        return indices
+
+    def write_coupling_variable(self, write: VariableWrite) -> None:
+        """``$AA_COUP_CORR[Sn]=...`` of a program or a synchronized action (index: the machine axis)."""
+        if self.couplings is not None and write.name == "$AA_COUP_CORR":
+            self.couplings.write_correction(write.index, write.value)
 
     def _coupled_spindle_command(self, name: str, command: SpindleCommand, cycle: int, block: Block) -> bool:
         """What a block asks of a coupled spindle: the FS takes SPOS as offset change and M3/M4 S as

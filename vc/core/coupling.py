@@ -36,6 +36,7 @@ FS's next COUPON on.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from enum import Enum
 
@@ -68,6 +69,11 @@ CANCEL_AT_START, CANCEL_AT_RESET, ACTIVATE_AT_START = 1 << 0, 1 << 1, 1 << 9
 RESET_BEHAVIOUR, KEEP_PROGRAMMED_AT_RESET = 1 << 0, 1 << 10  # MD20110
 CANCEL_PROGRAMMED_AT_START = 1 << 10  # MD20112
 _SPEEDS_AGREE = 1e-6  # deg/s
+COUP_ACT_SYNCHRONOUS_SPINDLE = 4  # $AA_COUP_ACT bit 2 (L22765-22770)
+# the coupling's system variables a program or a synchronized action reads, and what they show
+COUPLING_VARIABLES = {"$AA_COUP_ACT": "", "$AA_COUP_OFFS": "couplingOffset", "$VA_COUP_OFFS": "couplingOffsetActual",
+                      "$P_COUP_OFFS": "couplingOffsetProgrammed", "$AA_COUP_CORR": "couplingCorrection",
+                      "$AA_SYNCDIFF": "", "$VA_SYNCDIFF": ""}
 
 
 def wrap180(angle: float) -> float:
@@ -147,6 +153,7 @@ class Coupling:
     correction_velocity: float = 0.0
     correction_done: bool = False  # DBX99.2: the requested correction (or its deletion) is through
     deviation: float = 0.0  # degrees (DV/AV) or rev/min (VV)
+    signed_deviation: float = 0.0  # $VA_SYNCDIFF: negative while the FS lags
     coarse: bool = False
     fine: bool = False
     last_velocity: float = 0.0
@@ -158,6 +165,7 @@ class Coupling:
     spcon_following: bool = False  # SPCON was programmed on the FS: position control stays after COUPOF
     shifts_seen: tuple[float, float] = (0.0, 0.0)  # the coordinate shifts of FS and LS the relation knows
     stage_2_exceeded: set[int] = field(default_factory=set)  # 22025 / 22026 whose tolerance is exceeded now
+    stage_2_paused: bool = False  # an exclusion of the stage-2 monitoring holds (L29916-29932)
 
     @property
     def ratio(self) -> float:
@@ -327,9 +335,8 @@ class Couplings:
         definition.thresholds.update(self._programmed_thresholds.pop(following, {}))  # L29849
         present = self.active.get(following)
         if present is not None:
-            if offset is not None and present.phase is Phase.SYNCHRONOUS:
-                # a new offset as overlaid motion; COUPON's block change criterion decides the wait
-                self._set_offset(present, offset, waits=False)
+            if offset is not None:
+                self._repeated_offset(following, present, offset)
             return 0
         busy = self.involved(leading) and leading not in [c.definition.leading for c in self.active.values()]
         in_channel = sum(1 for coupling in self.active.values() if coupling.channel == channel)
@@ -361,6 +368,21 @@ class Couplings:
         axis.take(Owner.COUPLING)
         self._switch_position_control(coupling, on=True)
         return 0
+
+    def _repeated_offset(self, following: str, coupling: Coupling, offset: float) -> None:
+        """COUPON(FS,LS,POSFS) on a pair already coupled.  While it still synchronises, the new offset
+        replaces the pending one; once synchronous, DBX31.5 is evaluated as for the first COUPON
+        (L22285-22297): 0 moves to the offset as overlaid motion (COUPON's block change criterion
+        decides the wait), 1 keeps the relation and only records the offset, which DBX31.4 or a
+        COUPON with 31.5 = 0 restores later (L22361-22380)."""
+        if coupling.phase is Phase.SYNCHRONISING:
+            # $P_COUP_OFFS counts the SPOS increments queued behind COUPON's offset (see _synchronous)
+            coupling.programmed = (offset + sum(distance for distance, _, _ in coupling.queued)) % 360.0
+            coupling.offset_pending = True
+        elif self.inputs[following].sync_disable:
+            coupling.programmed = offset % 360.0
+        else:
+            self._set_offset(coupling, offset, waits=False)
 
     def _switch_position_control(self, coupling: Coupling, on: bool) -> None:
         """Automatic position control (L22816-22857): DV switches on FS and LS, AV the FS."""
@@ -440,9 +462,7 @@ class Couplings:
         motion of its own, so DBX2.2 deletes only the SPOS [control]."""
         coupling = self.active[following]
         fs = self._spindles[following]
-        limit = feed * RPM / 360.0 if feed > 0.0 else fs.positioning_speed() * RPM
-        if fs.inputs.use_feed_override:
-            limit *= fs.override()
+        limit = feed * RPM / 360.0 if feed > 0.0 else fs.positioning_speed() * RPM  # DBX17.0: _overlay_step
         if coupling.phase is Phase.SYNCHRONISING:
             # no relation yet: the motion follows COUPON's pending offset once setpoint synchronism
             # is reached; an absolute position replaces that offset [control]
@@ -520,6 +540,13 @@ class Couplings:
         if wanted is BlockChange.COARSE:
             return not coupling.coarse
         return False
+
+    def waitc_criterion(self, following: str) -> BlockChange:
+        """WAITC without a condition waits for the pair's programmed or configured criterion, at least
+        for setpoint synchronism (L22679-22680)."""
+        definition = self.definitions.get(following)
+        wanted = definition.block_change if definition is not None else BlockChange.IPOSTOP
+        return BlockChange.IPOSTOP if wanted is BlockChange.NOC else wanted
 
     def overlay_holds_block(self, following: str) -> bool:
         coupling = self.active.get(following)
@@ -718,8 +745,10 @@ class Couplings:
     @staticmethod
     def _differential_setpoint(fs: Spindle, coupling: Coupling) -> float:
         """The FS's own speed component (deg/s): DBX17.6 inverts it, the FS's override DBB19 scales
-        it, DBX16.7 deletes it while set; the coupled component sees none of them (L23529-23552)."""
-        if fs.inputs.delete_s or not coupling.differential:
+        it, DBX16.7 deletes it while set; the coupled component sees none of them (L23529-23552).
+        NC stop axes and spindles (DB21.DBX7.4) brakes it with the rest of the pair until NC start
+        (L23358-23362)."""
+        if fs.inputs.delete_s or fs.held or not coupling.differential:
             return 0.0
         direction = -1.0 if fs.inputs.invert_m3_m4 else 1.0
         return direction * coupling.differential * fs.override() * RPM
@@ -773,7 +802,11 @@ class Couplings:
             self._start_queued(coupling)
             return 0.0
         direction = 1.0 if overlay.left > 0 else -1.0
-        speed = min(ramp(abs(overlay.velocity), overlay.limit, accel, self._dt),
+        fs = self._spindles[coupling.definition.following]
+        # DBX17.0: the feed override scales FA[Sn] of an SPOS on the FS in every cycle of the motion
+        # (L22017-22021), so a change of the override or of 17.0 acts on the running motion
+        override = fs.override() if overlay.positioning and fs.inputs.use_feed_override else 1.0
+        speed = min(ramp(abs(overlay.velocity), overlay.limit * override, accel, self._dt),
                     stopping_velocity(abs(overlay.left), accel, self._dt))
         step = min(speed * self._dt, abs(overlay.left))
         overlay.left -= direction * step
@@ -830,6 +863,53 @@ class Couplings:
             return 0.0
         return wrap180(self._actual_relation(coupling) - coupling.relation - coupling.correction_applied)
 
+    def variable_reader(self, spindles: dict[str, str]) -> Callable[[str, str], float]:
+        """A channel's reader of the coupling's system variables; ``spindles`` maps the index as
+        written (S<n> or the machine axis name) to the machine axis.  KeyError: not one of them."""
+        def read(name: str, index: str) -> float:
+            if name not in COUPLING_VARIABLES or index not in spindles:
+                raise KeyError(name)
+            return self.read_variable(name, spindles[index])
+        return read
+
+    def read_variable(self, name: str, spindle: str) -> float:
+        """$AA_COUP_ACT (L22755-22770: bit 2 = 4 while ``spindle`` follows in a synchronous spindle
+        coupling), $AA_COUP_OFFS / $VA_COUP_OFFS / $P_COUP_OFFS (L22383-22389, L22773-22790),
+        $AA_COUP_CORR (L31506-31524) and the signed deviations $AA_SYNCDIFF (setpoint side) /
+        $VA_SYNCDIFF (actual side), negative while the FS lags (L29578-29586).  0 while not coupled."""
+        coupling = self.active.get(spindle)
+        if coupling is None:
+            return 0.0
+        if name == "$AA_COUP_ACT":
+            return float(COUP_ACT_SYNCHRONOUS_SPINDLE)
+        if name == "$AA_SYNCDIFF":
+            return self._setpoint_deviation(coupling)
+        if name == "$VA_SYNCDIFF":
+            return coupling.signed_deviation
+        return self.quantity(spindle, COUPLING_VARIABLES[name])
+
+    def _setpoint_deviation(self, coupling: Coupling) -> float:
+        """The FS setpoint against the coupling law with the offset and correction it heads for.
+        Before setpoint synchronism it is measured against COUPON's offset, 0 without one [control]."""
+        fs = self._spindles[coupling.definition.following].axis
+        position, _ = self._leading(coupling)
+        if coupling.phase is Phase.SYNCHRONOUS:
+            goal = coupling.target + coupling.correction
+        elif coupling.offset_pending and coupling.programmed is not None:
+            goal = coupling.programmed
+        else:
+            return 0.0
+        return wrap180(fs.setpoint - coupling.ratio * position - goal)
+
+    def write_correction(self, spindle: str, value: float) -> None:
+        """``$AA_COUP_CORR[Sn]=value`` from a program or a synchronized action: the correction is
+        given directly (L31543-31551); 0 deletes it on the correction's ramp (L23619-23620).  Without
+        a coupling of ``spindle`` there is no correction to set [control]."""
+        coupling = self.active.get(spindle)
+        if coupling is not None:
+            coupling.correction = wrap180(value)
+            coupling.correction_done = False
+
     def clamp(self, following: str, twist: float) -> bool:
         """A part clamped in FS and LS: the FS is held at the LS's angle plus its present relation
         and ``twist`` degrees (a plant fault; False: the spindle follows nobody)."""
@@ -849,6 +929,7 @@ class Couplings:
             return  # no pair coupled and the outputs already say so
         for following, coupling in self.active.items():
             self._monitor_pair(following, coupling, cycle)
+            self._check_zero_mark_synchronism(following, coupling, cycle)
         self._write_outputs()
         self._idle_written = not self.active
 
@@ -857,7 +938,7 @@ class Couplings:
         md, axis = fs.md, fs.axis
         if coupling.definition.kind is Kind.VV:
             ls = self._spindles[coupling.definition.leading].axis
-            deviation = abs(axis.velocity - coupling.ratio * ls.velocity - coupling.differential_velocity) / RPM
+            signed = (axis.velocity - coupling.ratio * ls.velocity - coupling.differential_velocity) / RPM
             coarse_tolerance = threshold(coupling, md, MD.COUPLE_VELO_TOL_COARSE)
             fine_tolerance = threshold(coupling, md, MD.COUPLE_VELO_TOL_FINE)
         else:
@@ -869,25 +950,48 @@ class Couplings:
             # FS's loop, not from its present following error: with k x n_LS + n_diff = 0 the FS
             # stands without any following error while the LS lags by its own
             lag = (coupling.differential_velocity + coupling.jog_velocity) * axis.lag_per_velocity
-            deviation = abs(wrap180(self._actual_relation(coupling) - heading - coupling.correction + lag))
+            signed = wrap180(self._actual_relation(coupling) - heading - coupling.correction + lag)
             coarse_tolerance = threshold(coupling, md, MD.COUPLE_POS_TOL_COARSE)
             fine_tolerance = threshold(coupling, md, MD.COUPLE_POS_TOL_FINE)
-        coupling.deviation = deviation
+        coupling.signed_deviation, coupling.deviation = signed, abs(signed)
+        deviation = coupling.deviation
         synchronous = coupling.setpoint_synchronous
         coupling.coarse = synchronous and deviation <= coarse_tolerance
         coupling.fine = synchronous and deviation <= fine_tolerance
+        coupling.stage_2_paused = self._stage_2_paused(following, coupling)
         for number, tolerance in ((ALARM_FINE_2_EXCEEDED, threshold(coupling, md, MD.COUPLE_POS_TOL_FINE_2)),
                                   (ALARM_COARSE_2_EXCEEDED, threshold(coupling, md, MD.COUPLE_POS_TOL_COARSE_2))):
-            if not (tolerance > 0.0 and synchronous and deviation > tolerance):
+            if not (tolerance > 0.0 and synchronous and not coupling.stage_2_paused and deviation > tolerance):
                 coupling.stage_2_exceeded.discard(number)
             elif number not in coupling.stage_2_exceeded:
-                # raised as the deviation leaves the tolerance; a display alarm the operator clears
-                # (L29878-29879), it stays when the deviation returns
+                # raised as the deviation leaves the tolerance (or an exclusion ends with it outside);
+                # a display alarm the operator clears (L29878-29879), it stays when the deviation returns
                 coupling.stage_2_exceeded.add(number)
                 self._alarms.raise_alarm(number, cycle, coupling.channel, coupling.block, following,
                                          channel=coupling.channel, axis=following)
         coupling.acceleration = (axis.command_velocity - coupling.last_velocity) / self._dt
         coupling.last_velocity = axis.command_velocity
+
+    def _check_zero_mark_synchronism(self, following: str, coupling: Coupling, cycle: int) -> None:
+        """The cyclic check of FS and LS while their position control is active (L30398-30400): a
+        spindle of the pair without zero-mark synchronism (DB31.DBX60.4 / 60.5) keeps raising 22040,
+        so cancelling the alarm does not hide it while the cause lasts.  CPMALARM bit 10, which
+        suppresses it, is not a program word of the core."""
+        for name in (following, coupling.definition.leading):
+            spindle = self._spindles[name]
+            if spindle.position_control and not spindle.axis.referenced:
+                self._alarms.raise_alarm(ALARM_NOT_SYNCHRONISED, cycle, coupling.channel, coupling.block, name,
+                                         channel=coupling.channel, axis=following)
+                return
+
+    def _stage_2_paused(self, following: str, coupling: Coupling) -> bool:
+        """The stage-2 monitoring is not done (L29916-29932) with a velocity coupling, while the FS's
+        DBX31.5 suppresses synchronisation or its DBX31.6 tracks the deviation, and while FS or LS
+        stops on the rapid-stop ramp or reports DB31.DBX63.3 "disabled"."""
+        inputs = self.inputs[following]
+        axes = (self._spindles[following].axis, self._spindles[coupling.definition.leading].axis)
+        return (coupling.definition.kind is Kind.VV or inputs.sync_disable or inputs.correction
+                or any(axis.rapid_stopping or axis.disabled for axis in axes))
 
     def _write_outputs(self) -> None:
         leaders = {c.definition.leading for c in self.active.values()}
@@ -920,7 +1024,8 @@ class Couplings:
 
     @staticmethod
     def _within(coupling: Coupling, tolerance: float) -> bool:
-        return tolerance > 0.0 and coupling.setpoint_synchronous and coupling.deviation <= tolerance
+        return (tolerance > 0.0 and coupling.setpoint_synchronous and not coupling.stage_2_paused
+                and coupling.deviation <= tolerance)
 
     def _put(self, name: str, status: tuple[object, ...], following: bool) -> None:
         area, sig = self._areas[name], self._signals

@@ -46,6 +46,7 @@ are the project's reading of the control's alarm reactions [control])::
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -65,7 +66,7 @@ from vc.core.retract_motion import (
     retract_positions,
     through_transform,
 )
-from vc.core.sync_actions import SyncAction, VariableWrite
+from vc.core.sync_actions import Reader, SyncAction, VariableWrite
 from vc.core.thread_cutting import ThreadSegment
 
 if TYPE_CHECKING:
@@ -138,6 +139,8 @@ class ChannelEsr:
         self.axis_trigger: dict[str, bool] = dict.fromkeys(axes, False)  # $AA_ESR_TRIGGER
         self.single_axis_retract: dict[str, tuple[int, float]] = {}  # POLFA: axis -> (type, value)
         self.actions: dict[int, SyncAction] = {}
+        # the system variables of other functions (the couplings'): their reader and writer
+        self.other_variables: tuple[Reader, Callable[[VariableWrite], None]] | None = None
         self.motion: RetractMotion | None = None
         self._stop: _StopAxes | None = None
         self._single_stops: dict[str, _StopAxes] = {}
@@ -168,6 +171,8 @@ class ChannelEsr:
             return float(self.nck.drives[axis].status)
         if name == "$AA_ESR_ENABLE" and axis in self.axes:
             return float(self.enabled(axis))
+        if self.other_variables is not None:
+            return self.other_variables[0](name, index)
         raise KeyError(name)
 
     def write(self, write: VariableWrite, cycle: int) -> None:
@@ -188,6 +193,8 @@ class ChannelEsr:
             rising, self.axis_trigger[write.index] = value and not self.axis_trigger[write.index], value
             if rising:
                 self._single_axis_reaction(write.index, cycle)
+        elif self.other_variables is not None:
+            self.other_variables[1](write)
 
     def add_actions(self, actions: list[SyncAction]) -> None:
         for action in actions:

@@ -554,7 +554,8 @@ def _spcon(decoder: _Decoder, call: Call | None, on: bool) -> None:
 # ---------------------------------------------------------------------------- retraction and ESR words
 # System variables a part program (or a synchronized action) may write; True: indexed by an axis.
 PROGRAM_VARIABLES = {"$AC_LIFTFAST": False, "$AC_ESR_TRIGGER": False, "$AN_ESR_TRIGGER": False,
-                     "$AA_ESR_ENABLE": True, "$AA_ESR_TRIGGER": True}
+                     "$AA_ESR_ENABLE": True, "$AA_ESR_TRIGGER": True, "$AA_COUP_CORR": True}
+_SPINDLE_VARIABLES = {"$AA_COUP_CORR"}  # indexed by a spindle: S<n> or its axis name (L31543-31551)
 _RETRACT_TARGET_MODES = {"LFTXT": LFTXT, "LFWP": LFWP, "LFPOS": LFPOS}
 _MAX_ESR_AXES = 5  # ESRS / ESRR: at most 5 axes per call (L41926, L41958)
 
@@ -570,9 +571,11 @@ def _variable_write(decoder: _Decoder, name: str, index: str, value: object) -> 
         return None
     machine_axis = ""
     if index:
-        found = decoder.machine_axis(index)
+        spindle = name in _SPINDLE_VARIABLES
+        found = decoder.spindle_axis(index) if spindle else decoder.machine_axis(index)
         if found is None:
-            decoder.unknown(index)
+            if not spindle:
+                decoder.unknown(index)  # spindle_axis raised 16105 itself
             return None
         machine_axis = found
     return VariableWrite(name, machine_axis, value)

@@ -163,6 +163,8 @@ class Nck:
             geometry = {name: axis for name, axis in zip(channel.config.geometry_names, channel.config.geometry_axes,
                                                            strict=True) if axis}
             channel.esr = ChannelEsr(channel.name, channel.axes_by_name, self.alarms, self.dt, self.esr, geometry)
+            channel.esr.other_variables = (self.couplings.variable_reader(channel.spindle_indices()),
+                                           channel.write_coupling_variable)
         self._rapid_stop_waiting: set[str] = set()  # axes whose alarm reaction waits for their ESR reaction
         self.polygons: list[PolygonTurning] = []
         for channel in self.channels:

@@ -22,6 +22,7 @@ from vc.core.coupling_types import BlockChange, Kind, block_change_of, kind_of
 from vc.core.interpreter import ModalState, decode
 from vc.core.nck import Nck
 from vc.core.program import parse_program
+from vc.core.sync_actions import VariableWrite
 
 TURN_MILL = str(Path(__file__).resolve().parents[3] / "scenarios" / "machines" / "turn_mill.yaml")
 
@@ -298,3 +299,81 @@ def test_delete_distance_to_go_on_the_fs_ends_the_spos_and_not_couponss_offset_m
     assert coupling.overlay is None and not coupling.queued
     assert abs(couplings.quantity("SP2", "couplingOffset") - 180.0) < 1e-6
     assert coupling.programmed == pytest.approx(180.0)
+
+
+def test_stage_2_monitoring_pauses_while_a_spindle_stops_on_the_rapid_stop_ramp() -> None:
+    # L29921: no stage-2 monitoring while FS or LS stops on the rapid-stop ramp.  The emergency stop
+    # brakes S1 from 600 rev/min in 0.1 s and S2 in 0.4 s (MD36610): the relation drifts by some 60
+    # degrees, far beyond MD37202 = 1.6, without 22025 / 22026; the monitoring is back (with both
+    # alarms for the drift left) once neither spindle brakes any more
+    rig = _coupling_rig("SP2: {MD37212: 0.8, MD37202: 1.6, MD36610: 0.4}\nSP1: {MD36610: 0.1}")
+    rig.mda("N10 SPOS=0 SPOS[2]=0\nN20 COUPON(S2,S1)\nN30 M3 S600\nN40 G4 F30\n")
+    rig.run_until(lambda: rig.get("SP2.coupling.in.syncFine2Reached") == 1 and rig.axis("SP1").velocity > 3599.99,
+                  3000)
+    fs, ls = rig.axis("SP2"), rig.axis("SP1")
+    couplings = rig.nck.couplings
+    rig.set("NC.basic.out.emergencyStop", 1)
+    largest = 0.0
+    rig.step()
+    while fs.rapid_stopping or ls.rapid_stopping:
+        largest = max(largest, couplings.quantity("SP2", "syncDeviation"))
+        assert not {22025, 22026} & set(rig.alarm_numbers())
+        assert rig.get("SP2.coupling.in.syncFine2Reached") == 0 and rig.get("SP2.coupling.in.syncCoarse2Reached") == 0
+        rig.step()
+    assert largest > 60.0
+    rig.step()
+    assert {22025, 22026} <= set(rig.alarm_numbers())
+
+
+def test_feed_override_acts_on_a_running_spos_of_the_following_spindle() -> None:
+    # DBX17.0 (L22017-22021): FA[S2]=3600 deg/min = 60 deg/s.  1 s into SPOS[2]=IC(360) the axis
+    # override goes from 100 % to 50 %: the running motion slows to 30 deg/s; 17.0 reset gives 60 again
+    rig = _coupling_rig()
+    rig.set("SP2.spindle.out.useFeedrateOvr", 1)
+    rig.mda('N10 SPOS=0 SPOS[2]=0\nN20 COUPDEF(S2,S1,1,1,"NOC","DV")\nN30 COUPON(S2,S1,0)\n'
+            'N40 SPOS[2]=IC(360) FA[S2]=3600\nN50 G4 F1\n')
+    couplings = rig.nck.couplings
+
+    def spos_running() -> bool:
+        coupling = couplings.active.get("SP2")
+        return coupling is not None and coupling.overlay is not None and coupling.overlay.positioning
+
+    rig.run_until(spos_running, 2000)
+    rig.step(500)
+    fs = rig.axis("SP2")
+    assert fs.command_velocity == pytest.approx(60.0)
+    rig.set("SP2.basic.out.feedrateOvrFactor", 50)
+    rig.step(200)
+    assert fs.command_velocity == pytest.approx(30.0) and rig.get("SP2.coupling.in.MotionOverlaid") == 1
+    rig.set("SP2.spindle.out.useFeedrateOvr", 0)
+    rig.step(200)
+    assert fs.command_velocity == pytest.approx(60.0)
+
+
+def test_coupling_correction_is_written_by_spindle_index(nck: Nck) -> None:
+    # $AA_COUP_CORR[Sn] (L31543-31551) is indexed by the spindle number (MD35000) or the axis name
+    plan, alarm = _decode(nck, "N10 $AA_COUP_CORR[S2]=0")
+    assert alarm is None and plan.variables == [VariableWrite("$AA_COUP_CORR", "SP2", 0.0)]  # type: ignore[attr-defined]
+    plan, alarm = _decode(nck, "N10 ID=1 WHEN $VA_SYNCDIFF[S2]<-1 DO $AA_COUP_CORR[SP2]=-3")
+    assert alarm is None
+    assert plan.sync_actions[0].actions == (VariableWrite("$AA_COUP_CORR", "SP2", -3.0),)  # type: ignore[attr-defined]
+    _, alarm = _decode(nck, "N10 $AA_COUP_CORR[S7]=0")
+    assert alarm is not None and alarm.number == 16105  # type: ignore[attr-defined]
+
+
+def test_alarm_22040_is_checked_cyclically_while_a_coupled_spindle_is_not_synchronised() -> None:
+    # L30398-30400: FS and LS in position control are checked cyclically.  COUPON of the unreferenced
+    # pair raises 22040; cancelled, it returns while the spindles lack their zero marks; once both
+    # have passed them (S1 at 100 rev/min, S2 coupled) the cancelled alarm stays away
+    rig = _coupling_rig()
+    rig.mda("N10 COUPON(S2,S1)\nN20 G4 F0.5\nN30 M3 S100\nN40 G4 F3\n")
+    rig.run_until(lambda: "SP2" in rig.nck.couplings.active, 200)
+    rig.step()
+    assert 22040 in rig.alarm_numbers()
+    rig.nck.acknowledge()
+    rig.step()
+    assert 22040 in rig.alarm_numbers() and not rig.axis("SP1").referenced
+    rig.run_until(lambda: rig.axis("SP1").referenced and rig.axis("SP2").referenced, 1500)
+    rig.nck.acknowledge()
+    rig.step(10)
+    assert 22040 not in rig.alarm_numbers() and "SP2" in rig.nck.couplings.active
