@@ -696,11 +696,9 @@ class Couplings:
         # motion (L22391-22401)
         fs_stop = axis.inputs.feed_stop
         ls.coupling_hold = fs_stop and not fs.md.int(MD.MISC_FUNCTION_MASK) & FEED_STOP_ON_FS_ONLY
-        if fs_stop:
-            coupling.differential_velocity = ramp(coupling.differential_velocity, 0.0, accel, dt)
         wanted_differential = self._differential_setpoint(fs, coupling)
-        if not self.inputs[following].overlay_enable:
-            wanted_differential = 0.0
+        if fs_stop or not self.inputs[following].overlay_enable:
+            wanted_differential = 0.0  # the spindle stop brakes the FS's own speed too, back after it (L23304-23314)
         coupling.differential_velocity = ramp(coupling.differential_velocity, wanted_differential, accel, dt)
         fs.sync_speed_reached = self.inputs[following].overlay_enable and wanted_differential != 0.0 and \
             coupling.differential_velocity == wanted_differential
@@ -747,8 +745,8 @@ class Couplings:
         """The FS's own speed component (deg/s): DBX17.6 inverts it, the FS's override DBB19 scales
         it, DBX16.7 deletes it while set; the coupled component sees none of them (L23529-23552).
         NC stop axes and spindles (DB21.DBX7.4) brakes it with the rest of the pair until NC start
-        (L23358-23362)."""
-        if fs.inputs.delete_s or fs.held or not coupling.differential:
+        (L23358-23362), and so does an alarm's interpolation stop, which brakes the LS [control]."""
+        if fs.inputs.delete_s or fs.held or fs.stopped_by_alarm or not coupling.differential:
             return 0.0
         direction = -1.0 if fs.inputs.invert_m3_m4 else 1.0
         return direction * coupling.differential * fs.override() * RPM

@@ -204,6 +204,7 @@ class Spindle:
         self._zero_mark_missing = False
         self.quiet = False  # nothing to do until an input, a command, a reset or an alarm changes
         self.held = False  # NC stop axes and spindles (DB21.DBX7.4) until NC start
+        self.stopped_by_alarm = False  # an alarm's interpolation stop brakes the spindle
         self.spcon = False  # SPCON programmed: position control until SPCOF, M3/M4/M5 or reset
         self.speed_cap: float | None = None  # leading spindle: the coupled FS's limit over the ratio
         self.coupling_hold = False  # leading spindle: a coupled FS's spindle stop brakes the group
@@ -811,8 +812,8 @@ class Spindle:
             command = None  # the coupling drives the following spindle
         else:
             command = None
-        stopped = self.inputs.rapid_stop or self.held or \
-            (bool(alarms.reactions(self.channel) & STOP_AXES) and not esr_run_on) or \
+        self.stopped_by_alarm = bool(alarms.reactions(self.channel) & STOP_AXES) and not esr_run_on
+        stopped = self.inputs.rapid_stop or self.held or self.stopped_by_alarm or \
             not axis.drive_ready or axis.disabled
         if stopped and command is not None:
             command = 0.0
