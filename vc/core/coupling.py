@@ -165,6 +165,9 @@ class Coupling:
     spcon_following: bool = False  # SPCON was programmed on the FS: position control stays after COUPOF
     shifts_seen: tuple[float, float] = (0.0, 0.0)  # the coordinate shifts of FS and LS the relation knows
     stage_2_exceeded: set[int] = field(default_factory=set)  # 22025 / 22026 whose tolerance is exceeded now
+    # the stage-2 monitorings (by their alarm) started with stage-1 fine / coarse synchronism
+    # (L29855-29866) and not ended since by a new synchronisation or a lost FS enable (L29895-29909)
+    stage_2_running: set[int] = field(default_factory=set)
     stage_2_paused: bool = False  # an exclusion of the stage-2 monitoring holds (L29916-29932)
 
     @property
@@ -957,9 +960,10 @@ class Couplings:
         coupling.coarse = synchronous and deviation <= coarse_tolerance
         coupling.fine = synchronous and deviation <= fine_tolerance
         coupling.stage_2_paused = self._stage_2_paused(following, coupling)
+        self._start_or_end_stage_2(following, coupling, axis)
         for number, tolerance in ((ALARM_FINE_2_EXCEEDED, threshold(coupling, md, MD.COUPLE_POS_TOL_FINE_2)),
                                   (ALARM_COARSE_2_EXCEEDED, threshold(coupling, md, MD.COUPLE_POS_TOL_COARSE_2))):
-            if not (tolerance > 0.0 and synchronous and not coupling.stage_2_paused and deviation > tolerance):
+            if not (self._stage_2_monitors(coupling, number, tolerance) and deviation > tolerance):
                 coupling.stage_2_exceeded.discard(number)
             elif number not in coupling.stage_2_exceeded:
                 # raised as the deviation leaves the tolerance (or an exclusion ends with it outside);
@@ -981,6 +985,26 @@ class Couplings:
                 self._alarms.raise_alarm(ALARM_NOT_SYNCHRONISED, cycle, coupling.channel, coupling.block, name,
                                          channel=coupling.channel, axis=following)
                 return
+
+    def _start_or_end_stage_2(self, following: str, coupling: Coupling, fs: MachineAxis) -> None:
+        """Stage 2 ends with a new synchronisation (DBX31.4, a resynchronisation running) and when
+        the setpoint synchronism goes for a missing FS enable (e-stop, alarm reaction); it starts
+        again, per tolerance, once stage 1 reports fine (98.0) or coarse (98.1) synchronism in
+        setpoint synchronism (L29855-29866, L29895-29909) [INF: fine starts fine 2, coarse coarse 2]."""
+        resynchronising = self.inputs[following].resync or (coupling.overlay is not None and coupling.overlay.resync)
+        if not coupling.setpoint_synchronous or not fs.servo_on or resynchronising:
+            coupling.stage_2_running.clear()
+            return
+        if coupling.fine:
+            coupling.stage_2_running.add(ALARM_FINE_2_EXCEEDED)
+        if coupling.coarse:
+            coupling.stage_2_running.add(ALARM_COARSE_2_EXCEEDED)
+
+    @staticmethod
+    def _stage_2_monitors(coupling: Coupling, number: int, tolerance: float) -> bool:
+        """The stage-2 monitoring of ``number`` (22025 fine, 22026 coarse) runs: configured, started
+        and not paused by an exclusion."""
+        return tolerance > 0.0 and number in coupling.stage_2_running and not coupling.stage_2_paused
 
     def _stage_2_paused(self, following: str, coupling: Coupling) -> bool:
         """The stage-2 monitoring is not done (L29916-29932) with a velocity coupling, while the FS's
@@ -1012,18 +1036,18 @@ class Couplings:
                     coupling.correction_done, abs(coupling.acceleration) > accel_threshold,
                     not coupling.coarse or (overlay is not None and overlay.resync),
                     coupling.correction_applied != 0.0,
-                    self._within(coupling, threshold(coupling, md, MD.COUPLE_POS_TOL_FINE_2)),
-                    self._within(coupling, threshold(coupling, md, MD.COUPLE_POS_TOL_COARSE_2)),
+                    self._within(coupling, ALARM_FINE_2_EXCEEDED, threshold(coupling, md, MD.COUPLE_POS_TOL_FINE_2)),
+                    self._within(coupling, ALARM_COARSE_2_EXCEEDED,
+                                 threshold(coupling, md, MD.COUPLE_POS_TOL_COARSE_2)),
                 )
             if self._written.get(name) == status:
                 continue
             self._written[name] = status
             self._put(name, status, coupling is not None)
 
-    @staticmethod
-    def _within(coupling: Coupling, tolerance: float) -> bool:
-        return (tolerance > 0.0 and coupling.setpoint_synchronous and not coupling.stage_2_paused
-                and coupling.deviation <= tolerance)
+    def _within(self, coupling: Coupling, number: int, tolerance: float) -> bool:
+        """DBX103.4 / 103.5: the running stage-2 monitoring finds the deviation within its tolerance."""
+        return self._stage_2_monitors(coupling, number, tolerance) and coupling.deviation <= tolerance
 
     def _put(self, name: str, status: tuple[object, ...], following: bool) -> None:
         area, sig = self._areas[name], self._signals
