@@ -234,6 +234,12 @@ FFW_MODE = MdDef(32620, "FFW_MODE", A, INT, 1, "feedforward: 0 = off, 1 = speed 
 EQUIV_SPEEDCTRL_TIME = MdDef(32810, "EQUIV_SPEEDCTRL_TIME", A, FLOAT, _repeat(0.004, 6),
                              "equivalent time constant of the closed speed control loop",
                              "seed 003 L23700-23721; [control] default", "s", 0.0, 1.0, 6)
+DYN_MATCH_ENABLE = MdDef(32900, "DYN_MATCH_ENABLE", A, BOOL, False,
+                         "dynamic-response matching: the position setpoint is delayed by MD32910",
+                         "seed 003 L23706-23719; [control] default")
+DYN_MATCH_TIME = MdDef(32910, "DYN_MATCH_TIME", A, FLOAT, _repeat(0.0, 6),
+                       "time constant of dynamic-response matching: the slowest axis's equivalent time"
+                       " MD32810 less this axis's", "seed 003 L23706-23719; [control] default", "s", 0.0, 1.0, 6)
 SPIND_ASSIGN_TO_MACHAX = MdDef(35000, "SPIND_ASSIGN_TO_MACHAX", A, INT, 0,
                                "spindle number of the machine axis (0 = not a spindle)",
                                "seed 003 L20186-20188", "", 0, 20)
@@ -464,6 +470,18 @@ GEAR_STEP_POSCTRL_ACCEL = MdDef(35210, "GEAR_STEP_POSCTRL_ACCEL", A, FLOAT, _rep
 GEAR_STEP_POSCTRL_ACCEL2 = MdDef(35212, "GEAR_STEP_POSCTRL_ACCEL2", A, FLOAT, _repeat(30.0, 6),
                                  "as MD35210 for the 2nd gear-stage data set",
                                  "seed 003 L18447-18449; [control] default", "rev/s^2", 0.001, 1.0e5, 6)
+ACCEL_REDUCTION_SPEED_POINT = MdDef(35220, "ACCEL_REDUCTION_SPEED_POINT", A, FLOAT, 1.0,
+                                    "kinked acceleration characteristic: speed above which the acceleration falls,"
+                                    " as a share of the gear stage's MD35130",
+                                    "seed 003 L23797-23810; [control] reference speed and default", "", 0.0, 1.0)
+ACCEL_REDUCTION_FACTOR = MdDef(35230, "ACCEL_REDUCTION_FACTOR", A, FLOAT, 0.0,
+                               "kinked acceleration characteristic: the acceleration falls by this share up to the"
+                               " gear stage's MD35130 (0 = no reduction)",
+                               "seed 003 L23797-23810; [control] default and range", "", 0.0, 0.95)
+ACCEL_REDUCTION_TYPE = MdDef(35242, "ACCEL_REDUCTION_TYPE", A, INT, 1,
+                             "kinked acceleration characteristic above the speed point: 0 = constant,"
+                             " 1 = hyperbolic, 2 = linear", "seed 003 L23801-23803 (hyperbolic without it);"
+                             " [control] coding", "", 0, 2, allowed=(0, 1, 2))
 SPIND_POSCTRL_VELO = MdDef(35300, "SPIND_POSCTRL_VELO", A, FLOAT, _repeat(500.0, 6),
                            "position-control activation speed = maximum positioning speed per gear stage",
                            "seed 003 L16639-16645, L18239, L2541-2545; [control] default", "rev/min",

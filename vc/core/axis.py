@@ -65,6 +65,7 @@ class AxisDynamics:
     kv: float
     feedforward: float  # 0 = off, else weighting factor
     drive_time_constant: float
+    dyn_match_time: float  # MD32910 where MD32900 enables it: the setpoint's extra delay
     coarse_window: float
     fine_window: float
     standstill_velocity: float
@@ -100,6 +101,7 @@ def dynamics_of(axis: AxisConfig) -> AxisDynamics:
         kv=md.float(MD.POSCTRL_GAIN, 0),
         feedforward=md.float(MD.VELO_FFW_WEIGHT, 0) if md.int(MD.FFW_MODE) else 0.0,
         drive_time_constant=md.float(MD.EQUIV_SPEEDCTRL_TIME, 0),
+        dyn_match_time=md.float(MD.DYN_MATCH_TIME, 0) if md.bool(MD.DYN_MATCH_ENABLE) else 0.0,
         coarse_window=md.float(MD.STOP_LIMIT_COARSE),
         fine_window=md.float(MD.STOP_LIMIT_FINE),
         standstill_velocity=md.float(MD.STANDSTILL_VELO_TOL) * velocity_unit,
@@ -244,9 +246,11 @@ class MachineAxis:
         self.at_software_limit = 0  # -1 / +1 while resting on the minus / plus software limit switch
         self._jog_window: tuple[float, float] | None = None  # JogLimits.window of the last JOG cycle
         self.jerk_filter: JerkFilter | None = None
-        if config.md.bool(MD.AX_JERK_ENABLE):
-            self.jerk_filter = JerkFilter(config.md.int(MD.AX_JERK_MODE), config.md.float(MD.AX_JERK_TIME),
-                                          dt, self.actual)
+        jerk = config.md.bool(MD.AX_JERK_ENABLE)
+        if jerk or self.dyn.dyn_match_time:
+            jerk_time = config.md.float(MD.AX_JERK_TIME) if jerk else 0.0
+            self.jerk_filter = JerkFilter(config.md.int(MD.AX_JERK_MODE), jerk_time, dt, self.actual,
+                                          self.dyn.dyn_match_time)
         self.resting = False  # at rest and no input changed since: the cycle may skip the axis
         self.coordinate_shift = 0.0  # the sum of every shift(): the NC coordinates against the first ones
         self._status: tuple[bool, ...] = ()  # the status bits last written
@@ -375,11 +379,12 @@ class MachineAxis:
         """Following error per unit of a constant velocity (s), by the loop of
         ``_close_position_loop``: with feedforward the symmetrising model, and the slide on it,
         lags the setpoint by the drive's MD32810 less the cycle it is compared in; without it the
-        Kv loop needs velocity / Kv."""
+        Kv loop needs velocity / Kv.  Dynamic-response matching (MD32910) delays the setpoint before
+        the loop and adds its time."""
         dyn = self.dyn
         if dyn.feedforward:
-            return max(dyn.drive_time_constant - self._dt, 0.0)
-        return 1.0 / dyn.kv if dyn.kv else 0.0
+            return max(dyn.drive_time_constant - self._dt, 0.0) + dyn.dyn_match_time
+        return (1.0 / dyn.kv if dyn.kv else 0.0) + dyn.dyn_match_time
 
     @property
     def distance_to_end_point(self) -> float:

@@ -62,7 +62,7 @@ from vc.core.polygon import ALARM_AXIS_SYNCHRONISED, PolygonTurning
 from vc.core.program import Block, Jump, jump_target, parse_program
 from vc.core.referencing import Source, State
 from vc.core.referencing_control import ReferencingControl
-from vc.core.spindle import SUPPRESS_IN_DRY_RUN, SUPPRESS_IN_PROGRAM_TEST, Spindle, SpindleMode
+from vc.core.spindle import RPM, SUPPRESS_IN_DRY_RUN, SUPPRESS_IN_PROGRAM_TEST, Spindle, SpindleMode
 from vc.core.stroke_limits import BOUNDARY, StrokeLimitControl, StrokeStop
 from vc.core.sync_actions import SyncActionError, VariableWrite, parse_condition
 from vc.core.thread_cutting import THREAD_SPINDLE_STANDS, ThreadSegment
@@ -205,6 +205,8 @@ class Channel:
         self._phase = Phase.DECODE
         self._plan: BlockPlan | None = None
         self._segment: PathSegment | ToolPathSegment | None = None
+        # G95 / G99: the segment's F (mm/rev, per second) and the velocity its axes allow
+        self._feed_per_revolution: tuple[float, float] | None = None
         self._dwell_cycles = 0
         self._stop_after_block = False
         self._stopping = False  # braking on the path after NC stop / an alarm
@@ -441,6 +443,21 @@ class Channel:
         """The G33 block's thread while it runs."""
         return self._thread
 
+    @staticmethod
+    def _planned_feed(plan: BlockPlan) -> float:
+        """Path velocity per second to plan with; under G95 / G99 the axes' limit, which the speed of
+        the spindle lowers in every cycle (``_revolution_speed``)."""
+        return math.inf if plan.feed_per_revolution else plan.feed / 60.0
+
+    def _revolution_speed(self) -> float:
+        """rev/min that G95 / G99 multiply F with: the master spindle's (MD20090) actual speed, so the
+        feed follows its override, ramps and stops [control]; while polygon turning as 0201 ERV says."""
+        speed = self.polygon.revolution_speed() if self.polygon is not None else None
+        if speed is not None:
+            return speed
+        master = self.spindles.get(self.master_spindle() or "")
+        return abs(master.axis.velocity) / RPM if master is not None else 0.0
+
     def master_spindle(self) -> str | None:
         number = self.config.md.int(MD.SPIND_DEF_MASTER_SPIND)
         return next((name for name, spindle in self.spindles.items() if spindle.number == number), None)
@@ -487,6 +504,10 @@ class Channel:
             axes_hold = axes_hold or interlocked or not axis.drive_ready
         blocked = hold or self.inputs.feed_disable or axes_hold
         override = self.inputs.rapid_override if segment.rapid else self.inputs.feed_override
+        if self._feed_per_revolution is not None:
+            feed, limit = self._feed_per_revolution
+            # the spindle's turning sets the path velocity; a standing spindle holds the path (no alarm)
+            segment.command_velocity = min(limit, feed * self._revolution_speed())
         segment.cycle(override, blocked, self._dt)
         if segment.finished:
             self._release_segment()
@@ -817,7 +838,7 @@ class Channel:
             axes,
             [plan.targets[axis.name] for axis in axes],
             [axis.name in self._geometry for axis in axes],
-            plan.feed / 60.0,
+            self._planned_feed(plan),
             plan.rapid,
             plan.path_length,
         )
@@ -830,6 +851,8 @@ class Channel:
             segment = self._shortened(segment, stop.fraction, plan.path_length)
         self._stroke_stop = stop
         self._segment = segment
+        per_revolution = plan.feed_per_revolution and not plan.rapid
+        self._feed_per_revolution = (plan.feed / 60.0, segment.command_velocity) if per_revolution else None
         for axis in axes:
             axis.take(Owner.PATH)
         self._phase = Phase.INTERPOLATE
@@ -853,7 +876,7 @@ class Channel:
                 point = inclined.path_positions(point)
             return [point[name] for name in names]
 
-        segment = ToolPathSegment.plan(axes, positions_at, arc.length, plan.feed / 60.0, plan.rapid)
+        segment = ToolPathSegment.plan(axes, positions_at, arc.length, self._planned_feed(plan), plan.rapid)
         checked_elsewhere = inclined.machine_axes if inclined is not None else ()
         label = self.current_block.label if self.current_block is not None else ""
         for sample in segment.samples:

@@ -419,6 +419,7 @@ class Couplings:
         self._alarms.clear(ALARM_OVERLAY_NOT_ENABLED, axis=following)
         leading = self._spindles[coupling.definition.leading]
         leading.speed_cap = None
+        leading.acceleration_cap = None
         leading.coupling_hold = False
         if coupling.helix is not None:
             coupling.helix[0].fold_overlay()
@@ -687,6 +688,11 @@ class Couplings:
         ls = self._spindles[coupling.definition.leading]
         axis, dt, k = fs.axis, self._dt, coupling.ratio
         ls.speed_cap = fs.max_speed / abs(k) if k else None  # the LS slows so the FS keeps its limits
+        # an LS with a kinked acceleration characteristic accelerates no faster than the FS can follow
+        # with its own constant acceleration (L23797-23805; the seed says so in that context, so an LS
+        # without MD35230 keeps its ramps [INF])
+        kinked = ls.md.float(MD.ACCEL_REDUCTION_FACTOR) > 0.0
+        ls.acceleration_cap = fs.coupled_acceleration() / abs(k) if k and kinked else None
         self._follow_coordinate_shifts(coupling, axis, ls.axis)
         position, velocity = self._leading(coupling)
         accel = fs.coupled_acceleration()
@@ -726,7 +732,9 @@ class Couplings:
             return
         if coupling.phase is Phase.SYNCHRONISING:
             coupled_velocity = k * velocity + coupling.differential_velocity
-            new_velocity = ramp(axis.command_velocity, coupled_velocity, accel, dt)
+            # the FS's own kinked characteristic counts only while it synchronises (L23806-23809)
+            new_velocity = ramp(axis.command_velocity, coupled_velocity,
+                                accel * fs.acceleration_reduction(axis.command_velocity), dt)
             axis.command_velocity = new_velocity
             axis.setpoint += new_velocity * dt
             if abs(new_velocity - coupled_velocity) <= _SPEEDS_AGREE:

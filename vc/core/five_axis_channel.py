@@ -295,7 +295,8 @@ class FiveAxisControl:
         length = arc.length if arc is not None else end.distance(start)
         if length < 1e-9:
             length = math.hypot(first[1] - first[0], second[1] - second[0])
-        return ToolPathSegment.plan(self.linear + self.rotary, positions_at, length, plan.feed / 60.0, plan.rapid)
+        feed = math.inf if plan.feed_per_revolution else plan.feed / 60.0  # G95: the channel sets it per cycle
+        return ToolPathSegment.plan(self.linear + self.rotary, positions_at, length, feed, plan.rapid)
 
     def _range_alarm(self, label: str, start: RotaryAngles, end: RotaryAngles) -> DecodeAlarm | None:
         """Alarm 65852 when a rotary axis would leave its Pr3009-3012 range on the way (seed 001 L13-15)."""

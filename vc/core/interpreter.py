@@ -58,7 +58,8 @@ class ModalState:
     rapid: bool = True  # group 1: G0 (reset value) / G1
     absolute: bool = True  # G90 / G91
     block_end: str = EXACT_STOP_FINE  # G60 + G601 / G602 / G603; G64 ends at interpolation end
-    feed: float | None = None  # F in mm/min (path feed)
+    feed: float | None = None  # F: path feed in mm/min (G94) or mm per master spindle revolution (G95)
+    per_revolution: bool = False  # group 15: G94 (reset value) / G95, the ISO G98 / G99 of seed 002 alike
     polygon: bool = False  # G51.2 (polygon turning) until G50.2 (seed 002)
     five_axis: FiveAxisModal = field(default_factory=FiveAxisModal)  # G43.4 / G43 / G68.2 (seed 001)
     # group 1 thread modes: "G33" (thread cutting), "G331"/"G332" (tapping); "" after G0/G1
@@ -73,6 +74,7 @@ class ModalState:
         self.absolute = True
         self.block_end = EXACT_STOP_FINE
         self.feed = None
+        self.per_revolution = False
         self.polygon = False
         self.five_axis.reset()
         self.thread = ""
@@ -149,7 +151,8 @@ class Tapping:
 class BlockPlan:
     targets: dict[str, float] = field(default_factory=dict)  # machine axis -> end position
     rapid: bool = True
-    feed: float = 0.0  # mm/min
+    feed: float = 0.0  # mm/min, or mm/rev with feed_per_revolution
+    feed_per_revolution: bool = False  # G95 / G99: the channel multiplies F by the spindle speed each cycle
     dwell: float = 0.0  # seconds
     program_stop: bool = False  # M0
     program_end: bool = False  # M2 / M30
@@ -350,6 +353,13 @@ def _g_word(decoder: _Decoder, value: float) -> None:
     elif code in (603, 64):
         # G64 without look-ahead blending: the block ends when interpolation ends.
         modal.block_end = INTERPOLATION_END
+    elif code in (94, 95, 98, 99):
+        # G94 / G95, or G98 / G99 as the GSK programs of seed 002 write them (L241): a change of the
+        # feed type wants a new F, the old one is in the other unit (else alarm 10860) [control]
+        per_revolution = code in (95, 99)
+        if per_revolution != modal.per_revolution:
+            modal.feed = None
+        modal.per_revolution = per_revolution
     elif code == 51.2:
         decoder.plan.polygon = PolygonCommand(True)
     elif code == 50.2:
@@ -1074,6 +1084,7 @@ def _finish(decoder: _Decoder) -> None:
             decoder.fail(14800, channel.name, decoder.block.label)
         else:
             plan.feed = modal.feed
+            plan.feed_per_revolution = modal.per_revolution
     # Under a transform the targets are program coordinates: the five-axis control checks the path.
     # A block with five-axis words is checked by that control once it has applied them.
     if plan.five_axis is not None or modal.five_axis.transformed:

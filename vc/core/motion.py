@@ -75,11 +75,13 @@ def braking_distance(speed: float, accel: float) -> float:
 
 
 class JerkFilter:
-    """Axial jerk filter on the position setpoint (MD32402: 1 = 2nd order, 2 = moving average)."""
+    """Axial jerk filter on the position setpoint (MD32402: 1 = 2nd order, 2 = moving average),
+    followed by the dead time of dynamic-response matching (MD32900 / MD32910) where set."""
 
-    __slots__ = ("_alpha", "_history", "_mode", "_repeats", "_stage1", "_stage2", "_window")
+    __slots__ = ("_alpha", "_delay_cycles", "_delay_fraction", "_delayed", "_history", "_mode", "_repeats",
+                 "_stage1", "_stage2", "_window")
 
-    def __init__(self, mode: int, filter_time: float, dt: float, start: float):
+    def __init__(self, mode: int, filter_time: float, dt: float, start: float, delay: float = 0.0):
         self._mode = mode
         self._window = max(1, round(filter_time / dt))
         self._history: deque[float] = deque([start] * self._window, maxlen=self._window)
@@ -88,8 +90,18 @@ class JerkFilter:
         self._alpha = dt / (dt + 0.5 * filter_time) if filter_time > 0.0 else 1.0
         self._stage1 = start
         self._stage2 = start
+        # Dynamic-response matching delays the filtered setpoint by ``delay`` [control]: whole
+        # cycles from the history, a fraction of a cycle interpolated between two of them, so a
+        # constant velocity v lags by exactly v x delay.
+        self._delay_cycles = int(delay / dt + 1e-9)
+        self._delay_fraction = delay / dt - self._delay_cycles if delay > 0.0 else 0.0
+        self._delayed: deque[float] = deque()
+        self._reset_delay(start)
 
     def apply(self, value: float) -> float:
+        return self._delay(self._filter(value))
+
+    def _filter(self, value: float) -> float:
         if self._mode == 2:
             self._repeats = self._repeats + 1 if value == self._history[-1] else 1
             self._history.append(value)
@@ -102,8 +114,23 @@ class JerkFilter:
             self._stage1 = self._stage2 = value  # settled: snap to the input
         return self._stage2
 
+    def _delay(self, value: float) -> float:
+        self._delayed.append(value)
+        newer = self._delayed[-1 - self._delay_cycles]
+        older = self._delayed[0]  # one cycle before ``newer`` where a fraction of a cycle is kept
+        if newer == older:
+            return newer
+        return newer + (older - newer) * self._delay_fraction
+
+    def _reset_delay(self, value: float) -> None:
+        length = self._delay_cycles + (2 if self._delay_fraction else 1)
+        self._delayed = deque([value] * length, maxlen=length)
+
     def settled(self, value: float, tolerance: float) -> bool:
         """True when the filter output has reached ``value`` (within ``tolerance``)."""
+        delaying = self._delay_cycles or self._delay_fraction
+        if delaying and any(abs(item - value) > tolerance for item in self._delayed):
+            return False
         if self._mode == 2:
             return all(abs(item - value) <= tolerance for item in self._history)
         return abs(self._stage2 - value) <= tolerance and abs(self._stage1 - value) <= tolerance
@@ -113,3 +140,4 @@ class JerkFilter:
         self._repeats = self._window
         self._stage1 = value
         self._stage2 = value
+        self._reset_delay(value)

@@ -102,6 +102,17 @@ class PolygonTurning:
         top = master.md.float(MD.MAX_AX_VELO) * RPM
         master.acceleration_override = max(top - start, 0.0) / time
 
+    def revolution_speed(self) -> float | None:
+        """While synchronous: the speed (rev/min) G99 takes its feed from, by 0201 ERV (seed 002
+        L187-196): 0 = the encoder's feedback speed, 1 = the slave's theoretical speed.  The seed
+        names no spindle for the encoder; G99 counts the revolutions of the workpiece, the master,
+        so its actual speed [INF].  The theoretical speed is the slave's setpoint speed."""
+        if not self.active:
+            return None
+        if self._mask & ERV:
+            return abs(self._spindles[self.slave].axis.command_velocity) / RPM
+        return abs(self._spindles[self.master].axis.velocity) / RPM
+
     def cancel(self) -> None:
         """G50.2, the emergency stop, a reset without HBR or an alarm that ends it."""
         if not self.active:

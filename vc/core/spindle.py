@@ -207,6 +207,7 @@ class Spindle:
         self.stopped_by_alarm = False  # an alarm's interpolation stop brakes the spindle
         self.spcon = False  # SPCON programmed: position control until SPCOF, M3/M4/M5 or reset
         self.speed_cap: float | None = None  # leading spindle: the coupled FS's limit over the ratio
+        self.acceleration_cap: float | None = None  # leading spindle: the coupled FS's acceleration over the ratio
         self.coupling_hold = False  # leading spindle: a coupled FS's spindle stop brakes the group
         self.sync_speed_reached = False  # following spindle: the differential speed is reached (83.5)
         self.acceleration_override: float | None = None  # deg/s^2 while polygon turning sets the ramp
@@ -874,8 +875,31 @@ class Spindle:
                 and (self.inputs.oscillation_enable or change.state is GearState.AT_STANDSTILL):
             return self.oscillation.accel  # braking into / during oscillation (L18372-18374)
         if self.position_control:
-            return self._gear_float(MD.GEAR_STEP_POSCTRL_ACCEL) * REV_S2
-        return self._gear_float(MD.GEAR_STEP_SPEEDCTRL_ACCEL) * REV_S2
+            accel = self._gear_float(MD.GEAR_STEP_POSCTRL_ACCEL) * REV_S2
+        else:
+            accel = self._gear_float(MD.GEAR_STEP_SPEEDCTRL_ACCEL) * REV_S2
+        accel *= self.acceleration_reduction(self.axis.command_velocity)
+        return accel if self.acceleration_cap is None else min(accel, self.acceleration_cap)
+
+    def acceleration_reduction(self, velocity: float) -> float:
+        """The share of the acceleration left at ``velocity`` (deg/s) by the kinked characteristic
+        MD35220 / MD35230 / MD35242 (seed 003 L23797-23810), for speeding up and braking alike.
+        Above the speed point, a share of the gear stage's MD35130 [control], the acceleration falls
+        to 1 - MD35230 at MD35130 and stays there: at once (0, constant), along a hyperbola through
+        both ends (1, the seed's default) [INF] or along a straight line (2)."""
+        factor = self.md.float(MD.ACCEL_REDUCTION_FACTOR)
+        top = self._gear_float(MD.GEAR_STEP_MAX_VELO_LIMIT)
+        point = self.md.float(MD.ACCEL_REDUCTION_SPEED_POINT) * top
+        speed = abs(velocity) / RPM
+        if factor <= 0.0 or speed <= point:
+            return 1.0
+        kind = self.md.int(MD.ACCEL_REDUCTION_TYPE)
+        share = min((speed - point) / (top - point), 1.0)  # of the way from the point to MD35130
+        if kind == 0:
+            return 1.0 - factor
+        if kind == 2:
+            return 1.0 - factor * share
+        return 1.0 / (1.0 + factor / (1.0 - factor) * share)
 
     def stationary(self) -> bool:
         axis = self.axis

@@ -112,6 +112,27 @@ def test_modal_reset_restores_g0_g90_g601_and_no_feed(dec: Decoder) -> None:
         True, True, EXACT_STOP_FINE, None)
 
 
+@pytest.mark.parametrize(("per_minute", "per_revolution"), [("G94", "G95"), ("G98", "G99")])
+def test_g95_makes_f_a_feed_per_revolution_and_g94_a_feed_per_minute(dec: Decoder, per_minute: str,
+                                                                    per_revolution: str) -> None:
+    # G98 / G99: the ISO words of seed 002's polygon programs (L241)
+    plan = dec.ok(f"{per_revolution} G1 X10 F0.2")
+    assert (plan.feed, plan.feed_per_revolution) == (0.2, True)
+    assert dec.ok("X20").feed_per_revolution  # modal
+    plan = dec.ok(f"{per_minute} X30 F120")
+    assert (plan.feed, plan.feed_per_revolution) == (120.0, False)
+    dec.modal.reset()
+    assert dec.modal.per_revolution is False  # G94 is the reset setting
+
+
+def test_a_change_of_the_feed_type_wants_a_new_f(dec: Decoder) -> None:
+    dec.ok("G1 X10 F300")
+    _, alarm = dec("N20 G95 X20")
+    assert alarm is not None and alarm.number == 10860
+    assert dec.ok("G95 X20 F0.1").feed == 0.1  # the same type again keeps F
+    assert dec.ok("G95 X30").feed == 0.1
+
+
 # ------------------------------------------------------------------------------ dwell, program stop and end
 
 

@@ -182,3 +182,26 @@ def test_filter_reset_takes_the_new_position_at_once(mode: int) -> None:
 def test_filter_with_zero_time_passes_the_setpoint_through(mode: int) -> None:
     filter_ = JerkFilter(mode, 0.0, DT, 0.0)
     assert [filter_.apply(value) for value in (1.0, 2.5, 2.5, -3.0)] == [1.0, 2.5, 2.5, -3.0]
+
+
+# ------------------------------------------------------------------------------ dynamic-response matching
+
+
+@pytest.mark.parametrize(("delay", "lag"), [(0.002, 0.02), (0.004, 0.04), (0.003, 0.03)])
+def test_dynamic_matching_delays_the_setpoint_by_md32910(delay: float, lag: float) -> None:
+    # 10 mm/s = 0.02 mm a cycle: a delay of 2 ms lags 0.02 mm, 4 ms 0.04 mm, and 3 ms (one and a
+    # half cycles, interpolated) 0.03 mm; with the jerk filter off the rest passes unchanged.
+    filter_ = JerkFilter(1, 0.0, DT, 0.0, delay)
+    inputs, outputs = profile(filter_, 10.0, 100, 110)
+    assert inputs[50] - outputs[50] == pytest.approx(lag)
+    assert outputs[-1] == inputs[-1]
+    assert filter_.settled(inputs[-1], 0.0)
+
+
+def test_dynamic_matching_is_not_settled_while_the_delay_still_holds_motion() -> None:
+    filter_ = JerkFilter(1, 0.0, DT, 0.0, 0.004)
+    filter_.apply(1.0)
+    assert not filter_.settled(1.0, 0.0)
+    filter_.apply(1.0)
+    filter_.apply(1.0)
+    assert filter_.settled(1.0, 0.0)

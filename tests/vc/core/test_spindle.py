@@ -736,3 +736,31 @@ def test_a_reset_during_a_change_takes_the_reported_stage_even_0() -> None:
     rig.pulse("CHAN1.basic.out.reset", 5)
     rig.step(5)
     assert sp1(rig).gear == 0 and rig.alarm_numbers() == []
+
+
+# ------------------------------------------------------------------------------ kinked acceleration characteristic
+
+
+@pytest.mark.parametrize(("kind", "at_1500", "at_2000", "above"), [
+    (0, 0.6, 0.6, 0.6),  # constant: 1 - MD35230 at once above the speed point
+    (1, 1.0 / (1.0 + 0.4 / 0.6 * 0.5), 0.6, 0.6),  # hyperbola from 1 at the point to 0.6 at MD35130
+    (2, 0.8, 0.6, 0.6),  # straight line
+])
+def test_acceleration_reduction_above_the_speed_point(kind: int, at_1500: float, at_2000: float,
+                                                      above: float) -> None:
+    # MD35130 = 2000 rev/min, MD35220 = 0.5: the reduction starts at 1000 rev/min and reaches
+    # 1 - MD35230 = 0.6 at 2000 rev/min (seed 003 L23797-23810)
+    rig = spindle_rig("SP1: {MD35130: [2000, 2000, 2000, 2000, 2000, 2000], MD35220: 0.5, MD35230: 0.4,"
+                      f" MD35242: {kind}}}")
+    spindle = sp1(rig)
+    rpm = 6.0  # deg/s per rev/min
+    assert spindle.acceleration_reduction(900 * rpm) == 1.0
+    assert spindle.acceleration_reduction(1000 * rpm) == 1.0
+    assert spindle.acceleration_reduction(-1500 * rpm) == pytest.approx(at_1500)
+    assert spindle.acceleration_reduction(2000 * rpm) == pytest.approx(at_2000)
+    assert spindle.acceleration_reduction(2500 * rpm) == pytest.approx(above)
+
+
+def test_no_acceleration_reduction_without_md35230() -> None:
+    rig = spindle_rig("SP1: {MD35220: 0.1}")
+    assert sp1(rig).acceleration_reduction(5000 * 6.0) == 1.0
