@@ -65,6 +65,12 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
                   "orthogonal one (NOZAGC of the inclined-axis control)"),
     PlantFunction(r"MCP\.(feedOverride|spindleOverride|rapidOverride)", SignalType.BYTE,
                   Direction.PLANT_TO_PLC, Owner.OPERATOR, "override switch, binary coded percent (0..200)"),
+    PlantFunction(r"MCP\.handwheel[1-3]", SignalType.BYTE, Direction.PLANT_TO_PLC, Owner.OPERATOR,
+                  "axis selector of handwheel n on the machine control panel, coded as the HMI's handwheel"
+                  " byte DB10.DBB100: bits 0..4 the axis number, bit 7 = 1 machine axis, 0 geometry axis of"
+                  " channel 1; 0 = no axis"),
+    PlantFunction(r"MCP\.(inc1|inc10|inc100|inc1000|inc10000)", SignalType.BOOL, Direction.PLANT_TO_PLC,
+                  Owner.OPERATOR, "increment key on the machine control panel (machine function INC1 .. INC10000)"),
     PlantFunction(r"EStop\.chainOk", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR,
                   "emergency-stop chain, normally closed: 1 = healthy, 0 = pressed or broken"),
     PlantFunction(r"Drives\.ready", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,

@@ -26,6 +26,11 @@ Networks after those of ``spindle`` (1-9):
     toggles DB19.DBX0.7 (1 = WCS); when 377.4 rises the PLC selects the WCS, in which the
     retraction traverses the tool axis (SEQ-MR step 7, L35486-35488).
 
+12. Handwheels from the panel (``handwheel_selection.py``): each handwheel's axis selector
+    assigns it to a machine axis (DB31.DBX4.0..4.2) or a geometry axis (DB21.DBX12.0..2 ff.), the
+    increment keys select INC1 .. INC10000 for them; the retraction's tool axis takes the
+    handwheel whether it is selected as machine axis or as geometry axis.
+
 The selection through DB21.DBX396.0 / 397.0 / 397.1 stands in for FB4 with the PI service
 "RETRAC" (REQ, DONE, ERROR): a project-specific location of this harness.  The networks are a
 function block (``ManualRetractionNetworks``), so that ``retraction`` runs them as well.
@@ -38,6 +43,7 @@ from dataclasses import dataclass
 from plc_stub.blocks import R_TRIG
 from plc_stub.io import Bool, PlcIo
 from plc_stub.programs.basic_machine import BasicMachine, pressed
+from plc_stub.programs.handwheel_selection import HandwheelSelection
 from plc_stub.programs.spindle import Spindle
 
 _ACTIVE_MODE_SIGNALS = (("auto", "MODEGROUP.basic.in.autoModeActive"), ("mda", "MODEGROUP.basic.in.mdaModeActive"),
@@ -58,8 +64,8 @@ class _RetractionChannel:
 
 
 class ManualRetractionNetworks:
-    """Networks 0 and 10 as a function block, for any program built on ``basic_machine``: call
-    ``mode`` before the program's network 2 and ``selection`` after its network 4."""
+    """Networks 0, 10, 11 and 12 as a function block, for any program built on ``basic_machine``:
+    call ``mode`` before the program's network 2 and ``selection`` after its network 4."""
 
     def __init__(self, io: PlcIo):
         self.active_modes = {mode: io.input(name) for mode, name in _ACTIVE_MODE_SIGNALS}
@@ -68,6 +74,7 @@ class ManualRetractionNetworks:
         self.show_wcs = io.output("HMI.basic.out.displayWcsValues")  # DB19.DBX0.7
         self.mcs_wcs_softkey = io.input("HMI.basic.in.mcsWcsSwitched")  # DB19.DBX20.7
         self.softkey_edge = R_TRIG()
+        self.handwheels = HandwheelSelection(io)
         self.channels = [
             _RetractionChannel(
                 data_available=io.input(f"{name}.basic.in.jogRetractDataAvailable"),
@@ -109,6 +116,7 @@ class ManualRetractionNetworks:
                 channel.first_chance = False
                 channel.request.value = True
         self.coordinate_system()
+        self.handwheels()
 
     # Network 11 --------------------------------------------------------------------------
     def coordinate_system(self) -> None:

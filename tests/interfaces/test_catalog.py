@@ -218,6 +218,8 @@ def test_control_entries_are_the_agreed_ones() -> None:
         "DB10.DBB1", "DB10.DBX56.2", "DB10.DBX106.1", "DB10.DBX108.7", "DB10.DBX109.0",
         "DB11.DBX0.0", "DB11.DBX6.0", "DB11.DBX6.1", "DB11.DBX7.2",
         "DB21.DBX1.7", *(f"DB21.DBX35.{bit}" for bit in range(7)), "DB21.DBX36.6", "DB21.DBX36.7",
+        # the geometry axes' machine functions INC1 .. INC10000 (the seed prints them at DB31 DBX5.x)
+        *(f"DB21.DBX{byte}.{bit}" for byte in (13, 17, 21) for bit in range(5)),
     }
 
 

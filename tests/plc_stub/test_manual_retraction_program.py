@@ -86,3 +86,30 @@ def test_the_selection_shows_the_wcs_and_the_softkey_toggles_it() -> None:
     plc.nc("CHAN1.basic.in.jogRetractActive", 1)  # SEQ-MR step 7: the PLC selects the WCS
     plc.scan(PUBLISH)
     assert plc.out("HMI.basic.out.displayWcsValues") == 1
+
+
+PANEL_HANDWHEELS = {**IO_LIST, "IB2": "MCP.handwheel1", "IB3": "MCP.handwheel2", "IB4": "MCP.handwheel3",
+                    "I5.0": "MCP.inc1", "I5.1": "MCP.inc10", "I5.2": "MCP.inc100", "I5.3": "MCP.inc1000",
+                    "I5.4": "MCP.inc10000"}
+
+
+def test_network_12_assigns_the_handwheels_from_the_panel_selectors() -> None:
+    plc = PlcBench(ManualRetraction, PANEL_HANDWHEELS, ("X1", "Z1", "SP1"))
+    plc.input("MCP.handwheel1", 2)  # geometry axis 2 of channel 1
+    plc.input("MCP.handwheel2", 0x80 | 2)  # machine axis 2: Z1
+    plc.input("MCP.handwheel3", 0x80 | 2)  # the same axis: both bits
+    plc.scan(PUBLISH)
+    assert plc.out("CHAN1.geoAxis2.out.handwheelSelection") == 1
+    assert plc.out("Z1.basic.out.handwheelSelection") == 0b110
+    assert plc.out("X1.basic.out.handwheelSelection") == 0 and plc.out("CHAN1.geoAxis1.out.handwheelSelection") == 0
+    assert plc.out("Z1.basic.out.inc100") == 0  # no increment key pressed since power-on
+    plc.tap("MCP.inc100")
+    assert (plc.out("Z1.basic.out.inc100"), plc.out("CHAN1.geoAxis2.out.inc100")) == (1, 1)
+    assert plc.out("X1.basic.out.inc100") == 0  # no handwheel: its traverse keys stay continuous
+    plc.tap("MCP.inc10")  # the increment last pressed counts
+    assert (plc.out("Z1.basic.out.inc100"), plc.out("Z1.basic.out.inc10")) == (0, 1)
+    plc.input("MCP.handwheel2", 0)
+    plc.input("MCP.handwheel3", 0x80 | 9)  # no machine axis 9: no assignment
+    plc.scan(PUBLISH)
+    assert (plc.out("Z1.basic.out.handwheelSelection"), plc.out("Z1.basic.out.inc10")) == (0, 0)
+

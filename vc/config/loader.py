@@ -63,14 +63,14 @@ Rules:
   operation ``{p0888: 3, p0892: s, p1240: 2, p1248: V, p2161: rev/min, p0341: kg m^2, p0342: ratio}``
   (seed 003 L41700-41769); none of it without p0888 = 3 (1 and 2 are written by ESRS / ESRR from
   the program).  It needs the machine's ``dc_link: {supply_voltage: V (r0208), capacitance_uf: uF,
-  load_power: W}`` (vc/core/dc_link.py).
+  load_power: W, precharge_time: s (optional)}`` (vc/core/dc_link.py).
 * Every machine axis belongs to exactly one channel.  A channel axis without a name in
   MD20080 is called by its machine axis name in part programs.
 * Scenario overrides (``load_machine(..., overrides=...)``) are ``{instance: {key: value}}``
   with instance = an axis name, a channel name or ``NC``.  They are checked exactly like the
   file and replace the file's values index by index.  An axis may also carry ``sim:`` and
   ``plant:``; the keys written replace the file's (``hw_limits`` as a pair, ``gearbox`` and ``chuck`` key
-  by key).
+  by key); ``NC`` may carry ``dc_link:``, whose keys replace the file's.
 
 Every problem of the file and of the overrides is collected with ``file:line:column`` and
 reported at once in one :class:`~vc.located_yaml.SourceError`; no half-checked configuration
@@ -134,6 +134,7 @@ TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", 
 SIM_KEYS = ("start_position", "zero_mark_offset", "zero_mark_offset_2", "encoder_serial", "encoder_serial_2")
 _WHOLE_SIM_KEYS = ("encoder_serial", "encoder_serial_2")
 AXIS_EXTRA_KEYS = ("sim", "plant", "drive")  # an axis block's keys besides machine data
+NCK_EXTRA_KEYS = ("dc_link",)  # the NC's block of a scenario's overrides: its drive line-up's DC link too
 PLANT_KEYS = ("ref_cam", "hw_limits", "gearbox", "chuck")
 GEARBOX_KEYS = ("stages", "shift_time", "engaged")
 CHUCK_KEYS = ("travel_time", "closed")
@@ -147,12 +148,14 @@ DRIVE_KEYS: dict[str, tuple[float, float, bool, str]] = {
     "p0341": (0, 1000, False, "kg m^2, motor moment of inertia"),
     "p0342": (1, 1_000_000, False, "ratio of the total to the motor moment of inertia"),
 }
-# the drive line-up's DC link under ``dc_link:`` (all three needed)
+# the drive line-up's DC link under ``dc_link:`` (the first three needed)
 DC_LINK_KEYS: dict[str, tuple[float, float, bool, str]] = {
     "supply_voltage": (1, 1000, False, "V, rated supply voltage r0208"),
     "capacitance_uf": (1, 10_000_000, False, "uF, DC-link capacitance"),
     "load_power": (0, 1_000_000, False, "W, what the line-up draws from the link without supply"),
+    "precharge_time": (0, 60, False, "s, empty link to charged through the precharge resistors"),
 }
+_OPTIONAL_DC_LINK_KEYS = ("precharge_time",)
 _REQUIRED_GEARBOX_KEYS = {"stages": "the number of gear stages",
                           "shift_time": "the seconds the shift actuator must push while the motor turns"}
 NCK_INSTANCE = "NC"
@@ -361,10 +364,11 @@ class _MachineReader:
 
     def _read_dc_link(self, raw: Any, mark: Mark) -> None:
         values = self._read_parameters(raw, mark, "dc_link", DC_LINK_KEYS)
-        unwritten = [key for key in DC_LINK_KEYS if not isinstance(raw, dict) or key not in raw]
+        required = [key for key in DC_LINK_KEYS if key not in _OPTIONAL_DC_LINK_KEYS]
+        unwritten = [key for key in required if not isinstance(raw, dict) or key not in raw]
         if unwritten and (raw is None or isinstance(raw, dict)):  # an empty dc_link: is no DC link either
             self.add(mark, f"dc_link: missing {', '.join(unwritten)}")
-        if len(values) == len(DC_LINK_KEYS):
+        if all(key in values for key in required):
             self.dc_link = DcLinkConfig(**values)
 
     def _read_parameters(self, raw: Any, mark: Mark, where: str,
@@ -842,7 +846,10 @@ class _MachineReader:
                 scratch = _Instance(instance.level, name, marks.key(overrides, name))
                 axis_entry = self.axes.get(name)
                 self._write_block(block, scratch, _PLACE_IN_OVERRIDES,
-                                  extra_keys=AXIS_EXTRA_KEYS if axis_entry is not None else ())
+                                  extra_keys=AXIS_EXTRA_KEYS if axis_entry is not None
+                                  else NCK_EXTRA_KEYS if name == NCK_INSTANCE else ())
+                if name == NCK_INSTANCE and "dc_link" in block:
+                    self._override_dc_link(block["dc_link"], marks.value(block, "dc_link"))
                 if axis_entry is not None:
                     # the slide and the switches of this one test: where the cam sits, where the
                     # scale's first mark is, where the slide stands at power-on
@@ -851,6 +858,14 @@ class _MachineReader:
                     instance.written.setdefault(number, {}).update(entries)
         finally:
             self.marks = saved
+
+    def _override_dc_link(self, raw: Any, mark: Mark) -> None:
+        """``NC: {dc_link: {...}}``: the keys written replace the machine file's."""
+        values = self._read_parameters(raw, mark, "machine_data.NC.dc_link", DC_LINK_KEYS)
+        if self.dc_link is None:
+            self.add(mark, f"machine_data.NC.dc_link: {self.name or 'the machine'} has no dc_link: section")
+        elif values:
+            self.dc_link = dataclasses.replace(self.dc_link, **values)
 
     def _instance(self, name: str) -> _Instance | None:
         if name == NCK_INSTANCE:

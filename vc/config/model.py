@@ -64,6 +64,8 @@ EXTENDED_RETRACT = 2  # p0888 = 2, written by ESRR
 GENERATOR_OPERATION = 3  # p0888 = 3 (L41708-41712)
 DC_LINK_PER_SUPPLY_VOLT = 1.35  # a rectified three-phase supply charges the link to 1.35 x its voltage [control]
 PULSE_CANCELLATION_PER_SUPPLY_VOLT = 0.9  # pulses are cancelled below 0.9 x r0208 (L41749-41754)
+# a line module's precharge "completed after a period of typically 1 to 2 s" (SINAMICS engineering manual) [INF]
+DEFAULT_PRECHARGE_TIME = 1.0
 # The generator brakes until its motor runs below p2161, by the hysteresis of the speed comparison
 # (SINAMICS p2150, default 2 rev/min) [control]: there r2199.0 (DB31.DBX95.3) comes and it gives no more.
 SPEED_HYSTERESIS = 2.0  # rev/min
@@ -96,6 +98,7 @@ class DcLinkConfig:
     capacitance_uf: float  # uF: DC-link capacitance of the line-up
     load_power: float  # W: what the line-up draws from the link with the supply gone (electronics, brakes,
     #                    the other drives holding their axes)
+    precharge_time: float = DEFAULT_PRECHARGE_TIME  # s: empty link to charged through the precharge resistors
 
 
 @dataclass(frozen=True, slots=True)

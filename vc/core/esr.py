@@ -29,8 +29,10 @@ on along it (POLF of a geometry axis is then its machine axis's position [contro
 
 An axis in such a reaction keeps its controller enable: alarms that would rapid-stop it (follow-up,
 'H2000') wait until its reaction ends (``holds``; the real control delays the alarm reaction of ESR
-axes likewise [control]).  Couplings stay as they are: a coupled following spindle keeps following its
-leading spindle while the stop axes run on and brake (seed 003 L41545-41546).
+axes likewise [control]).  In G33, with or without LFON, that covers the whole thread: its axes that are
+not ESR-enabled and the master spindle run on with the path [control].  Couplings stay as they are: a
+coupled following spindle keeps following its leading spindle while the stop axes run on and brake
+(seed 003 L41545-41546).
 
 A single axis (here: a spindle; the harness has no PLC or command axes [INF]) reacts only to its own
 ``$AA_ESR_TRIGGER`` with MD37510 / MD37511 (stop) or POLFA (retract), and the channel trigger
@@ -248,6 +250,8 @@ class ChannelEsr:
         ``transform``: the active transformation; unless all its axes are ESR-enabled its group is
         dissolved and its axes react as machine axes (seed 003 L42098-42104)."""
         enabled = [name for name in candidates if self.enabled(name) and not self.axes[name].is_spindle]
+        thread = segment if isinstance(segment, ThreadSegment) else None
+        thread_axes = {axis.name for axis in thread.axes} if thread is not None else set()
         if transform is not None and not all(self.enabled(name) for name in transform.machine_axes):
             transform = None
         retracting = [name for name in enabled if self.axes[name].config.md.int(MD.ESR_REACTION) == RETRACT_AXIS]
@@ -259,6 +263,12 @@ class ChannelEsr:
         self.motion = RetractMotion(groups) if groups else None
         self._stop = _StopAxes.after(cycle, *delays, self._dt)
         self.protected = moving | set(enabled)
+        if thread is not None:
+            # the thread is one interpolation group with its master spindle: the path that runs on for
+            # MD21380 is the thread, so its axes that are not ESR-enabled and the spindle stay in it, and
+            # a rapid stop waits for them as for the enabled ones - braking them alone would cut the
+            # thread (a group is kept whole or not at all, as the transformation's, L42098-42104) [control]
+            self.protected |= thread_axes | {thread.spindle.name}
 
     def start_liftfast(self, retract: RetractProgramming, plane: str, thread: ThreadSegment,
                        default_distance: float, transform: TransformGroup | None,

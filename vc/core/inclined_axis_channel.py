@@ -99,6 +99,7 @@ class InclinedAxisControl:
         self.orthogonal_only_carried = False
         theta = math.radians(parameters.angle)
         self._shift_per_travel = -parameters.diameter_factor * math.sin(theta)
+        self._inclined_per_program_y = 1.0 / math.cos(theta)  # Ya = Yp / cos(theta)
         # The JOG keys act in the Cartesian system (L313): the programmed velocity F_p becomes
         # F_p / cos(theta) on the inclined slide (L32), with and without NOZAGC.
         dyn, factor = self.inclined.dyn, 1.0 / abs(math.cos(theta))
@@ -222,6 +223,12 @@ class InclinedAxisControl:
                         machine.get(inclined, self.inclined.setpoint))
         checked = stroke_check_position(self.parameters, StrokeLimit(limit), pair)
         return {**machine, orthogonal: checked.orthogonal, inclined: checked.inclined}
+
+    def geometry_travel(self, axis: MachineAxis) -> float:
+        """The travel of ``axis`` per unit of travel of the geometry axis it is (a handwheel on the
+        geometry axis moves it in the WCS): program Y is the inclined axis x cos(theta) (L11-22);
+        the orthogonal axis follows as in JOG."""
+        return self._inclined_per_program_y if axis is self.inclined else 1.0
 
     def jog_travel(self, axis: MachineAxis) -> dict[str, float]:
         """The machine travel of the axes per unit of JOG travel of ``axis``: the inclined axis carries

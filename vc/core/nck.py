@@ -34,7 +34,7 @@ from vc.core.coupling import Couplings, CouplingSignals
 from vc.core.dc_link import DcLink
 from vc.core.drive_esr import DriveEsr, DriveEsrSignals
 from vc.core.esr import ChannelEsr, NckEsr
-from vc.core.handwheel import Handwheels, HandwheelSignals
+from vc.core.handwheel import GEOMETRY_AXES, Handwheels, HandwheelSignals
 from vc.core.inclined_axis_channel import InclinedAxisControl, inclined_axis_control
 from vc.core.interface_map import SignalTable
 from vc.core.manual_retraction import ManualRetraction, RetractionSignals
@@ -93,6 +93,10 @@ class Nck:
         self._hmi_signals = HmiSignals(SignalTable(catalog, InstanceKind.HMI))
         self.handwheels = Handwheels()
         self._handwheel_signals = HandwheelSignals(SignalTable(catalog, InstanceKind.AXIS))
+        geometry_table = SignalTable(catalog, InstanceKind.CHANNEL)
+        self._geometry_handwheel_signals = tuple(HandwheelSignals(geometry_table, f"geoAxis{number}.out.")
+                                                 for number in range(1, GEOMETRY_AXES + 1))
+        self._geometry_handwheel_shown = geometry_table.field("geoAxis1.in.handwheelAssignedNumber")
         self.mode_group = ModeGroup(ModeGroupSignals(SignalTable(catalog, InstanceKind.MODE_GROUP)),
                                     self.image.area("DB11"))
         axis_signals = AxisSignals(SignalTable(catalog, InstanceKind.AXIS))
@@ -252,7 +256,7 @@ class Nck:
         self.couplings.monitor(self.cycle)
         self._extended_stop_and_retract()
         dc_link = self.dc_link
-        if dc_link is not None and (not dc_link.supply_on or dc_link.pulses_cancelled):
+        if dc_link is not None and (not dc_link.supply_on or not dc_link.charged):
             self._dc_link_cycle(dc_link)
         self._react_to_new_alarms()
         status = self._status_signature()
@@ -396,6 +400,7 @@ class Nck:
                 not self.alarms.reactions(channel.name) & STOP_AXES
             if pulses and allowed and jog_mode:
                 self._handwheel_pulses(channel, pulses)
+            self._show_geometry_handwheel(channel)
             self.referencing.traverse_keys(channel.name, channel.axes, allowed and reference_keys, self.cycle)
             feed_disable = channel.inputs.feed_disable
             jog_allowed = allowed and jog_mode
@@ -417,14 +422,42 @@ class Nck:
 
     def _handwheel_pulses(self, channel: Channel, pulses: dict[int, int]) -> None:
         """Hand this cycle's pulses of the turning handwheels to the axes the PLC assigned them to
-        (DB31.DBX4.0..4.2), by the increment it selects (DB31.DBX5.0..5.4); spindles take none."""
+        (DB31.DBX4.0..4.2, or the geometry axes' DB21.DBX12.0..2 / 16.0..2 / 20.0..2), by the
+        increment it selects for them; spindles take none."""
+        receivers = self._handwheel_receivers(channel, pulses)
+        counted = {(number, axis.name) for number, axis in self.retractions[channel.name].handwheel_priority(
+            [(number, axis) for number, axis, _ in receivers])}
+        for number, axis, per_detent in receivers:
+            if (number, axis.name) in counted and pulses[number] and per_detent and not axis.is_spindle:
+                axis.add_handwheel_travel(pulses[number] * per_detent)
+
+    def _show_geometry_handwheel(self, channel: Channel) -> None:
+        """DB21.DBX40.0..2: the handwheel assigned to geometry axis 1, as the PLC selects it (L34189-34193);
+        the seed prints no such bits for geometry axes 2 and 3."""
+        area = self.image.area(channel.area_key)
+        assigned = self._geometry_handwheel_signals[0].assigned(area) if channel.config.geometry_axes[0] else 0
+        if self._geometry_handwheel_shown.get(area) != assigned:
+            self._geometry_handwheel_shown.put(area, assigned)
+
+    def _handwheel_receivers(self, channel: Channel, pulses: dict[int, int]) -> list[tuple[int, MachineAxis, float]]:
+        """(handwheel, machine axis, its travel per detent) of every assignment of a turning handwheel."""
+        receivers: list[tuple[int, MachineAxis, float]] = []
         signals = self._handwheel_signals
-        receivers = [(number, axis) for axis in channel.axes for number in pulses
-                     if signals.assigned(self.image.area(axis.area_key)) & (1 << (number - 1))]
-        for number, axis in self.retractions[channel.name].handwheel_priority(receivers):
-            increment = signals.increment(self.image.area(axis.area_key))
-            if pulses[number] and increment and not axis.is_spindle:
-                axis.add_handwheel_travel(pulses[number] * increment)
+        for axis in channel.axes:
+            area = self.image.area(axis.area_key)
+            assigned = signals.assigned(area)
+            if assigned:
+                receivers += [(number, axis, signals.increment(area)) for number in pulses
+                              if assigned & (1 << (number - 1))]
+        area = self.image.area(channel.area_key)
+        inclined = channel.inclined
+        for geometry, name in zip(self._geometry_handwheel_signals, channel.config.geometry_axes, strict=False):
+            assigned = geometry.assigned(area) if name else 0
+            if assigned:
+                axis = channel.axes_by_name[name]
+                per_detent = geometry.increment(area) * (inclined.geometry_travel(axis) if inclined else 1.0)
+                receivers += [(number, axis, per_detent) for number in pulses if assigned & (1 << (number - 1))]
+        return receivers
 
     def turn_handwheel(self, number: int, detents: int, cycles: int) -> None:
         """The operator turns handwheel ``number`` (1..3) by ``detents`` over ``cycles`` IPO cycles."""
@@ -442,8 +475,8 @@ class Nck:
         self.esr.cycle()
 
     def _dc_link_cycle(self, dc_link: DcLink) -> None:
-        """The link without supply (the generators buffer it), or back on it: the power units cancel
-        their pulses when it falls below 0.9 x r0208 and take them back with the supply."""
+        """The link without supply (the generators buffer it), or precharging on it: the power units
+        cancel their pulses when it falls below 0.9 x r0208 and take them back once it is charged."""
         cancelled = dc_link.pulses_cancelled
         dc_link.cycle(self.esr.generators)
         if dc_link.pulses_cancelled != cancelled:

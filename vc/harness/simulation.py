@@ -77,7 +77,7 @@ class Simulation:
         self.nck = Nck(machine, self._catalog, memory, physical)
         self.catalog = self.nck.catalog
         self.interface = ProcessImage(self.catalog.area_sizes)
-        self.plant = Plant(machine, self.nck.cycle_us, self.nck.axes, gear_stages, chucks_clamped)
+        self.plant = Plant(machine, self.nck.cycle_us, self.nck.axes, gear_stages, chucks_clamped, self.nck.dc_link)
         self.plc: SoftPlc | None = None
         if self.plc_name is not None:
             scan_time = self.plc_period * self.nck.cycle_us / 1_000_000

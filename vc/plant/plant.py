@@ -10,7 +10,8 @@ solenoids of its valve (vc/plant/chuck.py; the hydraulics have pressure while th
 is ready) - a part clamped in two chucks ties their spindles together and, twisted, blocks the
 counter spindle's drive (vc/plant/workpiece.py, reported by ``blocked_drives``) - and
 ``Drives.ready``, which follows the PLC's ``Drives.on`` output after the infeed's switch-on
-delay while the line supply is there (a mains failure takes it at once).  Operator inputs
+delay while the line supply is there and the DC link (if the machine has one) is precharged
+(a mains failure takes it at once).  Operator inputs
 (panel keys, the emergency-stop button, the guard door switch) are not the plant's: a person (a scenario) sets them.
 """
 
@@ -50,12 +51,22 @@ class _AxisSwitches:
     states: tuple[int, int, int] | None = None  # cam, minus, plus as last written
 
 
+class ChargedLink(Protocol):
+    """The drive line-up's DC link as the infeed's ready signal sees it (vc/core/dc_link.py)."""
+
+    @property
+    def charged(self) -> bool:
+        """The precharge is done: the link is on the supply."""
+
+
 class Plant:
     def __init__(self, machine: MachineConfig, ipo_cycle_us: int, slides: Sequence[Slide],
-                 gear_stages: Mapping[str, int] | None = None, chucks_clamped: Mapping[str, bool] | None = None):
+                 gear_stages: Mapping[str, int] | None = None, chucks_clamped: Mapping[str, bool] | None = None,
+                 dc_link: ChargedLink | None = None):
         """``gear_stages`` are the stages in mesh at power-on by spindle and ``chucks_clamped``
         the chucks' states, where they differ from the machine file's (a gearbox keeps its stage
-        and a chuck its part while the machine is switched off)."""
+        and a chuck its part while the machine is switched off); ``dc_link`` the line-up's link,
+        whose precharge holds ``Drives.ready`` back."""
         self._io = machine.plant_io
         self._slides = list(slides)  # in machine axis order
         self._axes = [self._switches_of(axis) for axis in machine.axes]
@@ -81,6 +92,7 @@ class Plant:
         self._ready_delay_cycles = max(1, round(DRIVE_READY_DELAY_S * 1_000_000 / ipo_cycle_us))
         self._on_cycles = 0
         self.supply_on = True  # the line supply of the infeed
+        self._dc_link = dc_link
         self._ready: int | None = None
 
     def _switches_of(self, axis: AxisConfig) -> _AxisSwitches:
@@ -173,7 +185,8 @@ class Plant:
         on = self._drives_on
         switched_on = True if on is None else bool(io.areas["Q"][on.address.byte] >> on.address.bit & 1)
         self._on_cycles = min(self._on_cycles + 1, self._ready_delay_cycles) if switched_on and self.supply_on else 0
-        ready = 1 if self._on_cycles >= self._ready_delay_cycles else 0
+        charged = self._dc_link is None or self._dc_link.charged
+        ready = 1 if self._on_cycles >= self._ready_delay_cycles and charged else 0
         if ready != self._ready:
             self._ready = ready
             io.write(self._drives_ready, ready)

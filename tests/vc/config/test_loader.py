@@ -8,7 +8,7 @@ import pytest
 
 from vc.config import md_dictionary as mdd
 from vc.config.loader import load_machine
-from vc.config.model import AxisConfig, ChuckPlant, GearboxPlant, MachineConfig, machine_ipo_cycle_us
+from vc.config.model import AxisConfig, ChuckPlant, DcLinkConfig, GearboxPlant, MachineConfig, machine_ipo_cycle_us
 from vc.located_yaml import LocatedMap, SourceError, load_text
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -400,6 +400,31 @@ def test_the_turn_mill_buffers_its_dc_link_with_the_main_spindle(turn_mill: Mach
     drive = turn_mill.axis("SP1").drive
     assert drive.generator and (drive.p1248, drive.p2161) == (450.0, 1000.0)
     assert not turn_mill.axis("SP2").drive.generator
+
+
+def test_the_precharge_time_has_a_default_and_a_scenario_may_override_it(turn_mill: MachineConfig) -> None:
+    assert turn_mill.dc_link is not None and turn_mill.dc_link.precharge_time == 0.1
+    slow = load_machine(TURN_MILL, _overrides("machine_data:\n  NC: {dc_link: {precharge_time: 1.5}}\n"),
+                        "scenario.yaml")
+    assert slow.dc_link is not None and (slow.dc_link.precharge_time, slow.dc_link.load_power) == (1.5, 3000.0)
+    assert DcLinkConfig(supply_voltage=400.0, capacitance_uf=4000.0, load_power=0.0).precharge_time == 1.0
+
+
+def test_bad_dc_link_overrides_are_reported_with_the_scenario_marks() -> None:
+    with pytest.raises(SourceError) as error:
+        load_machine(TURN_MILL, _overrides("machine_data:\n  NC: {dc_link: {precharge_time: 61, volts: 1}}\n"),
+                     "scenario.yaml")
+    assert [str(problem) for problem in error.value.problems] == [
+        "scenario.yaml:2:34: machine_data.NC.dc_link.precharge_time (s, empty link to charged through the"
+        " precharge resistors): a number from 0 to 60, got 61",
+        "scenario.yaml:2:38: unknown key 'volts' in machine_data.NC.dc_link; allowed: supply_voltage,"
+        " capacitance_uf, load_power, precharge_time",
+    ]
+    with pytest.raises(SourceError) as error:
+        load_machine(MILL,
+                     _overrides("machine_data:\n  NC: {dc_link: {precharge_time: 1}}\n"), "scenario.yaml")
+    assert [str(problem) for problem in error.value.problems] == [
+        "scenario.yaml:2:17: machine_data.NC.dc_link: mill_3axis has no dc_link: section"]
 
 
 def test_a_generator_threshold_outside_the_link_s_range_is_refused() -> None:

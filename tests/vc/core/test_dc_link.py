@@ -39,12 +39,52 @@ class _Generator:
         return given
 
 
-def _link() -> DcLink:
-    return DcLink(DcLinkConfig(supply_voltage=400.0, capacitance_uf=4000.0, load_power=LOAD), DT)
+def _link(precharge_time: float = 0.0, charged: bool = True) -> DcLink:
+    """The turn-mill's link; by default precharged."""
+    link = DcLink(DcLinkConfig(supply_voltage=400.0, capacitance_uf=4000.0, load_power=LOAD,
+                               precharge_time=precharge_time), DT)
+    while charged and not link.charged:
+        link.cycle([])
+    return link
 
 
 def _cycles_to(from_voltage: float, to_voltage: float) -> float:
     return 0.5 * CAPACITANCE * (from_voltage ** 2 - to_voltage ** 2) / DRAWN
+
+
+def test_at_power_on_the_link_precharges_along_the_rc_curve_for_the_precharge_time() -> None:
+    link = _link(precharge_time=0.2, charged=False)  # tau = 40 ms
+    assert link.voltage == 0.0 and not link.charged and not link.pulses_cancelled
+    cycles = round(0.2 / DT)
+    for cycle in range(1, cycles):
+        link.cycle([])
+        assert link.voltage == pytest.approx(540.0 * (1.0 - math.exp(-cycle * DT / 0.04)))
+        assert not link.charged
+    assert link.voltage < 540.0 * (1.0 - math.exp(-5.0))  # 536.4 V: the bypass closes in the next cycle
+    link.cycle([])
+    assert link.charged and link.voltage == 540.0
+
+
+def test_after_a_mains_failure_the_precharge_starts_from_the_voltage_left() -> None:
+    link = _link(precharge_time=1.0)
+    link.supply_on = False
+    while link.voltage > 400.0:
+        link.cycle([])
+    assert not link.charged
+    left = link.voltage
+    link.supply_on = True
+    # tau x ln((540 - V0) / (540 x e^-5)) = 0.2 s x ln(140 / 3.64) = 0.73 s
+    expected_cycles = math.ceil(0.2 * math.log((540.0 - left) / (540.0 * math.exp(-5.0))) / DT)
+    cycles = 0
+    while not link.charged:
+        link.cycle([])
+        cycles += 1
+        if cycles == 100:
+            assert link.voltage == pytest.approx(540.0 - (540.0 - left) * math.exp(-1.0))
+    assert cycles == expected_cycles and 0.72 < cycles * DT < 0.74
+    link.supply_on = False  # a failure in the middle of a precharge: the next one starts afresh
+    link.cycle([])
+    assert not link.charged
 
 
 def test_the_supply_holds_the_link_at_1_35_times_its_voltage() -> None:

@@ -569,6 +569,23 @@ def test_a_rapid_stop_alarm_waits_for_the_thread_axes_run_on_after_an_esr_in_g33
     _assert_z1_runs_on_then_brakes(rig, trigger_cycle)  # the thread axis and its spindle go on regardless
 
 
+def test_a_rapid_stop_alarm_waits_for_the_whole_thread_after_an_esr_in_g33_without_lfon() -> None:
+    # only X1 is ESR-enabled (it retracts); Z1 and SP1 are not, yet they are the thread X1 leaves
+    rig, trigger_cycle = _esr_in_thread("N2 $AA_ESR_ENABLE[X]=1\nN3 LFPOS POLF[X]=IC(10) POLFMASK(X)\n"
+                                        "N55 M3 S500 G90 G18\nN68 G0 Z5\nN69 X10\nN70 G33 Z50 K5\n"
+                                        "N72 G1 X20 F100\nM30", 20.0)
+    rig.nck.alarms.raise_alarm(2000, rig.nck.cycle)  # rapid stop with follow-up during MD21380
+    sp1, z1 = axis(rig, "SP1"), axis(rig, "Z1")
+    turning = sp1.command_velocity
+    for _ in range(45):
+        rig.step(1)
+        assert sp1.command_velocity == turning
+        assert z1.command_velocity == pytest.approx(turning / 360.0 * 5.0)  # K5: 5 mm per revolution
+    _assert_z1_runs_on_then_brakes(rig, trigger_cycle)
+    rig.step(100)
+    assert sp1.command_velocity == 0.0  # after the ESR the alarm's rapid stop has braked the spindle
+
+
 def test_a_jump_after_a_fast_retraction_leaves_the_chain_so_its_target_thread_is_cut() -> None:
     rig = spindle_rig()
     run_mda(rig, "N55 M3 S500 G90 G18\nN68 G0 Z5\nN69 X10\nN70 G33 Z30 K5 LFON DILF=10 LFWP ALF=7\n"
