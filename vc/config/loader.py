@@ -159,6 +159,9 @@ _OPTIONAL_DC_LINK_KEYS = ("precharge_time",)
 _REQUIRED_GEARBOX_KEYS = {"stages": "the number of gear stages",
                           "shift_time": "the seconds the shift actuator must push while the motor turns"}
 NCK_INSTANCE = "NC"
+# the control parameters LS and FS of a synchronous spindle pair must have alike (seed 003 L23736-23748)
+COUPLED_LIKE_PARAMETERS = (mdd.FIPO_TYPE, mdd.AX_JERK_ENABLE, mdd.AX_JERK_MODE, mdd.AX_JERK_TIME, mdd.AX_JERK_FREQ,
+                           mdd.AX_JERK_DAMP, mdd.JOG_AND_POS_JERK_ENABLE, mdd.JOG_AND_POS_MAX_JERK)
 # Instance names the interface and the plant I/O vocabulary already use.
 RESERVED_NAMES = frozenset({"NC", "MODEGROUP", "MCP", "EStop", "Drives", "Lamp", "Door", "PLC"})  # PLC: the FMU
 MAX_CHANNELS = 10  # DB21..DB30: channel 11 would collide with DB31 of machine axis 1
@@ -1151,6 +1154,20 @@ class _MachineReader:
                 self.add(entry.data.mark_of(md, index),
                          f"{md.label}[{index}] = {number}: machine axis {number} is not an axis of"
                          f" {entry.name}")
+        numbers = [int(entry.data.value(md, index)) for index in range(md.length)]
+        if all(numbers) and max(numbers) <= len(machine_axes):
+            self._check_coupled_control_parameters(*(self.axes[machine_axes[number - 1]] for number in numbers))
+
+    def _check_coupled_control_parameters(self, following: _AxisEntry, leading: _AxisEntry) -> None:
+        """LS and FS of the configured pair need like control parameters (L23736-23748).  The seed
+        names no alarm; the control does not check them [control], this loader refuses the machine
+        so that the pair does not run with unlike setpoints."""
+        for md in COUPLED_LIKE_PARAMETERS:
+            fs_value, ls_value = following.data.value(md), leading.data.value(md)
+            if fs_value != ls_value:
+                self.add(following.data.mark_of(md),
+                         f"{md.label} = {fs_value} on {following.name}, {ls_value} on {leading.name}: the"
+                         f" synchronous spindle pair of MD21300 needs the same value on both (seed 003 L23736-23748)")
 
     def _check_master_spindle(self, entry: _ChannelEntry, axes: Mapping[str, AxisConfig]) -> None:
         md = mdd.SPIND_DEF_MASTER_SPIND

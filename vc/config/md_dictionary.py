@@ -223,6 +223,17 @@ AX_JERK_MODE = MdDef(32402, "AX_JERK_MODE", A, INT, 2,
                      1, 2, allowed=(1, 2))
 AX_JERK_TIME = MdDef(32410, "AX_JERK_TIME", A, FLOAT, 0.016, "time constant of the axial jerk filter",
                      "[control]", "s", 0.0, 0.2)
+# like on LS and FS of a synchronous spindle pair (L23736-23748); the core's filter reads only 32400-32410
+AX_JERK_FREQ = MdDef(32412, "AX_JERK_FREQ", A, FLOAT, 10.0, "blocking frequency of the axial jerk filter",
+                     "seed 003 L23744; [control] default", "Hz", 0.0, 1000.0)
+AX_JERK_DAMP = MdDef(32414, "AX_JERK_DAMP", A, FLOAT, 0.0, "damping of the axial jerk filter",
+                     "seed 003 L23745; [control] default", "", 0.0, 1.0)
+JOG_AND_POS_JERK_ENABLE = MdDef(32420, "JOG_AND_POS_JERK_ENABLE", A, BOOL, False,
+                                "jerk limitation in JOG and positioning", "seed 003 L23746; [control] default")
+JOG_AND_POS_MAX_JERK = MdDef(32430, "JOG_AND_POS_MAX_JERK", A, FLOAT, 1000.0, "axial jerk in JOG and positioning",
+                             "seed 003 L23747; [control] default", "m/s^3", 0.001, 1.0e6)
+FIPO_TYPE = MdDef(33000, "FIPO_TYPE", A, INT, 2, "fine interpolator type: 1 differential, 2 cubic, 3 cubic"
+                  " optimised", "seed 003 L23740; [control] default", "", 1, 3, allowed=(1, 2, 3))
 MAX_AX_JERK = MdDef(32431, "MAX_AX_JERK", A, FLOAT, _repeat(1000.0, 5),
                     "maximum axial jerk for path motion with SOFT", "seed 003 L8340-8349; [control] default",
                     "m/s^3", 0.001, 1.0e6, 5)

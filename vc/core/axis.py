@@ -117,6 +117,18 @@ def dynamics_of(axis: AxisConfig) -> AxisDynamics:
 
 
 @dataclass(frozen=True, slots=True)
+class CoupledLoop:
+    """The position loop a synchronous spindle coupling sets on a spindle in place of its own
+    (vc/core/coupling.py, L22997-23006, L23756-23775): Kv, feedforward weight (0 = off) and the
+    equivalent speed-control time MD32810 the feedforward's symmetrising models.  The drive itself
+    keeps its own lag: MD32810 only tells the control how fast the drive is."""
+
+    kv: float
+    feedforward: float
+    symmetrising_time: float
+
+
+@dataclass(frozen=True, slots=True)
 class JogLimits:
     """What JOG may do with an axis beyond its own data: the traverse keys it follows, and a
     velocity and acceleration an axis moved along with it needs (manual retraction's spindle)."""
@@ -271,6 +283,7 @@ class MachineAxis:
         # a part clamped in this spindle and another: the slide is held at k x the other's position + offset
         self.clamp: tuple[MachineAxis, float, float] | None = None
         self.handwheel_rest = 0.0  # JOG: the handwheel's distance still to travel (vc/core/handwheel.py)
+        self._coupled_loop: CoupledLoop | None = None  # set each cycle while the spindle is coupled
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -382,9 +395,32 @@ class MachineAxis:
         Kv loop needs velocity / Kv.  Dynamic-response matching (MD32910) delays the setpoint before
         the loop and adds its time."""
         dyn = self.dyn
-        if dyn.feedforward:
-            return max(dyn.drive_time_constant - self._dt, 0.0) + dyn.dyn_match_time
-        return (1.0 / dyn.kv if dyn.kv else 0.0) + dyn.dyn_match_time
+        kv, feedforward, symmetrising_time = self._loop_parameters()
+        if feedforward:
+            return max(symmetrising_time - self._dt, 0.0) + dyn.dyn_match_time
+        return (1.0 / kv if kv else 0.0) + dyn.dyn_match_time
+
+    @property
+    def coupled_loop(self) -> CoupledLoop | None:
+        return self._coupled_loop
+
+    @coupled_loop.setter
+    def coupled_loop(self, loop: CoupledLoop | None) -> None:
+        before = self._loop_parameters()[2]
+        self._coupled_loop = loop
+        after = self._loop_parameters()[2]
+        if after != before:
+            # the symmetrising model lags a moving setpoint by its time constant: it takes the new lag
+            # at once (integrating the velocity alone it would keep the old one for good)
+            self._model_position -= self._model_velocity * (after - before)
+
+    def _loop_parameters(self) -> tuple[float, float, float]:
+        """Kv, feedforward weight and symmetrising time: the coupling's while coupled, else the axis's."""
+        loop = self._coupled_loop
+        if loop is not None:
+            return loop.kv, loop.feedforward, loop.symmetrising_time
+        dyn = self.dyn
+        return dyn.kv, dyn.feedforward, dyn.drive_time_constant
 
     @property
     def distance_to_end_point(self) -> float:
@@ -607,21 +643,23 @@ class MachineAxis:
         target = self.setpoint + self.overlay
         loop_setpoint = self.jerk_filter.apply(target) if self.jerk_filter else target
         self._loop_setpoint = loop_setpoint
-        feedforward = (loop_setpoint - previous) / dt * dyn.feedforward
+        kv, weight, symmetrising_time = self._loop_parameters()
+        feedforward = (loop_setpoint - previous) / dt * weight
         tau = dyn.drive_time_constant
         lag = dt / tau if tau > dt else 1.0
+        model_lag = dt / symmetrising_time if symmetrising_time > dt else 1.0
         symmetrising = bool(feedforward or self._model_velocity)
         # The model and the slide are compared at the same instant, then both move on.
         compare = self._model_position if symmetrising else loop_setpoint
         if self.speed_control:
             velocity_command = (loop_setpoint - previous) / dt
         else:
-            velocity_command = dyn.kv * (compare - self.actual) + feedforward
+            velocity_command = kv * (compare - self.actual) + feedforward
         limit = 1.2 * dyn.max_velocity
         velocity_command = max(-limit, min(limit, velocity_command))
         self._drive_velocity += (velocity_command - self._drive_velocity) * lag
         if symmetrising:
-            self._model_velocity += (feedforward - self._model_velocity) * lag
+            self._model_velocity += (feedforward - self._model_velocity) * model_lag
             self._model_position += self._model_velocity * dt
         else:
             self._model_position = loop_setpoint

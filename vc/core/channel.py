@@ -615,6 +615,11 @@ class Channel:
             self.axes_by_name[name].preset_actual(value)
         suppress = self._gear_change_suppressed
         for name, command in plan.spindles.items():
+            if command.position is not None and self.couplings is not None \
+                    and self.couplings.feedforward_withdrawn(name):
+                # MD32620 = 0 in the coupling: SPOS, M19 and SPOSA have no effect on FS or LS
+                # (L23004-23005); ignored without an alarm, as the seed says [control]
+                command = dataclasses.replace(command, position=None)
             if self._coupled_spindle_command(name, command, cycle, block):
                 continue
             self.spindles[name].program(command, cycle, self._alarms, block.label, suppress(self.spindles[name]))
@@ -664,7 +669,11 @@ class Channel:
         False: an alarm stops the program."""
         couplings = self.couplings
         for name, on in plan.position_control.items():
-            self.spindles[name].program_position_control(on)
+            spindle = self.spindles[name]
+            if on and couplings is not None and couplings.feedforward_withdrawn(name) \
+                    and spindle.axis.command_velocity != 0.0:
+                continue  # MD32620 = 0 in the coupling: SPCON cannot switch position control on in motion (L23003)
+            spindle.program_position_control(on)
         self._coupling_feeds.update(plan.feeds)
         polygon = self.polygon
         if polygon is not None and polygon.active:

@@ -44,7 +44,7 @@ from vc.config import md_dictionary as MD
 from vc.config.machine_data import MachineData, MdDef
 from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
-from vc.core.axis import MachineAxis, Owner
+from vc.core.axis import CoupledLoop, MachineAxis, Owner
 from vc.core.coupling_types import BlockChange, Kind
 from vc.core.interface_map import SignalTable
 from vc.core.motion import ramp, stopping_distance, stopping_velocity
@@ -63,6 +63,7 @@ ALARM_COARSE_2_EXCEEDED = 22026
 MAX_PAIRS_PER_CHANNEL = 2  # L21749
 CORRECTION_DYNAMICS = 0.1  # the correction moves with at most 10 % velocity and acceleration (L31560-31570)
 FEED_STOP_ON_FS_ONLY = 1 << 4  # MD30455 bit 4 (L22391-22401)
+FS_OWN_CONTROL_PARAMETERS = 1 << 5  # MD30455 bit 5 (L23756-23775): 0 = the FS takes the LS's loop
 EDGE_TRIGGERED_CORRECTION = 1 << 7  # MD30455 bit 7 (L31463-31476)
 # MD21330 COUPLE_RESET_MODE_1 (L22946-22975) and the channel masks (L22954-22981)
 CANCEL_AT_START, CANCEL_AT_RESET, ACTIVATE_AT_START = 1 << 0, 1 << 1, 1 << 9
@@ -178,6 +179,13 @@ class Coupling:
     def setpoint_synchronous(self) -> bool:
         return (self.phase is Phase.SYNCHRONOUS and self.overlay is None and not self.offset_pending
                 and not self.queued)
+
+
+def _loop_of(spindle: Spindle, feedforward: bool) -> CoupledLoop:
+    """A spindle's own loop values, with the feedforward (its weight MD32610) on or off."""
+    dyn = spindle.axis.dyn
+    weight = spindle.md.float(MD.VELO_FFW_WEIGHT, 0) if feedforward else 0.0
+    return CoupledLoop(dyn.kv, weight, dyn.drive_time_constant)
 
 
 def threshold(coupling: Coupling, md: MachineData, datum: MdDef) -> float:
@@ -346,6 +354,8 @@ class Couplings:
         if busy or self.involved(following) or in_channel >= MAX_PAIRS_PER_CHANNEL:
             return ALARM_TOO_MANY_COUPLINGS
         fs, ls = self._spindles[following], self._spindles[leading]
+        # unlike control parameters MD33000, MD32400-32430 (L23736-23748) are not checked here, as on the
+        # control [control]; the loader checks the configured pair (vc/config/loader.py)
         if fs.change is not None or ls.change is not None or fs.mode is SpindleMode.OSCILLATION:
             return ALARM_COUPLING_ACTIVE
         if definition.kind is not Kind.VV and not (fs.axis.referenced and ls.axis.referenced):
@@ -414,6 +424,8 @@ class Couplings:
         fs = self._spindles[following]
         velocity = fs.axis.command_velocity
         fs.axis.set_speed_control(False)
+        # both take their own loop again; the next cycle sets it anew for an LS still leading another FS
+        fs.axis.coupled_loop = self._spindles[coupling.definition.leading].axis.coupled_loop = None
         self._switch_position_control(coupling, on=False)
         fs.leave_synchronous_mode(0.0 if stop else velocity / RPM)
         self._alarms.clear(ALARM_OVERLAY_NOT_ENABLED, axis=following)
@@ -641,6 +653,35 @@ class Couplings:
         for following, coupling in self.active.items():
             self._plc_requests(following, coupling)
             self._drive(following, coupling)
+        loops = self._coupled_loops()
+        for name, spindle in self._spindles.items():
+            spindle.axis.coupled_loop = loops.get(name)
+
+    def feedforward_withdrawn(self, name: str) -> bool:
+        """MD32620 FFW_MODE = 0 on FS or LS of the pair ``name`` is coupled in: the pair runs without
+        feedforward, and SPCON in motion, SPOS, M19 and SPOSA have no effect on it (L22999-23006)."""
+        return any(name in (following, coupling.definition.leading) and not self._feedforward(coupling)
+                   for following, coupling in self.active.items())
+
+    def _feedforward(self, coupling: Coupling) -> bool:
+        """The coupling always runs LS and FS with feedforward, unless MD32620 = 0 on either takes it
+        away (L22997-23003) [INF: the feedforward of the pair, so both lose it]."""
+        return all(self._spindles[name].md.int(MD.FFW_MODE)
+                   for name in (coupling.definition.following, coupling.definition.leading))
+
+    def _coupled_loops(self) -> dict[str, CoupledLoop]:
+        """The position loop of every coupled spindle (L22997-23006, L23756-23775): the LS keeps its
+        Kv (active parameter set) and MD32810 with the pair's feedforward; the FS takes the LS's
+        values with MD30455 bit 5 = 0 (automatic dynamic matching), its own with bit 5 = 1."""
+        loops: dict[str, CoupledLoop] = {}
+        for following, coupling in self.active.items():
+            fs, ls = self._spindles[following], self._spindles[coupling.definition.leading]
+            feedforward = self._feedforward(coupling)
+            leading_loop = _loop_of(ls, feedforward)
+            loops[ls.name] = leading_loop
+            own = fs.md.int(MD.MISC_FUNCTION_MASK) & FS_OWN_CONTROL_PARAMETERS
+            loops[following] = _loop_of(fs, feedforward) if own else leading_loop
+        return loops
 
     def _plc_requests(self, following: str, coupling: Coupling) -> None:
         inputs = self.inputs[following]

@@ -177,6 +177,13 @@ class ChannelEsr:
             return self.other_variables[0](name, index)
         raise KeyError(name)
 
+    def _synchronized_read(self, name: str, index: str) -> float:
+        """``read`` for a synchronized action: $P_ variables are part-program only (L22383-22385 for
+        $P_COUP_OFFS); the control refuses them there as a name not defined (12550) [control]."""
+        if name.upper().startswith("$P_"):
+            raise KeyError(name)
+        return self.read(name, index)
+
     def write(self, write: VariableWrite, cycle: int) -> None:
         """A program assignment or a synchronized action's action, its axis a machine axis of the channel
         (the interpreter maps X to X1 and refuses the others with 12550); a trigger acts on its rising edge."""
@@ -215,7 +222,7 @@ class ChannelEsr:
         and ends the action (its writes were checked when the block was decoded)."""
         for number, action in list(self.actions.items()):
             try:
-                due = action.due(self.read)
+                due = action.due(self._synchronized_read)
             except KeyError as error:
                 self._alarms.raise_alarm(12550, cycle, self.name, f"ID={number}", str(error),
                                          channel=self.name)

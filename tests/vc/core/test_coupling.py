@@ -377,3 +377,14 @@ def test_alarm_22040_is_checked_cyclically_while_a_coupled_spindle_is_not_synchr
     rig.nck.acknowledge()
     rig.step(10)
     assert 22040 not in rig.alarm_numbers() and "SP2" in rig.nck.couplings.active
+
+
+@pytest.mark.parametrize(("variable", "alarms"), [("$P_COUP_OFFS", [12550]), ("$AA_COUP_OFFS", [])])
+def test_a_synchronized_action_may_not_read_the_programmed_offset(variable: str, alarms: list[int]) -> None:
+    # L22383-22385: $P_COUP_OFFS is for the part program only; a synchronized action that reads it
+    # raises 12550 [control], one on $AA_COUP_OFFS runs
+    rig = _coupling_rig()
+    rig.mda(f"N10 SPOS=0 SPOS[2]=0\nN20 COUPON(S2,S1,90)\nN30 ID=1 WHENEVER {variable}[S2]>89 DO $AA_COUP_CORR[S2]=1\n"
+            "N40 G4 F1\n")
+    rig.step(500)
+    assert rig.alarm_numbers() == alarms
