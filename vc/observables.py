@@ -16,7 +16,9 @@ AXIS_QUANTITY_MEANINGS = {
     "physical": "true position of the slide in the simulated machine (plant); on a spindle its angle,"
                 " counted on over the turns",
     "programPosition": "absolute position the NC shows in program coordinates: Cartesian for the axes of an"
-                       " inclined-axis control (seed 000), else the position",
+                       " inclined-axis control (seed 000), else the position without the DRF offset",
+    "drfOffset": "the DRF offset the handwheel set in AUTO / MDA (DB21.DBX0.3), in the machine coordinate"
+                 " system; on a coupled following spindle the relation it moved",
 }
 # Quantities of a following spindle's coupling (0 while the spindle follows nobody), degrees.
 COUPLING_QUANTITY_MEANINGS = {

@@ -211,6 +211,9 @@ MAX_AX_VELO = MdDef(32000, "MAX_AX_VELO", A, FLOAT, 10000.0, "maximum axis veloc
 JOG_VELO_RAPID = MdDef(32010, "JOG_VELO_RAPID", A, FLOAT, 10000.0, "rapid traverse in JOG", "[control]",
                        "mm/min", 0.0, 1.0e7)
 JOG_VELO = MdDef(32020, "JOG_VELO", A, FLOAT, 2000.0, "JOG velocity", "[control]", "mm/min", 0.0, 1.0e7)
+HANDWH_VELO_OVERLAY_FACTOR = MdDef(32090, "HANDWH_VELO_OVERLAY_FACTOR", A, FLOAT, 0.5,
+                                   "handwheel velocity of the DRF offset per JOG velocity",
+                                   "seed 003 L36517-36519; [control] default", "", 0.0, 1.0)
 POSCTRL_GAIN = MdDef(32200, "POSCTRL_GAIN", A, FLOAT, _repeat(16.667, 6),
                      "servo gain factor Kv per parameter set (16.667/s = 1 (m/min)/mm)", "[control]",
                      "1/s", 0.0, 2000.0, 6)

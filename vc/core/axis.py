@@ -61,6 +61,7 @@ class AxisDynamics:
     max_jerk: float  # MD32431: the retract motion's jerk limit (vc/core/retract_motion.py)
     jog_velocity: float
     jog_rapid_velocity: float
+    drf_velocity: float  # the DRF offset's handwheel velocity: JOG velocity x MD32090
     rapid_stop_decel: float
     kv: float
     feedforward: float  # 0 = off, else weighting factor
@@ -96,6 +97,7 @@ def dynamics_of(axis: AxisConfig) -> AxisDynamics:
         max_jerk=md.float(MD.MAX_AX_JERK, 0) * accel_unit,  # m/s^3 -> mm/s^3, rev/s^3 -> deg/s^3
         jog_velocity=min(md.float(MD.JOG_VELO) * velocity_unit, max_velocity),
         jog_rapid_velocity=min(md.float(MD.JOG_VELO_RAPID) * velocity_unit, max_velocity),
+        drf_velocity=min(md.float(MD.JOG_VELO) * velocity_unit, max_velocity) * md.float(MD.HANDWH_VELO_OVERLAY_FACTOR),
         # MD36610: the rapid-stop ramp takes the axis from MAX_AX_VELO to standstill in this time
         rapid_stop_decel=max_velocity / emergency_time if emergency_time > 0 else math.inf,
         kv=md.float(MD.POSCTRL_GAIN, 0),
@@ -284,6 +286,11 @@ class MachineAxis:
         self.clamp: tuple[MachineAxis, float, float] | None = None
         self.handwheel_rest = 0.0  # JOG: the handwheel's distance still to travel (vc/core/handwheel.py)
         self._coupled_loop: CoupledLoop | None = None  # set each cycle while the spindle is coupled
+        # DRF (AUTO / MDA, DB21.DBX0.3): the handwheel's offset in the MCS, overlaid on the path (part of
+        # ``overlay``), and the distance of it still to travel; it outlives reset and program end (L36426)
+        self.drf_offset = 0.0
+        self.drf_rest = 0.0
+        self._drf_velocity = 0.0
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -319,11 +326,40 @@ class MachineAxis:
         self.resting = False
 
     def fold_overlay(self) -> None:
-        """The overlaid distance becomes part of the programmed position (nothing moves)."""
-        self.setpoint += self.overlay
-        self.overlay = 0.0
-        self.overlay_velocity = 0.0
+        """The overlaid distance becomes part of the programmed position (nothing moves); the DRF
+        offset stays overlaid."""
+        self.setpoint += self.overlay - self.drf_offset
+        self.overlay = self.drf_offset
+        self.overlay_velocity = self._drf_velocity
         self.resting = False
+
+    def add_drf_travel(self, distance: float) -> None:
+        """Handwheel pulses with DRF: the DRF offset grows by ``distance`` (sign = direction)."""
+        self.drf_rest += distance
+        self.resting = False
+
+    def drf_cycle(self, stopped: bool) -> None:
+        """The DRF offset's travel, one IPO cycle: at the DRF handwheel velocity (MD32090), braking
+        to land on its end point, overlaid on whatever the path does; ``stopped`` (feed stop, feed
+        disable, not ready) brakes it and drops the rest [control, as the handwheel in JOG]."""
+        rest = self.drf_rest
+        if stopped:
+            self.drf_rest = rest = 0.0
+        accel = self.dyn.max_accel
+        target = math.copysign(min(self.dyn.drf_velocity, stopping_velocity(abs(rest), accel, self._dt)), rest) \
+            if rest else 0.0
+        velocity = ramp(self._drf_velocity, target, accel, self._dt)
+        step = velocity * self._dt
+        if rest and (rest - step) * rest <= _TINY * abs(rest):
+            step, velocity = rest, 0.0  # land exactly on the end point
+        self.drf_rest = rest - step if rest else 0.0
+        self._drf_velocity = velocity
+        self.drf_offset += step
+        self.add_overlay(step, velocity)
+
+    @property
+    def drf_moving(self) -> bool:
+        return bool(self.drf_rest or self._drf_velocity)
 
     def _select_encoder(self, selected: int | None) -> None:
         """Measuring-system switch-over: the new actual value is taken over, nothing moves."""

@@ -163,6 +163,7 @@ class Coupling:
     pending_shift: float = 0.0  # polygon turning's R: moves the relation once synchronous
     jog_allowed: bool = True  # the FS's JOG keys move the relation (not on a polygon slave)
     jog_velocity: float = 0.0  # deg/s of the relation moved by the JOG keys
+    drf_rest: float = 0.0  # degrees of the relation the DRF handwheel pulses still have to move
     spcon_following: bool = False  # SPCON was programmed on the FS: position control stays after COUPOF
     shifts_seen: tuple[float, float] = (0.0, 0.0)  # the coordinate shifts of FS and LS the relation knows
     stage_2_exceeded: set[int] = field(default_factory=set)  # 22025 / 22026 whose tolerance is exceeded now
@@ -534,10 +535,42 @@ class Couplings:
             return
         fs = self._spindles[following]
         axis = fs.axis
+        if coupling.drf_rest and not direction:
+            self._drf_step(coupling, axis, fs.coupled_acceleration(), stopped)
+            return
         wanted = 0.0 if stopped or not coupling.jog_allowed else direction * axis.dyn.jog_velocity * fs.override()
         if wanted or coupling.jog_velocity:
             coupling.jog_velocity = ramp(coupling.jog_velocity, wanted, fs.coupled_acceleration(), self._dt)
             axis.resting = False
+
+    def drf(self, following: str, distance: float) -> None:
+        """DRF pulses for a coupled FS in AUTO / MDA: the relation moves by ``distance`` as overlaid
+        motion (L22011-22015) the way the JOG keys move it - synchronism kept, DBX98.4 while it moves -
+        at the FS's DRF handwheel velocity (JOG velocity x MD32090), and the FS's DRF offset counts
+        it.  Refused where the JOG keys are: before setpoint synchronism, on a polygon slave (seed 002
+        L63-65)."""
+        coupling = self.active.get(following)
+        if coupling is not None and coupling.phase is Phase.SYNCHRONOUS and coupling.jog_allowed:
+            coupling.drf_rest += distance
+
+    def _drf_step(self, coupling: Coupling, axis: MachineAxis, accel: float, stopped: bool) -> None:
+        """One cycle of the DRF travel on the relation, braking to land on its end point; feed stop
+        and feed disable brake it and drop the rest beyond the braking distance [control, as the
+        handwheel in JOG]."""
+        rest = coupling.drf_rest
+        if stopped:
+            rest = math.copysign(stopping_distance(abs(coupling.jog_velocity), accel, self._dt), rest)
+        target = math.copysign(min(axis.dyn.drf_velocity, stopping_velocity(abs(rest), accel, self._dt)), rest) \
+            if rest else 0.0
+        velocity = ramp(coupling.jog_velocity, target, accel, self._dt)
+        if rest and (rest - velocity * self._dt) * rest <= 1e-9 * abs(rest):
+            velocity = rest / self._dt  # the last step lands exactly on the end point
+        coupling.jog_velocity = velocity
+        coupling.drf_rest = rest - velocity * self._dt if rest else 0.0
+        if abs(coupling.drf_rest) <= 1e-12:
+            coupling.drf_rest = 0.0
+        axis.drf_offset += velocity * self._dt
+        axis.resting = False
 
     def holds_block(self, following: str, criterion: BlockChange | None = None) -> bool:
         """The block change after COUPON (or WAITC) waits for the criterion (L22583-22592, L22659-22690)."""

@@ -97,6 +97,8 @@ class Nck:
         self._geometry_handwheel_signals = tuple(HandwheelSignals(geometry_table, f"geoAxis{number}.out.")
                                                  for number in range(1, GEOMETRY_AXES + 1))
         self._geometry_handwheel_shown = geometry_table.field("geoAxis1.in.handwheelAssignedNumber")
+        self._drf_requested = geometry_table.bit("basic.out.handwheelOffsetDrf")  # DB21.DBX0.3
+        self._drf_shown = geometry_table.bit("basic.in.handwheelOvrActive")  # DB21.DBX33.3
         self.mode_group = ModeGroup(ModeGroupSignals(SignalTable(catalog, InstanceKind.MODE_GROUP)),
                                     self.image.area("DB11"))
         axis_signals = AxisSignals(SignalTable(catalog, InstanceKind.AXIS))
@@ -395,12 +397,14 @@ class Nck:
         jog_mode = mode_group.mode is Mode.JOG and not mode_group.reference_function
         keys_followed = reference_keys or jog_mode
         pulses = self.handwheels.pulses() if self.handwheels.any_turning else {}
+        drf_mode = mode_group.mode in (Mode.AUTO, Mode.MDA) and not mode_group.reference_function
         for channel in self.channels:
-            allowed = keys_followed and not self.emergency_stop and not channel.is_active and \
-                not self.alarms.reactions(channel.name) & STOP_AXES
+            axes_stopped = self.emergency_stop or bool(self.alarms.reactions(channel.name) & STOP_AXES)
+            allowed = keys_followed and not channel.is_active and not axes_stopped
             if pulses and allowed and jog_mode:
                 self._handwheel_pulses(channel, pulses)
             self._show_geometry_handwheel(channel)
+            self._drf(channel, drf_mode, pulses, axes_stopped)
             self.referencing.traverse_keys(channel.name, channel.axes, allowed and reference_keys, self.cycle)
             feed_disable = channel.inputs.feed_disable
             jog_allowed = allowed and jog_mode
@@ -430,6 +434,33 @@ class Nck:
         for number, axis, per_detent in receivers:
             if (number, axis.name) in counted and pulses[number] and per_detent and not axis.is_spindle:
                 axis.add_handwheel_travel(pulses[number] * per_detent)
+
+    def _drf(self, channel: Channel, drf_mode: bool, pulses: dict[int, int], axes_stopped: bool) -> None:
+        """DRF (seed 003 §16.13.3, L36409-36506): in AUTO and MDA with DB21.DBX0.3 the pulses of a
+        handwheel assigned to a machine axis (DB31.DBX4.0..4.2, not to a geometry axis: L36419) build
+        up the axis's DRF offset, travelled overlaid on the path; DB21.DBX33.3 acknowledges it.  On a
+        coupled following spindle they move the relation as overlaid motion (L22011-22015); an
+        uncoupled spindle takes none [control]."""
+        area = self.image.area(channel.area_key)
+        active = drf_mode and self._drf_requested.get(area)
+        if self._drf_shown.get(area) != active:
+            self._drf_shown.put(area, active)
+        if pulses and active and not axes_stopped:
+            signals = self._handwheel_signals
+            for axis in channel.axes:
+                axis_area = self.image.area(axis.area_key)
+                assigned, per_detent = signals.assigned(axis_area), signals.increment(axis_area)
+                detents = sum(count for number, count in pulses.items() if assigned & (1 << (number - 1)))
+                if not (detents and per_detent):
+                    continue
+                if axis.is_spindle:
+                    self.couplings.drf(axis.name, detents * per_detent)
+                else:
+                    axis.add_drf_travel(detents * per_detent)
+        for axis in channel.axes:
+            if axis.drf_moving:
+                axis.drf_cycle(axes_stopped or axis.inputs.feed_stop or channel.inputs.feed_disable
+                               or not axis.drive_ready)
 
     def _show_geometry_handwheel(self, channel: Channel) -> None:
         """DB21.DBX40.0..2: the handwheel assigned to geometry axis 1, as the PLC selects it (L34189-34193);
@@ -582,7 +613,7 @@ class Nck:
             if position is not None:
                 return position
         item = self.axes_by_name[axis]
-        return item.shown(item.actual)
+        return item.shown(item.actual - item.drf_offset)  # the DRF offset is not shown (L36423)
 
     def physical_positions(self) -> dict[str, float]:
         return {axis.name: axis.physical for axis in self.axes}

@@ -272,6 +272,8 @@ class Simulation:
             return item.physical
         if quantity == "programPosition":
             return self.nck.program_position(axis)
+        if quantity == "drfOffset":
+            return item.drf_offset
         if quantity in COUPLING_QUANTITY_MEANINGS:
             return self.nck.couplings.quantity(axis, quantity)
         raise KeyError(f"unknown axis quantity '{quantity}' (known: {', '.join(AXIS_QUANTITIES)})")

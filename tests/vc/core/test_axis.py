@@ -490,3 +490,60 @@ def test_a_linear_scale_counts_its_grid_periods() -> None:
     x1 = Rig(machine()).axis("X1")
     assert x1.encoders[1].limit_velocity == pytest.approx(3000.0)
     assert x1.encoders[1].resync_velocity == pytest.approx(3000.0 * 0.999)
+
+
+# ------------------------------------------------------------------------------ DRF (seed 003 §16.13.3)
+
+
+def drf_rig(drf: int = 1) -> Rig:
+    """MDA, handwheel 1 on X1 with INC100 (0.1 mm per detent), DB21.DBX0.3 = ``drf``."""
+    rig = Rig(machine(ABSOLUTE_X1))
+    rig.ready_mda()
+    rig.set("X1.basic.out.handwheelSelection", 1)
+    rig.set("X1.basic.out.inc100", 1)
+    rig.set("CHAN1.basic.out.handwheelOffsetDrf", drf)
+    rig.step(2)
+    return rig
+
+
+def test_drf_offset_moves_the_axis_in_the_mcs_at_jog_velocity_times_md32090() -> None:
+    rig = drf_rig()
+    axis = rig.axis("X1")
+    start = axis.setpoint
+    assert rig.get("CHAN1.basic.in.handwheelOvrActive") == 1  # DB21.DBX33.3
+    rig.nck.turn_handwheel(1, 20, 1)
+    peak = 0.0
+    for _ in range(200):
+        rig.step()
+        peak = max(peak, axis.command_velocity + axis.overlay_velocity)
+    assert peak == pytest.approx(JOG_V * 0.5)  # MD32090 0.5
+    assert axis.drf_offset == pytest.approx(2.0, abs=1e-9)
+    assert axis.setpoint == start  # the interpolator's position is untouched
+    assert axis.actual == pytest.approx(start + 2.0, abs=1e-4)
+
+
+def test_drf_pulses_move_nothing_without_dbx0_3_or_in_jog() -> None:
+    rig = drf_rig(drf=0)
+    axis = rig.axis("X1")
+    rig.nck.turn_handwheel(1, 20, 1)
+    rig.step(100)
+    assert axis.drf_offset == 0.0
+    assert rig.get("CHAN1.basic.in.handwheelOvrActive") == 0
+    rig.set("CHAN1.basic.out.handwheelOffsetDrf", 1)
+    rig.select_mode("jog")
+    rig.step(3)
+    rig.nck.turn_handwheel(1, 20, 1)
+    rig.step(100)
+    assert axis.drf_offset == 0.0
+    assert rig.get("CHAN1.basic.in.handwheelOvrActive") == 0
+
+
+def test_feed_stop_brakes_the_drf_travel_and_drops_its_rest() -> None:
+    rig = drf_rig()
+    axis = rig.axis("X1")
+    rig.nck.turn_handwheel(1, 20, 1)
+    rig.step(20)
+    rig.set("X1.basic.out.feedStopSpindleStop", 1)
+    rig.step(100)
+    assert 0.0 < axis.drf_offset < 1.0
+    assert not axis.drf_moving

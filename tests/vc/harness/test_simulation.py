@@ -210,10 +210,11 @@ def test_axis_quantities_in_display_units(config: MachineConfig) -> None:
     assert sim.axis_quantity("X1", "position") > 150.0
     assert sim.axis_quantity("X1", "programPosition") == pytest.approx(axis.actual)  # Y1 at 0: Cartesian X = X1
     assert set(AXIS_QUANTITIES) == {"position", "setpoint", "velocity", "followingError", "physical",
-                                    "programPosition", "couplingOffset", "couplingOffsetActual",
+                                    "programPosition", "drfOffset", "couplingOffset", "couplingOffsetActual",
                                     "couplingOffsetProgrammed", "couplingCorrection", "syncDeviation",
                                     "couplingRelationError"}
     assert sim.axis_quantity("SP2", "couplingOffset") == 0.0  # follows nobody
+    assert sim.axis_quantity("X1", "drfOffset") == 0.0  # no DRF in JOG
 
 
 def test_unknown_axis_quantity_lists_the_known_ones(config: MachineConfig) -> None:
