@@ -179,6 +179,8 @@ def test_spindles_export_their_coupling_and_the_machine_its_dc_link(unit: NcUnit
     assert "X1.syncDeviation" not in names  # an axis follows no spindle
     voltage = next(variable for variable in unit.variables if variable.name == "NC.dcLinkVoltage")
     assert voltage.variability is Variability.CONTINUOUS
+    assert value(unit, "NC.dcLinkVoltage") == 0.0  # empty at power-on: the precharge charges it
+    unit.step(0.0, 0.2)  # turn_mill's precharge_time is 0.1 s
     assert value(unit, "NC.dcLinkVoltage") == pytest.approx(540.0)  # 1.35 x the 400 V supply
     assert value(unit, "SP2.syncDeviation") == 0.0
 
