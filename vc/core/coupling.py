@@ -74,7 +74,7 @@ COUP_ACT_SYNCHRONOUS_SPINDLE = 4  # $AA_COUP_ACT bit 2 (L22765-22770)
 # the coupling's system variables a program or a synchronized action reads, and what they show
 COUPLING_VARIABLES = {"$AA_COUP_ACT": "", "$AA_COUP_OFFS": "couplingOffset", "$VA_COUP_OFFS": "couplingOffsetActual",
                       "$P_COUP_OFFS": "couplingOffsetProgrammed", "$AA_COUP_CORR": "couplingCorrection",
-                      "$AA_SYNCDIFF": "", "$VA_SYNCDIFF": ""}
+                      "$AA_SYNCDIFF": "", "$VA_SYNCDIFF": "", "$AA_SYNC": "", "$AA_COUP_CORR_DIST": ""}
 
 
 def wrap180(angle: float) -> float:
@@ -959,7 +959,9 @@ class Couplings:
         """$AA_COUP_ACT (L22755-22770: bit 2 = 4 while ``spindle`` follows in a synchronous spindle
         coupling), $AA_COUP_OFFS / $VA_COUP_OFFS / $P_COUP_OFFS (L22383-22389, L22773-22790),
         $AA_COUP_CORR (L31506-31524) and the signed deviations $AA_SYNCDIFF (setpoint side) /
-        $VA_SYNCDIFF (actual side), negative while the FS lags (L29578-29586).  0 while not coupled."""
+        $VA_SYNCDIFF (actual side), negative while the FS lags (L29578-29586), $AA_SYNC (0 not
+        synchronous, 1 coarse, 2 fine: L29620-29632) and $AA_COUP_CORR_DIST (what the correction
+        still has to travel, L31626).  0 while not coupled."""
         coupling = self.active.get(spindle)
         if coupling is None:
             return 0.0
@@ -969,6 +971,10 @@ class Couplings:
             return self._setpoint_deviation(coupling)
         if name == "$VA_SYNCDIFF":
             return coupling.signed_deviation
+        if name == "$AA_SYNC":
+            return 2.0 if coupling.fine else 1.0 if coupling.coarse else 0.0
+        if name == "$AA_COUP_CORR_DIST":
+            return coupling.correction - coupling.correction_applied
         return self.quantity(spindle, COUPLING_VARIABLES[name])
 
     def _setpoint_deviation(self, coupling: Coupling) -> float:

@@ -388,3 +388,20 @@ def test_a_synchronized_action_may_not_read_the_programmed_offset(variable: str,
             "N40 G4 F1\n")
     rig.step(500)
     assert rig.alarm_numbers() == alarms
+
+
+def test_aa_sync_shows_the_synchronism_and_coup_corr_dist_what_the_correction_has_left() -> None:
+    # $AA_SYNC (L29620-29632): 0 not synchronous, 1 coarse, 2 fine; $AA_COUP_CORR_DIST (L31626):
+    # the distance the correction still has to travel
+    rig = _coupling_rig()
+    couplings = rig.nck.couplings
+    assert couplings.read_variable("$AA_SYNC", "SP2") == 0.0
+    rig.mda("N10 SPOS=0 SPOS[2]=0\nN20 COUPON(S2,S1)\nN30 M3 S600\nN40 G4 F30\n")
+    rig.run_until(lambda: rig.get("SP2.coupling.in.syncFineReached") == 1, 3000)
+    assert couplings.read_variable("$AA_SYNC", "SP2") == 2.0
+    assert couplings.read_variable("$AA_COUP_CORR_DIST", "SP2") == 0.0
+    couplings.write_correction("SP2", 4.0)
+    rig.step(10)
+    assert 0.0 < couplings.read_variable("$AA_COUP_CORR_DIST", "SP2") < 4.0
+    rig.run_until(lambda: couplings.read_variable("$AA_COUP_CORR_DIST", "SP2") == 0.0, 3000)
+    assert couplings.read_variable("$AA_COUP_CORR", "SP2") == pytest.approx(4.0)
