@@ -374,6 +374,10 @@ class Couplings:
             # COUPONC: the FS's own M3/M4 S stays as differential speed (L22719-22721, L23466-23470)
             coupling.differential = fs.direction * fs.speed
             coupling.differential_velocity = fs.axis.command_velocity  # taken over without a jump
+            if coupling.differential and not self.inputs[following].overlay_enable:
+                # a differential speed needs the overlay enable as a programmed one does (L23450-23456)
+                self._alarms.raise_alarm(ALARM_OVERLAY_NOT_ENABLED, cycle, channel, following,
+                                         channel=channel, axis=following)
         self.active[following] = coupling
         fs.enter_synchronous_mode()
         axis = fs.axis
