@@ -99,6 +99,10 @@ class Nck:
         self._geometry_handwheel_shown = geometry_table.field("geoAxis1.in.handwheelAssignedNumber")
         self._drf_requested = geometry_table.bit("basic.out.handwheelOffsetDrf")  # DB21.DBX0.3
         self._drf_shown = geometry_table.bit("basic.in.handwheelOvrActive")  # DB21.DBX33.3
+        # what the handwheel outputs depend on (mode, PLC data): they are written only when it changed
+        self._handwheel_outputs_for: object = None
+        self._drf_active: dict[str, bool] = {}
+        self._drf_travelling: set[str] = set()  # axes with DRF travel to go (most cycles: none)
         self.mode_group = ModeGroup(ModeGroupSignals(SignalTable(catalog, InstanceKind.MODE_GROUP)),
                                     self.image.area("DB11"))
         axis_signals = AxisSignals(SignalTable(catalog, InstanceKind.AXIS))
@@ -398,13 +402,18 @@ class Nck:
         keys_followed = reference_keys or jog_mode
         pulses = self.handwheels.pulses() if self.handwheels.any_turning else {}
         drf_mode = mode_group.mode in (Mode.AUTO, Mode.MDA) and not mode_group.reference_function
+        outputs_for = (mode_group.mode, mode_group.reference_function, self._seen_version)
+        refresh_outputs = outputs_for != self._handwheel_outputs_for
+        self._handwheel_outputs_for = outputs_for
         for channel in self.channels:
             axes_stopped = self.emergency_stop or bool(self.alarms.reactions(channel.name) & STOP_AXES)
             allowed = keys_followed and not channel.is_active and not axes_stopped
             if pulses and allowed and jog_mode:
                 self._handwheel_pulses(channel, pulses)
-            self._show_geometry_handwheel(channel)
-            self._drf(channel, drf_mode, pulses, axes_stopped)
+            if refresh_outputs:
+                self._show_geometry_handwheel(channel)
+                self._show_drf(channel, drf_mode)
+            self._drf(channel, pulses, axes_stopped)
             self.referencing.traverse_keys(channel.name, channel.axes, allowed and reference_keys, self.cycle)
             feed_disable = channel.inputs.feed_disable
             jog_allowed = allowed and jog_mode
@@ -435,17 +444,21 @@ class Nck:
             if (number, axis.name) in counted and pulses[number] and per_detent and not axis.is_spindle:
                 axis.add_handwheel_travel(pulses[number] * per_detent)
 
-    def _drf(self, channel: Channel, drf_mode: bool, pulses: dict[int, int], axes_stopped: bool) -> None:
+    def _show_drf(self, channel: Channel, drf_mode: bool) -> None:
+        """DB21.DBX33.3: DRF requested (DB21.DBX0.3) in AUTO or MDA."""
+        area = self.image.area(channel.area_key)
+        active = drf_mode and self._drf_requested.get(area)
+        self._drf_active[channel.name] = active
+        if self._drf_shown.get(area) != active:
+            self._drf_shown.put(area, active)
+
+    def _drf(self, channel: Channel, pulses: dict[int, int], axes_stopped: bool) -> None:
         """DRF (seed 003 §16.13.3, L36409-36506): in AUTO and MDA with DB21.DBX0.3 the pulses of a
         handwheel assigned to a machine axis (DB31.DBX4.0..4.2, not to a geometry axis: L36419) build
         up the axis's DRF offset, travelled overlaid on the path; DB21.DBX33.3 acknowledges it.  On a
         coupled following spindle they move the relation as overlaid motion (L22011-22015); an
         uncoupled spindle takes none [control]."""
-        area = self.image.area(channel.area_key)
-        active = drf_mode and self._drf_requested.get(area)
-        if self._drf_shown.get(area) != active:
-            self._drf_shown.put(area, active)
-        if pulses and active and not axes_stopped:
+        if pulses and self._drf_active[channel.name] and not axes_stopped:
             signals = self._handwheel_signals
             for axis in channel.axes:
                 axis_area = self.image.area(axis.area_key)
@@ -457,10 +470,15 @@ class Nck:
                     self.couplings.drf(axis.name, detents * per_detent)
                 else:
                     axis.add_drf_travel(detents * per_detent)
+                    self._drf_travelling.add(axis.name)
+        if not self._drf_travelling:
+            return
         for axis in channel.axes:
-            if axis.drf_moving:
+            if axis.name in self._drf_travelling:
                 axis.drf_cycle(axes_stopped or axis.inputs.feed_stop or channel.inputs.feed_disable
                                or not axis.drive_ready)
+                if not axis.drf_moving:
+                    self._drf_travelling.discard(axis.name)
 
     def _show_geometry_handwheel(self, channel: Channel) -> None:
         """DB21.DBX40.0..2: the handwheel assigned to geometry axis 1, as the PLC selects it (L34189-34193);
