@@ -425,8 +425,11 @@ class Nck:
                     direction = (1 if inputs.key_plus else -1) if jog_allowed and inputs.key_plus != inputs.key_minus \
                         else 0
                     self.couplings.jog(axis.name, direction, inputs.feed_stop or feed_disable)
-                # outside JOG only a jog that is still running out needs its cycle
-                if (jog_allowed or axis.owner is Owner.JOG) and not axis.is_spindle:
+                # outside JOG only a jog that is still running out needs its cycle; in JOG an axis at
+                # rest needs it only when a key or its handwheel asks it to move (limits cost time)
+                inputs = axis.inputs
+                asked = jog_allowed and (inputs.key_plus != inputs.key_minus or axis.handwheel_rest != 0.0)
+                if (asked or axis.owner is Owner.JOG) and not axis.is_spindle:
                     limits = retraction.jog_limits(axis)
                     if inclined is not None:
                         limits = limits.and_(inclined.jog_limits(axis))

@@ -146,6 +146,8 @@ class StrokeLimitControl:
 
     def areas(self) -> list[StrokeArea]:
         """The areas in force: of the axes whose positions are exact."""
+        if not (self.active_2 and self._bounds_2) and not self._bounds_3:
+            return []
         exact = {name for name, axis in self._axes.items() if axis.software_limits_active}
         areas = []
         if self.active_2:
@@ -185,10 +187,13 @@ class StrokeLimitControl:
         """How far (minus, plus, in units of the jogged axis's travel; ``travel`` = the machine
         travel of the axes per unit) JOG may go from the setpoints, with the alarm numbers and the
         axis at either end; None without an area in force."""
+        areas = self.areas()
+        if not areas:
+            return None  # most machines, most of the time: nothing to keep JOG from
         setpoints = {name: axis.setpoint for name, axis in self._axes.items()}
         moved = {name: setpoints[name] + travel.get(name, 0.0) for name in setpoints}
         low, high, low_number, high_number, low_axis, high_axis = -math.inf, math.inf, 0, 0, "", ""
-        for area in self.areas():
+        for area in areas:
             point = _completed(to_check(area.number, dict(setpoints)), self._axes)
             rate = _rate(point, _completed(to_check(area.number, moved), self._axes))
             if not any(rate.get(axis, 0.0) for axis in area.bounds):
