@@ -357,6 +357,17 @@ class MachineAxis:
         self.drf_offset += step
         self.add_overlay(step, velocity)
 
+    def delete_drf_offset(self) -> None:
+        """DRFOF: the DRF offset is deleted and the axis does not move (seed 003 L36470-36490): the
+        offset becomes part of the programmed position, as a folded overlay does; a DRF travel still
+        to go is dropped."""
+        self.setpoint += self.drf_offset
+        self.overlay -= self.drf_offset
+        self.drf_offset = self.drf_rest = 0.0
+        self.overlay_velocity -= self._drf_velocity
+        self._drf_velocity = 0.0
+        self.resting = False
+
     @property
     def drf_moving(self) -> bool:
         return bool(self.drf_rest or self._drf_velocity)

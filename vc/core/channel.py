@@ -613,6 +613,9 @@ class Channel:
         self._retract_functions(plan, cycle)
         for name, value in plan.preset.items():
             self.axes_by_name[name].preset_actual(value)
+        if plan.delete_drf:
+            for axis in self.axes:
+                axis.delete_drf_offset()
         suppress = self._gear_change_suppressed
         for name, command in plan.spindles.items():
             if command.position is not None and self.couplings is not None \

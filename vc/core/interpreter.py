@@ -159,6 +159,7 @@ class BlockPlan:
     block_end: str = EXACT_STOP_FINE
     reference_axes: tuple[str, ...] = ()  # G74: machine axes to reference
     preset: dict[str, float] = field(default_factory=dict)  # PRESETON: machine axis -> new actual value
+    delete_drf: bool = False  # DRFOF: the DRF offsets of the channel's axes are deleted (seed 003 L36470)
     spindles: dict[str, SpindleCommand] = field(default_factory=dict)  # machine axis -> its part of the block
     couplings: list[CouplingCommand] = field(default_factory=list)
     # CPSYNCOP[Sn]=.. and the other synchronism thresholds: machine axis of the FS -> MD number -> value
@@ -762,6 +763,7 @@ _KEYWORD_HANDLERS: dict[str, Callable[[_Decoder], None]] = {
     "SPCON": lambda decoder: _spcon(decoder, None, True),
     "SPCOF": lambda decoder: _spcon(decoder, None, False),
     "WAITS": lambda decoder: _waits(decoder, None),
+    "DRFOF": lambda decoder: setattr(decoder.plan, "delete_drf", True),
     **_RETRACT_KEYWORDS,
 }
 _CALL_HANDLERS: dict[str, Callable[[_Decoder, Call], None]] = {
