@@ -361,6 +361,8 @@ class MachineAxis:
         """DRFOF: the DRF offset is deleted and the axis does not move (seed 003 L36470-36490): the
         offset becomes part of the programmed position, as a folded overlay does; a DRF travel still
         to go is dropped."""
+        if not (self.drf_offset or self.drf_rest or self._drf_velocity):
+            return
         self.setpoint += self.drf_offset
         self.overlay -= self.drf_offset
         self.drf_offset = self.drf_rest = 0.0

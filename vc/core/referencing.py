@@ -234,6 +234,7 @@ class AxisReferencing:
             return True
         if not axis.drive_ready:
             return False
+        axis.delete_drf_offset()  # phase 1 deletes the axis's DRF offset (seed 003 L36497)
         if encoder.absolute:
             return self._start_absolute(md, index)
         encoder.referenced = False
