@@ -162,6 +162,8 @@ class CanBus:
         try:
             reported = _PYTHON_CAN_STATES.get(self._bus.state, ControllerState.ERROR_ACTIVE)
         except (NotImplementedError, can.CanError, OSError):
+            # an interface that cannot report its controller's state (a plug-in may raise
+            # NotImplementedError, a closed socket OSError): only the error frames tell
             reported = ControllerState.ERROR_ACTIVE
         return max(reported, self._reported)
 

@@ -86,11 +86,7 @@ class PathSegment:
 
     def release_axis(self, axis: MachineAxis) -> None:
         """``axis`` leaves the path (an ESR retract takes it); the others go on along the same line."""
-        if axis not in self.axes:
-            return
-        index = self.axes.index(axis)
-        for values in (self.axes, self.starts, self.ends, self._unit):
-            del values[index]
+        drop_axis(axis, self.axes, self.starts, self.ends, self._unit)
 
     def _hand_out(self, velocity: float) -> None:
         if self.s >= self.length:
@@ -100,3 +96,13 @@ class PathSegment:
         s = self.s
         for axis, start, unit in zip(self.axes, self.starts, self._unit, strict=True):
             axis.set_path_setpoint(start + unit * s, unit * velocity)
+
+
+def drop_axis(axis: MachineAxis, axes: list[MachineAxis], *columns: list[float]) -> None:
+    """Take ``axis`` out of a motion's axes and its per-axis ``columns`` (starts, ends, ...)."""
+    if axis not in axes:
+        return
+    index = axes.index(axis)
+    del axes[index]
+    for values in columns:
+        del values[index]

@@ -19,6 +19,7 @@ import math
 from dataclasses import dataclass, field
 
 from vc.core.axis import MachineAxis, Owner
+from vc.core.path import drop_axis
 
 THREAD_SPINDLE_STANDS = 65870  # project alarm: the seed names none
 
@@ -70,11 +71,7 @@ class ThreadSegment:
 
     def release_axis(self, axis: MachineAxis) -> None:
         """``axis`` leaves the thread (a retraction takes it); the others go on with the spindle."""
-        if axis not in self.axes:
-            return
-        index = self.axes.index(axis)
-        for values in (self.axes, self.starts, self.ends, self._units):
-            del values[index]
+        drop_axis(axis, self.axes, self.starts, self.ends, self._units)
 
     @property
     def end_position(self) -> float:

@@ -19,7 +19,7 @@ from vc.core.coupling import (
     wrap180,
 )
 from vc.core.coupling_types import BlockChange, Kind, block_change_of, kind_of
-from vc.core.interpreter import ModalState, decode
+from vc.core.interpreter import BlockPlan, DecodeAlarm, ModalState, decode
 from vc.core.nck import Nck
 from vc.core.program import parse_program
 from vc.core.sync_actions import VariableWrite
@@ -96,7 +96,7 @@ def test_couple_rules_undefined_compound_and_type_change(nck: Nck) -> None:
     assert couplings.delete("SP2") == 0 and "SP2" in couplings.definitions  # MD21300's pair stays
 
 
-def _decode(nck: Nck, text: str) -> tuple[object, object]:
+def _decode(nck: Nck, text: str) -> tuple[BlockPlan, DecodeAlarm | None]:
     channel = nck.channels[0]
     plan, alarm = decode(parse_program(text)[0], ModalState(), channel.config, channel.axes_by_name)
     return plan, alarm
@@ -105,36 +105,36 @@ def _decode(nck: Nck, text: str) -> tuple[object, object]:
 def test_interpreter_coupling_calls(nck: Nck) -> None:
     plan, alarm = _decode(nck, 'N52 COUPDEF(S2,S1,1,1,"FINE","DV")')
     assert alarm is None
-    command = plan.couplings[0]  # type: ignore[attr-defined]
+    command = plan.couplings[0]
     assert (command.function, command.following, command.leading, command.numerator, command.block_change,
             command.kind) == ("COUPDEF", "SP2", "SP1", 1.0, "FINE", "DV")
     plan, alarm = _decode(nck, "N53 COUPON(S2,S1,77)")
-    assert alarm is None and plan.couplings[0].offset == 77.0  # type: ignore[attr-defined]
+    assert alarm is None and plan.couplings[0].offset == 77.0
     plan, alarm = _decode(nck, "N53 COUPON(S2,S1,360)")  # POSFS 0 .. 359.999 (L22196)
-    assert alarm is not None and alarm.number == 12080  # type: ignore[attr-defined]
+    assert alarm is not None and alarm.number == 12080
     plan, alarm = _decode(nck, 'N54 COUPDEF(S2,S1,1,1,"SOMETIME")')
-    assert alarm is not None and alarm.number == 16795  # type: ignore[attr-defined]
+    assert alarm is not None and alarm.number == 16795
     plan, alarm = _decode(nck, "N55 COUPON(S2,S2)")
-    assert alarm is not None and alarm.number == 16785  # type: ignore[attr-defined]
+    assert alarm is not None and alarm.number == 16785
     plan, alarm = _decode(nck, 'N56 WAITC(S2,"FINE") FA[S2]=3600 SPCON(2)')
     assert alarm is None
-    assert plan.couplings[0].block_change == "FINE"  # type: ignore[attr-defined]
-    assert plan.feeds == {"SP2": 3600.0} and plan.position_control == {"SP2": True}  # type: ignore[attr-defined]
+    assert plan.couplings[0].block_change == "FINE"
+    assert plan.feeds == {"SP2": 3600.0} and plan.position_control == {"SP2": True}
     plan, alarm = _decode(nck, "N57 G4 S50")  # 50 revolutions of the master spindle
-    assert alarm is None and plan.dwell_revolutions == 50.0 and not plan.spindles  # type: ignore[attr-defined]
-    assert plan.dwell_spindle == "SP1"  # type: ignore[attr-defined]
+    assert alarm is None and plan.dwell_revolutions == 50.0 and not plan.spindles
+    assert plan.dwell_spindle == "SP1"
     plan, alarm = _decode(nck, "N58 G4 S2=10")  # 10 revolutions of spindle 2
-    assert alarm is None and plan.dwell_revolutions == 10.0 and plan.dwell_spindle == "SP2"  # type: ignore[attr-defined]
-    assert not plan.spindles  # type: ignore[attr-defined]
+    assert alarm is None and plan.dwell_revolutions == 10.0 and plan.dwell_spindle == "SP2"
+    assert not plan.spindles
 
 
 def test_tv_ss_9_threshold_keywords_name_the_machine_data_they_replace(nck: Nck) -> None:
     plan, alarm = _decode(nck, "N60 CPSYNCOP[S2]=0.5 CPSYNFIP[S2]=0.25 CPSYNCOP2[S2]=1.6 CPSYNFIP2[S2]=0.8")
     assert alarm is None
-    assert plan.coupling_thresholds == {"SP2": {37200: 0.5, 37210: 0.25, 37202: 1.6, 37212: 0.8}}  # type: ignore[attr-defined]
+    assert plan.coupling_thresholds == {"SP2": {37200: 0.5, 37210: 0.25, 37202: 1.6, 37212: 0.8}}
     plan, alarm = _decode(nck, "N61 CPSYNCOV[S2]=3 CPSYNFIV[S2]=1.5 CPSYNCOP2[S2]=0")  # 0: stage 2 off
     assert alarm is None
-    assert plan.coupling_thresholds == {"SP2": {37220: 3.0, 37230: 1.5, 37202: 0.0}}  # type: ignore[attr-defined]
+    assert plan.coupling_thresholds == {"SP2": {37220: 3.0, 37230: 1.5, 37202: 0.0}}
 
 
 @pytest.mark.parametrize(("text", "number", "shown"), [
@@ -143,8 +143,8 @@ def test_tv_ss_9_threshold_keywords_name_the_machine_data_they_replace(nck: Nck)
 ])
 def test_bad_threshold_words_raise_the_alarm_with_the_block(nck: Nck, text: str, number: int, shown: str) -> None:
     _, alarm = _decode(nck, text)
-    assert alarm is not None and alarm.number == number  # type: ignore[attr-defined]
-    assert alarm.parameters[1] == "N62" and str(alarm.parameters[2]) == shown  # type: ignore[attr-defined]
+    assert alarm is not None and alarm.number == number
+    assert alarm.parameters[1] == "N62" and str(alarm.parameters[2]) == shown
 
 
 def test_programmed_thresholds_act_from_the_next_coupon_until_coupres(nck: Nck) -> None:
@@ -170,7 +170,7 @@ def test_programmed_thresholds_act_from_the_next_coupon_until_coupres(nck: Nck) 
 ])
 def test_tv_pg_7_g51_2_ranges_and_own_block(nck: Nck, text: str, number: int) -> None:
     _, alarm = _decode(nck, text)
-    assert alarm is not None and alarm.number == number  # type: ignore[attr-defined]
+    assert alarm is not None and alarm.number == number
 
 
 def test_g51_2_arguments_and_signed_master_speed(nck: Nck) -> None:
@@ -188,13 +188,13 @@ def test_g51_2_arguments_and_signed_master_speed(nck: Nck) -> None:
 
 def test_waits_names_the_spindles_or_the_master_spindle(nck: Nck) -> None:
     plan, alarm = _decode(nck, "N365 WAITS(2)")
-    assert alarm is None and plan.spindle_waits == ["SP2"] and not plan.spindles  # type: ignore[attr-defined]
+    assert alarm is None and plan.spindle_waits == ["SP2"] and not plan.spindles
     plan, alarm = _decode(nck, "N366 WAITS")
-    assert alarm is None and plan.spindle_waits == ["SP1"]  # type: ignore[attr-defined]
+    assert alarm is None and plan.spindle_waits == ["SP1"]
     plan, alarm = _decode(nck, "N367 WAITS(2,3)")
-    assert alarm is None and plan.spindle_waits == ["SP2", "SP3"]  # type: ignore[attr-defined]
+    assert alarm is None and plan.spindle_waits == ["SP2", "SP3"]
     _, alarm = _decode(nck, "N368 WAITS(7)")
-    assert alarm is not None and alarm.number == 16105  # type: ignore[attr-defined]
+    assert alarm is not None and alarm.number == 16105
 
 
 def _coupling_rig(overrides: str = "", channel: str = "") -> Rig:
@@ -353,12 +353,12 @@ def test_feed_override_acts_on_a_running_spos_of_the_following_spindle() -> None
 def test_coupling_correction_is_written_by_spindle_index(nck: Nck) -> None:
     # $AA_COUP_CORR[Sn] (L31543-31551) is indexed by the spindle number (MD35000) or the axis name
     plan, alarm = _decode(nck, "N10 $AA_COUP_CORR[S2]=0")
-    assert alarm is None and plan.variables == [VariableWrite("$AA_COUP_CORR", "SP2", 0.0)]  # type: ignore[attr-defined]
+    assert alarm is None and plan.variables == [VariableWrite("$AA_COUP_CORR", "SP2", 0.0)]
     plan, alarm = _decode(nck, "N10 ID=1 WHEN $VA_SYNCDIFF[S2]<-1 DO $AA_COUP_CORR[SP2]=-3")
     assert alarm is None
-    assert plan.sync_actions[0].actions == (VariableWrite("$AA_COUP_CORR", "SP2", -3.0),)  # type: ignore[attr-defined]
+    assert plan.sync_actions[0].actions == (VariableWrite("$AA_COUP_CORR", "SP2", -3.0),)
     _, alarm = _decode(nck, "N10 $AA_COUP_CORR[S7]=0")
-    assert alarm is not None and alarm.number == 16105  # type: ignore[attr-defined]
+    assert alarm is not None and alarm.number == 16105
 
 
 def test_alarm_22040_is_checked_cyclically_while_a_coupled_spindle_is_not_synchronised() -> None:

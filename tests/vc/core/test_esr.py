@@ -16,7 +16,7 @@ from test_spindle import spindle_rig
 
 from vc.core.axis import MachineAxis
 from vc.core.drive_esr import EXTENDED_RETRACT, EXTENDED_STOP
-from vc.core.interpreter import ModalState, decode
+from vc.core.interpreter import BlockPlan, DecodeAlarm, ModalState, decode
 from vc.core.program import parse_program
 from vc.core.retract_motion import RetractProgramming, direction_targets, retract_groups
 from vc.core.sync_actions import SyncActionError, parse_actions, parse_condition
@@ -45,7 +45,7 @@ def block_number(rig: Rig) -> int | None:
 # ------------------------------------------------------------------------------ decoding
 
 
-def _decode(text: str, modal: ModalState | None = None) -> tuple[object, object, ModalState]:
+def _decode(text: str, modal: ModalState | None = None) -> tuple[BlockPlan, DecodeAlarm | None, ModalState]:
     rig = Rig(machine(ABSOLUTE_XYZ))
     channel = rig.nck.channels[0]
     state = modal or ModalState()
@@ -89,7 +89,7 @@ def test_bad_retract_words_raise_the_control_alarm(text: str, alarm: int) -> Non
 def test_a_synchronized_action_s_writes_name_machine_axes() -> None:
     plan, alarm, _ = _decode("IDS=1 WHENEVER $A_IN[1]==1 DO $AA_ESR_ENABLE[X]=1 $AA_ESR_TRIGGER[Z]=1")
     assert alarm is None
-    (action,) = plan.sync_actions  # type: ignore[attr-defined]
+    (action,) = plan.sync_actions
     assert [(write.name, write.index) for write in action.actions] == [("$AA_ESR_ENABLE", "X1"),
                                                                         ("$AA_ESR_TRIGGER", "Z1")]
 
