@@ -405,3 +405,19 @@ def test_aa_sync_shows_the_synchronism_and_coup_corr_dist_what_the_correction_ha
     assert 0.0 < couplings.read_variable("$AA_COUP_CORR_DIST", "SP2") < 4.0
     rig.run_until(lambda: couplings.read_variable("$AA_COUP_CORR_DIST", "SP2") == 0.0, 3000)
     assert couplings.read_variable("$AA_COUP_CORR", "SP2") == pytest.approx(4.0)
+
+
+@pytest.mark.parametrize(("feedforward_mode", "switched_on"), [(0, False), (1, True)])
+def test_spcon_in_motion_is_refused_when_md32620_takes_the_pairs_feedforward(feedforward_mode: int,
+                                                                             switched_on: bool) -> None:
+    # L23001-23003: with MD32620 = 0 on LS or FS SPCON cannot switch position control on while the
+    # spindle turns.  AV switches position control on the FS only, so the turning LS is still in
+    # speed control when SPCON asks for it
+    rig = _coupling_rig(f"SP1: {{MD32620: {feedforward_mode}}}")
+    rig.mda('N10 SPOS[2]=0\nN20 COUPDEF(S2,S1,1,1,"NOC","AV")\nN30 COUPON(S2,S1)\nN40 M3 S600\n'
+            "N50 G4 F0.5\nN60 SPCON\nN70 G4 F0.5\n")
+    leading = next(spindle for spindle in rig.nck.spindles if spindle.name == "SP1")
+    rig.run_until(lambda: rig.axis("SP1").velocity > 3599.99, 3000)
+    assert not leading.position_control
+    rig.run_until(lambda: rig.get("CHAN1.basic.in.stateReset") == 1, 3000)
+    assert leading.position_control is switched_on
