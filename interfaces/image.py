@@ -60,7 +60,7 @@ def encode(buffer: bytearray, ref: SignalRef, value: Value) -> None:
         value = int(value)
     low, high = value_range(signal_type, ref.bits)
     if not low <= value <= high:
-        raise ValueRangeError(f"{ref.name} is a {signal_type.value}; {value} is outside {low}..{int(high)}")
+        raise ValueRangeError(f"{ref.name} is a {signal_type.value}; {value} is outside {int(low)}..{int(high)}")
     if signal_type in (SignalType.BOOL, SignalType.BITS):
         mask = ((1 << ref.bits) - 1) << address.bit
         buffer[address.byte] = (buffer[address.byte] & ~mask) | ((value << address.bit) & mask)

@@ -25,6 +25,7 @@ cam network.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 from plc_stub.blocks import R_TRIG, SR, TOF
 from plc_stub.io import Bool, Byte, PlcIo
@@ -67,7 +68,8 @@ class _ChannelIo:
 
 
 class BasicMachine:
-    PARAMETERS: tuple[str, ...] = ()  # the machine file's plc: parameters the program reads
+    # the machine file's plc: parameters the program reads (a class constant: mypyc reads it from the class)
+    PARAMETERS: ClassVar[tuple[str, ...]] = ()
 
     def __init__(self, io: PlcIo):
         scan = io.environment.scan_time_s

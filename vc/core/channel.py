@@ -225,7 +225,7 @@ class Channel:
         self._dwell_degrees = 0.0  # G4 S: degrees the counted spindle still has to turn
         self._dwell_spindle = ""  # G4 S: the spindle whose revolutions count
         self.esr: ChannelEsr | None = None  # fast retraction and ESR, given by the NCK
-        self._thread: ThreadSegment | None = None  # the running G33 block
+        self._thread_segment: ThreadSegment | None = None  # the running G33 block
         self._thread_chain: float | None = None  # spindle position where the last G33 block ended
         self._thread_interrupted = False  # an ESR trigger retracted from the running G33 block (LFON)
         self.esr_run_on_spindle: str | None = None  # the master spindle of a thread in the ESR's MD21380
@@ -288,10 +288,10 @@ class Channel:
 
     def _end_thread_functions(self) -> None:
         """Reset or program end: a running thread block stops, the modal synchronized actions end."""
-        if self._thread is not None:
-            for axis in self._thread.axes:
+        if self._thread_segment is not None:
+            for axis in self._thread_segment.axes:
                 axis.brake()
-            self._thread = None
+            self._thread_segment = None
         self._thread_chain = None
         self._thread_interrupted = False
         if self.esr is not None:
@@ -373,7 +373,7 @@ class Channel:
     def stop(self) -> None:
         """NC stop: brake on the path, the program is stopped and can continue with NC start.
         In G33 the thread block runs to its end, or with LFON the tool retracts at once (L8215-8221)."""
-        if self.state is ChannelState.ACTIVE and self._thread is not None and self.modal.retract.enabled:
+        if self.state is ChannelState.ACTIVE and self._thread_segment is not None and self.modal.retract.enabled:
             self._lift_fast(None)
         if self.state is ChannelState.ACTIVE:
             self.state = ChannelState.INTERRUPTED
@@ -393,10 +393,11 @@ class Channel:
         esr = self.esr
         path_runs_on = False
         if esr is not None and esr.running:
-            esr.cycle(cycle, self._thread or self._segment)
+            esr.cycle(cycle, self._thread_segment or self._segment)
             path_runs_on = esr.path_runs_on(cycle)  # MD21380: the stop axes' path goes on
         # a thread's run-on needs its spindle turning through the alarms' interpolation stop [control]
-        self.esr_run_on_spindle = self._thread.spindle.name if path_runs_on and self._thread is not None else None
+        thread = self._thread_segment
+        self.esr_run_on_spindle = thread.spindle.name if path_runs_on and thread is not None else None
         reactions = self._alarms.reactions(self.name)
         if reactions & CHANNEL_INTERRUPT and self.state is ChannelState.ACTIVE:
             self.stop()
@@ -441,7 +442,7 @@ class Channel:
     @property
     def thread_in_progress(self) -> ThreadSegment | None:
         """The G33 block's thread while it runs."""
-        return self._thread
+        return self._thread_segment
 
     @staticmethod
     def _planned_feed(plan: BlockPlan) -> float:
@@ -482,7 +483,7 @@ class Channel:
         self._segment = None
 
     def _interpolate(self, hold: bool, cycle: int) -> None:
-        if self._thread is not None:
+        if self._thread_segment is not None:
             self._thread_cycle()
             return
         segment = self._segment
@@ -998,16 +999,16 @@ class Channel:
         if esr is None or not esr.channel_trigger_pending:
             return
         esr.channel_trigger_pending = False
-        if self._thread is not None and self.modal.retract.enabled and not self._thread_interrupted:
+        if self._thread_segment is not None and self.modal.retract.enabled and not self._thread_interrupted:
             self._lift_fast(cycle)
             return
-        interpolation = (self._thread or self._segment) if self._phase is Phase.INTERPOLATE else None
+        interpolation = (self._thread_segment or self._segment) if self._phase is Phase.INTERPOLATE else None
         esr.start_channel_reaction(cycle, [axis.name for axis in self.axes], interpolation, self.modal.retract,
                                    self._esr_delays(), self.inclined)
-        if self._thread is not None:
+        if self._thread_segment is not None:
             # G33 without LFON: the retract axes have left the thread, the others follow the spindle on
             # for MD21380; the block is dropped when the ESR has braked them [control]
-            if self._thread.axes:
+            if self._thread_segment.axes:
                 self._thread_interrupted = True
             else:
                 self._drop_thread_block()
@@ -1025,7 +1026,7 @@ class Channel:
         trigger in ``esr_cycle`` when MD21380 / MD21381 say.  The rest of the thread block and the
         G33 blocks chained to it are dropped, so NC start goes on after the thread, where the seed's
         example tests ``IF $AC_LIFTFAST GOTOB MM_THREAD`` (L8356-8385) [INF]."""
-        thread, esr = self._thread, self.esr
+        thread, esr = self._thread_segment, self.esr
         assert thread is not None and esr is not None
         esr.start_liftfast(self.modal.retract, self.modal.plane, thread, self.config.md.float(MD.LIFTFAST_DIST),
                            self.inclined, None if esr_cycle is None else (esr_cycle, self._esr_delays()))
@@ -1037,7 +1038,7 @@ class Channel:
         self.program_state = ProgramState.STOPPED
 
     def _drop_thread_block(self) -> None:
-        self._thread = None
+        self._thread_segment = None
         self._thread_chain = None
         self._thread_interrupted = False
         self._plan = None
@@ -1059,13 +1060,13 @@ class Channel:
         lead_axis = self.axes_by_name.get(plan.thread.lead_axis)
         lead_delta = plan.targets[lead_axis.name] - lead_axis.setpoint if lead_axis and lead_axis.name in plan.targets \
             else 0.0
-        self._thread = ThreadSegment.plan(axes, [plan.targets[axis.name] for axis in axes], lead_delta, plan.thread,
-                                          master.axis, self._thread_chain)
+        self._thread_segment = ThreadSegment.plan(axes, [plan.targets[axis.name] for axis in axes], lead_delta,
+                                                  plan.thread, master.axis, self._thread_chain)
         self._phase = Phase.INTERPOLATE
         self._thread_cycle()
 
     def _thread_cycle(self) -> None:
-        thread = self._thread
+        thread = self._thread_segment
         assert thread is not None
         if any(axis.owner is not Owner.PATH for axis in thread.axes):
             if self._thread_interrupted:
@@ -1074,7 +1075,7 @@ class Channel:
             for axis in thread.axes:
                 if axis.owner is Owner.PATH:
                     axis.brake()  # braked off the thread (rapid stop): the others stop too, the contour is lost
-            self._thread = None
+            self._thread_segment = None
             self._phase = Phase.CONTOUR_LOST
             self.stop()
             return
@@ -1085,7 +1086,7 @@ class Channel:
             if self._thread_interrupted:
                 self._drop_thread_block()  # ended in the ESR's run-on: the chain is left all the same
                 return
-            self._thread = None
+            self._thread_segment = None
             self._thread_interrupted = False
             self._thread_chain = thread.end_position
             self._phase = Phase.BLOCK_END

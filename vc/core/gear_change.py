@@ -81,7 +81,7 @@ class GearChange:
     state: GearState
     started_cycle: int
     simulated: bool  # MD35010 bit 3: the NC does not talk to the PLC
-    mode_before: object  # the spindle's mode at the request: after the change M5 if it was positioning
+    mode_before: Enum  # the spindle's mode at the request: after the change M5 if it was positioning
     delay_cycles: int = 0  # MD35310 still to wait at the change position
     oscillation_direction: int = 0  # +1 M3, -1 M4: the NC's oscillation
     oscillation_cycles: int = 0  # time in the present oscillation direction

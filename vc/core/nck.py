@@ -190,7 +190,7 @@ class Nck:
         self._plc_started = False  # the sign of life has changed once: the PLC scans
         self._plc_timeout_cycles = max(1, round(machine.nck.float(MD.PLC_CYCLIC_TIMEOUT) / self.dt))
         self._plc_startup_cycles = max(1, round(machine.nck.float(MD.PLC_RUNNINGUP_TIMEOUT) / self.dt))
-        self._plc_deadline = math.inf  # the cycle after which the missing sign of life is an alarm
+        self._plc_deadline: float = math.inf  # the cycle after which the missing sign of life is an alarm
         self._emergency_stop_level = False
         self._emergency_stop_ack = False
         self._hw_limits = {axis.name: (False, False) for axis in self.axes}
@@ -612,11 +612,11 @@ class Nck:
         disabled, cleared by a reset when the PLC scans again)."""
         if self._plc_life is None:
             self._plc_life = counter
-            self._plc_deadline = self._plc_startup_cycles
+            self._plc_deadline = float(self._plc_startup_cycles)
         elif counter != self._plc_life:
             self._plc_life = counter
             self._plc_started = True
-            self._plc_deadline = self.cycle + self._plc_timeout_cycles
+            self._plc_deadline = float(self.cycle + self._plc_timeout_cycles)
 
     def power_off(self) -> NcMemory:
         """Switch off: buffer what the control keeps, and hand its memory to the next power-on."""

@@ -84,7 +84,7 @@ class Simulation:
             environment = PlcEnvironment(self.catalog, machine.plant_io, scan_time, machine.plc_parameters,
                                          machine.name, self.nck.cycle_us, self.plc_period)
             self.plc = self.connector.connect(environment, self.plc_name)
-        self._cyclic = self.plc if isinstance(self.plc, CyclicPlc) else None
+        self._cyclic: CyclicPlc | None = self.plc if isinstance(self.plc, CyclicPlc) else None
         self._observed = ProcessImage({**self.catalog.area_sizes, **machine.plant_io.area_sizes()})
         self._observed_cycle = -1
         if first:

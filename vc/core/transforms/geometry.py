@@ -35,7 +35,8 @@ class Vec3:
     def __mul__(self, factor: float) -> Vec3:
         return Vec3(self.x * factor, self.y * factor, self.z * factor)
 
-    __rmul__ = __mul__
+    def __rmul__(self, factor: float) -> Vec3:  # a method of its own: mypyc compiles no aliases
+        return Vec3(self.x * factor, self.y * factor, self.z * factor)
 
     def dot(self, other: Vec3) -> float:
         return self.x * other.x + self.y * other.y + self.z * other.z
