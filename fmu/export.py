@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import ast
 import hashlib
+import importlib.machinery
 import importlib.util
 import json
 import re
@@ -38,11 +39,12 @@ from fmu.slave import MANIFEST, FmuError, build_fmu
 from fmu.unit import Causality, NcUnit, UnitError
 from vc.config.loader import load_machine
 
-PROJECT_PACKAGES = ("vc", "interfaces", "fmu")
+PROJECT_PACKAGES = ("vc", "interfaces", "fmu", "vc_build")
 SLAVE_MODULE = "fmu.slave"
 CATALOG_PACKAGE = "interfaces.catalog"
-_IMPORT = re.compile(r"^(?P<indent>\s*)(?P<keyword>from|import)(?P<space>\s+)(?P<package>vc|interfaces|fmu)(?=[\s.])",
-                     re.MULTILINE)
+_IMPORT = re.compile(
+    r"^(?P<indent>\s*)(?P<keyword>from|import)(?P<space>\s+)(?P<package>vc_build|vc|interfaces|fmu)(?=[\s.])",
+    re.MULTILINE)
 
 
 @dataclass(frozen=True, slots=True)
@@ -117,9 +119,10 @@ def _bundled_sources() -> dict[str, Path]:
             spec = importlib.util.find_spec(module)
         except ModuleNotFoundError:
             continue  # ``from package.module import name``: the name is no module
-        if spec is None or spec.origin is None or not spec.origin.endswith(".py"):
+        source = _python_source(spec)
+        if source is None:
             continue  # a name imported from a module, not a module
-        found[module] = Path(spec.origin)
+        found[module] = source
         parts = module.split(".")
         pending.extend(".".join(parts[:end]) for end in range(1, len(parts)))
         for node in ast.walk(ast.parse(found[module].read_text(encoding="utf-8"))):
@@ -129,6 +132,20 @@ def _bundled_sources() -> dict[str, Path]:
             elif isinstance(node, ast.Import):
                 pending.extend(alias.name for alias in node.names)
     return dict(sorted(found.items()))
+
+
+def _python_source(spec: importlib.machinery.ModuleSpec | None) -> Path | None:
+    """The module's ``.py`` file; for a module of the compiled build, the source beside it (the
+    FMU carries Python, whatever build exported it)."""
+    if spec is None or spec.origin is None:
+        return None
+    origin = Path(spec.origin)
+    if origin.suffix == ".py":
+        return origin
+    if isinstance(spec.loader, importlib.machinery.ExtensionFileLoader):
+        source = origin.with_name(spec.name.rpartition(".")[2] + ".py")
+        return source if source.exists() else None
+    return None
 
 
 def _relative_path(module: str, source: Path) -> Path:

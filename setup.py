@@ -1,0 +1,161 @@
+"""The build: the hot modules of the harness compiled with mypyc, or the pure-Python package.
+
+Metadata lives in pyproject.toml; this file only adds the compiled extension modules.
+
+* Which modules: what runs every IPO cycle, chosen by profile (``COMPILED`` below): the NC core,
+  the plant, the soft PLC's runtime and programs, and the pure interface modules.  The simulation loop
+  (vc/harness/simulation.py) stays Python: it checks PLC objects against runtime-checkable protocols,
+  which compiled code cannot do, and costs a handful of calls per cycle.  Everything else
+  (loaders, CLI, links, reports) stays Python: it runs once per scenario or waits on sockets.
+* When: on ``pip install`` (editable or not) where a C compiler, the Python headers and mypyc are
+  found.  Otherwise, or with ``VC_BUILD=pure``, the package installs as pure Python and says so
+  in one line on standard error.
+* Never stale: the build writes ``vc_build/compiled.json``, the SHA-256 of every compiled
+  module's source.  At import ``vc_build`` compares them with the sources beside the extensions;
+  if one differs (a developer edited a file after ``pip install -e .``), every compiled module
+  is loaded from its source instead, all or none, because compiled modules call each other
+  directly and must never be mixed with edited ones.  ``vc --version`` tells which build runs.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import sys
+import sysconfig
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+from typing import Any
+
+from setuptools import setup
+from setuptools.command.build_ext import build_ext
+from setuptools.command.build_py import build_py
+
+ROOT = Path(__file__).resolve().parent
+MANIFEST = Path("vc_build") / "compiled.json"
+GROUP = "vc_harness"  # the shared library: vc_harness__mypyc.*.so
+OPT_LEVEL = os.environ.get("VC_MYPYC_OPT_LEVEL", "3")
+# the setup.py commands that build code; pip's metadata steps run setup.py too, and mypyc's type
+# check and C generation (about 15 s) is not needed there
+BUILDING = {"build", "build_ext", "bdist_wheel", "editable_wheel", "develop", "install"}
+
+# What runs every IPO cycle.  interfaces/plc.py stays Python: its protocols are runtime-checkable
+# (isinstance on a PLC object), which compiled classes cannot be.
+COMPILED = (
+    "vc/core/**/*.py",
+    "vc/plant/*.py",
+    "plc_stub/runtime.py",
+    "plc_stub/io.py",
+    "plc_stub/blocks.py",
+    "plc_stub/programs/*.py",
+    "interfaces/address.py",
+    "interfaces/image.py",
+    "interfaces/plant_io.py",
+    "interfaces/exchange.py",
+)
+
+
+def compiled_sources() -> list[str]:
+    found = {str(path.relative_to(ROOT)) for pattern in COMPILED for path in ROOT.glob(pattern)}
+    return sorted(path for path in found if not path.endswith("__init__.py"))
+
+
+def module_name(source: str) -> str:
+    return source[: -len(".py")].replace("/", ".")
+
+
+def source_digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def manifest_text(sources: list[str]) -> str:
+    modules = {module_name(source): source_digest(ROOT / source) for source in sources}
+    return json.dumps({"format": 1, "group": GROUP, "opt_level": OPT_LEVEL, "modules": modules},
+                      indent=1, sort_keys=True) + "\n"
+
+
+def why_not_compiled() -> str | None:
+    """None when this machine can compile; otherwise the reason, in words."""
+    if os.environ.get("VC_BUILD", "").lower() == "pure":
+        return "VC_BUILD=pure"
+    if sys.implementation.name != "cpython":
+        return f"{sys.implementation.name} is not CPython"
+    compiler = (sysconfig.get_config_var("CC") or "cc").split()[0]
+    if shutil.which(compiler) is None:
+        return f"no C compiler ({compiler}) found"
+    include = sysconfig.get_paths().get("include", "")
+    if not (Path(include) / "Python.h").exists():
+        return f"no Python headers (Python.h) in {include}"
+    try:
+        import mypyc.build  # noqa: F401
+    except ImportError:
+        return "mypyc is not installed"
+    return None
+
+
+class ParallelBuildExt(build_ext):
+    """build_ext that compiles one extension's C files on every core: mypyc's shared library is
+    one extension of many files, which distutils would compile one after the other."""
+
+    def build_extension(self, ext: Any) -> None:
+        compiler = self.compiler
+        serial_compile = compiler.compile
+
+        def parallel_compile(sources: list[str], *args: Any, **kwargs: Any) -> list[str]:
+            if len(sources) < 2:
+                return list(serial_compile(sources, *args, **kwargs))
+            with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+                parts = pool.map(lambda source: serial_compile([source], *args, **kwargs), sources)
+                return [obj for part in parts for obj in part]
+
+        compiler.compile = parallel_compile
+        try:
+            super().build_extension(ext)
+        finally:
+            compiler.compile = serial_compile
+
+
+def manifest_command(base: type[Any], text: str) -> type[Any]:
+    """``base`` that also writes the manifest ``text`` into the build (and, for an editable
+    install, beside the sources).  The text is taken before mypyc reads the sources, so a file
+    edited during the build makes the build stale rather than vouched for."""
+
+    class WithManifest(base):  # type: ignore[misc, valid-type]
+        def run(self) -> None:
+            super().run()
+            targets = [Path(self.build_lib) / MANIFEST] if getattr(self, "build_lib", None) else []
+            if getattr(self, "inplace", False) or getattr(self, "editable_mode", False):
+                targets.append(ROOT / MANIFEST)
+            for target in targets:
+                target.parent.mkdir(parents=True, exist_ok=True)
+                target.write_text(text, encoding="utf-8")
+
+    return WithManifest
+
+
+def build() -> None:
+    reason = why_not_compiled()
+    stale_manifest = ROOT / MANIFEST
+    if stale_manifest.exists():  # an earlier editable build: rewritten below, or gone if pure
+        stale_manifest.unlink()
+    if reason is not None:
+        print(f"vc-harness: installing the pure-Python build ({reason})", file=sys.stderr)
+        setup()
+        return
+    sources = compiled_sources()
+    if not BUILDING.intersection(sys.argv[1:]):  # metadata only (egg_info, dist_info): no C needed
+        setup()
+        return
+    from mypyc.build import mypycify
+
+    text = manifest_text(sources)
+
+    extensions = mypycify(sources, opt_level=OPT_LEVEL, multi_file=True, group_name=GROUP)
+    setup(ext_modules=extensions,
+          cmdclass={"build_ext": manifest_command(ParallelBuildExt, text),
+                    "build_py": manifest_command(build_py, text)})
+
+
+build()
