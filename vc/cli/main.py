@@ -1,6 +1,6 @@
 """The ``vc`` command line: run scenarios, print the signal map, measure the speed.
 
-    vc run PATH... [--junit FILE] [--trace-dir DIR] [--golden DIR [--update-golden]]
+    vc run PATH... [-j N] [--junit FILE] [--trace-dir DIR] [--golden DIR [--update-golden]]
            [--link inprocess|modbus|can [--can-bus BUS]]
                                                       run scenario files or directories
     vc map --machine M.yaml [--format md|csv|json|dbc|guide]
@@ -24,8 +24,10 @@ from __future__ import annotations
 
 import argparse
 import json
+import platform
 import sys
 from collections.abc import Callable, Mapping, Sequence
+from importlib import metadata
 from typing import Protocol
 
 from interfaces.catalog import load_catalog
@@ -33,6 +35,7 @@ from interfaces.signal_map import FORMATTERS, map_rows
 from interfaces.signals import expand
 from vc.config.loader import load_machine
 from vc.located_yaml import SourceError
+from vc_build import status as build_status
 
 DEFAULT_MACHINE = "scenarios/machines/turn_mill.yaml"
 GUIDE_FORMAT = "guide"  # vc map --format guide: docs/modbus.md for the machine
@@ -80,6 +83,7 @@ def _bench(arguments: argparse.Namespace) -> int:
 
     seconds = DEFAULT_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
     result = run_benchmark(arguments.machine, seconds)
+    print(f"vc {_version()}, {build_status().describe()}, Python {platform.python_version()}")
     print(f"machine {result.machine}, IPO cycle {result.ipo_cycle_us} us, built-in PLC basic_machine")
     print(f"simulated {result.simulated_s:.2f} s ({result.cycles} IPO cycles) in {result.wall_s:.3f} s wall time")
     print(f"real-time factor {result.realtime_factor:.1f}x, {result.us_per_cycle:.1f} us per IPO cycle")
@@ -160,6 +164,23 @@ def _positive(text: str) -> float:
     return value
 
 
+def _jobs(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text}: at least 1")
+    return value
+
+
+def _version() -> str:
+    try:
+        return metadata.version("vc-harness")
+    except metadata.PackageNotFoundError:
+        return "(not installed)"
+
+
 def _run(arguments: argparse.Namespace) -> int:
     from vc.harness.scenarios import run_scenario_files
 
@@ -171,10 +192,13 @@ def _run(arguments: argparse.Namespace) -> int:
         return EXIT_PROBLEMS
     from interfaces.links.errors import LinkError
 
+    if arguments.link != "inprocess" and arguments.jobs not in (None, 1):
+        print(f"vc run: -j runs scenarios in process; with --link {arguments.link} they run one after another"
+              " behind one PLC process", file=sys.stderr)
     try:
         return run_scenario_files(arguments.paths, junit=arguments.junit, trace_dir=arguments.trace_dir,
                                   golden=arguments.golden, update_golden=arguments.update_golden, link=arguments.link,
-                                  can_bus=arguments.can_bus)
+                                  can_bus=arguments.can_bus, jobs=arguments.jobs)
     except LinkError as error:
         print(f"vc run: {error}", file=sys.stderr)
         return EXIT_PROBLEMS
@@ -220,6 +244,7 @@ def _speed(text: str) -> float:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="vc", description="Virtual commissioning harness for CNC machines")
+    parser.add_argument("--version", action="version", version=f"vc {_version()}, {build_status().describe()}")
     commands = parser.add_subparsers(dest="command", required=True)
 
     run = commands.add_parser("run", help="run scenarios with the built-in PLC")
@@ -235,6 +260,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--can-bus", metavar="BUS",
                      help="with --link can: udp_multicast[:GROUP:PORT] (default: a channel of this run) or"
                           " socketcan[:INTERFACE]")
+    run.add_argument("-j", "--jobs", type=_jobs, default=None, metavar="N",
+                     help="run N scenario files at a time in worker processes (default: the number of cores;"
+                          " -j 1 runs them one after another in this process); in process only")
     run.set_defaults(handler=_run)
 
     signal_map = commands.add_parser("map", help="print the expanded signal catalogue of a machine")

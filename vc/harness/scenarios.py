@@ -8,6 +8,7 @@ from interfaces.links.inprocess import plc_programs
 from vc.harness.simulation import Simulation
 from vc.scenario.command import run_command
 from vc.scenario.model import LINK_CAN, Scenario
+from vc_build import status as build_status
 
 
 def simulation_for(scenario: Scenario) -> Simulation:
@@ -22,13 +23,17 @@ def simulation_for(scenario: Scenario) -> Simulation:
 
 def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_dir: str | None = None,
                        golden: str | None = None, update_golden: bool = False, link: str = "inprocess",
-                       can_bus: str | None = None) -> int:
-    """``link``: ``inprocess`` runs the PLC programs in lockstep in this process; ``modbus`` runs
-    them in a ``python -m plc_stub`` process over a lockstep Modbus TCP link, ``can`` over a
-    lockstep CAN link on ``can_bus`` (default: a UDP multicast channel of this run)."""
-    def run(make_target: Callable[[Scenario], Simulation]) -> int:
+                       can_bus: str | None = None, jobs: int | None = None) -> int:
+    """``link``: ``inprocess`` runs the PLC programs in lockstep in this process, or in ``jobs``
+    worker processes (default one per core); ``modbus`` runs them in a ``python -m plc_stub``
+    process over a lockstep Modbus TCP link, ``can`` over a lockstep CAN link on ``can_bus``
+    (default: a UDP multicast channel of this run): both with one PLC process, one scenario
+    after the other."""
+    build = build_status().describe()
+
+    def run(make_target: Callable[[Scenario], Simulation], workers: int | None = 1) -> int:
         return run_command(paths, make_target, plc_programs().keys(), junit=junit, trace_dir=trace_dir,
-                           golden=golden, update_golden=update_golden)
+                           golden=golden, update_golden=update_golden, jobs=workers, build=build)
 
     if link == "modbus":
         from vc.harness.external_plc import PlcProcess
@@ -41,4 +46,4 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
 
         with CanPlcProcess(bus=BusSpec.parse(can_bus) if can_bus else None) as can_process:
             return run(can_process.target_factory())
-    return run(simulation_for)
+    return run(simulation_for, jobs)

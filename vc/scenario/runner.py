@@ -495,28 +495,38 @@ def run_scenarios(scenarios: Sequence[Scenario], make_target: Callable[[Scenario
     """
     results = []
     names = trace_names(scenarios)
+    directory = Path(trace_dir) if trace_dir is not None else None
     for position, scenario in enumerate(scenarios):
         if observer is not None:
             observer.scenario_started(scenario, position, len(scenarios))
-        began = wallclock.perf_counter()
-        try:
-            result = run_scenario(scenario, make_target(scenario), observer=observer)
-        except Exception:
-            result = ScenarioResult(scenario, passed=False, error=traceback.format_exc(),
-                                    wall_s=wallclock.perf_counter() - began)
-        if trace_dir is not None and result.recorder is not None:
-            directory = Path(trace_dir)
-            directory.mkdir(parents=True, exist_ok=True)
-            csv_path, vcd_path = directory / f"{names[position]}.csv", directory / f"{names[position]}.vcd"
-            write_csv(result.recorder, csv_path)
-            write_vcd(result.recorder, vcd_path)
-            result.trace_files = [str(csv_path), str(vcd_path)]
-        if check is not None:
-            check(result)
+        result = run_one(scenario, make_target, observer=observer, trace_dir=directory, trace_name=names[position],
+                         check=check)
         if observer is not None:
             observer.scenario_finished(result)
         results.append(result)
     return results
+
+
+def run_one(scenario: Scenario, make_target: Callable[[Scenario], ScenarioTarget], *,
+            observer: RunObserver | None = None, trace_dir: Path | None = None, trace_name: str = "",
+            check: Callable[[ScenarioResult], None] | None = None) -> ScenarioResult:
+    """One scenario of a run: on its own target, its traces written as ``trace_dir/trace_name.*``,
+    then ``check`` (the golden comparison).  A harness error becomes the result's ``error``."""
+    began = wallclock.perf_counter()
+    try:
+        result = run_scenario(scenario, make_target(scenario), observer=observer)
+    except Exception:
+        result = ScenarioResult(scenario, passed=False, error=traceback.format_exc(),
+                                wall_s=wallclock.perf_counter() - began)
+    if trace_dir is not None and result.recorder is not None:
+        trace_dir.mkdir(parents=True, exist_ok=True)
+        csv_path, vcd_path = trace_dir / f"{trace_name}.csv", trace_dir / f"{trace_name}.vcd"
+        write_csv(result.recorder, csv_path)
+        write_vcd(result.recorder, vcd_path)
+        result.trace_files = [str(csv_path), str(vcd_path)]
+    if check is not None:
+        check(result)
+    return result
 
 
 def trace_names(scenarios: Sequence[Scenario]) -> list[str]:
