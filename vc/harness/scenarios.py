@@ -25,10 +25,14 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
                        can_bus: str | None = None) -> int:
     """``link``: ``inprocess`` runs the PLC programs in lockstep in this process; ``modbus`` runs
     them in a ``python -m plc_stub`` process over a lockstep Modbus TCP link, ``can`` over a
-    lockstep CAN link on ``can_bus`` (default: a UDP multicast channel of this run)."""
+    lockstep CAN link on ``can_bus`` (default: a UDP multicast channel of this run).  A scenario
+    with an external PLC (``plc: awlsim:FILE``) runs against that PLC in its own process, in every run."""
+    from vc.harness.external_plc import ExternalPlcs
+
     def run(make_target: Callable[[Scenario], Simulation]) -> int:
-        return run_command(paths, make_target, plc_programs().keys(), junit=junit, trace_dir=trace_dir,
-                           golden=golden, update_golden=update_golden)
+        with ExternalPlcs() as external:  # scenarios with plc: awlsim:FILE, whatever the link
+            return run_command(paths, external.wrap(make_target), plc_programs().keys(), junit=junit,
+                               trace_dir=trace_dir, golden=golden, update_golden=update_golden)
 
     if link == "modbus":
         from vc.harness.external_plc import PlcProcess
