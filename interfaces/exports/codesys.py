@@ -11,7 +11,7 @@ registers, high word first, the reverse of a little-endian ``%ID``: it is declar
 words ``<name>_HI`` and ``<name>_LO``.
 
 Names: the map's symbols as identifiers (``X1.basic.in.enc1Synchronized`` ->
-``X1_basic_in_enc1Synchronized``), in a list marked ``qualified_only``: ``VC.X1_basic_in_enc1Synchronized``.
+``X1_basic_in_enc1Synchronized``), global names (docs/plc_examples/turn_mill.st uses them as they are).
 """
 
 from __future__ import annotations
@@ -23,8 +23,6 @@ from interfaces.exports.client_setups import codesys_word
 from interfaces.exports.context import ExportContext
 from interfaces.exports.tags import DataType, PlcTag, plc_tags
 from interfaces.signal_map import MapRow
-
-GVL_NAME = "VC"
 
 
 def _located(context: ExportContext, tag: PlcTag, register: int) -> tuple[str, int]:
@@ -57,7 +55,6 @@ def codesys_gvl(rows: Sequence[MapRow], context: ExportContext) -> str:
         "   machine " + context.machine + " as located variables of the Modbus TCP slave's channels (docs/modbus.md,",
         "   section CODESYS; docs/plc_tools.md). Channel words from %IW0 / %QW0; little-endian runtime.",
         "   DWORD and REAL values: value := SHL(TO_DWORD(x_HI), 16) OR TO_DWORD(x_LO). *)",
-        "{attribute 'qualified_only'}",
         "VAR_GLOBAL",
     ]
     skipped = []

@@ -111,7 +111,7 @@ def test_the_codesys_gvl_locates_every_tag_at_its_channel_word(turn_mill) -> Non
     rows, context = turn_mill
     by_symbol = _by_symbol(rows)
     text = codesys_gvl(rows, context)
-    assert "{attribute 'qualified_only'}\nVAR_GLOBAL\n" in text and text.rstrip().endswith("END_VAR")
+    assert "*)\nVAR_GLOBAL\n" in text and text.rstrip().endswith("END_VAR")
     declared = [_GVL_LINE.match(line) for line in text.splitlines() if line.startswith("\t")]
     assert declared and all(declared)
     names = [match.group(1) for match in declared if match]
