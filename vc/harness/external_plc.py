@@ -99,16 +99,17 @@ class _ChildPlcRun(Generic[LinkType]):
 
 
 class PlcProcess(_ChildPlcRun[PlcLink]):
-    """A ``python -m plc_stub`` process connected to a Modbus TCP link (lockstep unless told otherwise)
-    on a loopback server with an ephemeral port; a context manager."""
+    """A ``python -m plc_stub`` process (or ``module`` with ``arguments`` after the endpoint) connected
+    to a Modbus TCP link (lockstep unless told otherwise) on a loopback server with an ephemeral
+    port; a context manager."""
 
     def __init__(self, mode: LinkMode = LinkMode.LOCKSTEP, first_scan_timeout_s: float = 30.0,
-                 scan_timeout_s: float = 10.0):
+                 scan_timeout_s: float = 10.0, module: str = "plc_stub", arguments: Sequence[str] = ()):
         self.link = PlcLink(mode, modbus=Endpoint("127.0.0.1", 0),
                             first_scan_timeout_s=first_scan_timeout_s, scan_timeout_s=scan_timeout_s,
                             peer_ended=self._ended)
         assert self.link.modbus is not None
-        self._child = _PlcChild(["--modbus", f"127.0.0.1:{self.link.modbus.port}"])
+        self._child = _PlcChild(["--modbus", f"127.0.0.1:{self.link.modbus.port}", *arguments], module=module)
 
     def target_factory(self) -> Callable[[Scenario], Simulation]:
         def make(scenario: Scenario) -> Simulation:
@@ -158,7 +159,7 @@ class ExternalPlcs:
         self.first_scan_timeout_s = first_scan_timeout_s
         self.scan_timeout_s = scan_timeout_s
         self.runs = 0  # external PLC processes started
-        self._current: _ExternalRun | None = None
+        self._current: PlcProcess | None = None
 
     def wrap(self, make: Callable[[Scenario], Simulation]) -> Callable[[Scenario], Simulation]:
         def target(scenario: Scenario) -> Simulation:
@@ -167,8 +168,8 @@ class ExternalPlcs:
                 return make(scenario)
             self.close()
             kind, program = external
-            self._current = _ExternalRun(EXTERNAL_PLC_MODULES[kind], program, self.first_scan_timeout_s,
-                                         self.scan_timeout_s)
+            self._current = PlcProcess(LinkMode.LOCKSTEP, self.first_scan_timeout_s, self.scan_timeout_s,
+                                       module=EXTERNAL_PLC_MODULES[kind], arguments=[program])
             self.runs += 1
             return Simulation(scenario.machine, scenario.plc, connector=self._current.link)
         return target
@@ -184,14 +185,3 @@ class ExternalPlcs:
     def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
                  trace: TracebackType | None) -> None:
         self.close()
-
-
-class _ExternalRun(_ChildPlcRun[PlcLink]):
-    """One external PLC process on a lockstep Modbus link of its own."""
-
-    def __init__(self, module: str, program: str, first_scan_timeout_s: float, scan_timeout_s: float):
-        self.link = PlcLink(LinkMode.LOCKSTEP, modbus=Endpoint("127.0.0.1", 0),
-                            first_scan_timeout_s=first_scan_timeout_s, scan_timeout_s=scan_timeout_s,
-                            peer_ended=self._ended)
-        assert self.link.modbus is not None
-        self._child = _PlcChild(["--modbus", f"127.0.0.1:{self.link.modbus.port}", program], module=module)
