@@ -19,19 +19,16 @@ import argparse
 import sys
 from collections.abc import Sequence
 
+from interfaces.links.endpoint import parse_endpoint
 from plc_stub.can_remote import run_on_can
 from plc_stub.remote import run_forever
 
 
 def _endpoint(text: str) -> tuple[str, int]:
-    host, _, port = text.rpartition(":")
     try:
-        number = int(port)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not HOST:PORT (e.g. 127.0.0.1:5020)") from None
-    if not 0 < number < 65536:
-        raise argparse.ArgumentTypeError(f"'{text}': port {number} is outside 1..65535")
-    return host or "127.0.0.1", number
+        return parse_endpoint(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def _identifier(text: str) -> int:

@@ -7,6 +7,8 @@
                                                       the machine's expanded signal map, its CAN frames as a
                                                       DBC file, or the guide for connecting OpenPLC / CODESYS
                                                       over Modbus TCP
+    vc map --machine M.yaml --format codesys|openplc|tia|s7|awlsim [--io-base N] [-o FILE]
+                                                      the signal map for a PLC tool (docs/plc_tools.md)
     vc serve [--machine M.yaml] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
              [--scenario FILE] [--duration S]         the NC as a server (or CAN node) for a PLC in another
                                                       process
@@ -31,7 +33,9 @@ from importlib import metadata
 from typing import Protocol
 
 from interfaces.catalog import load_catalog
-from interfaces.signal_map import FORMATTERS, map_rows
+from interfaces.codec_modbus import RegisterMap
+from interfaces.exports import EXPORTS, Export, ExportContext
+from interfaces.signal_map import FORMATTERS, MapRow, map_rows
 from interfaces.signals import expand
 from vc.config.loader import load_machine
 from vc.located_yaml import SourceError
@@ -53,7 +57,7 @@ def _map(arguments: argparse.Namespace) -> int:
     if arguments.format == GUIDE_FORMAT:
         from vc.cli.modbus_guide import modbus_guide  # it imports the NC core: only for this format
 
-        sys.stdout.write(modbus_guide(machine.name, machine.source, catalog, machine.plant_io))
+        _write(modbus_guide(machine.name, machine.source, catalog, machine.plant_io), arguments.output)
         return 0
     can = machine.can
     if arguments.format == DBC_FORMAT:
@@ -63,13 +67,52 @@ def _map(arguments: argparse.Namespace) -> int:
 
         ipo_us = machine_ipo_cycle_us(machine)
         layout = CanLayout.build(catalog, machine.plant_io.area_sizes(), can.settings)
-        sys.stdout.write(dbc_text(layout, catalog, machine.plant_io,
-                                  nc_cycle_ms=round(can.period_cycles(ipo_us, machine.plc_cycle_ipo) * ipo_us / 1000),
-                                  plc_cycle_ms=round(machine.plc_cycle_ipo * ipo_us / 1000)))
+        _write(dbc_text(layout, catalog, machine.plant_io,
+                        nc_cycle_ms=round(can.period_cycles(ipo_us, machine.plc_cycle_ipo) * ipo_us / 1000),
+                        plc_cycle_ms=round(machine.plc_cycle_ipo * ipo_us / 1000)), arguments.output)
         return 0
     rows = map_rows(catalog, machine.plant_io, can.settings)
-    sys.stdout.write(FORMATTERS[arguments.format](rows))
+    if arguments.format in EXPORTS:
+        return _export(EXPORTS[arguments.format], rows, ExportContext(
+            machine.name, RegisterMap.build(catalog, machine.plant_io.area_sizes()), arguments.io_base or 0),
+            arguments)
+    if arguments.io_base is not None:
+        print(f"vc map: --io-base applies to {', '.join(n for n, e in EXPORTS.items() if e.uses_io_base)}",
+              file=sys.stderr)
+        return EXIT_PROBLEMS
+    _write(FORMATTERS[arguments.format](rows), arguments.output)
     return 0
+
+
+def _export(export: Export, rows: Sequence[MapRow], context: ExportContext, arguments: argparse.Namespace) -> int:
+    """One of the exports for PLC tools (interfaces/exports)."""
+    if arguments.io_base is not None and not export.uses_io_base:
+        print(f"vc map: --io-base does not apply to --format {export.name} (its addresses are the tool's own)",
+              file=sys.stderr)
+        return EXIT_PROBLEMS
+    if export.binary and arguments.output is None:
+        print(f"vc map: --format {export.name} writes a binary file: give -o FILE{export.suffix}", file=sys.stderr)
+        return EXIT_PROBLEMS
+    from interfaces.exports.tia import MissingExtra
+
+    try:
+        content = export.write(rows, context)
+    except (MissingExtra, ValueError) as error:
+        print(f"vc map: {error}", file=sys.stderr)
+        return EXIT_PROBLEMS
+    _write(content, arguments.output)
+    return 0
+
+
+def _write(content: str | bytes, output: str | None) -> None:
+    """To the file ``output`` (text as written, line ends kept), else to standard output."""
+    if output is not None:
+        with open(output, "wb") as file:
+            file.write(content if isinstance(content, bytes) else content.encode())
+    elif isinstance(content, bytes):
+        sys.stdout.buffer.write(content)
+    else:
+        sys.stdout.write(content)
 
 
 def _bench(arguments: argparse.Namespace) -> int:
@@ -181,6 +224,16 @@ def _version() -> str:
         return "(not installed)"
 
 
+def _byte_offset(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a byte number") from None
+    if not 0 <= value <= 65535:
+        raise argparse.ArgumentTypeError(f"{text}: a byte number 0..65535")
+    return value
+
+
 def _run(arguments: argparse.Namespace) -> int:
     from vc.harness.scenarios import run_scenario_files
 
@@ -267,7 +320,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     signal_map = commands.add_parser("map", help="print the expanded signal catalogue of a machine")
     signal_map.add_argument("--machine", required=True, help="machine YAML file")
-    signal_map.add_argument("--format", choices=[*sorted(FORMATTERS), DBC_FORMAT, GUIDE_FORMAT], default="md")
+    signal_map.add_argument("--format", choices=[*sorted(FORMATTERS), DBC_FORMAT, GUIDE_FORMAT, *EXPORTS],
+                            default="md", help="md, csv, json: the map; dbc: the CAN frames; guide: docs/modbus.md;"
+                            " codesys, openplc, tia, s7, awlsim: for a PLC tool (docs/plc_tools.md)")
+    signal_map.add_argument("--io-base", type=_byte_offset, metavar="N",
+                            help="s7, tia, awlsim: table byte t is input / output byte N + t (default 0)")
+    signal_map.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of standard output")
     signal_map.set_defaults(handler=_map)
 
     serve = commands.add_parser("serve", help="serve the NC and the plant to a PLC over Modbus TCP and/or S7")

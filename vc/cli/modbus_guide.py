@@ -53,6 +53,13 @@ from interfaces.codec_modbus import (
     Table,
     display_number,
 )
+from interfaces.exports.client_setups import (
+    OPENPLC_FIRST,
+    OPENPLC_SLAVE_ENTRIES,
+    RegisterBlock,
+    codesys_channels,
+    openplc_devices,
+)
 from interfaces.plant_io import PlantIoMap
 from interfaces.signal_map import LINK_ROWS
 from interfaces.signals import ExpandedCatalog, SignalRef, SignalType
@@ -60,8 +67,6 @@ from vc.config.machine_data import MdDef
 from vc.config.md_dictionary import PLC_CYCLIC_TIMEOUT, PLC_RUNNINGUP_TIMEOUT
 from vc.core.nck import PLC_NOT_STARTED_ALARM, PLC_SIGN_OF_LIFE_ALARM
 
-OPENPLC_FIRST = 100  # slave devices start at %IX100.0, %QX100.0, %IW100, %QW100
-OPENPLC_SLAVE_ENTRIES = 400  # OpenPLC v3 copies 400 bits and 400 words each way (MAX_MB_IO)
 OPENPLC_POLLING_MS = 10  # the slave devices' polling period to set (OpenPLC's default of 100 ms is too slow)
 CODESYS_CYCLE_MS = 10  # the channels' cycle time: the PLC period of the example machines
 SERVER_HOST, SERVER_PORT = "127.0.0.1", 5020  # what ``vc serve --modbus`` listens on by default
@@ -86,76 +91,12 @@ AXIS_SIGNALS = ("basic.out.enc1Activation", "basic.out.enableCtrl", "drive.out.e
 
 
 @dataclass(frozen=True, slots=True)
-class RegisterBlock:
-    """Registers ``offset`` .. ``offset + length - 1`` of one table, moved in one request."""
-
-    name: str
-    table: Table
-    offset: int
-    length: int
-
-    @property
-    def stop(self) -> int:
-        return self.offset + self.length
-
-    @property
-    def function_code(self) -> int:
-        return READ_INPUT if self.table is Table.NC_TO_PLC else WRITE_REGISTERS
-
-    def holds(self, register: int) -> bool:
-        return self.offset <= register < self.stop
-
-
-@dataclass(frozen=True, slots=True)
-class OpenPlcDevice:
-    """One "Generic Modbus TCP Device": its input registers and its holding registers written."""
-
-    name: str
-    inputs: RegisterBlock | None
-    outputs: RegisterBlock | None
-
-
-@dataclass(frozen=True, slots=True)
 class GuideSignal:
     """A signal of the guide's tables and where it lies."""
 
     symbol: str
     ref: SignalRef
     location: Location
-
-
-def _chunks(name: str, table: Table, start: int, stop: int, limit: int) -> list[RegisterBlock]:
-    count = -(-(stop - start) // limit)
-    return [RegisterBlock(f"{name} {k + 1}" if count > 1 else name, table, first, min(limit, stop - first))
-            for k, first in enumerate(range(start, stop, limit))]
-
-
-def codesys_channels(register_map: RegisterMap) -> list[RegisterBlock]:
-    """The Modbus Slave Channels, in the order to create them.
-
-    The link block gets a channel of its own in each direction: a lockstep client reads it
-    first and writes it last, and it stays at index = register in any machine.  The write of
-    the link block comes last in the list because the scan-done word must reach the server
-    after the outputs of the scan.
-    """
-    inputs, outputs = register_map.registers(Table.NC_TO_PLC), register_map.registers(Table.PLC_TO_NC)
-    return [
-        RegisterBlock("Link in", Table.NC_TO_PLC, 0, LINK_REGISTERS),
-        *_chunks("NC in", Table.NC_TO_PLC, LINK_REGISTERS, inputs, READ_LIMIT),
-        *_chunks("NC out", Table.PLC_TO_NC, LINK_REGISTERS, outputs, WRITE_LIMIT),
-        RegisterBlock("Link out", Table.PLC_TO_NC, 0, LINK_REGISTERS),
-    ]
-
-
-def openplc_devices(register_map: RegisterMap) -> list[OpenPlcDevice]:
-    """Slave devices that read the NC-to-PLC table and write the PLC-to-NC table from register 0,
-    a request each within the protocol's limits.  OpenPLC numbers the devices' words on from
-    %IW100 / %QW100, so with the devices in this order register r is %IW(100 + r) / %QW(100 + r)."""
-    reads = _chunks("inputs", Table.NC_TO_PLC, 0, register_map.registers(Table.NC_TO_PLC), READ_LIMIT)
-    writes = _chunks("outputs", Table.PLC_TO_NC, 0, register_map.registers(Table.PLC_TO_NC), WRITE_LIMIT)
-    return [OpenPlcDevice(f"nc{k + 1}", reads[k] if k < len(reads) else None,
-                          writes[k] if k < len(writes) else None)
-            for k in range(max(len(reads), len(writes)))]
 
 
 def guide_signals(catalog: ExpandedCatalog, plant_io: PlantIoMap, register_map: RegisterMap) -> list[GuideSignal]:

@@ -1,4 +1,5 @@
-"""The built-in PLC in its own process, for ``vc run --link modbus`` and ``vc run --link can``.
+"""PLCs in their own process: the built-in PLC for ``vc run --link modbus`` and ``vc run --link can``,
+and the external PLCs of scenarios (``plc: awlsim:PROGRAM.awl``) in every run.
 
 One link and one ``python -m plc_stub`` process serve the whole run: every scenario powers its
 machine on, which opens a new session; the PLC restarts its program for it, the program the
@@ -6,6 +7,12 @@ scenario names.  Over Modbus the link is a server on loopback with an ephemeral 
 bus (by default a UDP multicast channel of its own on this host) that carries each machine's
 ``can:`` settings.  Scenarios without a PLC (``plc: none``) run in-process as always; scenarios
 that ask for a CAN link run over a virtual bus in this process when the run's link is not CAN.
+
+An external PLC (:class:`ExternalPlcs`) gets a lockstep Modbus link of its own on an ephemeral
+loopback port and a process of its own per scenario (``python -m plc_awlsim --modbus HOST:PORT
+PROGRAM`` for awlsim): a fresh PLC for every scenario, so that its trace does not depend on the
+scenarios run before it; a power cycle within the scenario is a new session, a warm restart of
+that PLC.
 """
 
 from __future__ import annotations
@@ -24,12 +31,15 @@ from vc.harness.scenarios import simulation_for
 from vc.harness.simulation import Pacer, Simulation
 from vc.scenario.model import Scenario
 
+# plc: KIND:FILE -> the module run as ``python -m MODULE --modbus HOST:PORT FILE``
+EXTERNAL_PLC_MODULES = {"awlsim": "plc_awlsim"}
+
 
 class _PlcChild:
-    """A ``python -m plc_stub`` process; its standard error tells why it ended."""
+    """A ``python -m MODULE`` process (plc_stub by default); its standard error tells why it ended."""
 
-    def __init__(self, arguments: Sequence[str]):
-        self.process = subprocess.Popen([sys.executable, "-m", "plc_stub", *arguments],
+    def __init__(self, arguments: Sequence[str], module: str = "plc_stub"):
+        self.process = subprocess.Popen([sys.executable, "-m", module, *arguments],
                                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
 
     def ended(self) -> str | None:
@@ -89,16 +99,17 @@ class _ChildPlcRun(Generic[LinkType]):
 
 
 class PlcProcess(_ChildPlcRun[PlcLink]):
-    """A ``python -m plc_stub`` process connected to a Modbus TCP link (lockstep unless told otherwise)
-    on a loopback server with an ephemeral port; a context manager."""
+    """A ``python -m plc_stub`` process (or ``module`` with ``arguments`` after the endpoint) connected
+    to a Modbus TCP link (lockstep unless told otherwise) on a loopback server with an ephemeral
+    port; a context manager."""
 
     def __init__(self, mode: LinkMode = LinkMode.LOCKSTEP, first_scan_timeout_s: float = 30.0,
-                 scan_timeout_s: float = 10.0):
+                 scan_timeout_s: float = 10.0, module: str = "plc_stub", arguments: Sequence[str] = ()):
         self.link = PlcLink(mode, modbus=Endpoint("127.0.0.1", 0),
                             first_scan_timeout_s=first_scan_timeout_s, scan_timeout_s=scan_timeout_s,
                             peer_ended=self._ended)
         assert self.link.modbus is not None
-        self._child = _PlcChild(["--modbus", f"127.0.0.1:{self.link.modbus.port}"])
+        self._child = _PlcChild(["--modbus", f"127.0.0.1:{self.link.modbus.port}", *arguments], module=module)
 
     def target_factory(self) -> Callable[[Scenario], Simulation]:
         def make(scenario: Scenario) -> Simulation:
@@ -137,3 +148,40 @@ class CanPlcProcess(_ChildPlcRun[CanLink]):
                 return simulation_for(scenario)
             return self.simulation(scenario.machine, scenario.plc_program)
         return make
+
+
+class ExternalPlcs:
+    """The external PLCs of a run's scenarios (module docstring): ``wrap`` a target factory, and
+    each scenario with ``plc: KIND:FILE`` runs against its own PLC process over its own link;
+    the others go to the wrapped factory.  A context manager: the last PLC ends with it."""
+
+    def __init__(self, first_scan_timeout_s: float = 60.0, scan_timeout_s: float = 10.0):
+        self.first_scan_timeout_s = first_scan_timeout_s
+        self.scan_timeout_s = scan_timeout_s
+        self.runs = 0  # external PLC processes started
+        self._current: PlcProcess | None = None
+
+    def wrap(self, make: Callable[[Scenario], Simulation]) -> Callable[[Scenario], Simulation]:
+        def target(scenario: Scenario) -> Simulation:
+            external = scenario.external_plc
+            if external is None:
+                return make(scenario)
+            self.close()
+            kind, program = external
+            self._current = PlcProcess(LinkMode.LOCKSTEP, self.first_scan_timeout_s, self.scan_timeout_s,
+                                       module=EXTERNAL_PLC_MODULES[kind], arguments=[program])
+            self.runs += 1
+            return Simulation(scenario.machine, scenario.plc, connector=self._current.link)
+        return target
+
+    def close(self) -> None:
+        if self._current is not None:
+            self._current.close()
+            self._current = None
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 trace: TracebackType | None) -> None:
+        self.close()

@@ -28,12 +28,17 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
     worker processes (default one per core); ``modbus`` runs them in a ``python -m plc_stub``
     process over a lockstep Modbus TCP link, ``can`` over a lockstep CAN link on ``can_bus``
     (default: a UDP multicast channel of this run): both with one PLC process, one scenario
-    after the other."""
+    after the other.  A scenario with an external PLC (``plc: awlsim:FILE``) runs against that
+    PLC in its own process, in every run."""
+    from vc.harness.external_plc import ExternalPlcs
+
     build = build_status().describe()
 
     def run(make_target: Callable[[Scenario], Simulation], workers: int | None = 1) -> int:
-        return run_command(paths, make_target, plc_programs().keys(), junit=junit, trace_dir=trace_dir,
-                           golden=golden, update_golden=update_golden, jobs=workers, build=build)
+        with ExternalPlcs() as external:  # scenarios with plc: awlsim:FILE, whatever the link
+            return run_command(paths, external.wrap(make_target), plc_programs().keys(), junit=junit,
+                               trace_dir=trace_dir, golden=golden, update_golden=update_golden, jobs=workers,
+                               build=build)
 
     if link == "modbus":
         from vc.harness.external_plc import PlcProcess

@@ -38,7 +38,7 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
     With ``golden`` each passed scenario is compared with its golden trace in that directory
     (``update_golden`` writes the traces instead).  ``jobs`` worker processes run the files
     (None: one per core; 1: in this process); a run with its own ``catalog`` or
-    ``machine_loader`` stays in this process, where they are.  ``build`` names the build that runs
+    ``machine_loader``, or with a scenario of an external PLC, stays in this process.  ``build`` names the build that runs
     (printed first).
     """
     report = ConsoleReport(console)
@@ -52,6 +52,8 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
         return EXIT_PROBLEMS
     if catalog is not None or machine_loader is not None:
         jobs = 1
+    if any(scenario.external_plc is not None for scenario in scenarios):
+        jobs = 1  # each external PLC process belongs to the process that starts and ends it
     workers = jobs_for(jobs, scenarios)
     if build:
         across = f"{workers} worker processes" if workers > 1 else "in this process"

@@ -30,6 +30,7 @@ from vc.observables import FAULTS, LINK_AREA, LINK_DIRECTIONS, LINK_FAULTS, MACH
 from vc.scenario.durations import Duration, DurationError, parse_duration
 from vc.scenario.expressions import Expression, ExpressionError, parse_expression
 from vc.scenario.model import (
+    EXTERNAL_PLCS,
     LINK_CAN,
     NO_PLC,
     AcknowledgeAlarms,
@@ -57,6 +58,7 @@ from vc.scenario.model import (
     TurnHandwheels,
     Wait,
     WaitUntil,
+    external_plc,
 )
 from vc.scenario.quantities import NameResolver, Quantity, QuantityKind
 from vc.scenario.values import ExpectedValue, ExpectedValueError, parse_expected
@@ -280,10 +282,24 @@ class _ScenarioChecker:
             return NO_PLC
         if value == NO_PLC or value in self.known_programs:
             return value
+        kind, separator, program = value.partition(":")
+        if separator and kind in EXTERNAL_PLCS:
+            return self.external_program(kind, program.strip(), mark)
         known = sorted(self.known_programs)
         hint = _suggest(value, known)
         self.add(mark, f"unknown PLC program '{value}'{hint} (known: {', '.join([*known, NO_PLC])})")
         return NO_PLC
+
+    def external_program(self, kind: str, program: str, mark: Mark) -> str:
+        """``plc: awlsim:FILE``: the program file, relative to the scenario like the machine file."""
+        if not program:
+            self.add(mark, f"plc: {kind}: needs the program file, e.g. {kind}:../../examples/awlsim/turn_mill.awl")
+            return NO_PLC
+        path = os.path.normpath(os.path.join(self.directory, program))
+        if not os.path.isfile(path):
+            self.add(mark, f"no {kind} program '{program}' (looked for {path})")
+            return NO_PLC
+        return f"{kind}:{path}"
 
     def check_link(self, document: LocatedMap) -> str | None:
         if "link" not in document:
@@ -296,6 +312,10 @@ class _ScenarioChecker:
             return None
         if self.plc == NO_PLC:
             self.add(mark, f"link: {value} needs a PLC program behind it, and plc is none")
+            return None
+        if external_plc(self.plc) is not None:
+            self.add(mark, f"link: {value} is for the built-in programs; {self.plc.partition(':')[0]} runs over its"
+                           " own lockstep Modbus link")
             return None
         return str(value)
 

@@ -21,6 +21,15 @@ from vc.scenario.values import ExpectedValue
 
 NO_PLC = "none"
 LINK_CAN = "can"  # ``link: can``: the PLC program sits behind the CAN link
+# ``plc: awlsim:PROGRAM.awl``: a PLC of its own process, started with the program and run over a
+# lockstep Modbus TCP link (docs/scenarios.md); the kinds and the command each starts are the harness's
+EXTERNAL_PLCS = ("awlsim",)
+
+
+def external_plc(plc: str) -> tuple[str, str] | None:
+    """``(kind, program file)`` of ``plc: KIND:FILE``, or None for a built-in program (or none)."""
+    kind, separator, program = plc.partition(":")
+    return (kind, program) if separator and kind in EXTERNAL_PLCS else None
 
 
 class EdgeKind(Enum):
@@ -257,7 +266,7 @@ class Scenario:
     machine_file: str  # the machine file, relative to the working directory like ``path``
     machine: MachineConfig
     catalog: ExpandedCatalog
-    plc: str  # a built-in PLC program, or "none": the steps act as the PLC
+    plc: str  # a built-in PLC program, "none" (the steps act as the PLC) or KIND:FILE (an external PLC)
     timeout: Duration
     invariants: tuple[Invariant, ...]
     steps: tuple[Step, ...]
@@ -267,6 +276,11 @@ class Scenario:
     @property
     def plc_program(self) -> str | None:
         return None if self.plc == NO_PLC else self.plc
+
+    @property
+    def external_plc(self) -> tuple[str, str] | None:
+        """``(kind, program file)`` when the PLC is an external one (``plc: awlsim:FILE``)."""
+        return external_plc(self.plc)
 
     @property
     def events(self) -> tuple[Event, ...]:

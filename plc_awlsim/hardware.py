@@ -1,0 +1,258 @@
+"""An awlsim hardware module that is the harness's Modbus TCP client (``vc serve --modbus``,
+``vc run`` with an awlsim scenario).
+
+awlsim calls ``readInputs`` before and ``writeOutputs`` after every OB 1; the module does the
+link's work there, as docs/modbus.md ("Lockstep with a third-party PLC") states it::
+
+    readInputs                                              writeOutputs
+      link block: no machine yet -> poll again                (a scan was granted)
+      new session -> description, HR 1 = session,               PLC-to-NC table = QB base ..
+                     warm restart (OB 100, no OB 1)             HR 0 = the grant (lockstep) or
+      lockstep: IR 3 grant new? -> NC-to-PLC table              the scan counter (real time),
+                     into IB base .., clock = NC time           written last
+      real time: at the next PLC period, likewise
+
+* **Process image.** Table byte t of the NC-to-PLC table is input byte ``inputAddressBase + t``,
+  table byte t of the PLC-to-NC table output byte ``outputAddressBase + t`` (the symbol tables
+  of ``vc map --format awlsim`` and ``s7`` use the same view).  The link block is IB base + 0..31:
+  IW 2 the session, ID 8 the NC cycle count; QW 0 and QW 2 (scan done, session ready) are the
+  module's: what the program writes there is overwritten.
+* **Warm restart** on every new session (a power-on of the machine, the next scenario): the
+  process images, bit memory, timers and counters are cleared and OB 100 runs, as on an S7
+  warm restart; data blocks keep their values.  The first session is the CPU's start-up.
+* **Time.** The CPU's clock is the NC's (:mod:`plc_awlsim.clock`), in both modes.
+* **Real time.** A scan every PLC period of the wall clock (input registers 6 and 7); the
+  scan counter in HR 0 is the sign of life the NC watches.
+
+A lost connection is retried for ``connectTimeout`` seconds; the session that follows restarts
+the program.  Parameters (awlsim's hardware module parameters): ``host`` (127.0.0.1), ``port``
+(5020), ``connectTimeout`` (30 s) and awlsim's own ``inputAddressBase``, ``outputAddressBase``.
+"""
+
+from __future__ import annotations
+
+import struct
+import time as wallclock
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+from interfaces.codec_modbus import (
+    LINK_REGISTERS,
+    LINK_VERSION,
+    MODE_LOCKSTEP,
+    READ_LIMIT,
+    REG_DESCRIPTION_BYTES,
+    REG_DESCRIPTION_START,
+    REG_IPO_CYCLE_US,
+    REG_MODE,
+    REG_NC_CYCLE_HIGH,
+    REG_NC_TO_PLC_REGISTERS,
+    REG_PLC_CYCLE_IPO,
+    REG_PLC_TO_NC_REGISTERS,
+    REG_SCAN_DONE,
+    REG_SCAN_GRANT,
+    REG_SESSION,
+    REG_SESSION_READY,
+    REG_VERSION,
+    registers_text,
+)
+from interfaces.links.errors import LinkError
+from interfaces.links.modbus_tcp import ModbusLinkClient
+from plc_awlsim.awlsim_api import (
+    AbstractHardwareInterface,
+    AwlSimError,
+    HwParamDesc_float,
+    HwParamDesc_int,
+    HwParamDesc_str,
+    MaintenanceRequest,
+)
+from plc_awlsim.clock import NcClock, follow_nc
+
+_WORD = struct.Struct(">H")
+POLL_PAUSE_S = 0.01  # between polls while no machine is powered on
+
+
+class HarnessGone(AwlSimError):  # type: ignore[misc]  # awlsim is not annotated
+    """No harness answered within the connect time-out."""
+
+
+@dataclass(slots=True)
+class Session:
+    """What the harness said at a power-on."""
+
+    number: int
+    lockstep: bool
+    nc_to_plc_bytes: int
+    plc_to_nc_bytes: int
+    ipo_cycle_us: int
+    plc_cycle_ipo: int
+    description: bytes  # the interface description (UTF-8 JSON, interfaces/link_description.py)
+
+    @property
+    def scan_time_s(self) -> float:
+        return self.ipo_cycle_us * self.plc_cycle_ipo / 1_000_000
+
+
+class HardwareInterface(AbstractHardwareInterface):  # type: ignore[misc]  # awlsim is not annotated
+    name = "vcmodbus"
+    description = "The VC harness's NC and machine over its Modbus TCP link (lockstep or real time)"
+    paramDescs: ClassVar[list[Any]] = [
+        HwParamDesc_str("host", defaultValue="127.0.0.1", description="the harness's Modbus server"),
+        HwParamDesc_int("port", defaultValue=5020, minValue=1, maxValue=65535, description="its port"),
+        HwParamDesc_float("connectTimeout", defaultValue=30.0, minValue=0.1,
+                          description="seconds to wait for the harness before giving up"),
+    ]
+
+    def __init__(self, sim: Any, parameters: dict[str, Any] | None = None):
+        super().__init__(sim=sim, parameters=parameters or {})
+        self.host: str = self.getParamValueByName("host")
+        self.port: int = self.getParamValueByName("port")
+        self.connect_timeout_s: float = self.getParamValueByName("connectTimeout")
+        self.clock = NcClock()
+        self.client: ModbusLinkClient | None = None
+        self.session: Session | None = None
+        self.scans = 0  # OB 1 scans run in this session
+        self._granted: int | None = None  # the scan-done value of the scan between readInputs and writeOutputs
+        self._last_grant = 0
+        self._next_scan = 0.0
+        self._restart_due = False  # a session began: the next readInputs restarts the program
+        self._starting = False  # the CPU's start-up: its readInputs before OB 100 takes no scan
+
+    # ------------------------------------------------------------------ awlsim's calls
+    def doStartup(self) -> None:
+        if self.client is None:
+            follow_nc(self.cpu, self.clock)
+            self.client = ModbusLinkClient(self.host, self.port)
+            self._connect()
+            self.wait_for_session()
+        self._restart_due = False  # the CPU's start-up runs OB 100 now ...
+        self._starting = True  # ... after a readInputs that must not take a granted scan
+
+    def doShutdown(self) -> None:
+        if self.client is not None:
+            self.client.close()
+            self.client = None
+
+    def readInputs(self) -> None:
+        """Wait until a scan may run and put the NC-to-PLC table into the input image (module docstring)."""
+        if self._starting:
+            self._starting = False
+            return
+        while True:
+            session = self.session
+            if self._restart_due or session is None:
+                self.wait_for_session()
+                self._warm_restart()
+            assert session is not None
+            head = self._read(0, min(READ_LIMIT, session.nc_to_plc_bytes // 2))
+            if head[REG_VERSION] == 0 or head[REG_SESSION] != session.number:
+                self._restart_due = True
+                continue
+            if session.lockstep:
+                grant = head[REG_SCAN_GRANT]
+                if grant == 0 or grant == self._last_grant:
+                    continue
+                self._last_grant = grant
+                self._take_inputs(session, head, grant)
+                return
+            now = wallclock.perf_counter()
+            if now < self._next_scan:
+                wallclock.sleep(self._next_scan - now)
+                continue
+            self._next_scan = max(self._next_scan + session.scan_time_s, now - session.scan_time_s)
+            self._take_inputs(session, head, (self.scans % 0xFFFF) + 1)
+            return
+
+    def writeOutputs(self) -> None:
+        """The output image into the PLC-to-NC table, the scan-done word last (module docstring)."""
+        session, done = self.session, self._granted
+        if session is None or done is None or self.client is None:
+            return  # OB 100: no scan was granted
+        outputs = bytearray(self.cpu.fetchOutputRange(self.outputAddressBase, session.plc_to_nc_bytes))
+        _WORD.pack_into(outputs, 2 * REG_SCAN_DONE, done)
+        _WORD.pack_into(outputs, 2 * REG_SESSION_READY, session.number)
+        values = list(struct.unpack(f">{len(outputs) // 2}H", outputs))
+        try:
+            self.client.write_registers_last_first(0, values)
+        except LinkError:
+            self._restart_due = True  # readInputs reconnects
+        self._granted = None
+
+    # ------------------------------------------------------------------ the link
+    def wait_for_session(self) -> Session:
+        """Poll until the harness has powered a machine on; open its session (HR 1 = session)."""
+        while True:
+            head = self._read(0, LINK_REGISTERS)
+            if head[REG_VERSION] == 0:
+                wallclock.sleep(POLL_PAUSE_S)
+                continue
+            if head[REG_VERSION] != LINK_VERSION:
+                raise AwlSimError(f"the harness speaks link version {head[REG_VERSION]}, this bridge {LINK_VERSION}")
+            length = head[REG_DESCRIPTION_BYTES]
+            description = registers_text(self._read(head[REG_DESCRIPTION_START], (length + 1) // 2), length)
+            self.session = Session(head[REG_SESSION], head[REG_MODE] == MODE_LOCKSTEP,
+                                   2 * head[REG_NC_TO_PLC_REGISTERS], 2 * head[REG_PLC_TO_NC_REGISTERS],
+                                   head[REG_IPO_CYCLE_US], head[REG_PLC_CYCLE_IPO], description)
+            self._fit_process_images(self.session)
+            self._write(REG_SESSION_READY, [self.session.number])
+            self._last_grant = 0
+            self.scans = 0
+            self._next_scan = wallclock.perf_counter()
+            return self.session
+
+    def _take_inputs(self, session: Session, head: list[int], done: int) -> None:
+        total = session.nc_to_plc_bytes // 2
+        registers = head[:total] + (self._read(len(head), total - len(head)) if len(head) < total else [])
+        self.cpu.storeInputRange(self.inputAddressBase, bytearray(struct.pack(f">{total}H", *registers)))
+        self.clock.set_cycles(registers[REG_NC_CYCLE_HIGH] << 16 | registers[REG_NC_CYCLE_HIGH + 1],
+                              registers[REG_IPO_CYCLE_US])
+        self.scans += 1
+        self._granted = done
+
+    def _warm_restart(self) -> None:
+        """A new session: clear the process images, bit memory, timers and counters, then OB 100
+        (awlsim runs the start-up OBs on this request and skips the OB 1 of this cycle)."""
+        self._restart_due = False
+        self._granted = None
+        self.clock.set_cycles(0, 1)
+        self.cpu.reallocate(force=True)
+        raise MaintenanceRequest(MaintenanceRequest.TYPE_SOFTREBOOT, "new session: warm restart")
+
+    def _fit_process_images(self, session: Session) -> None:
+        specs = self.cpu.getSpecs()
+        if specs.nrInputs < self.inputAddressBase + session.nc_to_plc_bytes:
+            specs.setNrInputs(self.inputAddressBase + session.nc_to_plc_bytes)
+        if specs.nrOutputs < self.outputAddressBase + session.plc_to_nc_bytes:
+            specs.setNrOutputs(self.outputAddressBase + session.plc_to_nc_bytes)
+
+    def _read(self, address: int, count: int) -> list[int]:
+        while True:
+            try:
+                assert self.client is not None
+                return self.client.read_input_registers(address, count)
+            except LinkError:
+                self._reconnect()
+
+    def _write(self, address: int, values: list[int]) -> None:
+        while True:
+            try:
+                assert self.client is not None
+                self.client.write_registers(address, values)
+                return
+            except LinkError:
+                self._reconnect()
+
+    def _reconnect(self) -> None:
+        """After a lost connection: connect again; the next session restarts the program."""
+        assert self.client is not None
+        self.client.close()
+        self._restart_due = True
+        self._connect()
+
+    def _connect(self) -> None:
+        assert self.client is not None
+        deadline = wallclock.monotonic() + self.connect_timeout_s
+        while not self.client.connect():
+            if wallclock.monotonic() > deadline:
+                raise HarnessGone(f"no Modbus server at {self.host}:{self.port} after {self.connect_timeout_s:g} s")
+            wallclock.sleep(0.1)
