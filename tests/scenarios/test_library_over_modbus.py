@@ -1,9 +1,14 @@
-"""The whole scenario library with the PLC in its own process over the lockstep Modbus TCP link:
-every scenario passes and matches the same golden trace as in-process (``vc run --link modbus``)."""
+"""The scenario library with the PLC in its own process over the lockstep Modbus TCP link: every
+scenario passes and matches the same golden trace as in-process (``vc run --link modbus``).
+
+One test per scenario, so a failure names its scenario and the tests spread over the test
+workers; each worker keeps one ``python -m plc_stub`` process for all the scenarios it runs, as
+``vc run --link modbus`` does."""
 
 from __future__ import annotations
 
 import io
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -12,18 +17,31 @@ from rich.console import Console
 from interfaces.links.inprocess import plc_programs
 from vc.harness.external_plc import PlcProcess
 from vc.scenario.command import EXIT_PASSED, run_command
+from vc.scenario.loader import load_scenarios
 
 ROOT = Path(__file__).resolve().parents[2]
+SCENARIOS = load_scenarios([str(ROOT / "scenarios")], plc_programs().keys())
+
+pytestmark = pytest.mark.link
 
 
-# The whole library runs here: the global 300 s hang guard is too short for it on a busy machine.
-@pytest.mark.timeout(1200)
-def test_the_library_over_modbus_gives_the_in_process_golden_traces(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.chdir(ROOT)
-    output = io.StringIO()
+@pytest.fixture(scope="module")
+def plc_process() -> Iterator[PlcProcess]:
     with PlcProcess() as process:
-        code = run_command(["scenarios"], process.target_factory(), plc_programs().keys(),
-                           console=Console(file=output, width=200), golden="tests/golden")
-        sessions = process.link.session
+        yield process
+
+
+@pytest.mark.parametrize("path", [scenario.path for scenario in SCENARIOS],
+                         ids=[Path(scenario.path).stem for scenario in SCENARIOS])
+def test_the_scenario_over_modbus_gives_the_in_process_golden_trace(path: str, plc_process: PlcProcess,
+                                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(ROOT)
+    relative = str(Path(path).relative_to(ROOT))
+    output = io.StringIO()
+    sessions_before = plc_process.link.session
+    code = run_command([relative], plc_process.target_factory(), plc_programs().keys(),
+                       console=Console(file=output, width=200), golden="tests/golden")
     assert code == EXIT_PASSED, output.getvalue()
-    assert sessions > 60  # one session per power-on of a scenario with a PLC
+    scenario = next(scenario for scenario in SCENARIOS if scenario.path == path)
+    if scenario.plc_program is not None and scenario.link is None:  # its PLC ran behind the link
+        assert plc_process.link.session > sessions_before

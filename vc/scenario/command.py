@@ -38,8 +38,8 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
     With ``golden`` each passed scenario is compared with its golden trace in that directory
     (``update_golden`` writes the traces instead).  ``jobs`` worker processes run the files
     (None: one per core; 1: in this process); a run with its own ``catalog`` or
-    ``machine_loader``, or with a scenario of an external PLC, stays in this process.  ``build`` names the build that runs
-    (printed first).
+    ``machine_loader``, or with a scenario of an external PLC, stays in this process.  ``build``
+    names the build that runs (printed first).
     """
     report = ConsoleReport(console)
     try:

@@ -159,6 +159,7 @@ def test_a_plc_that_cannot_run_the_program_is_reported() -> None:
             child.stderr.close()
 
 
+@pytest.mark.realtime
 def test_in_real_time_the_nc_watches_the_plc_on_the_bus() -> None:
     # The PLC watches the NC's frames on its own clock: on a host shared with other work the harness
     # may stall for longer than 50 ms, and the PLC would rightly react (emergency stop).

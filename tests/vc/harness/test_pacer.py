@@ -10,6 +10,8 @@ import pytest
 from vc.cli.main import main
 from vc.harness.pacer import PacingStats, RealtimePacer, percentile
 
+pytestmark = pytest.mark.realtime
+
 
 @pytest.mark.parametrize(("speed", "period"), [(1.0, 0.002), (2.0, 0.001), (0.5, 0.004), (None, 0.0)])
 def test_the_speed_factor_scales_the_wall_clock_period(speed: float | None, period: float) -> None:

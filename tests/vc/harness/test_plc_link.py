@@ -118,6 +118,7 @@ def _run_until(simulation: Simulation, condition: str, seconds: float) -> bool:
     return False
 
 
+@pytest.mark.realtime
 def test_real_time_a_silent_plc_raises_2000_and_after_its_return_a_reset_clears_it() -> None:
     link = PlcLink(LinkMode.FREE_RUNNING, modbus=Endpoint("127.0.0.1", 0))
     assert link.modbus is not None
@@ -148,6 +149,7 @@ def test_real_time_a_silent_plc_raises_2000_and_after_its_return_a_reset_clears_
         link.close()
 
 
+@pytest.mark.realtime
 def test_real_time_without_any_plc_the_nc_reports_2001_after_md10120() -> None:
     config = load_machine(str(ROOT / "scenarios" / "machines" / "turn_mill.yaml"), _overrides("NC: {MD10120: 0.2}"))
     link = PlcLink(LinkMode.FREE_RUNNING, modbus=Endpoint("127.0.0.1", 0))

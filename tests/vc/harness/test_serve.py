@@ -123,6 +123,7 @@ def test_serve_and_a_plc_process_reference_x1_and_clients_read_the_documented_bi
     assert refused.returncode != 0 and "Illegal data address" in refused.stdout + refused.stderr
 
 
+@pytest.mark.realtime
 def test_serve_in_real_time_with_s7_a_client_reads_the_data_blocks() -> None:
     modbus, s7 = free_port(), free_port()
     server = spawn("-m", "vc.cli.main", "serve", "--modbus", f"127.0.0.1:{modbus}", "--s7", f"127.0.0.1:{s7}",
