@@ -62,7 +62,7 @@ WORKER_MODULE = "fmu.worker"
 WORKER_SCRIPT = "vc_nc_worker.py"  # the name fmu/native/worker_link.c starts
 NATIVE_MODULE = "fmu._vc_fmi"  # the FMU binary, built by setup.py from fmu/native
 CATALOG_PACKAGE = "interfaces.catalog"
-PLATFORM = "linux64"
+PLATFORMS = {2: "linux64", 3: "x86_64-linux"}  # the binaries/ folder of each FMI version
 DEFAULT_STOP_TIME_S = 10.0
 _IMPORT = re.compile(r"^(?P<indent>\s*)(?P<keyword>from|import)(?P<space>\s+)(?P<package>vc|interfaces|fmu)(?=[\s.])",
                      re.MULTILINE)
@@ -163,7 +163,7 @@ def native_library() -> Path:
 def _build_self_contained(staging: Path, unit: NcUnit, manifest: dict[str, object], fmi_version: int) -> tuple[int, ...]:
     """Binary, runtime, PyYAML and model description next to the resources; returns the glibc floor."""
     resources = staging / "resources"
-    binary = staging / "binaries" / PLATFORM / f"{manifest['model']}.so"
+    binary = staging / "binaries" / PLATFORMS[fmi_version] / f"{manifest['model']}.so"
     binary.parent.mkdir(parents=True)
     shutil.copyfile(native_library(), binary)
     add_yaml(resources)

@@ -64,6 +64,7 @@ class NcInstance:
             raise self.fatal(str(error)) from None
         except (OSError, ValueError, KeyError) as error:
             raise self.fatal(f"the FMU's resources are damaged ({error!r})") from None
+        self.time_reference = len(self.unit.variables)  # FMI 3.0's independent variable (model_description.py)
         self._of_kind = {kind: frozenset(index for index, variable in enumerate(self.unit.variables)
                                          if variable.kind is kind) for kind in Kind}
 
@@ -103,9 +104,13 @@ class NcInstance:
     # ------------------------------------------------------------------ values, in batches
     def values(self, kind: Kind, references: Sequence[int]) -> list[Any]:
         wrong = set(references) - self._of_kind[kind]  # one check per batch: hosts ask for hundreds at once
+        if kind is Kind.REAL:
+            wrong.discard(self.time_reference)
         if wrong:
             raise self.fatal(f"value reference {min(wrong)} is not a {kind.value} variable of this FMU")
         get = self.unit.get
+        if self.time_reference in references:
+            return [self.unit.time if reference == self.time_reference else get(reference) for reference in references]
         return [get(reference) for reference in references]
 
     def take(self, kind: Kind, references: Sequence[int], values: Sequence[Any]) -> None:

@@ -1,7 +1,8 @@
 """modelDescription.xml of the self-contained FMU, FMI 2.0 or FMI 3.0, from the unit's variables.
 
 Both versions carry the same variables with the same value references (the index in the unit's
-list, as in the lean FMU that pythonfmu describes): Real/Float64, Integer/Int32, Boolean.  Every
+list, as in the lean FMU that pythonfmu describes; FMI 3.0 adds its independent variable ``time``
+after them): Real/Float64, Integer/Int32, Boolean.  Every
 output is ``initial="exact"`` with the machine's power-on value as start value, so the model
 structure lists the outputs and no initial unknowns.  Co-simulation only, with a fixed
 communication step: no event mode, no clocks (FMPy, the reference host here, runs FMI 3.0
@@ -15,6 +16,7 @@ from dataclasses import dataclass
 
 from fmu.unit import Causality, Kind, NcUnit, Variability
 
+TIME = "time"
 GENERATION_TOOL = "VC harness (vc fmu export)"
 LOG_CATEGORIES = {
     "logStatusWarning": "messages with status warning",
@@ -84,6 +86,10 @@ def model_description(unit: NcUnit, fmi_version: int, identity: Identity) -> byt
             if variable.variability is Variability.CONTINUOUS and variable.kind is not Kind.REAL:
                 raise AssertionError(f"{variable.name}: only a Float64 can be continuous")
             ET.SubElement(variables, type_name, {**attributes, "start": start})
+    if fmi_version == 3:  # FMI 3.0 wants its independent variable declared; its reference follows the others
+        ET.SubElement(variables, "Float64", {"name": TIME, "valueReference": str(len(unit.variables)),
+                                             "description": "simulation time, s", "causality": "independent",
+                                             "variability": "continuous"})
     structure = ET.SubElement(root, "ModelStructure")
     if fmi_version == 2:
         listed = ET.SubElement(structure, "Outputs")

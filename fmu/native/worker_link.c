@@ -15,7 +15,9 @@
  *              uint32 m, m x float64 values, then for the first answer the kinds of the variables
  *              (one byte each, in value-reference order)
  * Sets are queued here and sent with the next request that waits for an answer: a host that sets
- * 500 inputs one call each costs one round trip, not 500.  Gets are answered from the values the
+ * 500 inputs one call each costs one round trip, not 500.  A value equal to the one sent last for
+ * the same variable is not sent again (a PLC master writes its whole output image every cycle; the
+ * NC sees the same bytes either way).  Gets are answered from the values the
  * worker sends back with each step: the references the host read since the previous step, read again
  * after this one (the NC's outputs change only in a step, an input only when it is set).
  */
@@ -71,6 +73,8 @@ struct VcWorker {
     double *cached;            /* per value reference: the last value the worker sent */
     unsigned char *valid;      /* per value reference: cached holds the present value */
     unsigned char *read;       /* per value reference: the host reads it; prefetched after each step */
+    double *sent;              /* per value reference: the value set last */
+    unsigned char *was_sent;   /* per value reference: sent holds a value (not after a reset) */
     uint32_t *prefetch;        /* the references with read set, for the step request */
     size_t prefetch_count;
     size_t queued_sets;        /* set requests in outgoing, not yet answered */
@@ -128,6 +132,13 @@ static void finish_request(VcWorker *worker, size_t start)
 }
 
 /* ------------------------------------------------------------------------ messages */
+static const char *category_of(VcStatus status)
+{
+    static const char *const CATEGORIES[] = {"logAll", "logStatusWarning", "logStatusWarning", "logStatusError",
+                                             "logStatusFatal"};
+    return CATEGORIES[status];
+}
+
 static void emit(VcWorker *worker, VcStatus status, const char *category, const char *message)
 {
     if (worker->log != NULL && (worker->logging_on || status >= VC_WARNING)) {
@@ -137,7 +148,7 @@ static void emit(VcWorker *worker, VcStatus status, const char *category, const 
 
 void vc_log(VcWorker *worker, VcStatus status, const char *message)
 {
-    emit(worker, status, status >= VC_ERROR ? "logStatusError" : "logAll", message);
+    emit(worker, status, category_of(status), message);
 }
 
 static void broken(VcWorker *worker, const char *what)
@@ -244,7 +255,7 @@ static bool receive_answer(VcWorker *worker, Answer *answer)
             memcpy(message, cursor, message_length);
             message[message_length] = '\0';
             VcStatus level = message_status <= VC_FATAL ? (VcStatus)message_status : VC_FATAL;
-            emit(worker, level, level >= VC_ERROR ? "logStatusError" : "logAll", message);
+            emit(worker, level, category_of(level), message);
             free(message);
         }
         cursor += message_length;
@@ -444,7 +455,10 @@ VcWorker *vc_worker_start(const char *resources_dir, const char *instance_name, 
     worker->valid = calloc(count + 1, 1);
     worker->read = calloc(count + 1, 1);
     worker->prefetch = calloc(count + 1, sizeof(uint32_t));
-    if (!worker->kinds || !worker->cached || !worker->valid || !worker->read || !worker->prefetch) {
+    worker->sent = calloc(count + 1, sizeof(double));
+    worker->was_sent = calloc(count + 1, 1);
+    if (!worker->kinds || !worker->cached || !worker->valid || !worker->read || !worker->prefetch || !worker->sent ||
+        !worker->was_sent) {
         emit(worker, VC_FATAL, "logStatusFatal", "out of memory");
         vc_worker_stop(worker);
         return NULL;
@@ -480,6 +494,8 @@ void vc_worker_stop(VcWorker *worker)
     free(worker->valid);
     free(worker->read);
     free(worker->prefetch);
+    free(worker->sent);
+    free(worker->was_sent);
     free(worker->outgoing.data);
     free(worker->incoming.data);
     free(worker->scratch);
@@ -526,7 +542,11 @@ VcStatus vc_exit_initialization(VcWorker *worker)
 
 VcStatus vc_terminate(VcWorker *worker) { return simple_request(worker, OP_TERMINATE, "fmiTerminate"); }
 
-VcStatus vc_reset(VcWorker *worker) { return simple_request(worker, OP_RESET, "fmiReset"); }
+VcStatus vc_reset(VcWorker *worker)
+{
+    memset(worker->was_sent, 0, worker->variable_count); /* the inputs are back at their power-on values */
+    return simple_request(worker, OP_RESET, "fmiReset");
+}
 
 VcStatus vc_do_step(VcWorker *worker, double current_time, double step_size)
 {
@@ -565,24 +585,41 @@ VcStatus vc_set(VcWorker *worker, VcKind kind, const uint32_t *references, size_
         emit(worker, VC_ERROR, "logStatusError", "the NC's worker process has ended; only freeing the instance is left");
         return VC_ERROR;
     }
-    if (count == 0) {
+    size_t changed = 0;
+    for (size_t index = 0; index < count; ++index) {
+        uint32_t reference = references[index];
+        changed += !known(worker, kind, reference) || !worker->was_sent[reference] || worker->sent[reference] != values[index];
+    }
+    if (changed == 0) {
         return VC_OK;
     }
-    size_t start = begin_request(worker, OP_SET, 1 + sizeof(uint32_t) + count * (sizeof(uint32_t) + sizeof(double)));
+    size_t start = begin_request(worker, OP_SET, 1 + sizeof(uint32_t) + changed * (sizeof(uint32_t) + sizeof(double)));
     if (start == SIZE_MAX) {
         return VC_FATAL;
     }
     append_u8(&worker->outgoing, (uint8_t)kind);
-    append_u32(&worker->outgoing, (uint32_t)count);
-    append(&worker->outgoing, references, count * sizeof(uint32_t));
-    append(&worker->outgoing, values, count * sizeof(double));
-    finish_request(worker, start);
-    ++worker->queued_sets;
-    for (size_t index = 0; index < count; ++index) {
-        if (references[index] < worker->variable_count) {
-            worker->valid[references[index]] = 0; /* read back through the worker: it may refuse the value */
+    append_u32(&worker->outgoing, (uint32_t)changed);
+    for (int pass = 0; pass < 2; ++pass) { /* the references, then the values */
+        for (size_t index = 0; index < count; ++index) {
+            uint32_t reference = references[index];
+            bool known_reference = known(worker, kind, reference);
+            if (known_reference && worker->was_sent[reference] && worker->sent[reference] == values[index]) {
+                continue;
+            }
+            if (pass == 0) {
+                append_u32(&worker->outgoing, reference);
+            } else {
+                append_f64(&worker->outgoing, values[index]);
+                if (known_reference) {
+                    worker->sent[reference] = values[index];
+                    worker->was_sent[reference] = 1;
+                    worker->valid[reference] = 0; /* read back through the worker: it may refuse the value */
+                }
+            }
         }
     }
+    finish_request(worker, start);
+    ++worker->queued_sets;
     return VC_OK;
 }
 
