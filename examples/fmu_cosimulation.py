@@ -64,7 +64,7 @@ from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 
 from fmu.export import export_fmu
-from fmu.slave import MANIFEST
+from fmu.instance import MANIFEST
 from fmu.unit import PLC_SIGN_OF_LIFE
 from interfaces.catalog import load_catalog
 from interfaces.image import ProcessImage

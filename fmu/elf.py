@@ -43,10 +43,18 @@ class Needs:
         return max(found, default=())
 
 
+def is_elf(data: bytes) -> bool:
+    return data[:4] == _ELF_MAGIC
+
+
 def needs(path: Path) -> Needs:
-    data = path.read_bytes()
-    if data[:4] != _ELF_MAGIC or data[4] != 2 or data[5] != 1:
-        raise ElfError(f"{path}: not a 64-bit little-endian ELF file")
+    return needs_of(path.read_bytes(), str(path))
+
+
+def needs_of(data: bytes, name: str) -> Needs:
+    """What the ELF file ``data`` (called ``name`` in messages) needs."""
+    if not is_elf(data) or data[4] != 2 or data[5] != 1:
+        raise ElfError(f"{name}: not a 64-bit little-endian ELF file")
     fields = _HEADER.unpack_from(data)
     section_offset, section_size, section_count = fields[6], fields[11], fields[12]
     sections = [_SECTION.unpack_from(data, section_offset + index * section_size) for index in range(section_count)]
@@ -70,8 +78,8 @@ def needs(path: Path) -> Needs:
                 names = versions.setdefault(string(link, file_name), set())
                 aux_position = position + aux
                 for _ in range(count):
-                    _, _, _, name, aux_next = _VERNAUX.unpack_from(data, aux_position)
-                    names.add(string(link, name))
+                    _, _, _, version_name, aux_next = _VERNAUX.unpack_from(data, aux_position)
+                    names.add(string(link, version_name))
                     aux_position += aux_next
                 if not following:
                     break

@@ -49,7 +49,7 @@ from dataclasses import dataclass
 from enum import Enum
 from pathlib import Path
 
-from fmu.elf import needs
+from fmu.elf import is_elf, needs_of
 from fmu.instance import MANIFEST, FmuError
 from fmu.model_description import Identity, model_description
 from fmu.runtime import PYTHON, RUNTIME_DIR, add_yaml, bundle_runtime, compile_tree
@@ -83,7 +83,7 @@ class ExportResult:
     bundle: str
     fmi_version: int
     python: PythonRuntime
-    glibc: tuple[int, ...]  # the oldest glibc every binary of the FMU runs with; () when unknown (lean)
+    glibc: tuple[int, ...]  # the oldest glibc every Linux binary of the FMU runs with
 
     @property
     def size(self) -> int:
@@ -123,7 +123,6 @@ def export_fmu(machine_path: str, output: str, python: PythonRuntime = PythonRun
     destination.parent.mkdir(parents=True, exist_ok=True)
     manifest = {"format": 1, "model": model_identifier, "name": machine.name,
                 "machine": f"machine/{Path(machine_path).name}"}
-    glibc: tuple[int, ...] = ()
     with tempfile.TemporaryDirectory(prefix="vc_fmu_") as staging_text:
         resources = Path(staging_text) / "resources"
         resources.mkdir()
@@ -143,11 +142,24 @@ def export_fmu(machine_path: str, output: str, python: PythonRuntime = PythonRun
         else:
             manifest |= {"token": _token(digest, machine_dir, fmi_version), "fmi": [fmi_version]}
             (resources / MANIFEST).write_text(json.dumps(manifest, indent=2))
-            glibc = _build_self_contained(Path(staging_text), unit, manifest, fmi_version)
+            _build_self_contained(Path(staging_text), unit, manifest, fmi_version)
             built = _zip_fmu(Path(staging_text), destination)
     counts = {causality: sum(1 for v in unit.variables if v.causality is causality) for causality in Causality}
     return ExportResult(built, model_identifier, counts[Causality.INPUT], counts[Causality.OUTPUT],
-                        counts[Causality.PARAMETER], bundle, fmi_version, python, glibc)
+                        counts[Causality.PARAMETER], bundle, fmi_version, python, glibc_floor(built))
+
+
+def glibc_floor(fmu_path: Path) -> tuple[int, ...]:
+    """The newest glibc version any Linux binary in the FMU needs (its own and the bundled runtime's)."""
+    floors: list[tuple[int, ...]] = []
+    with zipfile.ZipFile(fmu_path) as archive:
+        for name in archive.namelist():
+            linux = name.startswith(tuple(f"binaries/{platform}/" for platform in PLATFORMS.values()))
+            if linux or name.startswith(f"resources/{RUNTIME_DIR}/"):
+                data = archive.read(name)
+                if is_elf(data):
+                    floors.append(needs_of(data, name).glibc)
+    return max(floors, default=())
 
 
 def native_library() -> Path:
@@ -160,22 +172,20 @@ def native_library() -> Path:
     return Path(spec.origin)
 
 
-def _build_self_contained(staging: Path, unit: NcUnit, manifest: dict[str, object], fmi_version: int) -> tuple[int, ...]:
-    """Binary, runtime, PyYAML and model description next to the resources; returns the glibc floor."""
+def _build_self_contained(staging: Path, unit: NcUnit, manifest: dict[str, object], fmi_version: int) -> None:
+    """Binary, runtime, PyYAML and model description next to the resources."""
     resources = staging / "resources"
     binary = staging / "binaries" / PLATFORMS[fmi_version] / f"{manifest['model']}.so"
     binary.parent.mkdir(parents=True)
     shutil.copyfile(native_library(), binary)
     add_yaml(resources)
     compile_tree(resources)
-    runtime = bundle_runtime(resources / RUNTIME_DIR)
+    bundle_runtime(resources / RUNTIME_DIR)
     identity = Identity(str(manifest["model"]), str(manifest["token"]), str(manifest["name"]),
                         f"{manifest['name']}: SINUMERIK-style NC and machine plant; the PLC connects through the"
                         " NC/PLC interface signals (self-contained: the NC runs in a Python runtime inside the FMU)",
                         DEFAULT_STOP_TIME_S)
     (staging / "modelDescription.xml").write_bytes(model_description(unit, fmi_version, identity))
-    binaries = [binary] + [resources / RUNTIME_DIR / relative for relative in runtime.binaries]
-    return max(needs(path).glibc for path in binaries)
 
 
 def _zip_fmu(staging: Path, destination: Path) -> Path:

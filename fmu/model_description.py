@@ -99,4 +99,5 @@ def model_description(unit: NcUnit, fmi_version: int, identity: Identity) -> byt
         for index in outputs:
             ET.SubElement(structure, "Output", {"valueReference": str(index)})
     ET.indent(root, space="  ")
-    return ET.tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
+    document: bytes = ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+    return document + b"\n"

@@ -27,7 +27,6 @@ import sys
 import sysconfig
 import tempfile
 import zipfile
-from dataclasses import dataclass
 from pathlib import Path
 
 from fmu.elf import GLIBC_LIBRARIES, ElfError, Needs, needs
@@ -42,13 +41,7 @@ LEFT_OUT = frozenset({"test", "idlelib", "tkinter", "turtledemo", "lib2to3", "en
 _PYC_TAG = sys.implementation.cache_tag
 
 
-@dataclass(frozen=True, slots=True)
-class Runtime:
-    python_version: str  # "3.11"
-    binaries: tuple[Path, ...]  # every ELF file bundled, relative to the runtime directory
-
-
-def bundle_runtime(target: Path) -> Runtime:
+def bundle_runtime(target: Path) -> None:
     """Copy the interpreter running this export, trimmed, into ``target`` (the runtime directory)."""
     version = f"{sys.version_info.major}.{sys.version_info.minor}"
     executable = Path(getattr(sys, "_base_executable", sys.executable)).resolve()
@@ -60,13 +53,11 @@ def bundle_runtime(target: Path) -> Runtime:
     python = target / PYTHON
     shutil.copyfile(executable, python)
     python.chmod(0o755)
-    binaries = [Path(PYTHON)]
     shared = _shared_libpython()
     if shared is not None:
         copied = lib / shared.name
         shutil.copyfile(shared, copied)
         _strip(copied)
-        binaries.append(copied.relative_to(target))
     elif "libpython" in " ".join(_needs(python).libraries):
         raise FmuError(f"{executable} needs a shared libpython that sysconfig does not name: cannot bundle it")
     zip_name = f"python{sys.version_info.major}{sys.version_info.minor}.zip"
@@ -80,14 +71,11 @@ def bundle_runtime(target: Path) -> Runtime:
         libraries = set(_needs(module).libraries)
         if libraries <= allowed:
             shutil.copyfile(module, dynload_target / module.name)
-            binaries.append((dynload_target / module.name).relative_to(target))
             wanted |= libraries & set(BUNDLED_LIBRARIES)
     for library in sorted(wanted):
         shutil.copyfile(_loaded_library(library), lib / library)
-        binaries.append(Path("lib", library))
     (target / "bin" / "python._pth").write_text(
         f"../lib/{zip_name}\n../lib/python{version}/lib-dynload\n../..\n", encoding="utf-8")
-    return Runtime(version, tuple(binaries))
 
 
 def add_yaml(resources: Path) -> None:

@@ -29,6 +29,7 @@ from pythonfmu.enums import Fmi2Status
 
 from fmu.instance import FmuError, NcInstance, Status
 from fmu.unit import Causality, Kind, Variability, Variable
+
 DEFAULT_STOP_TIME_S = 10.0
 _VARIABLE_CLASSES = {Kind.BOOLEAN: Boolean, Kind.INTEGER: Integer, Kind.REAL: Real}
 _CAUSALITIES = {Causality.INPUT: Fmi2Causality.input, Causality.OUTPUT: Fmi2Causality.output,

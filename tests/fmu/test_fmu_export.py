@@ -18,6 +18,7 @@ from fmpy import read_model_description, simulate_fmu
 from fmpy.validation import validate_fmu
 
 from fmu.export import ExportResult, PythonRuntime, export_fmu
+from fmu.instance import FmuError
 from fmu.unit import Causality, Kind, NcUnit
 from interfaces.catalog import load_catalog
 from interfaces.signals import Direction, expand
@@ -149,6 +150,16 @@ def test_the_lean_fmu_carries_the_machine_and_its_code_under_a_name_of_its_own(
     assert not [name for name in names if "/runtime/" in name or "/yaml/" in name]  # the host's Python runs it
 
 
+def test_without_the_binary_built_at_installation_the_export_says_what_to_do(monkeypatch: pytest.MonkeyPatch,
+                                                                            tmp_path: Path) -> None:
+    import fmu.export
+
+    monkeypatch.setattr(fmu.export, "NATIVE_MODULE", "fmu._vc_fmi_never_built")
+    with pytest.raises(FmuError, match=r"install a C compiler .*; or export the lean FMU with --python host"):
+        export_fmu(TURN_MILL, str(tmp_path / "no_binary.fmu"))
+    assert not (tmp_path / "no_binary.fmu").exists()
+
+
 def test_the_same_code_and_machine_give_the_same_token(tmp_path: Path, turn_mill_export: ExportResult) -> None:
     again = export_fmu(TURN_MILL, str(tmp_path / "again.fmu"))
     assert read_model_description(str(again.path)).guid == read_model_description(str(turn_mill_export.path)).guid
@@ -186,7 +197,8 @@ def test_the_command_line_exports_fmi_3_and_refuses_a_lean_fmi_3_fmu(tmp_path: P
     assert validate_fmu(str(tmp_path / "m.fmu")) == []
     refused = export("--fmi", "3", "--python", "host")
     assert refused.returncode == 2
-    assert "vc fmu export: the lean FMU (--python host) is built by pythonfmu, which knows FMI 2.0 only" in refused.stderr
+    assert "vc fmu export: the lean FMU (--python host) is built by pythonfmu, which knows FMI 2.0 only" \
+        in refused.stderr
 
 
 # ------------------------------------------------------------------------------ simulation: FMU == unit

@@ -13,7 +13,7 @@
     vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle
     vc bench --link modbus [--seconds S]              what the Modbus TCP link costs (bench/README.md)
     vc bench --link can [--seconds S]                 frames per second and cost per IPO cycle of the CAN link
-    vc bench --link fmu [--seconds S]                 FMU steps per second under FMPy against in process
+    vc bench --link fmu [--seconds S] [--python host] FMU steps per second under FMPy against in process
     vc fmu export --machine M.yaml -o M.fmu [--fmi 3] [--python host]
                                                       the NC and the plant as an FMI co-simulation FMU,
                                                       self-contained (or lean: runs in the host's Python)
@@ -130,11 +130,13 @@ def _bench_can(arguments: argparse.Namespace) -> int:
 
 
 def _bench_fmu(arguments: argparse.Namespace) -> int:
+    from fmu.export import PythonRuntime
     from fmu.instance import FmuError
     from vc.harness.fmu_benchmark import FmuBenchmarkError, run_fmu_benchmark
 
     seconds = DEFAULT_FMU_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
-    return _figures_of(lambda: run_fmu_benchmark(arguments.machine, seconds, say=_say),
+    python = PythonRuntime(arguments.python)
+    return _figures_of(lambda: run_fmu_benchmark(arguments.machine, seconds, say=_say, python=python),
                        (FmuBenchmarkError, FmuError))
 
 
@@ -288,6 +290,8 @@ def build_parser() -> argparse.ArgumentParser:
                        help="modbus: full interface exchanges per server, in 10 rounds (default 2000)")
     bench.add_argument("--frames", type=int, default=20000, metavar="N",
                        help="can: frames of the throughput measurement per bus (default 20000)")
+    bench.add_argument("--python", choices=("bundled", "host"), default="bundled",
+                       help="fmu: the self-contained FMU (bundled, default) or the lean one (host)")
     bench.set_defaults(handler=_bench)
 
     fmu = commands.add_parser("fmu", help="export the NC and the plant as an FMU (FMI 2.0/3.0 co-simulation)")
