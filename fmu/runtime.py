@@ -71,6 +71,7 @@ def bundle_runtime(target: Path) -> None:
         libraries = set(_needs(module).libraries)
         if libraries <= allowed:
             shutil.copyfile(module, dynload_target / module.name)
+            _strip(dynload_target / module.name)
             wanted |= libraries & set(BUNDLED_LIBRARIES)
     for library in sorted(wanted):
         shutil.copyfile(_loaded_library(library), lib / library)
@@ -126,7 +127,8 @@ def _needs(path: Path) -> Needs:
 
 
 def _strip(library: Path) -> None:
-    """Debug symbols out (libpython: about 23 MB to 5 MB); a copy without ``strip`` stays as it is."""
+    """Debug symbols out (libpython: 23 MB to 5.5 MB, the extension modules 11 MB to 3); a copy
+    without ``strip`` (binutils) stays as it is."""
     strip = shutil.which("strip")
     if strip is not None:
         subprocess.run([strip, "--strip-unneeded", str(library)], check=False, capture_output=True, timeout=120)

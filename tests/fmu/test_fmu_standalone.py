@@ -380,5 +380,5 @@ def test_the_glibc_floor_of_every_binary_is_what_objdump_reads(turn_mill_export:
                         for word in table.split() if word.strip("()").startswith("GLIBC_")
                         and word.strip("()").removeprefix("GLIBC_").replace(".", "").isdigit()}
             assert max(versions) == floors[name], name
-    print(textwrap.indent("\n".join(f"glibc {'.'.join(map(str, floor))}  {name}"
+    print(textwrap.indent("\n".join(f"glibc {'.'.join(map(str, floor)) or '-':4}  {name}"
                                     for name, floor in sorted(floors.items(), key=lambda item: item[1])), "  "))

@@ -364,9 +364,9 @@ def _fmpy() -> _Fmpy:
 class FmuUnderFmpy:
     """The exported FMU, extracted once, as FMPy's low-level API sees it: its ports and fresh instances.
 
-    A context manager: at the end it takes back what pythonfmu's binary did to this process
-    (the extracted ``resources`` folder on ``sys.path``, the slave and its bundled code imported
-    from there), since the folder is about to be deleted.
+    A context manager: at the end it takes back what a lean FMU's binary (pythonfmu) did to this
+    process (the extracted ``resources`` folder on ``sys.path``, the slave and its bundled code
+    imported from there), since the folder is about to be deleted.
     """
 
     def __init__(self, fmpy: _Fmpy, fmu_path: Path, unzip_dir: Path):
