@@ -174,41 +174,16 @@ FMI2_Export fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[
     return (fmi2Status)vc_get(((Instance *)c)->worker, VC_REAL, vr, nvr, value);
 }
 
-#define GET_CONVERTED(kind, type)                                                                       \
-    VcWorker *worker = ((Instance *)c)->worker;                                                         \
-    double *scratch = vc_scratch(worker, nvr);                                                          \
-    if (scratch == NULL) {                                                                              \
-        return fmi2Fatal;                                                                               \
-    }                                                                                                   \
-    VcStatus status = vc_get(worker, (kind), vr, nvr, scratch);                                         \
-    if (status < VC_ERROR) {                                                                            \
-        for (size_t index = 0; index < nvr; ++index) {                                                  \
-            value[index] = (type)scratch[index];                                                        \
-        }                                                                                               \
-    }                                                                                                   \
-    return (fmi2Status)status
-
-#define SET_CONVERTED(kind)                                                                             \
-    VcWorker *worker = ((Instance *)c)->worker;                                                         \
-    double *scratch = vc_scratch(worker, nvr);                                                          \
-    if (scratch == NULL) {                                                                              \
-        return fmi2Fatal;                                                                               \
-    }                                                                                                   \
-    for (size_t index = 0; index < nvr; ++index) {                                                      \
-        scratch[index] = (double)value[index];                                                          \
-    }                                                                                                   \
-    return (fmi2Status)vc_set(worker, (kind), vr, nvr, scratch)
-
 FMI2_Export fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                       fmi2Integer value[])
 {
-    GET_CONVERTED(VC_INTEGER, fmi2Integer);
+    return (fmi2Status)vc_get_ints(((Instance *)c)->worker, VC_INTEGER, vr, nvr, value);
 }
 
 FMI2_Export fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                       fmi2Boolean value[])
 {
-    GET_CONVERTED(VC_BOOLEAN, fmi2Boolean);
+    return (fmi2Status)vc_get_ints(((Instance *)c)->worker, VC_BOOLEAN, vr, nvr, value);
 }
 
 FMI2_Export fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
@@ -220,13 +195,13 @@ FMI2_Export fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[
 FMI2_Export fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                       const fmi2Integer value[])
 {
-    SET_CONVERTED(VC_INTEGER);
+    return (fmi2Status)vc_set_ints(((Instance *)c)->worker, VC_INTEGER, vr, nvr, value);
 }
 
 FMI2_Export fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                       const fmi2Boolean value[])
 {
-    SET_CONVERTED(VC_BOOLEAN);
+    return (fmi2Status)vc_set_ints(((Instance *)c)->worker, VC_BOOLEAN, vr, nvr, value);
 }
 
 /* ------------------------------------------------------------------------ what this FMU does not do */

@@ -144,77 +144,54 @@ static fmi3Status count_mismatch(fmi3Instance instance, size_t references, size_
     return fmi3Error;
 }
 
+/* Every variable of this FMU is a scalar: as many values as value references. */
+#define CHECK_COUNTS()                                                                                  \
+    do {                                                                                                \
+        if (nValues != nValueReferences) {                                                              \
+            return count_mismatch(instance, nValueReferences, nValues);                                 \
+        }                                                                                               \
+    } while (0)
+
 FMI3_Export fmi3Status fmi3GetFloat64(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                       size_t nValueReferences, fmi3Float64 values[], size_t nValues)
 {
-    if (nValues != nValueReferences) {
-        return count_mismatch(instance, nValueReferences, nValues);
-    }
+    CHECK_COUNTS();
     return (fmi3Status)vc_get(((Instance *)instance)->worker, VC_REAL, valueReferences, nValueReferences, values);
 }
 
 FMI3_Export fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                       size_t nValueReferences, const fmi3Float64 values[], size_t nValues)
 {
-    if (nValues != nValueReferences) {
-        return count_mismatch(instance, nValueReferences, nValues);
-    }
+    CHECK_COUNTS();
     return (fmi3Status)vc_set(((Instance *)instance)->worker, VC_REAL, valueReferences, nValueReferences, values);
 }
-
-#define GET_CONVERTED(kind, type)                                                                       \
-    if (nValues != nValueReferences) {                                                                  \
-        return count_mismatch(instance, nValueReferences, nValues);                                     \
-    }                                                                                                   \
-    VcWorker *worker = ((Instance *)instance)->worker;                                                  \
-    double *scratch = vc_scratch(worker, nValues);                                                      \
-    if (scratch == NULL) {                                                                              \
-        return fmi3Fatal;                                                                               \
-    }                                                                                                   \
-    VcStatus status = vc_get(worker, (kind), valueReferences, nValueReferences, scratch);               \
-    if (status < VC_ERROR) {                                                                            \
-        for (size_t index = 0; index < nValues; ++index) {                                              \
-            values[index] = (type)scratch[index];                                                       \
-        }                                                                                               \
-    }                                                                                                   \
-    return (fmi3Status)status
-
-#define SET_CONVERTED(kind)                                                                             \
-    if (nValues != nValueReferences) {                                                                  \
-        return count_mismatch(instance, nValueReferences, nValues);                                     \
-    }                                                                                                   \
-    VcWorker *worker = ((Instance *)instance)->worker;                                                  \
-    double *scratch = vc_scratch(worker, nValues);                                                      \
-    if (scratch == NULL) {                                                                              \
-        return fmi3Fatal;                                                                               \
-    }                                                                                                   \
-    for (size_t index = 0; index < nValues; ++index) {                                                  \
-        scratch[index] = (double)values[index];                                                         \
-    }                                                                                                   \
-    return (fmi3Status)vc_set(worker, (kind), valueReferences, nValueReferences, scratch)
 
 FMI3_Export fmi3Status fmi3GetInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                     size_t nValueReferences, fmi3Int32 values[], size_t nValues)
 {
-    GET_CONVERTED(VC_INTEGER, fmi3Int32);
+    CHECK_COUNTS();
+    return (fmi3Status)vc_get_ints(((Instance *)instance)->worker, VC_INTEGER, valueReferences, nValues, values);
 }
 
 FMI3_Export fmi3Status fmi3GetBoolean(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                       size_t nValueReferences, fmi3Boolean values[], size_t nValues)
 {
-    GET_CONVERTED(VC_BOOLEAN, fmi3Boolean);
+    CHECK_COUNTS();
+    return (fmi3Status)vc_get_bools(((Instance *)instance)->worker, valueReferences, nValues, values);
 }
 
 FMI3_Export fmi3Status fmi3SetInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                     size_t nValueReferences, const fmi3Int32 values[], size_t nValues)
 {
-    SET_CONVERTED(VC_INTEGER);
+    CHECK_COUNTS();
+    return (fmi3Status)vc_set_ints(((Instance *)instance)->worker, VC_INTEGER, valueReferences, nValues, values);
 }
 
 FMI3_Export fmi3Status fmi3SetBoolean(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                                       size_t nValueReferences, const fmi3Boolean values[], size_t nValues)
 {
-    SET_CONVERTED(VC_BOOLEAN);
+    CHECK_COUNTS();
+    return (fmi3Status)vc_set_bools(((Instance *)instance)->worker, valueReferences, nValues, values);
 }
 
 /* ------------------------------------------------------------------------ what this FMU does not do

@@ -504,7 +504,8 @@ void vc_worker_stop(VcWorker *worker)
 
 void vc_set_logging(VcWorker *worker, bool logging_on) { worker->logging_on = logging_on; }
 
-double *vc_scratch(VcWorker *worker, size_t count)
+/* Room for count doubles, the conversions' (valid until the next call on the worker); NULL without memory. */
+static double *scratch(VcWorker *worker, size_t count)
 {
     if (count > worker->scratch_capacity) {
         double *scratch = realloc(worker->scratch, count * sizeof(double));
@@ -514,7 +515,10 @@ double *vc_scratch(VcWorker *worker, size_t count)
         worker->scratch = scratch;
         worker->scratch_capacity = count;
     }
-    return worker->scratch != NULL ? worker->scratch : (count == 0 ? (double *)worker : NULL);
+    if (worker->scratch == NULL && count == 0) {
+        return worker->cached; /* nothing to convert: any valid address does */
+    }
+    return worker->scratch;
 }
 
 /* ------------------------------------------------------------------------ the life cycle */
@@ -667,6 +671,61 @@ VcStatus vc_get(VcWorker *worker, VcKind kind, const uint32_t *references, size_
         worker->cached[reference] = values[index]; /* the worker checked the references */
         worker->valid[reference] = 1;
         remember_read(worker, reference);
+    }
+    return status;
+}
+
+/* ------------------------------------------------------------------------ values of other C types */
+VcStatus vc_set_ints(VcWorker *worker, VcKind kind, const uint32_t *references, size_t count, const int *values)
+{
+    double *converted = scratch(worker, count);
+    if (converted == NULL) {
+        return VC_FATAL;
+    }
+    for (size_t index = 0; index < count; ++index) {
+        converted[index] = (double)values[index];
+    }
+    return vc_set(worker, kind, references, count, converted);
+}
+
+VcStatus vc_get_ints(VcWorker *worker, VcKind kind, const uint32_t *references, size_t count, int *values)
+{
+    double *converted = scratch(worker, count);
+    if (converted == NULL) {
+        return VC_FATAL;
+    }
+    VcStatus status = vc_get(worker, kind, references, count, converted);
+    if (status < VC_ERROR) {
+        for (size_t index = 0; index < count; ++index) {
+            values[index] = (int)converted[index];
+        }
+    }
+    return status;
+}
+
+VcStatus vc_set_bools(VcWorker *worker, const uint32_t *references, size_t count, const bool *values)
+{
+    double *converted = scratch(worker, count);
+    if (converted == NULL) {
+        return VC_FATAL;
+    }
+    for (size_t index = 0; index < count; ++index) {
+        converted[index] = values[index] ? 1.0 : 0.0;
+    }
+    return vc_set(worker, VC_BOOLEAN, references, count, converted);
+}
+
+VcStatus vc_get_bools(VcWorker *worker, const uint32_t *references, size_t count, bool *values)
+{
+    double *converted = scratch(worker, count);
+    if (converted == NULL) {
+        return VC_FATAL;
+    }
+    VcStatus status = vc_get(worker, VC_BOOLEAN, references, count, converted);
+    if (status < VC_ERROR) {
+        for (size_t index = 0; index < count; ++index) {
+            values[index] = converted[index] != 0.0;
+        }
     }
     return status;
 }

@@ -48,8 +48,11 @@ VcStatus vc_reset(VcWorker *worker);
 VcStatus vc_set(VcWorker *worker, VcKind kind, const uint32_t *references, size_t count, const double *values);
 VcStatus vc_get(VcWorker *worker, VcKind kind, const uint32_t *references, size_t count, double *values);
 
-/* Scratch space for the FMI front ends' conversions (valid until the next call on the worker). */
-double *vc_scratch(VcWorker *worker, size_t count);
+/* The same for int arrays (FMI 2.0 Integer and Boolean, FMI 3.0 Int32) and bool arrays (FMI 3.0 Boolean). */
+VcStatus vc_set_ints(VcWorker *worker, VcKind kind, const uint32_t *references, size_t count, const int *values);
+VcStatus vc_get_ints(VcWorker *worker, VcKind kind, const uint32_t *references, size_t count, int *values);
+VcStatus vc_set_bools(VcWorker *worker, const uint32_t *references, size_t count, const bool *values);
+VcStatus vc_get_bools(VcWorker *worker, const uint32_t *references, size_t count, bool *values);
 
 /* Logs a message through the instance's logger (for the front ends' own checks). */
 void vc_log(VcWorker *worker, VcStatus status, const char *message);

@@ -160,6 +160,20 @@ def test_without_the_binary_built_at_installation_the_export_says_what_to_do(mon
     assert not (tmp_path / "no_binary.fmu").exists()
 
 
+def test_the_export_copies_the_python_source_where_a_compiled_module_stands_beside_it(tmp_path: Path) -> None:
+    from importlib.machinery import EXTENSION_SUFFIXES, ModuleSpec
+
+    from fmu.export import _python_source
+
+    compiled = tmp_path / f"nck{EXTENSION_SUFFIXES[0]}"
+    compiled.write_bytes(b"\x7fELF")
+    (tmp_path / "nck.py").write_text("CYCLE = 1\n")
+    assert _python_source(ModuleSpec("vc.core.nck", None, origin=str(compiled))) == tmp_path / "nck.py"
+    assert _python_source(ModuleSpec("vc.core.nck", None, origin=str(tmp_path / "nck.py"))) == tmp_path / "nck.py"
+    (tmp_path / "nck.py").unlink()
+    assert _python_source(ModuleSpec("vc.core.nck", None, origin=str(compiled))) is None
+
+
 def test_the_same_code_and_machine_give_the_same_token(tmp_path: Path, turn_mill_export: ExportResult) -> None:
     again = export_fmu(TURN_MILL, str(tmp_path / "again.fmu"))
     assert read_model_description(str(again.path)).guid == read_model_description(str(turn_mill_export.path)).guid

@@ -83,6 +83,7 @@ def ecos(tmp_path_factory: pytest.TempPathFactory) -> Path:
     try:
         import ecospy
     except ImportError:
+        assert not os.environ.get("VC_REQUIRE_ECOS"), "ecospy is required here (VC_REQUIRE_ECOS is set)"
         pytest.skip("ecospy (Ecos) is not installed: pip install -e '.[test]'")
     shipped = Path(ecospy.__file__).parent / "binaries" / "ecos"
     executable = tmp_path_factory.mktemp("ecos") / "ecos"
