@@ -1,6 +1,12 @@
-"""The build: the hot modules of the harness compiled with mypyc, or the pure-Python package.
+"""The build: the hot modules of the harness compiled with mypyc, or the pure-Python package; and
+the self-contained FMU's binary.
 
-Metadata lives in pyproject.toml; this file only adds the compiled extension modules.
+Metadata lives in pyproject.toml; this file only adds the compiled parts.
+
+* The FMU's binary (fmu/native, C11) is built as ``fmu/_vc_fmi*.so`` wherever a C compiler is
+  found, in either build: it is no Python extension (it never links libpython and is never
+  imported), it only travels with the package; ``vc fmu export`` copies it into each FMU.
+  Without a compiler the installation still succeeds and the export says what is missing.
 
 * Which modules: what runs every IPO cycle, chosen by profile (``COMPILED`` below): the NC core,
   the plant, the soft PLC's runtime and programs, and the pure interface modules.  The simulation loop
@@ -29,7 +35,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
-from setuptools import setup
+from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 from setuptools.command.build_py import build_py
 
@@ -55,6 +61,17 @@ COMPILED = (
     "interfaces/plant_io.py",
     "interfaces/exchange.py",
 )
+
+
+NATIVE = "fmu/native"
+FMU_BINARY = [Extension(
+    "fmu._vc_fmi",
+    sources=[f"{NATIVE}/worker_link.c", f"{NATIVE}/fmi2.c", f"{NATIVE}/fmi3.c"],
+    include_dirs=[NATIVE, f"{NATIVE}/include"],
+    # only the FMI functions are exported (FMI2_Export / FMI3_Export); glibc 2.17 is the floor
+    extra_compile_args=["-std=c11", "-fvisibility=hidden", "-Wall", "-Wextra", "-Werror"],
+    optional=True,
+)] if sys.platform.startswith("linux") else []
 
 
 def compiled_sources() -> list[str]:
@@ -142,18 +159,18 @@ def build() -> None:
         stale_manifest.unlink()
     if reason is not None:
         print(f"vc-harness: installing the pure-Python build ({reason})", file=sys.stderr)
-        setup()
+        setup(ext_modules=FMU_BINARY)
         return
     sources = compiled_sources()
     if not BUILDING.intersection(sys.argv[1:]):  # metadata only (egg_info, dist_info): no C needed
-        setup()
+        setup(ext_modules=FMU_BINARY)
         return
     from mypyc.build import mypycify
 
     text = manifest_text(sources)
 
     extensions = mypycify(sources, opt_level=OPT_LEVEL, multi_file=True, group_name=GROUP)
-    setup(ext_modules=extensions,
+    setup(ext_modules=[*FMU_BINARY, *extensions],
           cmdclass={"build_ext": manifest_command(ParallelBuildExt, text),
                     "build_py": manifest_command(build_py, text)})
 

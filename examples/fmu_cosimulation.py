@@ -64,7 +64,7 @@ from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 
 from fmu.export import export_fmu
-from fmu.slave import MANIFEST
+from fmu.instance import MANIFEST
 from fmu.unit import PLC_SIGN_OF_LIFE
 from interfaces.catalog import load_catalog
 from interfaces.image import ProcessImage
@@ -143,8 +143,8 @@ class NcFmu:
 
     def set_inputs(self, values: Mapping[str, Value]) -> None:
         """Set the inputs whose value differs from the one set last.  FMI inputs keep their value,
-        and every value set is a call into the FMU's Python: setting all 500 at every step nearly
-        doubles the run time."""
+        and every value set costs FMPy's conversion and the NC's write: setting all 500 at every
+        step nearly doubles the run time."""
         setters = {"Boolean": self.slave.setBoolean, "Integer": self.slave.setInteger, "Real": self.slave.setReal}
         for fmi_type, (names, references) in self.inputs.items():
             changed = [(reference, values[name]) for name, reference in zip(names, references, strict=True)

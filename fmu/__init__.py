@@ -1,1 +1,2 @@
-"""FMI 2.0 co-simulation facade over the NC core (built with pythonfmu); no NC logic here."""
+"""The NC and its plant as an FMI 2.0/3.0 co-simulation FMU (self-contained, or lean with pythonfmu);
+no NC logic here."""

@@ -1,7 +1,8 @@
 """The NC and its machine plant as one co-simulation unit: variables, parameters, the step.
 
-This is what the FMU exports, without any FMI library (``fmu/slave.py`` maps it onto
-pythonfmu), so it is tested like any other part of the project.  The unit is the
+This is what the FMU exports, without any FMI library (``fmu/instance.py`` gives it the FMI
+behaviour, ``fmu/worker.py`` and ``fmu/slave.py`` carry it), so it is tested like any other part
+of the project.  The unit is the
 simulation of ``vc run`` with the PLC left out: the PLC, wherever it runs, talks to the
 unit through its variables.
 

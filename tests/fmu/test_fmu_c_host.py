@@ -6,9 +6,8 @@ It prints what it did and what the FMU answered as records (see the head of ``fm
 tests check the motion against X1's machine data, the refused 3 ms step, and that replaying the same
 records in-process through :class:`fmu.unit.NcUnit` gives the very same numbers (``%.17g``).
 
-pythonfmu's binary runs the host process's Python and does not link libpython: the host is started
-with the libpython of this Python preloaded and this venv's ``bin`` first on ``PATH``, which is where
-the embedded interpreter finds its prefix and so the venv's site-packages (PyYAML).
+The FMU is the self-contained one (the default of ``vc fmu export``) and the host runs with an empty
+environment (``env -i``): no Python, no ``PATH``, no preload; the FMU brings its own runtime.
 """
 
 from __future__ import annotations
@@ -17,8 +16,6 @@ import json
 import os
 import shutil
 import subprocess
-import sys
-import sysconfig
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -27,7 +24,7 @@ import fmpy
 import pytest
 from fmpy import read_model_description
 
-from fmu.slave import MANIFEST
+from fmu.instance import MANIFEST
 from fmu.unit import Kind, NcUnit, UnitError
 from vc.config import md_dictionary as MD
 from vc.config.loader import load_machine
@@ -118,22 +115,14 @@ def variables_file(unzipped_fmu: Path) -> Path:
     return path
 
 
-def host_environment() -> dict[str, str]:
-    """This process's environment with this Python's libpython preloaded and its venv's bin first on PATH."""
-    libpython = Path(sysconfig.get_config_var("LIBDIR") or "", sysconfig.get_config_var("INSTSONAME") or "")
-    assert libpython.is_file() and ".so" in libpython.name, (
-        f"no shared libpython at {libpython}: this Python is built without --enable-shared, so a"
-        " non-Python host cannot run the FMU with it")
-    # Not resolved: sys.executable is the venv's python, a symlink whose directory holds pyvenv.cfg.
-    venv_bin = Path(sys.executable).parent
-    return {**os.environ, "LD_PRELOAD": str(libpython), "PATH": f"{venv_bin}{os.pathsep}{os.environ.get('PATH', '')}"}
+EMPTY_ENVIRONMENT: dict[str, str] = {}  # env -i
 
 
 @pytest.fixture(scope="module")
 def host_run(c_host: Path, unzipped_fmu: Path, variables_file: Path) -> HostRun:
     command = [str(c_host), str(unzipped_fmu), str(variables_file), f"X1.startPosition={START_POSITION_MM:g}"]
     try:
-        finished = subprocess.run(command, capture_output=True, text=True, env=host_environment(),
+        finished = subprocess.run(command, capture_output=True, text=True, env=EMPTY_ENVIRONMENT,
                                   timeout=TIMEOUT_S, check=False)
     except subprocess.TimeoutExpired as timeout:
         stderr = timeout.stderr.decode(errors="replace") if isinstance(timeout.stderr, bytes) else timeout.stderr

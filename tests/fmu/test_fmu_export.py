@@ -1,4 +1,5 @@
-"""The exported FMU: valid for FMPy, the same outputs as the unit in process, clear failures."""
+"""The exported FMUs (self-contained FMI 2.0 and 3.0, lean): valid for FMPy, the same variables, the
+same outputs as the unit in process, clear failures."""
 
 from __future__ import annotations
 
@@ -16,7 +17,8 @@ from conftest import REPOSITORY, TURN_MILL
 from fmpy import read_model_description, simulate_fmu
 from fmpy.validation import validate_fmu
 
-from fmu.export import ExportResult, export_fmu
+from fmu.export import ExportResult, PythonRuntime, export_fmu
+from fmu.instance import FmuError
 from fmu.unit import Causality, Kind, NcUnit
 from interfaces.catalog import load_catalog
 from interfaces.signals import Direction, expand
@@ -32,8 +34,33 @@ Y1_IN_POSITION = "Y1.basic.in.posFineReached"
 # ------------------------------------------------------------------------------ the model description
 
 
-def test_fmpy_validate_finds_no_problem(turn_mill_fmu: Path) -> None:
-    assert validate_fmu(str(turn_mill_fmu)) == []
+def test_fmpy_validate_finds_no_problem(any_export: ExportResult) -> None:
+    assert validate_fmu(str(any_export.path)) == []
+    assert read_model_description(str(any_export.path)).fmiVersion == f"{any_export.fmi_version}.0"
+
+
+def test_every_variant_has_the_same_variables(turn_mill_export: ExportResult, turn_mill_fmi3_export: ExportResult,
+                                              turn_mill_lean_export: ExportResult) -> None:
+    def variables(export: ExportResult) -> list[tuple[object, ...]]:
+        described = read_model_description(str(export.path)).modelVariables
+        return [(v.name, v.valueReference, v.causality, v.variability, v.initial or "", v.description,
+                 {"Float64": "Real", "Int32": "Integer"}.get(v.type, v.type), _start(v.start))
+                for v in described if v.causality != "independent"]
+
+    fmi2 = variables(turn_mill_export)
+    assert len(fmi2) == turn_mill_export.inputs + turn_mill_export.outputs + turn_mill_export.parameters
+    assert variables(turn_mill_fmi3_export) == fmi2
+    assert variables(turn_mill_lean_export) == fmi2
+    time = [v for v in read_model_description(str(turn_mill_fmi3_export.path)).modelVariables
+            if v.causality == "independent"]
+    assert [(v.name, v.valueReference) for v in time] == [("time", len(fmi2))]  # after every other variable
+
+
+def _start(text: str | None) -> object:
+    """A start value as a number or a Boolean: pythonfmu writes 0 where this project writes 0.0."""
+    if text in (None, "true", "false"):
+        return text
+    return float(text)
 
 
 def test_every_signal_and_plant_point_is_a_variable_with_its_address(turn_mill_fmu: Path) -> None:
@@ -76,24 +103,80 @@ def test_value_references_follow_the_units_variables(turn_mill_fmu: Path, turn_m
                            for c in (Causality.INPUT, Causality.OUTPUT, Causality.PARAMETER))
 
 
-def test_the_fmu_carries_the_machine_and_its_code_under_a_name_of_its_own(
+def test_the_self_contained_fmu_carries_the_machine_its_code_pyyaml_and_a_python_runtime(
         turn_mill_fmu: Path, turn_mill_export: ExportResult) -> None:
     with zipfile.ZipFile(turn_mill_fmu) as archive:
         names = archive.namelist()
         manifest = json.loads(archive.read("resources/vc_fmu.json"))
         machine = archive.read("resources/machine/turn_mill.yaml")
-    assert manifest["model"] == "turn_mill" and manifest["machine"] == "machine/turn_mill.yaml"
-    assert machine == Path(TURN_MILL).read_bytes()
-    bundle = turn_mill_export.bundle
-    assert f"resources/{bundle}/vc/core/nck.py" in names
-    assert f"resources/{bundle}/interfaces/catalog/db31_axis.yaml" in names
-    assert "binaries/linux64/turn_mill.so" in names
-    assert not [name for name in names if "/vc/scenario/" in name or "/plc_stub/" in name]  # only what the NC needs
-    with zipfile.ZipFile(turn_mill_fmu) as archive:
+        python = archive.getinfo("resources/runtime/bin/python")
+        description = read_model_description(str(turn_mill_fmu))
+        bundle = turn_mill_export.bundle
         for name in names:
             if name.startswith(f"resources/{bundle}/") and name.endswith(".py"):
                 text = archive.read(name).decode()
                 assert "from vc." not in text and "from interfaces." not in text, name
+    assert manifest["model"] == "turn_mill" and manifest["machine"] == "machine/turn_mill.yaml"
+    assert manifest["token"] == description.guid and manifest["fmi"] == [2]
+    assert machine == Path(TURN_MILL).read_bytes()
+    assert f"resources/{bundle}/vc/core/nck.py" in names
+    assert f"resources/{bundle}/vc/core/__pycache__/nck.{sys.implementation.cache_tag}.pyc" in names
+    assert f"resources/{bundle}/interfaces/catalog/db31_axis.yaml" in names
+    assert "resources/vc_nc_worker.py" in names and "resources/yaml/composer.py" in names
+    assert "binaries/linux64/turn_mill.so" in names
+    assert python.external_attr >> 16 == 0o100755  # executable for hosts that restore file modes
+    assert "resources/runtime/bin/python._pth" in names
+    assert f"resources/runtime/lib/python{sys.version_info.major}{sys.version_info.minor}.zip" in names
+    assert not [name for name in names if "/vc/scenario/" in name or "/plc_stub/" in name]  # only what the NC needs
+    assert not [name for name in names if "pythonfmu" in name]
+    assert turn_mill_export.size < 40e6
+
+
+def test_the_lean_fmu_carries_the_machine_and_its_code_under_a_name_of_its_own(
+        turn_mill_lean_export: ExportResult) -> None:
+    with zipfile.ZipFile(turn_mill_lean_export.path) as archive:
+        names = archive.namelist()
+        manifest = json.loads(archive.read("resources/vc_fmu.json"))
+        bundle = turn_mill_lean_export.bundle
+        for name in names:
+            if name.startswith(f"resources/{bundle}/") and name.endswith(".py"):
+                text = archive.read(name).decode()
+                assert "from vc." not in text and "from interfaces." not in text, name
+    assert manifest["model"] == "turn_mill" and manifest["machine"] == "machine/turn_mill.yaml"
+    assert f"resources/{bundle}/vc/core/nck.py" in names
+    assert f"resources/vc_nc_{bundle.removeprefix('vc_fmu_')}.py" in names
+    assert "binaries/linux64/turn_mill.so" in names
+    assert not [name for name in names if "/vc/scenario/" in name or "/plc_stub/" in name]
+    assert not [name for name in names if "/runtime/" in name or "/yaml/" in name]  # the host's Python runs it
+
+
+def test_without_the_binary_built_at_installation_the_export_says_what_to_do(monkeypatch: pytest.MonkeyPatch,
+                                                                            tmp_path: Path) -> None:
+    import fmu.export
+
+    monkeypatch.setattr(fmu.export, "NATIVE_MODULE", "fmu._vc_fmi_never_built")
+    with pytest.raises(FmuError, match=r"install a C compiler .*; or export the lean FMU with --python host"):
+        export_fmu(TURN_MILL, str(tmp_path / "no_binary.fmu"))
+    assert not (tmp_path / "no_binary.fmu").exists()
+
+
+def test_the_export_copies_the_python_source_where_a_compiled_module_stands_beside_it(tmp_path: Path) -> None:
+    from importlib.machinery import EXTENSION_SUFFIXES, ModuleSpec
+
+    from fmu.export import _python_source
+
+    compiled = tmp_path / f"nck{EXTENSION_SUFFIXES[0]}"
+    compiled.write_bytes(b"\x7fELF")
+    (tmp_path / "nck.py").write_text("CYCLE = 1\n")
+    assert _python_source(ModuleSpec("vc.core.nck", None, origin=str(compiled))) == tmp_path / "nck.py"
+    assert _python_source(ModuleSpec("vc.core.nck", None, origin=str(tmp_path / "nck.py"))) == tmp_path / "nck.py"
+    (tmp_path / "nck.py").unlink()
+    assert _python_source(ModuleSpec("vc.core.nck", None, origin=str(compiled))) is None
+
+
+def test_the_same_code_and_machine_give_the_same_token(tmp_path: Path, turn_mill_export: ExportResult) -> None:
+    again = export_fmu(TURN_MILL, str(tmp_path / "again.fmu"))
+    assert read_model_description(str(again.path)).guid == read_model_description(str(turn_mill_export.path)).guid
 
 
 def test_a_machine_file_with_problems_is_refused_with_its_location(tmp_path: Path) -> None:
@@ -111,8 +194,25 @@ def test_the_command_line_exports_and_says_what_it_wrote(tmp_path: Path) -> None
                            str(REPOSITORY / "scenarios/machines/mill_3axis.yaml"), "-o", str(output)],
                           capture_output=True, text=True, timeout=120, cwd=tmp_path)
     assert done.returncode == 0, done.stderr
-    assert f"{output}: FMI 2.0 co-simulation FMU 'mill_3axis'" in done.stdout
+    assert f"{output}: FMI 2.0 co-simulation FMU 'mill_3axis' (self-contained" in done.stdout
+    assert "linux64 needs glibc >= 2." in done.stdout
     assert validate_fmu(str(output)) == []
+
+
+def test_the_command_line_exports_fmi_3_and_refuses_a_lean_fmi_3_fmu(tmp_path: Path) -> None:
+    def export(*options: str) -> subprocess.CompletedProcess[str]:
+        return subprocess.run([sys.executable, "-m", "vc.cli.main", "fmu", "export", "--machine",
+                               str(REPOSITORY / "scenarios/machines/mill_3axis.yaml"), "-o", str(tmp_path / "m.fmu"),
+                               *options], capture_output=True, text=True, timeout=120, cwd=tmp_path)
+
+    done = export("--fmi", "3")
+    assert done.returncode == 0, done.stderr
+    assert "FMI 3.0 co-simulation FMU 'mill_3axis' (self-contained" in done.stdout
+    assert validate_fmu(str(tmp_path / "m.fmu")) == []
+    refused = export("--fmi", "3", "--python", "host")
+    assert refused.returncode == 2
+    assert "vc fmu export: the lean FMU (--python host) is built by pythonfmu, which knows FMI 2.0 only" \
+        in refused.stderr
 
 
 # ------------------------------------------------------------------------------ simulation: FMU == unit
@@ -189,7 +289,8 @@ def _input_array(table: dict[str, list[float | int | bool]], unit: NcUnit) -> np
     return np.array(rows, dtype=dtype)
 
 
-def test_fmpy_simulation_references_x1_exactly_as_the_unit_in_process(turn_mill_fmu: Path) -> None:
+def test_fmpy_simulation_references_x1_exactly_as_the_unit_in_process(any_export: ExportResult) -> None:
+    turn_mill_fmu = any_export.path
     stop_time = 9.0  # Y1 first (about 4 s), then X1
     expected, table = _run_in_process(stop_time)
     referenced_at = expected["time"][expected[REFERENCED].index(1.0)]
@@ -229,8 +330,8 @@ for status, message in messages:
                           capture_output=True, text=True, timeout=120)
 
 
-def test_a_step_that_is_no_whole_number_of_ipo_cycles_is_refused_through_the_logger(turn_mill_fmu: Path) -> None:
-    done = _simulate_in_subprocess(turn_mill_fmu, "    simulate_fmu(FMU, stop_time=0.02, output_interval=0.003,"
+def test_a_step_that_is_no_whole_number_of_ipo_cycles_is_refused_through_the_logger(fmi2_fmu: Path) -> None:
+    done = _simulate_in_subprocess(fmi2_fmu, "    simulate_fmu(FMU, stop_time=0.02, output_interval=0.003,"
                                                   " logger=logger, debug_logging=True, output=['X1.position'])")
     assert done.returncode == 0, done.stderr
     reason = ("the communication step 0.003 s is not a whole number of IPO cycles of 2 ms;"
@@ -262,8 +363,8 @@ def test_the_fmu_answers_a_refused_step_with_discard_and_goes_on(turn_mill_fmu: 
     slave.freeInstance()
 
 
-def test_a_machine_that_does_not_load_fails_instantiation_with_its_location(turn_mill_fmu: Path,
-                                                                          tmp_path: Path) -> None:
+def test_a_machine_that_does_not_load_fails_instantiation_with_its_location(fmi2_fmu: Path, tmp_path: Path) -> None:
+    turn_mill_fmu = fmi2_fmu
     damaged = tmp_path / "damaged.fmu"
     with zipfile.ZipFile(turn_mill_fmu) as source, zipfile.ZipFile(damaged, "w") as target:
         for item in source.infolist():
@@ -278,8 +379,8 @@ def test_a_machine_that_does_not_load_fails_instantiation_with_its_location(turn
     assert "turn_mill.yaml:" in done.stdout  # with file, line and column of the problem
 
 
-def test_bad_parameters_end_initialisation_with_the_reason(turn_mill_fmu: Path) -> None:
-    done = _simulate_in_subprocess(turn_mill_fmu, "    simulate_fmu(FMU, stop_time=0.02, logger=logger,"
+def test_bad_parameters_end_initialisation_with_the_reason(fmi2_fmu: Path) -> None:
+    done = _simulate_in_subprocess(fmi2_fmu, "    simulate_fmu(FMU, stop_time=0.02, logger=logger,"
                                                   " debug_logging=True, start_values={'ipoCycle': 5.0})")
     assert done.returncode == 0, done.stderr
     assert "fmi2ExitInitializationMode failed with status 4 (fatal)" in done.stdout.splitlines()[0]
@@ -287,8 +388,8 @@ def test_bad_parameters_end_initialisation_with_the_reason(turn_mill_fmu: Path) 
     assert "<FMU parameters>:1:" in done.stderr
 
 
-def test_a_value_out_of_range_is_reported_and_not_taken(turn_mill_fmu: Path) -> None:
-    done = _simulate_in_subprocess(turn_mill_fmu, "    simulate_fmu(FMU, stop_time=0.02, logger=logger,"
+def test_a_value_out_of_range_is_reported_and_not_taken(fmi2_fmu: Path) -> None:
+    done = _simulate_in_subprocess(fmi2_fmu, "    simulate_fmu(FMU, stop_time=0.02, logger=logger,"
                                                   " start_values={'X1.basic.out.feedrateOvrFactor': 300})")
     assert done.returncode == 0, done.stderr
     assert done.stdout.splitlines()[0] == "ok"  # the simulation goes on
@@ -312,21 +413,22 @@ print(type(sys.modules["vc"]).__name__, hasattr(sys.modules["vc"], "core"))
 """
 
 
-def test_a_host_with_its_own_vc_modules_does_not_shadow_the_fmu(turn_mill_fmu: Path,
-                                                                turn_mill_export: ExportResult) -> None:
-    done = subprocess.run([sys.executable, "-c", SHADOWING_HOST.replace("FMU", repr(str(turn_mill_fmu)))],
+def test_a_host_with_its_own_vc_modules_does_not_shadow_the_fmu(any_export: ExportResult) -> None:
+    done = subprocess.run([sys.executable, "-c", SHADOWING_HOST.replace("FMU", repr(str(any_export.path)))],
                           capture_output=True, text=True, timeout=120, env={**os.environ, "PYTHONPATH": ""})
     assert done.returncode == 0, done.stderr
     physical, bundles, host_vc = done.stdout.splitlines()
     assert float(physical) == 42.0
-    assert bundles == repr([turn_mill_export.bundle])
+    # the lean FMU's code lives in the host's Python under its own name; the self-contained one's never
+    # enters the host
+    assert bundles == repr([any_export.bundle] if any_export.python is PythonRuntime.HOST else [])
     assert host_vc == "module False"  # the host's vc is untouched
 
 
-def test_a_host_that_imported_the_project_runs_the_fmu_beside_it(turn_mill_fmu: Path) -> None:
+def test_a_host_that_imported_the_project_runs_the_lean_fmu_beside_it(turn_mill_lean_export: ExportResult) -> None:
     import vc.core.nck
 
-    result = simulate_fmu(str(turn_mill_fmu), stop_time=0.05, output=["X1.physical"])
+    result = simulate_fmu(str(turn_mill_lean_export.path), stop_time=0.05, output=["X1.physical"])
     assert result["X1.physical"][-1] == 150.0
     bundled = [module for name, module in sys.modules.items() if name.endswith(".vc.core.nck")]
     assert bundled and all(module is not vc.core.nck for module in bundled)

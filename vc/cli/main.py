@@ -15,8 +15,10 @@
     vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle
     vc bench --link modbus [--seconds S]              what the Modbus TCP link costs (bench/README.md)
     vc bench --link can [--seconds S]                 frames per second and cost per IPO cycle of the CAN link
-    vc bench --link fmu [--seconds S]                 FMU steps per second under FMPy against in process
-    vc fmu export --machine M.yaml -o M.fmu           the NC and the plant as an FMI 2.0 co-simulation FMU
+    vc bench --link fmu [--seconds S] [--python host] FMU steps per second under FMPy against in process
+    vc fmu export --machine M.yaml -o M.fmu [--fmi 3] [--python host]
+                                                      the NC and the plant as an FMI co-simulation FMU,
+                                                      self-contained (or lean: runs in the host's Python)
 
 Problems in input files are reported with file, line and column and exit with code 2;
 a failed scenario exits with 1.
@@ -175,25 +177,26 @@ def _bench_can(arguments: argparse.Namespace) -> int:
 
 
 def _bench_fmu(arguments: argparse.Namespace) -> int:
-    from fmu.slave import FmuError
+    from fmu.export import PythonRuntime
+    from fmu.instance import FmuError
     from vc.harness.fmu_benchmark import FmuBenchmarkError, run_fmu_benchmark
 
     seconds = DEFAULT_FMU_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
-    return _figures_of(lambda: run_fmu_benchmark(arguments.machine, seconds, say=_say),
+    python = PythonRuntime(arguments.python)
+    return _figures_of(lambda: run_fmu_benchmark(arguments.machine, seconds, say=_say, python=python),
                        (FmuBenchmarkError, FmuError))
 
 
 def _fmu_export(arguments: argparse.Namespace) -> int:
-    from fmu.export import export_fmu
-    from fmu.slave import FmuError
+    from fmu.export import PythonRuntime, export_fmu
+    from fmu.instance import FmuError
 
     try:
-        result = export_fmu(arguments.machine, arguments.output)
+        result = export_fmu(arguments.machine, arguments.output, PythonRuntime(arguments.python), arguments.fmi)
     except FmuError as error:
         print(f"vc fmu export: {error}", file=sys.stderr)
         return EXIT_PROBLEMS
-    print(f"{result.path}: FMI 2.0 co-simulation FMU '{result.model_identifier}', {result.inputs} inputs,"
-          f" {result.outputs} outputs, {result.parameters} parameters (code in {result.bundle})")
+    print(result.summary())
     return 0
 
 
@@ -373,13 +376,20 @@ def build_parser() -> argparse.ArgumentParser:
                        help="modbus: full interface exchanges per server, in 10 rounds (default 2000)")
     bench.add_argument("--frames", type=int, default=20000, metavar="N",
                        help="can: frames of the throughput measurement per bus (default 20000)")
+    bench.add_argument("--python", choices=("bundled", "host"), default="bundled",
+                       help="fmu: the self-contained FMU (bundled, default) or the lean one (host)")
     bench.set_defaults(handler=_bench)
 
-    fmu = commands.add_parser("fmu", help="export the NC and the plant as an FMU (FMI 2.0 co-simulation)")
+    fmu = commands.add_parser("fmu", help="export the NC and the plant as an FMU (FMI 2.0/3.0 co-simulation)")
     fmu_commands = fmu.add_subparsers(dest="fmu_command", required=True)
     export = fmu_commands.add_parser("export", help="build the FMU of a machine (docs/fmu.md)")
     export.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")
     export.add_argument("-o", "--output", required=True, metavar="FILE.fmu", help="the FMU file to write")
+    export.add_argument("--fmi", type=int, choices=(2, 3), default=2, help="FMI version (default 2: 2.0; 3: 3.0)")
+    export.add_argument("--python", choices=("bundled", "host"), default="bundled",
+                        help="bundled (default): a self-contained FMU with its own Python runtime, for any host;"
+                             " host: the lean FMU (pythonfmu, FMI 2.0) that runs in the host's Python 3.11+"
+                             " with PyYAML")
     export.set_defaults(handler=_fmu_export)
     return parser
 

@@ -1,11 +1,14 @@
 """``vc bench --link fmu``: the machine's FMU under FMPy, step for step against the same unit in process.
 
-The FMU of ``vc fmu export`` is :class:`fmu.unit.NcUnit` behind pythonfmu's FMI 2.0 facade
-(``fmu/slave.py``).  FMPy's low-level API loads the FMU's binary into this process, and the
-binary calls back into this interpreter for every FMI function.  The benchmark drives the
-FMU and a bare ``NcUnit`` (no FMI in between) with the same workload through the same timed
-loops, so the ratio of their rates is what FMI costs: FMPy's ctypes arrays, pythonfmu's C++
-layer and its Python slave.
+The FMU of ``vc fmu export`` is :class:`fmu.unit.NcUnit` behind FMI 2.0.  FMPy's low-level API
+loads the FMU's binary into this process.  The self-contained FMU (the default) runs the unit in
+a worker process of its own Python runtime and the binary talks to it over a socket pair; the
+lean FMU (``python=PythonRuntime.HOST``) calls back into this interpreter through pythonfmu.  The
+benchmark drives the FMU and a bare ``NcUnit`` (no FMI in between) with the same workload through
+the same timed loops, so the ratio of their rates is what FMI costs: FMPy's ctypes arrays, the
+binary, and the round trip to the worker (or pythonfmu's C++ layer and its Python slave).  It
+also measures the start-up of an instance (``fmi2Instantiate``: for the self-contained FMU the
+worker's interpreter starting and loading the machine) and states the FMU's size and glibc floor.
 
 Workload, at the communication step of a PLC master (the machine's PLC cycle: 10 ms = 5 IPO
 cycles on the turn-mill).  No PLC runs, so the host writes what basic_machine's networks 1 to 4
@@ -36,7 +39,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from fmu.export import export_fmu
+from fmu.export import ExportResult, PythonRuntime, export_fmu
 from fmu.unit import PLC_SIGN_OF_LIFE, Causality, Kind, NcUnit
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
@@ -138,6 +141,9 @@ class FmuBenchmarkResult:
     machine: str
     jog_axis: str
     export_s: float
+    instantiate_s: float  # the first fmi2Instantiate of the benchmark
+    fmu_bytes: int
+    glibc: tuple[int, ...]
     ipo_cycles_per_step: int
     exchange_size: ExchangeSize
     fmu_step: WorkloadFigures
@@ -178,6 +184,9 @@ class FmuBenchmarkResult:
             "ipo_cycles_per_step": self.ipo_cycles_per_step,
             "steps": self.fmu_step.steps,
             "jog_velocity": round(self.jog_velocity, 1),
+            "instantiate_ms": round(self.instantiate_s * 1000, 1),
+            "fmu_mb": round(self.fmu_bytes / 1e6, 2),
+            "glibc": float(".".join(map(str, self.glibc[:2]))),
         })
         return figures
 
@@ -355,9 +364,9 @@ def _fmpy() -> _Fmpy:
 class FmuUnderFmpy:
     """The exported FMU, extracted once, as FMPy's low-level API sees it: its ports and fresh instances.
 
-    A context manager: at the end it takes back what pythonfmu's binary did to this process
-    (the extracted ``resources`` folder on ``sys.path``, the slave and its bundled code imported
-    from there), since the folder is about to be deleted.
+    A context manager: at the end it takes back what a lean FMU's binary (pythonfmu) did to this
+    process (the extracted ``resources`` folder on ``sys.path``, the slave and its bundled code
+    imported from there), since the folder is about to be deleted.
     """
 
     def __init__(self, fmpy: _Fmpy, fmu_path: Path, unzip_dir: Path):
@@ -367,6 +376,7 @@ class FmuUnderFmpy:
         self.ports = [Port(variable.name, Kind(variable.type), Causality(variable.causality),
                            variable.valueReference)
                       for variable in self._description.modelVariables]
+        self.instantiate_s: list[float] = []  # each fmi2Instantiate, in order
 
     @contextlib.contextmanager
     def instance(self, name: str) -> Iterator[Host]:
@@ -374,7 +384,9 @@ class FmuUnderFmpy:
         description = self._description
         slave = self._slave_class(guid=description.guid, unzipDirectory=str(self._unzip_dir),
                                   modelIdentifier=description.coSimulation.modelIdentifier, instanceName=name)
+        began = time.perf_counter()
         slave.instantiate()
+        self.instantiate_s.append(time.perf_counter() - began)
         try:
             slave.setupExperiment(startTime=0.0)
             slave.enterInitializationMode()
@@ -440,9 +452,10 @@ def _in_process(machine_path: str, machine: MachineConfig, workload: Workload, s
 # ---------------------------------------------------------------------------------- the benchmark
 
 
-def run_fmu_benchmark(machine_path: str, seconds: float = 20.0,
-                      say: Callable[[str], None] = print) -> FmuBenchmarkResult:
-    """Export the FMU, then each workload for ``seconds`` simulated on the FMU and in process."""
+def run_fmu_benchmark(machine_path: str, seconds: float = 20.0, say: Callable[[str], None] = print,
+                      python: PythonRuntime = PythonRuntime.BUNDLED) -> FmuBenchmarkResult:
+    """Export the FMU (self-contained, or lean for ``python=HOST``), then each workload for
+    ``seconds`` simulated on the FMU and in process."""
     fmpy = _fmpy()  # before the export: without FMPy there is nothing to measure
     machine = load_machine(machine_path)
     step_s = communication_step_s(machine)
@@ -450,13 +463,15 @@ def run_fmu_benchmark(machine_path: str, seconds: float = 20.0,
     with tempfile.TemporaryDirectory(prefix="vc_fmu_bench_") as work_text:
         work = Path(work_text)
         began = time.perf_counter()
-        exported = export_fmu(machine_path, str(work / f"{machine.name}.fmu"))
+        exported = export_fmu(machine_path, str(work / f"{machine.name}.fmu"), python)
         export_s = time.perf_counter() - began
+        fmu_bytes = exported.size  # the FMU file goes with the directory
         with FmuUnderFmpy(fmpy, exported.path, work / "extracted") as fmu:
             plan = JogDriver(fmu.ports, machine)
             say(f"machine {machine.name}: FMU exported in {export_s:.2f} s; communication step"
                 f" {step_s * 1000:g} ms = {machine.plc_cycle_ipo} IPO cycles; {steps} steps"
                 f" ({steps * step_s:g} s simulated) per workload")
+            say(_describe(exported))
             say(f"host in place of the PLC: JOG {plan.jog_axis} back and forth every {STROKE_S:g} s, every"
                 f" axis and spindle in position control")
             say("step: doStep only")
@@ -471,5 +486,15 @@ def run_fmu_benchmark(machine_path: str, seconds: float = 20.0,
             inprocess_exchange = _in_process(machine_path, machine, time_exchanges, steps)
             say(inprocess_exchange.line("in process"))
             say(f"  ratio FMU / in process {rate_ratio(fmu_exchange, inprocess_exchange):.3f}")
-    return FmuBenchmarkResult(machine.name, plan.jog_axis, export_s, machine.plc_cycle_ipo, plan.exchange_size,
-                              fmu_step, inprocess_step, fmu_exchange, inprocess_exchange)
+            instantiate_s, *later = fmu.instantiate_s
+            say(f"start-up: fmi2Instantiate {instantiate_s * 1000:.0f} ms (the first of {len(fmu.instantiate_s)};"
+                f" the others {', '.join(f'{seconds * 1000:.0f}' for seconds in later)} ms)")
+    return FmuBenchmarkResult(machine.name, plan.jog_axis, export_s, instantiate_s, fmu_bytes, exported.glibc,
+                              machine.plc_cycle_ipo, plan.exchange_size, fmu_step, inprocess_step, fmu_exchange,
+                              inprocess_exchange)
+
+
+def _describe(exported: ExportResult) -> str:
+    kind = "self-contained" if exported.python is PythonRuntime.BUNDLED else "lean (pythonfmu, this Python)"
+    return (f"FMU: {kind}, {exported.size / 1e6:.1f} MB; its linux64 binaries need glibc >="
+            f" {'.'.join(map(str, exported.glibc))}")

@@ -35,9 +35,10 @@
  * 2 for a bad command line or variables file.  A failure is reported on standard error as
  * "fmu_host: error: ...", after whatever the FMU logged about it.
  *
- * A pythonfmu binary runs the Python of the host process and does not link libpython itself: start
- * this host with LD_PRELOAD=<libpython3.X.so> and the Python with the project's packages first on
- * PATH (see docs/fmu.md, "Non-Python hosts").
+ * The self-contained FMU (the default of vc fmu export) needs nothing of this host's environment: the
+ * test runs it with an empty one (env -i).  The lean FMU (--python host) runs the Python of the host
+ * process and does not link libpython: it would need LD_PRELOAD=<libpython3.X.so> and that Python
+ * first on PATH.
  */
 
 #define _XOPEN_SOURCE 700 /* POSIX 2008 with XSI: getline, strdup, strtok_r, realpath */
@@ -120,10 +121,10 @@ typedef struct {
     fmi2GetBooleanTYPE *get_boolean;
 } Fmu;
 
-/* The worst status the FMU logged since the last reset.  pythonfmu answers fmi2OK to a set call
- * whose value the slave refused (the slave only logs fmi2Error), so the return value alone does not
- * tell whether a value was taken; every call is therefore judged by both.  The host is single
- * threaded and pythonfmu calls the logger on the calling thread, so a plain static suffices. */
+/* The worst status the FMU logged since the last reset.  The FMU answers fmi2OK to a set call whose
+ * value the NC refuses (it only logs fmi2Error, when the value reaches the NC), so the return value
+ * alone does not tell whether a value was taken; every call is therefore judged by both.  The host
+ * is single threaded and the FMU calls the logger on the calling thread, so a plain static suffices. */
 static fmi2Status worst_logged_status = fmi2OK;
 
 static const char *status_name(fmi2Status status)
@@ -365,8 +366,8 @@ static void load_fmu(Fmu *fmu, const char *fmu_dir, const char *model_identifier
         const char *error = dlerror();
         bool python_missing = strstr(error, "undefined symbol: Py") != NULL || strstr(error, "undefined symbol: _Py") != NULL;
         fail(EXIT_FMU_FAILED, "cannot load %s: %s%s", binary_path, error,
-             python_missing ? "\n(the pythonfmu binary runs the host's Python: start this host with"
-                              " LD_PRELOAD=<libpython3.X.so> and that Python's bin first on PATH)"
+             python_missing ? "\n(a lean FMU, vc fmu export --python host, runs the host's Python: start this host"
+                              " with LD_PRELOAD=<libpython3.X.so> and that Python's bin first on PATH)"
                             : "");
     }
     RESOLVE(fmu, get_version, "fmi2GetVersion");
@@ -386,9 +387,8 @@ static void load_fmu(Fmu *fmu, const char *fmu_dir, const char *model_identifier
 }
 
 /* fmuResourceLocation is a URI: file:// and the absolute path of resources/.  The path goes in
- * unencoded; pythonfmu 0.7 takes that as well as a percent-encoded one (tried with a space).  The
- * directory is checked here because that binary's fmi2Instantiate crashes (SIGSEGV, no log message)
- * when the resources directory does not exist. */
+ * unencoded, which FMUs take as well as a percent-encoded one.  The directory is checked here so
+ * that a wrong FMU directory is reported as such. */
 static void resources_uri(const char *fmu_dir, char *uri, size_t size)
 {
     char resources[PATH_MAX];
@@ -523,7 +523,7 @@ static void enable_x1(Host *host, double time)
 
 /* The step the FMU must refuse: it answers fmi2Discard, logs why, and stays where it was.  The FMI
  * 2.0 state machine lets a master only read values or terminate after a discarded step; this FMU
- * refuses before it computes anything (and pythonfmu keeps no state machine), so the host steps on. */
+ * refuses before it computes anything (and keeps no FMI state machine), so the host steps on. */
 static void demonstrate_refused_step(Host *host, double time)
 {
     fmi2Status status = do_step(host, time, REFUSED_STEP_S);
@@ -599,8 +599,7 @@ int main(int argc, char **argv)
     load_fmu(&fmu, fmu_dir, model.model_identifier);
     printf("fmu model=%s fmiVersion=%s typesPlatform=%s\n", model.model_identifier, fmu.get_version(),
            fmu.get_types_platform());
-    /* loggingOn: pythonfmu passes the slave's messages to the logger only while it is on, and the
-     * host judges its set calls by what is logged (see worst_logged_status). */
+    /* loggingOn: the host judges its set calls by what is logged (see worst_logged_status). */
     fmu.component = fmu.instantiate("turn_mill_c_host", fmi2CoSimulation, model.guid, resource_location, &CALLBACKS,
                                     fmi2False /* visible */, fmi2True /* loggingOn */);
     if (fmu.component == NULL) {

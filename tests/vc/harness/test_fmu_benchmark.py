@@ -14,6 +14,7 @@ from pathlib import Path
 
 import pytest
 
+from fmu.export import PythonRuntime
 from fmu.unit import PLC_SIGN_OF_LIFE, Causality, NcUnit
 from vc.cli.main import main
 from vc.config.loader import load_machine
@@ -35,7 +36,7 @@ JSON_KEYS = {
     "inprocess_exchange_steps_per_s", "exchange_ratio", "fmu_us_per_step", "inprocess_us_per_step",
     "fmu_exchange_us_per_step", "inprocess_exchange_us_per_step", "fmu_realtime_factor", "inprocess_realtime_factor",
     "fmu_exchange_realtime_factor", "inprocess_exchange_realtime_factor", "export_s", "step_ms",
-    "ipo_cycles_per_step", "steps", "jog_velocity",
+    "ipo_cycles_per_step", "steps", "jog_velocity", "instantiate_ms", "fmu_mb", "glibc",
 }
 
 
@@ -124,6 +125,7 @@ def test_the_benchmark_says_both_workloads_and_their_ratios(
     lines, _ = lines_and_result
     text = "\n".join(lines)
     assert text.startswith("machine turn_mill: FMU exported in")
+    assert "FMU: self-contained, " in text and "start-up: fmi2Instantiate " in text
     assert "step: doStep only" in text and "exchange: per step one call per batch" in text
     assert text.count("FMU (FMPy)") == 2 and text.count("in process") >= 2
     assert text.count("ratio FMU / in process") == 2
@@ -140,12 +142,12 @@ def test_the_cli_prints_the_figures_as_the_last_line_in_json(
     asked: dict[str, object] = {}
 
     def measured(machine_path: str, seconds: float, **options: object) -> FmuBenchmarkResult:
-        asked.update(machine_path=machine_path, seconds=seconds)
+        asked.update(machine_path=machine_path, seconds=seconds, python=options["python"])
         return result  # the benchmark ran once, for the whole module
 
     monkeypatch.setattr(fmu_benchmark, "run_fmu_benchmark", measured)
-    assert main(["bench", "--link", "fmu", "--machine", TURN_MILL, "--seconds", "3"]) == 0
-    assert asked == {"machine_path": TURN_MILL, "seconds": 3.0}
+    assert main(["bench", "--link", "fmu", "--machine", TURN_MILL, "--seconds", "3", "--python", "host"]) == 0
+    assert asked == {"machine_path": TURN_MILL, "seconds": 3.0, "python": PythonRuntime.HOST}
     figures = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert set(figures) == JSON_KEYS
     for name, value in figures.items():
