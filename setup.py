@@ -21,6 +21,8 @@ Metadata lives in pyproject.toml; this file only adds the compiled parts.
   if one differs (a developer edited a file after ``pip install -e .``), every compiled module
   is loaded from its source instead, all or none, because compiled modules call each other
   directly and must never be mixed with edited ones.  ``vc --version`` tells which build runs.
+  ``pip install -e .`` again with unchanged sources (the same manifest) reuses the extensions in
+  the checkout instead of compiling them again.
 """
 
 from __future__ import annotations
@@ -88,8 +90,11 @@ def source_digest(path: Path) -> str:
 
 
 def manifest_text(sources: list[str]) -> str:
+    from mypy.version import __version__ as mypy_version
+
     modules = {module_name(source): source_digest(ROOT / source) for source in sources}
-    return json.dumps({"format": 1, "group": GROUP, "opt_level": OPT_LEVEL, "modules": modules},
+    return json.dumps({"format": 1, "group": GROUP, "opt_level": OPT_LEVEL, "mypyc": mypy_version,
+                       "python": sysconfig.get_config_var("EXT_SUFFIX"), "modules": modules},
                       indent=1, sort_keys=True) + "\n"
 
 
@@ -152,27 +157,43 @@ def manifest_command(base: type[Any], text: str) -> type[Any]:
     return WithManifest
 
 
+def reusable_in_place(text: str) -> bool:
+    """An editable install whose checkout already holds the extensions of exactly these sources
+    (the manifest beside them says so): ``pip install -e .`` again need not compile again."""
+    if "editable_wheel" not in sys.argv[1:]:
+        return False
+    manifest = ROOT / MANIFEST
+    if not manifest.exists() or manifest.read_text(encoding="utf-8") != text:
+        return False
+    suffix = sysconfig.get_config_var("EXT_SUFFIX") or ".so"
+    modules = json.loads(text)["modules"]
+    return (ROOT / f"{GROUP}__mypyc{suffix}").exists() and all(
+        (ROOT / (module.replace(".", "/") + suffix)).exists() for module in modules)
+
+
 def build() -> None:
     reason = why_not_compiled()
-    stale_manifest = ROOT / MANIFEST
-    if stale_manifest.exists():  # an earlier editable build: rewritten below, or gone if pure
-        stale_manifest.unlink()
     if reason is not None:
+        (ROOT / MANIFEST).unlink(missing_ok=True)  # the pure build vouches for no extension
         print(f"vc-harness: installing the pure-Python build ({reason})", file=sys.stderr)
         setup(ext_modules=FMU_BINARY)
         return
-    sources = compiled_sources()
     if not BUILDING.intersection(sys.argv[1:]):  # metadata only (egg_info, dist_info): no C needed
         setup(ext_modules=FMU_BINARY)
         return
-    from mypyc.build import mypycify
-
+    sources = compiled_sources()
     text = manifest_text(sources)
+    if reusable_in_place(text):
+        print("vc-harness: the compiled modules in the checkout match their sources: not compiled again",
+              file=sys.stderr)
+        setup(ext_modules=FMU_BINARY)
+        return
+    (ROOT / MANIFEST).unlink(missing_ok=True)  # an earlier editable build's: written anew when this one ends
+    from mypyc.build import mypycify
 
     extensions = mypycify(sources, opt_level=OPT_LEVEL, multi_file=True, group_name=GROUP)
     setup(ext_modules=[*FMU_BINARY, *extensions],
           cmdclass={"build_ext": manifest_command(ParallelBuildExt, text),
                     "build_py": manifest_command(build_py, text)})
-
 
 build()
