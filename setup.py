@@ -139,6 +139,21 @@ class ParallelBuildExt(build_ext):
             compiler.compile = serial_compile
 
 
+class ReuseInPlaceBuildExt(ParallelBuildExt):
+    """build_ext that takes the compiled modules already in the checkout (reusable_in_place said
+    they belong to these sources) and builds only the rest (the FMU's binary)."""
+
+    def build_extension(self, ext: Any) -> None:
+        if ext.sources:
+            super().build_extension(ext)
+            return
+        target = Path(self.get_ext_fullpath(ext.name))
+        target.parent.mkdir(parents=True, exist_ok=True)
+        source = ROOT / self.get_ext_filename(ext.name)
+        if source.resolve() != target.resolve():
+            shutil.copyfile(source, target)
+
+
 def manifest_command(base: type[Any], text: str) -> type[Any]:
     """``base`` that also writes the manifest ``text`` into the build (and, for an editable
     install, beside the sources).  The text is taken before mypyc reads the sources, so a file
@@ -186,7 +201,9 @@ def build() -> None:
     if reusable_in_place(text):
         print("vc-harness: the compiled modules in the checkout match their sources: not compiled again",
               file=sys.stderr)
-        setup(ext_modules=FMU_BINARY)
+        reused = [Extension(name, sources=[]) for name in (f"{GROUP}__mypyc", *map(module_name, sources))]
+        setup(ext_modules=[*FMU_BINARY, *reused],
+              cmdclass={"build_ext": manifest_command(ReuseInPlaceBuildExt, text)})
         return
     (ROOT / MANIFEST).unlink(missing_ok=True)  # an earlier editable build's: written anew when this one ends
     from mypyc.build import mypycify
