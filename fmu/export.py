@@ -268,9 +268,9 @@ def _python_source(spec: importlib.machinery.ModuleSpec | None) -> Path | None:
     origin = Path(spec.origin)
     if origin.suffix == ".py":
         return origin
-    if isinstance(spec.loader, importlib.machinery.ExtensionFileLoader):
+    if any(origin.name.endswith(suffix) for suffix in importlib.machinery.EXTENSION_SUFFIXES):
         source = origin.with_name(spec.name.rpartition(".")[2] + ".py")
-        return source if source.exists() else None
+        return source if source.is_file() else None
     return None
 
 
