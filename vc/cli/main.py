@@ -1,15 +1,22 @@
 """The ``vc`` command line: run scenarios, print the signal map, measure the speed.
 
     vc run PATH... [--junit FILE] [--trace-dir DIR] [--golden DIR [--update-golden]]
-           [--link inprocess|modbus|can [--can-bus BUS]]
+           [--link inprocess|modbus|can [--can-bus BUS]] [--coverage FILE]
                                                       run scenario files or directories
+    vc coverage report FILE... [--json OUT] [--html OUT] [--fail-under PCT] [--fail-under-function NAME=PCT]
+                                                      the interface coverage of runs (docs/coverage.md)
     vc map --machine M.yaml [--format md|csv|json|dbc|guide]
                                                       the machine's expanded signal map, its CAN frames as a
                                                       DBC file, or the guide for connecting OpenPLC / CODESYS
                                                       over Modbus TCP
     vc serve [--machine M.yaml] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
-             [--scenario FILE] [--duration S]         the NC as a server (or CAN node) for a PLC in another
-                                                      process
+             [--scenario FILE] [--duration S] [--record FILE]
+                                                      the NC as a server (or CAN node) for a PLC in another
+                                                      process; --record records the session
+    vc replay FILE [--machine M.yaml] [--to-scenario OUT.yaml [--name NAME]]
+                                                      replay a recorded session without the PLC and report the
+                                                      first difference, or turn it into a scenario
+                                                      (docs/recording.md)
     vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle
     vc bench --link modbus [--seconds S]              what the Modbus TCP link costs (bench/README.md)
     vc bench --link can [--seconds S]                 frames per second and cost per IPO cycle of the CAN link
@@ -171,13 +178,49 @@ def _run(arguments: argparse.Namespace) -> int:
         return EXIT_PROBLEMS
     from interfaces.links.errors import LinkError
 
+    collector = None
+    if arguments.coverage is not None:
+        from vc.coverage.collector import CoverageCollector
+
+        collector = CoverageCollector()
     try:
-        return run_scenario_files(arguments.paths, junit=arguments.junit, trace_dir=arguments.trace_dir,
+        code = run_scenario_files(arguments.paths, junit=arguments.junit, trace_dir=arguments.trace_dir,
                                   golden=arguments.golden, update_golden=arguments.update_golden, link=arguments.link,
-                                  can_bus=arguments.can_bus)
+                                  can_bus=arguments.can_bus, observe=collector.observe if collector else None)
     except LinkError as error:
         print(f"vc run: {error}", file=sys.stderr)
         return EXIT_PROBLEMS
+    if collector is not None and collector.data.scenarios:
+        from vc.coverage.report import build_report
+
+        collector.data.save(arguments.coverage)
+        total = build_report(collector.data).total
+        print(f"interface coverage {total.percent:.1f} % ({total.covered} of {total.total} points) written to"
+              f" {arguments.coverage} (vc coverage report {arguments.coverage} shows it)")
+    return code
+
+
+def _coverage_report(arguments: argparse.Namespace) -> int:
+    from vc.coverage.command import coverage_report, parse_function_threshold
+
+    try:
+        thresholds = dict(parse_function_threshold(text) for text in arguments.fail_under_function)
+    except ValueError as error:
+        print(f"vc coverage report: {error}", file=sys.stderr)
+        return EXIT_PROBLEMS
+    return coverage_report(arguments.files, json_path=arguments.json, html_path=arguments.html,
+                           fail_under=arguments.fail_under, fail_under_function=thresholds,
+                           complain=lambda text: print(text, file=sys.stderr))
+
+
+def _percent(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not 0 <= value <= 100:
+        raise argparse.ArgumentTypeError(f"{text}: a percentage 0..100")
+    return value
 
 
 def _serve(arguments: argparse.Namespace) -> int:
@@ -201,11 +244,26 @@ def _serve(arguments: argparse.Namespace) -> int:
             duration_s=arguments.duration,
             stats_every_s=arguments.stats,
             say=lambda text: print(text, flush=True),
+            observer=recorder,
         )
         return serve(options)
-    except (LinkError, ValueError) as error:
+    except (LinkError, ValueError, OSError) as error:
         print(f"vc serve: {error}", file=sys.stderr)
         return EXIT_PROBLEMS
+    finally:
+        if recorder is not None and recorder.writer is not None:
+            recorder.close()
+            print(f"session recorded in {arguments.record} (vc replay {arguments.record})", flush=True)
+
+
+def _replay(arguments: argparse.Namespace) -> int:
+    from vc.recording.command import replay_command
+
+    if arguments.name is not None and arguments.to_scenario is None:
+        print("--name needs --to-scenario OUT.yaml", file=sys.stderr)
+        return EXIT_PROBLEMS
+    return replay_command(arguments.file, machine=arguments.machine, to_scenario_path=arguments.to_scenario,
+                          name=arguments.name, complain=lambda text: print(text, file=sys.stderr))
 
 
 def _speed(text: str) -> float:
@@ -263,7 +321,20 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--duration", type=float, metavar="S", help="stop after S simulated seconds")
     serve.add_argument("--stats", type=float, default=10.0, metavar="S",
                        help="print real-time statistics every S seconds (default 10)")
+    serve.add_argument("--record", metavar="FILE",
+                       help="record the session (the PLC's writes, the NC's outputs, the operator's actions, the"
+                            " machine) for vc replay; FILE.gz is compressed (docs/recording.md)")
     serve.set_defaults(handler=_serve)
+
+    replay = commands.add_parser("replay", help="replay a session recorded by vc serve --record without the PLC")
+    replay.add_argument("file", metavar="FILE", help="the recording")
+    replay.add_argument("--machine", metavar="M.yaml",
+                        help="replay on this machine file instead of the recorded one (what a change of machine data"
+                             " does)")
+    replay.add_argument("--to-scenario", metavar="OUT.yaml",
+                        help="write the session as a scenario with plc: none instead of replaying it")
+    replay.add_argument("--name", help="with --to-scenario: the scenario's name")
+    replay.set_defaults(handler=_replay)
 
     bench = commands.add_parser("bench", help="measure the real-time factor of the simulation, the Modbus link"
                                               " or the FMU")

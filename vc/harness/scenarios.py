@@ -8,6 +8,11 @@ from interfaces.links.inprocess import plc_programs
 from vc.harness.simulation import Simulation
 from vc.scenario.command import run_command
 from vc.scenario.model import LINK_CAN, Scenario
+from vc.scenario.target import ScenarioTarget
+
+TargetFactory = Callable[[Scenario], Simulation]
+# wraps the factory of a run, e.g. to observe each simulation (vc run --coverage)
+Observe = Callable[[TargetFactory], Callable[[Scenario], ScenarioTarget]]
 
 
 def simulation_for(scenario: Scenario) -> Simulation:
@@ -22,12 +27,15 @@ def simulation_for(scenario: Scenario) -> Simulation:
 
 def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_dir: str | None = None,
                        golden: str | None = None, update_golden: bool = False, link: str = "inprocess",
-                       can_bus: str | None = None) -> int:
+                       can_bus: str | None = None, observe: Observe | None = None) -> int:
     """``link``: ``inprocess`` runs the PLC programs in lockstep in this process; ``modbus`` runs
     them in a ``python -m plc_stub`` process over a lockstep Modbus TCP link, ``can`` over a
-    lockstep CAN link on ``can_bus`` (default: a UDP multicast channel of this run)."""
-    def run(make_target: Callable[[Scenario], Simulation]) -> int:
-        return run_command(paths, make_target, plc_programs().keys(), junit=junit, trace_dir=trace_dir,
+    lockstep CAN link on ``can_bus`` (default: a UDP multicast channel of this run).  ``observe``
+    wraps the run's factory of simulations (the interface coverage observes each one)."""
+    def run(make_target: TargetFactory) -> int:
+        target_factory: Callable[[Scenario], ScenarioTarget] = make_target if observe is None else \
+            observe(make_target)
+        return run_command(paths, target_factory, plc_programs().keys(), junit=junit, trace_dir=trace_dir,
                            golden=golden, update_golden=update_golden)
 
     if link == "modbus":
