@@ -229,7 +229,13 @@ def _serve(arguments: argparse.Namespace) -> int:
     from vc.harness.plc_link import Endpoint
     from vc.harness.serve import ServeOptions, serve
 
+    recorder = None
     try:
+        if arguments.record is not None:
+            from vc.recording.command import session_recorder
+
+            link = "can" if arguments.can else "modbus" if arguments.modbus or not arguments.s7 else "s7"
+            recorder = session_recorder(arguments.record, arguments.scenario, link, arguments.realtime)
         options = ServeOptions(
             machine_path=arguments.machine,
             modbus=Endpoint.parse(arguments.modbus, 5020) if arguments.modbus else None,
@@ -293,7 +299,24 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--can-bus", metavar="BUS",
                      help="with --link can: udp_multicast[:GROUP:PORT] (default: a channel of this run) or"
                           " socketcan[:INTERFACE]")
+    run.add_argument("--coverage", metavar="FILE",
+                     help="write the interface coverage of the run (signals, state machines, alarms, plant I/O) to"
+                          " FILE; vc coverage report FILE shows it (docs/coverage.md)")
     run.set_defaults(handler=_run)
+
+    coverage = commands.add_parser("coverage", help="report the interface coverage of vc run --coverage")
+    coverage_commands = coverage.add_subparsers(dest="coverage_command", required=True)
+    report = coverage_commands.add_parser("report", help="merge coverage files, print the figures, write JSON and"
+                                                         " HTML, check thresholds (docs/coverage.md)")
+    report.add_argument("files", nargs="+", metavar="FILE", help="coverage files of vc run --coverage (merged)")
+    report.add_argument("--json", metavar="OUT", help="write the figures and what was never exercised as JSON")
+    report.add_argument("--html", metavar="OUT", help="write a standalone HTML page of what was never exercised")
+    report.add_argument("--fail-under", type=_percent, metavar="PCT",
+                        help="exit with 1 when the total coverage is below PCT percent")
+    report.add_argument("--fail-under-function", action="append", default=[], metavar="NAME=PCT",
+                        help="exit with 1 when a figure is below PCT: a state machine (gear_change), a group"
+                             " (referencing), signals, functions, alarms, plant, DB10..DB31 (repeatable)")
+    report.set_defaults(handler=_coverage_report)
 
     signal_map = commands.add_parser("map", help="print the expanded signal catalogue of a machine")
     signal_map.add_argument("--machine", required=True, help="machine YAML file")
