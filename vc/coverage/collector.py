@@ -62,8 +62,9 @@ class _Watched:
     record: ValueRecord
 
 
-class _SignalWatch:
-    """Every signal and plant point of one machine, indexed by the bytes it occupies."""
+class _SignalIndex:
+    """Every signal and plant point of one machine with its record, indexed by the bytes it occupies
+    (built once per machine of a collector: the scenarios of a machine share it)."""
 
     def __init__(self, simulation: Simulation, machine: MachineCoverage):
         self.by_byte: dict[str, list[tuple[int, list[_Watched]]]] = {}
@@ -80,21 +81,28 @@ class _SignalWatch:
         for (key, byte), entries in sorted(index.items()):
             self.by_byte.setdefault(key, []).append((byte, entries))
         self.refs = refs
+
+
+class _SignalWatch:
+    """The signals of one simulation: their bytes after the last look, what changed since."""
+
+    def __init__(self, index: _SignalIndex):
+        self.index = index
         self.previous: dict[str, bytes] = {}
 
     def start(self, areas: dict[str, bytearray]) -> None:
-        for ref, record in self.refs:
+        for ref, record in self.index.refs:
             record.saw(decode(areas[ref.area_key], ref))
-        self.previous = {key: bytes(areas[key]) for key in self.by_byte}
+        self.previous = {key: bytes(areas[key]) for key in self.index.by_byte}
 
     def sample(self, areas: dict[str, bytearray]) -> None:
-        previous = self.previous
+        previous, by_byte = self.previous, self.index.by_byte
         for key, before in previous.items():
             now = areas[key]
             if now == before:
                 continue
             done: set[int] = set()
-            for byte, entries in self.by_byte[key]:
+            for byte, entries in by_byte[key]:
                 if now[byte] == before[byte]:
                     continue
                 for watched in entries:
@@ -112,8 +120,9 @@ class _SignalWatch:
 class CoverageObserver:
     """Observes one simulation for a :class:`CoverageCollector` (see the module docstring)."""
 
-    def __init__(self, data: CoverageData):
+    def __init__(self, data: CoverageData, indexes: dict[object, _SignalIndex] | None = None):
         self.data = data
+        self.indexes = indexes if indexes is not None else {}  # by machine, shared with other observers
         self.probes: list[Probe] = []
         self.signals: _SignalWatch | None = None
         self.alarm_list: AlarmList | None = None
@@ -125,7 +134,12 @@ class CoverageObserver:
     def attached(self, simulation: Simulation) -> None:
         self.data.scenarios += 1
         machine = self._machine(simulation)
-        self.signals = _SignalWatch(simulation, machine)
+        config = simulation.machine
+        key = (config.name, config.layout, config.plant_io)
+        index = self.indexes.get(key)
+        if index is None:
+            index = self.indexes[key] = _SignalIndex(simulation, machine)
+        self.signals = _SignalWatch(index)
         self.signals.start(simulation.image_areas())
         self._powered_on(simulation)
 
@@ -204,6 +218,7 @@ class CoverageCollector:
 
     def __init__(self, data: CoverageData | None = None):
         self.data = data if data is not None else CoverageData()
+        self._indexes: dict[object, _SignalIndex] = {}
 
     def observe(self, make_target: Callable[[Scenario], Simulation]) -> Callable[[Scenario], ObservedSimulation]:
         """The factory ``make_target`` with each of its simulations observed for the coverage."""
@@ -212,5 +227,5 @@ class CoverageCollector:
         return make
 
     def observed(self, simulation: Simulation) -> ObservedSimulation:
-        return ObservedSimulation(simulation, [CoverageObserver(self.data)])
+        return ObservedSimulation(simulation, [CoverageObserver(self.data, self._indexes)])
 

@@ -51,6 +51,15 @@ def _gap_rows(gaps: list[Gap]) -> str:
     return f"<table>{head}{rows}</table>"
 
 
+def _grouped(gaps: list[Gap]) -> str:
+    """The gaps by group, each group folded."""
+    groups: dict[str, list[Gap]] = {}
+    for gap in gaps:
+        groups.setdefault(gap.group, []).append(gap)
+    return "".join(f"<details><summary>{escape(group)} ({len(items)})</summary>{_gap_rows(items)}</details>"
+                   for group, items in groups.items())
+
+
 def report_html(report: Report, title: str = "Interface coverage") -> str:
     parts = [f"<!DOCTYPE html><html lang=en><head><meta charset=utf-8><title>{escape(title)}</title>"
              f"<style>{_STYLE}</style></head><body>",
@@ -60,7 +69,8 @@ def report_html(report: Report, title: str = "Interface coverage") -> str:
              "<h2>Figures</h2>",
              _table([_figure_row(report.categories[name], _CATEGORY_TITLES[name]) for name in CATEGORIES]),
              "<h2>Signals per data block</h2>",
-             _table([_figure_row(figure) for figure in report.db_kinds if figure.total]),
+             _table([*(_figure_row(figure) for figure in report.db_kinds if figure.total),
+                     _figure_row(report.catalogue)]),
              "<details><summary>per DB instance</summary>",
              _table([_figure_row(figure) for figure in report.instances]), "</details>",
              "<h2>State machines</h2>",
@@ -76,12 +86,10 @@ def report_html(report: Report, title: str = "Interface coverage") -> str:
              "<h2>Never exercised</h2>"]
     for category in CATEGORIES:
         gaps = [gap for gap in report.gaps if gap.category == category]
-        parts.append(f"<h3>{_CATEGORY_TITLES[category]} ({len(gaps)})</h3>")
-        groups: dict[str, list[Gap]] = {}
-        for gap in gaps:
-            groups.setdefault(gap.group, []).append(gap)
-        for group, items in groups.items():
-            parts.append(f"<details><summary>{escape(group)} ({len(items)})</summary>{_gap_rows(items)}</details>")
+        parts.append(f"<h3>{_CATEGORY_TITLES[category]} ({len(gaps)})</h3>{_grouped(gaps)}")
+    parts.append(f"<h3>Catalogue entries no instance exercised fully ({len(report.catalogue_gaps)})</h3>"
+                 "<p class=dim>Each catalogue signal over all its DB instances on all machines: what none of them"
+                 f" showed.</p>{_grouped(report.catalogue_gaps)}")
     others = [function for function in report.functions if function.other_transitions]
     if others:
         parts.append("<h2>Transitions seen that no state machine declares</h2><p class=dim>States are sampled at"

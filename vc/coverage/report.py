@@ -107,6 +107,10 @@ class Report:
     alarm_cleared: Figure
     plant: list[Figure]  # per plant function over all machines
     gaps: list[Gap] = field(default_factory=list)
+    # per catalogue entry over every instance of every machine (not counted in the total): which
+    # entries no instance exercised fully
+    catalogue: Figure = field(default_factory=lambda: Figure("catalogue", "catalogue entries, over all instances"))
+    catalogue_gaps: list[Gap] = field(default_factory=list)
 
     def named(self) -> dict[str, Figure]:
         """Every figure a threshold can name (state machine groups by their prefix)."""
@@ -139,6 +143,8 @@ class Report:
             "alarms": {"raised": self.alarm_raised.to_json(), "cleared": self.alarm_cleared.to_json()},
             "plant": [figure.to_json() for figure in self.plant],
             "gaps": [gap.to_json() for gap in self.gaps],
+            "catalogue": self.catalogue.to_json(),
+            "catalogue_gaps": [gap.to_json() for gap in self.catalogue_gaps],
         }
 
 
@@ -152,8 +158,10 @@ def build_report(data: CoverageData) -> Report:
     report = Report(data.scenarios, data.cycles, categories, Figure("total", "all points"), [],
                     [Figure(kind, f"{kind} {_KIND_TITLES[kind]}") for kind in DB_KINDS], [],
                     Figure("alarms.raised", "alarms raised"), Figure("alarms.cleared", "alarms cleared"), [])
+    entries: dict[tuple[InstanceKind, str], tuple[ValueRecord, str]] = {}
     for name, machine in sorted(data.machines.items()):
-        _signals(report, name, machine)
+        _signals(report, name, machine, entries)
+    _catalogue(report, entries)
     plant: dict[str, Figure] = {}
     for name, machine in sorted(data.machines.items()):
         _plant(report, name, machine, plant)
@@ -209,7 +217,8 @@ def _shown_values(record: ValueRecord) -> str:
     return f"{record.distinct}{more} distinct values, {record.low:g} .. {record.high:g}"
 
 
-def _signals(report: Report, machine_name: str, machine: MachineCoverage) -> None:
+def _signals(report: Report, machine_name: str, machine: MachineCoverage,
+             entries: dict[tuple[InstanceKind, str], tuple[ValueRecord, str]]) -> None:
     definitions = _definitions()
     instances: dict[str, Figure] = {}
     for instance, number in sorted(machine.instances.items(), key=lambda item: (item[1], item[0])):
@@ -223,7 +232,10 @@ def _signals(report: Report, machine_name: str, machine: MachineCoverage) -> Non
         if db is None:
             continue
         kind = _kind_of_db(db)
-        points = signal_points(record, machine.types.get(symbol, "bool"))
+        signal_type = machine.types.get(symbol, "bool")
+        merged, _ = entries.setdefault((kind, rest), (ValueRecord(), signal_type))
+        merged.merge(record)
+        points = signal_points(record, signal_type)
         covered = sum(1 for _, hit in points if hit)
         instances[instance].add(covered, len(points))
         kinds[f"DB{FIRST_DB[kind]}"].add(covered, len(points))
@@ -238,6 +250,21 @@ def _signals(report: Report, machine_name: str, machine: MachineCoverage) -> Non
                 str(definition.address.in_db(db)) if definition else "", ", ".join(missing) + detail,
                 definition.meaning if definition else "", definition.source if definition else ""))
     report.instances.extend(figure for figure in instances.values() if figure.total)
+
+
+def _catalogue(report: Report, entries: dict[tuple[InstanceKind, str], tuple[ValueRecord, str]]) -> None:
+    definitions = _definitions()
+    for (kind, rest), (record, signal_type) in sorted(entries.items()):
+        points = signal_points(record, signal_type)
+        covered = sum(1 for _, hit in points if hit)
+        report.catalogue.add(covered, len(points))
+        missing = [what for what, hit in points if not hit]
+        definition = definitions.get((kind, rest))
+        if missing and definition is not None:
+            detail = "" if signal_type == "bool" else f" ({_shown_values(record)})"
+            report.catalogue_gaps.append(Gap(
+                "signals", f"DB{FIRST_DB[kind]} {rest.rsplit('.', 1)[0]}", f"{PLACEHOLDER[kind]}.{rest}",
+                str(definition.address), ", ".join(missing) + detail, definition.meaning, definition.source))
 
 
 def _plant(report: Report, machine_name: str, machine: MachineCoverage, groups: dict[str, Figure]) -> None:
@@ -353,6 +380,7 @@ def summary_text(report: Report) -> str:
     for figure in report.db_kinds:
         if figure.total:
             row(figure.title, figure.covered, figure.total)
+    row(report.catalogue.title, report.catalogue.covered, report.catalogue.total)
     lines.append("signals per DB instance")
     for figure in report.instances:
         row(figure.title, figure.covered, figure.total)

@@ -168,7 +168,7 @@ STATE_MACHINES: tuple[StateMachine, ...] = (
                      ("SYNCHRONOUS", "CONTROL", "COUPOF"))),
     StateMachine(
         "gear_change", "Gear stage change dialog (DB31.DBX82.3, 16.3)", "vc/core/gear_change.py", "spindle",
-        (StateDef("NONE", "no gear change", "def select_gear"), *_enum_states(tuple(GearState))),
+        (StateDef("NONE", "no gear change", "The dialog (:class:`GearChange`)"), *_enum_states(tuple(GearState))),
         _transitions(("NONE", "REQUESTED", "M40 S / M41..M45 with another stage"),
                      ("NONE", "AT_STANDSTILL", "requested at standstill (REQUESTED lasts less than a cycle)"),
                      ("NONE", "TO_POSITION", "change at a fixed position (MD35010 bit 1)"),
@@ -180,11 +180,10 @@ STATE_MACHINES: tuple[StateMachine, ...] = (
                      ("TO_POSITION", "NONE", "position not reached (22020), reset"))),
     StateMachine(
         "coupling", "Synchronous spindle coupling of a following spindle", "vc/core/coupling.py", "spindle",
-        (StateDef("UNCOUPLED", "follows no leading spindle", "class Couplings"), *_enum_states(tuple(CouplingPhase))),
+        (StateDef("UNCOUPLED", "follows no leading spindle", "defined ──COUPON"), *_enum_states(tuple(CouplingPhase))),
         _transitions(("UNCOUPLED", "SYNCHRONISING", "COUPON, the configured pair at NC start"),
                      ("UNCOUPLED", "SYNCHRONOUS", "COUPON with both spindles at standstill: synchronous at once"),
                      ("SYNCHRONISING", "SYNCHRONOUS", "synchronism reached"),
-                     ("SYNCHRONOUS", "SYNCHRONISING", "new ratio or offset, resynchronisation"),
                      ("SYNCHRONOUS", "UNCOUPLED", "COUPOF, reset"), ("SYNCHRONISING", "UNCOUPLED", "COUPOF, reset"))),
     StateMachine(
         "esr.drive", "Drive-autonomous ESR of an axis (DB31.DBX95.2)", "vc/core/drive_esr.py", "axis",
