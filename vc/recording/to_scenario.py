@@ -85,11 +85,14 @@ class _Writer:
         return result
 
     # ------------------------------------------------------------------ steps
-    def step(self, text: str) -> None:
-        """Append a step, after the wait that brings the scenario to the cycle of the rows read."""
+    def catch_up(self) -> None:
+        """The wait that brings the scenario to the cycle of the rows read."""
         if self.due > self.now:
             self.steps.append(f"  - wait: {_duration((self.due - self.now) * self.ipo_us)}")
             self.now = self.due
+
+    def step(self, text: str) -> None:
+        self.catch_up()
         self.steps.append(text)
 
     def flush(self) -> None:
@@ -183,6 +186,7 @@ class _Writer:
         for row, mark in zip(recording.rows, recording.row_marks, strict=True):
             if isinstance(row, Marker):
                 stalls += row.kind == LIFE
+                self.due = max(self.due, row.cycle)  # the end row: the scenario lasts as long as the session
                 continue
             nc = isinstance(row, Bytes) and row.source == NC
             placed = self.reach(row.cycle, str(mark), not nc)
@@ -195,6 +199,7 @@ class _Writer:
             else:
                 self.action(row.cycle, row.action)
         self.flush()
+        self.catch_up()
         if stalls:
             self.notes.append(f"the PLC's sign of life stood still in {stalls} scans; without a PLC the NC does not"
                               " watch it (alarm 2000 cannot occur in the scenario)")
@@ -240,7 +245,7 @@ def to_scenario(recording: Recording, out: str, name: str | None = None) -> Conv
     steps = writer.convert()
     machine_reference, machine_file = _machine_reference(recording, out)
     header = recording.header
-    played = f",\n  the operator's scenario {header.scenario.file}" if header.scenario else ""
+    played = f"; the operator:\n  {header.scenario.file}" if header.scenario else ""
     seconds = recording.last_cycle * header.ipo_cycle_us / 1e6
     lines = [
         f"name: {_json(name or f'Recorded session on {header.machine_name}: {header.program} over {header.link}')}",
