@@ -253,8 +253,11 @@ def _serve(arguments: argparse.Namespace) -> int:
             observer=recorder,
         )
         return serve(options)
-    except (LinkError, ValueError, OSError) as error:
+    except (LinkError, ValueError) as error:
         print(f"vc serve: {error}", file=sys.stderr)
+        return EXIT_PROBLEMS
+    except OSError as error:  # the recording cannot be written
+        print(f"vc serve: {error.filename}: {error.strerror}", file=sys.stderr)
         return EXIT_PROBLEMS
     finally:
         if recorder is not None and recorder.writer is not None:

@@ -25,8 +25,13 @@ def session_recorder(path: str, scenario: str | None, link: str, realtime: bool)
     """The recorder ``vc serve --record`` passes to the server as its observer."""
     played = None
     if scenario is not None:
-        with open(scenario, encoding="utf-8") as handle:
-            played = RecordedFile(scenario, handle.read())
+        try:
+            with open(scenario, encoding="utf-8") as handle:
+                played = RecordedFile(scenario, handle.read())
+        except (OSError, UnicodeDecodeError):
+            played = None  # vc serve reports the scenario file's problem with its location
+    with open(path, "w", encoding="utf-8"):
+        pass  # a path that cannot be written fails now, before a PLC connects
     return SessionRecorder(path, SessionInfo(played, link, "free_running" if realtime else "lockstep",
                                              f"vc-harness {_version()}"))
 

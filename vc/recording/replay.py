@@ -26,6 +26,8 @@ from vc.harness.simulation import Simulation
 from vc.located_yaml import LocatedMap, Mark, Problem, SourceError, load_text
 from vc.recording.format import NC, Action, Bytes, Recording
 
+NOT_REPLAYED = ("link_fault",)  # a fault of the CAN link: its effect, the timing of the PLC's writes, is recorded
+
 
 class RecordedPlc:
     """The PLC of a replay: it writes nothing itself (the replay puts the recorded bytes in place),
@@ -130,7 +132,7 @@ class _Replay:
 
     def run(self) -> Difference | None:
         simulation = self.simulation
-        for row in self.recording.rows:
+        for row, mark in zip(self.recording.rows, self.recording.row_marks, strict=True):
             while simulation.cycle < row.cycle:
                 difference = self.compare()
                 if difference is not None:
@@ -144,8 +146,13 @@ class _Replay:
                     image = simulation.plant_image if row.area == "Q" else simulation.interface
                     image.areas[row.area][row.offset:row.offset + len(row.data)] = row.data
                     image.touch()
-            elif isinstance(row, Action):
-                perform(simulation, row.action)
+            elif isinstance(row, Action) and row.action.kind not in NOT_REPLAYED:
+                try:
+                    perform(simulation, row.action)
+                except (KeyError, ValueError) as error:
+                    message = error.args[0] if error.args else error
+                    raise SourceError([Problem(mark, f"the operator's action {row.action.kind} cannot be done"
+                                                     f" again on this machine: {message}")]) from None
         return self.compare()
 
     def compare(self) -> Difference | None:

@@ -114,3 +114,23 @@ def test_a_broken_machine_file_in_the_recording_is_located_in_it(tmp_path: Path,
     assert main(["replay", str(broken)]) == 2
     err = capsys.readouterr().err
     assert f"{broken} (machine " in err and "MD32000" in err and "Traceback" not in err
+
+
+def test_an_action_the_machine_cannot_take_is_located_at_its_row(tmp_path: Path,
+                                                                  capsys: pytest.CaptureFixture[str]) -> None:
+    good = tmp_path / "good.vcrec"
+    assert record_scenario(OPERATOR, good).passed
+    lines = good.read_text(encoding="utf-8").splitlines()
+    strange = tmp_path / "strange.vcrec"
+    strange.write_text("\n".join([lines[0], '[0, "op", "write", "MCP.teleport", 1]', *lines[1:]]) + "\n",
+                       encoding="utf-8")
+    assert main(["replay", str(strange)]) == 2
+    err = capsys.readouterr().err
+    assert f"{strange}:2:1: the operator's action write cannot be done again on this machine: " in err
+    assert "MCP.teleport" in err and "Traceback" not in err
+
+
+def test_vc_serve_refuses_a_recording_it_cannot_write(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    target = tmp_path / "missing" / "r.vcrec"
+    assert main(["serve", "--modbus", "127.0.0.1:0", "--record", str(target)]) == 2
+    assert f"vc serve: {target}: No such file or directory" in capsys.readouterr().err
