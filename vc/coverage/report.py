@@ -214,7 +214,8 @@ def _shown_values(record: ValueRecord) -> str:
     if not record.values:
         return "no value seen"
     more = "+" if record.more else ""
-    return f"{record.distinct}{more} distinct values, {record.low:g} .. {record.high:g}"
+    plural = "" if record.distinct == 1 else "s"
+    return f"{record.distinct}{more} distinct value{plural}, {record.low:g} .. {record.high:g}"
 
 
 def _signals(report: Report, machine_name: str, machine: MachineCoverage,
