@@ -1,8 +1,10 @@
 """The ``vc`` command line: run scenarios, print the signal map, measure the speed.
 
     vc run PATH... [-j N] [--junit FILE] [--trace-dir DIR] [--golden DIR [--update-golden]]
-           [--link inprocess|modbus|can [--can-bus BUS]]
+           [--link inprocess|modbus|can [--can-bus BUS]] [--coverage FILE]
                                                       run scenario files or directories
+    vc coverage report FILE... [--json OUT] [--html OUT] [--fail-under PCT] [--fail-under-function NAME=PCT]
+                                                      the interface coverage of runs (docs/coverage.md)
     vc map --machine M.yaml [--format md|csv|json|dbc|guide]
                                                       the machine's expanded signal map, its CAN frames as a
                                                       DBC file, or the guide for connecting OpenPLC / CODESYS
@@ -10,8 +12,13 @@
     vc map --machine M.yaml --format codesys|openplc|tia|s7|awlsim [--io-base N] [-o FILE]
                                                       the signal map for a PLC tool (docs/plc_tools.md)
     vc serve [--machine M.yaml] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
-             [--scenario FILE] [--duration S]         the NC as a server (or CAN node) for a PLC in another
-                                                      process
+             [--scenario FILE] [--duration S] [--record FILE]
+                                                      the NC as a server (or CAN node) for a PLC in another
+                                                      process; --record records the session
+    vc replay FILE [--machine M.yaml] [--to-scenario OUT.yaml [--name NAME]]
+                                                      replay a recorded session without the PLC and report the
+                                                      first difference, or turn it into a scenario
+                                                      (docs/recording.md)
     vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle
     vc bench --link modbus [--seconds S]              what the Modbus TCP link costs (bench/README.md)
     vc bench --link can [--seconds S]                 frames per second and cost per IPO cycle of the CAN link
@@ -251,13 +258,50 @@ def _run(arguments: argparse.Namespace) -> int:
     if arguments.link != "inprocess" and arguments.jobs not in (None, 1):
         print(f"vc run: -j runs scenarios in process; with --link {arguments.link} they run one after another"
               " behind one PLC process", file=sys.stderr)
+    collector = None
+    if arguments.coverage is not None:
+        from vc.coverage.collector import CoverageCollector
+
+        collector = CoverageCollector()
     try:
-        return run_scenario_files(arguments.paths, junit=arguments.junit, trace_dir=arguments.trace_dir,
+        code = run_scenario_files(arguments.paths, junit=arguments.junit, trace_dir=arguments.trace_dir,
                                   golden=arguments.golden, update_golden=arguments.update_golden, link=arguments.link,
-                                  can_bus=arguments.can_bus, jobs=arguments.jobs)
+                                  can_bus=arguments.can_bus, jobs=arguments.jobs,
+                                  observe=collector.observe if collector else None)
     except LinkError as error:
         print(f"vc run: {error}", file=sys.stderr)
         return EXIT_PROBLEMS
+    if collector is not None and collector.data.scenarios:
+        from vc.coverage.report import build_report
+
+        collector.data.save(arguments.coverage)
+        total = build_report(collector.data).total
+        print(f"interface coverage {total.percent:.1f} % ({total.covered} of {total.total} points) written to"
+              f" {arguments.coverage} (vc coverage report {arguments.coverage} shows it)")
+    return code
+
+
+def _coverage_report(arguments: argparse.Namespace) -> int:
+    from vc.coverage.command import coverage_report, parse_function_threshold
+
+    try:
+        thresholds = dict(parse_function_threshold(text) for text in arguments.fail_under_function)
+    except ValueError as error:
+        print(f"vc coverage report: {error}", file=sys.stderr)
+        return EXIT_PROBLEMS
+    return coverage_report(arguments.files, json_path=arguments.json, html_path=arguments.html,
+                           fail_under=arguments.fail_under, fail_under_function=thresholds,
+                           complain=lambda text: print(text, file=sys.stderr))
+
+
+def _percent(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not 0 <= value <= 100:
+        raise argparse.ArgumentTypeError(f"{text}: a percentage 0..100")
+    return value
 
 
 def _serve(arguments: argparse.Namespace) -> int:
@@ -266,7 +310,13 @@ def _serve(arguments: argparse.Namespace) -> int:
     from vc.harness.plc_link import Endpoint
     from vc.harness.serve import ServeOptions, serve
 
+    recorder = None
     try:
+        if arguments.record is not None:
+            from vc.recording.command import session_recorder
+
+            link = "can" if arguments.can else "modbus" if arguments.modbus or not arguments.s7 else "s7"
+            recorder = session_recorder(arguments.record, arguments.scenario, link, arguments.realtime)
         options = ServeOptions(
             machine_path=arguments.machine,
             modbus=Endpoint.parse(arguments.modbus, 5020) if arguments.modbus else None,
@@ -281,11 +331,29 @@ def _serve(arguments: argparse.Namespace) -> int:
             duration_s=arguments.duration,
             stats_every_s=arguments.stats,
             say=lambda text: print(text, flush=True),
+            observer=recorder,
         )
         return serve(options)
     except (LinkError, ValueError) as error:
         print(f"vc serve: {error}", file=sys.stderr)
         return EXIT_PROBLEMS
+    except OSError as error:  # the recording cannot be written
+        print(f"vc serve: {error.filename}: {error.strerror}", file=sys.stderr)
+        return EXIT_PROBLEMS
+    finally:
+        if recorder is not None and recorder.writer is not None:
+            recorder.close()
+            print(f"session recorded in {arguments.record} (vc replay {arguments.record})", flush=True)
+
+
+def _replay(arguments: argparse.Namespace) -> int:
+    from vc.recording.command import replay_command
+
+    if arguments.name is not None and arguments.to_scenario is None:
+        print("--name needs --to-scenario OUT.yaml", file=sys.stderr)
+        return EXIT_PROBLEMS
+    return replay_command(arguments.file, machine=arguments.machine, to_scenario_path=arguments.to_scenario,
+                          name=arguments.name, complain=lambda text: print(text, file=sys.stderr))
 
 
 def _speed(text: str) -> float:
@@ -319,7 +387,24 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("-j", "--jobs", type=_jobs, default=None, metavar="N",
                      help="run N scenario files at a time in worker processes (default: the number of cores;"
                           " -j 1 runs them one after another in this process); in process only")
+    run.add_argument("--coverage", metavar="FILE",
+                     help="write the interface coverage of the run (signals, state machines, alarms, plant I/O) to"
+                          " FILE; vc coverage report FILE shows it (docs/coverage.md)")
     run.set_defaults(handler=_run)
+
+    coverage = commands.add_parser("coverage", help="report the interface coverage of vc run --coverage")
+    coverage_commands = coverage.add_subparsers(dest="coverage_command", required=True)
+    report = coverage_commands.add_parser("report", help="merge coverage files, print the figures, write JSON and"
+                                                         " HTML, check thresholds (docs/coverage.md)")
+    report.add_argument("files", nargs="+", metavar="FILE", help="coverage files of vc run --coverage (merged)")
+    report.add_argument("--json", metavar="OUT", help="write the figures and what was never exercised as JSON")
+    report.add_argument("--html", metavar="OUT", help="write a standalone HTML page of what was never exercised")
+    report.add_argument("--fail-under", type=_percent, metavar="PCT",
+                        help="exit with 1 when the total coverage is below PCT percent")
+    report.add_argument("--fail-under-function", action="append", default=[], metavar="NAME=PCT",
+                        help="exit with 1 when a figure is below PCT: a state machine (gear_change), a group"
+                             " (referencing), signals, functions, alarms, plant, DB10..DB31 (repeatable)")
+    report.set_defaults(handler=_coverage_report)
 
     signal_map = commands.add_parser("map", help="print the expanded signal catalogue of a machine")
     signal_map.add_argument("--machine", required=True, help="machine YAML file")
@@ -352,7 +437,20 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--duration", type=float, metavar="S", help="stop after S simulated seconds")
     serve.add_argument("--stats", type=float, default=10.0, metavar="S",
                        help="print real-time statistics every S seconds (default 10)")
+    serve.add_argument("--record", metavar="FILE",
+                       help="record the session (the PLC's writes, the NC's outputs, the operator's actions, the"
+                            " machine) for vc replay; FILE.gz is compressed (docs/recording.md)")
     serve.set_defaults(handler=_serve)
+
+    replay = commands.add_parser("replay", help="replay a session recorded by vc serve --record without the PLC")
+    replay.add_argument("file", metavar="FILE", help="the recording")
+    replay.add_argument("--machine", metavar="M.yaml",
+                        help="replay on this machine file instead of the recorded one (what a change of machine data"
+                             " does)")
+    replay.add_argument("--to-scenario", metavar="OUT.yaml",
+                        help="write the session as a scenario with plc: none instead of replaying it")
+    replay.add_argument("--name", help="with --to-scenario: the scenario's name")
+    replay.set_defaults(handler=_replay)
 
     bench = commands.add_parser("bench", help="measure the real-time factor of the simulation, the Modbus link"
                                               " or the FMU")

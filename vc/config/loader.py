@@ -127,7 +127,7 @@ from vc.config.model import (
     MachineConfig,
     machine_ipo_cycle_us,
 )
-from vc.located_yaml import LocatedMap, Mark, Problems, load_file
+from vc.located_yaml import LocatedMap, Mark, Problem, Problems, load_file, load_text
 
 TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", "axes", "plant_io", "plc", "can",
                   "dc_link")
@@ -186,6 +186,19 @@ def load_machine(path: str, overrides: LocatedMap | None = None, overrides_file:
     Raises :class:`SourceError` listing every problem of both.
     """
     document, parse_problems = load_file(path)
+    return _machine_of(document, parse_problems, path, overrides, overrides_file)
+
+
+def load_machine_text(text: str, name: str, overrides: LocatedMap | None = None,
+                      overrides_file: str = "") -> MachineConfig:
+    """``load_machine`` for the text of a machine file kept elsewhere (a session recording holds
+    the one it ran with); problems are located in ``name``."""
+    document, parse_problems = load_text(text, name)
+    return _machine_of(document, parse_problems, name, overrides, overrides_file)
+
+
+def _machine_of(document: Any, parse_problems: list[Problem], path: str, overrides: LocatedMap | None,
+                overrides_file: str) -> MachineConfig:
     problems = Problems()
     problems.extend(parse_problems)
     if document is None:

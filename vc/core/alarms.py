@@ -233,6 +233,7 @@ class AlarmList:
 
     present: list[Alarm] = field(default_factory=list)
     history: list[Alarm] = field(default_factory=list)  # every alarm ever raised, for reports
+    cleared: list[tuple[Alarm, Clear]] = field(default_factory=list)  # every alarm cleared, and how, for reports
     version: int = 0  # counts changes of ``present``, so the interface is rewritten only on change
     _reactions: dict[str | None, int] = field(default_factory=dict)  # per channel, valid for ``version``
     _reactions_version: int = -1
@@ -252,22 +253,27 @@ class AlarmList:
         self.version += 1
         return alarm
 
-    def clear(self, number: int, *, channel: str | None = None, axis: str | None = None) -> None:
+    def clear(self, number: int, *, channel: str | None = None, axis: str | None = None,
+              how: Clear = Clear.SELF) -> None:
+        """Clear alarm ``number`` (of ``channel`` / ``axis``); ``how``: what cleared it, for reports
+        (by default its cause is gone)."""
         self._keep([
             alarm for alarm in self.present
             if not (alarm.number == number and (channel is None or alarm.channel == channel)
                     and (axis is None or alarm.axis == axis))
-        ])
+        ], how)
 
     def clear_on(self, kinds: tuple[Clear, ...], channel: str | None = None) -> None:
-        """Clear every alarm whose clearing condition is one of ``kinds`` (reset, cancel ...)."""
+        """Clear every alarm whose clearing condition is one of ``kinds`` (reset, cancel ...); the
+        first kind says what cleared them (a reset also clears what the cancel key would)."""
         self._keep([
             alarm for alarm in self.present
             if alarm.clear not in kinds or (channel is not None and alarm.channel not in ("", channel))
-        ])
+        ], kinds[0])
 
-    def _keep(self, remaining: list[Alarm]) -> None:
+    def _keep(self, remaining: list[Alarm], how: Clear) -> None:
         if len(remaining) != len(self.present):
+            self.cleared.extend((alarm, how) for alarm in self.present if alarm not in remaining)
             self.present = remaining
             self.version += 1
 

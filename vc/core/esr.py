@@ -245,6 +245,13 @@ class ChannelEsr:
     def running(self) -> bool:
         return self.motion is not None or self._stop is not None or bool(self._single_stops)
 
+    @property
+    def stop_deadlines(self) -> tuple[int, int] | None:
+        """The IPO cycles at which the stop axes of the running reaction begin to brake (MD21380) and
+        must stand (MD21381); None without a stop reaction.  Read by observers (the coverage)."""
+        stop = self._stop
+        return None if stop is None else (stop.brake_at, stop.stopped_by)
+
     def path_runs_on(self, cycle: int) -> bool:
         """The stop axes' delay MD21380: the path goes on whatever holds it."""
         return self._stop is not None and cycle < self._stop.brake_at

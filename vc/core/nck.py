@@ -353,7 +353,7 @@ class Nck:
             reset_requested = self.mode_group.reset_edge or any(c.edges.reset for c in self.channels)
             if reset_requested:
                 self.emergency_stop = False
-                self.alarms.clear(EMERGENCY_STOP_ALARM)
+                self.alarms.clear(EMERGENCY_STOP_ALARM, how=Clear.EMERGENCY_STOP_ACK)
                 for axis in self.axes:
                     axis.restore_servo()
 

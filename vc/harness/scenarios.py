@@ -8,7 +8,12 @@ from interfaces.links.inprocess import plc_programs
 from vc.harness.simulation import Simulation
 from vc.scenario.command import run_command
 from vc.scenario.model import LINK_CAN, Scenario
+from vc.scenario.target import ScenarioTarget
 from vc_build import status as build_status
+
+TargetFactory = Callable[[Scenario], Simulation]
+# wraps the factory of a run, e.g. to observe each simulation (vc run --coverage)
+Observe = Callable[[TargetFactory], Callable[[Scenario], ScenarioTarget]]
 
 
 def simulation_for(scenario: Scenario) -> Simulation:
@@ -23,22 +28,25 @@ def simulation_for(scenario: Scenario) -> Simulation:
 
 def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_dir: str | None = None,
                        golden: str | None = None, update_golden: bool = False, link: str = "inprocess",
-                       can_bus: str | None = None, jobs: int | None = None) -> int:
+                       can_bus: str | None = None, jobs: int | None = None, observe: Observe | None = None) -> int:
     """``link``: ``inprocess`` runs the PLC programs in lockstep in this process, or in ``jobs``
     worker processes (default one per core); ``modbus`` runs them in a ``python -m plc_stub``
     process over a lockstep Modbus TCP link, ``can`` over a lockstep CAN link on ``can_bus``
     (default: a UDP multicast channel of this run): both with one PLC process, one scenario
     after the other.  A scenario with an external PLC (``plc: awlsim:FILE``) runs against that
-    PLC in its own process, in every run."""
+    PLC in its own process, in every run.  ``observe`` wraps the run's factory of simulations
+    (the interface coverage observes each one, in this process: such a run has no workers)."""
     from vc.harness.external_plc import ExternalPlcs
 
     build = build_status().describe()
 
-    def run(make_target: Callable[[Scenario], Simulation], workers: int | None = 1) -> int:
+    def run(make_target: TargetFactory, workers: int | None = 1) -> int:
         with ExternalPlcs() as external:  # scenarios with plc: awlsim:FILE, whatever the link
-            return run_command(paths, external.wrap(make_target), plc_programs().keys(), junit=junit,
-                               trace_dir=trace_dir, golden=golden, update_golden=update_golden, jobs=workers,
-                               build=build)
+            wrapped = external.wrap(make_target)
+            target_factory: Callable[[Scenario], ScenarioTarget] = wrapped if observe is None else observe(wrapped)
+            return run_command(paths, target_factory, plc_programs().keys(), junit=junit, trace_dir=trace_dir,
+                               golden=golden, update_golden=update_golden,
+                               jobs=workers if observe is None else 1, build=build)
 
     if link == "modbus":
         from vc.harness.external_plc import PlcProcess

@@ -6,7 +6,8 @@ done, so a PLC that can be stepped (``python -m plc_stub``) runs deterministical
 while no PLC answers.  Real time (``--realtime``): the IPO cycles follow the wall clock
 (``--speed`` scales it), the PLC scans on its own clock, and the NC watches the PLC's sign of
 life (alarm 2000 after MD10100 without one).  A scenario (``--scenario``) plays the operator;
-afterwards the machine keeps running until Ctrl-C or ``--duration``.
+afterwards the machine keeps running until Ctrl-C or ``--duration``.  An ``observer`` (the session
+recording of ``--record``) sees every cycle and every action of the operator.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from interfaces.plc import PlcEnvironment, SoftPlc
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.harness.can_link import CanLink
+from vc.harness.observed import ObservedSimulation, SimulationObserver
 from vc.harness.pacer import RealtimePacer
 from vc.harness.plc_link import Endpoint, LinkMode, PlcLink, check_bind
 from vc.harness.simulation import Simulation
@@ -75,6 +77,7 @@ class ServeOptions:
     duration_s: float | None = None  # simulated seconds, then stop
     stats_every_s: float = 10.0
     say: Callable[[str], None] = field(default=print)
+    observer: SimulationObserver | None = None  # watches the served simulation (vc serve --record)
 
 
 class AlarmWatch:
@@ -124,14 +127,15 @@ def serve(options: ServeOptions) -> int:
         ipo_s = Simulation.ipo_seconds(machine)
         pacer = RealtimePacer(loop, ipo_s, options.speed) if options.realtime else None
         _banner(options, machine, link, program, mode, say)
-        simulations: list[Simulation] = []
+        simulations: list[Simulation | ObservedSimulation] = []
 
-        def power_on(scenario: Scenario | None = None) -> Simulation:
+        def power_on(scenario: Scenario | None = None) -> Simulation | ObservedSimulation:
             powered = scenario.machine if scenario else machine
             link.configure_for(powered)
             simulation = Simulation(powered, program, connector=link, pacer=pacer)
-            simulations.append(simulation)
-            return simulation
+            observer = options.observer
+            simulations.append(simulation if observer is None else ObservedSimulation(simulation, [observer]))
+            return simulations[-1]
 
         code = EXIT_PASSED
         try:
@@ -173,14 +177,15 @@ def _banner(options: ServeOptions, machine: MachineConfig, link: ServedLink, pro
         say(f"real time, {speed}; the NC watches the PLC's sign of life (alarm 2000){link.watched}")
 
 
-def _keep_running(simulation: Simulation, pacer: RealtimePacer | None, link: ServedLink,
+def _keep_running(target: Simulation | ObservedSimulation, pacer: RealtimePacer | None, link: ServedLink,
                   options: ServeOptions) -> None:
+    simulation = target if isinstance(target, Simulation) else target.simulation
     alarms = AlarmWatch(simulation, options.say)
     stop_cycle = None if options.duration_s is None else round(options.duration_s / simulation.ipo_cycle_s)
     next_stats = wallclock.monotonic() + options.stats_every_s
     reported = 0
     while stop_cycle is None or simulation.cycle < stop_cycle:
-        simulation.step(1)
+        target.step(1)
         alarms.check()
         if pacer is not None and wallclock.monotonic() >= next_stats:
             next_stats += options.stats_every_s

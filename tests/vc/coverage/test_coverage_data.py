@@ -1,0 +1,101 @@
+"""The coverage data: value records, merging, and the file - written and read back as it was, and a
+file that is not one is a list of problems at their lines."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from vc.coverage.data import FALLS, MAX_DISTINCT, RISES, CoverageData, MachineCoverage, ValueRecord
+from vc.located_yaml import SourceError
+
+
+def test_a_value_record_keeps_edges_extremes_and_distinct_values() -> None:
+    record = ValueRecord()
+    record.saw(0)
+    for old, new in ((0, 1), (1, 0), (0, 5)):
+        record.changed(old, new)
+    assert (record.values, record.edges, record.low, record.high) == ({0, 1, 5}, RISES | FALLS, 0, 5)
+    many = ValueRecord()
+    for value in range(MAX_DISTINCT + 10):
+        many.saw(value)
+    assert len(many.values) == MAX_DISTINCT and many.more and many.distinct == MAX_DISTINCT + 1
+    assert many.high == MAX_DISTINCT + 9  # the extremes are kept whatever the count
+
+
+@given(st.lists(st.integers(0, 300), max_size=40), st.lists(st.integers(0, 300), max_size=40))
+def test_merging_two_records_is_seeing_both(first: list[int], second: list[int]) -> None:
+    def seen(values: list[int]) -> ValueRecord:
+        record = ValueRecord()
+        for value in values:
+            record.saw(value)
+        return record
+
+    merged = seen(first)
+    merged.merge(seen(second))
+    both = seen(first + second)
+    assert (merged.low, merged.high) == (both.low, both.high)
+    if both.more:  # beyond MAX_DISTINCT only the count is approximate
+        assert merged.more or len(merged.values) == MAX_DISTINCT
+    else:
+        assert (merged.values, merged.more) == (both.values, False)
+
+
+def _sample() -> CoverageData:
+    data = CoverageData(scenarios=2, cycles=500)
+    machine = data.machines["mini"] = MachineCoverage(source="machines/mini.yaml", instances={"X1": 31})
+    machine.signals["X1.basic.in.enc1Synchronized"] = ValueRecord({0, 1}, False, 0, 1, RISES)
+    machine.types["X1.basic.in.enc1Synchronized"] = "bool"
+    machine.not_applicable.add("X1.spindle.in.gearChangeoverActive")
+    machine.plant["X1.refCam"] = ValueRecord({0}, False, 0, 0, 0)
+    function = data.function("gear_change")
+    function.instances.add("mini/SP1")
+    function.entered("NONE")
+    function.took("NONE", "REQUESTED")
+    data.alarm(3000).raised = 1
+    data.alarm(3000).cleared_by("emergency_stop_ack")
+    return data
+
+
+def test_the_file_reads_back_as_it_was_written(tmp_path: Path) -> None:
+    path = tmp_path / "coverage.json"
+    _sample().save(str(path))
+    assert CoverageData.load(str(path)).to_json() == _sample().to_json()
+    assert json.loads(path.read_text())["format"] == "vc-coverage"
+
+
+def _problems(tmp_path: Path, text: str) -> list[str]:
+    path = tmp_path / "c.json"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(SourceError) as error:
+        CoverageData.load(str(path))
+    return [str(problem).replace(str(path), "F") for problem in error.value.problems]
+
+
+def test_a_file_that_is_not_a_coverage_file_is_located(tmp_path: Path) -> None:
+    assert _problems(tmp_path, "{\n  \"format\": \"vc-coverage\",\n  oops\n}") == [
+        "F:3:3: not a coverage file of vc run --coverage (JSON: Expecting property name enclosed in double quotes)"]
+    assert _problems(tmp_path, '{"format": "vc-recording", "version": 1}') == [
+        'F:1:12: not a coverage file of vc run --coverage ("format" must be "vc-coverage")']
+    assert _problems(tmp_path, '{"format": "vc-coverage", "version": 9}') == [
+        "F:1:38: coverage file version 9: this vc reads version 1"]
+    text = json.dumps(_sample().to_json(), indent=1)
+    text = text.replace('"cycles": 500', '"cycles": -4').replace('"edges": 1', '"edges": 9')
+    text = text.replace('"raised": 1', '"raised": "once"')
+    problems = _problems(tmp_path, text)
+    lines = text.splitlines()
+
+    def line_of(fragment: str) -> int:
+        return next(number for number, line in enumerate(lines, start=1) if fragment in line)
+
+    cycles, edges, raised = line_of('"cycles": -4'), line_of('"edges": 9'), line_of('"raised": "once"')
+    assert problems == [  # in the order of the file
+        f"F:{cycles}:12: cycles must be a whole number >= 0, not -4",
+        f"F:{edges}:15: machines.mini.signals.X1.basic.in.enc1Synchronized.edges must be 0..3 (1 rises, 2 falls)",
+        f'F:{raised}:14: alarms.3000.raised must be a whole number >= 0, not "once"']
+    assert _problems(tmp_path, '{"format": "vc-coverage", "version": 1, "extra": 1}') == [
+        "F:1:50: unknown key 'extra' (known: alarms, cycles, format, functions, machines, scenarios, version)"]

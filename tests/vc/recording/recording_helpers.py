@@ -1,0 +1,30 @@
+"""Recording a scenario's session in this process (the built-in PLC in lockstep), as vc serve --record
+records one with a PLC in another process: the same recorder, observing the same simulation."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from interfaces.links.inprocess import InProcessConnector, plc_programs
+from interfaces.plc import PlcConnector
+from vc.harness.observed import ObservedSimulation
+from vc.harness.simulation import Simulation
+from vc.recording.format import RecordedFile
+from vc.recording.recorder import SessionInfo, SessionRecorder
+from vc.scenario.loader import load_scenario
+from vc.scenario.runner import ScenarioResult, run_scenario
+
+ROOT = Path(__file__).resolve().parents[3]
+OPERATOR = ROOT / "tests" / "vc" / "recording" / "reference_x1_operator.yaml"
+
+
+def record_scenario(scenario_file: Path, out: Path, connector: PlcConnector | None = None) -> ScenarioResult:
+    """Run ``scenario_file`` with its PLC program (through ``connector``) and record the session to ``out``."""
+    scenario = load_scenario(str(scenario_file), plc_programs().keys())
+    played = RecordedFile(str(scenario_file), scenario_file.read_text(encoding="utf-8"))
+    recorder = SessionRecorder(str(out), SessionInfo(played, "inprocess", "lockstep", "test"))
+    simulation = Simulation(scenario.machine, scenario.plc_program, connector=connector or InProcessConnector())
+    try:
+        return run_scenario(scenario, ObservedSimulation(simulation, [recorder]))
+    finally:
+        recorder.close()

@@ -1,0 +1,169 @@
+"""Recording a live session (``vc serve --record FILE``): what the PLC wrote, what the NC showed,
+what the operator did, cycle by cycle.
+
+:class:`SessionRecorder` observes the served simulation (``vc.harness.observed``).  After every
+IPO cycle it compares
+
+* the PLC's bytes - the PLC-to-NC data of the wire and the plant outputs Q - and
+* the NC's bytes - the NC-to-PLC data of the NC's data blocks -
+
+with the cycle before (one ``memcmp`` per area, the ranges of a direction only where an area
+changed) and writes the changed bytes as ``plc`` and ``nc`` rows; after a PLC scan whose sign of
+life did not change, a ``life`` row.  Every action of the operator becomes an ``op`` row, followed
+by the bytes it changed.  After a power-on (the first, and every power cycle) all bytes are
+written, so that a replay starts from the recorded state whatever the fresh images hold.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from vc.harness.observed import OperatorAction
+from vc.harness.simulation import Simulation
+from vc.recording.format import LIFE, NC, PLC, Action, Bytes, Header, Marker, RecordedFile, RecordingWriter
+
+MERGE_GAP = 4  # changed bytes this close together go into one row
+
+
+@dataclass(slots=True)
+class _Range:
+    area: str
+    start: int
+    stop: int
+
+
+class ImageWatch:
+    """Byte ranges of some areas and their bytes as last seen; what changed since, as runs."""
+
+    def __init__(self, source: str, ranges: dict[str, list[tuple[int, int]]]):
+        self.source = source
+        self.ranges = ranges  # area -> [(start, stop)]
+        self.seen: dict[str, bytes] = {}
+
+    def forget(self) -> None:
+        """After a power-on: the next look reports every watched byte."""
+        self.seen = {}
+
+    def changes(self, cycle: int, areas: dict[str, bytearray]) -> list[Bytes]:
+        rows: list[Bytes] = []
+        seen = self.seen
+        for area, spans in self.ranges.items():
+            now = areas[area]
+            before = seen.get(area)
+            if before is not None and now == before:
+                continue
+            for start, stop in spans:
+                if before is None:
+                    rows.append(Bytes(cycle, self.source, area, start, bytes(now[start:stop])))
+                    continue
+                rows.extend(self._runs(cycle, area, now, before, start, stop))
+            seen[area] = bytes(now)
+        return rows
+
+    def _runs(self, cycle: int, area: str, now: bytearray, before: bytes, start: int, stop: int) -> list[Bytes]:
+        rows = []
+        first = last = -1
+        for index in range(start, stop):
+            if now[index] == before[index]:
+                continue
+            if first >= 0 and index - last > MERGE_GAP:
+                rows.append(Bytes(cycle, self.source, area, first, bytes(now[first:last + 1])))
+                first = -1
+            if first < 0:
+                first = index
+            last = index
+        if first >= 0:
+            rows.append(Bytes(cycle, self.source, area, first, bytes(now[first:last + 1])))
+        return rows
+
+
+def _spans(ranges: list[tuple[str, int, int]]) -> dict[str, list[tuple[int, int]]]:
+    result: dict[str, list[tuple[int, int]]] = {}
+    for area, start, stop in ranges:
+        result.setdefault(area, []).append((start, stop))
+    return result
+
+
+@dataclass(frozen=True, slots=True)
+class SessionInfo:
+    """What the header says besides the machine and the PLC program: the scenario that played the
+    operator, the PLC's link and its mode (lockstep, free_running)."""
+
+    scenario: RecordedFile | None
+    link: str
+    mode: str
+    created_by: str = ""
+
+
+class SessionRecorder:
+    """Writes a recording of the simulation it observes (see the module docstring)."""
+
+    def __init__(self, path: str, session: SessionInfo):
+        self.path = path
+        self.session = session
+        self.writer: RecordingWriter | None = None
+        self.plc_watch: ImageWatch | None = None
+        self.nc_watch: ImageWatch | None = None
+        self.life: int | None = None
+        self.cycle = 0
+
+    # ------------------------------------------------------------------ SimulationObserver
+    def attached(self, simulation: Simulation) -> None:
+        if self.writer is not None:
+            raise RuntimeError("a session recording holds one simulation; this one has begun already")
+        machine = simulation.machine
+        with open(machine.source, encoding="utf-8") as handle:
+            text = handle.read()
+        catalog = simulation.catalog
+        session = self.session
+        header = Header(machine.name, RecordedFile(machine.source, text), session.scenario, simulation.plc_name or "",
+                        session.link, session.mode, simulation.ipo_cycle_us, simulation.plc_period,
+                        {**catalog.area_sizes, **machine.plant_io.area_sizes()}, session.created_by)
+        self.writer = RecordingWriter(self.path, header)
+        nck = simulation.nck
+        q_size = len(simulation.plant_image.areas["Q"])
+        self.plc_watch = ImageWatch(PLC, _spans([*nck.plc_to_nc_ranges, ("Q", 0, q_size)]))
+        self.nc_watch = ImageWatch(NC, _spans(nck.nc_to_plc_ranges))
+        self._powered_on(simulation)
+
+    def cycle_done(self, simulation: Simulation) -> None:
+        self._bytes(simulation)
+        plc = simulation.plc
+        if plc is not None and simulation.nck.cycle % simulation.plc_period == 0:
+            life = plc.sign_of_life
+            if life == self.life:
+                self._write(Marker(simulation.cycle, LIFE))
+            self.life = life
+
+    def acted(self, simulation: Simulation, action: OperatorAction) -> None:
+        cycle = self.cycle
+        self._write(Action(cycle, action))
+        if action.kind == "power_cycle":
+            self._powered_on(simulation)
+        else:
+            self._bytes(simulation)
+
+    def close(self) -> None:
+        if self.writer is not None:
+            self.writer.close(self.cycle)
+
+    # ------------------------------------------------------------------ parts
+    def _powered_on(self, simulation: Simulation) -> None:
+        assert self.plc_watch is not None and self.nc_watch is not None
+        self.plc_watch.forget()
+        self.nc_watch.forget()
+        self._bytes(simulation)
+        self.life = simulation.plc.sign_of_life if simulation.plc is not None else None
+
+    def _bytes(self, simulation: Simulation) -> None:
+        assert self.plc_watch is not None and self.nc_watch is not None
+        cycle = self.cycle = simulation.cycle
+        for row in self.nc_watch.changes(cycle, simulation.nck.image.areas):
+            self._write(row)
+        plc_areas = {**simulation.interface.areas, "Q": simulation.plant_image.areas["Q"]}
+        for row in self.plc_watch.changes(cycle, plc_areas):
+            self._write(row)
+
+    def _write(self, row: Bytes | Action | Marker) -> None:
+        assert self.writer is not None
+        self.writer.write(row)
