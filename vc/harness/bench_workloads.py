@@ -9,22 +9,22 @@ Three loads, each on the first channel of the machine:
   exact stop), the other axes and spindles standing.
 * ``everything``: every axis and spindle of the channel moves.  Each spindle turns with M3 at
   half the top speed of its first gear stage (MD35130[1], at most MD35100 and MD32000): the
-  gear stage the gearbox is in at power-on, so no gear change interrupts the program.  Where
-  the channel has a configured synchronous spindle pair (MD21300 COUPLE_AXIS_1 = [FS, LS]) the
-  following spindle does not turn on its own: ``COUPDEF(S<fs>,S<ls>,1,1,"NOC","DV")`` and
-  ``COUPON(S<fs>,S<ls>)`` couple it 1:1 to the leading one (setpoint coupling, block change at
-  once).  The other axes (geometry axes by their geometry names, the rest by their channel
-  names) move incrementally by 20 mm or degrees forth and back in every block, all at once,
-  with G1 and G0, and end where they started.  Before the timing starts, ``SPOS[n]=0`` takes
-  every spindle to its zero mark once, so that the coupled spindles are synchronised with their
-  zero marks (else the NC warns with alarm 22040 at every COUPON), and the program runs once:
-  its first run waits for the spindles to reach their speeds before the axes move (turn_mill:
-  2.5 s, SP3 to 5000 rev/min); the spindles keep turning over the program end (M30), so each
-  timed run moves everything from its first block on.
+  gearboxes of the machines in scenarios/machines/ are in stage 1 at power-on, so no gear
+  change interrupts the program.  Where the channel has a configured synchronous spindle pair
+  (MD21300 COUPLE_AXIS_1 = [FS, LS]) the following spindle does not turn on its own:
+  ``COUPDEF(S<fs>,S<ls>,1,1,"NOC","DV")`` and ``COUPON(S<fs>,S<ls>)`` couple it 1:1 to the
+  leading one (setpoint coupling, block change at once).  The other axes (geometry axes by
+  their geometry names, the rest by their channel names) move incrementally by 20 mm or
+  degrees forth and back in every block, all at once, with G1 and G0, and end where they
+  started.  Before the timing starts, ``SPOS[n]=0`` takes every spindle to its zero mark once,
+  so that the coupled spindles are synchronised with their zero marks (else the NC warns with
+  alarm 22040 at every COUPON), and the program runs once: its first run waits for the
+  spindles to reach their speeds before the axes move (turn_mill: 2.5 s, SP3 to 5000 rev/min);
+  the spindles keep turning over the program end (M30), so each timed run moves everything
+  from its first block on.
 
-A workload says what it must move (``moving``, machine axis names) and which following spindle
-must be coupled (``coupled``): the benchmark checks both, so a figure never stands for motion
-that did not happen.
+A plan says what must move (``moving``, machine axis names) and which pair must be coupled
+(``pair``): the benchmark checks both, so a figure never stands for motion that did not happen.
 """
 
 from __future__ import annotations

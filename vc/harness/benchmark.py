@@ -98,6 +98,7 @@ class Workload:
         self._state_reset = simulation.catalog.resolve(f"{plan.channel}.basic.in.stateReset")
         self._following = None if plan.pair is None else simulation.catalog.resolve(
             f"{plan.pair.following}.coupling.in.followingSpindleActive")
+        self._alarms_before = len(simulation.alarm_history())
         if plan.setup:
             simulation.load_mda(plan.channel, plan.setup)
             _press(simulation, "MCP.mda")
@@ -108,7 +109,6 @@ class Workload:
             if plan.program:
                 simulation.load_mda(plan.channel, plan.program)
             _press(simulation, "MCP.mda")
-        self._alarms_before = len(simulation.alarm_history())
         self._standing = list(plan.axes)
         self.moved: set[str] = set()  # the axes seen with a velocity
         self.coupled = False  # the following spindle of the plan's pair seen coupled
