@@ -19,7 +19,9 @@
                                                       replay a recorded session without the PLC and report the
                                                       first difference, or turn it into a scenario
                                                       (docs/recording.md)
-    vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle
+    vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle, light and heavy
+    vc bench --scaling [--machine M.yaml] [--seconds S]
+                                                      the cost per IPO cycle by what moves, per machine
     vc bench --link modbus [--seconds S]              what the Modbus TCP link costs (bench/README.md)
     vc bench --link can [--seconds S]                 frames per second and cost per IPO cycle of the CAN link
     vc bench --link fmu [--seconds S] [--python host] FMU steps per second under FMPy against in process
@@ -53,11 +55,13 @@ from vc_build import status as build_status
 DEFAULT_MACHINE = "scenarios/machines/turn_mill.yaml"
 GUIDE_FORMAT = "guide"  # vc map --format guide: docs/modbus.md for the machine
 DBC_FORMAT = "dbc"  # vc map --format dbc: the CAN frames through cantools
-DEFAULT_BENCH_SECONDS = 30.0  # simulated, in process
+DEFAULT_BENCH_SECONDS = 30.0  # simulated, in process, per workload
+DEFAULT_SCALING_SECONDS = 10.0  # simulated, per machine and load of --scaling
 DEFAULT_REALTIME_BENCH_SECONDS = 60.0  # wall-clock, the real-time measurement of --link modbus
 DEFAULT_FMU_BENCH_SECONDS = 20.0  # simulated, per workload of --link fmu
 DEFAULT_CAN_BENCH_SECONDS = 10.0  # simulated, per bus of --link can
 EXIT_PROBLEMS = 2
+EXIT_FAILED = 1  # a scenario failed, a benchmark's workload did not move as it should
 
 
 def _map(arguments: argparse.Namespace) -> int:
@@ -125,23 +129,69 @@ def _write(content: str | bytes, output: str | None) -> None:
 
 
 def _bench(arguments: argparse.Namespace) -> int:
+    if arguments.scaling:
+        if arguments.link != "inprocess":
+            print(f"vc bench: --scaling measures the simulation in process, not --link {arguments.link}",
+                  file=sys.stderr)
+            return EXIT_PROBLEMS
+        return _bench_scaling(arguments)
+    if arguments.machine is None:  # --scaling alone runs several machines
+        arguments.machine = DEFAULT_MACHINE
     if arguments.link == "modbus":
         return _bench_modbus(arguments)
     if arguments.link == "fmu":
         return _bench_fmu(arguments)
     if arguments.link == "can":
         return _bench_can(arguments)
-    from vc.harness.benchmark import run_benchmark
+    from vc.harness.benchmark import BenchmarkError, run_light_and_heavy
 
     seconds = DEFAULT_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
-    result = run_benchmark(arguments.machine, seconds)
+    try:
+        light, heavy = run_light_and_heavy(arguments.machine, seconds)
+    except BenchmarkError as error:
+        print(f"vc bench: {error}", file=sys.stderr)
+        return EXIT_FAILED
     print(f"vc {_version()}, {build_status().describe()}, Python {platform.python_version()}")
-    print(f"machine {result.machine}, IPO cycle {result.ipo_cycle_us} us, built-in PLC basic_machine")
-    print(f"simulated {result.simulated_s:.2f} s ({result.cycles} IPO cycles) in {result.wall_s:.3f} s wall time")
-    print(f"real-time factor {result.realtime_factor:.1f}x, {result.us_per_cycle:.1f} us per IPO cycle")
-    print(json.dumps({"realtime_factor": round(result.realtime_factor, 1),
-                      "us_per_cycle": round(result.us_per_cycle, 2)}))
+    print(f"machine {light.machine}, IPO cycle {light.ipo_cycle_us} us, {seconds:g} s simulated per workload")
+    for name, result in (("light", light), ("heavy", heavy)):
+        print(f"{name}: {result.plan.describe()}, built-in PLC {result.plc}: real-time factor"
+              f" {result.realtime_factor:.1f}x, {result.us_per_cycle:.1f} us per IPO cycle"
+              f" ({result.cycles} IPO cycles in {result.wall_s:.3f} s)")
+    print(json.dumps({"realtime_factor": round(light.realtime_factor, 1),
+                      "us_per_cycle": round(light.us_per_cycle, 2),
+                      "heavy_realtime_factor": round(heavy.realtime_factor, 1),
+                      "heavy_us_per_cycle": round(heavy.us_per_cycle, 2),
+                      "build": _build_name()}))
     return 0
+
+
+def _bench_scaling(arguments: argparse.Namespace) -> int:
+    """The cost per IPO cycle of each machine idle, with two axes and with everything moving."""
+    from vc.harness.bench_scaling import (
+        SCALING_MACHINES,
+        SCALING_PLC,
+        row_figures,
+        run_scaling,
+        scaling_table,
+    )
+    from vc.harness.benchmark import BenchmarkError
+
+    seconds = DEFAULT_SCALING_SECONDS if arguments.seconds is None else arguments.seconds
+    machines = SCALING_MACHINES if arguments.machine is None else (arguments.machine,)
+    try:
+        rows = run_scaling(machines, seconds)
+    except BenchmarkError as error:
+        print(f"vc bench: {error}", file=sys.stderr)
+        return EXIT_FAILED
+    print(f"vc {_version()}, {build_status().describe()}, Python {platform.python_version()}")
+    print(f"built-in PLC {SCALING_PLC}, {seconds:g} s simulated per row")
+    print(scaling_table(rows))
+    print(json.dumps({"build": _build_name(), "scaling": [row_figures(row) for row in rows]}))
+    return 0
+
+
+def _build_name() -> str:
+    return "compiled" if build_status().compiled else "pure"
 
 
 class HasFigures(Protocol):
@@ -454,7 +504,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     bench = commands.add_parser("bench", help="measure the real-time factor of the simulation, the Modbus link"
                                               " or the FMU")
-    bench.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")
+    bench.add_argument("--machine", default=None,
+                       help=f"machine YAML file (default {DEFAULT_MACHINE}; with --scaling: the three of"
+                            " scenarios/machines/)")
+    bench.add_argument("--scaling", action="store_true",
+                       help="the cost per IPO cycle of each machine idle, with two axes and with every axis and"
+                            " spindle moving, as a table (in process)")
     bench.add_argument("--link", choices=("inprocess", "modbus", "can", "fmu"), default="inprocess",
                        help="inprocess (default): the simulation with the PLC in this process; modbus: exchange"
                             " round trip against a bare pymodbus server, lockstep rate and real-time jitter with"
@@ -463,7 +518,8 @@ def build_parser() -> argparse.ArgumentParser:
                             " (needs the test extra); can: frames per second and added cost per IPO cycle of the"
                             " CAN link on a virtual bus and on UDP multicast with plc_stub in its own process")
     bench.add_argument("--seconds", type=_positive, default=None,
-                       help=f"inprocess: simulated seconds to run (default {DEFAULT_BENCH_SECONDS:g});"
+                       help=f"inprocess: simulated seconds per workload (default {DEFAULT_BENCH_SECONDS:g});"
+                            f" --scaling: simulated seconds per row (default {DEFAULT_SCALING_SECONDS:g});"
                             f" modbus: wall seconds of the real-time measurement"
                             f" (default {DEFAULT_REALTIME_BENCH_SECONDS:g}); fmu: simulated seconds per workload"
                             f" (default {DEFAULT_FMU_BENCH_SECONDS:g}); can: simulated seconds per bus"

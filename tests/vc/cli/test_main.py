@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 from vc.cli.main import main
+from vc_build import status as build_status
 
 ROOT = Path(__file__).resolve().parents[3]
 MACHINE = str(ROOT / "scenarios" / "machines" / "turn_mill.yaml")
@@ -56,12 +57,35 @@ def test_map_of_a_broken_machine_file_names_file_and_line(tmp_path: Path, capsys
     assert f"{broken}:5:" in error and "MD32000" in error and "nothing was run" in error
 
 
-def test_bench_prints_its_figures_as_the_last_line_in_json(capsys: pytest.CaptureFixture[str]) -> None:
+def test_bench_prints_a_line_per_workload_and_its_figures_as_the_last_line_in_json(
+        capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["bench", "--machine", MACHINE, "--seconds", "1"]) == 0
-    last = capsys.readouterr().out.strip().splitlines()[-1]
-    figures = json.loads(last)
-    assert set(figures) == {"realtime_factor", "us_per_cycle"}
-    assert figures["realtime_factor"] > 0 and figures["us_per_cycle"] > 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    light = next(line for line in lines if line.startswith("light: "))
+    heavy = next(line for line in lines if line.startswith("heavy: "))
+    assert "two axes (X1, Y1), built-in PLC basic_machine: real-time factor" in light
+    assert "everything (X1, Z1, Y1, SP1, SP2, SP3; SP2 coupled to SP1), built-in PLC spindle:" in heavy
+    assert "us per IPO cycle" in light and "us per IPO cycle" in heavy
+    figures = json.loads(lines[-1])
+    assert set(figures) == {"realtime_factor", "us_per_cycle", "heavy_realtime_factor", "heavy_us_per_cycle", "build"}
+    assert all(figures[key] > 0 for key in figures if key != "build")
+    assert figures["build"] == ("compiled" if build_status().compiled else "pure")
+
+
+def test_bench_scaling_prints_the_table_and_its_rows_in_json(
+        capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(ROOT)  # the three machines of scenarios/machines/
+    assert main(["bench", "--scaling", "--seconds", "0.3"]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert lines[2] == "| machine | load | moving / axes | us per IPO cycle | real-time factor |"
+    assert lines[6].startswith("| mill_3axis | everything | 4 / 4 | ")
+    figures = json.loads(lines[-1])
+    assert figures["build"] in ("compiled", "pure") and len(figures["scaling"]) == 9
+    assert main(["bench", "--scaling", "--machine", MACHINE, "--seconds", "0.3"]) == 0
+    rows = json.loads(capsys.readouterr().out.strip().splitlines()[-1])["scaling"]
+    assert [(row["machine"], row["load"], row["moving"]) for row in rows] == [
+        ("turn_mill", "idle", 0), ("turn_mill", "two axes", 2), ("turn_mill", "everything", 6)]
+    assert main(["bench", "--scaling", "--link", "modbus"]) == 2
 
 
 def test_a_broken_scenario_stops_the_whole_run_before_anything_runs(
