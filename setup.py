@@ -54,6 +54,7 @@ BUILDING = {"build", "build_ext", "bdist_wheel", "editable_wheel", "develop", "i
 COMPILED = (
     "vc/core/**/*.py",
     "vc/plant/*.py",
+    "vc/config/machine_data.py",  # read dozens of times per IPO cycle by the spindles and couplings
     "plc_stub/runtime.py",
     "plc_stub/io.py",
     "plc_stub/blocks.py",
