@@ -27,7 +27,7 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
     them in a ``python -m plc_stub`` process over a lockstep Modbus TCP link, ``can`` over a
     lockstep CAN link on ``can_bus`` (default: a UDP multicast channel of this run)."""
     def run(make_target: Callable[[Scenario], Simulation]) -> int:
-        return run_command(paths, make_target, plc_programs().keys(), junit=junit, trace_dir=trace_dir,
+        return run_command(paths, make_target, plc_programs(), junit=junit, trace_dir=trace_dir,
                            golden=golden, update_golden=update_golden)
 
     if link == "modbus":

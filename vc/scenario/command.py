@@ -6,7 +6,7 @@ Exit codes: 0 every scenario passed, 1 a scenario failed (or the harness could n
 
 from __future__ import annotations
 
-from collections.abc import Callable, Collection, Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from rich.console import Console
@@ -14,7 +14,7 @@ from rich.console import Console
 from interfaces.signals import Catalog
 from vc.located_yaml import SourceError
 from vc.scenario.golden import GoldenCheck
-from vc.scenario.loader import MachineLoader, load_scenarios
+from vc.scenario.loader import MachineLoader, Programs, load_scenarios
 from vc.scenario.model import Scenario
 from vc.scenario.report import ConsoleReport, write_junit
 from vc.scenario.runner import run_scenarios
@@ -26,7 +26,7 @@ EXIT_PROBLEMS = 2
 
 
 def run_command(paths: Sequence[str], make_target: Callable[[Scenario], ScenarioTarget],
-                known_programs: Collection[str], *, junit: str | Path | None = None,
+                known_programs: Programs, *, junit: str | Path | None = None,
                 trace_dir: str | Path | None = None, console: Console | None = None,
                 catalog: Catalog | None = None, machine_loader: MachineLoader | None = None,
                 golden: str | Path | None = None, update_golden: bool = False) -> int:
@@ -42,7 +42,7 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
         report.print_problems(error)
         return EXIT_PROBLEMS
     if not scenarios:
-        report.console.print("no scenario files found in " + ", ".join(paths), highlight=False)
+        report.say("no scenario files found in " + ", ".join(paths))
         return EXIT_PROBLEMS
     try:
         check = GoldenCheck(Path(golden), update_golden) if golden is not None else None
