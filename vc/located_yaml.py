@@ -128,7 +128,7 @@ def mark_at(text: str, position: int, file: str) -> Mark:
 
 _YAML = "tag:yaml.org,2002:"
 _STR, _NULL, _BOOL, _INT, _FLOAT = (f"{_YAML}{name}" for name in ("str", "null", "bool", "int", "float"))
-_TIMESTAMP = f"{_YAML}timestamp"  # an unquoted date: text to the harness, which has no dates
+_TIMESTAMP = f"{_YAML}timestamp"  # an unquoted date is text to the harness, which has no dates; !!timestamp is refused
 _COLLECTION_TAGS = (f"{_YAML}seq", f"{_YAML}map")
 
 
@@ -153,6 +153,7 @@ class _BoundedLoader(yaml.SafeLoader):
         self.expanded = 0
         self.sizes: dict[int, int] = {}  # id(node) -> values the node stands for, aliases expanded
         self.open_anchors: set[str] = set()  # anchors of the collections being composed
+        self.dated: set[int] = set()  # id(node) of the scalars tagged !!timestamp in the file
 
     def compose_node(self, parent: yaml.Node | None, index: int) -> yaml.Node | None:
         self.check_event(yaml.NodeEvent)  # peeks: the event to compose is the current one
@@ -178,6 +179,8 @@ class _BoundedLoader(yaml.SafeLoader):
             self.depth -= 1
             if anchor is not None:
                 self.open_anchors.discard(anchor)
+        if isinstance(event, yaml.ScalarEvent) and event.tag == _TIMESTAMP:
+            self.dated.add(id(node))
         children: list[yaml.Node] = []
         if isinstance(node, yaml.SequenceNode):
             children = node.value
@@ -203,9 +206,10 @@ def _shown_tag(tag: str) -> str:
 class _Converter:
     """Turns composed nodes into located values; bad scalars and tags become problems."""
 
-    def __init__(self, file: str, problems: Problems):
+    def __init__(self, file: str, problems: Problems, dated: set[int]):
         self.file = file
         self.problems = problems
+        self.dated = dated  # scalars tagged !!timestamp in the file (an unquoted date is text)
         self.refused = False  # a value could not be read: the document is not returned
 
     def refuse(self, node: yaml.Node, message: str) -> None:
@@ -252,7 +256,7 @@ class _Converter:
 
     def scalar(self, node: yaml.ScalarNode) -> Any:
         tag, text = node.tag, node.value
-        if tag in (_STR, _TIMESTAMP):
+        if tag == _STR or (tag == _TIMESTAMP and id(node) not in self.dated):
             return text
         if tag == _NULL:
             return None
@@ -308,7 +312,7 @@ def load_text(text: str, file: str) -> tuple[Any, list[Problem]]:
         loader.dispose()
     if node is None:
         return None, [Problem(Mark(file, 1, 1), "the file is empty")]
-    converter = _Converter(file, problems)
+    converter = _Converter(file, problems, loader.dated)
     try:
         document = converter.convert(node)
     except yaml.MarkedYAMLError as error:  # a << merge of something that is not a mapping
@@ -352,8 +356,11 @@ def read_source(path: str, what: str = "file") -> tuple[str | None, list[Problem
         os.close(descriptor)
         kind = "a directory" if stat.S_ISDIR(mode) else "a device, FIFO or socket"
         return None, [Problem(where, f"cannot read the {what}: it is {kind}, not a regular file")]
-    with os.fdopen(descriptor, "rb") as handle:
-        data = handle.read(MAX_FILE_BYTES + 1)
+    try:
+        with os.fdopen(descriptor, "rb") as handle:
+            data = handle.read(MAX_FILE_BYTES + 1)
+    except OSError as error:  # a regular file the kernel will not read (/proc/self/mem)
+        return None, [Problem(where, f"cannot read the {what} ({error.strerror})")]
     if len(data) > MAX_FILE_BYTES:
         return None, [Problem(where, f"the {what} is larger than {MAX_FILE_BYTES:,} bytes, the most the harness reads")]
     try:

@@ -95,6 +95,7 @@ def test_numbers_that_are_not_finite_are_refused(value: str) -> None:
     ("!custom 1", "!custom"), ("!!python/name:os.system x", "!!python/name:os.system"),
     ("!!python/object/apply:os.system [ls]", "!!python/object/apply:os.system"), ("!!binary aGk=", "!!binary"),
     ("!!set {a}", "!!set"), ("!!omap [a: 1]", "!!omap"), ("!thing {a: 1}", "!thing"),
+    ("!!timestamp 2024-01-01", "!!timestamp"),
 ])
 def test_only_plain_yaml_tags_are_accepted(tag: str, shown: str) -> None:
     found = problems(f"name: x\nvalue: {tag}\n")

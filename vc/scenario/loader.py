@@ -336,8 +336,10 @@ class _ScenarioChecker:
             self.add(document.mark_of("machine_data"),
                      "machine_data is a mapping {axis, channel or NC: {MD number or name: value}}")
             overrides = None
-        if not os.path.exists(machine_file):
-            self.add(mark, f"machine file '{value}' not found{_looked_for(value, machine_file)}")
+        if not os.path.isfile(machine_file):
+            what = "is not a regular file (a directory, device or FIFO)" if os.path.exists(machine_file) else \
+                "not found"
+            self.add(mark, f"machine file '{value}' {what}{_looked_for(value, machine_file)}")
             return machine_file
         try:
             self.machine = self.machines.load(machine_file, overrides or None, self.path)
