@@ -422,20 +422,28 @@ class _Hang(BaseException):
 
 @contextlib.contextmanager
 def _wall_bound(seconds: float) -> Iterator[None]:
-    """Interrupt the block after ``seconds`` of wall time (SIGALRM; the main thread only)."""
+    """Interrupt the block after ``seconds`` of wall time (SIGALRM; the main thread only).  A timer
+    already running (a test's time-out) keeps its deadline and its handler."""
     if threading.current_thread() is not threading.main_thread():
         raise RuntimeError("the file campaign bounds each mutant with SIGALRM: run it in the main thread")
+    began = time.monotonic()
+    outer_delay, outer_interval = signal.getitimer(signal.ITIMER_REAL)
+    outer_deadline = began + outer_delay if outer_delay else None
 
     def interrupt(signum: int, frame: FrameType | None) -> None:
+        if outer_deadline is not None and time.monotonic() >= outer_deadline and callable(previous):
+            previous(signum, frame)
         raise _Hang()
 
     previous = signal.signal(signal.SIGALRM, interrupt)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    signal.setitimer(signal.ITIMER_REAL, min(seconds, outer_delay) if outer_delay else seconds)
     try:
         yield
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
+        if outer_deadline is not None:
+            signal.setitimer(signal.ITIMER_REAL, max(outer_deadline - time.monotonic(), 0.001), outer_interval)
 
 
 @dataclass(frozen=True, slots=True)

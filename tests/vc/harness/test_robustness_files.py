@@ -113,3 +113,21 @@ def test_a_harness_error_during_the_run_is_a_traceback(shipped: Shipped, workspa
     monkeypatch.setattr(robustness_files, "simulation_for", broken)
     outcome = check_mutant(probe(PROBE_THAT_CAN_FAIL), shipped, workspace, 30, 1)
     assert (outcome.outcome, outcome.detail) == ("traceback", "KeyError: 'X1'")
+
+
+def test_the_wall_bound_keeps_a_timer_that_runs_already() -> None:
+    """A test's own time-out (pytest-timeout uses SIGALRM too) survives the campaign's bounds."""
+    import signal
+
+    fired: list[int] = []
+    previous = signal.signal(signal.SIGALRM, lambda signum, frame: fired.append(signum))
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 100)
+        with robustness_files._wall_bound(5):
+            pass
+        remaining, _ = signal.getitimer(signal.ITIMER_REAL)
+        assert 0 < remaining <= 100  # restored (0 would mean the outer time-out was switched off)
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+    assert fired == []
