@@ -23,6 +23,8 @@ number_edge            a value replaced by 0, -1, 1e-320, 2^31, 20 digits, ``1e4
 type_confusion         a value replaced by a list, a mapping, null, true or a text
 empty_document         the file replaced by nothing, a comment, ``null``, ``~`` or ``---``
 long_expression        a condition replaced by 500 nested parentheses or 2,000 ``and`` terms
+program_text           an ``mda`` or program ``text`` with a number of 300 to 5,000 digits, a
+                       synchronized action of 600 parentheses or 300 terms, or random characters
 special_file           the machine file (or a program file) is /dev/zero, /dev/null, a FIFO, ...
 false_pass_probe       a scenario of the base's machine and PLC whose only check cannot fail
                        (``.inf`` as expected value, ``"<= 1"`` on a bool, ``min: 0s`` alone ...)
@@ -85,6 +87,7 @@ from vc.scenario.runner import run_scenarios
 DEFAULT_BOUND_S = 30.0  # wall seconds a mutant may take before it counts as a hang
 DEFAULT_RUN_SECONDS = 2.0  # simulated seconds a mutant that loads may run
 MACHINE_SHARE = 0.2  # of the mutants, the share made from machine files
+BASES_TRIED = 50  # files a mutation is tried on before another mutation is chosen (few scenarios have an mda)
 OUTCOMES = ("problems", "passed", "failed", "crash", "traceback", "hang", "false_pass", "wrong_location")
 BAD_OUTCOMES = ("crash", "traceback", "hang", "false_pass", "wrong_location")
 FIGURES = ("inputs", "crashes", "hangs", "tracebacks", "false_passes", "wrong_locations", "problems", "passed",
@@ -314,6 +317,28 @@ def _long_expression(rng: random.Random, base: _Base, target: str) -> _Made | No
                  expected_line=slot.line + 1)
 
 
+def _digits(rng: random.Random, count: int) -> str:
+    return str(rng.randint(1, 9)) + "".join(str(rng.randint(0, 9)) for _ in range(count - 1))
+
+
+def _program_text(rng: random.Random, base: _Base, target: str) -> _Made | None:
+    programs = [slot for slot in base.slots if slot.tag == "str" and slot.key in ("mda", "text")]
+    if not programs:
+        return None
+    slot = rng.choice(programs)
+    written = slot.text.strip("\"'") if slot.text[:1] in "\"'" else slot.text
+    damage = rng.choice((
+        f"G1 X{_digits(rng, rng.choice((300, 400, 5000)))} F1000",
+        f"N{_digits(rng, 5000)} G1 X1",
+        f"R1={_digits(rng, 400)}",
+        "IDS=1 WHENEVER $AA_IM[X1] > " + "(" * 600 + "1" + ")" * 600 + " DO $AC_ESR_TRIGGER=1",
+        "IDS=1 WHENEVER " + " OR ".join(["$AA_IM[X1] > 1"] * 300) + " DO $AC_ESR_TRIGGER=1",
+        "".join(rng.choice("GXZFMSNR0123456789.-=()[] $'H") for _ in range(rng.randint(1, 200))),
+    ))
+    text = f"{written}\\n{damage}" if rng.random() < 0.5 else f"{damage}\\n{written}"
+    return _Made(_replace(base.text, slot, '"' + text.replace('"', "'") + '"').encode("utf-8"))
+
+
 def _special_file(rng: random.Random, base: _Base, target: str) -> _Made | None:
     special = rng.choice(("/dev/zero", "/dev/null", "/dev/urandom", "/proc/self/mem", "{fifo}", "{directory}"))
     if rng.random() < 0.5:
@@ -374,9 +399,10 @@ MUTATIONS: dict[str, Mutation] = {
     "alias_bomb": _alias_bomb, "recursive_alias": _recursive_alias, "huge_number": _huge_number,
     "unknown_tag": _unknown_tag, "control_character": _control_character, "non_finite": _non_finite,
     "number_edge": _number_edge, "type_confusion": _type_confusion, "empty_document": _empty_document,
-    "long_expression": _long_expression, "special_file": _special_file, "false_pass_probe": _false_pass_probe,
+    "long_expression": _long_expression, "program_text": _program_text, "special_file": _special_file,
+    "false_pass_probe": _false_pass_probe,
 }
-SCENARIO_ONLY = ("long_expression", "special_file", "false_pass_probe")
+SCENARIO_ONLY = ("long_expression", "program_text", "special_file", "false_pass_probe")
 
 
 class Shipped:
@@ -404,13 +430,14 @@ class Shipped:
         target = "machine" if rng.random() < MACHINE_SHARE else "scenario"
         bases = self.machines if target == "machine" else self.scenarios
         kinds = [kind for kind in MUTATIONS if target == "scenario" or kind not in SCENARIO_ONLY]
-        while True:  # a mutation that finds nothing to change in its base tries another base and kind
-            base = rng.choice(bases)
+        while True:  # a mutation that finds nothing to change in its base tries other bases, then another kind
             kind = rng.choice(kinds)
-            made = MUTATIONS[kind](rng, base, target)
-            if made is not None:
-                return Mutant(number, kind, base.path, target, made.data, made.expected_line, made.expected_lines,
-                              made.expected_column, made.must_not_pass, made.special_path)
+            for _ in range(BASES_TRIED):
+                base = rng.choice(bases)
+                made = MUTATIONS[kind](rng, base, target)
+                if made is not None:
+                    return Mutant(number, kind, base.path, target, made.data, made.expected_line,
+                                  made.expected_lines, made.expected_column, made.must_not_pass, made.special_path)
 
 
 # ---------------------------------------------------------------------------------- checking
