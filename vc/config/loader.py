@@ -1187,6 +1187,11 @@ class _MachineReader:
         master = int(entry.data.value(md))
         spindles = sorted({axes[name].spindle_number for name in entry.axes
                            if name in axes and axes[name].is_spindle})
+        if master == 0 and spindles:
+            self.add(entry.data.mark_of(md),
+                     f"{md.label} = 0: {entry.name} has spindles ({', '.join(str(number) for number in spindles)});"
+                     " S, M3, M4 and M5 without a spindle number address the master spindle, so it needs one")
+            return
         if master == 0 or master in spindles or not (spindles or entry.data.is_written(md)):
             return
         default = "" if entry.data.is_written(md) else " (the default)"

@@ -15,6 +15,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from enum import StrEnum
 
+from vc.input_limits import MAX_MAGNITUDE, MIN_MD_MAGNITUDE
+
 MdScalar = bool | int | float | str
 MdValue = MdScalar | tuple[MdScalar, ...]
 
@@ -53,6 +55,7 @@ class MdDef:
     length: int = 0  # 0 = scalar; n = array with indices 0..n-1
     allowed: tuple[int, ...] = ()  # enumerations (e.g. MD30240 ENC_TYPE: 0, 1, 4)
     read_only: bool = False  # written by the control only (e.g. MD34093 REFP_CAM_MARKER_DIST)
+    nonzero: str = ""  # why 0 cannot be entered ("" = it can): the control divides by it, or nothing works
 
     @property
     def full_name(self) -> str:
@@ -78,8 +81,10 @@ def checked_value(md: MdDef, raw: object, index: int | None = None) -> MdScalar:
     """``raw`` (one value as read from YAML) converted to the type of ``md`` and checked.
 
     Numbers that YAML 1.1 leaves as text (``1e6``) are accepted; BOOL data take
-    ``true``/``false`` or ``1``/``0`` as on the control; INT data take whole numbers.
-    Raises :class:`MdValueError` with a message such as
+    ``true``/``false`` or ``1``/``0`` as on the control; INT data take whole numbers.  A number
+    is finite; a datum marked ``nonzero`` refuses 0, and no FLOAT datum takes a value closer to 0
+    than ``MIN_MD_MAGNITUDE`` but 0 itself (1e-320 would turn into infinity where the control
+    divides by it).  Raises :class:`MdValueError` with a message such as
     ``MD32000 MAX_AX_VELO = -5: below the minimum 0.0 mm/min``.
     """
     label = md.label if index is None else f"{md.label}[{index}]"
@@ -112,6 +117,11 @@ def checked_value(md: MdDef, raw: object, index: int | None = None) -> MdScalar:
         raise MdValueError(f"{label} = {shown(raw)}: below the minimum {limit_text(md, md.minimum)}")
     if md.maximum is not None and value > md.maximum:
         raise MdValueError(f"{label} = {shown(raw)}: above the maximum {limit_text(md, md.maximum)}")
+    if md.nonzero and value == 0:
+        raise MdValueError(f"{label} = {shown(raw)}: 0 cannot be entered ({md.nonzero})")
+    if value != 0 and abs(value) < MIN_MD_MAGNITUDE:
+        raise MdValueError(f"{label} = {shown(raw)}: closer to 0 than {MIN_MD_MAGNITUDE:g}, too fine for the"
+                           " control to compute with")
     return value
 
 
@@ -122,11 +132,14 @@ def limit_text(md: MdDef, limit: float) -> str:
 
 
 def shown(raw: object) -> str:
-    """A value from a YAML file as a message quotes it."""
+    """A value from a YAML file as a message quotes it (a number too large for :func:`as_number` says so)."""
+    beyond = f" (beyond {MAX_MAGNITUDE:g})" if _too_large(raw) else ""
     if isinstance(raw, bool):
         return "true" if raw else "false"
     if isinstance(raw, str):
-        return f"'{raw}'"
+        return f"'{raw}'{beyond}"
+    if isinstance(raw, (int, float)):
+        return f"{raw}{beyond}"
     if raw is None:
         return "nothing (null)"
     if isinstance(raw, list):
@@ -136,17 +149,25 @@ def shown(raw: object) -> str:
     return str(raw)
 
 
+def _too_large(raw: object) -> bool:
+    if isinstance(raw, str) and _NUMBER_TEXT.match(raw.strip()):
+        raw = float(raw)
+    return isinstance(raw, (int, float)) and not isinstance(raw, bool) and abs(raw) > MAX_MAGNITUDE
+
+
 def as_number(raw: object) -> int | float | None:
-    """A finite number from YAML (also ``1e6``, which YAML 1.1 reads as text), else None."""
+    """A number from YAML (also ``1e6``, which YAML 1.1 reads as text) of at most MAX_MAGNITUDE,
+    else None: ``"1e400"`` would be infinite, and nothing in a machine file is that large."""
     if isinstance(raw, bool):
         return None
-    if isinstance(raw, int):
-        return raw
-    if isinstance(raw, float):
-        return raw if math.isfinite(raw) else None
-    if isinstance(raw, str) and _NUMBER_TEXT.match(raw.strip()):
-        return float(raw)
-    return None
+    number: int | float
+    if isinstance(raw, (int, float)):
+        number = raw
+    elif isinstance(raw, str) and _NUMBER_TEXT.match(raw.strip()):
+        number = float(raw)
+    else:
+        return None
+    return number if math.isfinite(number) and abs(number) <= MAX_MAGNITUDE else None
 
 
 class MachineData:

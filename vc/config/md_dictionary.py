@@ -45,10 +45,12 @@ IPO_SYSCLOCK_TIME_RATIO = MdDef(10070, "IPO_SYSCLOCK_TIME_RATIO", N, INT, 1,
                                 "seed 003 L2518-2535; [control] default 1 gives IPO = 2 ms", "", 1, 100)
 PLC_CYCLIC_TIMEOUT = MdDef(10100, "PLC_CYCLIC_TIMEOUT", N, FLOAT, 0.1,
                            "longest time without a sign of life of the PLC before alarm 2000",
-                           "[control] number, name and default (not in the seeds)", "s", 0.0, 100.0)
+                           "[control] number, name and default (not in the seeds)", "s", 0.0, 100.0,
+                           nonzero="no PLC answers within 0 s: alarm 2000 would stop the machine at once")
 PLC_RUNNINGUP_TIMEOUT = MdDef(10120, "PLC_RUNNINGUP_TIMEOUT", N, FLOAT, 50.0,
                               "longest time from power-on to the PLC's first scan before alarm 2001",
-                              "[control] number, name and default (not in the seeds)", "s", 0.0, 1000.0)
+                              "[control] number, name and default (not in the seeds)", "s", 0.0, 1000.0,
+                              nonzero="no PLC starts within 0 s: alarm 2001 would come at every power-on")
 GEAR_CHANGE_WAIT_TIME = MdDef(10192, "GEAR_CHANGE_WAIT_TIME", N, FLOAT, 10.0,
                               "longest wait for the PLC's gear-change acknowledgement",
                               "seed 003 L19127-19147; [control] default", "s", 0.0, 1.0e5)
@@ -173,7 +175,8 @@ COUPLE_RATIO_1 = MdDef(42300, "COUPLE_RATIO_1", C, FLOAT, (1.0, 1.0),
                        "setting datum SD42300 $SC_COUPLE_RATIO_1: speed ratio of the configured pair, [0] ="
                        " numerator (FS), [1] = denominator (LS); COUPDEF changes the active ratio, not this"
                        " value (kept here with the channel's machine data)",
-                       "seed 003 L22923-22936, L21919-21926; [control] default", "", -1.0e6, 1.0e6, 2)
+                       "seed 003 L22923-22936, L21919-21926; [control] default", "", -1.0e6, 1.0e6, 2,
+                       nonzero="a ratio of 0 couples nothing, a denominator of 0 divides by 0 [control]")
 ESR_DELAY_TIME1 = MdDef(21380, "ESR_DELAY_TIME1", C, FLOAT, 0.0,
                         "NC-controlled stop: time the path interpolation continues after the ESR trigger",
                         "seed 003 L42152-42154; [control] default", "s", 0.0, 1.0e3)
@@ -202,12 +205,15 @@ ENC_IS_DIRECT = MdDef(31040, "ENC_IS_DIRECT", A, BOOL, (False,) * 2,
                       "encoder mounted directly on the machine (0 = motor encoder)", "seed 003 L16884-16888", length=2)
 DRIVE_AX_RATIO_DENOM = MdDef(31050, "DRIVE_AX_RATIO_DENOM", A, INT, (1,) * 6,
                              "load gearbox denominator (load revolutions) per parameter set",
-                             "seed 003 L19022-19034", "", -2_147_000_000, 2_147_000_000, 6)
+                             "seed 003 L19022-19034", "", -2_147_000_000, 2_147_000_000, 6,
+                             nonzero="the seed says 0 cannot be entered, L19032")
 DRIVE_AX_RATIO_NUMERA = MdDef(31060, "DRIVE_AX_RATIO_NUMERA", A, INT, (1,) * 6,
                               "load gearbox numerator (motor revolutions) per parameter set",
-                              "seed 003 L19022-19034", "", -2_147_000_000, 2_147_000_000, 6)
+                              "seed 003 L19022-19034", "", -2_147_000_000, 2_147_000_000, 6,
+                              nonzero="the seed says 0 cannot be entered, L19032")
 MAX_AX_VELO = MdDef(32000, "MAX_AX_VELO", A, FLOAT, 10000.0, "maximum axis velocity",
-                    "seed 003 L8340-8349, L21166-21168; [control] default", "mm/min", 0.0, 1.0e7)
+                    "seed 003 L8340-8349, L21166-21168; [control] default", "mm/min", 0.0, 1.0e7,
+                    nonzero="the axis could never move, and its rapid-stop ramp is scaled by it")
 JOG_VELO_RAPID = MdDef(32010, "JOG_VELO_RAPID", A, FLOAT, 10000.0, "rapid traverse in JOG", "[control]",
                        "mm/min", 0.0, 1.0e7)
 JOG_VELO = MdDef(32020, "JOG_VELO", A, FLOAT, 2000.0, "JOG velocity", "[control]", "mm/min", 0.0, 1.0e7)
@@ -388,7 +394,8 @@ ENC_ABS_TURNS_MODULO = MdDef(34220, "ENC_ABS_TURNS_MODULO", A, INT, (4096,) * 2,
                              "seed 003 L2390-2392, L2814-2836; [control] default", "", 1, 100_000, length=2)
 ENC_REFP_MARKER_DIST = MdDef(34300, "ENC_REFP_MARKER_DIST", A, FLOAT, (20.0,) * 2,
                              "reference mark spacing of a distance-coded scale",
-                             "seed 003 L1550-1561; [control] default", "mm", 0.0, 1.0e6, length=2)
+                             "seed 003 L1550-1561; [control] default", "mm", 0.0, 1.0e6, length=2,
+                             nonzero="marks 0 mm apart are no scale; the mark layout divides by it")
 ENC_INVERS = MdDef(34320, "ENC_INVERS", A, BOOL, (False,) * 2,
                    "length measuring system runs opposite to the machine coordinate system; the actual"
                    " value is MD34090 + (or, inverted, -) the scale's distance from its first mark, so the"

@@ -22,7 +22,9 @@ A block is one line.  Its items::
 
 Parsing only checks the form; what a word means is the interpreter's business, so a new
 NC function adds a handler there and no syntax here.  A malformed block is kept with its
-error so that the control raises alarm 12080 when (and only when) execution reaches it.
+error so that the control raises alarm 12080 when (and only when) execution reaches it.  A
+number beyond ``MAX_MAGNITUDE`` (a run of hundreds of digits) is malformed too: as a double it
+would be infinite, or overflow the motion's arithmetic.
 """
 
 from __future__ import annotations
@@ -30,6 +32,9 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from vc.input_limits import MAX_MAGNITUDE
+
+_WHOLE = r"\d{1,18}(?!\d)"  # a block or action number: longer runs of digits are no number of the control
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)"
 _NAME = r"[A-Z_$][A-Z0-9_$]*"
 # Address words, one or several written without blanks: "X100.5", "G1X10.5Z-2", "Y100." (a number
@@ -42,12 +47,12 @@ _TOKEN = re.compile(
     re.IGNORECASE,
 )
 _ONE_ADDRESS_WORD = re.compile(rf"([A-Z])({_NUMBER})", re.IGNORECASE)
-_BLOCK_NUMBER = re.compile(r"^\s*N(\d+)", re.IGNORECASE)
+_BLOCK_NUMBER = re.compile(rf"^\s*N({_WHOLE})", re.IGNORECASE)
 _SYNCHRONIZED_ACTION = re.compile(
-    r"^(?:N(?P<block>\d+)\s+)?(?P<kind>IDS|ID)\s*=\s*(?P<number>\d+)\s+(?P<mode>WHENEVER|WHEN|EVERY|FROM)\s+"
+    rf"^(?:N(?P<block>{_WHOLE})\s+)?(?P<kind>IDS|ID)\s*=\s*(?P<number>{_WHOLE})\s+(?P<mode>WHENEVER|WHEN|EVERY|FROM)\s+"
     r"(?P<condition>.+?)\s+DO\s+(?P<actions>.+)$", re.IGNORECASE)
 _JUMP = re.compile(
-    r"^(?:N(?P<block>\d+)\s+)?(?:(?P<label>[A-Z_][A-Z0-9_]*)\s*:\s*)?(?:IF\s+(?P<condition>.+?)\s+)?"
+    rf"^(?:N(?P<block>{_WHOLE})\s+)?(?:(?P<label>[A-Z_][A-Z0-9_]*)\s*:\s*)?(?:IF\s+(?P<condition>.+?)\s+)?"
     r"(?P<direction>GOTOB|GOTOF|GOTOC|GOTO)\s+(?P<target>[A-Z_][A-Z0-9_]*)$", re.IGNORECASE)
 
 Argument = float | str
@@ -218,6 +223,19 @@ def _tokens(code: str) -> list[tuple[str, str]]:
     return tokenize(_TOKEN, code, _SyntaxError)
 
 
+def _number(text: str) -> float:
+    return number(text, _SyntaxError)
+
+
+def number(text: str, error: type[Exception]) -> float:
+    """The number ``text`` of a block; ``error`` for one beyond MAX_MAGNITUDE."""
+    value = float(text)
+    if not abs(value) <= MAX_MAGNITUDE:
+        shown = text if len(text) <= 24 else f"{text[:20]}... ({len(text)} digits)"
+        raise error(f"{shown}: beyond {MAX_MAGNITUDE:g}")
+    return value
+
+
 def _split_address_words(tokens: list[tuple[str, str]]) -> list[tuple[str, str]]:
     """Split a run of address words (``G1X10.5``) into address and number tokens.
 
@@ -264,9 +282,9 @@ def _parse_line(code: str) -> tuple[int | None, tuple[Item, ...]]:
             if value_kind != "number":
                 raise _SyntaxError(f"{text}{value_text}")
             if text == "N" and not items and number is None:
-                number = int(float(value_text))
+                number = int(_number(value_text))
             else:
-                items.append(Word(text, float(value_text)))
+                items.append(Word(text, _number(value_text)))
             index += 2
             continue
         if kind != "name":
@@ -306,7 +324,7 @@ def _arguments(tokens: list[tuple[str, str]], index: int) -> tuple[list[Argument
         elif not expect_value:
             raise _SyntaxError(text)
         elif kind == "number":
-            arguments.append(float(text))
+            arguments.append(_number(text))
             expect_value = False
         elif kind == "string":
             arguments.append(text[1:-1])
@@ -336,7 +354,7 @@ def _assignment(tokens: list[tuple[str, str]], index: int) -> tuple[Assignment, 
         raise _SyntaxError(f"{name}=: a value is missing")
     kind, text = tokens[index]
     if kind == "number":
-        return Assignment(name, subscript, float(text)), index + 1
+        return Assignment(name, subscript, _number(text)), index + 1
     if kind == "string":
         return Assignment(name, subscript, text[1:-1]), index + 1
     if kind in ("name", "address") and index + 1 < len(tokens) and tokens[index + 1][1] == "(":

@@ -26,7 +26,8 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from vc.core.program import tokenize
+from vc.core.program import number, tokenize
+from vc.input_limits import MAX_EXPRESSION_DEPTH, MAX_EXPRESSION_NESTING, MAX_MAGNITUDE
 
 Reader = Callable[[str, str], float]  # (variable, index) -> value; KeyError for an unknown variable
 
@@ -79,6 +80,13 @@ class _Parser:
     def __init__(self, text: str):
         self.tokens = _tokens(text)
         self.position = 0
+        self.nesting = 0  # parentheses and signs around the current term (the parser recurses per level)
+        self.operators = 0  # operators so far (evaluating a chain recurses once per operator)
+
+    def operator(self) -> None:
+        self.operators += 1
+        if self.operators > MAX_EXPRESSION_DEPTH:
+            raise SyncActionError(f"more than {MAX_EXPRESSION_DEPTH} operators")
 
     def peek(self) -> str:
         return self.tokens[self.position][1] if self.position < len(self.tokens) else ""
@@ -101,6 +109,7 @@ class _Parser:
         left = self.and_expr()
         while self.peek() == "OR":
             self.take()
+            self.operator()
             left = _combine(_either, left, self.and_expr())
         return left
 
@@ -108,6 +117,7 @@ class _Parser:
         left = self.not_expr()
         while self.peek() == "AND":
             self.take()
+            self.operator()
             left = _combine(_both, left, self.not_expr())
         return left
 
@@ -124,6 +134,7 @@ class _Parser:
         if operator is None:
             return left
         self.take()
+        self.operator()
         right = self.bit_expr()
         return lambda read: float(operator(left(read), right(read)))
 
@@ -131,28 +142,41 @@ class _Parser:
         left = self.term()
         while self.peek() in _BIT_OPERATORS:
             operator = _BIT_OPERATORS[self.take()[1]]
+            self.operator()
             left = _combine(operator, left, self.term())
         return left
 
     def term(self) -> Expression:
         kind, text = self.take()
         if kind == "number":
-            value = float(text)
+            value = number(text, SyncActionError)
             return lambda read: value
         if kind == "literal":
-            number = float(int(text[1:], 16 if text[0] == "H" else 2))
-            return lambda read: number
+            whole = int(text[1:], 16 if text[0] == "H" else 2) if len(text) <= 64 else MAX_MAGNITUDE + 1
+            if whole > MAX_MAGNITUDE:
+                raise SyncActionError(f"{text[:20]}: beyond {MAX_MAGNITUDE:g}")
+            literal = float(whole)
+            return lambda read: literal
         if kind == "variable":
             name, index = text, self.index()
             return lambda read: read(name, index)
         if text == "(":
+            self.descend()
             inner = self.or_expr()
             self.expect(")")
+            self.nesting -= 1
             return inner
         if text == "-":
+            self.descend()
             operand = self.term()
+            self.nesting -= 1
             return lambda read: -operand(read)
         raise SyncActionError(text)
+
+    def descend(self) -> None:
+        self.nesting += 1
+        if self.nesting > MAX_EXPRESSION_NESTING:
+            raise SyncActionError(f"more than {MAX_EXPRESSION_NESTING} parentheses and signs inside one another")
 
     def index(self) -> str:
         if self.peek() != "[":
@@ -188,7 +212,7 @@ def parse_actions(text: str) -> tuple[VariableWrite, ...]:
         value_kind, value = parser.take()
         if value_kind != "number":
             raise SyncActionError(value)
-        actions.append(VariableWrite(name, index, sign * float(value)))
+        actions.append(VariableWrite(name, index, sign * number(value, SyncActionError)))
     if not actions:
         raise SyncActionError("DO without an action")
     return tuple(actions)

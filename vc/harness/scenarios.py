@@ -44,7 +44,7 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
         with ExternalPlcs() as external:  # scenarios with plc: awlsim:FILE, whatever the link
             wrapped = external.wrap(make_target)
             target_factory: Callable[[Scenario], ScenarioTarget] = wrapped if observe is None else observe(wrapped)
-            return run_command(paths, target_factory, plc_programs().keys(), junit=junit, trace_dir=trace_dir,
+            return run_command(paths, target_factory, plc_programs(), junit=junit, trace_dir=trace_dir,
                                golden=golden, update_golden=update_golden,
                                jobs=workers if observe is None else 1, build=build)
 

@@ -41,6 +41,7 @@ from vc.observables import (
     NCK_QUANTITIES,
 )
 from vc.plant.plant import Plant
+from vc.scenario.target import StepRefused
 
 
 class Pacer(Protocol):
@@ -330,7 +331,7 @@ class Simulation:
             item.resting = False
         elif kind == "workpiece_clamp":
             if not self.nck.couplings.clamp(axis, amount):
-                raise KeyError(f"workpiece_clamp: {axis} is not the following spindle of a coupling")
+                raise StepRefused(f"workpiece_clamp: {axis} is not the following spindle of a coupling now")
         else:
             raise KeyError(f"unknown fault '{kind}' (known: {', '.join(FAULTS)})")
 

@@ -6,7 +6,7 @@ Exit codes: 0 every scenario passed, 1 a scenario failed (or the harness could n
 
 from __future__ import annotations
 
-from collections.abc import Callable, Collection, Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from rich.console import Console
@@ -14,7 +14,7 @@ from rich.console import Console
 from interfaces.signals import Catalog
 from vc.located_yaml import SourceError
 from vc.scenario.golden import GoldenCheck
-from vc.scenario.loader import MachineLoader, load_scenarios
+from vc.scenario.loader import MachineLoader, Programs, load_scenarios
 from vc.scenario.model import Scenario
 from vc.scenario.parallel import RunSettings, jobs_for, run_parallel
 from vc.scenario.report import ConsoleReport, write_junit
@@ -28,7 +28,7 @@ EXIT_INTERRUPTED = 130  # as a shell reports a command ended by SIGINT
 
 
 def run_command(paths: Sequence[str], make_target: Callable[[Scenario], ScenarioTarget],
-                known_programs: Collection[str], *, junit: str | Path | None = None,
+                known_programs: Programs, *, junit: str | Path | None = None,
                 trace_dir: str | Path | None = None, console: Console | None = None,
                 catalog: Catalog | None = None, machine_loader: MachineLoader | None = None,
                 golden: str | Path | None = None, update_golden: bool = False, jobs: int | None = 1,
@@ -48,7 +48,7 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
         report.print_problems(error)
         return EXIT_PROBLEMS
     if not scenarios:
-        report.console.print("no scenario files found in " + ", ".join(paths), highlight=False)
+        report.say("no scenario files found in " + ", ".join(paths))
         return EXIT_PROBLEMS
     if catalog is not None or machine_loader is not None:
         jobs = 1

@@ -24,17 +24,28 @@ of axis (or channel) X1 is present.
 Parsing never uses ``eval``: a tokenizer and a recursive-descent parser build a tree that is
 compiled into nested closures, so an invariant costs a few function calls per IPO cycle.
 Errors carry the 1-based column inside the text.
+
+Bounds (:mod:`vc.input_limits`): parentheses, ``not``, ``-`` and ``abs`` nest at most
+``MAX_EXPRESSION_NESTING`` deep and the tree is at most ``MAX_EXPRESSION_DEPTH`` deep, since
+checking, compiling and evaluating recurse along it; a number is finite and at most
+``MAX_MAGNITUDE``.  A comparison of a value that is not finite (a NaN or an infinity read
+from a signal or made by arithmetic) cannot be judged: evaluating it raises
+:class:`EvaluationError`, as a division by zero does, and a division whose result is not
+finite does too.  Without that, ``!=`` would hold for a NaN and ``<`` for minus infinity.
 """
 
 from __future__ import annotations
 
+import math
 import operator
 import re
 from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Protocol
 
 from interfaces.signals import UnknownSignalError
+from vc.input_limits import MAX_EXPRESSION_DEPTH, MAX_EXPRESSION_NESTING, MAX_MAGNITUDE
 from vc.scenario.quantities import NameResolver, Quantity
 
 Number = int | float
@@ -54,7 +65,7 @@ class ExpressionError(ValueError):
 
 
 class EvaluationError(ArithmeticError):
-    """A condition could not be evaluated in this cycle (division by zero)."""
+    """A condition could not be evaluated in this cycle (division by zero, a value not finite)."""
 
 
 # ---------------------------------------------------------------------------------- tokens
@@ -165,6 +176,7 @@ class _Parser:
         self.text = text
         self.tokens = tokenize(text)
         self.index = 0
+        self.nesting = 0  # parentheses, not, - and abs around the current token
 
     @property
     def token(self) -> Token:
@@ -216,7 +228,8 @@ class _Parser:
     def parse_not(self) -> Node:
         if self.is_keyword("not"):
             column = self.advance().column
-            return Unary("not", self.parse_not(), column)
+            with self.nested(column):
+                return Unary("not", self.parse_not(), column)
         return self.parse_comparison()
 
     def parse_comparison(self) -> Node:
@@ -243,18 +256,19 @@ class _Parser:
     def parse_unary(self) -> Node:
         if self.is_op("-"):
             column = self.advance().column
-            return Unary("-", self.parse_unary(), column)
+            with self.nested(column):
+                return Unary("-", self.parse_unary(), column)
         return self.parse_primary()
 
     def parse_primary(self) -> Node:
         token = self.token
         if token.kind == "number":
             self.advance()
-            value = float(token.text)
-            return Literal(int(token.text) if token.text.isdigit() else value, token.column)
+            return Literal(_number(token), token.column)
         if self.is_op("("):
             self.advance()
-            node = self.parse_or()
+            with self.nested(token.column):
+                node = self.parse_or()
             self.expect_close(token)
             return node
         if token.kind != "name":
@@ -270,7 +284,8 @@ class _Parser:
             return Name(token.text, token.column)
         opening = self.advance()
         if word == "abs":
-            operand = self.parse_or()
+            with self.nested(token.column):
+                operand = self.parse_or()
             self.expect_close(opening)
             return Abs(operand, token.column)
         if word == "alarm":
@@ -278,9 +293,21 @@ class _Parser:
         raise ExpressionError(f"unknown function '{token.text}' (known: {', '.join(FUNCTIONS)})",
                               token.column)
 
+    @contextmanager
+    def nested(self, column: int) -> Iterator[None]:
+        """One level deeper into parentheses, not, - or abs (the parser recurses per level)."""
+        if self.nesting == MAX_EXPRESSION_NESTING:
+            raise ExpressionError(f"more than {MAX_EXPRESSION_NESTING} parentheses, not, - and abs inside one"
+                                  " another", column)
+        self.nesting += 1
+        try:
+            yield
+        finally:
+            self.nesting -= 1
+
     def parse_alarm(self, name: Token, opening: Token) -> AlarmCall:
         number = self.token
-        if number.kind != "number" or not number.text.isdigit():
+        if number.kind != "number" or not number.text.isdigit() or len(number.text) > 9:
             raise ExpressionError("alarm(...) takes an alarm number, e.g. alarm(3000) or alarm(21614, X1)",
                                   number.column)
         self.advance()
@@ -304,18 +331,56 @@ class _Parser:
         raise self.unexpected()
 
 
+def _number(token: Token) -> Number:
+    """A number of the text: finite and at most MAX_MAGNITUDE (``1e400`` would be infinite)."""
+    text = token.text
+    if text.isdigit() and len(text) <= 16:
+        return int(text)
+    value = float(text)
+    if not abs(value) <= MAX_MAGNITUDE:
+        raise ExpressionError(f"the number {text} is beyond {MAX_MAGNITUDE:g}, the largest a condition may hold",
+                              token.column)
+    return int(text) if text.isdigit() else value
+
+
 def parse(text: str) -> Node:
     """Parse ``text`` into a tree; raises :class:`ExpressionError` with the column."""
-    return _Parser(text).parse()
+    root = _Parser(text).parse()
+    deepest, column = _depth(root)
+    if deepest > MAX_EXPRESSION_DEPTH:
+        raise ExpressionError(f"more than {MAX_EXPRESSION_DEPTH} operators one inside the other (split the"
+                              " condition, or group long chains of and/or with parentheses)", column)
+    return root
+
+
+def _children(node: Node) -> tuple[Node, ...]:
+    if isinstance(node, Unary | Abs):
+        return (node.operand,)
+    if isinstance(node, Binary):
+        return (node.left, node.right)
+    return ()
+
+
+def _depth(root: Node) -> tuple[int, int]:
+    """How deep the tree is, and the column of its deepest operator (without recursing)."""
+    deepest, column = 0, root.column
+    pending = [(root, 1)]
+    while pending:
+        node, depth = pending.pop()
+        children = _children(node)
+        if children and depth > deepest:
+            deepest, column = depth, node.column
+        pending.extend((child, depth + 1) for child in children)
+    return deepest, column
 
 
 def walk(node: Node) -> Iterator[Node]:
-    yield node
-    if isinstance(node, Unary | Abs):
-        yield from walk(node.operand)
-    elif isinstance(node, Binary):
-        yield from walk(node.left)
-        yield from walk(node.right)
+    """Every node of the tree, parents before their children, left to right."""
+    pending = [node]
+    while pending:
+        current = pending.pop()
+        yield current
+        pending.extend(reversed(_children(current)))
 
 
 def to_text(node: Node) -> str:
@@ -353,7 +418,12 @@ class Expression:
         return tuple(seen.values())
 
     def compile(self, probe: Probe) -> Evaluator:
-        return _compile(self.root, self.quantities, probe)
+        """The condition as a function of the probe's current values; a value that is not finite
+        where the condition is judged raises :class:`EvaluationError`."""
+        evaluator = _compile(self.root, self.quantities, probe)
+        if isinstance(self.root, Binary | Unary) and self.root.op in _JUDGED:
+            return evaluator  # 1 or 0, or it raises
+        return lambda: _judged(evaluator())
 
     def __str__(self) -> str:
         return self.text
@@ -398,6 +468,8 @@ _COMPARE: dict[str, Callable[[Number, Number], bool]] = {
     "==": operator.eq, "!=": operator.ne, "<": operator.lt, "<=": operator.le, ">": operator.gt,
     ">=": operator.ge,
 }
+_JUDGED = frozenset({*_COMPARE, "and", "or", "not"})  # operators whose result is 1 or 0
+_isfinite = math.isfinite
 
 
 def _compile(node: Node, quantities: dict[str, Quantity], probe: Probe) -> Evaluator:
@@ -415,25 +487,41 @@ def _compile(node: Node, quantities: dict[str, Quantity], probe: Probe) -> Evalu
     if isinstance(node, Unary):
         operand = _compile(node.operand, quantities, probe)
         if node.op == "not":
-            return lambda: 0 if operand() else 1
+            return lambda: 0 if _judged(operand()) else 1
         return lambda: -operand()
     left = _compile(node.left, quantities, probe)
     right = _compile(node.right, quantities, probe)
     op = node.op
     if op == "and":
-        return lambda: 1 if left() and right() else 0
+        return lambda: 1 if _judged(left()) and _judged(right()) else 0
     if op == "or":
-        return lambda: 1 if left() or right() else 0
+        return lambda: 1 if _judged(left()) or _judged(right()) else 0
     if op in _COMPARE:
         compare = _COMPARE[op]
-        return lambda: 1 if compare(left(), right()) else 0
+        return lambda: _compared(compare, op, left(), right())
     if op == "/":
         return lambda: _divide(left(), right())
     arithmetic = _ARITHMETIC[op]
     return lambda: arithmetic(left(), right())
 
 
+def _judged(value: Number) -> Number:
+    """``value`` where it is taken as true (not 0) or false (0): it must be finite."""
+    if _isfinite(value):
+        return value
+    raise EvaluationError(f"a condition cannot hold or fail on {value}: the value is not finite")
+
+
+def _compared(compare: Callable[[Number, Number], bool], op: str, left: Number, right: Number) -> int:
+    if _isfinite(left) and _isfinite(right):
+        return 1 if compare(left, right) else 0
+    raise EvaluationError(f"cannot compare {left} {op} {right}: a value that is not finite")
+
+
 def _divide(numerator: Number, denominator: Number) -> float:
     if denominator == 0:
         raise EvaluationError(f"division by zero ({numerator} / 0)")
-    return numerator / denominator
+    quotient = numerator / denominator
+    if not _isfinite(quotient):
+        raise EvaluationError(f"{numerator} / {denominator} is not finite")
+    return quotient

@@ -7,28 +7,38 @@ Every problem of a file is collected with ``file:line:column`` and one
 unknown signals, bad durations, expressions, expected values, values outside a signal's
 range, and writes that the signal's owner would undo.  :func:`load_scenarios` checks every
 file of a run before any of them runs.
+
+A check that cannot fail is refused like any other mistake, since it would pass falsely: an
+expected value that every value of the quantity meets (``"<= 1"`` on a bool, a tolerance
+covering a byte's range; :meth:`~vc.scenario.values.ExpectedValue.judgement`), an
+``expect_timing`` whose ``max`` is as long as the run can be or whose only bound is
+``min: 0``, a condition that reads nothing and so never changes.  Numbers and times stay
+within :mod:`vc.input_limits`.
 """
 
 from __future__ import annotations
 
 import difflib
 import os
-from collections.abc import Callable, Collection, Iterable, Sequence
+from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from dataclasses import replace
-from pathlib import Path
 from typing import Any
 
 from interfaces.image import Value, value_range
 from interfaces.plant_io import Owner
+from interfaces.plc import PlcEnvironment, PlcFactory
 from interfaces.signals import HMI_INSTANCE, Catalog, Direction, SignalType, UnknownSignalError, expand
 from vc.config.loader import load_machine
-from vc.config.model import MachineConfig
+from vc.config.machine_data import MdType
+from vc.config.md_dictionary import BY_NUMBER
+from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import ALARM_TEXTS
 from vc.core.handwheel import HANDWHEELS
-from vc.located_yaml import LocatedList, LocatedMap, Mark, Problem, Problems, SourceError, load_file
+from vc.input_limits import MAX_MAGNITUDE
+from vc.located_yaml import LocatedList, LocatedMap, Mark, Problem, Problems, SourceError, load_file, read_source
 from vc.observables import FAULTS, LINK_AREA, LINK_DIRECTIONS, LINK_FAULTS, MACHINE_FAULTS, MAINS
-from vc.scenario.durations import Duration, DurationError, parse_duration
-from vc.scenario.expressions import Expression, ExpressionError, parse_expression
+from vc.scenario.durations import Duration, DurationError, format_seconds, parse_duration
+from vc.scenario.expressions import AlarmCall, Expression, ExpressionError, Name, parse_expression, walk
 from vc.scenario.model import (
     EXTERNAL_PLCS,
     LINK_CAN,
@@ -108,16 +118,23 @@ def default_catalog() -> Catalog:
 # ---------------------------------------------------------------------------------- public
 
 
-def load_scenario(path: str, known_programs: Collection[str], *, catalog: Catalog | None = None,
+Programs = Collection[str] | Mapping[str, PlcFactory]
+
+
+def load_scenario(path: str, known_programs: Programs, *, catalog: Catalog | None = None,
                   machine_loader: MachineLoader | None = None) -> Scenario:
     """Load and check one scenario file; raises :class:`SourceError` with every problem."""
     return load_scenarios([path], known_programs, catalog=catalog, machine_loader=machine_loader)[0]
 
 
-def load_scenarios(paths: Sequence[str], known_programs: Collection[str], *, catalog: Catalog | None = None,
+def load_scenarios(paths: Sequence[str], known_programs: Programs, *, catalog: Catalog | None = None,
                    machine_loader: MachineLoader | None = None) -> list[Scenario]:
     """Load every scenario of ``paths`` (files, or directories searched recursively for ``*.yaml``
-    outside directories named ``machines``).  Raises one :class:`SourceError` for all files."""
+    outside directories named ``machines``).  Raises one :class:`SourceError` for all files.
+
+    ``known_programs`` names the PLC programs a scenario may run; given as the registry
+    (name -> factory), each scenario's program is also started once on its machine, to check
+    its parameters (the machine file's ``plc:`` section and ``plc_parameters``) before anything runs."""
     files, problems = scenario_files(paths)
     machines = _Machines(machine_loader or default_machine_loader)
     collected = Problems()
@@ -144,7 +161,7 @@ def scenario_files(paths: Iterable[str]) -> tuple[list[str], list[Problem]]:
                 subdirectories[:] = sorted(d for d in subdirectories if d != SKIPPED_DIRECTORY)
                 found += [os.path.join(directory, n) for n in names if n.endswith(SCENARIO_SUFFIXES)]
             files += sorted(found)
-        elif os.path.isfile(path):
+        elif os.path.exists(path):  # a file; reading it reports what else it may be (a device, a FIFO)
             files.append(path)
         else:
             problems.append(Problem(Mark(path, 1, 1), "no such scenario file or directory"))
@@ -189,6 +206,11 @@ def _looked_for(written: str, location: str) -> str:
     return "" if os.path.normpath(written) == location else f" (looked for {location})"
 
 
+def _brief(text: str) -> str:
+    """A text of the file as a message quotes it: whole if short, else its start and its length."""
+    return text if len(text) <= 200 else f"{text[:160]}... ({len(text):,} characters)"
+
+
 def _kind_of_value(value: object) -> str:
     if isinstance(value, LocatedMap):
         return "a mapping"
@@ -198,11 +220,11 @@ def _kind_of_value(value: object) -> str:
         return "true/false"
     if value is None:
         return "empty"
-    return f"'{value}'"
+    return f"'{_brief(str(value))}'"
 
 
 class _ScenarioChecker:
-    def __init__(self, path: str, known_programs: Collection[str], catalog: Catalog | None,
+    def __init__(self, path: str, known_programs: Programs, catalog: Catalog | None,
                  machines: _Machines, problems: Problems):
         self.path = path
         self.directory = os.path.dirname(path)
@@ -215,6 +237,7 @@ class _ScenarioChecker:
         self.plc = NO_PLC
         self.link: str | None = None
         self.forced: set[str] = set()
+        self.timeout = DEFAULT_TIMEOUT
 
     def add(self, mark: Mark, message: str) -> None:
         self.problems.add(mark, message)
@@ -237,17 +260,17 @@ class _ScenarioChecker:
         self.plc = self.check_plc(document)
         self.link = self.check_link(document)
         machine_file = self.load_machine(document)
-        timeout = DEFAULT_TIMEOUT
         if "timeout" in document:
-            timeout = self.duration(document["timeout"], document.mark_of("timeout"), positive=True) \
-                or timeout
+            self.timeout = self.duration(document["timeout"], document.mark_of("timeout"), positive=True) \
+                or self.timeout
         invariants = self.invariants(document)
         steps = self.steps(document)
+        self.check_timing_bounds(steps)
         if len(self.problems.items) > problems_before or self.machine is None or self.resolver is None:
             return None
         return Scenario(
             name=name, description=description, path=self.path, machine_file=machine_file,
-            machine=self.machine, catalog=self.resolver.catalog, plc=self.plc, timeout=timeout,
+            machine=self.machine, catalog=self.resolver.catalog, plc=self.plc, timeout=self.timeout,
             invariants=tuple(invariants), steps=tuple(steps), mark=document.mark, link=self.link,
         )
 
@@ -334,7 +357,9 @@ class _ScenarioChecker:
                      "machine_data is a mapping {axis, channel or NC: {MD number or name: value}}")
             overrides = None
         if not os.path.isfile(machine_file):
-            self.add(mark, f"machine file '{value}' not found{_looked_for(value, machine_file)}")
+            what = "is not a regular file (a directory, device or FIFO)" if os.path.exists(machine_file) else \
+                "not found"
+            self.add(mark, f"machine file '{value}' {what}{_looked_for(value, machine_file)}")
             return machine_file
         try:
             self.machine = self.machines.load(machine_file, overrides or None, self.path)
@@ -362,7 +387,28 @@ class _ScenarioChecker:
                                      (axis.name for axis in machine.axes),
                                      (channel.name for channel in machine.channels), link=self.link == LINK_CAN,
                                      dc_link=machine.dc_link is not None)
+        self.check_plc_parameters(document)
         return machine_file
+
+    def check_plc_parameters(self, document: LocatedMap) -> None:
+        """Start the PLC program once on this machine: it checks its parameters when it starts,
+        and a refusal then would end the run with a traceback instead of a located problem."""
+        factory = self.known_programs.get(self.plc) if isinstance(self.known_programs, Mapping) else None
+        if factory is None or self.machine is None or self.resolver is None:
+            return
+        machine = self.machine
+        ipo_cycle_us = machine_ipo_cycle_us(machine)
+        environment = PlcEnvironment(self.resolver.catalog, machine.plant_io,
+                                     machine.plc_cycle_ipo * ipo_cycle_us / 1_000_000, machine.plc_parameters,
+                                     machine.name, ipo_cycle_us, machine.plc_cycle_ipo)
+        try:
+            factory(environment)
+        except Exception as error:  # the program's own check (ValueError), or a parameter it trips over
+            key = "plc_parameters" if "plc_parameters" in document else "plc"
+            detail = str(error) if isinstance(error, ValueError) else f"{type(error).__name__}: {error}"
+            for line in detail.splitlines() or [type(error).__name__]:
+                self.add(document.mark_of(key), f"the PLC program {self.plc} refuses its parameters (the machine"
+                         f" file's plc: section and plc_parameters): {line}")
 
     def invariants(self, document: LocatedMap) -> list[Invariant]:
         value = document.get("invariants")
@@ -531,15 +577,13 @@ class _ScenarioChecker:
             if not file:
                 return None
             location = os.path.normpath(os.path.join(self.directory, file))
-            try:
-                text = Path(location).read_text(encoding="utf-8")
-            except OSError as error:
-                self.add(value.mark_of("file"), f"cannot read the program file '{file}'"
-                         f" ({error.strerror}){_looked_for(file, location)}")
+            read, problems = read_source(location, f"program file '{file}'")
+            if read is None:  # reported at the scenario's line, with where in the program file
+                where = problems[0].mark
+                inside = f" at line {where.line}, column {where.column}" if (where.line, where.column) != (1, 1) else ""
+                self.add(value.mark_of("file"), f"{problems[0].message}{inside}{_looked_for(file, location)}")
                 return None
-            except UnicodeDecodeError:
-                self.add(value.mark_of("file"), f"the program file '{file}' is not UTF-8 text")
-                return None
+            text = read
         if not name or not text or channel is None:
             return None
         return SelectProgram(index, "program", mark, channel, name, text)
@@ -585,14 +629,16 @@ class _ScenarioChecker:
                 if key not in (*needed, "encoder"):
                     self.add(value.mark_of_key(key), f"a {kind} fault takes no '{key}'")
                     return None
-                number = value[key]
-                if isinstance(number, bool) or not isinstance(number, (int, float)):
-                    self.add(value.mark_of(key), f"{key} must be a number, not {_kind_of_value(number)}")
+                number = self.number(value[key], value.mark_of(key), key)
+                if number is None:
                     return None
                 numbers[key] = float(number)
         missing = [key for key in needed if key not in numbers]
         if missing:
             self.add(value.mark, f"a {kind} fault needs {' and '.join(missing)}")
+            return None
+        if kind == "reference_marks_missing" and numbers["from"] == numbers["to"]:
+            self.add(value.mark_of("to"), "from and to are the same position: no reference mark would be missing")
             return None
         encoder = int(numbers.get("encoder", 1))
         if encoder not in (1, 2):
@@ -622,10 +668,8 @@ class _ScenarioChecker:
         if not self.check_keys(value, ("axis", "velocity"), ("axis", "velocity"), "move_by_hand"):
             return None
         axis = self.machine_axis(value["axis"], value.mark_of("axis"))
-        velocity = value["velocity"]
-        if isinstance(velocity, bool) or not isinstance(velocity, (int, float)):
-            self.add(value.mark_of("velocity"), f"velocity is a number (mm/min or rev/min), not"
-                     f" {_kind_of_value(velocity)}")
+        velocity = self.number(value["velocity"], value.mark_of("velocity"), "velocity (mm/min or rev/min)")
+        if velocity is None:
             return None
         return MoveByHand(index, "move_by_hand", mark, axis, float(velocity)) if axis is not None else None
 
@@ -642,7 +686,7 @@ class _ScenarioChecker:
             if key not in value:
                 continue
             count = value[key]
-            if isinstance(count, bool) or not isinstance(count, int):
+            if isinstance(count, bool) or not isinstance(count, int) or not abs(count) <= MAX_MAGNITUDE:
                 self.add(value.mark_of(key), f"{key} takes a whole number of detents, not {_kind_of_value(count)}")
                 return None
             detents.append((number, count))
@@ -842,10 +886,25 @@ class _ScenarioChecker:
         if minimum is not None and maximum is not None and minimum > maximum:
             self.add(value.mark_of("max"), f"max ({maximum}) is shorter than min ({minimum})")
             return None
+        if minimum is not None and minimum.microseconds == 0 and "max" not in value:
+            self.add(value.mark_of("min"), "min: 0 s alone holds for every interval, so the check cannot fail"
+                     " (give a max, or a min above 0)")
+            return None
         if start is None or end is None or (("min" in value) != (minimum is not None)) \
                 or (("max" in value) != (maximum is not None)):
             return None
         return ExpectTiming(index, "expect_timing", mark, start, end, minimum, maximum)
+
+    def check_timing_bounds(self, steps: Sequence[Step]) -> None:
+        """An ``expect_timing`` max as long as the run can be cannot fail: no interval of the run is
+        longer than its timeout plus the time the machine is switched off in power cycles."""
+        longest = self.timeout.microseconds + sum(step.off.microseconds for step in steps
+                                                  if isinstance(step, PowerCycle))
+        for step in steps:
+            if isinstance(step, ExpectTiming) and step.maximum is not None and step.maximum.microseconds >= longest:
+                self.add(step.mark, f"expect_timing: max ({step.maximum}) is as long as the whole run can be"
+                         f" ({format_seconds(longest / 1e6)}: the timeout and the power cycles), so the check"
+                         " cannot fail")
 
     # -- pieces ----------------------------------------------------------------------------
 
@@ -955,6 +1014,10 @@ class _ScenarioChecker:
                      f" not {_kind_of_value(value)}")
             return None
         if ref.type is SignalType.REAL:
+            if not abs(value) <= MAX_MAGNITUDE:
+                self.add(mark, f"{quantity.label} is a real; {value:g} is beyond {MAX_MAGNITUDE:g}, the largest"
+                         " number a scenario may write")
+                return None
             return float(value)
         if isinstance(value, float):
             if not value.is_integer():
@@ -970,15 +1033,30 @@ class _ScenarioChecker:
         return number
 
     def expected_in_range(self, quantity: Quantity, expected: ExpectedValue, mark: Mark) -> bool:
-        exact = expected.exact
-        if quantity.ref is None or exact is None or quantity.ref.type is SignalType.REAL:
+        """Whether ``expected`` can both pass and fail for the values ``quantity`` can take."""
+        low, high, whole, kind = _value_range(quantity)
+        judgement = expected.judgement(low, high, whole)
+        if not judgement:
             return True
-        low, high = value_range(quantity.ref.type, quantity.ref.bits)
-        if low <= exact <= high:
-            return True
-        self.add(mark, f"{quantity.label} is a {quantity.ref.type.value} ({int(low)}..{int(high)});"
-                 f" it can never be {exact}")
+        span = f"{int(low)}..{int(high)}" if whole else f"{low:g}..{high:g}"
+        if judgement == "never" and expected.exact is not None:
+            self.add(mark, f"{quantity.label} is a {kind} ({span}); it can never be {expected.exact}")
+        elif judgement == "never":
+            self.add(mark, f"{quantity.label} is a {kind} ({span}); it is never {_relation(expected)}")
+        else:
+            self.add(mark, f"{quantity.label} is a {kind} ({span}); it is always {_relation(expected)},"
+                     " so the check cannot fail")
         return False
+
+    def number(self, value: Any, mark: Mark, what: str) -> float | None:
+        """A number the scenario hands to the simulation: finite and at most MAX_MAGNITUDE."""
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            self.add(mark, f"{what} must be a number, not {_kind_of_value(value)}")
+            return None
+        if not abs(value) <= MAX_MAGNITUDE:
+            self.add(mark, f"{what}: {value:g} is beyond {MAX_MAGNITUDE:g}, the largest number a scenario may write")
+            return None
+        return float(value)
 
     def duration(self, value: Any, mark: Mark, positive: bool = False) -> Duration | None:
         try:
@@ -997,11 +1075,16 @@ class _ScenarioChecker:
                      f" not {_kind_of_value(value)}")
             return None
         try:
-            return parse_expression(value, self.resolver)
+            expression = parse_expression(value, self.resolver)
         except ExpressionError as error:
             where = f" at column {error.column + offset}" if error.column is not None else ""
-            self.add(mark, f'in "{shown or value}": {error.message}{where}')
+            self.add(mark, f'in "{_brief(shown or value)}": {error.message}{where}')
             return None
+        if not any(isinstance(node, Name | AlarmCall) for node in walk(expression.root)):
+            self.add(mark, f'"{_brief(shown or value)}" reads no signal, quantity, time or alarm: it never changes,'
+                     " so as a check it always holds or never does")
+            return None
+        return expression
 
     def event(self, value: Any, mark: Mark) -> Event | None:
         usage = "write 'NAME rises', 'NAME falls', 'NAME changes' or 'when CONDITION'"
@@ -1049,6 +1132,26 @@ class _ScenarioChecker:
                      f" ({plural}: {', '.join(names)})")
             return None
         return value
+
+
+def _value_range(quantity: Quantity) -> tuple[float, float, bool, str]:
+    """The values ``quantity`` can take: lowest, highest, whether only whole numbers, what it is."""
+    if quantity.ref is not None:
+        low, high = value_range(quantity.ref.type, quantity.ref.bits)
+        return low, high, quantity.ref.type is not SignalType.REAL, quantity.ref.type.value
+    if quantity.kind is QuantityKind.MACHINE_DATUM:
+        md = BY_NUMBER[int(quantity.quantity)]
+        if md.type is MdType.BOOL:
+            return 0, 1, True, "machine datum of true/false"
+        if md.type in (MdType.INT, MdType.FLOAT) and md.minimum is not None and md.maximum is not None:
+            whole = md.type is MdType.INT
+            return md.minimum, md.maximum, whole, f"machine datum of {'whole ' if whole else ''}numbers"
+    return -MAX_MAGNITUDE, MAX_MAGNITUDE, False, "number"
+
+
+def _relation(expected: ExpectedValue) -> str:
+    shown = str(expected)
+    return shown if shown[0] in "<>!=" else f"= {shown}"
 
 
 def _operator_panel_key(quantity: Quantity) -> bool:

@@ -3,7 +3,10 @@
 Console: one line per scenario (PASS/FAIL/ERROR, name, file, simulated and wall time); for a
 failure the failing step with ``file:line``, the message and a small table of the recent
 history of the signals involved.  The progress bar appears only once the run has lasted one
-second of wall time, so quick runs print nothing but their result lines.
+second of wall time, so quick runs print nothing but their result lines.  Text from files and
+from the simulation (names, paths, messages) is printed as :class:`~rich.text.Text`, never as
+markup: rich would read ``[dim]`` in a name as a style and ``:100:`` in ``file:100:12`` as an
+emoji.
 
 JUnit XML (stdlib ElementTree): one ``testsuite`` per run, one ``testcase`` per scenario with
 ``classname`` = the scenario file, ``<failure>`` for a failed scenario and ``<error>`` for a
@@ -18,10 +21,10 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from rich.console import Console
-from rich.markup import escape
 from rich.padding import Padding
 from rich.progress import BarColumn, Progress, TaskID, TextColumn, TimeElapsedColumn
 from rich.table import Table
+from rich.text import Text
 
 from vc.located_yaml import SourceError
 from vc.scenario.durations import format_seconds
@@ -52,7 +55,7 @@ def history_table(failure: Failure) -> Table | None:
     for trail in failure.history:
         for position, (seconds, value) in enumerate(trail.entries):
             first = position == 0
-            table.add_row(escape(trail.name) if first else "", trail.address if first else "",
+            table.add_row(Text(trail.name if first else ""), Text(trail.address if first else ""),
                           f"{seconds:.3f} s", format_value(value))
     return table
 
@@ -79,7 +82,7 @@ class ConsoleReport:
 
     def __init__(self, console: Console | None = None, delay_s: float = PROGRESS_DELAY_S,
                  clock: Callable[[], float] = wallclock.perf_counter):
-        self.console = console or Console()
+        self.console = console or Console(emoji=False, markup=False, highlight=False)
         self.delay_s = delay_s
         self.clock = clock
         self.began = clock()
@@ -108,13 +111,13 @@ class ConsoleReport:
         if self.progress is None:
             if self.clock() - self.began < self.delay_s:
                 return
-            self.progress = Progress(TextColumn("{task.description}"), BarColumn(),
+            self.progress = Progress(TextColumn("{task.description}", markup=False), BarColumn(),
                                      TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
                                      console=self.console, transient=True)
             self.progress.start()
             self.task = self.progress.add_task("", total=self.total)
         assert self.task is not None
-        text = escape(self.current) + (f" [dim]({detail})[/]" if detail else "")
+        text = self.current + (f" ({detail})" if detail else "")
         self.progress.update(self.task, completed=self.done, total=self.total, description=text)
 
     def close(self) -> None:
@@ -124,24 +127,25 @@ class ConsoleReport:
 
     # printing
 
+    def say(self, *parts: str | tuple[str, str]) -> None:
+        """One line of plain text: ``(text, style)`` parts are styled, nothing is read as markup."""
+        self.console.print(Text.assemble(*parts), soft_wrap=True)
+
     def print_result(self, result: ScenarioResult) -> None:
         status = result.status
-        self.console.print(
-            f"[{_STYLE[status]}]{status:5}[/] {escape(result.scenario.name)}"
-            f"  [dim]{escape(result.scenario.path)}  {_times(result)}[/]", highlight=False, soft_wrap=True)
+        self.say((f"{status:5}", _STYLE[status]), " ", result.scenario.name,
+                 (f"  {result.scenario.path}  {_times(result)}", "dim"))
         if result.error:
-            self.console.print(f"      [magenta]the simulation failed:[/] {escape(result.error.rstrip())}",
-                               highlight=False, soft_wrap=True)
+            self.say("      ", ("the simulation failed:", "magenta"), " ", result.error.rstrip())
             return
         failure = result.failure
         if failure is None:
             return
-        self.console.print(f"      {escape(failure_location(result))}", style="bold", highlight=False,
-                           soft_wrap=True)
-        self.console.print(f"      {escape(failure.message)}", highlight=False, soft_wrap=True)
+        self.say(("      " + failure_location(result), "bold"))
+        self.say("      " + failure.message)
         table = history_table(failure)
         if table is not None:
-            self.console.print(f"      [dim]history before the failure at {failure.time_s:.3f} s:[/]")
+            self.say((f"      history before the failure at {failure.time_s:.3f} s:", "dim"))
             self.console.print(Padding(table, (0, 0, 0, 6), expand=False))
 
     def print_summary(self, results: Sequence[ScenarioResult]) -> None:
@@ -151,19 +155,17 @@ class ConsoleReport:
         simulated = sum(result.simulated_s for result in results)
         wall = self.clock() - self.began
         style = "green" if passed == len(results) else "red"
-        self.console.print(
-            f"[{style}]{passed} passed, {failed} failed, {errors} errors[/] of {len(results)} scenarios"
-            f" ({format_seconds(simulated)} simulated, {wall:.2f} s wall)", highlight=False, soft_wrap=True)
+        self.say((f"{passed} passed, {failed} failed, {errors} errors", style),
+                 f" of {len(results)} scenarios ({format_seconds(simulated)} simulated, {wall:.2f} s wall)")
 
     def print_problems(self, error: SourceError) -> None:
         for problem in error.problems:
-            self.console.print(escape(str(problem)), highlight=False, soft_wrap=True)
+            self.say(str(problem))
         files = len({problem.mark.file for problem in error.problems})
         count = len(error.problems)
         plural = "s" if count != 1 else ""
         files_plural = "s" if files != 1 else ""
-        self.console.print(f"[bold red]{count} problem{plural} in {files} file{files_plural};"
-                           " nothing ran.[/]", highlight=False, soft_wrap=True)
+        self.say((f"{count} problem{plural} in {files} file{files_plural}; nothing ran.", "bold red"))
 
 
 def write_junit(results: Sequence[ScenarioResult], path: str | Path, suite_name: str = "vc run") -> None:

@@ -50,7 +50,7 @@ from vc.scenario.model import (
     WaitUntil,
 )
 from vc.scenario.quantities import Quantity, QuantityKind
-from vc.scenario.target import ScenarioTarget
+from vc.scenario.target import ScenarioTarget, StepRefused
 from vc.scenario.trace import Recorder, write_csv, write_vcd
 from vc.scenario.values import format_value
 
@@ -286,6 +286,13 @@ class _Run:
 
     def run_step(self, step: Step) -> None:
         self.step = step
+        try:
+            self.act(step)
+        except StepRefused as refusal:
+            raise self.fail(step, str(refusal)) from None
+        self.steps_done += 1
+
+    def act(self, step: Step) -> None:
         target = self.target
         if isinstance(step, Press):
             self.write_keys(step.keys, 1)
@@ -352,7 +359,6 @@ class _Run:
             self.advance(cycles)
         else:  # pragma: no cover - the loader builds only the kinds above
             raise TypeError(f"unknown step {step!r}")
-        self.steps_done += 1
 
     def write_keys(self, keys: Sequence[Quantity], value: int) -> None:
         for key in keys:

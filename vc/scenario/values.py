@@ -10,12 +10,22 @@ written                passes when the actual value ...
 ``"> 5"``, ``">= 5"``  is above / at least 5
 ``"!= 0"``, ``"== 3"`` differs from / equals the number
 =====================  =================================================
+
+Numbers are finite and at most ``MAX_MAGNITUDE`` (:mod:`vc.input_limits`): ``.inf`` would match
+every value within "tolerance" (the distance is infinite, and so is the allowance), and a
+NaN would make ``!=`` hold for ever.  An actual value that is not finite matches nothing.
+Whether an expectation can fail at all for a given quantity (``"<= 1"`` on a bool, a
+tolerance covering a byte's whole range) is :meth:`ExpectedValue.judgement` against the
+quantity's range.
 """
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
+
+from vc.input_limits import MAX_MAGNITUDE
 
 FLOAT_TOLERANCE = 1e-9
 ROUNDING_SLACK = 1e-12  # relative; far below any tolerance a machine is measured with
@@ -37,6 +47,8 @@ class ExpectedValue:
     tolerance: float = 0.0
 
     def matches(self, actual: float) -> bool:
+        if not math.isfinite(actual):
+            return False
         op, value = self.op, self.value
         if op == "+-":  # bounds included, with slack for binary rounding (100.001 - 100 > 0.001)
             return abs(actual - value) <= self.tolerance + ROUNDING_SLACK * max(1.0, abs(value))
@@ -57,6 +69,26 @@ class ExpectedValue:
         """The whole number this expects exactly, if it does (for checks against a signal's range)."""
         return self.value if self.op == "==" and isinstance(self.value, int) else None
 
+    def judgement(self, low: float, high: float, whole: bool) -> str:
+        """For a quantity whose values lie in ``low .. high`` (only whole numbers if ``whole``):
+        "" if this expectation can both pass and fail there, else "always" or "never" (it holds
+        for every value there, or for none)."""
+        op, value = self.op, self.value
+        if op == "+-":
+            allowance = self.tolerance + ROUNDING_SLACK * max(1.0, abs(value))
+            lowest, highest = value - allowance, value + allowance
+            if whole:
+                lowest, highest = math.ceil(lowest), math.floor(highest)
+            if lowest <= low and high <= highest:
+                return "always"
+            return "never" if highest < lowest or highest < low or high < lowest else ""
+        takes = low <= value <= high and (not whole or float(value).is_integer())  # the quantity can be value
+        holds = {"<": (high < value, value <= low), "<=": (high <= value, value < low),
+                 ">": (value < low, high <= value), ">=": (value <= low, high < value),
+                 "==": (low == high == value, not takes), "!=": (not takes, low == high == value)}
+        always, never = holds[op]
+        return "always" if always else ("never" if never else "")
+
     def __str__(self) -> str:
         if self.op == "+-":
             if self.tolerance == FLOAT_TOLERANCE:
@@ -72,13 +104,13 @@ def parse_expected(value: object) -> ExpectedValue:
     if isinstance(value, bool):
         return ExpectedValue("==", int(value))
     if isinstance(value, int):
-        return ExpectedValue("==", value)
+        return ExpectedValue("==", _checked(value))
     if isinstance(value, float):
-        return ExpectedValue("+-", value, FLOAT_TOLERANCE)
+        return ExpectedValue("+-", _checked(value), FLOAT_TOLERANCE)
     if isinstance(value, str):
         match = _WITHIN.match(value)
         if match:
-            tolerance = float(match.group("tolerance"))
+            tolerance = float(_to_number(match.group("tolerance")))
             if tolerance < 0:
                 raise ExpectedValueError(f"'{value}': the tolerance after +- cannot be negative")
             return ExpectedValue("+-", _to_number(match.group("value")), tolerance)
@@ -98,10 +130,21 @@ def parse_expected(value: object) -> ExpectedValue:
 
 
 def _to_number(text: str) -> int | float:
-    stripped = text.lstrip("+-")
-    if stripped.isdigit():
-        return int(text)
-    return float(text)
+    number: int | float = float(text)
+    if not abs(number) <= MAX_MAGNITUDE:
+        shown = text if len(text) <= 24 else f"{text[:20]}... ({len(text)} characters)"
+        raise ExpectedValueError(f"'{shown}' is beyond {MAX_MAGNITUDE:g}, the largest number an expectation may hold")
+    if text.lstrip("+-").isdigit():
+        number = int(text)
+    return number
+
+
+def _checked(number: int | float) -> int | float:
+    """A number from YAML as an expected value: finite and at most MAX_MAGNITUDE."""
+    if not (math.isfinite(number) and abs(number) <= MAX_MAGNITUDE):
+        raise ExpectedValueError(f"{number} is beyond {MAX_MAGNITUDE:g}, the largest number an expectation may hold"
+                                 if math.isfinite(number) else f"{number} is not a finite number")
+    return number
 
 
 def _number(value: float) -> str:

@@ -445,3 +445,65 @@ def test_an_override_may_switch_generator_operation_off_but_not_give_its_paramet
     assert [str(problem) for problem in error.value.problems] == [
         "scenario.yaml:3:12: machine_data.SP2.drive: p2161 belong to generator operation: without p0888 = 3"
         " the drive would ignore them"]
+
+
+# ------------------------------------------------------------------------------ values the control cannot work with
+
+
+def test_zero_where_the_control_needs_a_value_is_refused() -> None:
+    """MD32000 = 0 and MD10100 = 1e-320 were accepted; MD31060 = 0 and SD42300 = 0 divided by zero when the
+    axis moved, MD20090 = 0 with spindles in the channel ended M3 in a KeyError."""
+    overrides = _overrides(
+        "machine_data:\n"
+        "  X1: {MD32000: 0, MD31060: [1, 0], MD34300: [0]}\n"
+        "  NC: {MD10100: 1.0e-320, MD10120: 0}\n"
+        "  CHAN1: {MD20090: 0, MD42300: [0, 1]}\n"
+        "  Z1: {'MD31050[0]': '0', MD32000: '1e-13'}\n"
+    )
+    with pytest.raises(SourceError) as error:
+        load_machine(TURN_MILL, overrides, "scenario.yaml")
+    assert [str(problem) for problem in error.value.problems] == [
+        "scenario.yaml:2:17: MD32000 MAX_AX_VELO = 0: 0 cannot be entered (the axis could never move, and its"
+        " rapid-stop ramp is scaled by it)",
+        "scenario.yaml:2:33: MD31060 DRIVE_AX_RATIO_NUMERA[1] = 0: 0 cannot be entered (the seed says 0 cannot be"
+        " entered, L19032)",
+        "scenario.yaml:2:47: MD34300 ENC_REFP_MARKER_DIST[0] = 0: 0 cannot be entered (marks 0 mm apart are no"
+        " scale; the mark layout divides by it)",
+        "scenario.yaml:3:17: MD10100 PLC_CYCLIC_TIMEOUT = 1e-320: closer to 0 than 1e-12, too fine for the control"
+        " to compute with",
+        "scenario.yaml:3:36: MD10120 PLC_RUNNINGUP_TIMEOUT = 0: 0 cannot be entered (no PLC starts within 0 s:"
+        " alarm 2001 would come at every power-on)",
+        "scenario.yaml:4:20: MD20090 SPIND_DEF_MASTER_SPIND = 0: CHAN1 has spindles (1, 2, 3); S, M3, M4 and M5"
+        " without a spindle number address the master spindle, so it needs one",
+        "scenario.yaml:4:33: MD42300 COUPLE_RATIO_1[0] = 0: 0 cannot be entered (a ratio of 0 couples nothing, a"
+        " denominator of 0 divides by 0 [control])",
+        "scenario.yaml:5:22: MD31050 DRIVE_AX_RATIO_DENOM[0] = '0': 0 cannot be entered (the seed says 0 cannot be"
+        " entered, L19032)",
+        "scenario.yaml:5:36: MD32000 MAX_AX_VELO = '1e-13': closer to 0 than 1e-12, too fine for the control to"
+        " compute with",
+    ]
+
+
+@pytest.mark.parametrize(("written", "message"), [
+    ("MD32000: '1e400'", "MD32000 MAX_AX_VELO: expected a number, got '1e400' (beyond 1e+15)"),
+    ("MD36100: '-1e400'", "MD36100 POS_LIMIT_MINUS: expected a number, got '-1e400' (beyond 1e+15)"),
+    ("sim: {start_position: 1.0e+300}", "sim.start_position: expected a number, got 1e+300 (beyond 1e+15)"),
+    ("plant: {ref_cam: ['-1e400', 0]}", "plant.ref_cam: expected a number, got '-1e400' (beyond 1e+15)"),
+])
+def test_numbers_beyond_any_machine_are_refused(written: str, message: str) -> None:
+    """'1e400' is text to YAML and infinity to float()."""
+    with pytest.raises(SourceError) as error:
+        load_machine(TURN_MILL, _overrides(f"machine_data:\n  X1: {{{written}}}\n"), "scenario.yaml")
+    assert [problem.message for problem in error.value.problems] == [message]
+
+
+def test_an_alias_bomb_in_a_machine_file_is_a_problem(tmp_path: Path) -> None:
+    """It grew past a gigabyte while the machine loaded."""
+    lines = ["machine: bomb", "a0: &a0 [lol]"]
+    lines += [f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 9)}]" for i in range(1, 10)]
+    path = tmp_path / "bomb.yaml"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    with pytest.raises(SourceError) as error:
+        load_machine(str(path))
+    (problem,) = error.value.problems
+    assert problem.mark.line == 7 and "values with its aliases expanded" in problem.message

@@ -176,6 +176,31 @@ def test_condition_language() -> None:
         parse_condition("$A_IN[1] ==")
 
 
+@pytest.mark.parametrize(("text", "message"), [
+    ("$A_IN[1] > " + "(" * 600 + "1" + ")" * 600, "more than 32 parentheses and signs inside one another"),
+    ("$A_IN[1] > " + "- " * 600 + "1", "more than 32 parentheses and signs inside one another"),
+    ("$A_IN[1] > 1" + " OR $A_IN[1] > 2" * 300, "more than 100 operators"),
+    (" B_OR ".join(["$A_IN[1]"] * 150) + " == 1", "more than 100 operators"),
+    ("$A_IN[1] > " + "9" * 400, "99999999999999999999... (400 digits): beyond 1e+15"),
+    ("$A_IN[1] > 'H" + "F" * 400 + "'", ": beyond 1e+15"),
+])
+def test_conditions_beyond_the_limits_are_refused(text: str, message: str) -> None:
+    """500 parentheses and long chains ended in RecursionError, 400 digits in an infinite value."""
+    with pytest.raises(SyncActionError) as caught:
+        parse_condition(text)
+    assert str(caught.value).endswith(message)
+
+
+def test_conditions_within_the_limits_are_read() -> None:
+    def read(name: str, index: str) -> float:
+        return 1.0
+
+    assert parse_condition("$A_IN[1] == " + "(" * 32 + "1" + ")" * 32)(read) == 1.0
+    assert parse_condition(" OR ".join(["$A_IN[1] > 2"] * 32 + ["$A_IN[1] == 1"]))(read) == 1.0  # 65 operators
+    with pytest.raises(SyncActionError):
+        parse_actions("$AC_ESR_TRIGGER=" + "9" * 400)
+
+
 # ------------------------------------------------------------------------------ G33 and fast retraction
 
 

@@ -197,6 +197,31 @@ def test_syntax_error_block_keeps_its_block_number() -> None:
     assert blocks[1].label == "N20"
 
 
+@pytest.mark.parametrize("text", [
+    "G1 X" + "9" * 308 + " F100",  # finite, but it overflowed the motion's arithmetic (OverflowError)
+    "G1 X" + "9" * 5000,  # infinite as a double: NaN in the path interpolation (ValueError)
+    "N" + "9" * 400 + " G1 X1",  # int(float(...)) of infinity (OverflowError)
+    "R1=" + "9" * 400,
+    "COUPON(S2,S1," + "9" * 400 + ")",
+    "G1 X-1000000000000001",
+])
+def test_a_number_beyond_the_limit_is_a_syntax_error(text: str) -> None:
+    block = single(text)
+    assert block.items == () and block.error.endswith("beyond 1e+15")
+
+
+def test_numbers_up_to_the_limit_are_read() -> None:
+    assert single("G1 X1000000000000000 Z-1000000000000000").items == (
+        Word("G", 1.0), Word("X", 1e15), Word("Z", -1e15))
+
+
+@pytest.mark.parametrize("text", ["N" + "9" * 5000 + " G1 X1", "N" + "9" * 5000 + " GOTOF N1",
+                                  "IDS=" + "9" * 5000 + " WHENEVER $A_IN[1]==1 DO $AC_ESR_TRIGGER=1"])
+def test_block_and_action_numbers_of_thousands_of_digits_are_syntax_errors(text: str) -> None:
+    """int() of more than 4,300 digits raised ValueError while the program was read."""
+    assert single(text).error != ""
+
+
 # ------------------------------------------------------------------------------ jumps
 
 

@@ -268,3 +268,19 @@ def test_selected_program_runs_in_auto(config: MachineConfig) -> None:
     sim.step(200)
     assert sim.nck.axes_by_name["X1"].setpoint == 151.0
     assert signal(sim, "CHAN1.basic.in.stateReset") == 1
+
+
+def test_a_fault_the_machine_cannot_have_now_fails_the_step_instead_of_the_run(tmp_path: Path) -> None:
+    """A workpiece clamp on a spindle that follows none ended the run in a KeyError traceback."""
+    from interfaces.links.inprocess import plc_programs
+    from vc.harness.scenarios import simulation_for
+    from vc.scenario.loader import load_scenarios
+    from vc.scenario.runner import run_scenarios
+
+    path = tmp_path / "clamp.yaml"
+    path.write_text(f"name: clamp\nmachine: {TURN_MILL}\nplc: basic_machine\nsteps:\n  - wait: 20ms\n"
+                    "  - fault: {axis: SP2, kind: workpiece_clamp, by: 4}\n", encoding="utf-8")
+    (result,) = run_scenarios(load_scenarios([str(path)], plc_programs()), simulation_for)
+    assert not result.error
+    assert result.failure is not None and result.failure.mark.line == 6
+    assert result.failure.message == "workpiece_clamp: SP2 is not the following spindle of a coupling now"

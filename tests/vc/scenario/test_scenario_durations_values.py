@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
+from vc.input_limits import MAX_DURATION_S
 from vc.scenario.durations import Duration, DurationError, format_seconds, parse_duration
 from vc.scenario.values import FLOAT_TOLERANCE, ExpectedValue, ExpectedValueError, parse_expected
 
@@ -83,3 +86,73 @@ def test_expected_value_matching() -> None:
 def test_bad_expected_values(written: object) -> None:
     with pytest.raises(ExpectedValueError):
         parse_expected(written)
+
+
+# ---------------------------------------------------------------------------------- bounds
+
+
+@pytest.mark.parametrize(("written", "message"), [
+    (math.nan, "nan is not a duration"),  # timeout: .nan ended in decimal.InvalidOperation
+    (math.inf, "inf is not a duration"),
+    ("1e400s", "'1e400s' is longer than 86400 s, the longest time a scenario may name"),
+    ("1e999999999 s", "'1e999999999 s' is longer than 86400 s"),
+    ("1441min", "'1441min' is longer than 86400 s"),
+    (86_401, "86401 is longer than 86400 s"),
+])
+def test_durations_are_finite_and_bounded(written: object, message: str) -> None:
+    with pytest.raises(DurationError) as caught:
+        parse_duration(written)
+    assert str(caught.value).startswith(message)
+
+
+def test_the_longest_duration_is_accepted() -> None:
+    assert parse_duration(f"{MAX_DURATION_S}s").microseconds == MAX_DURATION_S * 1_000_000
+    assert parse_duration("1440 min") == parse_duration(MAX_DURATION_S)
+
+
+@pytest.mark.parametrize(("written", "message"), [
+    (math.inf, "inf is not a finite number"),
+    (-math.inf, "-inf is not a finite number"),
+    (math.nan, "nan is not a finite number"),
+    (1e308, "1e+308 is beyond 1e+15"),
+    (10**16, "10000000000000000 is beyond 1e+15"),
+    ("1e308", "'1e308' is beyond 1e+15"),
+    ("100 +- 1e400", "'1e400' is beyond 1e+15"),
+    ("< -1e400", "'-1e400' is beyond 1e+15"),
+    ("1" * 5000, "'11111111111111111111... (5000 characters)' is beyond 1e+15"),
+])
+def test_expected_values_are_finite_and_bounded(written: object, message: str) -> None:
+    """``.inf`` matched every value: abs(actual - inf) <= tolerance + slack * inf is true."""
+    with pytest.raises(ExpectedValueError) as caught:
+        parse_expected(written)
+    assert str(caught.value).startswith(message)
+
+
+def test_an_actual_value_that_is_not_finite_matches_nothing() -> None:
+    for expected in ("!= 0", "< 5", "> 5", "0 +- 1e15", ">= -1e15"):
+        for actual in (math.nan, math.inf, -math.inf):
+            assert not parse_expected(expected).matches(actual), (expected, actual)
+
+
+@pytest.mark.parametrize(("written", "low", "high", "whole", "judgement"), [
+    ("<= 1", 0, 1, True, "always"),  # a bool is always <= 1
+    (">= 0", 0, 255, True, "always"),
+    ("< 0", 0, 255, True, "never"),
+    ("> 255", 0, 255, True, "never"),
+    ("!= 300", 0, 255, True, "always"),
+    ("!= 2.5", 0, 255, True, "always"),
+    ("== 2.5", 0, 255, True, "never"),
+    ("100 +- 200", 0, 255, True, "always"),
+    ("0.5 +- 0.5", 0, 1, True, "always"),
+    ("0.5 +- 0.4", 0, 1, True, "never"),  # no whole number within 0.1 .. 0.9
+    ("300 +- 10", 0, 255, True, "never"),
+    ("0 +- 1e15", -1e15, 1e15, False, "always"),
+    ("< 1e15", -1e15, 1e15, False, ""),
+    ("100 +- 0.001", -1e15, 1e15, False, ""),
+    ("<= 1", 0, 3, True, ""),
+    (1, 0, 1, True, ""),
+    (256, 0, 255, True, "never"),
+])
+def test_whether_an_expectation_can_pass_and_fail(written: object, low: float, high: float, whole: bool,
+                                                  judgement: str) -> None:
+    assert parse_expected(written).judgement(low, high, whole) == judgement

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import operator
 from collections.abc import Callable
 
@@ -9,6 +10,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from vc.input_limits import MAX_EXPRESSION_DEPTH, MAX_EXPRESSION_NESTING
 from vc.scenario.expressions import (
     Abs,
     AlarmCall,
@@ -231,3 +233,51 @@ def test_compiled_matches_reference(tree: Node, numbers: list[int]) -> None:
         assert expected is None
         return
     assert actual == pytest.approx(expected, nan_ok=True)
+
+
+# ---------------------------------------------------------------------------------- bounds
+
+
+def test_deeply_nested_parentheses_are_refused_with_a_column() -> None:
+    """500 nested parentheses ended in a RecursionError."""
+    with pytest.raises(ExpressionError) as caught:
+        parse("(" * 500 + "a" + ")" * 500)
+    assert str(caught.value) == (f"more than {MAX_EXPRESSION_NESTING} parentheses, not, - and abs inside one another"
+                                 f" at column {MAX_EXPRESSION_NESTING + 1}")
+    assert evaluate("(" * MAX_EXPRESSION_NESTING + "a" + ")" * MAX_EXPRESSION_NESTING, {"a": 3}) == 3
+
+
+@pytest.mark.parametrize("text", ["not " * 500 + "a", "-" * 500 + "a", "abs(" * 500 + "a" + ")" * 500])
+def test_deep_chains_of_unary_operators_are_refused(text: str) -> None:
+    with pytest.raises(ExpressionError, match="inside one another"):
+        parse(text)
+
+
+@pytest.mark.parametrize("operator_text", ["and", "or", "+", "*"])
+def test_long_chains_of_operators_are_refused(operator_text: str) -> None:
+    """2,000 and terms parsed, but checking, compiling and evaluating recursed 2,000 deep."""
+    with pytest.raises(ExpressionError, match=f"more than {MAX_EXPRESSION_DEPTH} operators one inside the other"):
+        parse(f" {operator_text} ".join(["a"] * 2000))
+    terms = f" {operator_text} ".join(["a"] * (MAX_EXPRESSION_DEPTH + 1))
+    assert evaluate(terms, {"a": 1}) in (1, MAX_EXPRESSION_DEPTH + 1)
+
+
+@pytest.mark.parametrize(("text", "column"), [("X1.position < 1e400", 15), ("a > -1e16", 6), ("a == 1" + "0" * 30, 6)])
+def test_numbers_beyond_the_magnitude_limit_are_refused(text: str, column: int) -> None:
+    with pytest.raises(ExpressionError, match=f"the largest a condition may hold at column {column}"):
+        parse(text)
+
+
+@pytest.mark.parametrize(("text", "value"), [
+    ("a != 5", math.nan), ("a < 5", -math.inf), ("not a == 5", math.nan), ("a", math.nan), ("a", math.inf),
+    ("a and 1", math.nan), ("b or a", math.nan), ("abs(a) > 0", math.nan),
+])
+def test_a_value_that_is_not_finite_cannot_satisfy_a_condition(text: str, value: float) -> None:
+    """NaN != 5 holds and -inf < 5 holds in floating point; a condition on them would pass falsely."""
+    with pytest.raises(EvaluationError, match="not finite"):
+        evaluate(text, {"a": value, "b": 0})
+
+
+def test_a_division_whose_result_is_not_finite_is_an_evaluation_error() -> None:
+    with pytest.raises(EvaluationError, match="is not finite"):
+        evaluate("1e15 / a > 5", {"a": 1e-320})

@@ -161,3 +161,23 @@ def test_run_scenario_with_own_recorder(tmp_path: Path) -> None:
     assert result.passed and result.recorder is recorder
     assert sorted(history.quantity.name for history in recorder.histories) == [
         "CHAN1.basic.out.ncStart", "X1.basic.in.posFineReached"]
+
+
+def test_locations_and_names_print_as_written(tmp_path: Path) -> None:
+    """Rich turned ``:100:`` into an emoji (file💯12) and would read ``[dim]`` in a name as a style."""
+    shown, output = console()  # emoji and markup on, as a Console has them by default
+    path = write_scenario(tmp_path, "name: \"[dim]x :1234: y\"\n" + HEAD + "# \n" * 95 + "steps:\n  - wiat: 1s\n")
+    code = run_command([str(path)], make_target, KNOWN_PROGRAMS, console=shown)
+    assert code == EXIT_PROBLEMS
+    assert output.getvalue().splitlines()[0] == f"{path}:100:5: unknown step 'wiat'; did you mean wait?"
+    report = ConsoleReport(shown)
+    loaded = scenario(tmp_path, PASSING.replace("moves to 10", "\"[dim]moves :100: to :1234: 10\""))
+    report.print_result(run_scenario(loaded, make_target(loaded)))
+    assert output.getvalue().splitlines()[-1].startswith("PASS  [dim]moves :100: to :1234: 10  ")
+
+
+def test_the_default_console_reads_no_emoji_and_no_markup() -> None:
+    default = ConsoleReport().console
+    with default.capture() as captured:
+        default.print("x.yaml:100:12: [b]y[/b]")
+    assert captured.get() == "x.yaml:100:12: [b]y[/b]\n"

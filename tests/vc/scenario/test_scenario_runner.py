@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import pytest
@@ -316,3 +317,32 @@ def test_the_image_fast_path_records_the_same_history(tmp_path: Path) -> None:
     assert [row for row in as_rows[0] if row[1] == start] == [(0, start, 0), (0, start, 1), (10, start, 0)]
     assert [row for row in as_rows[0] if row[1] == "X1.basic.in.enc1Synchronized"] == [
         (0, "X1.basic.in.enc1Synchronized", 0), (10, "X1.basic.in.enc1Synchronized", 1)]
+
+
+def test_a_reading_that_is_not_a_number_fails_every_expectation(tmp_path: Path) -> None:
+    """A NaN position made ``!= 100`` pass; an infinite one made ``< 5`` and ``> 5`` pass."""
+    for value, expected in ((math.nan, '"!= 100"'), (-math.inf, '"< 5"'), (math.inf, '"> 5"')):
+        target = FakeTarget(machine())
+        target.axes["X1"]["position"] = value
+        result = run(tmp_path, f"steps:\n  - expect: {{X1.position: {expected}}}\n", target)
+        assert not result.passed
+        assert result.failure is not None and result.failure.message.startswith("expected X1.position")
+
+
+def test_a_condition_on_a_reading_that_is_not_a_number_fails_the_step(tmp_path: Path) -> None:
+    target = FakeTarget(machine())
+    target.axes["X1"]["position"] = math.nan
+    result = run(tmp_path, 'steps:\n  - wait: {until: "X1.position != 100", timeout: 1s}\n', target)
+    assert result.failure is not None
+    assert result.failure.message == ('cannot evaluate in "X1.position != 100": cannot compare nan != 100: a value'
+                                      " that is not finite")
+
+
+def test_an_invariant_on_a_reading_that_is_not_a_number_is_violated(tmp_path: Path) -> None:
+    target = FakeTarget(machine())
+    result = run(tmp_path, 'invariants: ["not X1.position > 5"]\nsteps:\n  - wait: 10ms\n', target)
+    assert result.passed
+    target = FakeTarget(machine())
+    target.axes["X1"]["position"] = math.nan
+    result = run(tmp_path, 'invariants: ["not X1.position > 5"]\nsteps:\n  - wait: 10ms\n', target)
+    assert result.failure is not None and "a value that is not finite" in result.failure.message
