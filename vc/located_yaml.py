@@ -142,10 +142,25 @@ class InputLimitError(yaml.YAMLError):
         self.line, self.column = (mark.line, mark.column) if mark is not None else (0, 0)
 
 
-class _BoundedLoader(yaml.SafeLoader):
-    """PyYAML's safe loader whose composer counts: the nesting depth, and the values of the
-    document with every alias expanded (an alias counts as often as it is used, with all it
-    holds).  Composing stops at the first limit exceeded, before anything is expanded."""
+# libyaml's parser where PyYAML was built with it (its wheels are): scanning and parsing are most
+# of the time of loading a file, and libyaml does them many times as fast; the composer above it
+# stays PyYAML's Python one, so the counting below sees every node.
+try:
+    from yaml._yaml import CParser
+
+    class _Loader(yaml.composer.Composer, CParser, yaml.resolver.Resolver):  # type: ignore[misc]
+        def __init__(self, text: str):
+            CParser.__init__(self, text)
+            yaml.composer.Composer.__init__(self)
+            yaml.resolver.Resolver.__init__(self)
+except ImportError:  # PyYAML without libyaml: its Python reader, scanner and parser
+    _Loader = yaml.SafeLoader  # type: ignore[misc, assignment]
+
+
+class _BoundedLoader(_Loader):
+    """PyYAML's composer counting: the nesting depth, and the values of the document with every
+    alias expanded (an alias counts as often as it is used, with all it holds).  Composing stops
+    at the first limit exceeded, before anything is expanded."""
 
     def __init__(self, text: str):
         super().__init__(text)
@@ -156,8 +171,7 @@ class _BoundedLoader(yaml.SafeLoader):
         self.dated: set[int] = set()  # id(node) of the scalars tagged !!timestamp in the file
 
     def compose_node(self, parent: yaml.Node | None, index: int) -> yaml.Node | None:
-        self.check_event(yaml.NodeEvent)  # peeks: the event to compose is the current one
-        event: yaml.NodeEvent = self.current_event
+        event: yaml.NodeEvent = self.peek_event()  # the event to compose
         anchor = event.anchor
         if isinstance(event, yaml.AliasEvent):
             if anchor in self.open_anchors:
