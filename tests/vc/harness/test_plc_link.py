@@ -1,18 +1,22 @@
 """The PLC in its own process: lockstep gives the in-process trace, sessions restart the PLC,
-a PLC that goes away is reported; in real time the NC watches the PLC's sign of life.
+a PLC that goes away is reported; in real time the NC watches the PLC's sign of life, which no
+other client can keep alive.
 
 Every test runs ``python -m plc_stub`` against a server on 127.0.0.1 with an ephemeral port.
 """
 
 from __future__ import annotations
 
+import signal
 import subprocess
 import sys
+import threading
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 from panel_operator import images, operate
+from pyModbusTCP.client import ModbusClient
 
 from interfaces.links.modbus_tcp import LinkError
 from vc.config.loader import load_machine
@@ -161,3 +165,45 @@ def test_real_time_without_any_plc_the_nc_reports_2001_after_md10120() -> None:
     finally:
         link.close()
 
+
+
+def test_real_time_another_client_can_neither_keep_the_sign_of_life_nor_move_an_axis() -> None:
+    """It wrote holding register 0 every 10 ms and kept alarm 2000 away from a frozen PLC for
+    seconds; one write of it reversed X1."""
+    link = PlcLink(LinkMode.FREE_RUNNING, modbus=Endpoint("127.0.0.1", 0))
+    assert link.modbus is not None
+    pacer = RealtimePacer(link.loop, TURN_MILL_IPO_S, speed=1.0)
+    plc = _plc(link.modbus.port)
+    stop = threading.Event()
+    answers: list[bool] = []
+
+    def intruder() -> None:
+        client = ModbusClient(host="127.0.0.1", port=link.modbus.port if link.modbus else 0, timeout=2,
+                              auto_open=True)
+        life = 0
+        while not stop.is_set():
+            life = (life + 1) & 0xFFFF
+            answers.append(bool(client.write_single_register(0, life)))  # the sign of life
+            answers.append(bool(client.write_multiple_registers(67, [0xFF80, 0, 0x8000])))  # X1's enables and key
+            stop.wait(0.01)
+        client.close()
+
+    thread = threading.Thread(target=intruder, daemon=True)
+    try:
+        simulation = Simulation(TURN_MILL, "basic_machine", connector=link, pacer=pacer)
+        assert _run_until(simulation, "X1.basic.in.posCtrlActive", 10.0)
+        plc.send_signal(signal.SIGSTOP)  # the PLC freezes; its connection stays
+        thread.start()
+        simulation.step(round(0.5 / TURN_MILL_IPO_S))
+        assert [alarm.number for alarm in simulation.nck.alarms.present] == [2000]
+        assert simulation.nck.axes_by_name["X1"].velocity == 0
+        stop.set()
+        while thread.is_alive():  # its last request is answered too
+            link.serve()
+        assert answers and not any(answers)
+        assert link.owner.refused == len(answers)
+    finally:
+        stop.set()
+        plc.send_signal(signal.SIGCONT)
+        _stop(plc)
+        link.close()

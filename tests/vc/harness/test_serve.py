@@ -131,14 +131,14 @@ def test_serve_in_real_time_with_s7_a_client_reads_the_data_blocks() -> None:
     try:
         output = Lines(server)
         output.wait_for("S7 on")
-        output.wait_for("Modbus client(s)")  # a statistics line: the cycles run
+        output.wait_for("client(s)")  # a statistics line: the cycles run
         client = snap7.client.Client()
         client.connect("127.0.0.1", 0, 1, s7)
         # basic_machine gives the controller enables: DB31.DBX61.5 position control active
         for _ in range(50):
             if client.db_read(31, 61, 1)[0] >> 5 & 1:
                 break
-            output.wait_for("Modbus client(s)", timeout=5)
+            output.wait_for("client(s)", timeout=5)
         assert client.db_read(31, 61, 1)[0] >> 5 & 1
         with pytest.raises(Exception, match=r"0x84|cannot be performed"):
             client.db_write(31, 61, bytearray([0]))  # NC-to-PLC: refused
