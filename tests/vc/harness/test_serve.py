@@ -22,6 +22,7 @@ from pyModbusTCP.client import ModbusClient
 from interfaces.catalog import load_catalog
 from interfaces.signal_map import map_rows
 from interfaces.signals import expand
+from vc.cli.main import main
 from vc.config.loader import load_machine
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -153,3 +154,13 @@ def test_serve_refuses_a_remote_bind_without_the_flag() -> None:
                             capture_output=True, text=True, timeout=30, cwd=ROOT)
     assert result.returncode == 2
     assert "--allow-remote" in result.stderr
+
+
+@pytest.mark.parametrize(("arguments", "message"), [
+    (["--max-clients", "0"], "at least one client must be able to connect (max clients 0)"),
+    (["--allow-writers", "127.0.0.x"], "'127.0.0.x' is not an IP address or network"),
+])
+def test_serve_refuses_limits_and_writers_it_cannot_use(arguments: list[str], message: str,
+                                                        capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["serve", "--modbus", "127.0.0.1:0", *arguments, "--duration", "0.01"]) == 2
+    assert message in capsys.readouterr().err
