@@ -34,7 +34,9 @@ What the link adds to pymodbus 3.16's server, per connection (:class:`_Connectio
   :data:`SERVE_SLICE_S` per pass (and at least one request); a connection with
   :data:`PENDING_LIMIT` requests waiting is not read until they are answered.  So a flood of
   requests cannot hold the loop past the pacer's quiet time before an IPO cycle
-  (:mod:`vc.harness.pacer`), and the PLC's exchange never waits behind it.
+  (:mod:`vc.harness.pacer`), and the PLC's exchange never waits behind it.  (New connections are
+  not bounded so: asyncio accepts up to 100 in one pass, a few milliseconds for a storm of them;
+  a smaller listen backlog made every client of a storm wait for its SYN to be sent again.)
 
 The server runs on an asyncio loop the harness owns and runs whenever it waits (for the PLC's
 acknowledgement in lockstep, for the next cycle in real time): one thread, no hand-off.
@@ -540,7 +542,10 @@ class ModbusServerLink:
                 await asyncio.sleep(0)  # the rest in the next pass: the loop serves its other work first
 
     async def _answer(self, connection: _Connection, request: Request) -> None:
-        response = await self._response(connection, request)
+        try:
+            response = await self._response(connection, request)
+        except Exception as error:  # whatever pymodbus raises on a request is the server's failure
+            response = self._failure(connection, request, error)
         response.transaction_id, response.dev_id = request.transaction, request.unit
         try:
             frame = connection.framer.buildFrame(response)
