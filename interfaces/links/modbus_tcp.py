@@ -268,7 +268,6 @@ def _anybody() -> bool:
     return True
 
 
-
 @dataclass(slots=True)
 class ServerCounters:
     """What the server did, for ``vc serve``'s statistics."""
