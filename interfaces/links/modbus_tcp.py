@@ -619,6 +619,15 @@ class ModbusLinkClient:
         self.host, self.port, self.device_id = host, port, device_id
         self._client = ModbusTcpClient(host, port=port, timeout=timeout_s, retries=0)
 
+    @property
+    def timeout_s(self) -> float:
+        """How long a request waits for its answer (and a connect for the server)."""
+        return float(self._client.comm_params.timeout_connect or 0.0)
+
+    @timeout_s.setter
+    def timeout_s(self, seconds: float) -> None:
+        self._client.comm_params.timeout_connect = seconds
+
     def connect(self) -> bool:
         try:
             return bool(self._client.connect())

@@ -11,6 +11,7 @@ from __future__ import annotations
 import asyncio
 import itertools
 import os
+import select
 import shutil
 import socket
 import struct
@@ -408,6 +409,59 @@ def test_allowed_writers_write_without_owning_the_link() -> None:
         assert tool.write_single_register(16, 0x0100)
         assert served.link.owner.owner is None
         tool.close()
+
+
+# ------------------------------------------------------------------------------ a flood
+
+
+def test_a_flood_is_answered_a_little_each_pass_of_the_loop_and_the_plc_first() -> None:
+    """50 connections reading back to back stalled the real-time NC: pymodbus answered whatever
+    had arrived in one pass of the event loop, the pacer's cycles waited behind it."""
+    tables = ModbusTables(bytearray(MAP.table_bytes[Table.NC_TO_PLC]), bytearray(MAP.table_bytes[Table.PLC_TO_NC]),
+                          MAP.writable)
+    _open_session(tables)
+    loop = asyncio.new_event_loop()
+    link = ModbusServerLink(tables, "127.0.0.1", 0, loop)
+    link.start()
+
+    def passes(count: int) -> None:
+        for _ in range(count):
+            loop.run_until_complete(asyncio.sleep(0))
+
+    try:
+        plc = _Wire(link.port)
+        plc.send(_frame(0x06, struct.pack(">HH", 1, SESSION)))  # the claim: this connection is the PLC
+        for _ in range(1000):
+            if _pending(plc):
+                break
+            passes(1)
+        assert plc.answers(1) and link.owner.owner is not None
+        flood = [_Wire(link.port) for _ in range(50)]
+        passes(20)  # every connection accepted
+        assert link.clients == 51
+        for wire in flood:
+            wire.send(_read(1, count=125))
+        plc.send(_read(2))  # the PLC's request comes last
+        waited = 0
+        while not _pending(plc) and waited < 1000:
+            passes(1)
+            waited += 1
+        answered = sum(_pending(wire) for wire in flood)
+        assert answered < 25  # a pass answers what 0.2 ms allow, not everything that arrived
+        assert len(plc.answers(1)) == 1  # and the PLC's request was among the first
+        passes(400)
+        assert all(len(wire.answers(1)) == 1 for wire in flood)
+        for wire in [plc, *flood]:
+            wire.close()
+    finally:
+        link.close()
+        loop.close()
+
+
+def _pending(wire: _Wire) -> bool:
+    """Whether an answer waits in the socket (without waiting for one)."""
+    readable, _, _ = select.select([wire.socket], [], [], 0)
+    return bool(readable)
 
 
 # ------------------------------------------------------------------------------ connection limits

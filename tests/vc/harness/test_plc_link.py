@@ -11,6 +11,7 @@ import signal
 import subprocess
 import sys
 import threading
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -55,6 +56,25 @@ def test_lockstep_over_modbus_gives_the_in_process_images_cycle_for_cycle(proces
     assert images(linked) == images(local)
     assert linked.nck.axes_by_name["X1"].physical == local.nck.axes_by_name["X1"].physical
     assert linked.nck.axes_by_name["X1"].physical > machine.axis("X1").sim.start_position + 100  # referencing runs
+
+
+def test_a_pause_of_the_harness_between_two_scans_does_not_restart_the_plc() -> None:
+    """A lockstep harness that paused for more than 3 s (a garbage collection of a long vc run on a
+    busy host) made the PLC give up its request, reconnect and restart its program in the middle of
+    the session: the run left the in-process trace."""
+    with PlcProcess() as running:
+        linked = Simulation(TURN_MILL, "basic_machine", connector=running.link)
+        local = Simulation(TURN_MILL, "basic_machine")
+        for simulation in (linked, local):
+            simulation.step(150)
+            simulation.write(simulation.plant_io.resolve("MCP.jog"), 1)
+            simulation.step(10)
+        time.sleep(4.0)  # the harness serves nobody meanwhile; the PLC waits for its answer
+        for simulation in (linked, local):
+            simulation.write(simulation.plant_io.resolve("MCP.jog"), 0)
+            simulation.step(100)
+        assert images(linked) == images(local)
+        assert running.link.owner.claims == 1  # one connection throughout: no reconnect
 
 
 def test_a_power_cycle_opens_a_new_session_and_the_plc_restarts(process: PlcProcess) -> None:

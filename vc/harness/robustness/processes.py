@@ -85,7 +85,7 @@ class Child:
     def tracebacks(self) -> int:
         return sum(line.count(TRACEBACK) for line in self.lines + self.errors)
 
-    def stop(self, timeout_s: float = 15.0) -> int:
+    def stop(self, timeout_s: float = 60.0) -> int:
         """Ctrl-C, then the exit code (a process that does not end in time is killed: -9)."""
         if self.process.poll() is None:
             self.process.send_signal(signal.SIGINT)

@@ -34,6 +34,8 @@ def run_soak(settings: CampaignSettings, say: Say) -> Row:
     first, last = samples[0], samples[-1]
     server, plc = growth_pct(first[0], last[0]), growth_pct(first[1], last[1])
     pacing = final_pacing(served.serve)
+    if pacing is None:  # it printed no statistics at its end: count it as a crash
+        crashes += 1
     alarms = sorted({line.split("alarm ")[1].split()[0] for line in served.serve.lines if "  alarm " in line})
     say(f"  soak: {len(samples)} samples; server RSS {first[0]} -> {last[0]} kB ({server:+.2f} %), PLC {first[1]} ->"
         f" {last[1]} kB ({plc:+.2f} %); {pacing}; alarms: {', '.join(alarms) or 'none'}")
