@@ -11,6 +11,12 @@ of :mod:`interfaces.codec_modbus`) and follows the server's mode:
 
 A new session (the harness powered the machine on again, or started the next scenario) means
 a PLC restart: the description is read again and the program starts from its initial state.
+
+In lockstep the harness answers only while it waits for the PLC, and it may pause between two
+scans for longer than a real-time PLC would wait (a garbage collection of a long ``vc run``, a
+busy host): a request waits :data:`LOCKSTEP_TIMEOUT_S` for its answer there, not the real-time
+:data:`TIMEOUT_S`, so that a pause never restarts the program in the middle of a session.  A
+harness that is gone closes the connection, which ends the wait at once.
 """
 
 from __future__ import annotations
@@ -47,6 +53,8 @@ from plc_stub.programs import REGISTRY
 from plc_stub.scan_loop import EXIT_NO_HARNESS, EXIT_STOPPED, exit_code, run_scans
 
 _WORD = struct.Struct(">H")
+TIMEOUT_S = 3.0  # real time (and before the first session): an answer later than this is a lost server
+LOCKSTEP_TIMEOUT_S = 120.0  # lockstep: the harness may pause between scans (module docstring)
 
 
 @dataclass(slots=True)
@@ -116,8 +124,10 @@ class RemotePlc:
         description = LinkDescription.for_plc(text)
         environment, register_map, plc, name = description.start_program(REGISTRY, self.program)
         sizes = register_map.table_bytes
+        lockstep = head[REG_MODE] == MODE_LOCKSTEP
+        self.client.timeout_s = LOCKSTEP_TIMEOUT_S if lockstep else TIMEOUT_S
         self.session = _Session(
-            head[REG_SESSION], head[REG_MODE] == MODE_LOCKSTEP, description, register_map, plc,
+            head[REG_SESSION], lockstep, description, register_map, plc,
             ProcessImage(environment.catalog.area_sizes), ProcessImage(environment.plant_io.area_sizes()),
             bytearray(sizes[Table.NC_TO_PLC]), bytearray(sizes[Table.PLC_TO_NC]))
         self.client.write_registers(REG_SESSION_READY, [self.session.number])
@@ -169,12 +179,13 @@ class RemotePlc:
     def restart(self) -> None:
         """After a reconnect: the next poll sets the session up again (a PLC restart)."""
         self.session = None
+        self.client.timeout_s = TIMEOUT_S
 
 
 def run_forever(host: str, port: int, program: str | None, period_s: float | None, connect_timeout_s: float,
                 log: Callable[[str], None], should_stop: Callable[[], bool] = lambda: False) -> int:
     """Connect (and reconnect) to the harness and run; the exit code of ``python -m plc_stub``."""
-    client = ModbusLinkClient(host, port)
+    client = ModbusLinkClient(host, port, timeout_s=TIMEOUT_S)
     plc = RemotePlc(client, program, period_s, log)
 
     def run() -> int:

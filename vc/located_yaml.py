@@ -148,7 +148,7 @@ class InputLimitError(yaml.YAMLError):
 try:
     from yaml._yaml import CParser
 
-    class _Loader(yaml.composer.Composer, CParser, yaml.resolver.Resolver):  # type: ignore[misc]
+    class _Loader(yaml.composer.Composer, CParser, yaml.resolver.Resolver):
         def __init__(self, text: str):
             CParser.__init__(self, text)
             yaml.composer.Composer.__init__(self)
@@ -171,7 +171,8 @@ class _BoundedLoader(_Loader):
         self.dated: set[int] = set()  # id(node) of the scalars tagged !!timestamp in the file
 
     def compose_node(self, parent: yaml.Node | None, index: int) -> yaml.Node | None:
-        event: yaml.NodeEvent = self.peek_event()  # the event to compose
+        event = self.peek_event()  # the event to compose
+        assert isinstance(event, yaml.NodeEvent)  # the composer asks for a node here
         anchor = event.anchor
         if isinstance(event, yaml.AliasEvent):
             if anchor in self.open_anchors:

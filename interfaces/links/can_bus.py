@@ -15,9 +15,18 @@ so its own frames are dropped here, as is traffic of other nodes.
 The node's CAN controller state (:class:`ControllerState`, ISO 11898-1 fault confinement) is what
 the hardware reports: python-can's ``BusABC.state`` where the interface knows it, and SocketCAN's
 error frames (``linux/can/error.h``): controller problems (error passive, back to error active,
-with the error counters) and bus-off, until the controller is restarted or a frame arrives again.
-A send the bus refuses raises :class:`LinkError`; while the controller is bus-off the node sends
-nothing (:attr:`CanBus.state`, read by the link before it sends).
+with the error counters) and bus-off, until the controller is restarted (the interface's
+``restart-ms``) or a frame arrives again.  On a bus without a controller (virtual, UDP multicast)
+an error frame is one *on the wire*, sent by another node: it counts the receive error counter up
+by one as ISO 11898-1 counts a receiver's errors (error passive from 128; every frame received
+counts it down, from beyond 127 back to 127), and receive errors never make a controller
+bus-off, however many arrive.  A send the bus refuses raises :class:`LinkError`; while the
+controller is bus-off the node sends nothing (:attr:`CanBus.state`, read by the link before it
+sends).
+
+On UDP multicast any process of the host may send to the group: a datagram that is no
+python-can message (python-can raises on it) is dropped and counted (:attr:`CanBus.foreign`),
+never an error of the bus.
 """
 
 from __future__ import annotations
@@ -50,6 +59,8 @@ CAN_ERR_CRTL_RX_PASSIVE = 0x10
 CAN_ERR_CRTL_TX_PASSIVE = 0x20
 CAN_ERR_CRTL_ACTIVE = 0x40  # back to error active
 _PRIVATE_GROUPS = 0xFFFF  # 239.74.0.0 .. 239.74.255.255 for private channels
+ERROR_PASSIVE_ERRORS = 128  # ISO 11898-1: a counter at 128 or more makes the controller error passive
+RECEIVE_ERRORS_AFTER_RECEPTION = 127  # a frame received with the counter beyond 127 sets it to 119..127
 
 # python-can logs every socket it could not configure; the link reports what matters itself.
 logging.getLogger("can").setLevel(logging.ERROR)
@@ -126,6 +137,14 @@ def socketcan_available(interface: str = "vcan0") -> bool:
     return True
 
 
+def _no_frame(error: BaseException) -> bool:
+    """Whether python-can failed on what arrived rather than on the bus: it raises its operation
+    error *from* the exception of unpacking a UDP datagram that is no message of its own (a socket
+    that fails raises an OSError, or an operation error from one)."""
+    cause = error.__cause__
+    return isinstance(error, can.CanOperationError) and cause is not None and not isinstance(cause, OSError)
+
+
 class CanBus:
     """One node on a bus: sends frames, receives the identifiers it listens to."""
 
@@ -139,6 +158,7 @@ class CanBus:
         self.received = 0  # frames received that the node listens to
         self.dropped = 0  # own frames and other traffic
         self.error_frames = 0
+        self.foreign = 0  # datagrams that are no frames (UDP multicast), dropped
         self.transmit_errors = 0  # the controller's error counters, as its last error frame gave them
         self.receive_errors = 0
         self._reported = ControllerState.ERROR_ACTIVE  # by error frames
@@ -172,8 +192,14 @@ class CanBus:
         return self.state is ControllerState.BUS_OFF
 
     def _error_frame(self, message: can.Message) -> None:
-        """Follow the controller's state through a SocketCAN error frame."""
+        """Follow the controller's state through a SocketCAN error frame, or count an error frame
+        on the wire of a bus without a controller (module docstring)."""
         self.error_frames += 1
+        if self.spec.kind != "socketcan":
+            self.receive_errors += 1
+            if self.receive_errors >= ERROR_PASSIVE_ERRORS:
+                self._reported = max(self._reported, ControllerState.ERROR_PASSIVE)
+            return
         error_class, data = message.arbitration_id, bytes(message.data) + bytes(8)
         if error_class & CAN_ERR_CNT:
             self.transmit_errors, self.receive_errors = data[6], data[7]
@@ -185,6 +211,16 @@ class CanBus:
             if data[1] & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE):
                 self._reported = ControllerState.ERROR_PASSIVE
             elif data[1] & CAN_ERR_CRTL_ACTIVE:
+                self._reported = ControllerState.ERROR_ACTIVE
+
+    def _received_a_frame(self) -> None:
+        """A frame received: a bus-off controller is back; without a controller the receive error
+        counter counts down (ISO 11898-1)."""
+        if self._reported is ControllerState.BUS_OFF:
+            self._back_on_the_bus()
+        elif self.spec.kind != "socketcan" and self.receive_errors:
+            self.receive_errors = min(self.receive_errors - 1, RECEIVE_ERRORS_AFTER_RECEPTION)
+            if self.receive_errors < ERROR_PASSIVE_ERRORS:
                 self._reported = ControllerState.ERROR_ACTIVE
 
     def _back_on_the_bus(self) -> None:
@@ -204,6 +240,15 @@ class CanBus:
             raise LinkError(f"CAN bus {self.spec}: frame 0x{frame.can_id:03X} not sent: {error}") from None
         self.sent += 1
 
+    def send_error_frame(self, error_class: int, data: bytes = bytes(8)) -> None:
+        """An error frame on the wire of a bus without controllers (virtual, UDP multicast), as a
+        disturbance of the bus would give it: for fault injection."""
+        try:
+            self._bus.send(can.Message(arbitration_id=error_class, data=data, is_error_frame=True,
+                                       is_extended_id=False, check=False))
+        except (can.CanError, OSError) as error:
+            raise LinkError(f"CAN bus {self.spec}: error frame not sent: {error}") from None
+
     def receive(self, timeout: float | None) -> Frame | None:
         """The next frame the node listens to, or None after ``timeout`` seconds (0: only what is
         there; None: wait for ever)."""
@@ -213,20 +258,29 @@ class CanBus:
             try:
                 message = self._bus.recv(remaining)
             except (can.CanError, OSError) as error:
-                raise LinkError(f"CAN bus {self.spec}: {error}") from None
-            if message is None:
-                return None
-            if message.is_error_frame:
-                self._error_frame(message)
-            elif message.arbitration_id in self._listen and not message.is_remote_frame:
-                self.received += 1
-                if self._reported is ControllerState.BUS_OFF:
-                    self._back_on_the_bus()  # a frame arrived: the controller is back
-                return Frame(message.arbitration_id, bytes(message.data), message.is_fd)
+                if not _no_frame(error):
+                    raise LinkError(f"CAN bus {self.spec}: {error}") from None
+                self.foreign += 1
             else:
-                self.dropped += 1
+                if message is None:
+                    return None
+                frame = self._take(message)
+                if frame is not None:
+                    return frame
             if timeout and deadline is not None and wallclock.monotonic() >= deadline:
                 return None  # (with timeout 0 the loop drains what is there: recv answers None when empty)
+
+    def _take(self, message: can.Message) -> Frame | None:
+        """The frame of a message the node listens to; None for an error frame or other traffic."""
+        if message.is_error_frame:
+            self._error_frame(message)
+            return None
+        self._received_a_frame()
+        if message.arbitration_id in self._listen and not message.is_remote_frame:
+            self.received += 1
+            return Frame(message.arbitration_id, bytes(message.data), message.is_fd)
+        self.dropped += 1
+        return None
 
     def close(self) -> None:
         with contextlib.suppress(can.CanError, OSError):

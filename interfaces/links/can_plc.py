@@ -23,6 +23,12 @@ normally closed emergency-stop chain reads open, the drives not ready and no key
 program drops the enables and reports the emergency stop to the NC.  The PLC link frame's flag
 bit 1 tells the NC the PLC misses its frames.
 
+**Faults of the bus never end the node**: a frame the bus refuses to send, a receive that fails,
+are counted (:attr:`CanPlcNode.bus_errors`, the first one logged) and the node goes on, as a PLC's
+CAN module does; its time-out monitor and the NC's react to what goes missing.  An NC link frame
+of another link version is dropped as well; only :data:`OTHER_VERSION_LIMIT` of them in a row (a
+harness that really speaks another version) stop the node.
+
 ``python -m plc_stub --can`` runs this node with the built-in programs; the harness runs it on a
 virtual bus in its own process for scenarios that ask for a CAN link.
 """
@@ -47,10 +53,13 @@ from interfaces.exchange import MODE_LOCKSTEP
 from interfaces.image import ProcessImage
 from interfaces.link_description import LinkDescription, PlcSetupError
 from interfaces.links.can_bus import CanBus
+from interfaces.links.errors import LinkError
 from interfaces.plc import PlcFactory, SoftPlc
 from interfaces.signals import Direction
 
 REQUEST_AGAIN_S = 0.5
+OTHER_VERSION_LIMIT = 3  # NC link frames of another version in a row before the node gives up
+FAILED_RECEIVE_PAUSE_S = 0.05  # after a receive the bus refused, before the next
 
 
 @dataclass(slots=True)
@@ -108,6 +117,8 @@ class CanPlcNode:
         self._last_heard = b""  # the last NC link frame
         self._answer: Frame | None = None  # the last PLC link frame of the running session
         self._assembler = DescriptionAssembler(self.link.description_id)
+        self.bus_errors = 0  # sends and receives the bus refused
+        self._other_version = 0  # NC link frames of another link version in a row
         self._listen_to_link()
 
     def use_link_id(self, link_id: int) -> None:
@@ -125,7 +136,7 @@ class CanPlcNode:
     # ------------------------------------------------------------------ frames
     def service(self, timeout: float) -> bool:
         """Handle the next frame, waiting up to ``timeout`` seconds; True when a scan ran."""
-        frame = self.bus.receive(timeout)
+        frame = self._receive(timeout)
         if frame is None:
             if self._wanted and wallclock.monotonic() - self._asked_at > REQUEST_AGAIN_S:
                 self._ask_for_description()
@@ -134,8 +145,27 @@ class CanPlcNode:
 
     def service_pending(self) -> None:
         """Handle every frame that has arrived (for a node in the harness's own thread)."""
-        while (frame := self.bus.receive(0)) is not None:
+        while (frame := self._receive(0)) is not None:
             self.handle(frame)
+
+    def _receive(self, timeout: float) -> Frame | None:
+        try:
+            return self.bus.receive(timeout)
+        except LinkError as error:
+            self._bus_error(error)
+            wallclock.sleep(min(timeout, FAILED_RECEIVE_PAUSE_S))  # a failing bus fails at once: no busy loop
+            return None
+
+    def _send(self, frame: Frame) -> None:
+        try:
+            self.bus.send(frame)
+        except LinkError as error:
+            self._bus_error(error)
+
+    def _bus_error(self, error: LinkError) -> None:
+        if not self.bus_errors:
+            self.log(f"{error}; the node goes on (faults of the bus are counted)")
+        self.bus_errors += 1
 
     def handle(self, frame: Frame) -> bool:
         if frame.can_id == self.link.nc_link_id:
@@ -157,7 +187,11 @@ class CanPlcNode:
         if link is None:
             return False
         if link.version != LINK_VERSION:
-            raise PlcSetupError(f"the harness speaks CAN link version {link.version}, this PLC {LINK_VERSION}")
+            self._other_version += 1
+            if self._other_version >= OTHER_VERSION_LIMIT:
+                raise PlcSetupError(f"the harness speaks CAN link version {link.version}, this PLC {LINK_VERSION}")
+            return False
+        self._other_version = 0
         self._fd = frame.fd
         repeated, self._last_heard = frame.data == self._last_heard, frame.data
         session = self.session
@@ -170,7 +204,7 @@ class CanPlcNode:
                 self._ask_for_description()
             return False
         if repeated and self._answer is not None:
-            self.bus.send(self._answer)  # the harness missed the answer (session ready, scan done)
+            self._send(self._answer)  # the harness missed the answer (session ready, scan done)
             return False
         session.inputs_seen = True
         if link.life != session.nc_life:
@@ -183,7 +217,7 @@ class CanPlcNode:
         return True
 
     def _ask_for_description(self) -> None:
-        self.bus.send(PlcLink(self.life, 0, 0, needs_description=True).encode(self.link, self._fd))
+        self._send(PlcLink(self.life, 0, 0, needs_description=True).encode(self.link, self._fd))
         self._asked_at = wallclock.monotonic()
 
     def _start(self, text: bytes) -> None:
@@ -201,7 +235,7 @@ class CanPlcNode:
         self.session, self._wanted = session, 0
         self._listen_to_link(layout)
         self._answer = PlcLink(self.life, session.number, 0).encode(self.link, self._fd)
-        self.bus.send(self._answer)
+        self._send(self._answer)
         self.log(f"session {session.number}: machine {description.machine}, program {name},"
                  f" {'lockstep' if session.lockstep else 'free-running'}, {len(layout.by_id)} data frames")
 
@@ -229,8 +263,8 @@ class CanPlcNode:
         session.scans += 1
         self.life = (self.life + 1) & 0xFF
         for frame in session.layout.frames(Direction.PLC_TO_NC, session.areas):
-            self.bus.send(frame)
+            self._send(frame)
         self._answer = PlcLink(self.life, session.number, done,
                                misses_nc_frames=session.misses_nc_frames).encode(self.link, self._fd)
-        self.bus.send(self._answer)
+        self._send(self._answer)
         self.scans += 1

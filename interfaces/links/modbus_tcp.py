@@ -3,13 +3,40 @@
 This is the only module that imports pymodbus; its exceptions become :class:`LinkError`.
 The tables, the link block and the description follow :mod:`interfaces.codec_modbus`.
 
-Server: pymodbus answers the protocol (framing, function codes, malformed and oversized
-requests, exception responses); a request action hands every data access to
+Server: pymodbus decodes each request and answers it through its function (malformed and
+oversized requests get their exception responses); a request action hands every data access to
 :class:`ModbusTables`, the bytes the harness shares with the simulation.  pymodbus's own store
 is sized to the largest tables the convention allows and only buffers the answer: what the
 tables do not hold (an address outside the current map, a coil in padding or in the reserved
 link registers) gets exception 02 (illegal data address).  Modbus itself has no function that
 writes input registers or discrete inputs: the NC-to-PLC table is read-only by construction.
+
+What the link adds to pymodbus 3.16's server, per connection (:class:`_Connection`):
+
+* **Framing.** Every complete request in what arrives is answered, once and in its order:
+  ten requests in one TCP segment, a request split over segments, requests that arrive while
+  the previous one is served (pymodbus answers only the first request of a segment and drops
+  a split one when it answers in between).  A header no request has (protocol identifier
+  other than 0, a length outside 2..254) ends the connection after the requests before it are
+  answered: a byte stream cannot be resynchronised.
+* **Answers.** Only the functions of the convention are served (FC 1, 2, 3, 4, 5, 6, 15, 16, 22,
+  23); every other function code gets exception 01 with its own code | 0x80, a request of a
+  served function that pymodbus cannot decode (a count beyond the protocol's limits, a body too
+  short) exception 03.  An exception inside the server is answered with exception 04, counted
+  and logged with its traceback (logger ``interfaces.links.modbus_tcp``, level INFO: ``vc
+  serve --verbose`` shows it).
+* **Ownership and limits** (:mod:`interfaces.links.access`): while a session is open only the
+  session's PLC writes (exception 01 for the others' writes to valid addresses; an address the
+  tables do not hold is exception 02 for everybody); connections are limited and idle ones
+  closed.
+* **Bounded work per pass of the event loop.** Requests are queued per connection and served
+  by one task, the session's PLC first, the other connections in turn, for at most
+  :data:`SERVE_SLICE_S` per pass (and at least one request); a connection with
+  :data:`PENDING_LIMIT` requests waiting is not read until they are answered.  So a flood of
+  requests cannot hold the loop past the pacer's quiet time before an IPO cycle
+  (:mod:`vc.harness.pacer`), and the PLC's exchange never waits behind it.  (New connections are
+  not bounded so: asyncio accepts up to 100 in one pass, a few milliseconds for a storm of them;
+  a smaller listen backlog made every client of a storm wait for its SYN to be sent again.)
 
 The server runs on an asyncio loop the harness owns and runs whenever it waits (for the PLC's
 acknowledgement in lockstep, for the next cycle in real time): one thread, no hand-off.
@@ -19,8 +46,10 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
-import ipaddress
 import logging
+import struct
+import time as wallclock
+from collections import deque
 from collections.abc import Callable, Collection, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -28,6 +57,8 @@ from typing import Any
 from pymodbus.client import ModbusTcpClient
 from pymodbus.constants import ExcCodes
 from pymodbus.exceptions import ModbusException
+from pymodbus.pdu import ExceptionResponse, ModbusPDU
+from pymodbus.pdu.register_message import ReadWriteMultipleRegistersRequest
 from pymodbus.server import ModbusTcpServer
 from pymodbus.server.requesthandler import ServerRequestHandler
 from pymodbus.simulator import DataType, SimData, SimDevice
@@ -35,15 +66,23 @@ from pymodbus.simulator import DataType, SimData, SimDevice
 from interfaces.codec_modbus import (
     DESCRIPTION_REGISTER,
     LINK_REGISTERS,
+    MASK_WRITE_REGISTER,
     MAX_DESCRIPTION_BYTES,
     MAX_TABLE_REGISTERS,
     READ_COILS,
     READ_DISCRETE_INPUTS,
+    READ_HOLDING,
     READ_INPUT,
     READ_LIMIT,
+    READ_WRITE_REGISTERS,
+    REG_SESSION,
+    REG_SESSION_READY,
+    REG_VERSION,
     WRITE_COIL,
     WRITE_COILS,
     WRITE_LIMIT,
+    WRITE_REGISTER,
+    WRITE_REGISTERS,
     bits_writable,
     read_registers,
     text_registers,
@@ -51,13 +90,22 @@ from interfaces.codec_modbus import (
     write_bits,
     write_registers,
 )
+from interfaces.links.access import AllowList, ConnectionLimits, LinkOwner
 from interfaces.links.errors import LinkError as LinkError  # the links' error, raised here for pymodbus's
 
 _COIL_CODES = (READ_COILS, WRITE_COIL, WRITE_COILS)
+WRITE_FUNCTIONS = frozenset({WRITE_COIL, WRITE_REGISTER, WRITE_COILS, WRITE_REGISTERS, MASK_WRITE_REGISTER,
+                             READ_WRITE_REGISTERS})
+SERVED_FUNCTIONS = frozenset({READ_COILS, READ_DISCRETE_INPUTS, READ_HOLDING, READ_INPUT}) | WRITE_FUNCTIONS
+MBAP = struct.Struct(">HHHB")  # transaction, protocol (0), length (unit id and PDU), unit id
+MAX_PDU_BYTES = 253  # the protocol's limit: an ADU of 260 bytes
+SERVE_SLICE_S = 0.0002  # requests served per pass of the event loop, in time
+PENDING_LIMIT = 16  # requests of one connection waiting before its socket is no longer read
 
-# pymodbus logs every refused request and every dropped connection at warning/error level;
-# the link reports what matters itself.
-logging.getLogger("pymodbus").setLevel(logging.CRITICAL)
+log = logging.getLogger(__name__)
+# pymodbus logs every refused request and every dropped connection at warning/error level: its
+# records go to the application's logging (vc serve --verbose), not to standard error by default.
+logging.getLogger("pymodbus").addHandler(logging.NullHandler())
 
 
 @dataclass(slots=True)
@@ -66,7 +114,9 @@ class ModbusTables:
 
     ``nc_to_plc`` and ``plc_to_nc`` are table bytes (register ``r`` = bytes ``2r``, ``2r + 1``);
     ``writable`` marks the PLC-to-NC bytes a write lands in.  ``on_write`` is called with the
-    first register and the register count of every accepted PLC write.
+    first register and the register count of every accepted PLC write.  ``may_write`` is asked
+    before a write whose addresses are valid lands (the server sets it for each request: only
+    the session's PLC writes); a write it refuses gets exception 01.
     """
 
     # before the first session only the link block, all zeros: version 0 says "not ready"
@@ -75,6 +125,7 @@ class ModbusTables:
     writable: bytes = bytes(2 * LINK_REGISTERS)
     description: bytes = b""
     on_write: Callable[[int, int], None] = lambda first, count: None
+    may_write: Callable[[], bool] = lambda: True
     writes: int = 0  # accepted PLC write requests, for statistics
 
     def set_description(self, text: bytes) -> None:
@@ -82,6 +133,13 @@ class ModbusTables:
             raise LinkError(f"the interface description has {len(text)} bytes; the link carries"
                             f" {MAX_DESCRIPTION_BYTES}")
         self.description = text
+
+    @property
+    def session(self) -> int:
+        """The open session (input register 1); 0 while no machine is powered on (version 0)."""
+        if not read_registers(self.nc_to_plc, REG_VERSION, 1)[0]:
+            return 0
+        return read_registers(self.nc_to_plc, REG_SESSION, 1)[0]
 
     # ------------------------------------------------------------------ requests
     def answer(self, function_code: int, address: int, count: int, registers: list[int],
@@ -99,6 +157,8 @@ class ModbusTables:
         if address + count > len(self.plc_to_nc) // 2:
             return ExcCodes.ILLEGAL_ADDRESS
         if values is not None:
+            if not self.may_write():
+                return ExcCodes.ILLEGAL_FUNCTION
             write_registers(self.plc_to_nc, self.writable, address, [int(value) for value in values])
             self.writes += 1
             self.on_write(address, count)
@@ -128,6 +188,8 @@ class ModbusTables:
     def _write_coils(self, address: int, values: list[bool]) -> ExcCodes | None:
         if address + len(values) > 8 * len(self.plc_to_nc) or not bits_writable(self.writable, address, len(values)):
             return ExcCodes.ILLEGAL_ADDRESS
+        if not self.may_write():
+            return ExcCodes.ILLEGAL_FUNCTION
         write_bits(self.plc_to_nc, address, values)
         self.writes += 1
         self.on_write(address // 16, (address % 16 + len(values) + 15) // 16)
@@ -154,40 +216,155 @@ def _device(tables: ModbusTables) -> SimDevice:
     )
 
 
-def parse_allowed_clients(texts: Collection[str]) -> list[ipaddress.IPv4Network | ipaddress.IPv6Network]:
-    """``127.0.0.1``, ``10.0.0.0/24`` ... as networks; raises LinkError naming a bad entry."""
-    networks = []
-    for text in texts:
-        try:
-            networks.append(ipaddress.ip_network(text.strip(), strict=False))
-        except ValueError:
-            raise LinkError(f"'{text}' is not an IP address or network (e.g. 127.0.0.1, 10.0.0.0/24)") from None
-    return networks
+# ---------------------------------------------------------------------------------- framing
 
 
-class _Handler(ServerRequestHandler):
-    """One client connection; refuses clients outside the allow-list right after they connect."""
+@dataclass(frozen=True, slots=True)
+class Request:
+    """One request as it came: MBAP transaction and unit id, and the PDU (function code first)."""
+
+    transaction: int
+    unit: int
+    pdu: bytes
+
+
+def take_requests(received: bytearray) -> tuple[list[Request], str | None]:
+    """The complete requests at the start of ``received``, removed from it (what stays is the
+    beginning of the next one), and what is wrong with the header that follows them, if anything."""
+    requests: list[Request] = []
+    offset = 0
+    problem = None
+    while len(received) - offset >= MBAP.size:
+        transaction, protocol, length, unit = MBAP.unpack_from(received, offset)
+        if protocol != 0 or not 2 <= length <= MAX_PDU_BYTES + 1:
+            problem = f"a header with protocol identifier {protocol} and length {length}"
+            break
+        end = offset + 6 + length
+        if end > len(received):
+            break
+        requests.append(Request(transaction, unit, bytes(received[offset + MBAP.size: end])))
+        offset = end
+    del received[:offset]
+    return requests, problem
+
+
+def claims_session(pdu: ModbusPDU, session: int) -> bool:
+    """Whether a register write puts ``session`` into holding register 1 (session ready): the PLC's
+    claim of the session (:mod:`interfaces.links.access`)."""
+    if pdu.function_code in (WRITE_REGISTER, WRITE_REGISTERS):
+        first, values = pdu.address, pdu.registers
+    elif isinstance(pdu, ReadWriteMultipleRegistersRequest):
+        first, values = pdu.write_address, pdu.write_registers
+    else:
+        return False
+    index = REG_SESSION_READY - first
+    return session != 0 and 0 <= index < len(values) and values[index] == session
+
+
+# ---------------------------------------------------------------------------------- the server
+
+
+def _anybody() -> bool:
+    return True
+
+
+@dataclass(slots=True)
+class ServerCounters:
+    """What the server did, for ``vc serve``'s statistics."""
+
+    requests: int = 0  # requests answered
+    exceptions: int = 0  # of them with an exception response
+    failures: int = 0  # of them with exception 04: the server failed (logged)
+    framing_errors: int = 0  # connections closed after a header no request has
+    refused: int = 0  # connections closed because of the allow-list
+    full: int = 0  # connections closed because every connection was busy
+    evicted: int = 0  # idle connections closed to make room for a new one
+    idle_closed: int = 0  # connections closed after the idle time-out
+
+    def describe(self) -> str:
+        parts = [f"{self.requests} requests"]
+        if self.exceptions:
+            parts.append(f"{self.exceptions} exception responses")
+        if self.failures:
+            parts.append(f"{self.failures} failed in the server (exception 04; --verbose shows why)")
+        closed = [f"{count} {why}" for count, why in (
+            (self.refused, "not on the allow-list"), (self.full, "while every connection was busy"),
+            (self.evicted, "idle to make room"), (self.idle_closed, "idle for the time-out"),
+            (self.framing_errors, "after a malformed header")) if count]
+        if closed:
+            parts.append("connections closed: " + ", ".join(closed))
+        return ", ".join(parts)
+
+
+class _Connection(ServerRequestHandler):
+    """One client connection: its requests as they arrive (module docstring); the link answers them."""
 
     def __init__(self, owner: _Server, *args: Any):
         super().__init__(owner, *args)
         self.link = owner.link
+        self.peer = ""
         self.admitted = False
+        self.received = bytearray()
+        self.requests: deque[Request] = deque()
+        self.queued = False  # waits in the link's queue of connections to serve
+        self.paused = False  # its socket is not read until its requests are answered
+        self.close_when_answered = False  # a malformed header followed the queued requests
+        self.last_heard = wallclock.monotonic()
 
     def callback_connected(self) -> None:
         peer = self.transport.get_extra_info("peername") if self.transport else None
-        if not self.link.admits(peer[0] if peer else ""):
-            self.link.refused += 1
+        self.peer = str(peer[0]) if peer else ""
+        if not self.link.admit(self):
             self.transport.close()
             return
         self.admitted = True
-        self.link.clients += 1
         super().callback_connected()
 
     def callback_disconnected(self, exc: Exception | None) -> None:
         if self.admitted:
             self.admitted = False
-            self.link.clients -= 1
+            self.link.forget(self)
         super().callback_disconnected(exc)
+
+    def data_received(self, data: bytes) -> None:
+        """Instead of pymodbus's buffer, which keeps one request and drops the rest (module docstring)."""
+        if not self.admitted or self.close_when_answered:
+            return
+        self.last_heard = wallclock.monotonic()
+        self.received += data
+        requests, problem = take_requests(self.received)
+        self.requests.extend(requests)
+        if problem is not None:
+            self.link.malformed(self, problem)
+        elif len(self.requests) >= PENDING_LIMIT:
+            self.pause()
+        if self.requests:
+            self.link.ready(self)
+
+    @property
+    def stream(self) -> asyncio.Transport | None:
+        """The connection's transport while it is open."""
+        transport = self.transport
+        return transport if isinstance(transport, asyncio.Transport) and not transport.is_closing() else None
+
+    def pause(self) -> None:
+        if not self.paused and (stream := self.stream) is not None:
+            self.paused = True
+            stream.pause_reading()
+
+    def resume(self) -> None:
+        if self.paused and (stream := self.stream) is not None and not self.close_when_answered:
+            self.paused = False
+            stream.resume_reading()
+
+    def write(self, frame: bytes) -> None:
+        if (stream := self.stream) is not None:
+            stream.write(frame)
+
+    def disconnect(self) -> None:
+        """Close the connection; the link forgets it when the transport reports it lost."""
+        if self.transport is not None:
+            self.transport.close()
 
 
 class _Server(ModbusTcpServer):
@@ -195,32 +372,38 @@ class _Server(ModbusTcpServer):
         self.link = link
         super().__init__(device, address=address)
 
-    def callback_new_connection(self) -> _Handler:
-        return _Handler(self, self.trace_packet, self.trace_pdu, self.trace_connect)
+    def callback_new_connection(self) -> _Connection:
+        return _Connection(self, self.trace_packet, self.trace_pdu, self.trace_connect)
 
 
 class ModbusServerLink:
-    """The harness's Modbus TCP server on ``loop`` (started with :meth:`start`)."""
+    """The harness's Modbus TCP server on ``loop`` (started with :meth:`start`).
+
+    ``allowed``: the allow-list of clients; ``owner``: who may write (shared with the other servers
+    of the link; by default one of its own); ``limits``: connections and idle time-out."""
 
     def __init__(self, tables: ModbusTables, host: str, port: int, loop: asyncio.AbstractEventLoop,
-                 allowed: Collection[str] = ()):
+                 allowed: Collection[str] = (), *, owner: LinkOwner | None = None,
+                 limits: ConnectionLimits | None = None):
         self.tables = tables
         self.host = host
         self.loop = loop
-        self.allowed = parse_allowed_clients(allowed)
-        self.clients = 0  # connected, admitted clients
-        self.refused = 0  # connections closed because of the allow-list
+        self.allowed = AllowList(allowed)
+        self.owner = owner if owner is not None else LinkOwner()
+        self.limits = limits if limits is not None else ConnectionLimits()
+        self.counters = ServerCounters()
         self._requested_port = port
         self._server: _Server | None = None
+        self._connections: list[_Connection] = []
+        self._waiting: deque[_Connection] = deque()  # connections with requests, in turn
+        self._work = asyncio.Event()
+        self._answering: asyncio.Task[None] | None = None
+        self._sweep: asyncio.TimerHandle | None = None
 
-    def admits(self, peer: str) -> bool:
-        if not self.allowed:
-            return True
-        try:
-            address = ipaddress.ip_address(peer)
-        except ValueError:
-            return False
-        return any(address in network for network in self.allowed)
+    @property
+    def clients(self) -> int:
+        """Connected, admitted clients."""
+        return len(self._connections)
 
     def start(self) -> None:
         async def listen() -> _Server:
@@ -232,6 +415,8 @@ class ModbusServerLink:
             self._server = self.loop.run_until_complete(listen())
         except (OSError, RuntimeError, ModbusException) as error:
             raise LinkError(f"cannot serve Modbus TCP on {self.host}:{self._requested_port}: {error}") from None
+        self._answering = self.loop.create_task(self._answer_requests())
+        self._sweep = self.loop.call_later(self._sweep_period(), self._close_idle)
 
     @property
     def port(self) -> int:
@@ -242,10 +427,160 @@ class ModbusServerLink:
         return int(sockets[0].getsockname()[1]) if sockets else self._requested_port
 
     def close(self) -> None:
+        if self._sweep is not None:
+            self._sweep.cancel()
+            self._sweep = None
+        if self._answering is not None:
+            self._answering.cancel()
+            with contextlib.suppress(BaseException):
+                self.loop.run_until_complete(self._answering)
+            self._answering = None
         if self._server is not None:
             with contextlib.suppress(Exception):
                 self.loop.run_until_complete(self._server.shutdown())
             self._server = None
+
+    def describe(self) -> str:
+        """The statistics line's part of this server."""
+        return f"Modbus: {self.clients} client(s), {self.counters.describe()}"
+
+    # ------------------------------------------------------------------ connections
+    def admit(self, connection: _Connection) -> bool:
+        """A new connection: the allow-list, then the limit (the longest idle one makes room)."""
+        if not self.allowed.admits(connection.peer):
+            self.counters.refused += 1
+            return False
+        if len(self._connections) >= self.limits.max_clients and not self._make_room():
+            self.counters.full += 1
+            return False
+        self._connections.append(connection)
+        return True
+
+    def _make_room(self) -> bool:
+        idle = [connection for connection in self._connections
+                if not connection.requests and not self.owner.owns(connection)]
+        if not idle:
+            return False
+        longest = min(idle, key=lambda connection: connection.last_heard)
+        self._drop(longest)
+        self.counters.evicted += 1
+        return True
+
+    def _drop(self, connection: _Connection) -> None:
+        if connection in self._connections:
+            self._connections.remove(connection)
+        connection.requests.clear()
+        self.owner.release(connection)
+        connection.disconnect()
+
+    def forget(self, connection: _Connection) -> None:
+        """A connection is gone: its requests with it, and its ownership of the link."""
+        if connection in self._connections:
+            self._connections.remove(connection)
+        connection.requests.clear()
+        self.owner.release(connection)
+
+    def _sweep_period(self) -> float:
+        return min(1.0, self.limits.idle_timeout_s / 4)
+
+    def _close_idle(self) -> None:
+        silent_since = wallclock.monotonic() - self.limits.idle_timeout_s
+        for connection in list(self._connections):
+            if connection.last_heard < silent_since and not connection.requests:
+                self._drop(connection)
+                self.counters.idle_closed += 1
+        self._sweep = self.loop.call_later(self._sweep_period(), self._close_idle)
+
+    def malformed(self, connection: _Connection, problem: str) -> None:
+        """A header no request has: answer what came before it, then close."""
+        self.counters.framing_errors += 1
+        log.info("Modbus: closing the connection of %s after %s", connection.peer, problem)
+        connection.close_when_answered = True
+        connection.pause()
+        if not connection.requests:
+            self._drop(connection)
+
+    # ------------------------------------------------------------------ answering
+    def ready(self, connection: _Connection) -> None:
+        """``connection`` has requests to answer."""
+        if not connection.queued:
+            connection.queued = True
+            self._waiting.append(connection)
+        self._work.set()
+
+    def _next(self) -> _Connection | None:
+        """The connection whose request is answered next: the session's PLC first, then in turn."""
+        owner = self.owner.owner
+        if isinstance(owner, _Connection) and owner.requests and owner.admitted:
+            return owner
+        while self._waiting:
+            connection = self._waiting.popleft()
+            connection.queued = False
+            if connection.requests and connection.admitted:
+                return connection
+        return None
+
+    async def _answer_requests(self) -> None:
+        """The task that answers every request (module docstring: bounded work per pass)."""
+        while True:
+            began = wallclock.perf_counter()
+            while (connection := self._next()) is not None:
+                await self._answer(connection, connection.requests.popleft())
+                if connection.requests:
+                    self.ready(connection)
+                elif connection.close_when_answered:
+                    self._drop(connection)
+                if len(connection.requests) <= PENDING_LIMIT // 2:
+                    connection.resume()
+                if wallclock.perf_counter() - began >= SERVE_SLICE_S:
+                    break
+            if not self._waiting:
+                self._work.clear()
+                await self._work.wait()
+            else:
+                await asyncio.sleep(0)  # the rest in the next pass: the loop serves its other work first
+
+    async def _answer(self, connection: _Connection, request: Request) -> None:
+        try:
+            response = await self._response(connection, request)
+        except Exception as error:  # whatever pymodbus raises on a request is the server's failure
+            response = self._failure(connection, request, error)
+        response.transaction_id, response.dev_id = request.transaction, request.unit
+        try:
+            frame = connection.framer.buildFrame(response)
+        except Exception as error:  # a response pymodbus cannot encode is the server's failure
+            frame = connection.framer.buildFrame(self._failure(connection, request, error))
+        self.counters.requests += 1
+        if response.function_code & 0x80:
+            self.counters.exceptions += 1
+        connection.write(frame)
+
+    async def _response(self, connection: _Connection, request: Request) -> ModbusPDU:
+        function = request.pdu[0]
+        if function not in SERVED_FUNCTIONS:
+            return ExceptionResponse(function, ExcCodes.ILLEGAL_FUNCTION)
+        assert self._server is not None  # requests come only while it serves
+        pdu = self._server.decoder.decode(request.pdu)
+        if pdu is None:  # a count beyond the protocol's limits, a body too short
+            return ExceptionResponse(function, ExcCodes.ILLEGAL_VALUE)
+        session = self.tables.session
+        if function in WRITE_FUNCTIONS and session:  # only the session's PLC: asked where a write lands
+            claims = claims_session(pdu, session)
+            self.tables.may_write = lambda: self.owner.may_write(connection, connection.peer, claims)
+        try:
+            # pymodbus's own handler passes its SimCore where the PDUs name a ModbusServerContext
+            context: Any = self._server.context
+            return await pdu.datastore_update(context, request.unit)
+        except Exception as error:
+            return self._failure(connection, request, error)
+        finally:
+            self.tables.may_write = _anybody
+
+    def _failure(self, connection: _Connection, request: Request, error: Exception) -> ModbusPDU:
+        self.counters.failures += 1
+        log.info("Modbus: exception 04 to %s for function %d (%s)", connection.peer, request.pdu[0],
+                 error, exc_info=error)
+        return ExceptionResponse(request.pdu[0], ExcCodes.DEVICE_FAILURE)
 
 
 def start_plain_register_server(loop: asyncio.AbstractEventLoop, input_registers: int,
@@ -283,6 +618,15 @@ class ModbusLinkClient:
     def __init__(self, host: str, port: int, timeout_s: float = 3.0, device_id: int = 1):
         self.host, self.port, self.device_id = host, port, device_id
         self._client = ModbusTcpClient(host, port=port, timeout=timeout_s, retries=0)
+
+    @property
+    def timeout_s(self) -> float:
+        """How long a request waits for its answer (and a connect for the server)."""
+        return float(self._client.comm_params.timeout_connect or 0.0)
+
+    @timeout_s.setter
+    def timeout_s(self, seconds: float) -> None:
+        self._client.comm_params.timeout_connect = seconds
 
     def connect(self) -> bool:
         try:

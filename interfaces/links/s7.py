@@ -8,18 +8,29 @@ Write protection, as on the Modbus link: a client may write the PLC->NC byte ran
 data blocks and the outputs; a write that touches any other byte (an NC->PLC signal, the
 inputs, a byte outside the interface) is refused with the server's S7 error (class 0x84,
 code 0x04, "the function cannot be performed") and changes nothing.  A bit write changes only
-its bit (python-snap7 would write the whole byte).  The server keeps its own copy of the bytes;
-the harness exchanges them with the simulation once per PLC period
+its bit (python-snap7 would write the whole byte).  A block download (``client.download``)
+would replace a whole data block, NC->PLC bytes included: it is refused at its request, with
+the same error.  While a session is open only the session's PLC writes
+(:mod:`interfaces.links.access`): the first client that writes owns the link until it
+disconnects, unless the link's Modbus PLC owns it already; the others' writes get the same
+error.  Sessions are limited as the Modbus connections are: the one idle the longest makes room
+for a new client, and one silent for the idle time-out is closed (python-snap7 would keep 64 idle
+sessions and lock every further client out).
+
+python-snap7's server serves each client in a thread of its own; the server keeps its own copy
+of the bytes, and the harness exchanges them with the simulation once per PLC period
 (:meth:`S7ServerLink.publish`, :meth:`S7ServerLink.take_outputs`).
 """
 
 from __future__ import annotations
 
 import contextlib
-import ipaddress
 import logging
 import socket
+import threading
+import time as wallclock
 from collections.abc import Collection, Mapping
+from dataclasses import dataclass
 from typing import Any
 
 from snap7.datatypes import S7Area, S7WordLen
@@ -27,26 +38,57 @@ from snap7.error import S7Error
 from snap7.server import Server
 from snap7.type import SrvArea
 
-from interfaces.links.modbus_tcp import LinkError, parse_allowed_clients
+from interfaces.links.access import AllowList, ConnectionLimits, LinkOwner
+from interfaces.links.errors import LinkError
 from interfaces.signals import Direction, ExpandedCatalog
 
-logging.getLogger("snap7").setLevel(logging.CRITICAL)
+# snap7 logs every refused write and every client that leaves: its records go to the
+# application's logging (vc serve --verbose), not to standard error by default.
+logging.getLogger("snap7").addHandler(logging.NullHandler())
 
 _PLANT_AREAS = {"I": (SrvArea.PE, S7Area.PE), "Q": (SrvArea.PA, S7Area.PA)}
+REFUSED = 0x8404  # error class 0x84, code 0x04: the function cannot be performed
+Address = tuple[str, int]
+
+
+@dataclass(slots=True)
+class _Session:
+    """One client's connection: its socket (to close it) and when it last sent a request."""
+
+    socket: socket.socket
+    last_heard: float
 
 
 class _ProtectedServer(Server):
-    """snap7's server with the link's write protection, bit writes and allow-list."""
+    """snap7's server with the link's write protection, ownership, bit writes, downloads refused,
+    allow-list and session limits."""
 
     def __init__(self, link: S7ServerLink):
-        super().__init__(log=False)
+        # python-snap7 refuses clients beyond its own limit before the link can make room for
+        # them: its limit is the link's plus room for the newcomers the link then decides on
+        super().__init__(log=False, max_clients=2 * link.limits.max_clients)
         self.link = link
+        self._writer = threading.local()  # the client whose write request this thread serves
 
-    def _handle_client(self, client_socket: socket.socket, address: tuple[str, int]) -> None:
-        if not self.link.admits(address[0]):
-            self.link.refused += 1
+    def _handle_client(self, client_socket: socket.socket, address: Address) -> None:
+        if not self.link.admit(client_socket, address):
             client_socket.close()  # the handler then fails the ISO handshake and cleans up
-        super()._handle_client(client_socket, address)
+        try:
+            super()._handle_client(client_socket, address)
+        finally:
+            self.link.forget(address)
+
+    def _process_request(self, request_data: bytes, client_address: Address) -> bytes | None:
+        self.link.heard(client_address)
+        return super()._process_request(request_data, client_address)
+
+    def _handle_request_download(self, request: dict[str, Any], client_address: Address) -> bytes:
+        self.link.refused_downloads += 1
+        return self._build_error_response(request, REFUSED)
+
+    def _handle_write_area(self, request: dict[str, Any], client_address: Address) -> bytes:
+        self._writer.address = client_address
+        return super()._handle_write_area(request, client_address)
 
     def _parse_address_specification(self, addr_spec: bytes) -> dict[str, Any]:
         parsed: dict[str, Any] = super()._parse_address_specification(addr_spec)
@@ -68,7 +110,9 @@ class _ProtectedServer(Server):
         return area, db_number, start, 1, bytearray([byte])
 
     def _write_to_memory_area(self, area: S7Area, db_number: int, start: int, write_data: bytearray) -> bool:
-        if not self.link.may_write(area, db_number, start, len(write_data)):
+        writer: Address = getattr(self._writer, "address", ("", 0))
+        if not self.link.may_write(area, db_number, start, len(write_data)) or \
+                not self.link.owner.may_write(("s7", writer), writer[0], claims=True):
             return False
         written: bool = super()._write_to_memory_area(area, db_number, start, write_data)
         if written:
@@ -77,26 +121,31 @@ class _ProtectedServer(Server):
 
 
 class S7ServerLink:
-    """The S7 server of the harness (see the module docstring)."""
+    """The S7 server of the harness (see the module docstring).
 
-    def __init__(self, host: str, port: int, allowed: Collection[str] = ()):
+    ``owner``: who may write, shared with the link's Modbus server (by default one of its own);
+    ``limits``: sessions and idle time-out."""
+
+    def __init__(self, host: str, port: int, allowed: Collection[str] = (), *, owner: LinkOwner | None = None,
+                 limits: ConnectionLimits | None = None):
         self.host, self.port = host, port
-        self.allowed = parse_allowed_clients(allowed)
-        self.refused = 0
+        self.allowed = AllowList(allowed)
+        self.owner = owner if owner is not None else LinkOwner()
+        self.limits = limits if limits is not None else ConnectionLimits()
+        self.refused = 0  # clients refused by the allow-list
+        self.full = 0  # clients refused because every session was busy
+        self.evicted = 0  # idle sessions closed to make room
+        self.idle_closed = 0  # sessions closed after the idle time-out
+        self.refused_downloads = 0
         self.outputs_written = False
         self.areas: dict[str, bytearray] = {}  # "DB31", "I", "Q" -> the bytes the server serves
         self._writable: dict[tuple[S7Area, int], bytes] = {}
         self._inputs: list[tuple[str, int, int]] = []  # NC->PLC ranges and the plant inputs
         self._outputs: list[tuple[str, int, int]] = []  # PLC->NC ranges and the plant outputs
+        self._sessions: dict[Address, _Session] = {}
+        self._sessions_lock = threading.Lock()
+        self._swept = wallclock.monotonic()
         self._server = _ProtectedServer(self)
-
-    def admits(self, peer: str) -> bool:
-        if not self.allowed:
-            return True
-        try:
-            return any(ipaddress.ip_address(peer) in network for network in self.allowed)
-        except ValueError:
-            return False
 
     def start(self) -> None:
         try:
@@ -109,6 +158,67 @@ class S7ServerLink:
     def close(self) -> None:
         with contextlib.suppress(Exception):
             self._server.stop()
+
+    @property
+    def clients(self) -> int:
+        return len(self._sessions)
+
+    def describe(self) -> str:
+        """The statistics line's part of this server."""
+        closed = [f"{count} {why}" for count, why in (
+            (self.refused, "not on the allow-list"), (self.full, "while every session was busy"),
+            (self.evicted, "idle to make room"), (self.idle_closed, "idle for the time-out")) if count]
+        text = f"S7: {self.clients} client(s)"
+        if self.refused_downloads:
+            text += f", {self.refused_downloads} block download(s) refused"
+        return text + (", sessions closed: " + ", ".join(closed) if closed else "")
+
+    # ------------------------------------------------------------------ sessions of clients
+    def admit(self, client: socket.socket, address: Address) -> bool:
+        """A new client: the allow-list, then the limit (the session idle the longest makes room)."""
+        if not self.allowed.admits(address[0]):
+            self.refused += 1
+            return False
+        self.close_idle()
+        with self._sessions_lock:
+            if len(self._sessions) >= self.limits.max_clients:
+                idle = [(session.last_heard, peer) for peer, session in self._sessions.items()
+                        if not self.owner.owns(("s7", peer))]
+                if not idle:
+                    self.full += 1
+                    return False
+                _, longest = min(idle)
+                self._end(longest)
+                self.evicted += 1
+            self._sessions[address] = _Session(client, wallclock.monotonic())
+        return True
+
+    def heard(self, address: Address) -> None:
+        session = self._sessions.get(address)
+        if session is not None:
+            session.last_heard = wallclock.monotonic()
+
+    def forget(self, address: Address) -> None:
+        with self._sessions_lock:
+            self._sessions.pop(address, None)
+        self.owner.release(("s7", address))
+
+    def close_idle(self) -> None:
+        """Close the sessions that sent nothing for the idle time-out."""
+        now = wallclock.monotonic()
+        self._swept = now
+        with self._sessions_lock:
+            for address in [peer for peer, session in self._sessions.items()
+                            if now - session.last_heard > self.limits.idle_timeout_s]:
+                self._end(address)
+                self.idle_closed += 1
+
+    def _end(self, address: Address) -> None:
+        """Close a session from outside its thread: the thread's receive ends, it cleans up."""
+        session = self._sessions.pop(address)
+        self.owner.release(("s7", address))
+        with contextlib.suppress(OSError):
+            session.socket.shutdown(socket.SHUT_RDWR)
 
     # ------------------------------------------------------------------ sessions and exchange
     def open_session(self, catalog: ExpandedCatalog, plant_sizes: Mapping[str, int]) -> None:
@@ -147,7 +257,10 @@ class S7ServerLink:
         return mask is not None and start + count <= len(mask) and all(mask[start: start + count])
 
     def publish(self, areas: Mapping[str, bytearray]) -> None:
-        """NC->PLC bytes and plant inputs from the simulation into the served blocks."""
+        """NC->PLC bytes and plant inputs from the simulation into the served blocks (and, once a
+        second, the idle sessions closed)."""
+        if wallclock.monotonic() - self._swept > 1.0:
+            self.close_idle()
         for key, start, stop in self._inputs:
             self.areas[key][start:stop] = areas[key][start:stop]
 

@@ -1,11 +1,15 @@
-"""``python -m plc_stub --can``: what it says and how it ends when there is nothing to run for.
-(The PLC on the bus with a harness: tests/vc/harness/test_can_link.py.)"""
+"""``python -m plc_stub --can``: what it says and how it ends when there is nothing to run for, and
+that noise on the bus does not end it.  (The PLC on the bus with a harness:
+tests/vc/harness/test_can_link.py; under noise with a harness: tests/vc/harness/test_robustness.py.)"""
 
 from __future__ import annotations
 
+import socket
+import threading
+
 import pytest
 
-from interfaces.links.can_bus import private_udp_bus
+from interfaces.links.can_bus import CAN_ERR_BUSOFF, CanBus, private_udp_bus
 from plc_stub.__main__ import main
 from plc_stub.can_remote import run_on_can
 
@@ -36,3 +40,29 @@ def test_without_a_harness_on_the_bus_it_gives_up_after_the_time_out() -> None:
     assert run_on_can(str(bus), None, None, 0.3, said.append) == 1
     assert said == [f"listening on the CAN bus {bus}, link frames from 0x100",
                     f"no harness heard on {bus} for 0.3 s"]
+
+
+def test_datagrams_that_are_no_frames_and_error_frames_do_not_end_it() -> None:
+    """python-can raised on a datagram that was no frame of its own, and the PLC ended (code 1)."""
+    said: list[str] = []
+    bus = private_udp_bus()
+    stop = threading.Event()
+    codes: list[int] = []
+    plc = threading.Thread(target=lambda: codes.append(run_on_can(str(bus), None, None, 30.0, said.append,
+                                                                  should_stop=stop.is_set)))
+    plc.start()
+    noise = CanBus(bus)
+    try:
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as stranger:
+            stranger.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_TTL, 0)
+            for index in range(50):
+                stranger.sendto(b"no frame %d" % index, (bus.channel, bus.port))
+                noise.send_error_frame(CAN_ERR_BUSOFF)
+        plc.join(1.0)
+        assert plc.is_alive(), said  # still listening
+    finally:
+        stop.set()
+        plc.join(10)
+        noise.close()
+    assert codes == [0]
+    assert not any("bus lost" in line for line in said)

@@ -12,7 +12,8 @@
     vc map --machine M.yaml --format codesys|openplc|tia|s7|awlsim [--io-base N] [-o FILE]
                                                       the signal map for a PLC tool (docs/plc_tools.md)
     vc serve [--machine M.yaml] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
-             [--scenario FILE] [--duration S] [--record FILE]
+             [--scenario FILE] [--duration S] [--record FILE] [--allow IP,...] [--allow-writers IP,...]
+             [--max-clients N] [--idle-timeout S] [--verbose]
                                                       the NC as a server (or CAN node) for a PLC in another
                                                       process; --record records the session
     vc replay FILE [--machine M.yaml] [--to-scenario OUT.yaml [--name NAME]]
@@ -37,6 +38,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import logging
 import platform
 import sys
 from collections.abc import Callable, Mapping, Sequence
@@ -46,6 +48,7 @@ from typing import Protocol
 from interfaces.catalog import load_catalog
 from interfaces.codec_modbus import RegisterMap
 from interfaces.exports import EXPORTS, Export, ExportContext
+from interfaces.links.access import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CLIENTS
 from interfaces.signal_map import FORMATTERS, MapRow, map_rows
 from interfaces.signals import expand
 from vc.config.loader import load_machine
@@ -355,12 +358,15 @@ def _percent(text: str) -> float:
 
 
 def _serve(arguments: argparse.Namespace) -> int:
+    from interfaces.links.access import ConnectionLimits
     from interfaces.links.can_bus import BusSpec
     from interfaces.links.errors import LinkError
     from vc.harness.plc_link import Endpoint
     from vc.harness.serve import ServeOptions, serve
 
     recorder = None
+    if arguments.verbose:
+        logging.basicConfig(level=logging.INFO, format="%(name)s: %(message)s")
     try:
         if arguments.record is not None:
             from vc.recording.command import session_recorder
@@ -373,7 +379,9 @@ def _serve(arguments: argparse.Namespace) -> int:
             s7=Endpoint.parse(arguments.s7, 102) if arguments.s7 else None,
             can=BusSpec.parse(arguments.can) if arguments.can else None,
             allow_remote=arguments.allow_remote,
-            allowed_clients=tuple(item for text in arguments.allow for item in text.split(",") if item.strip()),
+            allowed_clients=_addresses(arguments.allow),
+            allow_writers=_addresses(arguments.allow_writers),
+            limits=ConnectionLimits(arguments.max_clients, arguments.idle_timeout),
             realtime=arguments.realtime,
             speed=None if arguments.speed == "max" else _speed(arguments.speed),
             program=arguments.program,
@@ -404,6 +412,11 @@ def _replay(arguments: argparse.Namespace) -> int:
         return EXIT_PROBLEMS
     return replay_command(arguments.file, machine=arguments.machine, to_scenario_path=arguments.to_scenario,
                           name=arguments.name, complain=lambda text: print(text, file=sys.stderr))
+
+
+def _addresses(texts: Sequence[str]) -> tuple[str, ...]:
+    """``--allow 10.0.0.1,10.0.0.2 --allow 10.1.0.0/16`` as one list."""
+    return tuple(item for text in texts for item in text.split(",") if item.strip())
 
 
 def _speed(text: str) -> float:
@@ -477,6 +490,17 @@ def build_parser() -> argparse.ArgumentParser:
                        help="allow binding to an interface other than loopback")
     serve.add_argument("--allow", action="append", default=[], metavar="IP[,NET]",
                        help="only these clients may connect (addresses or networks, repeatable)")
+    serve.add_argument("--allow-writers", action="append", default=[], metavar="IP[,NET]",
+                       help="these clients may write besides the session's PLC, the one connection that wrote"
+                            " the session into holding register 1 (a PLC with several connections, a tool;"
+                            " repeatable)")
+    serve.add_argument("--max-clients", type=int, default=DEFAULT_MAX_CLIENTS, metavar="N",
+                       help=f"connections per server (default {DEFAULT_MAX_CLIENTS}); when full, the one idle"
+                            " the longest makes room")
+    serve.add_argument("--idle-timeout", type=_positive, default=DEFAULT_IDLE_TIMEOUT_S, metavar="S",
+                       help=f"close a connection silent for S seconds (default {DEFAULT_IDLE_TIMEOUT_S:g})")
+    serve.add_argument("--verbose", action="store_true",
+                       help="log what the links and their libraries report (refused requests, server failures)")
     serve.add_argument("--realtime", action="store_true",
                        help="tie the IPO cycles to the wall clock; the PLC scans on its own clock")
     serve.add_argument("--speed", default="1", metavar="FACTOR",

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from interfaces.codec_modbus import (
     DESCRIPTION_REGISTER,
     LINK_REGISTERS,
+    MASK_WRITE_REGISTER,
     MODE_FREE_RUNNING,
     MODE_LOCKSTEP,
     READ_COILS,
@@ -60,6 +61,8 @@ from interfaces.exports.client_setups import (
     codesys_channels,
     openplc_devices,
 )
+from interfaces.links.access import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CLIENTS
+from interfaces.links.modbus_tcp import SERVED_FUNCTIONS
 from interfaces.plant_io import PlantIoMap
 from interfaces.signal_map import LINK_ROWS
 from interfaces.signals import ExpandedCatalog, SignalRef, SignalType
@@ -264,6 +267,24 @@ def _convention(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[str
         " any address beyond a table's size, a coil write into padding or reserved registers, a description"
         f" read beyond its length. The description (UTF-8 JSON, two bytes a register) starts at input"
         f" register {DESCRIPTION_REGISTER}.",
+        f"* **The PLC owns its link.** While a session is open (IR {REG_VERSION} not 0), in lockstep and in real"
+        f" time, only the session's PLC writes: the connection that wrote the session (IR {REG_SESSION}) into"
+        f" HR {REG_SESSION_READY}, as every PLC of this protocol does when a session starts. It keeps the link"
+        " until it disconnects (a new session keeps it). Every other client may read; a write of it (FC"
+        f" {WRITE_COIL}, {WRITE_REGISTER}, {WRITE_COILS}, {WRITE_REGISTERS}, {MASK_WRITE_REGISTER},"
+        f" {READ_WRITE_REGISTERS}) into the PLC-to-NC table gets exception 01 (illegal function), changes nothing"
+        " and is counted in `vc serve`'s statistics (an address the tables do not hold stays exception 02)."
+        " So nobody but the PLC can keep its sign of life alive or move an axis."
+        " `--allow-writers ADDRESS[,NETWORK]` lets the clients of those addresses write as well, without owning"
+        " the link: a PLC that spreads its transfers over several connections (OpenPLC, below), a tool that"
+        f" forces signals. The S7 server follows the same rule (`--s7`: its first writer owns the link, unless"
+        " the Modbus PLC does).",
+        f"* **Connections.** At most {DEFAULT_MAX_CLIENTS} connections (`--max-clients`); when a client connects"
+        " to a full server the connection idle the longest makes room for it (never the PLC's, never one with"
+        f" a request in progress). A connection silent for {DEFAULT_IDLE_TIMEOUT_S:g} s (`--idle-timeout`) is"
+        " closed. Requests are answered once each and in their order, also several in one TCP segment; function"
+        f" codes other than {', '.join(str(code) for code in sorted(SERVED_FUNCTIONS))} get exception 01, counts"
+        " beyond the protocol's limits exception 03, both under the request's own function code | 0x80.",
         "",
         "**Link block.** The NC-to-PLC link block tells the PLC about the session; the PLC-to-NC link block"
         " is the PLC's handshake:",
@@ -351,7 +372,9 @@ def _openplc(register_map: RegisterMap, signals: Sequence[GuideSignal], catalog:
         "",
         f"One request carries at most {READ_LIMIT} registers read or {WRITE_LIMIT} written,"
         " and OpenPLC sends one request per range of a device, so the tables are split over several devices"
-        f" on the same server. Start the harness in real time (`{serve} --realtime`), then:",
+        " on the same server. Each device is a connection of its own, and only one connection owns the link"
+        f" (the one that writes HR {REG_SESSION_READY}, *{devices[0].name}*): let the PLC's address write from"
+        f" all of them. Start the harness in real time (`{serve} --realtime --allow-writers {SERVER_HOST}`), then:",
         "",
         f"1. *Settings*, *Slave Devices*: Polling Period {OPENPLC_POLLING_MS} ms (the default of 100 ms lets the"
         f" sign of life stand still for longer than MD{PLC_CYCLIC_TIMEOUT.number}); keep the timeout at 1000 ms."
@@ -466,7 +489,8 @@ def _codesys(register_map: RegisterMap, signals: Sequence[GuideSignal], catalog:
         "",
         f"*{link_out.name}* writes the sign of life (index {REG_SCAN_DONE}) and the session (index"
         f" {REG_SESSION_READY}); it comes last so that, when channels go out in list order, the scan-done word"
-        " follows the outputs.",
+        " follows the outputs. Its first write makes the slave's connection the session's PLC: the output"
+        " channels before it are refused (exception 01) in the very first cycle only.",
         "",
         "**Arithmetic.** On the *Modbus TCP Slave I/O Mapping* tab each channel is an ARRAY OF WORD; map it to a"
         " variable. Register r lies in the channel whose registers include it, at index r - offset; bit b of"
@@ -507,7 +531,8 @@ def _lockstep(register_map: RegisterMap) -> list[str]:
         f" (the table sizes this configuration expects) and IR {REG_MODE} = {MODE_LOCKSTEP}.",
         f"2. When IR {REG_SESSION} (the session) differs from the session you run: the machine was powered on"
         f" again. Restart the program from its initial state, forget the last grant, and write"
-        f" HR {REG_SESSION_READY} = IR {REG_SESSION}, once per session.",
+        f" HR {REG_SESSION_READY} = IR {REG_SESSION}, once per session. The first of these writes makes your"
+        " connection the session's PLC, the only one whose writes the server takes; make all writes over it.",
         f"3. Read IR {REG_SCAN_GRANT}, the scan grant. While it is 0 or equal to the last grant you finished,"
         " poll again (no scan).",
         f"4. When it changed: read the NC-to-PLC data (IR {LINK_REGISTERS}..{inputs - 1}; the server published"

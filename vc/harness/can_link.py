@@ -28,7 +28,11 @@ well: while it is bus-off the NC sends nothing.  In lockstep the link frames are
 stepping's handshake: a fault never withholds a grant or a scan-done report from the stepping,
 only their content from the other side (the NC's sign of life from the PLC, the PLC's from the
 NC); the data frames are withheld completely.  The PLC watches the NC's frames in turn
-(:mod:`interfaces.links.can_plc`) and says so in its link frame.
+(:mod:`interfaces.links.can_plc`) and says so in its link frame.  What the bus itself does wrong
+is a fault of the link as well, never the end of a run: a frame it refuses to send and a receive
+that fails are counted (``bus_errors``, in ``vc serve``'s statistics line) and the frame is lost,
+a datagram that is no frame or an error frame on the wire is counted by the adapter
+(:mod:`interfaces.links.can_bus`).
 
 The link's counters and states are scenario quantities (``CAN.lostFromPlc``, ``CAN.busState``
 ...: ``LINK_QUANTITIES`` in vc/observables.py), counted per session.
@@ -37,6 +41,7 @@ The link's counters and states are scenario quantities (``CAN.lostFromPlc``, ``C
 from __future__ import annotations
 
 import asyncio
+import time as wallclock
 import weakref
 from collections.abc import Callable, Mapping
 from types import TracebackType
@@ -117,6 +122,8 @@ class CanLink:
         time-out monitor misses."""
         bus = self.bus
         state = f"CAN: {bus.sent} frames sent, {bus.received} received, {bus.error_frames} error frames"
+        if bus.foreign:
+            state += f", {bus.foreign} datagrams that were no frames dropped"
         plc = simulation.plc
         if isinstance(plc, CanLinkedPlc):
             if plc.missing:
@@ -163,7 +170,7 @@ class CanLinkedPlc:
         self.to_nc: FaultyWire[Frame] = FaultyWire(Direction.PLC_TO_NC)
         self.sent = 0  # frames the NC put on the bus (their content reached it)
         self.taken = 0  # frames from the PLC the NC took
-        self.bus_errors = 0  # free-running: sends and receives the bus refused (the NC's watch reacts)
+        self.bus_errors = 0  # sends and receives the bus refused (the NC's watch reacts)
         self.last_bus_error = ""
         self._plc_link_id = layout.settings.plc_link_id
         self._areas_to_plc = [slot.area for slot in layout.slots[Direction.NC_TO_PLC]]
@@ -273,7 +280,7 @@ class CanLinkedPlc:
         if not self.to_plc.loses(LINK_AREA, cycle, faults) and self._transmits(cycle, self._bus_state(cycle)):
             self._nc_life_out = self._nc_life
         self._nc_link = NcLink(mode, self._nc_life_out, self.session, self._grant).encode(settings)
-        self.link.bus.send(self._nc_link)
+        self._send(self._nc_link)
 
     def _flush_to_plc(self, cycle: int) -> None:
         if not self.to_plc.waiting:
@@ -301,15 +308,16 @@ class CanLinkedPlc:
         return False
 
     def _send(self, frame: Frame) -> None:
-        """In lockstep a refused frame ends the run; free-running the frame is lost, as on a bus
-        (a controller that went bus-off), and the NC's watch of the PLC reacts."""
+        """A frame the bus refuses is lost, as on a bus (a controller that went bus-off): counted,
+        and the time-out monitors react; in lockstep the link frame goes again after the wait."""
         try:
             self.link.bus.send(frame)
         except LinkError as error:
-            if self.lockstep:
-                raise
-            self.bus_errors += 1
-            self.last_bus_error = str(error)
+            self._bus_error(error)
+
+    def _bus_error(self, error: LinkError) -> None:
+        self.bus_errors += 1
+        self.last_bus_error = str(error)
 
     # ------------------------------------------------------------------ receiving
     def _wait_for_scan(self, grant: int, cycle: int) -> None:
@@ -320,7 +328,12 @@ class CanLinkedPlc:
         receive, peer = link.bus.receive, link.peer
         wait = 0.0 if peer is not None else RECEIVE_WAIT_S
         while not (self._ready and self._done == grant):
-            frame = receive(wait)
+            try:
+                frame = receive(wait)
+            except LinkError as error:  # the bus failed: a fault like a lost frame, not the end
+                self._bus_error(error)
+                wallclock.sleep(wait)  # a failing bus fails at once: no busy loop
+                frame = None
             if frame is not None:
                 self._received(frame, cycle)
             elif peer is not None:
@@ -328,7 +341,7 @@ class CanLinkedPlc:
             else:
                 # Nothing for a while: the PLC was not listening yet, or a frame went missing.
                 # The same frame again asks the PLC to repeat its last answer.
-                link.bus.send(self._nc_link)
+                self._send(self._nc_link)
             patience.check()
 
     def _silence(self, grant: int, waited: float) -> str:

@@ -13,7 +13,9 @@ the session number in the link block) and hands the simulation a :class:`LinkedP
   last exchange; the PLC scans on its own clock and its scan counter is its sign of life.
 
 The servers share one asyncio loop with the pacer, run only while the harness waits; see
-:mod:`interfaces.links.modbus_tcp` for the threading argument.
+:mod:`interfaces.links.modbus_tcp` for the threading argument.  Only the session's PLC writes
+into the NC (:mod:`interfaces.links.access`): the connection that wrote the session into holding
+register 1 (or, over S7, wrote first), one owner for both servers.
 """
 
 from __future__ import annotations
@@ -50,6 +52,7 @@ from interfaces.codec_modbus import (
 from interfaces.exchange import grant_of_scan, next_session
 from interfaces.image import ProcessImage
 from interfaces.link_description import LinkDescription
+from interfaces.links.access import ConnectionLimits, LinkOwner
 from interfaces.links.errors import LinkError
 from interfaces.links.modbus_tcp import ModbusServerLink, ModbusTables
 from interfaces.links.s7 import S7ServerLink
@@ -135,10 +138,13 @@ class PlcLink:
     """Servers for a remote PLC and the sessions of one harness run (see the module docstring)."""
 
     def __init__(self, mode: LinkMode, *, modbus: Endpoint | None = None, s7: Endpoint | None = None,
-                 allowed_clients: Collection[str] = (), first_scan_timeout_s: float | None = 30.0,
+                 allowed_clients: Collection[str] = (), allow_writers: Collection[str] = (),
+                 limits: ConnectionLimits | None = None, first_scan_timeout_s: float | None = 30.0,
                  scan_timeout_s: float | None = 10.0, on_wait: Callable[[str], None] | None = None,
                  peer_ended: Callable[[], str | None] = lambda: None):
-        """``peer_ended`` tells why the PLC process the harness started is gone (None while it runs),
+        """``allowed_clients``: who may connect; ``allow_writers``: who may write besides the
+        session's PLC; ``limits``: connections and idle time-out (interfaces/links/access.py).
+        ``peer_ended`` tells why the PLC process the harness started is gone (None while it runs),
         so that lockstep stops waiting for a PLC that cannot answer any more."""
         if modbus is None and s7 is None:
             raise LinkError("a PLC link needs a Modbus TCP or an S7 endpoint")
@@ -152,6 +158,7 @@ class PlcLink:
         self.peer_ended = peer_ended
         self.loop = asyncio.new_event_loop()
         self.tables = ModbusTables(on_write=self._modbus_written)
+        self.owner = LinkOwner(allow_writers)  # the session's PLC, one for both servers
         self.session = 0
         self.outputs_written = False  # a Modbus client wrote PLC-to-NC registers since the last exchange
         self._handshake = asyncio.Event()
@@ -159,10 +166,11 @@ class PlcLink:
         self.s7: S7ServerLink | None = None
         try:
             if modbus is not None:
-                self.modbus = ModbusServerLink(self.tables, modbus.host, modbus.port, self.loop, allowed_clients)
+                self.modbus = ModbusServerLink(self.tables, modbus.host, modbus.port, self.loop, allowed_clients,
+                                               owner=self.owner, limits=limits)
                 self.modbus.start()
             if s7 is not None:
-                self.s7 = S7ServerLink(s7.host, s7.port, allowed_clients)
+                self.s7 = S7ServerLink(s7.host, s7.port, allowed_clients, owner=self.owner, limits=limits)
                 self.s7.start()
         except LinkError:
             self.close()
@@ -186,7 +194,9 @@ class PlcLink:
         return lines
 
     def peer_state(self, simulation: Simulation) -> str:
-        return f"{self.modbus.clients if self.modbus is not None else 0} Modbus client(s)"
+        """The servers' clients and requests, and who owns the link."""
+        servers = [server.describe() for server in (self.modbus, self.s7) if server is not None]
+        return "; ".join([*servers, self.owner.describe()])
 
     # ------------------------------------------------------------------ sessions
     def connect(self, environment: PlcEnvironment, program: str) -> LinkedPlc:

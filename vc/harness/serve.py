@@ -7,7 +7,10 @@ while no PLC answers.  Real time (``--realtime``): the IPO cycles follow the wal
 (``--speed`` scales it), the PLC scans on its own clock, and the NC watches the PLC's sign of
 life (alarm 2000 after MD10100 without one).  A scenario (``--scenario``) plays the operator;
 afterwards the machine keeps running until Ctrl-C or ``--duration``.  An ``observer`` (the session
-recording of ``--record``) sees every cycle and every action of the operator.
+recording of ``--record``) sees every cycle and every action of the operator.  Every ``--stats``
+seconds, and at the end, a line tells the pacing (real time: overruns, those caused by serving the
+links, the share of real time the NC kept) and the link (clients, requests, refused writes, closed
+connections, for CAN frames and bus faults).
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from interfaces.links.access import ConnectionLimits
 from interfaces.links.can_bus import BusSpec
 from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import plc_programs
@@ -70,6 +74,8 @@ class ServeOptions:
     can: BusSpec | None = None  # a CAN bus instead of the servers
     allow_remote: bool = False
     allowed_clients: tuple[str, ...] = ()
+    allow_writers: tuple[str, ...] = ()  # besides the session's PLC (interfaces/links/access.py)
+    limits: ConnectionLimits = field(default_factory=ConnectionLimits)
     realtime: bool = False
     speed: float | None = 1.0  # None: as fast as possible
     program: str = "basic_machine"  # what the harness asks a PLC that follows it (plc_stub) to run
@@ -121,7 +127,8 @@ def serve(options: ServeOptions) -> int:
         link = CanLink(mode, options.can, first_scan_timeout_s=None, scan_timeout_s=None, on_wait=on_wait)
     else:
         link = PlcLink(mode, modbus=modbus, s7=options.s7, allowed_clients=options.allowed_clients,
-                       first_scan_timeout_s=None, scan_timeout_s=None, on_wait=on_wait)
+                       allow_writers=options.allow_writers, limits=options.limits, first_scan_timeout_s=None,
+                       scan_timeout_s=None, on_wait=on_wait)
     loop = link.loop or asyncio.new_event_loop()  # the pacer's
     try:
         ipo_s = Simulation.ipo_seconds(machine)
@@ -142,12 +149,14 @@ def serve(options: ServeOptions) -> int:
             if scenario_path is not None:
                 code = run_command([scenario_path], power_on, plc_programs().keys())
                 say("scenario done; the machine keeps running (Ctrl-C ends)")
-            simulation = simulations[-1] if simulations else power_on()
-            _keep_running(simulation, pacer, link, options)
+            _keep_running(simulations[-1] if simulations else power_on(), pacer, link, options)
         except KeyboardInterrupt:
             say("stopped")
         if pacer is not None:
             say(f"real time: {pacer.stats()}")
+        if simulations:
+            last = simulations[-1]
+            say(f"link: {link.peer_state(last if isinstance(last, Simulation) else last.simulation)}")
         return code
     finally:
         link.close()
@@ -179,16 +188,16 @@ def _banner(options: ServeOptions, machine: MachineConfig, link: ServedLink, pro
 
 def _keep_running(target: Simulation | ObservedSimulation, pacer: RealtimePacer | None, link: ServedLink,
                   options: ServeOptions) -> None:
+    """Step until the duration is over; every ``--stats`` seconds of the wall clock the pacing of
+    the cycles since the last line (real time) and the link's state."""
     simulation = target if isinstance(target, Simulation) else target.simulation
     alarms = AlarmWatch(simulation, options.say)
     stop_cycle = None if options.duration_s is None else round(options.duration_s / simulation.ipo_cycle_s)
     next_stats = wallclock.monotonic() + options.stats_every_s
-    reported = 0
     while stop_cycle is None or simulation.cycle < stop_cycle:
         target.step(1)
         alarms.check()
-        if pacer is not None and wallclock.monotonic() >= next_stats:
+        if wallclock.monotonic() >= next_stats:
             next_stats += options.stats_every_s
-            peer = link.peer_state(simulation)
-            options.say(f"{simulation.time_s:9.3f} s  {pacer.stats(reported)}; {peer}")
-            reported = len(pacer.errors)
+            pacing = f"{pacer.take_window()}; " if pacer is not None else ""
+            options.say(f"{simulation.time_s:9.3f} s  {pacing}{link.peer_state(simulation)}")

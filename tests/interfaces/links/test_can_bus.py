@@ -1,8 +1,14 @@
 """The python-can adapter: bus names, a node hears only what it listens to (on UDP multicast not its
 own frames), errors become LinkError; the controller's state from python-can and SocketCAN's error
-frames (with a stand-in interface); SocketCAN where the kernel has it (skipped otherwise)."""
+frames (with a stand-in interface); error frames on the wire of UDP multicast count receive errors
+and never make the node bus-off; datagrams that are no frames are dropped; SocketCAN where the
+kernel has it (skipped otherwise)."""
 
 from __future__ import annotations
+
+import socket
+import time
+from collections.abc import Callable
 
 import can
 import pytest
@@ -149,3 +155,45 @@ def test_the_state_python_can_reports_counts_too() -> None:
     assert bus.state is ControllerState.BUS_OFF
     interface.reported = can.BusState.PASSIVE
     assert bus.state is ControllerState.ERROR_PASSIVE
+
+
+def _drain(node: CanBus, until: Callable[[], bool]) -> None:
+    deadline = time.monotonic() + TIMEOUT_S
+    while not until() and time.monotonic() < deadline:
+        node.receive(0.05)
+
+
+def test_a_datagram_that_is_no_frame_is_dropped_and_counted() -> None:
+    spec = private_udp_bus()
+    nc, plc = CanBus(spec, listen=(0x101,)), CanBus(spec, listen=(0x100,))
+    try:
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as stranger:
+            stranger.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_TTL, 0)  # stays on the host
+            for garbage in (b"\x00", b"no frame at all", b"\x81\xa1x\x01", bytes(range(256))):
+                stranger.sendto(garbage, (spec.channel, spec.port))
+        plc.send(Frame(0x101, b"after the noise"))
+        assert nc.receive(TIMEOUT_S) == Frame(0x101, b"after the noise", True)
+        assert nc.foreign == 4
+    finally:
+        nc.close()
+        plc.close()
+
+
+def test_error_frames_on_the_wire_count_receive_errors_and_never_make_the_node_bus_off() -> None:
+    spec = private_udp_bus()
+    nc, disturbance = CanBus(spec, listen=(0x101,)), CanBus(spec, listen=())
+    try:
+        for _ in range(20):  # each one even says "bus-off": it is another node's, not this controller's
+            disturbance.send_error_frame(CAN_ERR_BUSOFF | CAN_ERR_CRTL)
+        _drain(nc, lambda: nc.error_frames == 20)
+        assert (nc.error_frames, nc.receive_errors, nc.state) == (20, 20, ControllerState.ERROR_ACTIVE)
+        for _ in range(110):
+            disturbance.send_error_frame(CAN_ERR_BUSOFF)
+        _drain(nc, lambda: nc.error_frames == 130)
+        assert (nc.receive_errors, nc.state) == (130, ControllerState.ERROR_PASSIVE)
+        disturbance.send(Frame(0x101, b"ok"))
+        assert nc.receive(TIMEOUT_S) == Frame(0x101, b"ok", True)
+        assert (nc.receive_errors, nc.state) == (127, ControllerState.ERROR_ACTIVE)  # ISO 11898-1: 119..127
+    finally:
+        nc.close()
+        disturbance.close()

@@ -1,4 +1,6 @@
-"""The Modbus TCP server on loopback with independent clients: pyModbusTCP, mbpoll, raw frames.
+"""The Modbus TCP server on loopback with independent clients: pyModbusTCP, mbpoll, raw frames
+(pipelined requests, split requests, exception responses), the session's PLC as the only writer,
+connection limits and the idle time-out.
 
 The server serves the turn-mill's tables (interfaces/codec_modbus.py); its event loop runs in a
 thread here, as a test stands in for the harness that would run it while it waits.
@@ -7,12 +9,15 @@ thread here, as a test stands in for the harness that would run it while it wait
 from __future__ import annotations
 
 import asyncio
+import itertools
 import os
+import select
 import shutil
 import socket
 import struct
 import subprocess
 import threading
+import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 
@@ -23,7 +28,8 @@ from pyModbusTCP.client import ModbusClient
 
 from interfaces.catalog import load_catalog
 from interfaces.codec_modbus import RegisterMap, Table, read_registers
-from interfaces.links.modbus_tcp import LinkError, ModbusServerLink, ModbusTables
+from interfaces.links.access import ConnectionLimits, LinkOwner
+from interfaces.links.modbus_tcp import LinkError, ModbusServerLink, ModbusTables, Request, take_requests
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import InterfaceLayout, expand
 
@@ -49,13 +55,14 @@ class Served:
         return client
 
 
-def _serve(allowed: tuple[str, ...] = ()) -> Iterator[Served]:
+def _serve(allowed: tuple[str, ...] = (), limits: ConnectionLimits | None = None,
+           owner: LinkOwner | None = None) -> Iterator[Served]:
     writes: list[tuple[int, int]] = []
     tables = ModbusTables(bytearray(MAP.table_bytes[Table.NC_TO_PLC]), bytearray(MAP.table_bytes[Table.PLC_TO_NC]),
                           MAP.writable, on_write=lambda first, count: writes.append((first, count)))
     tables.set_description(b'{"machine": "turn_mill"}')
     loop = asyncio.new_event_loop()
-    link = ModbusServerLink(tables, "127.0.0.1", 0, loop, allowed)
+    link = ModbusServerLink(tables, "127.0.0.1", 0, loop, allowed, limits=limits, owner=owner)
     link.start()
     thread = threading.Thread(target=loop.run_forever, daemon=True)
     thread.start()
@@ -171,12 +178,11 @@ def _frame(function: int, payload: bytes, transaction: int = 7, protocol: int = 
 
 def test_protocol_errors_get_their_exception_responses(served: Served) -> None:
     unknown = _raw(served.port, _frame(0x41, b"\x00\x00"))
-    # illegal function; pymodbus answers an undecodable function code as function 0 | 0x80
-    assert unknown[7] & 0x80 and unknown[8] == 0x01
-    # counts the protocol forbids: pymodbus cannot decode the request and answers the same way
+    assert unknown[7:9] == bytes([0xC1, 0x01])  # illegal function, under the request's own code
+    # counts the protocol forbids: illegal data value
     for function, count in ((0x04, 126), (0x03, 0), (0x01, 2001)):
         answer = _raw(served.port, _frame(function, struct.pack(">HH", 0, count)))
-        assert answer[:2] == b"\x00\x07" and answer[7] & 0x80, (function, count)
+        assert answer[:2] == b"\x00\x07" and answer[7:9] == bytes([function | 0x80, 0x03]), (function, count)
     beyond = _raw(served.port, _frame(0x03, struct.pack(">HH", 4000, 10)))
     assert beyond[7:9] == bytes([0x83, 0x02])
     client = served.client()
@@ -200,6 +206,296 @@ def test_an_oversized_length_field_closes_only_that_connection(served: Served) -
     client.close()
 
 
+# ------------------------------------------------------------------------------ pipelining and framing
+
+
+class _Wire:
+    """A raw connection: bytes out, whole answers (by their MBAP length) in."""
+
+    def __init__(self, port: int):
+        self.socket = socket.create_connection(("127.0.0.1", port), timeout=TIMEOUT)
+        self.socket.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self.received = b""
+
+    def send(self, data: bytes) -> None:
+        self.socket.sendall(data)
+
+    def answers(self, count: int) -> list[bytes]:
+        """``count`` answers, or fewer when the server sends nothing more for a second."""
+        found: list[bytes] = []
+        self.socket.settimeout(1.0)
+        while len(found) < count:
+            while len(self.received) >= 6 and len(self.received) >= 6 + struct.unpack_from(">H", self.received, 4)[0]:
+                end = 6 + struct.unpack_from(">H", self.received, 4)[0]
+                found.append(self.received[:end])
+                self.received = self.received[end:]
+            if len(found) >= count:
+                break
+            try:
+                chunk = self.socket.recv(65536)
+            except (TimeoutError, ConnectionResetError):
+                break
+            if not chunk:
+                break
+            self.received += chunk
+        return found
+
+    def closed_by_server(self) -> bool:
+        self.socket.settimeout(TIMEOUT)
+        try:
+            return self.socket.recv(1) == b""
+        except ConnectionResetError:
+            return True
+
+    def close(self) -> None:
+        self.socket.close()
+
+
+def _read(transaction: int, register: int = 0, count: int = 1) -> bytes:
+    return _frame(0x04, struct.pack(">HH", register, count), transaction=transaction)
+
+
+def _transactions(answers: list[bytes]) -> list[int]:
+    return [struct.unpack_from(">H", answer)[0] for answer in answers]
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 65535), st.integers(0, 255), st.binary(min_size=1, max_size=253)),
+                min_size=1, max_size=12), st.lists(st.integers(1, 600), max_size=8))
+def test_the_requests_of_a_stream_whatever_its_segments(requests: list[tuple[int, int, bytes]],
+                                                        cuts: list[int]) -> None:
+    stream = b"".join(struct.pack(">HHHB", transaction, 0, len(pdu) + 1, unit) + pdu
+                      for transaction, unit, pdu in requests)
+    received, found = bytearray(), []
+    for start, stop in itertools.pairwise([0, *sorted(cut % (len(stream) + 1) for cut in cuts), len(stream)]):
+        received += stream[start:stop]
+        taken, problem = take_requests(received)
+        assert problem is None
+        found += taken
+    assert found == [Request(transaction, unit, pdu) for transaction, unit, pdu in requests]
+    assert received == b""
+
+
+def test_a_header_no_request_has_is_named_after_the_requests_before_it() -> None:
+    received = bytearray(_read(1) + _frame(0x04, b"\x00\x00\x00\x01", length=300) + _read(2))
+    taken, problem = take_requests(received)
+    assert [request.transaction for request in taken] == [1]
+    assert problem == "a header with protocol identifier 0 and length 300"
+
+
+def test_ten_requests_in_one_segment_get_ten_answers_in_order(served: Served) -> None:
+    wire = _Wire(served.port)
+    wire.send(b"".join(_read(transaction, register=transaction) for transaction in range(1, 11)))
+    answers = wire.answers(11)
+    assert _transactions(answers) == list(range(1, 11))
+    assert all(answer[7] == 0x04 for answer in answers)
+    wire.close()
+
+
+def test_back_to_back_segments_are_each_answered_once(served: Served) -> None:
+    wire = _Wire(served.port)
+    for round_ in range(200):
+        wire.send(_read(2 * round_ + 1))
+        wire.send(_read(2 * round_ + 2, register=3))
+    assert _transactions(wire.answers(401)) == list(range(1, 401))
+    wire.close()
+
+
+def test_a_request_split_over_segments_and_one_behind_it(served: Served) -> None:
+    wire = _Wire(served.port)
+    first, second = _read(1), _read(2)
+    wire.send(first[:3])
+    wire.send(first[3:9])
+    wire.send(first[9:] + second[:5])
+    wire.send(second[5:])
+    assert _transactions(wire.answers(3)) == [1, 2]
+    wire.close()
+
+
+def test_a_hundred_pipelined_requests_are_all_answered(served: Served) -> None:
+    """More than a connection may have waiting: the server stops reading until it has answered."""
+    wire = _Wire(served.port)
+    wire.send(b"".join(_read(transaction % 65536) for transaction in range(1, 101)))
+    assert _transactions(wire.answers(101)) == list(range(1, 101))
+    wire.close()
+
+
+def test_every_function_code_gets_an_answer_under_its_own_code(served: Served) -> None:
+    wire = _Wire(served.port)
+    served_functions = {1, 2, 3, 4, 5, 6, 15, 16, 22, 23}
+    for function in range(256):
+        wire.send(_frame(function, b"\x00\x00\x00\x01", transaction=function))
+        (answer,) = wire.answers(1)
+        assert struct.unpack_from(">H", answer)[0] == function
+        if function not in served_functions:
+            assert answer[7:9] == bytes([function | 0x80, 0x01]), function
+        else:
+            assert answer[7] in (function, function | 0x80), function
+    wire.close()
+
+
+@pytest.mark.parametrize("body", [b"", b"\x07", b"\x00", b"\x07\x06\x00\x01\x00\x02\x00\x01\x12\x34",
+                                  b"\xff" + b"\x06" * 10])
+def test_file_record_writes_are_answered_with_exception_01(served: Served, body: bytes) -> None:
+    wire = _Wire(served.port)
+    wire.send(_frame(21, body))
+    (answer,) = wire.answers(1)
+    assert answer[7:9] == bytes([0x95, 0x01])
+    wire.close()
+
+
+def test_a_malformed_header_closes_the_connection_after_the_requests_before_it(served: Served) -> None:
+    wire = _Wire(served.port)
+    wire.send(_read(1) + _read(2) + _frame(0x04, struct.pack(">HH", 0, 1), protocol=7) + _read(3))
+    assert _transactions(wire.answers(3)) == [1, 2]
+    assert wire.closed_by_server()
+    assert served.link.counters.framing_errors == 1
+    wire.close()
+
+
+def test_a_failure_in_the_server_is_answered_with_04_counted_and_logged(served: Served,
+                                                                        caplog: pytest.LogCaptureFixture) -> None:
+    def broken(first: int, count: int) -> None:
+        raise RuntimeError("the simulation refused the write")
+
+    served.tables.on_write = broken
+    wire = _Wire(served.port)
+    with caplog.at_level("INFO", logger="interfaces.links.modbus_tcp"):
+        wire.send(_frame(0x06, struct.pack(">HH", 16, 0x0100)))
+        (answer,) = wire.answers(1)
+    assert answer[7:9] == bytes([0x86, 0x04])
+    assert served.link.counters.failures == 1
+    assert "the simulation refused the write" in caplog.text and "Traceback" in caplog.text
+    wire.close()
+
+
+# ------------------------------------------------------------------------------ the session's PLC
+
+
+SESSION = 5
+
+
+def _open_session(tables: ModbusTables) -> None:
+    tables.nc_to_plc[0:4] = struct.pack(">HH", 1, SESSION)  # link version 1, session 5
+
+
+def test_only_the_connection_that_claimed_the_session_writes(served: Served) -> None:
+    _open_session(served.tables)
+    plc, other = served.client(), served.client()
+    assert not plc.write_single_register(16, 0x0100)  # before its claim, nobody writes
+    assert plc.last_except == 1
+    assert plc.write_single_register(1, SESSION)  # the claim: session ready = the session
+    assert plc.write_multiple_registers(0, [7, SESSION])  # sign of life and outputs
+    assert plc.write_single_coil(8 * 32, True)  # Q0.0
+    for refused in (lambda: other.write_single_register(0, 8), lambda: other.write_single_register(1, SESSION),
+                    lambda: other.write_single_coil(8 * 32 + 1, True),
+                    lambda: other.write_multiple_registers(16, [0xFFFF])):
+        assert not refused()
+        assert other.last_except == 1
+    assert other.read_holding_registers(0, 2) == [7, SESSION]  # reading is everybody's
+    assert served.link.owner.refused == 5 and served.link.counters.requests >= 9
+    plc.close()  # the PLC goes: the next claim takes the link
+    deadline = time.monotonic() + TIMEOUT
+    while served.link.owner.owner is not None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert other.write_multiple_registers(0, [9, SESSION])
+    other.close()
+
+
+def test_allowed_writers_write_without_owning_the_link() -> None:
+    for served in _serve(owner=LinkOwner(allow_writers=("127.0.0.1",))):
+        _open_session(served.tables)
+        tool = served.client()
+        assert tool.write_single_register(16, 0x0100)
+        assert served.link.owner.owner is None
+        tool.close()
+
+
+# ------------------------------------------------------------------------------ a flood
+
+
+def test_a_flood_is_answered_a_little_each_pass_of_the_loop_and_the_plc_first() -> None:
+    """50 connections reading back to back stalled the real-time NC: pymodbus answered whatever
+    had arrived in one pass of the event loop, the pacer's cycles waited behind it."""
+    tables = ModbusTables(bytearray(MAP.table_bytes[Table.NC_TO_PLC]), bytearray(MAP.table_bytes[Table.PLC_TO_NC]),
+                          MAP.writable)
+    _open_session(tables)
+    loop = asyncio.new_event_loop()
+    link = ModbusServerLink(tables, "127.0.0.1", 0, loop)
+    link.start()
+
+    def passes(count: int) -> None:
+        for _ in range(count):
+            loop.run_until_complete(asyncio.sleep(0))
+
+    try:
+        plc = _Wire(link.port)
+        plc.send(_frame(0x06, struct.pack(">HH", 1, SESSION)))  # the claim: this connection is the PLC
+        for _ in range(1000):
+            if _pending(plc):
+                break
+            passes(1)
+        assert plc.answers(1) and link.owner.owner is not None
+        flood = [_Wire(link.port) for _ in range(50)]
+        passes(20)  # every connection accepted
+        assert link.clients == 51
+        for wire in flood:
+            wire.send(_read(1, count=125))
+        plc.send(_read(2))  # the PLC's request comes last
+        waited = 0
+        while not _pending(plc) and waited < 1000:
+            passes(1)
+            waited += 1
+        answered = sum(_pending(wire) for wire in flood)
+        assert answered < 25  # a pass answers what 0.2 ms allow, not everything that arrived
+        assert len(plc.answers(1)) == 1  # and the PLC's request was among the first
+        passes(400)
+        assert all(len(wire.answers(1)) == 1 for wire in flood)
+        for wire in [plc, *flood]:
+            wire.close()
+    finally:
+        link.close()
+        loop.close()
+
+
+def _pending(wire: _Wire) -> bool:
+    """Whether an answer waits in the socket (without waiting for one)."""
+    readable, _, _ = select.select([wire.socket], [], [], 0)
+    return bool(readable)
+
+
+# ------------------------------------------------------------------------------ connection limits
+
+
+def test_idle_connections_are_closed_after_the_idle_time_out() -> None:
+    for served in _serve(limits=ConnectionLimits(max_clients=200, idle_timeout_s=0.5)):
+        idle = [_Wire(served.port) for _ in range(100)]
+        half_open = _Wire(served.port)
+        half_open.send(_read(1)[:5])  # the start of a request, never finished
+        deadline = time.monotonic() + TIMEOUT
+        while served.link.clients < 101 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert all(wire.closed_by_server() for wire in [*idle, half_open])
+        assert served.link.clients == 0 and served.link.counters.idle_closed == 101
+        for wire in [*idle, half_open]:
+            wire.close()
+
+
+def test_a_full_server_closes_the_longest_idle_connection_for_a_new_one() -> None:
+    for served in _serve(limits=ConnectionLimits(max_clients=4, idle_timeout_s=60)):
+        idle = [_Wire(served.port) for _ in range(4)]
+        for wire in idle:
+            wire.send(_read(1))
+            assert len(wire.answers(1)) == 1
+        plc = served.client()
+        assert plc.read_input_registers(0, 1) is not None
+        assert idle[0].closed_by_server()  # the one heard first
+        assert served.link.clients == 4 and served.link.counters.evicted == 1
+        plc.close()
+        for wire in idle:
+            wire.close()
+
+
 # ------------------------------------------------------------------------------ connections
 
 
@@ -221,7 +517,7 @@ def test_clients_outside_the_allow_list_are_disconnected() -> None:
         client = served.client()
         assert client.read_input_registers(0, 1) is None
         client.close()
-        assert served.link.refused >= 1
+        assert served.link.counters.refused >= 1
     for served in _serve(allowed=("127.0.0.1",)):
         client = served.client()
         assert client.read_input_registers(0, 1) is not None

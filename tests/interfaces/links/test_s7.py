@@ -1,15 +1,19 @@
 """The S7 server with a python-snap7 client: the data blocks as they are, write protection,
-bit writes, the exchange with the simulation's images, the allow-list."""
+bit writes, the exchange with the simulation's images, the allow-list; block downloads refused,
+the session's PLC as the only writer, idle sessions that never lock a client out."""
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterator
 
 import pytest
 import snap7
 from snap7.type import Areas, WordLen
+from snap7.util import set_bool
 
 from interfaces.catalog import load_catalog
+from interfaces.links.access import ConnectionLimits
 from interfaces.links.s7 import S7ServerLink
 from interfaces.signals import Direction, InterfaceLayout, expand
 
@@ -17,8 +21,8 @@ CATALOG = expand(load_catalog(), InterfaceLayout(("CHAN1",), ("X1", "Z1")))
 PLANT_SIZES = {"I": 4, "Q": 2}
 
 
-def _serve(allowed: tuple[str, ...] = ()) -> Iterator[S7ServerLink]:
-    link = S7ServerLink("127.0.0.1", 0, allowed)
+def _serve(allowed: tuple[str, ...] = (), limits: ConnectionLimits | None = None) -> Iterator[S7ServerLink]:
+    link = S7ServerLink("127.0.0.1", 0, allowed, limits=limits)
     link.start()
     link.open_session(CATALOG, PLANT_SIZES)
     try:
@@ -32,10 +36,15 @@ def link() -> Iterator[S7ServerLink]:
     yield from _serve()
 
 
-@pytest.fixture
-def client(link: S7ServerLink) -> Iterator[snap7.client.Client]:
+def _client(link: S7ServerLink) -> snap7.client.Client:
     client = snap7.client.Client()
     client.connect("127.0.0.1", 0, 1, link.port)
+    return client
+
+
+@pytest.fixture
+def client(link: S7ServerLink) -> Iterator[snap7.client.Client]:
+    client = _client(link)
     yield client
     client.disconnect()
 
@@ -110,3 +119,69 @@ def test_clients_outside_the_allow_list_cannot_connect() -> None:
         with pytest.raises(Exception):  # noqa: B017 - snap7 raises its own connection errors
             client.connect("127.0.0.1", 0, 1, link.port)
         assert link.refused >= 1
+
+
+# ------------------------------------------------------------------------------ downloads, ownership, sessions
+
+
+def test_a_block_download_is_refused_and_leaves_the_nc_to_plc_bytes(link: S7ServerLink,
+                                                                     client: snap7.client.Client) -> None:
+    areas = simulation_areas()
+    areas["DB31"][60] = 0x10  # the NC: X1 referenced
+    link.publish(areas)
+    block = bytearray(len(link.areas["DB31"]))
+    set_bool(block, 60, 4, False)
+    block[4] = 0x80  # and a traverse key pressed
+    with pytest.raises(Exception, match=r"0x84|cannot be performed|download"):
+        client.download(block, 31)
+    assert link.areas["DB31"][60] == 0x10 and link.areas["DB31"][4] == 0
+    assert link.refused_downloads == 1
+    assert not link.outputs_written
+    assert client.db_read(31, 60, 1)[0] == 0x10  # the server keeps serving
+
+
+def test_only_the_first_writer_of_the_session_writes_until_it_leaves(link: S7ServerLink) -> None:
+    plc, other = _client(link), _client(link)
+    try:
+        plc.db_write(21, 4, bytearray([100]))  # the PLC's first write: it owns the link now
+        with pytest.raises(Exception, match=r"0x84|cannot be performed"):
+            other.db_write(21, 4, bytearray([0]))
+        assert link.areas["DB21"][4] == 100 and link.owner.refused == 1
+        assert other.db_read(21, 4, 1)[0] == 100  # reading is everybody's
+        plc.disconnect()
+        deadline = time.monotonic() + 5
+        while link.owner.owner is not None and time.monotonic() < deadline:
+            time.sleep(0.01)
+        other.db_write(21, 4, bytearray([50]))  # the owner left: the next writer owns the link
+        assert link.areas["DB21"][4] == 50
+    finally:
+        other.disconnect()
+        plc.disconnect()
+
+
+def test_idle_sessions_never_lock_a_client_out() -> None:
+    for link in _serve(limits=ConnectionLimits(max_clients=8, idle_timeout_s=60)):
+        idle = [_client(link) for _ in range(12)]  # beyond the limit: the longest idle make room
+        try:
+            assert link.clients == 8 and link.evicted == 4
+            plc = _client(link)
+            assert plc.db_read(31, 60, 1) is not None
+            plc.db_write(21, 4, bytearray([100]))
+            assert link.areas["DB21"][4] == 100
+            plc.disconnect()
+        finally:
+            for client in idle:
+                client.disconnect()
+
+
+def test_a_silent_session_is_closed_after_the_idle_time_out() -> None:
+    for link in _serve(limits=ConnectionLimits(max_clients=8, idle_timeout_s=0.2)):
+        client = _client(link)
+        assert link.clients == 1
+        time.sleep(0.3)
+        link.close_idle()
+        deadline = time.monotonic() + 5
+        while link.clients and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert link.clients == 0 and link.idle_closed == 1
+        client.disconnect()

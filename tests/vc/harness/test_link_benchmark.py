@@ -36,7 +36,8 @@ JSON_KEYS = {
     "exchange_median_us", "exchange_p99_us", "bare_median_us", "bare_p99_us", "exchange_ratio",
     "exchange_p99_ratio", "exchange_target_met", "lockstep_realtime_factor", "inprocess_realtime_factor",
     "realtime_period_error_p99_ms", "realtime_period_error_max_ms", "realtime_start_error_median_ms",
-    "realtime_start_error_p99_ms", "realtime_overruns", "realtime_cycles", "realtime_plc_scans",
+    "realtime_start_error_p99_ms", "realtime_overruns", "realtime_link_overruns", "realtime_cycles",
+    "realtime_plc_scans",
     "realtime_sign_of_life_alarms", "realtime_longest_gc_pause_ms", "realtime_involuntary_switches",
     "realtime_target_met", "realtime_seconds",
 }

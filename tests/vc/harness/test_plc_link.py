@@ -1,18 +1,23 @@
 """The PLC in its own process: lockstep gives the in-process trace, sessions restart the PLC,
-a PLC that goes away is reported; in real time the NC watches the PLC's sign of life.
+a PLC that goes away is reported; in real time the NC watches the PLC's sign of life, which no
+other client can keep alive.
 
 Every test runs ``python -m plc_stub`` against a server on 127.0.0.1 with an ephemeral port.
 """
 
 from __future__ import annotations
 
+import signal
 import subprocess
 import sys
+import threading
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 from panel_operator import images, operate
+from pyModbusTCP.client import ModbusClient
 
 from interfaces.links.modbus_tcp import LinkError
 from vc.config.loader import load_machine
@@ -51,6 +56,25 @@ def test_lockstep_over_modbus_gives_the_in_process_images_cycle_for_cycle(proces
     assert images(linked) == images(local)
     assert linked.nck.axes_by_name["X1"].physical == local.nck.axes_by_name["X1"].physical
     assert linked.nck.axes_by_name["X1"].physical > machine.axis("X1").sim.start_position + 100  # referencing runs
+
+
+def test_a_pause_of_the_harness_between_two_scans_does_not_restart_the_plc() -> None:
+    """A lockstep harness that paused for more than 3 s (a garbage collection of a long vc run on a
+    busy host) made the PLC give up its request, reconnect and restart its program in the middle of
+    the session: the run left the in-process trace."""
+    with PlcProcess() as running:
+        linked = Simulation(TURN_MILL, "basic_machine", connector=running.link)
+        local = Simulation(TURN_MILL, "basic_machine")
+        for simulation in (linked, local):
+            simulation.step(150)
+            simulation.write(simulation.plant_io.resolve("MCP.jog"), 1)
+            simulation.step(10)
+        time.sleep(4.0)  # the harness serves nobody meanwhile; the PLC waits for its answer
+        for simulation in (linked, local):
+            simulation.write(simulation.plant_io.resolve("MCP.jog"), 0)
+            simulation.step(100)
+        assert images(linked) == images(local)
+        assert running.link.owner.claims == 1  # one connection throughout: no reconnect
 
 
 def test_a_power_cycle_opens_a_new_session_and_the_plc_restarts(process: PlcProcess) -> None:
@@ -163,3 +187,45 @@ def test_real_time_without_any_plc_the_nc_reports_2001_after_md10120() -> None:
     finally:
         link.close()
 
+
+
+def test_real_time_another_client_can_neither_keep_the_sign_of_life_nor_move_an_axis() -> None:
+    """It wrote holding register 0 every 10 ms and kept alarm 2000 away from a frozen PLC for
+    seconds; one write of it reversed X1."""
+    link = PlcLink(LinkMode.FREE_RUNNING, modbus=Endpoint("127.0.0.1", 0))
+    assert link.modbus is not None
+    pacer = RealtimePacer(link.loop, TURN_MILL_IPO_S, speed=1.0)
+    plc = _plc(link.modbus.port)
+    stop = threading.Event()
+    answers: list[bool] = []
+
+    def intruder() -> None:
+        client = ModbusClient(host="127.0.0.1", port=link.modbus.port if link.modbus else 0, timeout=2,
+                              auto_open=True)
+        life = 0
+        while not stop.is_set():
+            life = (life + 1) & 0xFFFF
+            answers.append(bool(client.write_single_register(0, life)))  # the sign of life
+            answers.append(bool(client.write_multiple_registers(67, [0xFF80, 0, 0x8000])))  # X1's enables and key
+            stop.wait(0.01)
+        client.close()
+
+    thread = threading.Thread(target=intruder, daemon=True)
+    try:
+        simulation = Simulation(TURN_MILL, "basic_machine", connector=link, pacer=pacer)
+        assert _run_until(simulation, "X1.basic.in.posCtrlActive", 10.0)
+        plc.send_signal(signal.SIGSTOP)  # the PLC freezes; its connection stays
+        thread.start()
+        simulation.step(round(0.5 / TURN_MILL_IPO_S))
+        assert [alarm.number for alarm in simulation.nck.alarms.present] == [2000]
+        assert simulation.nck.axes_by_name["X1"].velocity == 0
+        stop.set()
+        while thread.is_alive():  # its last request is answered too
+            link.serve()
+        assert answers and not any(answers)
+        assert link.owner.refused == len(answers)
+    finally:
+        stop.set()
+        plc.send_signal(signal.SIGCONT)
+        _stop(plc)
+        link.close()

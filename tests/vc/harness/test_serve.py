@@ -22,6 +22,7 @@ from pyModbusTCP.client import ModbusClient
 from interfaces.catalog import load_catalog
 from interfaces.signal_map import map_rows
 from interfaces.signals import expand
+from vc.cli.main import main
 from vc.config.loader import load_machine
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -132,14 +133,14 @@ def test_serve_in_real_time_with_s7_a_client_reads_the_data_blocks() -> None:
     try:
         output = Lines(server)
         output.wait_for("S7 on")
-        output.wait_for("Modbus client(s)")  # a statistics line: the cycles run
+        output.wait_for("client(s)")  # a statistics line: the cycles run
         client = snap7.client.Client()
         client.connect("127.0.0.1", 0, 1, s7)
         # basic_machine gives the controller enables: DB31.DBX61.5 position control active
         for _ in range(50):
             if client.db_read(31, 61, 1)[0] >> 5 & 1:
                 break
-            output.wait_for("Modbus client(s)", timeout=5)
+            output.wait_for("client(s)", timeout=5)
         assert client.db_read(31, 61, 1)[0] >> 5 & 1
         with pytest.raises(Exception, match=r"0x84|cannot be performed"):
             client.db_write(31, 61, bytearray([0]))  # NC-to-PLC: refused
@@ -154,3 +155,13 @@ def test_serve_refuses_a_remote_bind_without_the_flag() -> None:
                             capture_output=True, text=True, timeout=30, cwd=ROOT)
     assert result.returncode == 2
     assert "--allow-remote" in result.stderr
+
+
+@pytest.mark.parametrize(("arguments", "message"), [
+    (["--max-clients", "0"], "at least one client must be able to connect (max clients 0)"),
+    (["--allow-writers", "127.0.0.x"], "'127.0.0.x' is not an IP address or network"),
+])
+def test_serve_refuses_limits_and_writers_it_cannot_use(arguments: list[str], message: str,
+                                                        capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["serve", "--modbus", "127.0.0.1:0", *arguments, "--duration", "0.01"]) == 2
+    assert message in capsys.readouterr().err
