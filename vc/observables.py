@@ -99,3 +99,11 @@ LINK_QUANTITY_MEANINGS = {
     "busOffs": "times the NC's CAN controller went bus-off",
 }
 LINK_QUANTITIES = tuple(LINK_QUANTITY_MEANINGS)
+
+
+class StepRefused(Exception):
+    """What a step asks cannot be done in the state the machine is in now (a workpiece clamped in a
+    spindle that follows none): the step fails with this message, as a check does.  Here, below the
+    simulation and the scenario runner, so that the simulation (and the FMU that carries it) needs
+    nothing of the scenario package."""
+

@@ -39,9 +39,9 @@ from vc.observables import (
     FAULTS,
     MAINS,
     NCK_QUANTITIES,
+    StepRefused,
 )
 from vc.plant.plant import Plant
-from vc.scenario.target import StepRefused
 
 
 class Pacer(Protocol):

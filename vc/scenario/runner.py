@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Protocol
 
 from vc.located_yaml import Mark
+from vc.observables import StepRefused
 from vc.scenario.durations import Duration, format_seconds
 from vc.scenario.expressions import EvaluationError, Evaluator, Expression
 from vc.scenario.model import (
@@ -50,7 +51,7 @@ from vc.scenario.model import (
     WaitUntil,
 )
 from vc.scenario.quantities import Quantity, QuantityKind
-from vc.scenario.target import ScenarioTarget, StepRefused
+from vc.scenario.target import ScenarioTarget
 from vc.scenario.trace import Recorder, write_csv, write_vcd
 from vc.scenario.values import format_value
 

@@ -17,11 +17,6 @@ from vc.config.model import MachineConfig
 from vc.core.alarms import Alarm
 
 
-class StepRefused(Exception):
-    """What a step asks cannot be done in the state the machine is in now (a workpiece clamped in a
-    spindle that follows none): the step fails with this message, as a check does."""
-
-
 class ScenarioTarget(Protocol):
     machine: MachineConfig
     catalog: ExpandedCatalog
@@ -78,7 +73,7 @@ class ScenarioTarget(Protocol):
 
     def inject_fault(self, axis: str, kind: str, start: float = 0.0, end: float = 0.0, amount: float = 0.0,
                      encoder: int = 1) -> None:
-        """A fault of the simulated machine: ``vc.observables.FAULTS``; raises :class:`StepRefused` for a
+        """A fault of the simulated machine: ``vc.observables.FAULTS``; raises :class:`vc.observables.StepRefused` for a
         fault the machine cannot have now."""
 
     def inject_link_fault(self, kind: str, duration_us: int, directions: Sequence[str] = ("nc_to_plc", "plc_to_nc"),
