@@ -34,7 +34,10 @@ What the link adds to pymodbus 3.16's server, per connection (:class:`_Connectio
   :data:`SERVE_SLICE_S` per pass (and at least one request); a connection with
   :data:`PENDING_LIMIT` requests waiting is not read until they are answered.  So a flood of
   requests cannot hold the loop past the pacer's quiet time before an IPO cycle
-  (:mod:`vc.harness.pacer`), and the PLC's exchange never waits behind it.  (New connections are
+  (:mod:`vc.harness.pacer`), and the PLC's exchange never waits behind it.  A share of the time
+  for the other clients (a quarter of every 10 ms) was tried as well and dropped: the server then
+  slept part of the time, woke late on a busy host, and the NC overran more under a flood, not
+  less (bench/README.md).  (New connections are
   not bounded so: asyncio accepts up to 100 in one pass, a few milliseconds for a storm of them;
   a smaller listen backlog made every client of a storm wait for its SYN to be sent again.)
 

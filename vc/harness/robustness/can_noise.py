@@ -16,6 +16,7 @@ controller must be on the bus at the end; the real-time NC's overruns and alarms
 
 from __future__ import annotations
 
+import contextlib
 import random
 import socket
 import threading
@@ -25,10 +26,11 @@ from dataclasses import dataclass
 from interfaces.codec_can import Frame
 from interfaces.links.can_bus import CAN_ERR_BUSOFF, BusSpec, CanBus, private_udp_bus
 from vc.harness.robustness.campaign import CampaignSettings, Row, Say
-from vc.harness.robustness.processes import ServedNc, final_pacing, growth_pct
+from vc.harness.robustness.processes import CampaignError, ServedNc, final_pacing, growth_pct
 
 SCENARIO = "scenarios/referencing/incremental_jog_ref_falling_edge.yaml"
 PAUSE_S = 0.0005  # between two inputs of the noise
+SCENARIO_TIMEOUT_S = 300.0
 # identifiers the link does not use with the default settings (link 0x100..0x102, data from 0x200 and 0x400)
 STRAY_IDS = (*range(0x000, 0x100), *range(0x600, 0x800))
 
@@ -84,13 +86,17 @@ class _NoisyRun:
         return next((line for line in reversed(self.served.serve.lines) if line.startswith("link: ")), "")
 
 
-def _under_noise(serve: list[str], spec: BusSpec, count: int, seed: int) -> _NoisyRun:
-    """``vc serve`` and the PLC on ``spec`` while ``count`` inputs of noise go onto the bus; then Ctrl-C."""
+def _under_noise(serve: list[str], spec: BusSpec, count: int, seed: int, until: str | None = None) -> _NoisyRun:
+    """``vc serve`` and the PLC on ``spec`` while ``count`` inputs of noise go onto the bus (and
+    until the server prints a line matching ``until``); then Ctrl-C."""
     with ServedNc(serve, ["--can", str(spec)]) as served:
         noise = CanNoise(spec, count, seed)
         memory_before = sum(served.rss_kb())
         noise.start()
         noise.join()
+        if until is not None:
+            with contextlib.suppress(CampaignError):  # a server that ended is counted below
+                served.serve.wait_for(until, SCENARIO_TIMEOUT_S)
         crashes = served.crashes()
         growth = growth_pct(memory_before, sum(served.rss_kb()))
     return _NoisyRun(served, noise, crashes, served.serve.process.returncode, growth)
@@ -100,7 +106,8 @@ def run_can_noise(settings: CampaignSettings, say: Say) -> Row:
     """The part's row (module docstring)."""
     half = max(1, settings.can_inputs // 2)
     spec = private_udp_bus()
-    lockstep = _under_noise(["--can", str(spec), "--scenario", SCENARIO], spec, half, settings.seed)
+    lockstep = _under_noise(["--can", str(spec), "--scenario", SCENARIO], spec, half, settings.seed,
+                            until="^scenario done")
     passed = any("PASS" in line for line in lockstep.served.serve.lines)
     say(f"  can lockstep: {lockstep.noise.sent} noise inputs; scenario {'passed' if passed else 'FAILED'};"
         f" vc serve exit {lockstep.code}; {lockstep.link()}")
