@@ -37,6 +37,7 @@ from pathlib import Path
 from fmu.slave import MANIFEST, FmuError, build_fmu
 from fmu.unit import Causality, NcUnit, UnitError
 from vc.config.loader import load_machine
+from vc.config.machine_files import machine_file
 
 PROJECT_PACKAGES = ("vc", "interfaces", "fmu")
 SLAVE_MODULE = "fmu.slave"
@@ -59,6 +60,8 @@ def export_fmu(machine_path: str, output: str) -> ExportResult:
     """Check the machine, bundle the code, let pythonfmu build ``output``; raises ``SourceError``
     for a machine file with problems and :class:`FmuError` when the FMU cannot be built."""
     machine = load_machine(machine_path)
+    machine_source = machine_file(machine_path)  # the file itself, also of a packaged machine
+    assert machine_source is not None  # load_machine found it
     try:
         unit = NcUnit(machine_path)
     except UnitError as error:
@@ -86,10 +89,10 @@ def export_fmu(machine_path: str, output: str) -> ExportResult:
         _copy_catalog(staging / bundle)
         machine_dir = staging / "machine"
         machine_dir.mkdir()
-        shutil.copyfile(machine_path, machine_dir / Path(machine_path).name)
+        shutil.copyfile(machine_source, machine_dir / Path(machine_source).name)
         manifest = staging / MANIFEST
         manifest.write_text(json.dumps({"format": 1, "model": model_identifier, "name": machine.name,
-                                        "machine": f"machine/{Path(machine_path).name}"}, indent=2))
+                                        "machine": f"machine/{Path(machine_source).name}"}, indent=2))
         try:
             built = build_fmu(script, [staging / bundle, manifest, machine_dir], destination)
         finally:

@@ -3,18 +3,21 @@
     vc run PATH... [--junit FILE] [--trace-dir DIR] [--golden DIR [--update-golden]]
            [--link inprocess|modbus|can [--can-bus BUS]]
                                                       run scenario files or directories
-    vc map --machine M.yaml [--format md|csv|json|dbc|guide]
+    vc map --machine M [--format md|csv|json|dbc|guide]
                                                       the machine's expanded signal map, its CAN frames as a
                                                       DBC file, or the guide for connecting OpenPLC / CODESYS
                                                       over Modbus TCP
-    vc serve [--machine M.yaml] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
+    vc serve [--machine M] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
              [--scenario FILE] [--duration S]         the NC as a server (or CAN node) for a PLC in another
                                                       process
-    vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle
+    vc bench [--machine M] [--seconds S]              real-time factor and cost per IPO cycle
     vc bench --link modbus [--seconds S]              what the Modbus TCP link costs (bench/README.md)
     vc bench --link can [--seconds S]                 frames per second and cost per IPO cycle of the CAN link
     vc bench --link fmu [--seconds S]                 FMU steps per second under FMPy against in process
-    vc fmu export --machine M.yaml -o M.fmu           the NC and the plant as an FMI 2.0 co-simulation FMU
+    vc fmu export --machine M -o M.fmu                the NC and the plant as an FMI 2.0 co-simulation FMU
+
+M is a machine file or the name of a machine the package ships (turn_mill, the default,
+mill_3axis, mill_5axis), found from any directory.
 
 Problems in input files are reported with file, line and column and exit with code 2;
 a failed scenario exits with 1.
@@ -32,9 +35,9 @@ from interfaces.catalog import load_catalog
 from interfaces.signal_map import FORMATTERS, map_rows
 from interfaces.signals import expand
 from vc.config.loader import load_machine
+from vc.config.machine_files import DEFAULT_MACHINE, packaged_machines
 from vc.located_yaml import SourceError
 
-DEFAULT_MACHINE = "scenarios/machines/turn_mill.yaml"
 GUIDE_FORMAT = "guide"  # vc map --format guide: docs/modbus.md for the machine
 DBC_FORMAT = "dbc"  # vc map --format dbc: the CAN frames through cantools
 DEFAULT_BENCH_SECONDS = 30.0  # simulated, in process
@@ -220,6 +223,8 @@ def _speed(text: str) -> float:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="vc", description="Virtual commissioning harness for CNC machines")
+    machines = f"a machine file, or the name of a packaged machine ({', '.join(packaged_machines())})"
+    machine_help = f"{machines}; default {DEFAULT_MACHINE}"
     commands = parser.add_subparsers(dest="command", required=True)
 
     run = commands.add_parser("run", help="run scenarios with the built-in PLC")
@@ -238,12 +243,12 @@ def build_parser() -> argparse.ArgumentParser:
     run.set_defaults(handler=_run)
 
     signal_map = commands.add_parser("map", help="print the expanded signal catalogue of a machine")
-    signal_map.add_argument("--machine", required=True, help="machine YAML file")
+    signal_map.add_argument("--machine", required=True, help=machines)
     signal_map.add_argument("--format", choices=[*sorted(FORMATTERS), DBC_FORMAT, GUIDE_FORMAT], default="md")
     signal_map.set_defaults(handler=_map)
 
     serve = commands.add_parser("serve", help="serve the NC and the plant to a PLC over Modbus TCP and/or S7")
-    serve.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")
+    serve.add_argument("--machine", default=DEFAULT_MACHINE, help=machine_help)
     serve.add_argument("--modbus", nargs="?", const="127.0.0.1:5020", metavar="HOST:PORT",
                        help="serve Modbus TCP (default 127.0.0.1:5020; the default when no --s7 is given)")
     serve.add_argument("--s7", metavar="HOST:PORT", help="serve the data blocks over S7 (python-snap7)")
@@ -267,7 +272,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     bench = commands.add_parser("bench", help="measure the real-time factor of the simulation, the Modbus link"
                                               " or the FMU")
-    bench.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")
+    bench.add_argument("--machine", default=DEFAULT_MACHINE, help=machine_help)
     bench.add_argument("--link", choices=("inprocess", "modbus", "can", "fmu"), default="inprocess",
                        help="inprocess (default): the simulation with the PLC in this process; modbus: exchange"
                             " round trip against a bare pymodbus server, lockstep rate and real-time jitter with"
@@ -292,7 +297,7 @@ def build_parser() -> argparse.ArgumentParser:
     fmu = commands.add_parser("fmu", help="export the NC and the plant as an FMU (FMI 2.0 co-simulation)")
     fmu_commands = fmu.add_subparsers(dest="fmu_command", required=True)
     export = fmu_commands.add_parser("export", help="build the FMU of a machine (docs/fmu.md)")
-    export.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")
+    export.add_argument("--machine", default=DEFAULT_MACHINE, help=machine_help)
     export.add_argument("-o", "--output", required=True, metavar="FILE.fmu", help="the FMU file to write")
     export.set_defaults(handler=_fmu_export)
     return parser
