@@ -67,7 +67,9 @@ def _map(arguments: argparse.Namespace) -> int:
                                   nc_cycle_ms=round(can.period_cycles(ipo_us, machine.plc_cycle_ipo) * ipo_us / 1000),
                                   plc_cycle_ms=round(machine.plc_cycle_ipo * ipo_us / 1000)))
         return 0
-    rows = map_rows(catalog, machine.plant_io, can.settings)
+    from vc.harness.commissioning import commissioning_of  # the facts need the NC's rules
+
+    rows = map_rows(catalog, machine.plant_io, can.settings, commissioning_of(machine, catalog))
     sys.stdout.write(FORMATTERS[arguments.format](rows))
     return 0
 
