@@ -8,8 +8,9 @@
                                                       DBC file, or the guide for connecting OpenPLC / CODESYS
                                                       over Modbus TCP
     vc serve [--machine M] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
-             [--scenario FILE] [--duration S]         the NC as a server (or CAN node) for a PLC in another
-                                                      process
+             [--scenario FILE [--junit FILE] [--keep-running]] [--duration S]
+                                                      the NC as a server (or CAN node) for a PLC in another
+                                                      process; with a scenario the exit code is its result
     vc bench [--machine M] [--seconds S]              real-time factor and cost per IPO cycle
     vc bench --link modbus [--seconds S]              what the Modbus TCP link costs (bench/README.md)
     vc bench --link can [--seconds S]                 frames per second and cost per IPO cycle of the CAN link
@@ -186,6 +187,9 @@ def _run(arguments: argparse.Namespace) -> int:
 
 
 def _serve(arguments: argparse.Namespace) -> int:
+    if (arguments.junit or arguments.keep_running) and not arguments.scenario:
+        print("--junit and --keep-running need --scenario", file=sys.stderr)
+        return EXIT_PROBLEMS
     from interfaces.links.can_bus import BusSpec
     from interfaces.links.errors import LinkError
     from vc.harness.plc_link import Endpoint
@@ -203,6 +207,8 @@ def _serve(arguments: argparse.Namespace) -> int:
             speed=None if arguments.speed == "max" else _speed(arguments.speed),
             program=arguments.program,
             scenario=arguments.scenario,
+            keep_running=arguments.keep_running,
+            junit=arguments.junit,
             duration_s=arguments.duration,
             stats_every_s=arguments.stats,
             say=lambda text: print(text, flush=True),
@@ -266,7 +272,13 @@ def build_parser() -> argparse.ArgumentParser:
                        help="real-time factor with --realtime: 0.5, 2 ... or max (default 1)")
     serve.add_argument("--program", default="basic_machine",
                        help="the PLC program a PLC that follows the harness runs (default basic_machine)")
-    serve.add_argument("--scenario", metavar="FILE", help="a scenario that plays the operator (its machine is used)")
+    serve.add_argument("--scenario", metavar="FILE",
+                       help="a scenario that plays the operator for the PLC on the link (its machine is used; its"
+                            " plc: is optional and names what plc_stub runs); the server stops when it ends and"
+                            " the exit code is its result: 0 passed, 1 failed, 2 a problem in the file")
+    serve.add_argument("--junit", metavar="FILE", help="with --scenario: write its JUnit XML report")
+    serve.add_argument("--keep-running", action="store_true",
+                       help="with --scenario: keep the machine running after it (Ctrl-C or --duration ends)")
     serve.add_argument("--duration", type=float, metavar="S", help="stop after S simulated seconds")
     serve.add_argument("--stats", type=float, default=10.0, metavar="S",
                        help="print real-time statistics every S seconds (default 10)")

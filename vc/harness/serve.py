@@ -5,8 +5,16 @@ Over Modbus TCP (and S7), or as a node on a CAN bus (``--can BUS``, with the mac
 done, so a PLC that can be stepped (``python -m plc_stub``) runs deterministically; time stands
 while no PLC answers.  Real time (``--realtime``): the IPO cycles follow the wall clock
 (``--speed`` scales it), the PLC scans on its own clock, and the NC watches the PLC's sign of
-life (alarm 2000 after MD10100 without one).  A scenario (``--scenario``) plays the operator;
-afterwards the machine keeps running until Ctrl-C or ``--duration``.
+life (alarm 2000 after MD10100 without one).  ``--stats`` reports the real-time figures every
+so many wall seconds, also while a scenario runs.
+
+A scenario (``--scenario``) plays the operator for the PLC on the link.  Its ``plc:`` is optional
+and names the program the harness asks a PLC that follows it (``python -m plc_stub``) to run
+(default ``--program``); a PLC of your own runs its own program.  ``plc: none`` (the scenario as
+the PLC) cannot be served.  When the scenario ends the server stops and ``vc serve`` exits with
+the scenario's code (0 passed, 1 failed, 2 a problem in the file), after writing ``--junit
+FILE``; ``--keep-running`` keeps the machine running after it until Ctrl-C or ``--duration``,
+with the same exit code.  Without a scenario the machine runs until Ctrl-C or ``--duration``.
 """
 
 from __future__ import annotations
@@ -72,6 +80,8 @@ class ServeOptions:
     speed: float | None = 1.0  # None: as fast as possible
     program: str = "basic_machine"  # what the harness asks a PLC that follows it (plc_stub) to run
     scenario: str | None = None
+    keep_running: bool = False  # after the scenario, until Ctrl-C or duration_s
+    junit: str | None = None  # the scenario's JUnit XML report
     duration_s: float | None = None  # simulated seconds, then stop
     stats_every_s: float = 10.0
     say: Callable[[str], None] = field(default=print)
@@ -122,9 +132,11 @@ def serve(options: ServeOptions) -> int:
     loop = link.loop or asyncio.new_event_loop()  # the pacer's
     try:
         ipo_s = Simulation.ipo_seconds(machine)
-        pacer = RealtimePacer(loop, ipo_s, options.speed) if options.realtime else None
-        _banner(options, machine, link, program, mode, say)
         simulations: list[Simulation] = []
+        realtime = RealtimePacer(loop, ipo_s, options.speed) if options.realtime else None
+        pacer = None if realtime is None else _ReportingPacer(
+            realtime, options.stats_every_s, link, lambda: simulations[-1] if simulations else None, say)
+        _banner(options, machine, link, program, mode, say)
 
         def power_on(scenario: Scenario | None = None) -> Simulation:
             powered = scenario.machine if scenario else machine
@@ -136,14 +148,20 @@ def serve(options: ServeOptions) -> int:
         code = EXIT_PASSED
         try:
             if scenario_path is not None:
-                code = run_command([scenario_path], power_on, plc_programs().keys())
+                code = run_command([scenario_path], power_on, plc_programs().keys(), junit=options.junit,
+                                   default_plc=options.program)
+                if not options.keep_running:
+                    say(f"scenario done (exit code {code}); the server stops (--keep-running keeps the machine"
+                        " running)")
+                    return code
                 say("scenario done; the machine keeps running (Ctrl-C ends)")
             simulation = simulations[-1] if simulations else power_on()
-            _keep_running(simulation, pacer, link, options)
+            _keep_running(simulation, options)
         except KeyboardInterrupt:
             say("stopped")
-        if pacer is not None:
-            say(f"real time: {pacer.stats()}")
+        finally:
+            if realtime is not None:
+                say(f"real time: {realtime.stats()}")
         return code
     finally:
         link.close()
@@ -156,8 +174,11 @@ def _machine_and_program(options: ServeOptions) -> tuple[MachineConfig, str, str
         return load_machine(options.machine_path), options.program, None
     from vc.scenario.loader import load_scenarios
 
-    (scenario,) = load_scenarios([options.scenario], plc_programs().keys())
-    return scenario.machine, scenario.plc_program or options.program, options.scenario
+    (scenario,) = load_scenarios([options.scenario], plc_programs().keys(), default_plc=options.program)
+    if scenario.plc_program is None:
+        raise LinkError(f"{options.scenario}: plc: none makes the scenario the PLC; a served scenario plays the"
+                        " operator for the PLC on the link (leave plc: out, or name the program plc_stub runs)")
+    return scenario.machine, scenario.plc_program, options.scenario
 
 
 def _banner(options: ServeOptions, machine: MachineConfig, link: ServedLink, program: str, mode: LinkMode,
@@ -173,17 +194,35 @@ def _banner(options: ServeOptions, machine: MachineConfig, link: ServedLink, pro
         say(f"real time, {speed}; the NC watches the PLC's sign of life (alarm 2000){link.watched}")
 
 
-def _keep_running(simulation: Simulation, pacer: RealtimePacer | None, link: ServedLink,
-                  options: ServeOptions) -> None:
+def _keep_running(simulation: Simulation, options: ServeOptions) -> None:
     alarms = AlarmWatch(simulation, options.say)
     stop_cycle = None if options.duration_s is None else round(options.duration_s / simulation.ipo_cycle_s)
-    next_stats = wallclock.monotonic() + options.stats_every_s
-    reported = 0
     while stop_cycle is None or simulation.cycle < stop_cycle:
         simulation.step(1)
         alarms.check()
-        if pacer is not None and wallclock.monotonic() >= next_stats:
-            next_stats += options.stats_every_s
-            peer = link.peer_state(simulation)
-            options.say(f"{simulation.time_s:9.3f} s  {pacer.stats(reported)}; {peer}")
-            reported = len(pacer.errors)
+
+
+class _ReportingPacer:
+    """The real-time pacer, printing its figures (since the last line) and the PLC's side every
+    ``every_s`` wall seconds from inside the cycle, so that they come while a scenario runs too."""
+
+    def __init__(self, pacer: RealtimePacer, every_s: float, link: ServedLink,
+                 current: Callable[[], Simulation | None], say: Callable[[str], None]):
+        self.pacer = pacer
+        self.every_s = every_s
+        self.link = link
+        self.current = current  # the simulation of the latest power-on
+        self.say = say
+        self._next = wallclock.monotonic() + every_s
+        self._reported = 0  # cycles already in an earlier line
+
+    def wait_next_cycle(self) -> None:
+        self.pacer.wait_next_cycle()
+        if wallclock.monotonic() < self._next:
+            return
+        self._next += self.every_s
+        simulation = self.current()
+        if simulation is not None:
+            figures = self.pacer.stats(self._reported)
+            self.say(f"{simulation.time_s:9.3f} s  {figures}; {self.link.peer_state(simulation)}")
+            self._reported = len(self.pacer.errors)

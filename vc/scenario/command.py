@@ -29,15 +29,17 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
                 known_programs: Collection[str], *, junit: str | Path | None = None,
                 trace_dir: str | Path | None = None, console: Console | None = None,
                 catalog: Catalog | None = None, machine_loader: MachineLoader | None = None,
-                golden: str | Path | None = None, update_golden: bool = False) -> int:
+                golden: str | Path | None = None, update_golden: bool = False,
+                default_plc: str | None = None) -> int:
     """Check every scenario of ``paths``, run them if all are sound, report; return the exit code.
 
     With ``golden`` each passed scenario is compared with its golden trace in that directory
-    (``update_golden`` writes the traces instead).
+    (``update_golden`` writes the traces instead); ``default_plc``: see :func:`load_scenarios`.
     """
     report = ConsoleReport(console)
     try:
-        scenarios = load_scenarios(paths, known_programs, catalog=catalog, machine_loader=machine_loader)
+        scenarios = load_scenarios(paths, known_programs, catalog=catalog, machine_loader=machine_loader,
+                                   default_plc=default_plc)
     except SourceError as error:
         report.print_problems(error)
         return EXIT_PROBLEMS

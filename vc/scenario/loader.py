@@ -115,16 +115,20 @@ def load_scenario(path: str, known_programs: Collection[str], *, catalog: Catalo
 
 
 def load_scenarios(paths: Sequence[str], known_programs: Collection[str], *, catalog: Catalog | None = None,
-                   machine_loader: MachineLoader | None = None) -> list[Scenario]:
+                   machine_loader: MachineLoader | None = None, default_plc: str | None = None) -> list[Scenario]:
     """Load every scenario of ``paths`` (files, or directories searched recursively for ``*.yaml``
-    outside directories named ``machines``).  Raises one :class:`SourceError` for all files."""
+    outside directories named ``machines``).  Raises one :class:`SourceError` for all files.
+
+    ``default_plc``: the program of a scenario without ``plc:`` (``vc serve``, where the PLC is on
+    the link and ``plc:`` only names what a PLC that follows the harness runs); None: ``plc:`` is
+    required."""
     files, problems = scenario_files(paths)
     machines = _Machines(machine_loader or default_machine_loader)
     collected = Problems()
     collected.extend(problems)
     scenarios: list[Scenario] = []
     for file in files:
-        checker = _ScenarioChecker(file, known_programs, catalog, machines, collected)
+        checker = _ScenarioChecker(file, known_programs, catalog, machines, collected, default_plc)
         scenario = checker.check()
         if scenario is not None:
             scenarios.append(scenario)
@@ -203,8 +207,9 @@ def _kind_of_value(value: object) -> str:
 
 class _ScenarioChecker:
     def __init__(self, path: str, known_programs: Collection[str], catalog: Catalog | None,
-                 machines: _Machines, problems: Problems):
+                 machines: _Machines, problems: Problems, default_plc: str | None = None):
         self.path = path
+        self.default_plc = default_plc
         self.directory = os.path.dirname(path)
         self.known_programs = known_programs
         self.catalog = catalog
@@ -231,7 +236,9 @@ class _ScenarioChecker:
             self.add(Mark(self.path, 1, 1),
                      "a scenario is a mapping with name, machine, plc and steps (see docs/scenarios.md)")
             return None
-        self.check_keys(document, TOP_KEYS, REQUIRED_TOP_KEYS, "the scenario")
+        required = REQUIRED_TOP_KEYS if self.default_plc is None else tuple(
+            key for key in REQUIRED_TOP_KEYS if key != "plc")
+        self.check_keys(document, TOP_KEYS, required, "the scenario")
         name = self.text(document, "name")
         description = self.text(document, "description") if "description" in document else ""
         self.plc = self.check_plc(document)
@@ -272,7 +279,7 @@ class _ScenarioChecker:
 
     def check_plc(self, document: LocatedMap) -> str:
         if "plc" not in document:
-            return NO_PLC
+            return self.default_plc or NO_PLC
         value = document["plc"]
         mark = document.mark_of("plc")
         if value is False:  # YAML reads "plc: no" or "plc: off" as false
