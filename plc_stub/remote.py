@@ -11,7 +11,10 @@ of :mod:`interfaces.codec_modbus`) and follows the server's mode:
 
 A new session (the harness powered the machine on again, or started the next scenario) or a new
 boot id (another harness process, whose sessions count from 1 again) means a PLC restart: the
-description is read again and the program starts from its initial state.
+description is read again and the program starts from its initial state.  A connection lost and
+made again to the same session of the same process keeps the program: it carries on where it was,
+and in lockstep the outputs of a scan whose write was lost are sent again instead of the scan
+running twice.
 """
 
 from __future__ import annotations
@@ -65,6 +68,8 @@ class _Session:
     plc_to_nc: bytearray
     last_grant: int = 0
     life: int = 0
+    # lockstep: the outputs of a scan whose write the link lost, (grant, registers), until they are sent
+    unsent: tuple[int, list[int]] | None = None
 
     @property
     def areas(self) -> dict[str, bytearray]:
@@ -82,6 +87,7 @@ class RemotePlc:
         self.log = log
         self.session: _Session | None = None
         self.scans = 0
+        self._reconnected = False
 
     # ------------------------------------------------------------------ one poll
     def poll(self) -> bool:
@@ -98,8 +104,16 @@ class RemotePlc:
             # 1 again): restart the program
             session = self._start_session(head)
             head = self.client.read_input_registers(0, self._poll_count())
+        elif self._reconnected:
+            # the same session of the same harness process after a reconnect: the program carries on
+            # with its state; the session is claimed again on this connection
+            self.client.write_registers(REG_SESSION_READY, [session.number])
+            self.log(f"session {session.number} (boot id {session.boot_id}) goes on after the reconnect")
+        self._reconnected = False
         if session.lockstep:
             grant = head[REG_SCAN_GRANT]
+            if session.unsent is not None and self._resend(session, grant):
+                return True
             if grant == 0 or grant == session.last_grant:
                 return False
             self._scan(session, head, grant)
@@ -150,8 +164,24 @@ class RemotePlc:
         # The whole table from register 0, the chunk with register 0 last: the scan-done word
         # reaches the server after every output of the scan.
         values = read_registers(outputs, 0, session.register_map.registers(Table.PLC_TO_NC))
+        if session.lockstep:
+            session.unsent = (done, values)  # until the write is through: a lost link must not run the scan twice
         self.client.write_registers_last_first(0, values)
+        session.unsent = None
         self.scans += 1
+
+    def _resend(self, session: _Session, grant: int) -> bool:
+        """After a lost link: the outputs of the scan it lost go again while the harness still waits
+        for that scan (True); once it granted another, it had taken them (False)."""
+        assert session.unsent is not None
+        unsent_grant, values = session.unsent
+        session.last_grant = unsent_grant
+        if grant != unsent_grant:
+            session.unsent = None
+            return False
+        self.client.write_registers_last_first(0, values)
+        session.unsent = None
+        return True
 
     # ------------------------------------------------------------------ the loop (plc_stub.scan_loop)
     def run(self, should_stop: Callable[[], bool] = lambda: False) -> None:
@@ -172,15 +202,18 @@ class RemotePlc:
     def scan(self) -> None:
         self.poll()
 
-    def restart(self) -> None:
-        """After a reconnect: the next poll sets the session up again (a PLC restart)."""
-        self.session = None
+    def reconnected(self) -> None:
+        """After a reconnect: the next poll reads the link block anew; the program restarts only when
+        the session or the boot id changed (docs/modbus.md, reconnecting)."""
+        self._reconnected = True
 
 
 def run_forever(host: str, port: int, program: str | None, period_s: float | None, connect_timeout_s: float,
-                log: Callable[[str], None], should_stop: Callable[[], bool] = lambda: False) -> int:
-    """Connect (and reconnect) to the harness and run; the exit code of ``python -m plc_stub``."""
-    client = ModbusLinkClient(host, port)
+                log: Callable[[str], None], should_stop: Callable[[], bool] = lambda: False,
+                answer_timeout_s: float = 3.0) -> int:
+    """Connect (and reconnect) to the harness and run; the exit code of ``python -m plc_stub``.
+    ``answer_timeout_s``: how long a request may go unanswered before the connection is made again."""
+    client = ModbusLinkClient(host, port, timeout_s=answer_timeout_s)
     plc = RemotePlc(client, program, period_s, log)
 
     def run() -> int:
@@ -201,7 +234,7 @@ def run_forever(host: str, port: int, program: str | None, period_s: float | Non
             except LinkError as error:
                 log(f"link lost: {error}; reconnecting")
                 client.close()
-                plc.restart()
+                plc.reconnected()
                 connected = False
                 deadline = wallclock.monotonic() + connect_timeout_s
         return EXIT_STOPPED

@@ -93,13 +93,14 @@ class PlcProcess(_ChildPlcRun[PlcLink]):
     on a loopback server with an ephemeral port; a context manager."""
 
     def __init__(self, mode: LinkMode = LinkMode.LOCKSTEP, first_scan_timeout_s: float = 30.0,
-                 scan_timeout_s: float = 10.0, s7: Endpoint | None = None):
-        """``s7``: serve the data blocks over S7 as well (``vc serve --s7``)."""
+                 scan_timeout_s: float = 10.0, s7: Endpoint | None = None, plc_options: Sequence[str] = ()):
+        """``s7``: serve the data blocks over S7 as well (``vc serve --s7``); ``plc_options``: more
+        options of ``python -m plc_stub``."""
         self.link = PlcLink(mode, modbus=Endpoint("127.0.0.1", 0), s7=s7,
                             first_scan_timeout_s=first_scan_timeout_s, scan_timeout_s=scan_timeout_s,
                             peer_ended=self._ended)
         assert self.link.modbus is not None
-        self._child = _PlcChild(["--modbus", f"127.0.0.1:{self.link.modbus.port}"])
+        self._child = _PlcChild(["--modbus", f"127.0.0.1:{self.link.modbus.port}", *plc_options])
 
     def target_factory(self) -> Callable[[Scenario], Simulation]:
         def make(scenario: Scenario) -> Simulation:
