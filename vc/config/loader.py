@@ -80,7 +80,9 @@ is returned.  Pure apart from reading the one file.
 from __future__ import annotations
 
 import dataclasses
+import os
 import re
+from collections import OrderedDict
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -127,7 +129,7 @@ from vc.config.model import (
     MachineConfig,
     machine_ipo_cycle_us,
 )
-from vc.located_yaml import LocatedMap, Mark, Problems, load_file
+from vc.located_yaml import LocatedMap, Mark, Problem, Problems, load_file
 
 TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", "axes", "plant_io", "plc", "can",
                   "dc_link")
@@ -185,7 +187,7 @@ def load_machine(path: str, overrides: LocatedMap | None = None, overrides_file:
     (an override mapping built in code); the marks of a located mapping are used otherwise.
     Raises :class:`SourceError` listing every problem of both.
     """
-    document, parse_problems = load_file(path)
+    document, parse_problems = _parsed(path)
     problems = Problems()
     problems.extend(parse_problems)
     if document is None:
@@ -198,6 +200,26 @@ def load_machine(path: str, overrides: LocatedMap | None = None, overrides_file:
     problems.raise_if_any()
     assert config is not None  # build() returns None only together with problems
     return config
+
+
+_PARSED: OrderedDict[tuple[str, int, int, int], tuple[Any, list[Problem]]] = OrderedDict()
+_PARSED_FILES = 16
+
+
+def _parsed(path: str) -> tuple[Any, list[Problem]]:
+    """The parsed machine file, parsed once while the file stays as it is: the variants of a
+    scenario matrix load one machine file with hundreds of override sets (the reader only reads it)."""
+    try:
+        status = os.stat(path)
+    except OSError:
+        return load_file(path)  # it reports the file it cannot read
+    key = (os.path.abspath(path), status.st_ino, status.st_mtime_ns, status.st_size)
+    if key not in _PARSED:
+        _PARSED[key] = load_file(path)
+        if len(_PARSED) > _PARSED_FILES:
+            _PARSED.popitem(last=False)
+    _PARSED.move_to_end(key)
+    return _PARSED[key]
 
 
 # ------------------------------------------------------------------------------ instances

@@ -20,7 +20,16 @@ from typing import Any
 
 from interfaces.image import Value, value_range
 from interfaces.plant_io import Owner
-from interfaces.signals import HMI_INSTANCE, Catalog, Direction, SignalType, UnknownSignalError, expand
+from interfaces.signals import (
+    HMI_INSTANCE,
+    Catalog,
+    Direction,
+    ExpandedCatalog,
+    InterfaceLayout,
+    SignalType,
+    UnknownSignalError,
+    expand,
+)
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.core.alarms import ALARM_TEXTS
@@ -60,6 +69,7 @@ from vc.scenario.model import (
 )
 from vc.scenario.quantities import NameResolver, Quantity, QuantityKind
 from vc.scenario.values import ExpectedValue, ExpectedValueError, parse_expected
+from vc.scenario.variants import check_file
 
 TOP_KEYS = ("name", "description", "machine", "plc", "link", "machine_data", "plc_parameters", "timeout",
             "invariants", "steps")
@@ -107,28 +117,45 @@ def default_catalog() -> Catalog:
 
 
 def load_scenario(path: str, known_programs: Collection[str], *, catalog: Catalog | None = None,
-                  machine_loader: MachineLoader | None = None) -> Scenario:
-    """Load and check one scenario file; raises :class:`SourceError` with every problem."""
-    return load_scenarios([path], known_programs, catalog=catalog, machine_loader=machine_loader)[0]
+                  machine_loader: MachineLoader | None = None, variant: int | None = None) -> Scenario:
+    """Load and check one scenario file (``variant``: only that variant of its matrix); raises
+    :class:`SourceError` with every problem."""
+    return load_scenarios([path], known_programs, catalog=catalog, machine_loader=machine_loader,
+                          variant=variant)[0]
 
 
 def load_scenarios(paths: Sequence[str], known_programs: Collection[str], *, catalog: Catalog | None = None,
-                   machine_loader: MachineLoader | None = None) -> list[Scenario]:
+                   machine_loader: MachineLoader | None = None, variant: int | None = None) -> list[Scenario]:
     """Load every scenario of ``paths`` (files, or directories searched recursively for ``*.yaml``
-    outside directories named ``machines``).  Raises one :class:`SourceError` for all files."""
+    outside directories named ``machines``), each variant of a ``vary:`` matrix and of a campaign
+    file a scenario of its own (:mod:`vc.scenario.variants`).  Raises one :class:`SourceError`
+    for all files.  ``variant``: only the variant at that position of each file's matrix."""
     files, problems = scenario_files(paths)
     machines = _Machines(machine_loader or default_machine_loader)
     collected = Problems()
     collected.extend(problems)
     scenarios: list[Scenario] = []
+
+    def check(path: str, document: LocatedMap, found: Problems) -> Scenario | None:
+        return _ScenarioChecker(path, known_programs, catalog, machines, found).check(document)
+
     for file in files:
-        checker = _ScenarioChecker(file, known_programs, catalog, machines, collected)
-        scenario = checker.check()
-        if scenario is not None:
-            scenarios.append(scenario)
+        scenarios += check_file(file, _read_scenario, check, collected, only=variant)
     if collected:
         raise SourceError(sorted(set(collected.items)))
     return scenarios
+
+
+def _read_scenario(path: str, problems: Problems) -> LocatedMap | None:
+    document, parse_problems = load_file(path)
+    problems.extend(parse_problems)
+    if document is None:
+        return None
+    if not isinstance(document, LocatedMap):
+        problems.add(Mark(path, 1, 1),
+                     "a scenario is a mapping with name, machine, plc and steps (see docs/scenarios.md)")
+        return None
+    return document
 
 
 def scenario_files(paths: Iterable[str]) -> tuple[list[str], list[Problem]]:
@@ -154,25 +181,41 @@ def scenario_files(paths: Iterable[str]) -> tuple[list[str], list[Problem]]:
 
 
 class _Machines:
-    """Loads each machine file once per run (unless a scenario overrides machine data)."""
+    """Loads each machine file once per run, and once per distinct set of overrides of a scenario
+    file (the variants of a matrix share them); expands the catalogue once per interface layout."""
 
     def __init__(self, loader: MachineLoader):
         self.loader = loader
-        self._plain: dict[str, MachineConfig | SourceError] = {}
+        self._loaded: dict[tuple[str, str, object], MachineConfig | SourceError] = {}
+        self._expanded: dict[tuple[int, InterfaceLayout], ExpandedCatalog] = {}
 
     def load(self, path: str, overrides: LocatedMap | None, overrides_file: str) -> MachineConfig:
-        if overrides:
-            return self.loader(path, overrides, overrides_file)
-        key = os.path.abspath(path)
-        if key not in self._plain:
+        # the overrides' problems carry the scenario file's marks: kept per scenario file
+        key = (os.path.abspath(path), overrides_file if overrides else "", _plain(overrides) if overrides else None)
+        if key not in self._loaded:
             try:
-                self._plain[key] = self.loader(path, None, "")
+                self._loaded[key] = self.loader(path, overrides or None, overrides_file)
             except SourceError as error:
-                self._plain[key] = error
-        result = self._plain[key]
+                self._loaded[key] = error
+        result = self._loaded[key]
         if isinstance(result, SourceError):
             raise result
         return result
+
+    def expanded(self, catalog: Catalog, layout: InterfaceLayout) -> ExpandedCatalog:
+        key = (id(catalog), layout)
+        if key not in self._expanded:
+            self._expanded[key] = expand(catalog, layout)
+        return self._expanded[key]
+
+
+def _plain(value: object) -> object:
+    """A hashable copy of a YAML value: what decides the machine an override set gives."""
+    if isinstance(value, dict):
+        return tuple((key, _plain(item)) for key, item in value.items())
+    if isinstance(value, list):
+        return tuple(_plain(item) for item in value)
+    return (type(value).__name__, value)
 
 
 # ---------------------------------------------------------------------------------- checker
@@ -213,22 +256,15 @@ class _ScenarioChecker:
         self.plc = NO_PLC
         self.link: str | None = None
         self.forced: set[str] = set()
+        self.sources = [path]  # the files this scenario reads: what travels with it to another machine
 
     def add(self, mark: Mark, message: str) -> None:
         self.problems.add(mark, message)
 
     # -- top level -------------------------------------------------------------------------
 
-    def check(self) -> Scenario | None:
+    def check(self, document: LocatedMap) -> Scenario | None:
         problems_before = len(self.problems.items)
-        document, parse_problems = load_file(self.path)
-        self.problems.extend(parse_problems)
-        if document is None:
-            return None
-        if not isinstance(document, LocatedMap):
-            self.add(Mark(self.path, 1, 1),
-                     "a scenario is a mapping with name, machine, plc and steps (see docs/scenarios.md)")
-            return None
         self.check_keys(document, TOP_KEYS, REQUIRED_TOP_KEYS, "the scenario")
         name = self.text(document, "name")
         description = self.text(document, "description") if "description" in document else ""
@@ -247,6 +283,7 @@ class _ScenarioChecker:
             name=name, description=description, path=self.path, machine_file=machine_file,
             machine=self.machine, catalog=self.resolver.catalog, plc=self.plc, timeout=timeout,
             invariants=tuple(invariants), steps=tuple(steps), mark=document.mark, link=self.link,
+            sources=tuple(dict.fromkeys(self.sources)),
         )
 
     def check_keys(self, mapping: LocatedMap, allowed: Sequence[str], required: Sequence[str],
@@ -316,6 +353,7 @@ class _ScenarioChecker:
         if not os.path.isfile(machine_file):
             self.add(mark, f"machine file '{value}' not found{_looked_for(value, machine_file)}")
             return machine_file
+        self.sources.append(machine_file)
         try:
             self.machine = self.machines.load(machine_file, overrides or None, self.path)
         except SourceError as error:
@@ -338,7 +376,7 @@ class _ScenarioChecker:
                          " parameters, e.g. {referencing_order: [[Z1], [X1]]}")
         catalog = self.catalog if self.catalog is not None else default_catalog()
         machine = self.machine
-        self.resolver = NameResolver(expand(catalog, machine.layout), machine.plant_io,
+        self.resolver = NameResolver(self.machines.expanded(catalog, machine.layout), machine.plant_io,
                                      (axis.name for axis in machine.axes),
                                      (channel.name for channel in machine.channels), link=self.link == LINK_CAN,
                                      dc_link=machine.dc_link is not None)
@@ -511,6 +549,7 @@ class _ScenarioChecker:
             if not file:
                 return None
             location = os.path.normpath(os.path.join(self.directory, file))
+            self.sources.append(location)
             try:
                 text = Path(location).read_text(encoding="utf-8")
             except OSError as error:
