@@ -243,10 +243,11 @@ def run_on_cluster(scenarios: Sequence[Scenario], settings: RunSettings, cluster
             run.submit_s = wallclock.perf_counter() - began
             in_order = InOrder(scenarios, observer)
             trace_dir = Path(settings.trace_dir) if settings.trace_dir is not None else None
-            for future in as_completed(futures):
+            # the results are fetched by the client's event loop as they come, not one call per future
+            for future, value in as_completed(futures, with_results=True, raise_errors=False):
                 handling = wallclock.perf_counter()
                 position = futures.pop(future)
-                outcome = _outcome_of(future, position)
+                outcome = _outcome_of(value, position)
                 future.release()
                 result = outcome.result_for(scenarios[position])
                 if outcome.recording is not None:
@@ -274,17 +275,19 @@ def run_on_cluster(scenarios: Sequence[Scenario], settings: RunSettings, cluster
     return run
 
 
-def _outcome_of(future: Any, position: int) -> ScenarioOutcome:
+def _outcome_of(value: Any, position: int) -> ScenarioOutcome:
+    """The task's outcome; for a task that failed, Dask's (type, exception, traceback)."""
     from distributed import KilledWorker
 
-    try:
-        outcome: ScenarioOutcome = future.result()
-        return outcome
-    except KilledWorker as error:
+    if isinstance(value, ScenarioOutcome):
+        return value
+    error = value[1] if isinstance(value, tuple) and len(value) == 3 else value
+    if isinstance(error, KilledWorker):
         return ScenarioOutcome(position, False, error=f"the workers running this scenario died again and again:"
                                                       f" {error}")
-    except Exception:  # the task could not run or its outcome could not come back
-        return ScenarioOutcome(position, False, error=traceback.format_exc())
+    if isinstance(error, BaseException):  # the task could not run, or its outcome could not come back
+        return ScenarioOutcome(position, False, error="".join(traceback.format_exception(error)))
+    return ScenarioOutcome(position, False, error=f"the cluster gave no outcome for this scenario: {value!r}")
 
 
 class _Losses:

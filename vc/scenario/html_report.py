@@ -32,7 +32,7 @@ from pathlib import Path
 from vc.scenario.durations import format_seconds
 from vc.scenario.model import Scenario, Variant
 from vc.scenario.report import failure_location, failure_text
-from vc.scenario.runner import ScenarioResult, file_stem
+from vc.scenario.runner import ScenarioResult, trace_names
 from vc.scenario.timing import TimingDiagram, timing_diagram
 
 PAGE = "index.html"
@@ -125,7 +125,7 @@ class HtmlReport:
 
     def _draw(self, jobs: int) -> None:
         drawn = [entry for entry in self.entries if entry.diagram is not None]
-        names = _unique_names([entry.scenario for entry in drawn])
+        names = trace_names([entry.scenario for entry in drawn])
         targets = [self.directory / DIAGRAMS / f"{name}.{self.image_format}" for name in names]
         jobs = max(1, min(jobs, len(drawn) // 4))
         if jobs > 1:
@@ -261,16 +261,6 @@ def _save(diagram: TimingDiagram | None, target: Path) -> tuple[int, int]:
 
     assert diagram is not None
     return save(diagram, target)
-
-
-def _unique_names(scenarios: Sequence[Scenario]) -> list[str]:
-    names: list[str] = []
-    used: dict[str, int] = {}
-    for scenario in scenarios:
-        stem = file_stem(scenario)
-        used[stem] = used.get(stem, 0) + 1
-        names.append(stem if used[stem] == 1 else f"{stem}-{used[stem]}")
-    return names
 
 
 def _matrices_of(entries: Sequence[_Entry]) -> list[_Matrix]:

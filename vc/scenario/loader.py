@@ -191,7 +191,7 @@ class _Machines:
 
     def load(self, path: str, overrides: LocatedMap | None, overrides_file: str) -> MachineConfig:
         # the overrides' problems carry the scenario file's marks: kept per scenario file
-        key = (os.path.abspath(path), overrides_file if overrides else "", _plain(overrides) if overrides else None)
+        key = machine_key(path, overrides, overrides_file)
         if key not in self._loaded:
             try:
                 self._loaded[key] = self.loader(path, overrides or None, overrides_file)
@@ -209,8 +209,14 @@ class _Machines:
         return self._expanded[key]
 
 
+def machine_key(path: str, overrides: LocatedMap | None, overrides_file: str) -> tuple[str, str, object]:
+    """What decides the machine a load gives: the file, and the overrides with the scenario file
+    whose marks their problems carry."""
+    return os.path.abspath(path), overrides_file if overrides else "", _plain(overrides) if overrides else None
+
+
 def _plain(value: object) -> object:
-    """A hashable copy of a YAML value: what decides the machine an override set gives."""
+    """A hashable copy of a YAML value."""
     if isinstance(value, dict):
         return tuple((key, _plain(item)) for key, item in value.items())
     if isinstance(value, list):

@@ -22,6 +22,7 @@ import importlib
 import os
 import socket
 import time as wallclock
+from collections import OrderedDict
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from functools import cache
@@ -30,7 +31,7 @@ from pathlib import Path
 from vc.config.model import MachineConfig
 from vc.located_yaml import LocatedMap, Mark, SourceError
 from vc.scenario.golden import GoldenCheck
-from vc.scenario.loader import MachineLoader, default_machine_loader, load_scenario
+from vc.scenario.loader import MachineLoader, default_machine_loader, load_scenario, machine_key
 from vc.scenario.model import Scenario
 from vc.scenario.runner import Failure, RunObserver, ScenarioResult, SignalTrail, run_one
 from vc.scenario.target import ScenarioTarget
@@ -142,19 +143,24 @@ class ScenarioOutcome:
 
 
 class _MachinesOfThisProcess:
-    """A machine loader that keeps each machine file (without overrides) for the process's life:
-    the worker checks each machine once, not once per scenario."""
+    """A machine loader that keeps the machines it loaded for the process's life: the worker checks
+    each machine file once, and each set of a matrix's overrides once (the most recent ones)."""
+
+    KEPT_WITH_OVERRIDES = 32
 
     def __init__(self, loader: MachineLoader = default_machine_loader):
         self.loader = loader
-        self.loaded: dict[str, MachineConfig] = {}
+        self.loaded: OrderedDict[tuple[str, str, object], MachineConfig] = OrderedDict()
 
     def __call__(self, path: str, overrides: LocatedMap | None, overrides_file: str) -> MachineConfig:
-        if overrides:
-            return self.loader(path, overrides, overrides_file)
-        if path not in self.loaded:
-            self.loaded[path] = self.loader(path, overrides, overrides_file)
-        return self.loaded[path]
+        key = machine_key(path, overrides, overrides_file)
+        if key not in self.loaded:
+            self.loaded[key] = self.loader(path, overrides, overrides_file)
+            if overrides and sum(1 for kept in self.loaded if kept[2] is not None) > self.KEPT_WITH_OVERRIDES:
+                oldest = next(kept for kept in self.loaded if kept[2] is not None)
+                del self.loaded[oldest]
+        self.loaded.move_to_end(key)
+        return self.loaded[key]
 
 
 class ScenarioWorker:
