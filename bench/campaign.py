@@ -206,8 +206,10 @@ def projection(serial: Figures, cluster: Figures, null_rate: float, machines: in
     rate = min(workers_rate, bound)
     limit = "the workers" if workers_rate < bound else \
         ("the scheduler (tasks per second)" if null_rate < client_rate else "the client (outcomes per second)")
+    limit += f" (workers {workers_rate:.0f}/s, scheduler and client {bound:.0f}/s)"
     return {"machines": machines, "workers": machines * cores, "variants_per_s": rate, "wall_s": variants / rate,
-            "limited_by": limit, "speed_up": rate / serial.rate, "per_task_s": per_task_s}
+            "limited_by": limit, "speed_up": rate / serial.rate, "per_task_s": per_task_s,
+            "workers_rate": workers_rate, "bound_rate": bound}
 
 
 def main(argv: Sequence[str] | None = None) -> int:
