@@ -137,13 +137,24 @@ def _locator(files: Bundle | SharedFiles) -> Callable[[str], str]:
 def _unpack(bundle: Bundle) -> str:
     """The bundle's files under a directory of this process, at ``directory + absolute client path``:
     relative references between them (a scenario's ``../machines/x.yaml``) still hold."""
-    root = tempfile.mkdtemp(prefix="vc-files-")
+    root = tempfile.mkdtemp(prefix="vc-files-", dir=_scratch_space())
     atexit.register(shutil.rmtree, root, True)
     for path, content in bundle.files:
         target = Path(root + os.path.normpath(os.path.join(bundle.cwd, path)))
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_bytes(content)
     return root
+
+
+def _scratch_space() -> str | None:
+    """The Dask worker's own directory, which Dask removes with the worker (and, after a worker was
+    killed, when the next one starts on the machine); None outside a worker: the system's temp."""
+    try:
+        from distributed import get_worker
+
+        return str(get_worker().local_directory)
+    except (ImportError, ValueError):
+        return None
 
 
 # ---------------------------------------------------------------------------------- worker
