@@ -1,8 +1,9 @@
 """The ``vc`` command line: run scenarios, print the signal map, measure the speed.
 
-    vc run PATH... [-j N] [--junit FILE] [--trace-dir DIR] [--golden DIR [--update-golden]]
-           [--link inprocess|modbus|can [--can-bus BUS]] [--coverage FILE]
-                                                      run scenario files or directories
+    vc run PATH... [-j N | --cluster ADDRESS|local:N [--cluster-files send|shared]] [--junit FILE]
+           [--trace-dir DIR] [--report DIR] [--golden DIR [--update-golden]] [--link inprocess|modbus|can
+           [--can-bus BUS]] [--coverage FILE]          run scenario files, campaign files or directories
+    vc run --plot SCENARIO [--plot-to FILE]           one scenario's timing diagram
     vc coverage report FILE... [--json OUT] [--html OUT] [--fail-under PCT] [--fail-under-function NAME=PCT]
                                                       the interface coverage of runs (docs/coverage.md)
     vc map --machine M.yaml [--format md|csv|json|dbc|guide]
@@ -311,6 +312,20 @@ def _run(arguments: argparse.Namespace) -> int:
     if arguments.link != "inprocess" and arguments.jobs not in (None, 1):
         print(f"vc run: -j runs scenarios in process; with --link {arguments.link} they run one after another"
               " behind one PLC process", file=sys.stderr)
+    if arguments.cluster is not None and (arguments.link != "inprocess" or arguments.jobs is not None):
+        print("vc run: --cluster runs the scenarios on the cluster's workers, with the PLC in process: it takes"
+              " neither -j nor --link", file=sys.stderr)
+        return EXIT_PROBLEMS
+    if arguments.plot is not None:
+        from vc.harness.scenarios import plot_scenario
+
+        if arguments.paths:
+            print("vc run --plot SCENARIO runs that one scenario; leave out the other paths", file=sys.stderr)
+            return EXIT_PROBLEMS
+        return plot_scenario(arguments.plot, arguments.plot_to)
+    if not arguments.paths:
+        print("vc run: name scenario files or directories (or --plot SCENARIO)", file=sys.stderr)
+        return EXIT_PROBLEMS
     collector = None
     if arguments.coverage is not None:
         from vc.coverage.collector import CoverageCollector
@@ -319,7 +334,8 @@ def _run(arguments: argparse.Namespace) -> int:
     try:
         code = run_scenario_files(arguments.paths, junit=arguments.junit, trace_dir=arguments.trace_dir,
                                   golden=arguments.golden, update_golden=arguments.update_golden, link=arguments.link,
-                                  can_bus=arguments.can_bus, jobs=arguments.jobs,
+                                  can_bus=arguments.can_bus, jobs=arguments.jobs, cluster=arguments.cluster,
+                                  cluster_files=arguments.cluster_files, report_dir=arguments.report,
                                   observe=collector.observe if collector else None)
     except LinkError as error:
         print(f"vc run: {error}", file=sys.stderr)
@@ -435,9 +451,22 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True)
 
     run = commands.add_parser("run", help="run scenarios with the built-in PLC")
-    run.add_argument("paths", nargs="+", help="scenario files or directories (searched recursively)")
+    run.add_argument("paths", nargs="*", help="scenario files, campaign files or directories (searched recursively)")
     run.add_argument("--junit", metavar="FILE", help="write a JUnit XML report")
-    run.add_argument("--trace-dir", metavar="DIR", help="write a CSV and a VCD trace per scenario")
+    run.add_argument("--trace-dir", metavar="DIR",
+                     help="write a CSV and a VCD trace and a GTKWave save file (.gtkw) per scenario")
+    run.add_argument("--report", metavar="DIR",
+                     help="write an HTML report with a timing diagram per scenario to DIR/index.html (needs the report"
+                          " extra: matplotlib)")
+    run.add_argument("--plot", metavar="SCENARIO",
+                     help="run one scenario (FILE, or a variant FILE[ARGUMENTS]) and show its timing diagram")
+    run.add_argument("--plot-to", metavar="FILE", help="with --plot: write the diagram to FILE (.png or .svg)")
+    run.add_argument("--cluster", metavar="ADDRESS",
+                     help="run on a Dask cluster: a scheduler address (dask scheduler / dask worker) or local:N for a"
+                          " LocalCluster of N worker processes (needs the cluster extra)")
+    run.add_argument("--cluster-files", choices=("send", "shared"), default="send",
+                     help="with --cluster: send the scenario, machine and program files to the workers (default), or"
+                          " let them read the files and write the traces at the same paths (a shared file system)")
     run.add_argument("--golden", metavar="DIR",
                      help="compare each scenario with its golden trace in DIR (regression check)")
     run.add_argument("--update-golden", action="store_true", help="write the golden traces of --golden DIR anew")

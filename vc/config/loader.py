@@ -80,7 +80,9 @@ is returned.  Pure apart from reading the one file.
 from __future__ import annotations
 
 import dataclasses
+import os
 import re
+from collections import OrderedDict
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -185,7 +187,7 @@ def load_machine(path: str, overrides: LocatedMap | None = None, overrides_file:
     (an override mapping built in code); the marks of a located mapping are used otherwise.
     Raises :class:`SourceError` listing every problem of both.
     """
-    document, parse_problems = load_file(path)
+    document, parse_problems = _parsed(path)
     return _machine_of(document, parse_problems, path, overrides, overrides_file)
 
 
@@ -211,6 +213,26 @@ def _machine_of(document: Any, parse_problems: list[Problem], path: str, overrid
     problems.raise_if_any()
     assert config is not None  # build() returns None only together with problems
     return config
+
+
+_PARSED: OrderedDict[tuple[str, int, int, int], tuple[Any, list[Problem]]] = OrderedDict()
+_PARSED_FILES = 16
+
+
+def _parsed(path: str) -> tuple[Any, list[Problem]]:
+    """The parsed machine file, parsed once while the file stays as it is: the variants of a
+    scenario matrix load one machine file with hundreds of override sets (the reader only reads it)."""
+    try:
+        status = os.stat(path)
+    except OSError:
+        return load_file(path)  # it reports the file it cannot read
+    key = (os.path.abspath(path), status.st_ino, status.st_mtime_ns, status.st_size)
+    if key not in _PARSED:
+        _PARSED[key] = load_file(path)
+        if len(_PARSED) > _PARSED_FILES:
+            _PARSED.popitem(last=False)
+    _PARSED.move_to_end(key)
+    return _PARSED[key]
 
 
 # ------------------------------------------------------------------------------ instances

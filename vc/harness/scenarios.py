@@ -6,7 +6,8 @@ from collections.abc import Callable, Sequence
 
 from interfaces.links.inprocess import plc_programs
 from vc.harness.simulation import Simulation
-from vc.scenario.command import run_command
+from vc.scenario.cluster import ClusterSettings
+from vc.scenario.command import plot_command, run_command
 from vc.scenario.model import LINK_CAN, Scenario
 from vc.scenario.target import ScenarioTarget
 from vc_build import status as build_status
@@ -28,25 +29,29 @@ def simulation_for(scenario: Scenario) -> Simulation:
 
 def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_dir: str | None = None,
                        golden: str | None = None, update_golden: bool = False, link: str = "inprocess",
-                       can_bus: str | None = None, jobs: int | None = None, observe: Observe | None = None) -> int:
+                       can_bus: str | None = None, jobs: int | None = None, observe: Observe | None = None,
+                       cluster: str | None = None, cluster_files: str = "send", report_dir: str | None = None) -> int:
     """``link``: ``inprocess`` runs the PLC programs in lockstep in this process, or in ``jobs``
-    worker processes (default one per core); ``modbus`` runs them in a ``python -m plc_stub``
+    worker processes (default one per core), or on the Dask ``cluster`` (an address or local:N;
+    ``cluster_files``: send or shared); ``modbus`` runs them in a ``python -m plc_stub``
     process over a lockstep Modbus TCP link, ``can`` over a lockstep CAN link on ``can_bus``
     (default: a UDP multicast channel of this run): both with one PLC process, one scenario
     after the other.  A scenario with an external PLC (``plc: awlsim:FILE``) runs against that
     PLC in its own process, in every run.  ``observe`` wraps the run's factory of simulations
-    (the interface coverage observes each one, in this process: such a run has no workers)."""
+    (the interface coverage observes each one, in this process: such a run has no workers).
+    ``report_dir`` gets the HTML report with the timing diagrams."""
     from vc.harness.external_plc import ExternalPlcs
 
     build = build_status().describe()
 
-    def run(make_target: TargetFactory, workers: int | None = 1) -> int:
+    def run(make_target: TargetFactory, workers: int | None = 1, on: ClusterSettings | None = None) -> int:
         with ExternalPlcs() as external:  # scenarios with plc: awlsim:FILE, whatever the link
             wrapped = external.wrap(make_target)
             target_factory: Callable[[Scenario], ScenarioTarget] = wrapped if observe is None else observe(wrapped)
             return run_command(paths, target_factory, plc_programs(), junit=junit, trace_dir=trace_dir,
                                golden=golden, update_golden=update_golden,
-                               jobs=workers if observe is None else 1, build=build)
+                               jobs=workers if observe is None else 1, build=build,
+                               cluster=on if observe is None else None, report_dir=report_dir)
 
     if link == "modbus":
         from vc.harness.external_plc import PlcProcess
@@ -59,4 +64,9 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
 
         with CanPlcProcess(bus=BusSpec.parse(can_bus) if can_bus else None) as can_process:
             return run(can_process.target_factory())
-    return run(simulation_for, jobs)
+    return run(simulation_for, jobs, ClusterSettings(cluster, cluster_files) if cluster else None)
+
+
+def plot_scenario(spec: str, output: str | None = None) -> int:
+    """``vc run --plot SCENARIO``: one scenario in this process, its timing diagram shown or written."""
+    return plot_command(spec, simulation_for, plc_programs().keys(), output=output)

@@ -1,25 +1,33 @@
-"""``vc run PATH... [-j N] [--junit FILE] [--trace-dir DIR]`` as one function the CLI calls.
+"""``vc run PATH... [-j N | --cluster ADDRESS] [--junit FILE] [--trace-dir DIR] [--report DIR]`` and
+``vc run --plot SCENARIO`` as functions the CLI calls.
 
 Exit codes: 0 every scenario passed, 1 a scenario failed (or the harness could not run it),
-2 a file has problems and nothing ran, 130 the user stopped the run (Ctrl-C).
+2 a file has problems and nothing ran (or the cluster cannot be used), 130 the user stopped the
+run (Ctrl-C).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import os
+import re
+import sys
+import time as wallclock
+from collections.abc import Callable, Collection, Sequence
 from pathlib import Path
 
 from rich.console import Console
 
 from interfaces.signals import Catalog
 from vc.located_yaml import SourceError
+from vc.scenario.cluster import ClusterError, ClusterSettings, run_on_cluster
 from vc.scenario.golden import GoldenCheck
 from vc.scenario.loader import MachineLoader, Programs, load_scenarios
 from vc.scenario.model import Scenario
 from vc.scenario.parallel import RunSettings, jobs_for, run_parallel
 from vc.scenario.report import ConsoleReport, write_junit
-from vc.scenario.runner import run_scenarios
+from vc.scenario.runner import RunObserver, ScenarioResult, file_stem, run_one, run_scenarios
 from vc.scenario.target import ScenarioTarget
+from vc.scenario.tasks import SEND_DIAGRAM, SEND_NOTHING
 
 EXIT_PASSED = 0
 EXIT_FAILED = 1
@@ -27,21 +35,49 @@ EXIT_PROBLEMS = 2
 EXIT_INTERRUPTED = 130  # as a shell reports a command ended by SIGINT
 
 
+class _Observers:
+    """Tells every observer; then lets the result's recording go (a campaign of thousands of
+    variants would otherwise keep every recording until the end)."""
+
+    def __init__(self, *observers: RunObserver):
+        self.observers = observers
+
+    def scenario_started(self, scenario: Scenario, position: int, total: int) -> None:
+        for observer in self.observers:
+            observer.scenario_started(scenario, position, total)
+
+    def scenario_progress(self, scenario: Scenario, simulated_s: float) -> None:
+        for observer in self.observers:
+            observer.scenario_progress(scenario, simulated_s)
+
+    def scenario_finished(self, result: ScenarioResult) -> None:
+        for observer in self.observers:
+            observer.scenario_finished(result)
+        result.recorder = None
+
+
 def run_command(paths: Sequence[str], make_target: Callable[[Scenario], ScenarioTarget],
                 known_programs: Programs, *, junit: str | Path | None = None,
                 trace_dir: str | Path | None = None, console: Console | None = None,
                 catalog: Catalog | None = None, machine_loader: MachineLoader | None = None,
                 golden: str | Path | None = None, update_golden: bool = False, jobs: int | None = 1,
-                build: str = "") -> int:
+                build: str = "", cluster: ClusterSettings | None = None,
+                report_dir: str | Path | None = None) -> int:
     """Check every scenario of ``paths``, run them if all are sound, report; return the exit code.
 
     With ``golden`` each passed scenario is compared with its golden trace in that directory
-    (``update_golden`` writes the traces instead).  ``jobs`` worker processes run the files
-    (None: one per core; 1: in this process); a run with its own ``catalog`` or
-    ``machine_loader``, or with a scenario of an external PLC, stays in this process.  ``build``
-    names the build that runs (printed first).
+    (``update_golden`` writes the traces instead).  ``jobs`` worker processes run the scenarios
+    (None: one per core; 1: in this process); ``cluster`` runs them on a Dask cluster instead
+    (:mod:`vc.scenario.cluster`).  A run with its own ``catalog`` or ``machine_loader``, or with a
+    scenario of an external PLC, stays in this process.  ``report_dir`` gets the HTML report with timing diagrams.
+    ``build`` names the build that runs (printed first).
     """
     report = ConsoleReport(console)
+    began = wallclock.perf_counter()
+
+    def say(text: str) -> None:  # plain text: a path or a message is never read as markup or emoji
+        report.console.print(text, highlight=False, soft_wrap=True, markup=False, emoji=False)
+
     try:
         scenarios = load_scenarios(paths, known_programs, catalog=catalog, machine_loader=machine_loader)
     except SourceError as error:
@@ -51,21 +87,40 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
         report.say("no scenario files found in " + ", ".join(paths))
         return EXIT_PROBLEMS
     if catalog is not None or machine_loader is not None:
-        jobs = 1
+        jobs, cluster = 1, None
     if any(scenario.external_plc is not None for scenario in scenarios):
-        jobs = 1  # each external PLC process belongs to the process that starts and ends it
+        jobs, cluster = 1, None  # each external PLC process belongs to the process that starts and ends it
+    html = None
+    if report_dir is not None:
+        from vc.scenario.html_report import HtmlReport
+
+        html = HtmlReport(report_dir)
+    observer = _Observers(report, html) if html is not None else _Observers(report)
     workers = jobs_for(jobs, scenarios)
     if build:
         across = f"{workers} worker processes" if workers > 1 else "in this process"
-        report.console.print(f"{len(scenarios)} scenarios, {across}, {build}", highlight=False, soft_wrap=True)
+        if cluster is not None:
+            across = f"on the Dask cluster {cluster.address}"
+        say(f"{len(scenarios)} scenarios, {across}, {build}")
+    check = GoldenCheck(Path(golden), update_golden) if golden is not None else None
+    settings = RunSettings(tuple(known_programs), make_target, None if trace_dir is None else str(trace_dir),
+                           None if golden is None else str(golden), update_golden,
+                           SEND_DIAGRAM if html is not None else SEND_NOTHING)
+    notes: list[str] = []
     try:
-        if workers > 1:
-            settings = RunSettings(tuple(known_programs), make_target, None if trace_dir is None else str(trace_dir),
-                                   None if golden is None else str(golden), update_golden)
-            results = run_parallel(scenarios, settings, workers, observer=report)
+        if cluster is not None:
+            run = run_on_cluster(scenarios, settings, cluster, check=check, report=html is not None,
+                                 observer=observer, say=say)
+            results = run.results
+            notes = run.rerun_lines(scenarios)
+        elif workers > 1:
+            results = run_parallel(scenarios, settings, workers, observer=observer)
         else:
-            check = GoldenCheck(Path(golden), update_golden) if golden is not None else None
-            results = run_scenarios(scenarios, make_target, observer=report, trace_dir=trace_dir, check=check)
+            results = run_scenarios(scenarios, make_target, observer=observer, trace_dir=trace_dir, check=check)
+    except ClusterError as error:
+        report.close()
+        say(f"vc run: {error}")
+        return EXIT_PROBLEMS
     except KeyboardInterrupt:
         report.close()
         report.console.print(f"interrupted after {report.done} of {len(scenarios)} scenarios", highlight=False)
@@ -73,6 +128,69 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
     finally:
         report.close()
     report.print_summary(results)
+    for note in notes:
+        say(f"re-run: {note}")
     if junit is not None:
         write_junit(results, junit)
+    if html is not None:
+        page = html.write(notes=notes, wall_s=wallclock.perf_counter() - began, build=build, jobs=workers)
+        say(f"report: {page}")
     return EXIT_PASSED if all(result.passed for result in results) else EXIT_FAILED
+
+
+_VARIANT = re.compile(r"^(?P<path>.+?)\[(?P<arguments>.*)\]$")
+
+
+def plot_command(spec: str, make_target: Callable[[Scenario], ScenarioTarget], known_programs: Collection[str],
+                 *, output: str | None = None, console: Console | None = None) -> int:
+    """``vc run --plot SCENARIO``: run one scenario in this process and show its timing diagram
+    (in a window; written to ``output``, or to ``<name>.png`` here when there is no display).
+
+    ``SCENARIO`` is a scenario file (its first variant, if it has a matrix) or a variant of it,
+    ``FILE[ARGUMENTS]`` with the bracket of the variant's id (``edges.yaml[X1.MD34050=1,...]``).
+    """
+    from vc.scenario.diagram import DiagramError, save, show
+    from vc.scenario.timing import timing_diagram
+
+    report = ConsoleReport(console)
+
+    def say(text: str) -> None:
+        report.console.print(text, highlight=False, soft_wrap=True, markup=False, emoji=False)
+
+    path, wanted = spec, None
+    match = _VARIANT.match(spec)
+    if match is not None and not os.path.isfile(spec):
+        path, wanted = match.group("path"), match.group("arguments")
+    try:
+        scenarios = load_scenarios([path], known_programs)
+    except SourceError as error:
+        report.print_problems(error)
+        return EXIT_PROBLEMS
+    chosen = [s for s in scenarios if wanted is None or (s.variant is not None and s.variant.arguments == wanted)]
+    if not chosen:
+        known = "; ".join(s.variant.arguments for s in scenarios[:5] if s.variant is not None)
+        say(f"--plot {spec}: no variant [{wanted}] in {path} (variants such as: {known})")
+        return EXIT_PROBLEMS
+    result = run_one(chosen[0], make_target)
+    report.print_result(result)
+    diagram = timing_diagram(result)
+    if diagram is None:
+        say("the scenario could not run: no diagram")
+        return EXIT_FAILED
+    try:
+        if output is None and _has_display():
+            show(diagram)
+        else:
+            target = Path(output or f"{file_stem(chosen[0])}.png")
+            save(diagram, target)
+            say(f"timing diagram: {target}")
+    except DiagramError as error:
+        say(f"vc run --plot: {error}")
+        return EXIT_PROBLEMS
+    return EXIT_PASSED if result.passed else EXIT_FAILED
+
+
+def _has_display() -> bool:
+    if sys.platform in ("darwin", "win32"):
+        return True
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))

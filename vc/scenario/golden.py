@@ -24,9 +24,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from vc.scenario.model import Scenario
 from vc.scenario.quantities import QuantityKind
-from vc.scenario.runner import Failure, ScenarioResult
-from vc.scenario.trace import Recorder
+from vc.scenario.runner import Failure, ScenarioResult, file_stem
+from vc.scenario.trace import Recording
 
 POSITION_TOLERANCE = 1e-3  # mm or degrees
 GOLDEN_QUANTITIES = ("couplingRelationError",)  # axis quantities kept when a scenario names them
@@ -64,7 +65,7 @@ class GoldenSummary:
         )
 
 
-def summarize(recorder: Recorder, alarm_numbers: Sequence[int]) -> GoldenSummary:
+def summarize(recorder: Recording, alarm_numbers: Sequence[int]) -> GoldenSummary:
     digital: dict[str, list[tuple[float, int]]] = {}
     positions: dict[str, tuple[float, float, float]] = {}
     quantities: dict[str, tuple[float, float, float]] = {}
@@ -141,6 +142,19 @@ def golden_path(golden_dir: str | Path, scenario_path: str) -> Path:
     return Path(golden_dir) / relative
 
 
+def golden_file(golden_dir: str | Path, scenario: Scenario) -> Path:
+    """Where a scenario's golden trace lies: :func:`golden_path`; a variant's beside it under its
+    id (``DIR/a/b[X1.MD34050=1].json``), a campaign's variants in a directory named after the
+    campaign file (campaigns/matrix.yaml: ``DIR/matrix/b[...].json``)."""
+    variant = scenario.variant
+    if variant is None:
+        return golden_path(golden_dir, scenario.path)
+    name = f"{file_stem(scenario)}.json"
+    if variant.origin == scenario.path:
+        return golden_path(golden_dir, scenario.path).with_name(name)
+    return golden_path(golden_dir, variant.origin).with_suffix("") / name
+
+
 def load(path: Path) -> GoldenSummary | None:
     if not path.exists():
         return None
@@ -167,8 +181,8 @@ class GoldenCheck:
         if not result.passed or recorder is None:
             return
         scenario = result.scenario
-        summary = summarize(recorder, [alarm.number for alarm in recorder.target.alarm_history()])
-        path = golden_path(self.directory, scenario.path)
+        summary = summarize(recorder, recorder.alarm_numbers())
+        path = golden_file(self.directory, scenario)
         if self.update:
             store(summary, path)
             return

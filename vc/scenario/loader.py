@@ -27,7 +27,16 @@ from typing import Any
 from interfaces.image import Value, value_range
 from interfaces.plant_io import Owner
 from interfaces.plc import PlcEnvironment, PlcFactory
-from interfaces.signals import HMI_INSTANCE, Catalog, Direction, SignalType, UnknownSignalError, expand
+from interfaces.signals import (
+    HMI_INSTANCE,
+    Catalog,
+    Direction,
+    ExpandedCatalog,
+    InterfaceLayout,
+    SignalType,
+    UnknownSignalError,
+    expand,
+)
 from vc.config.loader import load_machine
 from vc.config.machine_data import MdType
 from vc.config.md_dictionary import BY_NUMBER
@@ -72,6 +81,7 @@ from vc.scenario.model import (
 )
 from vc.scenario.quantities import NameResolver, Quantity, QuantityKind
 from vc.scenario.values import ExpectedValue, ExpectedValueError, parse_expected
+from vc.scenario.variants import check_file
 
 TOP_KEYS = ("name", "description", "machine", "plc", "link", "machine_data", "plc_parameters", "timeout",
             "invariants", "steps")
@@ -122,15 +132,19 @@ Programs = Collection[str] | Mapping[str, PlcFactory]
 
 
 def load_scenario(path: str, known_programs: Programs, *, catalog: Catalog | None = None,
-                  machine_loader: MachineLoader | None = None) -> Scenario:
-    """Load and check one scenario file; raises :class:`SourceError` with every problem."""
-    return load_scenarios([path], known_programs, catalog=catalog, machine_loader=machine_loader)[0]
+                  machine_loader: MachineLoader | None = None, variant: int | None = None) -> Scenario:
+    """Load and check one scenario file (``variant``: only that variant of its matrix); raises
+    :class:`SourceError` with every problem."""
+    return load_scenarios([path], known_programs, catalog=catalog, machine_loader=machine_loader,
+                          variant=variant)[0]
 
 
 def load_scenarios(paths: Sequence[str], known_programs: Programs, *, catalog: Catalog | None = None,
-                   machine_loader: MachineLoader | None = None) -> list[Scenario]:
+                   machine_loader: MachineLoader | None = None, variant: int | None = None) -> list[Scenario]:
     """Load every scenario of ``paths`` (files, or directories searched recursively for ``*.yaml``
-    outside directories named ``machines``).  Raises one :class:`SourceError` for all files.
+    outside directories named ``machines``), each variant of a ``vary:`` matrix and of a campaign
+    file a scenario of its own (:mod:`vc.scenario.variants`).  Raises one :class:`SourceError`
+    for all files.  ``variant``: only the variant at that position of each file's matrix.
 
     ``known_programs`` names the PLC programs a scenario may run; given as the registry
     (name -> factory), each scenario's program is also started once on its machine, to check
@@ -140,14 +154,27 @@ def load_scenarios(paths: Sequence[str], known_programs: Programs, *, catalog: C
     collected = Problems()
     collected.extend(problems)
     scenarios: list[Scenario] = []
+
+    def check(path: str, document: LocatedMap, found: Problems) -> Scenario | None:
+        return _ScenarioChecker(path, known_programs, catalog, machines, found).check(document)
+
     for file in files:
-        checker = _ScenarioChecker(file, known_programs, catalog, machines, collected)
-        scenario = checker.check()
-        if scenario is not None:
-            scenarios.append(scenario)
+        scenarios += check_file(file, _read_scenario, check, collected, only=variant)
     if collected:
         raise SourceError(sorted(set(collected.items)))
     return scenarios
+
+
+def _read_scenario(path: str, problems: Problems) -> LocatedMap | None:
+    document, parse_problems = load_file(path)
+    problems.extend(parse_problems)
+    if document is None:
+        return None
+    if not isinstance(document, LocatedMap):
+        problems.add(Mark(path, 1, 1),
+                     "a scenario is a mapping with name, machine, plc and steps (see docs/scenarios.md)")
+        return None
+    return document
 
 
 def scenario_files(paths: Iterable[str]) -> tuple[list[str], list[Problem]]:
@@ -173,25 +200,47 @@ def scenario_files(paths: Iterable[str]) -> tuple[list[str], list[Problem]]:
 
 
 class _Machines:
-    """Loads each machine file once per run (unless a scenario overrides machine data)."""
+    """Loads each machine file once per run, and once per distinct set of overrides of a scenario
+    file (the variants of a matrix share them); expands the catalogue once per interface layout."""
 
     def __init__(self, loader: MachineLoader):
         self.loader = loader
-        self._plain: dict[str, MachineConfig | SourceError] = {}
+        self._loaded: dict[tuple[str, str, object], MachineConfig | SourceError] = {}
+        self._expanded: dict[tuple[int, InterfaceLayout], ExpandedCatalog] = {}
 
     def load(self, path: str, overrides: LocatedMap | None, overrides_file: str) -> MachineConfig:
-        if overrides:
-            return self.loader(path, overrides, overrides_file)
-        key = os.path.abspath(path)
-        if key not in self._plain:
+        # the overrides' problems carry the scenario file's marks: kept per scenario file
+        key = machine_key(path, overrides, overrides_file)
+        if key not in self._loaded:
             try:
-                self._plain[key] = self.loader(path, None, "")
+                self._loaded[key] = self.loader(path, overrides or None, overrides_file)
             except SourceError as error:
-                self._plain[key] = error
-        result = self._plain[key]
+                self._loaded[key] = error
+        result = self._loaded[key]
         if isinstance(result, SourceError):
             raise result
         return result
+
+    def expanded(self, catalog: Catalog, layout: InterfaceLayout) -> ExpandedCatalog:
+        key = (id(catalog), layout)
+        if key not in self._expanded:
+            self._expanded[key] = expand(catalog, layout)
+        return self._expanded[key]
+
+
+def machine_key(path: str, overrides: LocatedMap | None, overrides_file: str) -> tuple[str, str, object]:
+    """What decides the machine a load gives: the file, and the overrides with the scenario file
+    whose marks their problems carry."""
+    return os.path.abspath(path), overrides_file if overrides else "", _plain(overrides) if overrides else None
+
+
+def _plain(value: object) -> object:
+    """A hashable copy of a YAML value."""
+    if isinstance(value, dict):
+        return tuple((key, _plain(item)) for key, item in value.items())
+    if isinstance(value, list):
+        return tuple(_plain(item) for item in value)
+    return (type(value).__name__, value)
 
 
 # ---------------------------------------------------------------------------------- checker
@@ -238,22 +287,15 @@ class _ScenarioChecker:
         self.link: str | None = None
         self.forced: set[str] = set()
         self.timeout = DEFAULT_TIMEOUT
+        self.sources = [path]  # the files this scenario reads: what travels with it to another machine
 
     def add(self, mark: Mark, message: str) -> None:
         self.problems.add(mark, message)
 
     # -- top level -------------------------------------------------------------------------
 
-    def check(self) -> Scenario | None:
+    def check(self, document: LocatedMap) -> Scenario | None:
         problems_before = len(self.problems.items)
-        document, parse_problems = load_file(self.path)
-        self.problems.extend(parse_problems)
-        if document is None:
-            return None
-        if not isinstance(document, LocatedMap):
-            self.add(Mark(self.path, 1, 1),
-                     "a scenario is a mapping with name, machine, plc and steps (see docs/scenarios.md)")
-            return None
         self.check_keys(document, TOP_KEYS, REQUIRED_TOP_KEYS, "the scenario")
         name = self.text(document, "name")
         description = self.text(document, "description") if "description" in document else ""
@@ -272,6 +314,7 @@ class _ScenarioChecker:
             name=name, description=description, path=self.path, machine_file=machine_file,
             machine=self.machine, catalog=self.resolver.catalog, plc=self.plc, timeout=self.timeout,
             invariants=tuple(invariants), steps=tuple(steps), mark=document.mark, link=self.link,
+            sources=tuple(dict.fromkeys(self.sources)),
         )
 
     def check_keys(self, mapping: LocatedMap, allowed: Sequence[str], required: Sequence[str],
@@ -361,6 +404,7 @@ class _ScenarioChecker:
                 "not found"
             self.add(mark, f"machine file '{value}' {what}{_looked_for(value, machine_file)}")
             return machine_file
+        self.sources.append(machine_file)
         try:
             self.machine = self.machines.load(machine_file, overrides or None, self.path)
         except SourceError as error:
@@ -383,7 +427,7 @@ class _ScenarioChecker:
                          " parameters, e.g. {referencing_order: [[Z1], [X1]]}")
         catalog = self.catalog if self.catalog is not None else default_catalog()
         machine = self.machine
-        self.resolver = NameResolver(expand(catalog, machine.layout), machine.plant_io,
+        self.resolver = NameResolver(self.machines.expanded(catalog, machine.layout), machine.plant_io,
                                      (axis.name for axis in machine.axes),
                                      (channel.name for channel in machine.channels), link=self.link == LINK_CAN,
                                      dc_link=machine.dc_link is not None)
@@ -577,6 +621,7 @@ class _ScenarioChecker:
             if not file:
                 return None
             location = os.path.normpath(os.path.join(self.directory, file))
+            self.sources.append(location)
             read, problems = read_source(location, f"program file '{file}'")
             if read is None:  # reported at the scenario's line, with where in the program file
                 where = problems[0].mark

@@ -253,6 +253,22 @@ class TurnHandwheels(Step):
 
 
 @dataclass(frozen=True, slots=True)
+class Variant:
+    """One combination of a ``vary:`` matrix (:mod:`vc.scenario.variants`)."""
+
+    origin: str  # the file that declares the matrix: the scenario file itself, or a campaign file
+    index: int  # the position in the origin's matrix, from 0 (counting on over a campaign's scenarios)
+    arguments: str  # what the id shows in brackets: "X1.MD34050=1,X1.plant.ref_cam=[250,260]"
+    values: tuple[tuple[str, str], ...]  # (varied key, value as shown), in the matrix's order
+    campaign: str = ""  # the campaign's name when a campaign file declares the matrix
+    first: bool = False  # the first variant of its scenario in the matrix
+
+    @property
+    def keys(self) -> tuple[str, ...]:
+        return tuple(key for key, _ in self.values)
+
+
+@dataclass(frozen=True, slots=True)
 class Invariant:
     condition: Expression
     mark: Mark
@@ -272,6 +288,8 @@ class Scenario:
     steps: tuple[Step, ...]
     mark: Mark = field(default_factory=lambda: Mark("", 1, 1))
     link: str | None = None  # LINK_CAN: the PLC program behind the CAN link; None: wherever the run puts it
+    variant: Variant | None = None  # the combination of a vary: matrix this scenario is (its name ends in [...])
+    sources: tuple[str, ...] = ()  # every file its check read: the scenario, a campaign, machine and program files
 
     @property
     def plc_program(self) -> str | None:

@@ -1,9 +1,10 @@
-"""``vc run -j N``: scenario files in worker processes, reported as the serial run reports them.
+"""``vc run -j N``: scenarios in worker processes, reported as the serial run reports them.
 
 Each worker process loads the catalogue and each machine file once (not once per scenario),
-then runs the scenario files it is given: it loads the file, runs it on a fresh target, writes
-its traces and compares it with its golden trace, all as :func:`~vc.scenario.runner.run_scenarios`
-does, and sends back a :class:`ScenarioOutcome`, a picklable result without the recorder.  The
+then runs the tasks it is given (:mod:`vc.scenario.tasks`: one scenario file, or one variant of
+a matrix): it loads the scenario, runs it on a fresh target, writes its traces and compares it
+with its golden trace, all as :func:`~vc.scenario.runner.run_scenarios` does, and sends back a
+:class:`~vc.scenario.tasks.ScenarioOutcome`, a picklable result without the recorder.  The
 parent puts the outcomes back in file order, so the console report, the JUnit file, the trace
 names and the exit code are those of a serial run; only the wall times differ.
 
@@ -20,21 +21,16 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
-import time as wallclock
 import traceback
-from collections.abc import Callable, Collection, Sequence
+from collections.abc import Collection, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import dataclass, field
-from pathlib import Path
 
-from vc.config.model import MachineConfig
-from vc.located_yaml import LocatedMap, Mark, SourceError
-from vc.scenario.golden import GoldenCheck
-from vc.scenario.loader import MachineLoader, default_machine_loader, load_scenario
 from vc.scenario.model import Scenario
-from vc.scenario.runner import Failure, RunObserver, ScenarioResult, SignalTrail, run_one, trace_names
-from vc.scenario.target import ScenarioTarget
+from vc.scenario.runner import RunObserver, ScenarioResult, trace_names
+from vc.scenario.tasks import InOrder, RunSettings, ScenarioOutcome, ScenarioTask, ScenarioWorker
+
+__all__ = ["MAX_ATTEMPTS", "RunSettings", "default_jobs", "jobs_for", "run_parallel"]
 
 
 def default_jobs() -> int:
@@ -45,115 +41,21 @@ def default_jobs() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-@dataclass(frozen=True, slots=True)
-class RunSettings:
-    """What every worker needs to run a scenario file exactly as the serial run would."""
-
-    known_programs: tuple[str, ...]
-    make_target: Callable[[Scenario], ScenarioTarget]  # a module-level function: it travels by name
-    trace_dir: str | None = None
-    golden: str | None = None
-    update_golden: bool = False
-
-
-@dataclass(frozen=True, slots=True)
-class ScenarioOutcome:
-    """A :class:`ScenarioResult` as it crosses the process boundary: the failing step by its
-    index in the scenario, no recorder (the traces are already written)."""
-
-    position: int
-    passed: bool
-    kind: str = ""  # the failure's kind; "" when it passed or the harness failed
-    step_index: int | None = None
-    mark: Mark | None = None
-    message: str = ""
-    cycle: int = 0
-    time_s: float = 0.0
-    history: tuple[SignalTrail, ...] = ()
-    error: str = ""
-    simulated_s: float = 0.0
-    wall_s: float = 0.0
-    cycles: int = 0
-    steps_done: int = 0
-    trace_files: tuple[str, ...] = field(default_factory=tuple)
-
-    @classmethod
-    def of(cls, position: int, result: ScenarioResult) -> ScenarioOutcome:
-        failure = result.failure
-        common = dict(position=position, passed=result.passed, error=result.error,
-                      simulated_s=result.simulated_s, wall_s=result.wall_s, cycles=result.cycles,
-                      steps_done=result.steps_done, trace_files=tuple(result.trace_files))
-        if failure is None:
-            return cls(**common)  # type: ignore[arg-type]
-        steps = result.scenario.steps
-        index = next((i for i, step in enumerate(steps) if step is failure.step), None)
-        return cls(kind=failure.kind, step_index=index, mark=failure.mark, message=failure.message,
-                   cycle=failure.cycle, time_s=failure.time_s, history=failure.history,
-                   **common)  # type: ignore[arg-type]
-
-    def result_for(self, scenario: Scenario) -> ScenarioResult:
-        failure = None
-        if self.kind:
-            step = scenario.steps[self.step_index] if self.step_index is not None else None
-            failure = Failure(self.kind, step, self.mark or scenario.mark, self.message, self.cycle, self.time_s,
-                              self.history)
-        return ScenarioResult(scenario, self.passed, failure, self.error, self.simulated_s, self.wall_s,
-                              self.cycles, self.steps_done, None, list(self.trace_files))
-
-
-class _MachinesOfThisProcess:
-    """A machine loader that keeps each machine file (without overrides) for the process's life:
-    the worker checks each machine once, not once per scenario."""
-
-    def __init__(self, loader: MachineLoader = default_machine_loader):
-        self.loader = loader
-        self.loaded: dict[str, MachineConfig] = {}
-
-    def __call__(self, path: str, overrides: LocatedMap | None, overrides_file: str) -> MachineConfig:
-        if overrides:
-            return self.loader(path, overrides, overrides_file)
-        if path not in self.loaded:
-            self.loaded[path] = self.loader(path, overrides, overrides_file)
-        return self.loaded[path]
-
-
-class _Worker:
-    """One worker process's state: the settings and the machines it has loaded."""
-
-    def __init__(self, settings: RunSettings):
-        self.settings = settings
-        self.machines = _MachinesOfThisProcess()
-        golden = settings.golden
-        self.check = GoldenCheck(Path(golden), settings.update_golden) if golden is not None else None
-
-    def run(self, position: int, path: str, trace_name: str) -> ScenarioOutcome:
-        began = wallclock.perf_counter()
-        try:
-            scenario = load_scenario(path, self.settings.known_programs, machine_loader=self.machines)
-        except SourceError as error:  # the file changed since the parent checked it
-            return ScenarioOutcome(position, False, error=f"{path} could not be loaded again:\n{error}",
-                                   wall_s=wallclock.perf_counter() - began)
-        trace_dir = self.settings.trace_dir
-        result = run_one(scenario, self.settings.make_target, trace_dir=Path(trace_dir) if trace_dir else None,
-                         trace_name=trace_name, check=self.check)
-        return ScenarioOutcome.of(position, result)
-
-
-_worker: _Worker | None = None  # this worker process's state, set by its initializer
+_worker: ScenarioWorker | None = None  # this worker process's state, set by its initializer
 
 
 def _start_worker(settings: RunSettings) -> None:
     global _worker  # the process is the worker: its state lives as long as it does
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
-    _worker = _Worker(settings)
+    _worker = ScenarioWorker(settings)
 
 
-def _run_in_worker(position: int, path: str, trace_name: str) -> ScenarioOutcome:
+def _run_in_worker(task: ScenarioTask) -> ScenarioOutcome:
     assert _worker is not None, "the worker's initializer did not run"
-    return _worker.run(position, path, trace_name)
+    return _worker.run(task)
 
 
-def _context() -> multiprocessing.context.BaseContext:
+def process_context() -> multiprocessing.context.BaseContext:
     methods = multiprocessing.get_all_start_methods()
     return multiprocessing.get_context("fork" if "fork" in methods else "spawn")
 
@@ -167,20 +69,18 @@ def run_parallel(scenarios: Sequence[Scenario], settings: RunSettings, jobs: int
     """
     names = trace_names(scenarios)
     total = len(scenarios)
-    results: list[ScenarioResult | None] = [None] * total
+    in_order = InOrder(scenarios, observer)
     attempts = [0] * total
     waiting = list(range(total))  # positions not yet handed to a pool
-    reported = 0
-    if observer is not None:
-        observer.scenario_started(scenarios[0], 0, total)
     while waiting:
-        pool = ProcessPoolExecutor(max_workers=min(jobs, len(waiting)), mp_context=_context(),
+        pool = ProcessPoolExecutor(max_workers=min(jobs, len(waiting)), mp_context=process_context(),
                                    initializer=_start_worker, initargs=(settings,))
         try:
             pending: dict[Future[ScenarioOutcome], int] = {}
             for position in waiting:
                 attempts[position] += 1
-                pending[pool.submit(_run_in_worker, position, scenarios[position].path, names[position])] = position
+                task = ScenarioTask.of(position, scenarios[position], names[position])
+                pending[pool.submit(_run_in_worker, task)] = position
             waiting = []
             while pending:
                 done, _ = wait(pending, return_when=FIRST_COMPLETED)
@@ -190,21 +90,13 @@ def run_parallel(scenarios: Sequence[Scenario], settings: RunSettings, jobs: int
                     if result is None:
                         waiting.append(position)  # its worker died: once more, in a new pool
                     else:
-                        results[position] = result
-                while reported < total and results[reported] is not None:
-                    finished = results[reported]
-                    assert finished is not None
-                    if observer is not None:
-                        observer.scenario_finished(finished)
-                    reported += 1
-                    if observer is not None and reported < total:
-                        observer.scenario_started(scenarios[reported], reported, total)
+                        in_order.put(position, result)
         except KeyboardInterrupt:
             _stop(pool)
             raise
         pool.shutdown(wait=True)
         waiting.sort()
-    return [result for result in results if result is not None]
+    return in_order.finished()
 
 
 MAX_ATTEMPTS = 2  # a scenario whose worker died twice is reported, not tried a third time

@@ -136,15 +136,25 @@ class NameResolver:
         return cached
 
     def _resolve(self, text: str) -> Quantity:
-        try:
-            return signal_quantity(self.catalog.resolve(text))
-        except UnknownSignalError as error:
-            catalog_error = error
+        head, _, tail = text.partition(".")
+        # the simulation's own quantities first: no catalogue symbol or plant I/O name has their
+        # form (those read X1.basic.in... and MCP.jog), and a catalogue miss costs a "did you
+        # mean" search of a millisecond
+        own = self._own_quantity(text, head, tail)
+        if own is not None:
+            return own
         try:
             return signal_quantity(self.plant_io.resolve(text))
         except UnknownSignalError as error:
             plant_error = error
-        head, _, tail = text.partition(".")
+        try:
+            return signal_quantity(self.catalog.resolve(text))
+        except UnknownSignalError as error:
+            catalog_error = error
+        raise UnknownSignalError(self._unknown_message(text, head, tail, catalog_error, plant_error))
+
+    def _own_quantity(self, text: str, head: str, tail: str) -> Quantity | None:
+        """An axis, channel, NC or link quantity, a machine datum or the time; None for other names."""
         if head in self.axes and tail in AXIS_QUANTITIES:
             return axis_quantity(head, tail)
         if head in self.channels and tail in CHANNEL_QUANTITIES:
@@ -164,7 +174,7 @@ class NameResolver:
             return self._machine_datum(text, head, int(datum.group(1)), datum.group(2))
         if text == TIME:
             return TIME_QUANTITY
-        raise UnknownSignalError(self._unknown_message(text, head, tail, catalog_error, plant_error))
+        return None
 
     def _machine_datum(self, text: str, instance: str, number: int, index_text: str | None) -> Quantity:
         md = BY_NUMBER.get(number)

@@ -12,6 +12,7 @@ Who builds the simulation is the caller's business: :func:`run_scenarios` takes 
 
 from __future__ import annotations
 
+import hashlib
 import re
 import time as wallclock
 import traceback
@@ -52,7 +53,7 @@ from vc.scenario.model import (
 )
 from vc.scenario.quantities import Quantity, QuantityKind
 from vc.scenario.target import ScenarioTarget
-from vc.scenario.trace import Recorder, write_csv, write_vcd
+from vc.scenario.trace import Recorder, Recording, write_traces
 from vc.scenario.values import format_value
 
 HISTORY_CHANGES = 10  # changes per name in a failure report
@@ -102,8 +103,9 @@ class ScenarioResult:
     wall_s: float = 0.0
     cycles: int = 0
     steps_done: int = 0
-    recorder: Recorder | None = None
+    recorder: Recording | None = None  # the live recorder, or a recording sent back by a worker
     trace_files: list[str] = field(default_factory=list)
+    step_cycles: tuple[int, ...] = ()  # the cycle each step began at (since the start), in step order
 
     @property
     def status(self) -> str:
@@ -476,16 +478,18 @@ def run_scenario(scenario: Scenario, target: ScenarioTarget, recorder: Recorder 
     recorder.watch(scenario.quantities)
     run = _Run(scenario, target, recorder, observer)
     failure = None
+    step_cycles: list[int] = []
     try:
         run.begin()
         for step in scenario.steps:
+            step_cycles.append(run.cycle)
             run.run_step(step)
     except _Stop as stop:
         failure = stop.failure
     return ScenarioResult(
         scenario=scenario, passed=failure is None, failure=failure, simulated_s=run.seconds(),
         wall_s=wallclock.perf_counter() - began, cycles=run.cycle, steps_done=run.steps_done,
-        recorder=recorder,
+        recorder=recorder, step_cycles=tuple(step_cycles),
     )
 
 
@@ -525,23 +529,44 @@ def run_one(scenario: Scenario, make_target: Callable[[Scenario], ScenarioTarget
     except Exception:
         result = ScenarioResult(scenario, passed=False, error=traceback.format_exc(),
                                 wall_s=wallclock.perf_counter() - began)
-    if trace_dir is not None and result.recorder is not None:
-        trace_dir.mkdir(parents=True, exist_ok=True)
-        csv_path, vcd_path = trace_dir / f"{trace_name}.csv", trace_dir / f"{trace_name}.vcd"
-        write_csv(result.recorder, csv_path)
-        write_vcd(result.recorder, vcd_path)
-        result.trace_files = [str(csv_path), str(vcd_path)]
-    if check is not None:
-        check(result)
+    finish(result, trace_dir, trace_name, check)
     return result
 
 
+def finish(result: ScenarioResult, trace_dir: Path | None, trace_name: str,
+           check: Callable[[ScenarioResult], None] | None) -> None:
+    """After the run: its traces written as ``trace_dir/trace_name.*`` (CSV, VCD, GTKWave save
+    file with the scenario's own names), then ``check`` (the golden comparison).  Where the run
+    happened, or where its recording was sent back to."""
+    if trace_dir is not None and result.recorder is not None:
+        result.trace_files = write_traces(result.recorder, result.scenario.quantities, trace_dir, trace_name,
+                                          result.scenario.name)
+    if check is not None:
+        check(result)
+
+
 def trace_names(scenarios: Sequence[Scenario]) -> list[str]:
-    """A file name (without suffix) per scenario: the file's stem, numbered when stems repeat."""
+    """A file name (without suffix) per scenario: :func:`file_stem`, numbered when stems repeat."""
     names: list[str] = []
     used: dict[str, int] = {}
     for scenario in scenarios:
-        stem = re.sub(r"[^A-Za-z0-9_.-]+", "_", Path(scenario.path).stem) or "scenario"
+        stem = file_stem(scenario)
         used[stem] = used.get(stem, 0) + 1
         names.append(stem if used[stem] == 1 else f"{stem}-{used[stem]}")
     return names
+
+
+FILE_STEM_LIMIT = 200  # characters of a trace or golden file's name: file systems allow 255 bytes
+
+
+def file_stem(scenario: Scenario) -> str:
+    """The scenario file's stem, a variant's values in brackets after it: ``edges[X1.MD34050=1]``."""
+    stem = re.sub(r"[^A-Za-z0-9_.-]+", "_", Path(scenario.path).stem) or "scenario"
+    if scenario.variant is None:
+        return stem
+    arguments = re.sub(r"[^A-Za-z0-9_.,=+\-\[\]{}]+", "_", scenario.variant.arguments)
+    name = f"{stem}[{arguments}]"
+    if len(name) > FILE_STEM_LIMIT:  # still unique: the digest of the whole id
+        digest = hashlib.sha1(scenario.variant.arguments.encode()).hexdigest()[:12]
+        name = f"{name[:FILE_STEM_LIMIT - 15]}~{digest}]"
+    return name

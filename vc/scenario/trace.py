@@ -29,14 +29,15 @@ import csv
 import heapq
 import time as wallclock
 from array import array
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol, runtime_checkable
 
 from interfaces.address import Address
 from interfaces.image import Value, decode
-from interfaces.signals import SignalRef, SignalType
+from interfaces.plant_io import PlantIoMap
+from interfaces.signals import ExpandedCatalog, SignalRef, SignalType
 from vc.scenario.model import EdgeKind
 from vc.scenario.quantities import Quantity, QuantityKind, axis_quantity, signal_quantity
 from vc.scenario.target import ScenarioTarget
@@ -93,24 +94,116 @@ class History:
         return len(self.cycles)
 
 
-class Recorder:
+@dataclass(frozen=True, slots=True)
+class RecordedData:
+    """A :class:`Recording` as plain data, for another process or machine: per name its cycles and
+    values as the bytes of their arrays.  The receiver names the quantities again
+    (:meth:`Recording.from_data`), from the scenario it has itself."""
+
+    ipo_cycle_us: int
+    alarm_numbers: tuple[int, ...]
+    histories: tuple[tuple[str, bytes, bytes], ...]  # (name, cycles: array("q"), values: array("d"))
+
+    @property
+    def size(self) -> int:
+        """Bytes of the arrays (what dominates the transfer)."""
+        return sum(len(cycles) + len(values) for _, cycles, values in self.histories)
+
+
+class Recording:
+    """What a run recorded: the history of every name, queried by the runner, the golden check
+    and the trace writers.  A plain Recording (no target) is what a worker's data becomes again."""
+
+    def __init__(self, ipo_cycle_us: int, histories: Iterable[History] = (), alarm_numbers: Iterable[int] = ()):
+        self.ipo_cycle_us = ipo_cycle_us
+        self._histories: dict[str, History] = {history.quantity.name: history for history in histories}
+        self._alarm_numbers = tuple(alarm_numbers)
+
+    def alarm_numbers(self) -> tuple[int, ...]:
+        """The numbers of the alarms raised during the run, in order."""
+        return self._alarm_numbers
+
+    def data(self, names: Collection[str] | None = None) -> RecordedData:
+        """The histories (of ``names`` only, when given) as plain data."""
+        chosen = [history for name, history in self._histories.items() if names is None or name in names]
+        return RecordedData(self.ipo_cycle_us, self.alarm_numbers(),
+                            tuple((history.quantity.name, history.cycles.tobytes(), history.values.tobytes())
+                                  for history in chosen))
+
+    @classmethod
+    def from_data(cls, data: RecordedData, quantities: Mapping[str, Quantity]) -> Recording:
+        """The recording again, its names resolved by ``quantities`` (:func:`recorded_quantities`);
+        raises KeyError for a name the receiver does not know."""
+        histories = []
+        for name, cycles, values in data.histories:
+            history = History(quantities[name])
+            history.cycles.frombytes(cycles)
+            history.values.frombytes(values)
+            history.last = history.values[-1] if len(history.values) else 0.0
+            histories.append(history)
+        return cls(data.ipo_cycle_us, histories, data.alarm_numbers)
+
+    # -- queries ---------------------------------------------------------------------------
+
+    @property
+    def histories(self) -> list[History]:
+        return list(self._histories.values())
+
+    def history(self, quantity: Quantity) -> History | None:
+        return self._histories.get(quantity.name)
+
+    def time_of(self, cycle: int) -> float:
+        """Seconds since the scenario started at ``cycle`` (a trace cycle)."""
+        return cycle * self.ipo_cycle_us / 1e6
+
+    def occurrences(self, quantity: Quantity, kind: EdgeKind) -> list[int]:
+        """Cycles at which ``quantity`` rose (0 -> not 0), fell (not 0 -> 0) or changed."""
+        history = self._histories.get(quantity.name)
+        if history is None:
+            return []
+        found = []
+        values = history.values
+        for index in range(1, len(values)):
+            before, after = values[index - 1], values[index]
+            if kind is EdgeKind.CHANGES or (kind is EdgeKind.RISES and before == 0 and after != 0) \
+                    or (kind is EdgeKind.FALLS and before != 0 and after == 0):
+                found.append(history.cycles[index])
+        return found
+
+    def changes(self) -> Iterator[tuple[int, History, Value]]:
+        """Every recorded value, ordered by cycle and then by name."""
+        ordered = sorted(self._histories.values(), key=lambda h: h.quantity.name)
+        streams = [_numbered(position, history) for position, history in enumerate(ordered)]
+        for cycle, _, history, value in heapq.merge(*streams, key=lambda item: (item[0], item[1])):
+            yield cycle, history, value
+
+
+def recorded_quantities(catalog: ExpandedCatalog, plant_io: PlantIoMap, axes: Iterable[str],
+                        watched: Iterable[Quantity] = ()) -> dict[str, Quantity]:
+    """What a :class:`Recorder` records on a machine by default, and ``watched`` (by name): every
+    bool, bits, byte and word signal, every plant I/O point, position and velocity of every axis."""
+    found: dict[str, Quantity] = {}
+    chosen = [signal_quantity(item.ref()) for item in catalog.signals if item.type in RECORDED_TYPES]
+    chosen += [signal_quantity(point.ref()) for point in plant_io.points]
+    chosen += [axis_quantity(axis, name) for axis in axes for name in RECORDED_AXIS_QUANTITIES]
+    for quantity in (*chosen, *watched):
+        if quantity.kind is not QuantityKind.TIME:
+            found.setdefault(quantity.name, quantity)
+    return found
+
+
+class Recorder(Recording):
     """Records a target's signals after every cycle and answers questions about their history."""
 
     def __init__(self, target: ScenarioTarget, watch: Iterable[Quantity] = (), record_all: bool = True):
+        super().__init__(target.ipo_cycle_us)
         self.target = target
-        self.ipo_cycle_us = target.ipo_cycle_us
         self.start_cycle = 0
         self.cycle = 0  # cycles since the start of the scenario
-        self._histories: dict[str, History] = {}
         if record_all:
-            for item in target.catalog.signals:
-                if item.type in RECORDED_TYPES:
-                    self._add(signal_quantity(item.ref()))
-            for point in target.plant_io.points:
-                self._add(signal_quantity(point.ref()))
-            for axis in target.machine.axes:
-                for name in RECORDED_AXIS_QUANTITIES:
-                    self._add(axis_quantity(axis.name, name))
+            axes = (axis.name for axis in target.machine.axes)
+            for quantity in recorded_quantities(target.catalog, target.plant_io, axes).values():
+                self._add(quantity)
         self._images = target if isinstance(target, ImageSource) else None
         self._previous: dict[str, bytes] = {}
         self._signals: list[History] = []
@@ -120,6 +213,9 @@ class Recorder:
         self._word_reads: list[History] = []
         self._by_byte: dict[tuple[str, int], list[History]] = {}
         self.watch(watch)
+
+    def alarm_numbers(self) -> tuple[int, ...]:
+        return tuple(alarm.number for alarm in self.target.alarm_history())
 
     def watch(self, quantities: Iterable[Quantity]) -> None:
         """Record these too (call before :meth:`start`); ``time`` is never recorded."""
@@ -278,31 +374,6 @@ class Recorder:
 
     # -- queries ---------------------------------------------------------------------------
 
-    @property
-    def histories(self) -> list[History]:
-        return list(self._histories.values())
-
-    def history(self, quantity: Quantity) -> History | None:
-        return self._histories.get(quantity.name)
-
-    def time_of(self, cycle: int) -> float:
-        """Seconds since the scenario started at ``cycle`` (a trace cycle)."""
-        return cycle * self.ipo_cycle_us / 1e6
-
-    def occurrences(self, quantity: Quantity, kind: EdgeKind) -> list[int]:
-        """Cycles at which ``quantity`` rose (0 -> not 0), fell (not 0 -> 0) or changed."""
-        history = self._histories.get(quantity.name)
-        if history is None:
-            return []
-        found = []
-        values = history.values
-        for index in range(1, len(values)):
-            before, after = values[index - 1], values[index]
-            if kind is EdgeKind.CHANGES or (kind is EdgeKind.RISES and before == 0 and after != 0) \
-                    or (kind is EdgeKind.FALLS and before != 0 and after == 0):
-                found.append(history.cycles[index])
-        return found
-
     def recent(self, quantity: Quantity, limit: int = 10, window_s: float = 5.0) -> list[tuple[int, Value]]:
         """The last ``limit`` changes within the last ``window_s`` seconds (at least the value now)."""
         history = self._histories.get(quantity.name)
@@ -315,13 +386,6 @@ class Recorder:
             entries = [(history.cycles[-1], history.value(len(history) - 1))]
         return entries[-limit:]
 
-    def changes(self) -> Iterator[tuple[int, History, Value]]:
-        """Every recorded value, ordered by cycle and then by name."""
-        ordered = sorted(self._histories.values(), key=lambda h: h.quantity.name)
-        streams = [_numbered(position, history) for position, history in enumerate(ordered)]
-        for cycle, _, history, value in heapq.merge(*streams, key=lambda item: (item[0], item[1])):
-            yield cycle, history, value
-
 
 def _numbered(position: int, history: History) -> Iterator[tuple[int, int, History, Value]]:
     for cycle, value in history.entries():
@@ -333,7 +397,7 @@ def _numbered(position: int, history: History) -> Iterator[tuple[int, int, Histo
 CSV_HEADER = ("cycle", "time_s", "name", "value", "address")
 
 
-def write_csv(recorder: Recorder, path: str | Path) -> None:
+def write_csv(recorder: Recording, path: str | Path) -> None:
     """Long format, one row per change: ``cycle,time_s,name,value,address`` sorted by cycle and name."""
     with open(path, "w", encoding="utf-8", newline="") as handle:
         writer = csv.writer(handle)
@@ -357,7 +421,7 @@ def vcd_scope_and_name(quantity: Quantity) -> tuple[str, str]:
     return scope, name
 
 
-def write_vcd(recorder: Recorder, path: str | Path, date: str | None = None) -> None:
+def write_vcd(recorder: Recording, path: str | Path, date: str | None = None) -> None:
     """A VCD file for GTKWave: one scope per DB instance, ``PLANT`` and ``AXES``; timescale 1 us."""
     from vcd import VCDWriter
 
@@ -389,6 +453,49 @@ def write_vcd(recorder: Recorder, path: str | Path, date: str | None = None) -> 
 
 def _vcd_width(ref: SignalRef) -> int:
     return ref.bits if ref.type in (SignalType.BOOL, SignalType.BITS) else 8 * ref.address.size
+
+
+def write_gtkw(recording: Recording, shown: Sequence[Quantity], path: str | Path, vcd_name: str,
+               title: str = "") -> None:
+    """A GTKWave save file for the VCD ``vcd_name`` beside it that opens with ``shown`` in view
+    (the names the scenario itself uses), digital signals as traces and reals and axis
+    quantities as analog steps.  The dump and save file are named relative to each other, so
+    GTKWave finds the VCD wherever the two are moved together (``gtkwave DIR/x.gtkw``)."""
+    from vcd.gtkw import GTKWFlag, GTKWSave
+
+    save_name = Path(path).name
+    with open(path, "w", encoding="utf-8") as handle:
+        save = GTKWSave(handle)
+        save.comment(f"vc-harness: {title}" if title else "vc-harness")
+        save.dumpfile(vcd_name, abspath=False)
+        save.savefile(save_name, abspath=False)
+        save.timestart(0)
+        save.signals_width(320)
+        save.sst_expanded(True)
+        for quantity in shown:
+            history = recording.history(quantity)
+            if history is None or not len(history):
+                continue
+            scope, name = vcd_scope_and_name(quantity)
+            full_name = f"{scope}.{name}"
+            ref = quantity.ref
+            if ref is None or ref.type is SignalType.REAL:
+                save.trace(full_name, datafmt="real", extraflags=GTKWFlag.analog_step)
+                save.blank(analog_extend=True)
+                save.blank(analog_extend=True)
+            else:
+                save.trace(full_name, datafmt="hex" if _vcd_width(ref) == 1 else "dec")
+
+
+def write_traces(recording: Recording, shown: Sequence[Quantity], directory: Path, name: str,
+                 title: str = "") -> list[str]:
+    """``directory/name.csv``, ``.vcd`` and the GTKWave save file ``.gtkw``; the files written."""
+    directory.mkdir(parents=True, exist_ok=True)
+    csv_path, vcd_path, gtkw_path = (directory / f"{name}{suffix}" for suffix in (".csv", ".vcd", ".gtkw"))
+    write_csv(recording, csv_path)
+    write_vcd(recording, vcd_path)
+    write_gtkw(recording, shown, gtkw_path, vcd_path.name, title)
+    return [str(csv_path), str(vcd_path), str(gtkw_path)]
 
 
 # ---------------------------------------------------------------------------------- cost

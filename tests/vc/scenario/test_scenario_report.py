@@ -133,7 +133,8 @@ def test_exit_codes(tmp_path: Path) -> None:
                        console=shown)
     assert code == EXIT_FAILED
     assert ElementTree.parse(junit).getroot().find("testsuite").get("failures") == "1"  # type: ignore[union-attr]
-    assert sorted(path.name for path in traces.iterdir()) == ["fail.csv", "fail.vcd", "pass.csv", "pass.vcd"]
+    assert sorted(path.name for path in traces.iterdir()) == [
+        "fail.csv", "fail.gtkw", "fail.vcd", "pass.csv", "pass.gtkw", "pass.vcd"]
 
     write_scenario(tmp_path, PASSING.replace("plc: none", "plc: basic_machin"), "bad.yaml")
     shown, output = console()

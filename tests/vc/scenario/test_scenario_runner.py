@@ -294,7 +294,7 @@ def test_run_scenarios_writes_traces_and_survives_harness_errors(tmp_path: Path)
     results = run_scenarios([good, broken], make_target, trace_dir=tmp_path / "traces")
     assert [result.status for result in results] == ["PASS", "ERROR"]
     traces = tmp_path / "traces"
-    assert results[0].trace_files == [str(traces / "move.csv"), str(traces / "move.vcd")]
+    assert results[0].trace_files == [str(traces / "move.csv"), str(traces / "move.vcd"), str(traces / "move.gtkw")]
     assert "RuntimeError: the simulation could not start" in results[1].error
 
 

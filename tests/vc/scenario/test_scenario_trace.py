@@ -11,7 +11,16 @@ from vcd.reader import TokenKind, tokenize
 from vc.scenario.model import EdgeKind
 from vc.scenario.quantities import axis_quantity
 from vc.scenario.runner import run_scenario
-from vc.scenario.trace import Recorder, measure_sample_cost, vcd_scope_and_name, write_csv, write_vcd
+from vc.scenario.trace import (
+    Recorder,
+    Recording,
+    measure_sample_cost,
+    recorded_quantities,
+    vcd_scope_and_name,
+    write_csv,
+    write_traces,
+    write_vcd,
+)
 
 MOVE = """\
 name: a move, recorded
@@ -97,6 +106,64 @@ def test_vcd_round_trip(tmp_path: Path) -> None:
     assert changes[code][-1] == (20_000, 1.0)
     _, size = by_name[("X1", "basic.out.refPointSelection")]
     assert size == 4  # a bits field keeps its width (DB31.DBX2.4 .. 2.7)
+
+
+def _vcd_names(path: Path) -> dict[str, str]:
+    """Every variable of a VCD by its full hierarchical name (as GTKWave names it) -> its type."""
+    scopes: list[str] = []
+    names: dict[str, str] = {}
+    with open(path, "rb") as handle:
+        for token in tokenize(handle):
+            if token.kind is TokenKind.SCOPE:
+                scopes.append(token.scope.ident)
+            elif token.kind is TokenKind.UPSCOPE:
+                scopes.pop()
+            elif token.kind is TokenKind.VAR:
+                names[".".join([*scopes, token.var.reference])] = token.var.type_.value
+    return names
+
+
+def test_the_gtkwave_save_file_shows_the_scenarios_own_signals(tmp_path: Path) -> None:
+    """The .gtkw names the VCD beside it and traces exactly the names the scenario uses, each as the VCD
+    has it: digital signals as traces, reals and axis quantities as analog steps (GTKWave's save-file
+    flags: 0x22 hex right-justified, 0x24 dec, 0x48020 real + analog step)."""
+    source = scenario(tmp_path, MOVE)
+    result = run_scenario(source, FakeTarget(machine(), SimpleNc()))
+    assert result.recorder is not None
+    files = write_traces(result.recorder, source.quantities, tmp_path / "traces", "move", "a move")
+    assert [Path(file).name for file in files] == ["move.csv", "move.vcd", "move.gtkw"]
+    lines = (tmp_path / "traces" / "move.gtkw").read_text().splitlines()
+    assert lines[:3] == ["[*] vc-harness: a move", '[dumpfile] "move.vcd"', '[savefile] "move.gtkw"']
+    traced = [line for line in lines if line and line[0] not in "[@-*"]
+    names = _vcd_names(tmp_path / "traces" / "move.vcd")
+    assert traced == ["MODEGROUP.basic.out.mdaMode", "PLANT.MCP.feedOverride", "CHAN1.basic.out.ncStart",
+                      "X1.basic.in.posFineReached", "AXES.X1.setpoint"]
+    assert all(name in names for name in traced), set(traced) - set(names)
+    flags, current = {}, ""
+    for line in lines:  # a flags line holds until the next one
+        if line.startswith("@"):
+            current = line
+        elif line in traced:
+            flags[line] = current
+    assert flags["X1.basic.in.posFineReached"] == "@22" and flags["PLANT.MCP.feedOverride"] == "@24"
+    assert flags["AXES.X1.setpoint"] == "@48020" and names["AXES.X1.setpoint"] == "real"
+
+
+def test_a_recording_crosses_a_process_boundary_as_plain_data(tmp_path: Path) -> None:
+    source = scenario(tmp_path, MOVE)
+    recorder = recorded(tmp_path)
+    data = recorder.data()
+    assert data.size == sum(16 * len(history) for history in recorder.histories)
+    target = FakeTarget(machine(), SimpleNc())
+    quantities = recorded_quantities(target.catalog, target.plant_io, ("X1", "Z1", "SP1"), source.quantities)
+    again = Recording.from_data(data, quantities)
+    assert [list(h.entries()) for h in again.histories] == [list(h.entries()) for h in recorder.histories]
+    assert again.alarm_numbers() == recorder.alarm_numbers()
+    write_vcd(recorder, tmp_path / "a.vcd", date="x")
+    write_vcd(again, tmp_path / "b.vcd", date="x")
+    assert (tmp_path / "a.vcd").read_bytes() == (tmp_path / "b.vcd").read_bytes()
+    named = recorder.data({"X1.position"})
+    assert [name for name, _, _ in named.histories] == ["X1.position"]
 
 
 def test_vcd_scopes() -> None:

@@ -1,0 +1,241 @@
+"""``vc run --cluster``: a Dask LocalCluster and a cluster started with Dask's own CLI (``dask scheduler``,
+``dask worker``) give the report, the JUnit file and the traces of ``-j 1``; a worker killed in the middle of
+the run loses no variant and its re-run is reported."""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+from rich.console import Console
+
+from interfaces.links.inprocess import plc_programs
+from vc.harness.scenarios import simulation_for
+from vc.scenario.cluster import (
+    Bundle,
+    ClusterError,
+    ClusterSettings,
+    SharedFiles,
+    run_task,
+)
+from vc.scenario.command import EXIT_FAILED, EXIT_PASSED, EXIT_PROBLEMS, run_command
+from vc.scenario.loader import load_scenarios
+from vc.scenario.runner import trace_names
+from vc.scenario.tasks import SEND_ALL, Identity, RunSettings, ScenarioTask, identity_of
+
+ROOT = Path(__file__).resolve().parents[3]
+FILES = Path(__file__).resolve().parent / "campaign_files"
+CAMPAIGN = str((FILES / "jog_campaign.yaml").relative_to(ROOT))  # 20 variants, 5 of them fail
+DWELL_CAMPAIGN = str((FILES / "jog_dwell_campaign.yaml").relative_to(ROOT))
+WALL_TIME = re.compile(r"\d+\.\d+ s wall")
+DASK = Path(sys.executable).parent / "dask"
+START_TIMEOUT_S = 120.0
+RUN_TIMEOUT_S = 600.0
+
+
+@pytest.fixture(autouse=True)
+def _in_repository(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(ROOT)
+
+
+def _run(paths: list[str], out: Path, traces: bool = True, **options: object) -> tuple[int, str]:
+    output = io.StringIO()
+    code = run_command(paths, simulation_for, plc_programs().keys(),  # type: ignore[arg-type]
+                       console=Console(file=output, width=400), junit=out / "junit.xml",
+                       trace_dir=out / "traces" if traces else None, **options)
+    return code, output.getvalue()
+
+
+def _same(text: str, directory: Path) -> str:
+    """Without what differs between two runs of the same scenarios: wall times, the output directory."""
+    text = WALL_TIME.sub("WALL", re.sub(r'time="[0-9.]+"', 'time="T"', text)).replace(str(directory), "OUT")
+    return "\n".join(line for line in text.splitlines()
+                     if not line.startswith(("starting a Dask", "Dask scheduler", "report:")))
+
+
+def _assert_same_run(serial: Path, serial_report: str, other: Path, other_report: str) -> None:
+    assert _same(other_report, other) == _same(serial_report, serial)
+    assert _same((other / "junit.xml").read_text(), other) == _same((serial / "junit.xml").read_text(), serial)
+    traces = sorted(path.name for path in (serial / "traces").iterdir())
+    assert len(traces) == 3 * 20  # CSV, VCD and GTKWave save file of every variant
+    assert traces == sorted(path.name for path in (other / "traces").iterdir())
+    for name in traces:
+        assert (other / "traces" / name).read_bytes() == (serial / "traces" / name).read_bytes(), name
+
+
+@pytest.fixture(scope="module")
+def serial_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
+    """The campaign with -j 1 in this process, its golden traces written first."""
+    out = tmp_path_factory.mktemp("serial")
+    os.chdir(ROOT)
+    _run([CAMPAIGN], out, golden=str(out / "golden"), update_golden=True)
+    code, report = _run([CAMPAIGN], out, golden=str(out / "golden"))
+    assert code == EXIT_FAILED and "15 passed, 5 failed, 0 errors of 20 scenarios" in report, report
+    return out, report
+
+
+def test_a_local_cluster_gives_the_serial_report_junit_and_traces(serial_run: tuple[Path, str],
+                                                                  tmp_path: Path) -> None:
+    serial, serial_report = serial_run
+    code, report = _run([CAMPAIGN], tmp_path, golden=str(serial / "golden"), cluster=ClusterSettings("local:2"))
+    assert code == EXIT_FAILED
+    assert "starting a Dask LocalCluster of 2 worker processes on 127.0.0.1" in report
+    _assert_same_run(serial, serial_report, tmp_path, report)
+
+
+def test_workers_on_a_shared_path_write_the_traces_themselves(serial_run: tuple[Path, str], tmp_path: Path,
+                                                              dask_cli_cluster: str) -> None:
+    serial, serial_report = serial_run
+    code, report = _run([CAMPAIGN], tmp_path, golden=str(serial / "golden"),
+                        cluster=ClusterSettings(dask_cli_cluster, "shared"))
+    assert code == EXIT_FAILED
+    _assert_same_run(serial, serial_report, tmp_path, report)
+
+
+# ---------------------------------------------------------------------------------- the Dask CLI
+
+
+class _Processes:
+    def __init__(self) -> None:
+        self.started: list[subprocess.Popen[bytes]] = []
+
+    def start(self, *arguments: str, log: Path) -> subprocess.Popen[bytes]:
+        handle = log.open("wb")
+        process = subprocess.Popen([str(DASK), *arguments], stdout=handle, stderr=subprocess.STDOUT, cwd=log.parent)
+        handle.close()
+        self.started.append(process)
+        return process
+
+    def stop(self) -> None:
+        for process in self.started:
+            if process.poll() is None:
+                process.kill()
+        for process in self.started:
+            process.wait(timeout=30)
+
+
+def _wait_for(condition: object, what: str, timeout_s: float = START_TIMEOUT_S) -> None:
+    deadline = time.monotonic() + timeout_s
+    while not condition():  # type: ignore[operator]
+        if time.monotonic() > deadline:
+            raise AssertionError(f"{what} within {timeout_s:g} s")
+        time.sleep(0.1)
+
+
+@pytest.fixture(scope="module")
+def dask_cli_cluster(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    """``dask scheduler`` and two ``dask worker`` processes on 127.0.0.1, ephemeral ports; the address."""
+    from distributed import Client
+
+    directory = tmp_path_factory.mktemp("dask")
+    processes = _Processes()
+    scheduler_file = directory / "scheduler.json"
+    try:
+        processes.start("scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard", "--dashboard-address",
+                        "127.0.0.1:0", "--scheduler-file", str(scheduler_file), log=directory / "scheduler.log")
+        _wait_for(lambda: scheduler_file.exists() and scheduler_file.stat().st_size > 0, "the scheduler started")
+        address = json.loads(scheduler_file.read_text())["address"]
+        for number in (1, 2):
+            processes.start("worker", address, "--nthreads", "1", "--no-nanny", "--no-dashboard",
+                            "--dashboard-address", "127.0.0.1:0", "--host", "127.0.0.1", "--name", f"w{number}",
+                            log=directory / f"worker{number}.log")
+        with Client(address, timeout="30s") as client:
+            client.wait_for_workers(2, timeout=START_TIMEOUT_S)
+        yield address
+    finally:
+        processes.stop()
+
+
+def test_a_worker_killed_mid_run_loses_no_variant(dask_cli_cluster: str, tmp_path: Path) -> None:
+    """The dwell campaign (each variant 15 s longer, 20 variants) through the vc command line on the CLI
+    cluster; one worker is killed while it runs a variant: the JUnit file equals the serial run's and the
+    re-run is named."""
+    from distributed import Client
+
+    serial = tmp_path / "serial"
+    code, _ = _run([DWELL_CAMPAIGN], serial, traces=False)
+    assert code == EXIT_FAILED
+    vc = Path(sys.executable).parent / "vc"
+    junit = tmp_path / "cluster" / "junit.xml"
+    command = [str(vc), "run", DWELL_CAMPAIGN, "--cluster", dask_cli_cluster, "--junit", str(junit)]
+    with Client(dask_cli_cluster, timeout="30s") as client:
+        pids = client.run(os.getpid)
+        run = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, cwd=ROOT)
+        try:
+            victim = ""
+
+            def running_a_variant() -> bool:
+                nonlocal victim
+                for worker, keys in client.processing().items():
+                    if any(str(key).startswith("vc-scenario-") for key in keys) and worker in pids:
+                        victim = worker
+                        return True
+                return False
+
+            _wait_for(running_a_variant, "a worker ran a variant")
+            time.sleep(0.3)  # well inside the variant (each takes about 0.3 s and more)
+            os.kill(pids[victim], signal.SIGKILL)
+            output, _ = run.communicate(timeout=RUN_TIMEOUT_S)
+        finally:
+            if run.poll() is None:
+                run.kill()
+                run.wait(timeout=30)
+    text = output.decode()
+    assert run.returncode == EXIT_FAILED, text
+    assert "15 passed, 5 failed, 0 errors of 20 scenarios" in text
+    assert re.search(rf"re-run: JOG of X1 .*\[.*\]: the worker {re.escape(victim)} died while it had this task;"
+                     r" it ran again on \S+", text), text
+    assert _same(junit.read_text(), junit.parent) == _same((serial / "junit.xml").read_text(), serial)
+
+
+# ---------------------------------------------------------------------------------- the task itself
+
+
+def test_a_task_runs_from_its_sent_files_and_names_the_clients_files_again(tmp_path: Path) -> None:
+    scenarios = load_scenarios([CAMPAIGN], plc_programs().keys())
+    bundle = Bundle.of(scenarios, cwd=str(ROOT))
+    assert {path for path, _ in bundle.files} == {CAMPAIGN, str((FILES / "jog_variants.yaml").relative_to(ROOT)),
+                                                  "scenarios/machines/turn_mill.yaml"}
+    settings = RunSettings(tuple(plc_programs()), simulation_for, send_back=SEND_ALL)
+    failing = 19  # 40000 mm/min at 100 %: stopped by the limit switch
+    names = trace_names(scenarios)
+    task = ScenarioTask.of(failing, scenarios[failing], names[failing])
+    os.chdir(tmp_path)  # nothing is read from the client's directory
+    outcome = run_task(task, settings, bundle, identity_of(["basic_machine"]))
+    assert not outcome.passed and outcome.mark is not None
+    assert outcome.mark.file == str((FILES / "jog_variants.yaml").relative_to(ROOT))  # the client's name
+    assert outcome.recording is not None and outcome.step_cycles
+    result = outcome.result_for(scenarios[failing])
+    assert result.failure is not None and result.failure.step is scenarios[failing].steps[5]
+    assert result.recorder is not None and len(result.recorder.histories) > 1000
+
+
+def test_a_worker_with_other_code_refuses_the_task() -> None:
+    scenarios = load_scenarios([CAMPAIGN], plc_programs().keys())
+    task = ScenarioTask.of(0, scenarios[0], "x")
+    settings = RunSettings(tuple(plc_programs()), simulation_for)
+    mine = identity_of(["basic_machine"])
+    outcome = run_task(task, settings, SharedFiles(str(ROOT)), replace(mine, harness="0" * 64))
+    assert not outcome.passed and "this worker runs other harness sources than the client" in outcome.error
+    other = replace(mine, programs=(("basic_machine", "f" * 64),))
+    outcome = run_task(task, settings, SharedFiles(str(ROOT)), other)
+    assert "this worker's PLC program basic_machine differs from the client's" in outcome.error
+    assert Identity(mine.harness, mine.programs).difference(mine) == ""
+
+
+def test_a_cluster_that_cannot_be_used_is_a_clear_problem(tmp_path: Path) -> None:
+    with pytest.raises(ClusterError, match="local:N needs a number of workers from 1"):
+        _ = ClusterSettings("local:0").local_workers
+    code, report = _run([CAMPAIGN], tmp_path, cluster=ClusterSettings("local:x"))
+    assert code == EXIT_PROBLEMS and "vc run: --cluster local:x: local:N needs a number of workers" in report
+    assert EXIT_PASSED == 0

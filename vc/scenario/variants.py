@@ -1,0 +1,474 @@
+"""``vary:``: one scenario as a matrix of variants, and campaign files that run scenarios over one.
+
+A scenario file may declare a matrix; so may a campaign file, which names scenario files and
+runs each of them over its matrix (it replaces their own ``vary:``)::
+
+    vary:                             a product: every combination; the first key changes slowest
+      KEY: [VALUE, ...]
+      cases:                          values that go together: one entry per combination
+        - {KEY: VALUE, KEY: VALUE}
+    vary: [{KEY: VALUE, ...}, ...]    an explicit list of variants, each naming the same keys
+
+    KEY
+      INSTANCE.MD<number>[<index>]    machine data of an axis, channel or NC: X1.MD34050, X1.MD34100[0],
+      INSTANCE.<MD name>              X1.REFP_SET_POS (as under machine_data:, checked the same way)
+      INSTANCE.plant.KEY[.KEY]        plant and simulation of an axis (X1.plant.ref_cam, SP1.plant.gearbox.engaged,
+      INSTANCE.sim.KEY                X1.sim.start_position) or the NC's drive line-up (NC.dc_link.precharge_time)
+      NC.dc_link.KEY
+      plc_parameters.NAME             a parameter of the PLC program (plc_parameters.referencing_order)
+      machine | plc | timeout         the scenario's own entry: another machine file, PLC program or time limit
+      fault                           a fault step's mapping ({axis: X1, kind: zero_marks_missing}) or none ...
+      fault.at_step                   ... inserted before this step (1 = before the first; default: after the last)
+      NAME                            a plain name (no dots): a value for ${NAME} in the scenario's texts
+
+    campaign file:
+      campaign: TEXT                  required: the campaign's name
+      [description: TEXT]
+      scenarios: [PATH, ...]          required: scenario files, relative to the campaign file
+      vary: MATRIX                    required
+
+Every text of a scenario may hold ``${...}`` placeholders of the varied values
+(:mod:`vc.scenario.placeholders`); each variant is checked as a scenario of its own, before
+anything runs.  A problem every variant of a scenario has is reported once; one that only
+some variants have names the first of them.
+
+A variant's id is the scenario's name with the varied values in brackets,
+``JOG-REF of X1[X1.MD34050=1,X1.plant.ref_cam=[250,260]]``, stable as long as the matrix is:
+reports, trace files and golden files use it.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import re
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from typing import Any
+
+from vc.located_yaml import LocatedList, LocatedMap, Mark, Problem, Problems
+from vc.scenario.model import Scenario, Variant
+from vc.scenario.placeholders import PlaceholderError, fill, has_placeholder, shown
+
+VARY = "vary"
+CASES = "cases"
+CAMPAIGN = "campaign"
+CAMPAIGN_KEYS = (CAMPAIGN, "description", "scenarios", VARY)
+ENTRIES = ("machine", "plc", "timeout")  # the scenario's own top-level entries a matrix may vary
+FAULT = "fault"
+FAULT_AT_STEP = "fault.at_step"
+PLC_PARAMETERS = "plc_parameters"
+MACHINE_DATA = "machine_data"
+OVERRIDE_BLOCKS = ("plant", "sim", "dc_link")  # nested blocks of an instance's overrides
+MAX_VARIANTS = 100_000  # per matrix: beyond this a typo (a long list in a product) is more likely than intent
+_VARIABLE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_NO_FAULT = (None, False, "none")
+
+# read(path, problems) -> the document, or None (its problems reported)
+ReadDocument = Callable[[str, Problems], LocatedMap | None]
+# check(scenario path, document, problems) -> the checked scenario, or None (its problems reported)
+CheckDocument = Callable[[str, LocatedMap, Problems], Scenario | None]
+
+
+@dataclass(frozen=True, slots=True)
+class _Setting:
+    """One varied key with one of its values, and where both are written."""
+
+    key: str
+    key_mark: Mark
+    value: Any
+    value_mark: Mark
+
+
+Combination = tuple[_Setting, ...]
+
+
+# ---------------------------------------------------------------------------------- public
+
+
+def check_file(path: str, read: ReadDocument, check: CheckDocument, problems: Problems,
+               only: int | None = None) -> list[Scenario]:
+    """The scenarios of one file: itself, each variant of its matrix, or each variant of each
+    scenario of a campaign.  ``only``: just the variant at that position of the file's matrix."""
+    document = read(path, problems)
+    if document is None:
+        return []
+    if CAMPAIGN in document:
+        return _check_campaign(path, document, read, check, problems, only)
+    if VARY not in document:
+        if only is not None:
+            problems.add(document.mark, f"variant {only} asked for, but the file has no vary:")
+            return []
+        scenario = check(path, document, problems)
+        return [scenario] if scenario is not None else []
+    combinations = read_matrix(document[VARY], document.mark_of(VARY), problems)
+    if combinations is None:
+        return []
+    return _Expansion(path, "", combinations, check, problems).run([(path, document)], only)
+
+
+def is_campaign(document: object) -> bool:
+    return isinstance(document, LocatedMap) and CAMPAIGN in document
+
+
+def read_matrix(value: Any, mark: Mark, problems: Problems) -> list[Combination] | None:
+    """The combinations of a ``vary:`` value in their order; None (reported) when it is not one."""
+    before = len(problems.items)
+    if isinstance(value, LocatedList):
+        dimensions = [_cases(value, mark, problems, "vary")]
+    elif isinstance(value, LocatedMap) and value:
+        dimensions = []
+        for key, item, item_mark in value.located_items():
+            if key == CASES:
+                dimensions.append(_cases(item, item_mark, problems, CASES))
+            else:
+                dimensions.append(_values(key, value.mark_of_key(key), item, item_mark, problems))
+    else:
+        problems.add(mark, "vary takes a mapping of keys to lists of values (a product), e.g."
+                           " {X1.MD34050: [0, 1]}, or a list of variants, e.g. [{X1.MD34050: 0}, {X1.MD34050: 1}]")
+        return None
+    if len(problems.items) > before:
+        return None
+    keys: dict[str, Mark] = {}
+    for setting in (setting for dimension in dimensions for setting in dimension[0]):
+        if setting.key in keys:
+            problems.add(setting.key_mark, f"'{setting.key}' is varied twice (first at line {keys[setting.key].line})")
+        keys[setting.key] = setting.key_mark
+    if FAULT_AT_STEP in keys and FAULT not in keys:
+        problems.add(keys[FAULT_AT_STEP], "fault.at_step places a varied fault: vary fault too, e.g."
+                                          " fault: [{axis: X1, kind: zero_marks_missing}]")
+    count = 1
+    for dimension in dimensions:
+        count *= len(dimension)
+    if count > MAX_VARIANTS:
+        problems.add(mark, f"the matrix has {count:,} variants; at most {MAX_VARIANTS:,}")
+    if len(problems.items) > before:
+        return None
+    return [tuple(setting for part in parts for setting in part) for parts in itertools.product(*dimensions)]
+
+
+def arguments_of(combination: Combination) -> str:
+    """The bracket of a variant id: ``X1.MD34050=1,X1.plant.ref_cam=[250,260]``."""
+    return ",".join(f"{setting.key}={compact(setting.value)}" for setting in combination)
+
+
+def compact(value: Any) -> str:
+    """A value as an id shows it: as in a scenario text, without spaces after separators."""
+    return shown(value).replace(", ", ",").replace(": ", ":")
+
+
+# ---------------------------------------------------------------------------------- the matrix
+
+
+def _values(key: str, key_mark: Mark, value: Any, mark: Mark, problems: Problems) -> list[Combination]:
+    if not _key_is_sound(key, key_mark, problems):
+        return []
+    if not isinstance(value, LocatedList) or not value:
+        problems.add(mark, f"{key}: give the values to vary over as a list, e.g. {key}: [0, 1]")
+        return []
+    return [(_setting(key, key_mark, item, item_mark, problems),) for _, item, item_mark in value.located_items()]
+
+
+def _cases(value: Any, mark: Mark, problems: Problems, where: str) -> list[Combination]:
+    """A list of mappings naming the same keys: the values of each mapping go together."""
+    if not isinstance(value, LocatedList) or not value:
+        problems.add(mark, f"{where} takes a list of mappings, one per variant, e.g. [{{X1.MD34050: 0, side: -1}},"
+                           " {X1.MD34050: 1, side: 1}]")
+        return []
+    combinations: list[Combination] = []
+    first: tuple[str, ...] = ()
+    for position, item, item_mark in value.located_items():
+        if not isinstance(item, LocatedMap) or not item:
+            problems.add(item_mark, f"an entry of {where} is a mapping of keys to values, e.g. {{X1.MD34050: 0}}")
+            continue
+        if position == 0:
+            first = tuple(item)
+        elif set(item) != set(first):
+            problems.add(item_mark, f"every entry of {where} names the same keys ({', '.join(first)});"
+                                    f" this one names {', '.join(item)}")
+            continue
+        combinations.append(tuple(
+            _setting(key, item.mark_of_key(key), item[key], item.mark_of(key), problems)
+            for key in first if _key_is_sound(key, item.mark_of_key(key), problems)))
+    return combinations
+
+
+def _setting(key: str, key_mark: Mark, value: Any, value_mark: Mark, problems: Problems) -> _Setting:
+    if key == FAULT and value not in _NO_FAULT and not isinstance(value, LocatedMap):
+        problems.add(value_mark, "a varied fault is a fault step's mapping, e.g. {axis: X1, kind: zero_marks_missing},"
+                                 " or none")
+    if key == FAULT_AT_STEP and (isinstance(value, bool) or not isinstance(value, int) or value < 1):
+        problems.add(value_mark, f"fault.at_step is a step number from 1, not {shown(value)}")
+    if any(has_placeholder(text) for text in _texts(value)):
+        problems.add(value_mark, "a varied value is written out; ${...} belongs into the scenario's texts")
+    return _Setting(key, key_mark, value, value_mark)
+
+
+def _texts(value: Any) -> list[Any]:
+    if isinstance(value, LocatedMap):
+        return [text for item in value.values() for text in _texts(item)]
+    if isinstance(value, LocatedList):
+        return [text for item in value for text in _texts(item)]
+    return [value]
+
+
+def _key_is_sound(key: str, mark: Mark, problems: Problems) -> bool:
+    head, dot, rest = key.partition(".")
+    if key in (*ENTRIES, FAULT, FAULT_AT_STEP) or (not dot and _VARIABLE.match(key)):
+        return True
+    if dot and head and rest and ".." not in key and not key.endswith(".") and head != FAULT:
+        return True
+    problems.add(mark, f"'{key}' is no key a matrix varies: INSTANCE.MDnnnn (X1.MD34050), INSTANCE.plant.KEY,"
+                       " INSTANCE.sim.KEY, plc_parameters.NAME, machine, plc, timeout, fault, fault.at_step, or a"
+                       " plain name for ${NAME}")
+    return False
+
+
+# ---------------------------------------------------------------------------------- campaign
+
+
+def _check_campaign(path: str, document: LocatedMap, read: ReadDocument, check: CheckDocument, problems: Problems,
+                    only: int | None) -> list[Scenario]:
+    before = len(problems.items)
+    for key in document:
+        if key not in CAMPAIGN_KEYS:
+            problems.add(document.mark_of_key(key),
+                         f"unknown key '{key}' in a campaign (known: {', '.join(CAMPAIGN_KEYS)})")
+    for key in (CAMPAIGN, "scenarios", VARY):
+        if key not in document:
+            problems.add(document.mark, f"a campaign needs '{key}'")
+    name = document.get(CAMPAIGN)
+    if CAMPAIGN in document and (not isinstance(name, str) or not name.strip()):
+        problems.add(document.mark_of(CAMPAIGN), "campaign is the campaign's name, a text")
+    listed = document.get("scenarios")
+    if "scenarios" in document and (not isinstance(listed, LocatedList) or not listed
+                                    or not all(isinstance(item, str) and item.strip() for item in listed)):
+        problems.add(document.mark_of("scenarios"), "scenarios is a list of scenario files, relative to the campaign"
+                                                    " file, e.g. [../scenarios/referencing/edges.yaml]")
+    if len(problems.items) > before or not isinstance(listed, LocatedList):
+        return []
+    combinations = read_matrix(document[VARY], document.mark_of(VARY), problems)
+    scenarios: list[tuple[str, LocatedMap]] = []
+    directory = os.path.dirname(path)
+    for _, item, item_mark in listed.located_items():
+        location = os.path.normpath(os.path.join(directory, item.strip()))
+        if not os.path.isfile(location):
+            shown_as = "" if os.path.normpath(item.strip()) == location else f" (looked for {location})"
+            problems.add(item_mark, f"scenario file '{item}' not found{shown_as}")
+            continue
+        scenario_document = read(location, problems)
+        if scenario_document is None:
+            continue
+        if is_campaign(scenario_document):
+            problems.add(item_mark, f"'{item}' is a campaign itself; a campaign names scenario files")
+            continue
+        scenarios.append((location, scenario_document))
+    if combinations is None or len(problems.items) > before:
+        return []
+    return _Expansion(path, str(name).strip(), combinations, check, problems).run(scenarios, only)
+
+
+# ---------------------------------------------------------------------------------- expansion
+
+
+class _Expansion:
+    """The variants of one matrix over one or more scenario documents, checked one by one."""
+
+    def __init__(self, origin: str, campaign: str, combinations: list[Combination], check: CheckDocument,
+                 problems: Problems):
+        self.origin = origin
+        self.campaign = campaign
+        self.combinations = combinations
+        self.check = check
+        self.problems = problems
+        self.variables_used: set[str] = set()
+        # a problem -> the labels of the variants that have it, per scenario
+        self.found: dict[Problem, dict[int, list[str]]] = {}
+
+    def run(self, scenarios: Sequence[tuple[str, LocatedMap]], only: int | None) -> list[Scenario]:
+        per_scenario = len(self.combinations)
+        total = per_scenario * len(scenarios)
+        if only is not None and not 0 <= only < total:
+            self.problems.add(Mark(self.origin, 1, 1), f"variant {only} asked for; the matrix has {total}")
+            return []
+        checked: list[Scenario] = []
+        labels: set[str] = set()
+        for scenario_number, (path, document) in enumerate(scenarios):
+            for number, combination in enumerate(self.combinations):
+                index = scenario_number * per_scenario + number
+                if only is not None and index != only:
+                    continue
+                arguments = arguments_of(combination)
+                label = f"{os.path.splitext(os.path.basename(path))[0]}[{arguments}]"
+                if label in labels:
+                    self.problems.add(combination[0].value_mark if combination else Mark(self.origin, 1, 1),
+                                      f"variant {label} appears twice in the matrix")
+                    continue
+                labels.add(label)
+                scenario = self.variant(path, document, combination, scenario_number, label)
+                if scenario is not None:
+                    variant = Variant(self.origin, index, arguments,
+                                      tuple((setting.key, compact(setting.value)) for setting in combination),
+                                      self.campaign, number == 0)
+                    checked.append(replace(scenario, name=f"{scenario.name}[{arguments}]", variant=variant,
+                                           sources=tuple(dict.fromkeys((self.origin, *scenario.sources)))))
+        self.report(1 if only is not None else per_scenario)
+        if only is None:
+            self.check_variables_used(scenarios)
+        return checked
+
+    def variant(self, path: str, document: LocatedMap, combination: Combination, scenario_number: int,
+                label: str) -> Scenario | None:
+        problems = Problems()
+        values = {setting.key: setting.value for setting in combination}
+        filled = _fill(document, values, problems, self.variables_used)
+        assert isinstance(filled, LocatedMap)
+        _apply(filled, self.rebased(path, combination), problems)
+        unfilled = {problem.mark for problem in problems.items}
+        checked = Problems()
+        scenario = self.check(path, filled, checked)
+        # the rest of the variant is checked too; a text whose placeholder failed is reported once
+        problems.extend([problem for problem in checked.items if problem.mark not in unfilled])
+        for problem in problems.items:
+            self.found.setdefault(problem, {}).setdefault(scenario_number, []).append(label)
+        return scenario if not problems else None
+
+    def rebased(self, path: str, combination: Combination) -> Combination:
+        """A campaign's machine files are written relative to the campaign file; the scenario
+        document wants them relative to the scenario file."""
+        if path == self.origin:
+            return combination
+        return tuple(replace(setting, value=_rebase(setting.value, self.origin, path))
+                     if setting.key == "machine" and isinstance(setting.value, str) else setting
+                     for setting in combination)
+
+    def report(self, variants_per_scenario: int) -> None:
+        """A problem every variant of a scenario has is reported as it is; one that only some have
+        names the first of them."""
+        for problem, by_scenario in self.found.items():
+            everywhere = all(len(labels) == variants_per_scenario for labels in by_scenario.values())
+            if everywhere:
+                self.problems.add(problem.mark, problem.message)
+                continue
+            labels = [label for _, found in sorted(by_scenario.items()) for label in found]
+            more = f" and {len(labels) - 1} more" if len(labels) > 1 else ""
+            self.problems.add(problem.mark, f"{problem.message} (in variant {labels[0]}{more})")
+
+    def check_variables_used(self, scenarios: Sequence[tuple[str, LocatedMap]]) -> None:
+        if not self.combinations or not scenarios:
+            return
+        for setting in self.combinations[0]:
+            key = setting.key
+            if _VARIABLE.match(key) and key not in (*ENTRIES, FAULT) and key not in self.variables_used:
+                self.problems.add(setting.key_mark, f"'{key}' is varied, but no text of the scenario uses ${{{key}}}:"
+                                                    " every variant would be the same")
+
+
+def _rebase(written: str, origin: str, scenario: str) -> str:
+    location = os.path.normpath(os.path.join(os.path.dirname(origin), written.strip()))
+    return os.path.relpath(location, os.path.dirname(scenario) or os.curdir)
+
+
+def _fill(value: Any, values: dict[str, Any], problems: Problems, used: set[str], mark: Mark | None = None) -> Any:
+    """A copy of a document part with every ``${...}`` filled in (``vary:`` itself left out)."""
+    if isinstance(value, LocatedMap):
+        copy = _empty_map(value.mark)
+        for key, item, item_mark in value.located_items():
+            if key == VARY:
+                continue
+            copy[key] = _fill(item, values, problems, used, item_mark)
+            copy.key_marks[key] = value.mark_of_key(key)
+            copy.value_marks[key] = item_mark
+        return copy
+    if isinstance(value, LocatedList):
+        items = _empty_list(value.mark)
+        for _, item, item_mark in value.located_items():
+            items.append(_fill(item, values, problems, used, item_mark))
+            items.item_marks.append(item_mark)
+        return items
+    if has_placeholder(value):
+        assert isinstance(value, str) and mark is not None
+        try:
+            return fill(value, values, used)
+        except PlaceholderError as error:
+            problems.add(mark, f"in \"{value}\": {error.message}")
+    return value
+
+
+def _apply(document: LocatedMap, combination: Combination, problems: Problems) -> None:
+    """Write the matrix's keys into a (filled) scenario document."""
+    fault: _Setting | None = None
+    at_step: _Setting | None = None
+    for setting in combination:
+        key = setting.key
+        head, _, rest = key.partition(".")
+        if key == FAULT:
+            fault = setting
+        elif key == FAULT_AT_STEP:
+            at_step = setting
+        elif key in ENTRIES:
+            _put(document, key, setting)
+        elif head == PLC_PARAMETERS:
+            _put(_block(document, PLC_PARAMETERS, setting), rest, setting)
+        elif rest:
+            block = _block(_block(document, MACHINE_DATA, setting), head, setting)
+            path = rest.split(".") if rest.split(".")[0] in OVERRIDE_BLOCKS else [rest]
+            for part in path[:-1]:
+                block = _block(block, part, setting)
+            _put(block, path[-1], setting)
+    if fault is not None and fault.value not in _NO_FAULT:
+        _insert_fault(document, fault, at_step, problems)
+
+
+def _insert_fault(document: LocatedMap, fault: _Setting, at_step: _Setting | None, problems: Problems) -> None:
+    steps = document.get("steps")
+    if not isinstance(steps, LocatedList):
+        return  # the scenario's check reports the missing steps
+    position = len(steps) + 1 if at_step is None else at_step.value
+    if not 1 <= position <= len(steps) + 1:
+        assert at_step is not None
+        problems.add(at_step.value_mark, f"fault.at_step {position}: the scenario has steps 1 to {len(steps)}"
+                                         f" ({len(steps) + 1} = after the last)")
+        return
+    step = _empty_map(fault.value_mark)
+    step[FAULT] = fault.value
+    step.key_marks[FAULT] = fault.key_mark
+    step.value_marks[FAULT] = fault.value_mark
+    steps.insert(position - 1, step)
+    steps.item_marks.insert(position - 1, fault.value_mark)
+
+
+def _block(parent: LocatedMap, key: str, setting: _Setting) -> LocatedMap:
+    """``parent[key]`` as a mapping of its own (a copy; created at the setting's mark if missing)."""
+    existing = parent.get(key)
+    block = _empty_map(existing.mark if isinstance(existing, LocatedMap) else setting.key_mark)
+    if isinstance(existing, LocatedMap):
+        block.update(existing)
+        block.key_marks.update(existing.key_marks)
+        block.value_marks.update(existing.value_marks)
+    parent[key] = block
+    parent.key_marks.setdefault(key, setting.key_mark)
+    parent.value_marks.setdefault(key, setting.key_mark)
+    return block
+
+
+def _put(mapping: LocatedMap, key: str, setting: _Setting) -> None:
+    mapping.pop(key, None)  # the varied value replaces the written one, and comes last
+    mapping[key] = setting.value
+    mapping.key_marks[key] = setting.key_mark
+    mapping.value_marks[key] = setting.value_mark
+
+
+def _empty_map(mark: Mark) -> LocatedMap:
+    mapping = LocatedMap()
+    mapping.mark = mark
+    mapping.key_marks = {}
+    mapping.value_marks = {}
+    return mapping
+
+
+def _empty_list(mark: Mark) -> LocatedList:
+    items = LocatedList()
+    items.mark = mark
+    items.item_marks = []
+    return items
