@@ -55,6 +55,7 @@ from fmu.model_description import Identity, model_description
 from fmu.runtime import PYTHON, RUNTIME_DIR, add_yaml, bundle_runtime, compile_tree
 from fmu.unit import Causality, NcUnit, UnitError
 from vc.config.loader import load_machine
+from vc.config.machine_files import machine_file
 
 PROJECT_PACKAGES = ("vc", "interfaces", "fmu", "vc_build")
 SLAVE_MODULE = "fmu.slave"
@@ -109,6 +110,8 @@ def export_fmu(machine_path: str, output: str, python: PythonRuntime = PythonRun
     if python is PythonRuntime.HOST and fmi_version != 2:
         raise FmuError("the lean FMU (--python host) is built by pythonfmu, which knows FMI 2.0 only;"
                        " the self-contained FMU (the default) is FMI 3.0 as well")
+    machine_source = machine_file(machine_path)  # the file itself, also of a packaged machine
+    assert machine_source is not None  # load_machine found it
     try:
         unit = NcUnit(machine_path)
     except UnitError as error:
@@ -123,7 +126,7 @@ def export_fmu(machine_path: str, output: str, python: PythonRuntime = PythonRun
     bundle = f"vc_fmu_{digest}"
     destination.parent.mkdir(parents=True, exist_ok=True)
     manifest = {"format": 1, "model": model_identifier, "name": machine.name,
-                "machine": f"machine/{Path(machine_path).name}"}
+                "machine": f"machine/{Path(machine_source).name}"}
     with tempfile.TemporaryDirectory(prefix="vc_fmu_") as staging_text:
         resources = Path(staging_text) / "resources"
         resources.mkdir()
@@ -131,7 +134,7 @@ def export_fmu(machine_path: str, output: str, python: PythonRuntime = PythonRun
         _copy_code(files, entry, bundle, digest, script, resources / bundle)
         machine_dir = resources / "machine"
         machine_dir.mkdir()
-        shutil.copyfile(machine_path, machine_dir / Path(machine_path).name)
+        shutil.copyfile(machine_source, machine_dir / Path(machine_source).name)
         if python is PythonRuntime.HOST:
             from fmu.slave import build_fmu
 

@@ -6,30 +6,33 @@
     vc run --plot SCENARIO [--plot-to FILE]           one scenario's timing diagram
     vc coverage report FILE... [--json OUT] [--html OUT] [--fail-under PCT] [--fail-under-function NAME=PCT]
                                                       the interface coverage of runs (docs/coverage.md)
-    vc map --machine M.yaml [--format md|csv|json|dbc|guide]
+    vc map --machine M [--format md|csv|json|dbc|guide]
                                                       the machine's expanded signal map, its CAN frames as a
                                                       DBC file, or the guide for connecting OpenPLC / CODESYS
                                                       over Modbus TCP
-    vc map --machine M.yaml --format codesys|openplc|tia|s7|awlsim [--io-base N] [-o FILE]
+    vc map --machine M --format codesys|openplc|tia|s7|awlsim [--io-base N] [-o FILE]
                                                       the signal map for a PLC tool (docs/plc_tools.md)
-    vc serve [--machine M.yaml] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
+    vc serve [--machine M] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
              [--scenario FILE] [--duration S] [--record FILE] [--allow IP,...] [--allow-writers IP,...]
              [--max-clients N] [--idle-timeout S] [--verbose]
                                                       the NC as a server (or CAN node) for a PLC in another
                                                       process; --record records the session
-    vc replay FILE [--machine M.yaml] [--to-scenario OUT.yaml [--name NAME]]
+    vc replay FILE [--machine M] [--to-scenario OUT.yaml [--name NAME]]
                                                       replay a recorded session without the PLC and report the
                                                       first difference, or turn it into a scenario
                                                       (docs/recording.md)
-    vc bench [--machine M.yaml] [--seconds S]         real-time factor and cost per IPO cycle, light and heavy
-    vc bench --scaling [--machine M.yaml] [--seconds S]
+    vc bench [--machine M] [--seconds S]         real-time factor and cost per IPO cycle, light and heavy
+    vc bench --scaling [--machine M] [--seconds S]
                                                       the cost per IPO cycle by what moves, per machine
     vc bench --link modbus [--seconds S]              what the Modbus TCP link costs (bench/README.md)
     vc bench --link can [--seconds S]                 frames per second and cost per IPO cycle of the CAN link
     vc bench --link fmu [--seconds S] [--python host] FMU steps per second under FMPy against in process
-    vc fmu export --machine M.yaml -o M.fmu [--fmi 3] [--python host]
+    vc fmu export --machine M -o M.fmu [--fmi 3] [--python host]
                                                       the NC and the plant as an FMI co-simulation FMU,
                                                       self-contained (or lean: runs in the host's Python)
+
+M is a machine file or the name of a machine the package ships (turn_mill, the default,
+mill_3axis, mill_5axis), found from any directory.
 
 Problems in input files are reported with file, line and column and exit with code 2;
 a failed scenario exits with 1.
@@ -53,10 +56,10 @@ from interfaces.links.access import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CLIENTS
 from interfaces.signal_map import FORMATTERS, MapRow, map_rows
 from interfaces.signals import expand
 from vc.config.loader import load_machine
+from vc.config.machine_files import DEFAULT_MACHINE, packaged_machines
 from vc.located_yaml import SourceError
 from vc_build import status as build_status
 
-DEFAULT_MACHINE = "scenarios/machines/turn_mill.yaml"
 GUIDE_FORMAT = "guide"  # vc map --format guide: docs/modbus.md for the machine
 DBC_FORMAT = "dbc"  # vc map --format dbc: the CAN frames through cantools
 DEFAULT_BENCH_SECONDS = 30.0  # simulated, in process, per workload
@@ -448,6 +451,8 @@ def _speed(text: str) -> float:
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="vc", description="Virtual commissioning harness for CNC machines")
     parser.add_argument("--version", action="version", version=f"vc {_version()}, {build_status().describe()}")
+    machines = f"a machine file, or the name of a packaged machine ({', '.join(packaged_machines())})"
+    machine_help = f"{machines}; default {DEFAULT_MACHINE}"
     commands = parser.add_subparsers(dest="command", required=True)
 
     run = commands.add_parser("run", help="run scenarios with the built-in PLC")
@@ -499,7 +504,7 @@ def build_parser() -> argparse.ArgumentParser:
     report.set_defaults(handler=_coverage_report)
 
     signal_map = commands.add_parser("map", help="print the expanded signal catalogue of a machine")
-    signal_map.add_argument("--machine", required=True, help="machine YAML file")
+    signal_map.add_argument("--machine", required=True, help=machines)
     signal_map.add_argument("--format", choices=[*sorted(FORMATTERS), DBC_FORMAT, GUIDE_FORMAT, *EXPORTS],
                             default="md", help="md, csv, json: the map; dbc: the CAN frames; guide: docs/modbus.md;"
                             " codesys, openplc, tia, s7, awlsim: for a PLC tool (docs/plc_tools.md)")
@@ -509,7 +514,7 @@ def build_parser() -> argparse.ArgumentParser:
     signal_map.set_defaults(handler=_map)
 
     serve = commands.add_parser("serve", help="serve the NC and the plant to a PLC over Modbus TCP and/or S7")
-    serve.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")
+    serve.add_argument("--machine", default=DEFAULT_MACHINE, help=machine_help)
     serve.add_argument("--modbus", nargs="?", const="127.0.0.1:5020", metavar="HOST:PORT",
                        help="serve Modbus TCP (default 127.0.0.1:5020; the default when no --s7 is given)")
     serve.add_argument("--s7", metavar="HOST:PORT", help="serve the data blocks over S7 (python-snap7)")
@@ -558,8 +563,7 @@ def build_parser() -> argparse.ArgumentParser:
     bench = commands.add_parser("bench", help="measure the real-time factor of the simulation, the Modbus link"
                                               " or the FMU")
     bench.add_argument("--machine", default=None,
-                       help=f"machine YAML file (default {DEFAULT_MACHINE}; with --scaling: the three of"
-                            " scenarios/machines/)")
+                       help=f"{machine_help} (with --scaling: the three packaged machines)")
     bench.add_argument("--scaling", action="store_true",
                        help="the cost per IPO cycle of each machine idle, with two axes and with every axis and"
                             " spindle moving, as a table (in process)")
@@ -590,7 +594,7 @@ def build_parser() -> argparse.ArgumentParser:
     fmu = commands.add_parser("fmu", help="export the NC and the plant as an FMU (FMI 2.0/3.0 co-simulation)")
     fmu_commands = fmu.add_subparsers(dest="fmu_command", required=True)
     export = fmu_commands.add_parser("export", help="build the FMU of a machine (docs/fmu.md)")
-    export.add_argument("--machine", default=DEFAULT_MACHINE, help=f"machine YAML file (default {DEFAULT_MACHINE})")
+    export.add_argument("--machine", default=DEFAULT_MACHINE, help=machine_help)
     export.add_argument("-o", "--output", required=True, metavar="FILE.fmu", help="the FMU file to write")
     export.add_argument("--fmi", type=int, choices=(2, 3), default=2, help="FMI version (default 2: 2.0; 3: 3.0)")
     export.add_argument("--python", choices=("bundled", "host"), default="bundled",

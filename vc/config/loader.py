@@ -112,6 +112,7 @@ from vc.config.machine_data import (
     checked_value,
     shown,
 )
+from vc.config.machine_files import machine_file, unknown_machine
 from vc.config.model import (
     DC_LINK_PER_SUPPLY_VOLT,
     EXTENDED_RETRACT,
@@ -129,7 +130,7 @@ from vc.config.model import (
     MachineConfig,
     machine_ipo_cycle_us,
 )
-from vc.located_yaml import LocatedMap, Mark, Problem, Problems, load_file, load_text
+from vc.located_yaml import LocatedMap, Mark, Problem, Problems, SourceError, load_file, load_text
 
 TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", "axes", "plant_io", "plc", "can",
                   "dc_link")
@@ -180,15 +181,20 @@ _DERIVED = {
 }
 
 
-def load_machine(path: str, overrides: LocatedMap | None = None, overrides_file: str = "") -> MachineConfig:
-    """Load and check the machine file ``path``, with a scenario's ``machine_data:`` overrides.
+def load_machine(reference: str, overrides: LocatedMap | None = None, overrides_file: str = "") -> MachineConfig:
+    """Load and check a machine file, with a scenario's ``machine_data:`` overrides.
 
+    ``reference`` is the file's path or the name of a packaged machine (``turn_mill``, see
+    :mod:`vc.config.machine_files`); the configuration's ``source`` is the reference as given.
     ``overrides_file`` names the scenario file for problems that have no mark of their own
     (an override mapping built in code); the marks of a located mapping are used otherwise.
     Raises :class:`SourceError` listing every problem of both.
     """
+    path = machine_file(reference)
+    if path is None:
+        raise SourceError([Problem(Mark(reference, 1, 1), unknown_machine(reference))])
     document, parse_problems = _parsed(path)
-    return _machine_of(document, parse_problems, path, overrides, overrides_file)
+    return _machine_of(document, parse_problems, path, reference, overrides, overrides_file)
 
 
 def load_machine_text(text: str, name: str, overrides: LocatedMap | None = None,
@@ -196,16 +202,16 @@ def load_machine_text(text: str, name: str, overrides: LocatedMap | None = None,
     """``load_machine`` for the text of a machine file kept elsewhere (a session recording holds
     the one it ran with); problems are located in ``name``."""
     document, parse_problems = load_text(text, name)
-    return _machine_of(document, parse_problems, name, overrides, overrides_file)
+    return _machine_of(document, parse_problems, name, name, overrides, overrides_file)
 
 
-def _machine_of(document: Any, parse_problems: list[Problem], path: str, overrides: LocatedMap | None,
-                overrides_file: str) -> MachineConfig:
+def _machine_of(document: Any, parse_problems: list[Problem], path: str, reference: str,
+                overrides: LocatedMap | None, overrides_file: str) -> MachineConfig:
     problems = Problems()
     problems.extend(parse_problems)
     if document is None:
         problems.raise_if_any()
-    reader = _MachineReader(path, problems)
+    reader = _MachineReader(path, problems, source=reference)
     reader.read(document)
     if overrides is not None:
         reader.apply_overrides(overrides, Mark(overrides_file or "<machine_data>", 1, 1))
@@ -347,8 +353,9 @@ class _ChannelEntry:
 class _MachineReader:
     """Reads one machine file into instances, then cross-checks and builds the config."""
 
-    def __init__(self, path: str, problems: Problems):
+    def __init__(self, path: str, problems: Problems, source: str):
         self.path = path
+        self.source = source  # how the file was named: its path, or a packaged machine's name
         self.problems = problems
         self.marks = _MarkOf(Mark(path, 1, 1))
         self.name = ""
@@ -925,7 +932,7 @@ class _MachineReader:
             return None
         config = MachineConfig(
             name=self.name,
-            source=self.path,
+            source=self.source,
             nck=MachineData(NCK_INSTANCE, self.nck.values()),
             channels=channels,
             axes=tuple(axes.values()),

@@ -1,6 +1,6 @@
 """``vc bench --scaling``: how the cost of an IPO cycle grows with what moves.
 
-Each machine (by default the three of scenarios/machines/) runs each load of
+Each machine (by default the three packaged machines) runs each load of
 vc/harness/bench_workloads.py (idle, two axes, everything) on a fresh simulation, all with
 the PLC program ``spindle`` so that the rows of a machine differ in the motion alone (the light
 workload of ``vc bench`` runs ``basic_machine``: its figure differs a little from the two-axes
@@ -16,9 +16,9 @@ from vc.harness.bench_workloads import Load
 from vc.harness.benchmark import HEAVY_PLC, BenchmarkResult, run_benchmark
 
 SCALING_MACHINES = (
-    "scenarios/machines/mill_3axis.yaml",
-    "scenarios/machines/turn_mill.yaml",
-    "scenarios/machines/mill_5axis.yaml",
+    "mill_3axis",
+    "turn_mill",
+    "mill_5axis",
 )
 SCALING_PLC = HEAVY_PLC
 

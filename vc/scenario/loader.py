@@ -39,6 +39,8 @@ from interfaces.signals import (
 )
 from vc.config.loader import load_machine
 from vc.config.machine_data import MdType
+from vc.config.machine_files import looks_like_a_path, unknown_machine
+from vc.config.machine_files import machine_file as packaged_machine_file
 from vc.config.md_dictionary import BY_NUMBER
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import ALARM_TEXTS
@@ -391,20 +393,30 @@ class _ScenarioChecker:
             return ""
         mark = document.mark_of("machine")
         if not isinstance(value, str) or not value.strip():
-            self.add(mark, f"machine must be the path of a machine file, not {_kind_of_value(value)}")
+            self.add(mark, f"machine must be the path of a machine file or the name of a packaged machine,"
+                           f" not {_kind_of_value(value)}")
             return ""
-        machine_file = os.path.normpath(os.path.join(self.directory, value.strip()))
+        reference = value.strip()
         overrides = document.get("machine_data")
         if overrides is not None and not isinstance(overrides, LocatedMap):
             self.add(document.mark_of("machine_data"),
                      "machine_data is a mapping {axis, channel or NC: {MD number or name: value}}")
             overrides = None
-        if not os.path.isfile(machine_file):
-            what = "is not a regular file (a directory, device or FIFO)" if os.path.exists(machine_file) else \
-                "not found"
-            self.add(mark, f"machine file '{value}' {what}{_looked_for(value, machine_file)}")
-            return machine_file
-        self.sources.append(machine_file)
+        if looks_like_a_path(reference):
+            machine_file = os.path.normpath(os.path.join(self.directory, reference))
+            if not os.path.isfile(machine_file):
+                what = "is not a regular file (a directory, device or FIFO)" if os.path.exists(machine_file) \
+                    else "not found"
+                self.add(mark, f"machine file '{value}' {what}{_looked_for(value, machine_file)}")
+                return machine_file
+            self.sources.append(machine_file)
+        else:  # the name of a packaged machine (turn_mill)
+            machine_file = reference
+            packaged = packaged_machine_file(reference)
+            if packaged is None:
+                self.add(mark, unknown_machine(reference))
+                return machine_file
+            self.sources.append(packaged)
         try:
             self.machine = self.machines.load(machine_file, overrides or None, self.path)
         except SourceError as error:

@@ -279,7 +279,7 @@ class Scenario:
     name: str
     description: str
     path: str  # the scenario file as given
-    machine_file: str  # the machine file, relative to the working directory like ``path``
+    machine_file: str  # the machine file, relative to the working directory like ``path``, or a packaged machine's name
     machine: MachineConfig
     catalog: ExpandedCatalog
     plc: str  # a built-in PLC program, "none" (the steps act as the PLC) or KIND:FILE (an external PLC)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from vc.cli.main import main
+from vc.cli.main import build_parser, main
 from vc_build import status as build_status
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -100,3 +100,23 @@ def test_a_broken_scenario_stops_the_whole_run_before_anything_runs(
     text = output.out + output.err
     assert f"{broken}:5:" in text and "MCP.jgo" in text and "did you mean MCP.jog" in text
     assert "PASS" not in text  # nothing ran, not even the good scenario
+
+
+def test_commands_find_the_default_machine_by_name_from_any_directory(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    for command in ("serve", "bench"):
+        assert build_parser().parse_args([command]).machine == "turn_mill"
+    assert build_parser().parse_args(["fmu", "export", "-o", "x.fmu"]).machine == "turn_mill"
+    assert main(["bench", "--seconds", "0.1"]) == 0
+    assert "machine turn_mill," in capsys.readouterr().out
+    assert main(["map", "--machine", "mill_5axis", "--format", "csv"]) == 0
+    assert "C1.basic.in.enc1Synchronized,DB35.DBX60.4," in capsys.readouterr().out
+    scenario = tmp_path / "by_name.yaml"
+    scenario.write_text("name: a packaged machine by name\nmachine: mill_3axis\nplc: basic_machine\n"
+                        "steps:\n  - wait: 20ms\n")
+    assert main(["run", str(scenario)]) == 0
+    unknown = tmp_path / "unknown.yaml"
+    unknown.write_text("name: an unknown machine\nmachine: lathe\nplc: basic_machine\nsteps:\n  - wait: 20ms\n")
+    assert main(["run", str(unknown)]) == 2
+    assert f"{unknown}:2:10: no machine file 'lathe' and no packaged machine" in capsys.readouterr().out
