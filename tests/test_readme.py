@@ -26,3 +26,25 @@ def test_ci_runs_the_readme_test_command() -> None:
     ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
     assert f'TEST_COMMAND="{quickstart_commands()[1]}"' in ci
     assert 'bash -c "$TEST_COMMAND"' in ci
+
+
+def test_the_modbus_example_reads_the_address_vc_map_gives() -> None:
+    """"`SYMBOL` (ADDRESS) is discrete input N, display number D (`mbpoll ... -t 1 -r R ...`)"
+    must be what the map of the default machine says, in every number."""
+    from interfaces.catalog import load_catalog
+    from interfaces.signal_map import map_rows
+    from interfaces.signals import expand
+    from vc.config.loader import load_machine
+    from vc.config.machine_files import DEFAULT_MACHINE
+
+    text = " ".join((ROOT / "README.md").read_text(encoding="utf-8").split())
+    example = re.search(r"`(?P<symbol>[\w.]+)` \((?P<address>DB[\w.]+)\) is discrete input (?P<number>\d+), display"
+                        r" number (?P<display>\d+) \(`mbpoll -m tcp -p 5020 -t 1 -r (?P<reference>\d+) -c 1", text)
+    assert example is not None, "the README's Modbus example is gone or reworded"
+    machine = load_machine(DEFAULT_MACHINE)
+    rows = {row.symbol: row for row in map_rows(expand(load_catalog(), machine.layout), machine.plant_io)}
+    row = rows[example["symbol"]]
+    assert (row.address, row.modbus_table) == (example["address"], "discrete_input")
+    assert int(example["number"]) == row.modbus_address
+    assert example["display"] == row.modbus_number
+    assert int(example["reference"]) == int(example["number"]) + 1  # mbpoll's -r counts from 1
