@@ -325,15 +325,17 @@ class LinkedPlc:
         self._life = link.holding_register(REG_SCAN_DONE)
         if link.outputs_written:
             self._take_modbus(areas, interface, plant)
-            if link.s7 is not None:
-                link.s7.mirror_outputs(areas)
         elif link.s7 is not None and link.s7.take_outputs(areas):
             interface.touch()
             plant.touch()
             self.register_map.fill_table(Table.PLC_TO_NC, areas, link.tables.plc_to_nc)
 
     def _take_modbus(self, areas: Mapping[str, bytearray], interface: ProcessImage, plant: ProcessImage) -> None:
+        """The Modbus PLC's outputs into the simulation, and into the S7 blocks so that an S7 client
+        sees the whole interface (lockstep and real time alike)."""
         self.register_map.fill_areas(Table.PLC_TO_NC, self.link.tables.plc_to_nc, areas)
         self.link.outputs_written = False
         interface.touch()
         plant.touch()
+        if self.link.s7 is not None:
+            self.link.s7.mirror_outputs(areas)

@@ -229,3 +229,23 @@ def test_real_time_another_client_can_neither_keep_the_sign_of_life_nor_move_an_
         plc.send_signal(signal.SIGCONT)
         _stop(plc)
         link.close()
+
+
+def test_in_lockstep_an_s7_client_sees_what_the_modbus_plc_wrote() -> None:
+    """With the PLC on Modbus, DB31.DBB0..31 read over S7 are the PLC's outputs in lockstep too
+    (the scan used to return before the copy, and S7 read zeros; real time: test_serve)."""
+    import snap7
+
+    with PlcProcess(s7=Endpoint("127.0.0.1", 0)) as plc:
+        simulation = Simulation(TURN_MILL, "basic_machine", connector=plc.link)
+        simulation.step(250)  # 0.5 s: the PLC has enabled the axes
+        assert plc.link.s7 is not None
+        client = snap7.client.Client()
+        client.connect("127.0.0.1", 0, 1, plc.link.s7.port)
+        try:
+            served = bytes(client.db_read(31, 0, 32))
+        finally:
+            client.disconnect()
+        written = bytes(simulation.interface.areas["DB31"][0:32])
+        assert written[2] & 0x02  # the PLC gave X1 its controller enable (DB31.DBX2.1)
+        assert served == written
