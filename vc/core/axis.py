@@ -190,6 +190,7 @@ class AxisSignals:
         self.disabled = table.bit("basic.in.disabled")
         self.command_minus = table.bit("basic.in.traversMinusCommandActive")
         self.command_plus = table.bit("basic.in.traversPlusCommandActive")
+        self.drive_enabled = table.bit("drive.in.enabled")
 
 
 @dataclass(slots=True)
@@ -241,6 +242,7 @@ class MachineAxis:
         self.actual = self.encoder.actual(self.physical)
         self.external_velocity = 0.0  # the slide moved by hand while the servo is off (physical units/s)
         self.pulses_cancelled = False  # the power unit cancelled the pulses (DC link below 0.9 x r0208)
+        self.line_up_ready = False  # the drive line-up (infeed) reports ready: the plant's Drives.ready
         self.setpoint = self.actual  # interpolated position setpoint (before the jerk filter)
         self.command_velocity = 0.0  # velocity of the interpolated setpoint, signed, per second
         self.velocity = 0.0  # actual velocity of the slide, signed, per second
@@ -419,6 +421,20 @@ class MachineAxis:
         """Controller and pulse enable present and a measuring system active: position control possible."""
         return self.inputs.controller_enable and self.inputs.pulse_enable and self.active_encoder is not None \
             and not self.pulses_cancelled
+
+    @property
+    def drive_enabled(self) -> bool:
+        """DB31.DBX92.7 "drive ready": the line-up is ready, the PLC enables the pulses (DBX21.7) and
+        the controller (DBX2.1), and neither the power unit (DC link) nor the NC (the controller
+        enable it removes after a rapid stop) has taken the enable away.  The drive reports it,
+        whatever the measuring systems do [control]."""
+        inp = self.inputs
+        return self.line_up_ready and inp.pulse_enable and inp.controller_enable and not self.pulses_cancelled \
+            and self._servo_off_countdown != 0
+
+    def set_line_up_ready(self, ready: bool) -> None:
+        self.line_up_ready = ready
+        self.resting = False  # the status bits change
 
     @property
     def referenced(self) -> bool:
@@ -866,13 +882,14 @@ class MachineAxis:
             self.disabled,
             self.command_velocity > _TINY,
             self.command_velocity < -_TINY,
+            self.drive_enabled,
         )
         if status == self._status:
             return
         self._status = status
         area, sig = self._area, self._signals
         (coarse, fine, stationary, position_control, follow_up, referenced_1, referenced_2, restored_1, restored_2,
-         frequency_1, frequency_2, disabled, plus, minus) = status
+         frequency_1, frequency_2, disabled, plus, minus, drive_enabled) = status
         sig.exact_coarse.put(area, coarse)
         sig.exact_fine.put(area, fine)
         sig.stationary.put(area, stationary)
@@ -887,3 +904,4 @@ class MachineAxis:
         sig.disabled.put(area, disabled)
         sig.command_plus.put(area, plus)
         sig.command_minus.put(area, minus)
+        sig.drive_enabled.put(area, drive_enabled)

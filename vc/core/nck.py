@@ -643,6 +643,12 @@ class Nck:
         """A fault of the machine: the measuring system miscounts by ``amount``."""
         encoder_slip(self.axes_by_name[axis], encoder, amount, self.memory, self.alarms)
 
+    def drive_line_up(self, ready: bool) -> None:
+        """The drive line-up (the infeed) reports ready or not (the plant's Drives.ready): the
+        drives show it in DB31.DBX92.7."""
+        for axis in self.axes:
+            axis.set_line_up_ready(ready)
+
     def drive_blocked(self, axis: str) -> None:
         """A fault of the machine: the drive of ``axis`` reports its motor blocked (a part twisted
         between two chucks holds it); the alarm's rapid stop takes the axis out of position control."""

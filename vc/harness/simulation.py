@@ -67,6 +67,8 @@ class Simulation:
         self._underlying: dict[SignalRef, Value] = {}  # what the owner wrote while a force held
         self._forces_by_direction: dict[Direction, list[tuple[SignalRef, Value]]] = {d: [] for d in Direction}
         self.plant_image = ProcessImage(machine.plant_io.area_sizes())
+        ready = machine.plant_io.by_name("Drives.ready")
+        self._drives_ready = ready.ref() if ready is not None else None
         self._power_on(NcMemory(), None, None, None, first=True)
 
     def _power_on(self, memory: NcMemory, physical: dict[str, float] | None,
@@ -96,6 +98,8 @@ class Simulation:
         for ref, value in self._forces.items():
             if ref.direction is not Direction.NC_TO_PLC:
                 self._image_of(ref).write(ref, value)
+        self._line_up_ready = -1  # what the NC was last told of the plant's Drives.ready
+        self._tell_line_up()
         self._plc_cycle()
 
     def power_cycle(self, off_seconds: float = 1.0) -> None:
@@ -144,10 +148,20 @@ class Simulation:
                 nck.drive_blocked(axis)
             if plant_forces:
                 self._apply(plant_forces, plant_image)
+            self._tell_line_up()
             if nck.cycle % self.plc_period == 0:
                 self._plc_cycle()
             elif cyclic is not None:
                 self._link_cycle(cyclic)
+
+    def _tell_line_up(self) -> None:
+        """The drives learn whether their line-up is ready (DB31.DBX92.7) from the plant input
+        ``Drives.ready`` as the plant (or a force) sets it; without that input it is always ready."""
+        ready = self._drives_ready
+        state = 1 if ready is None else self.plant_image.areas["I"][ready.address.byte] >> ready.address.bit & 1
+        if state != self._line_up_ready:
+            self._line_up_ready = state
+            self.nck.drive_line_up(bool(state))
 
     def _plc_cycle(self) -> None:
         """Interface update and one PLC scan (or, without a PLC, just the interface update)."""
