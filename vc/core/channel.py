@@ -299,10 +299,9 @@ class Channel:
 
     def _reset_couplings(self) -> None:
         """Reset and program end: the couplings as MD21330 / MD20110 say, polygon turning as HBR."""
-        if self.polygon is not None:
-            self.polygon.reset()
+        kept = self.polygon.reset() if self.polygon is not None else None
         if self.couplings is not None:
-            self.couplings.reset(self.name)
+            self.couplings.reset(self.name, kept_by_polygon=kept)
         self._waits = []
     def _end_program(self) -> None:
         self.state = ChannelState.RESET
@@ -349,7 +348,7 @@ class Channel:
         self._phase = Phase.DECODE
         self.modal.reset()
         if self.couplings is not None:
-            self.couplings.nc_start(self.name)
+            self.couplings.nc_start(self.name, kept_by_polygon=self.polygon.kept() if self.polygon else None)
         if self.polygon is not None:
             self.modal.polygon = self.polygon.active
         for spindle in self.spindles.values():

@@ -607,8 +607,9 @@ class Couplings:
                                          or any(waits for _, _, waits in coupling.queued))
 
     # ------------------------------------------------------------------ channel events
-    def nc_start(self, channel: str) -> None:
-        """Program start: configured pair per MD21330, programmed pairs per MD20112 bit 10 (L22946-22956)."""
+    def nc_start(self, channel: str, kept_by_polygon: str | None = None) -> None:
+        """Program start: configured pair per MD21330, programmed pairs per MD20112 bit 10 (L22946-22956);
+        the slave of polygon turning (``kept_by_polygon``) stays coupled (seed 002 L134-138)."""
         config = self._channels[channel]
         for following, definition in list(self.definitions.items()):
             if self._spindles[following].channel != channel:
@@ -621,13 +622,16 @@ class Couplings:
                     self.restore(following)
                 if mode & ACTIVATE_AT_START and following not in self.active:
                     self.couple(channel, following, definition.leading, None, False, 0, "")
-            elif config.md.int(MD.START_MODE_MASK) & CANCEL_PROGRAMMED_AT_START and following in self.active:
+            elif config.md.int(MD.START_MODE_MASK) & CANCEL_PROGRAMMED_AT_START and following in self.active \
+                    and following != kept_by_polygon:
                 self.decouple(following, stop=False)
 
-    def reset(self, channel: str) -> None:
+    def reset(self, channel: str, kept_by_polygon: str | None = None) -> None:
         """Reset / program end: configured pair per MD21330 bits 1/6 with MD20110 bit 0, programmed
-        pairs kept only with MD20110 bits 0 and 10 (L22968-22981).  A kept coupling loses the SPOS
-        motions of its FS, running and queued, as reset ends every motion of a spindle [control]."""
+        pairs kept only with MD20110 bits 0 and 10 (L22968-22981); the slave of polygon turning
+        (``kept_by_polygon``) stays coupled as its HBR decides (seed 002 L198-202).  A kept coupling
+        loses the SPOS motions of its FS, running and queued, as reset ends every motion of a
+        spindle [control]."""
         config = self._channels[channel]
         for following in [name for name in self._programmed_thresholds if self._spindles[name].channel == channel]:
             del self._programmed_thresholds[following]  # programmed, but no COUPON switched them in [control]
@@ -646,7 +650,7 @@ class Couplings:
                 if mode & (1 << 6):
                     self.restore(following)
             else:
-                cancel = not reset_mode & KEEP_PROGRAMMED_AT_RESET
+                cancel = not reset_mode & KEEP_PROGRAMMED_AT_RESET and following != kept_by_polygon
             coupling = self.active.get(following)
             if cancel and coupling is not None:
                 self.decouple(following, stop=False)

@@ -156,7 +156,7 @@ class Nck:
                 if axis.is_spindle:
                     spindle = Spindle(axis, spindle_signals, self.image.area(f"DB{axis.config.db}"), channel.name,
                                       spindle_coding, self._axis_coding, self.dt, nck.int(MD.SUPPRESS_ALARM_MASK),
-                                      nck.float(MD.GEAR_CHANGE_WAIT_TIME))
+                                      nck.float(MD.GEAR_CHANGE_WAIT_TIME), self.memory, self.alarms)
                     channel.spindles[axis.name] = spindle
                     self.spindles.append(spindle)
         self._spindle_of = {spindle.name: spindle for spindle in self.spindles}

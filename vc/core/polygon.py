@@ -123,9 +123,19 @@ class PolygonTurning:
         self._couplings.delete(self.slave, stop=True)
         self._master_ramp(on=False)
 
-    def reset(self) -> None:
+    def reset(self) -> str | None:
+        """Reset and program end: HBR = 0 ends the synchronisation, HBR = 1 keeps it, whatever the
+        coupling engine's reset masks say (seed 002 L137, L198-202).  Returns the slave it keeps."""
         if not self._mask & HBR:
             self.cancel()
+            return None
+        return self.kept()
+
+    def kept(self) -> str | None:
+        """The slave while synchronous: its coupling is the polygon's, which only G50.2, the emergency
+        stop, a reset without HBR and the alarms of L134-138 end; the coupling engine's masks for
+        programmed pairs at NC start and reset (MD20112, MD20110) leave it alone."""
+        return self.slave if self.active else None
 
     def alarms_raised(self, alarms: list[Alarm]) -> None:
         if self.active and not all(keeps_synchronism(alarm) for alarm in alarms):

@@ -716,11 +716,22 @@ def encoder_slip(axis: MachineAxis, encoder_index: int, amount: float, memory: N
     encoder.referenced = encoder.restored = encoder.reference_return_due = False
     alarms.raise_alarm(ALARM_ZERO_MARK_MONITORING, 0, axis.name, channel=axis.channel, axis=axis.name)
     if encoder.absolute:
-        memory.write(axis.name, MD.ENC_REFP_STATE, ENC_STATE_NOT_CALIBRATED, encoder_index, axis.config.md)
-        alarms.raise_alarm(ALARM_ENCODER_WARNING, 0, axis.name, encoder_index + 1, 0,
-                           channel=axis.channel, axis=axis.name)
+        lose_calibration(axis, encoder_index, memory, alarms, 0)
     if encoder is axis.encoder:
         axis.shift(encoder.actual(axis.physical) - axis.actual)
+
+
+def lose_calibration(axis: MachineAxis, encoder_index: int, memory: NcMemory, alarms: AlarmList, cycle: int) -> None:
+    """The control sees that an absolute encoder must be calibrated again (a gear stage change with
+    a new ratio, the zero-mark monitoring, a new serial number): MD34210 := 0 and alarm 25022
+    "axis <axis> encoder <n> warning 0"; the axis is no longer referenced by it (seed 003
+    L2025-2040)."""
+    encoder = axis.encoders[encoder_index]
+    encoder.referenced = encoder.restored = encoder.reference_return_due = False
+    memory.write(axis.name, MD.ENC_REFP_STATE, ENC_STATE_NOT_CALIBRATED, encoder_index, axis.config.md)
+    alarms.raise_alarm(ALARM_ENCODER_WARNING, cycle, axis.name, encoder_index + 1, 0,
+                       channel=axis.channel, axis=axis.name)
+    axis.resting = False  # DB31.DBX60.4 / 60.5 change
 
 
 # ---------------------------------------------------------------------------------- passive scales

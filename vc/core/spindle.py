@@ -59,7 +59,9 @@ from vc.core.gear_change import (
 from vc.core.interface_map import SignalTable
 from vc.core.interpreter import SpindleCommand
 from vc.core.motion import braking_distance, ramp, stopping_velocity
+from vc.core.nc_memory import NcMemory
 from vc.core.overrides import OverrideCoding
+from vc.core.referencing import lose_calibration
 
 RPM = 6.0  # rev/min -> deg/s
 REV_S2 = 360.0  # rev/s^2 -> deg/s^2
@@ -159,8 +161,12 @@ class Spindle:
 
     def __init__(self, axis: MachineAxis, signals: SpindleSignals, area: bytearray, channel: str,
                  override_coding: OverrideCoding, feed_coding: OverrideCoding, dt: float,
-                 suppress_alarm_mask: int, gear_wait_s: float):
+                 suppress_alarm_mask: int, gear_wait_s: float, memory: NcMemory, alarms: AlarmList):
+        """``memory`` and ``alarms``: where a gear stage change that recalibrates an absolute
+        motor encoder writes MD34210 and raises 25022, also when a reset ends the change."""
         self.axis = axis
+        self._memory = memory
+        self._alarms = alarms
         self.name = axis.name
         self.number = axis.config.spindle_number
         self.channel = channel
@@ -236,6 +242,11 @@ class Spindle:
             if not md.bool(MD.ENC_IS_DIRECT, encoder.index):
                 ratio = md.int(MD.DRIVE_AX_RATIO_DENOM, index) / md.int(MD.DRIVE_AX_RATIO_NUMERA, index)
                 axis.set_encoder_turn(encoder, abs(360.0 * ratio))
+
+    def _ratio(self, gear: int) -> float:
+        """Load revolutions per motor revolution in ``gear`` (MD31050 / MD31060)."""
+        md = self.md
+        return md.int(MD.DRIVE_AX_RATIO_DENOM, gear) / md.int(MD.DRIVE_AX_RATIO_NUMERA, gear)
 
     @property
     def parameter_set(self) -> int:
@@ -678,8 +689,15 @@ class Spindle:
             alarms.raise_alarm(ALARM_WRONG_GEAR, cycle, self.channel, "", self.number, self.gear, change.target,
                                channel=self.channel, axis=self.name)
         motor_encoder = not self.md.bool(MD.ENC_IS_DIRECT, self.axis.encoder.index)
-        if motor_encoder and previous != self.gear:
+        if motor_encoder and previous != self.gear and not self.axis.encoder.absolute:
             self.axis.encoder.referenced = False  # a new ratio between motor and spindle (L19281-19284)
+        if self._ratio(previous) != self._ratio(self.gear):
+            for encoder in self.axis.encoders:
+                if encoder.absolute and not self.md.bool(MD.ENC_IS_DIRECT, encoder.index) \
+                        and self._memory.view(self.name, self.md).int(MD.ENC_REFP_STATE, encoder.index):
+                    # the stage between the load and an absolute motor encoder changed its ratio: the
+                    # encoder must be calibrated again (seed 003 L1992-1996, L2025-2040)
+                    lose_calibration(self.axis, encoder.index, self._memory, self._alarms, cycle)
         self.positioning = None
         if change.mode_before in (SpindleMode.POSITIONING, SpindleMode.AXIS):
             self.direction = 0  # after a change from positioning or axis mode: M5 (L18657-18675)
@@ -906,12 +924,15 @@ class Spindle:
         return axis.command_velocity == 0.0 and abs(axis.velocity) <= axis.dyn.standstill_velocity
 
     def _synchronise(self) -> None:
-        """An unsynchronised turning spindle takes the zero mark it passed (§13.3)."""
+        """An unsynchronised turning spindle takes the zero mark it passed (§13.3); an absolute
+        encoder is referenced by its calibration instead (§4.9), and one that lost it stays
+        unreferenced until it is calibrated again (seed 003 L2025-2040)."""
         axis = self.axis
         physical, before = axis.physical, self._last_physical
         self._last_physical = physical
         encoder = axis.encoder
-        if encoder.referenced or encoder.frequency_exceeded or physical == before or axis.active_encoder is None:
+        if encoder.referenced or encoder.frequency_exceeded or physical == before or axis.active_encoder is None \
+                or encoder.absolute:
             return
         mark = encoder.zero_mark_between(before, physical)
         if mark is None:

@@ -645,6 +645,26 @@ def test_a_gear_change_drops_the_reference_of_the_motor_encoder_and_changes_its_
     assert sp1(rig).mode is SpindleMode.CONTROL
 
 
+@pytest.mark.parametrize(("extra", "loses"), [
+    ("SP1: {MD30240: [4], MD34210: [2]}", True),  # gear 1 (2:15) to gear 2 (1:3): a new ratio
+    ("SP1: {MD30240: [4], MD34210: [2], MD31050: [2, 2, 2, 1], MD31060: [15, 15, 15, 4]}", False),  # same ratio
+    ("SP1: {MD30240: [4], MD34210: [2], MD31040: [1]}", False),  # the encoder on the spindle: no gear between
+])
+def test_a_new_ratio_between_load_and_absolute_motor_encoder_takes_its_calibration(extra: str, loses: bool) -> None:
+    """Seed 003 L1992-1996, L2025-2040: MD34210 := 0 and alarm 25022 'warning 0'."""
+    rig = spindle_rig(extra)
+    assert bit(rig, "SP1.basic.in.enc1Synchronized") == 1  # calibrated: referenced at power-on
+    rig.mda("M42")
+    rig.run_until(lambda: bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 1, 200)
+    acknowledge(rig, 2)
+    rig.step(2)
+    state = rig.sim.machine_datum("SP1", MD.ENC_REFP_STATE.number, 0)
+    assert (state, bit(rig, "SP1.basic.in.enc1Synchronized")) == ((0, 0) if loses else (2, 1))
+    assert rig.alarm_numbers() == ([25022] if loses else [])
+    if loses:
+        assert str(rig.nck.alarms.present[0]) == "25022 Axis SP1 encoder 1 warning 0"
+
+
 def test_resync_drops_the_synchronisation_until_the_next_zero_mark() -> None:
     rig = spindle_rig()
     rig.mda("M3 S60")  # 60 rev/min = 360 deg/s: a zero mark every 48 degrees, 0.13 s
