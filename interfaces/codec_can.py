@@ -5,7 +5,7 @@ Convention, stated once (``vc map --format dbc`` writes it as a DBC file, the te
 * **Frames.** CAN FD frames of up to 64 data bytes with 11-bit identifiers (``fd: false`` in the
   machine file's ``can:`` section: classic frames of 8 bytes).
 * **Data frames.** Every byte range a link moves (:mod:`interfaces.exchange`: the plant area, then
-  the data-block ranges of DB10, DB11, DB19, DB21.., DB31.., per direction) is cut into frames of up to P
+  the data-block ranges of DB10, DB11, DB19, DB21.., DB31.., DB100, per direction) is cut into frames of up to P
   bytes, P = 63 (7 classic) with the checksum byte, 64 (8) without; a cut that would split a word
   or double word moves back to its first byte.  A frame carries its bytes from its byte 0 on; a
   range never shares a frame with another one.  A frame is
@@ -29,8 +29,10 @@ Convention, stated once (``vc map --format dbc`` writes it as a DBC file, the te
       0x20B  DB31.DBB60..103       48       ..     one frame per axis
       ..     one frame per axis             0x40D  DB36.DBB0..31       48
       0x210  DB36.DBB60..103       48
+      0x211  DB100.DBB0..59        64
+      0x212  DB100.DBB60..67       12
 
-  17 frames from the NC and 14 from the PLC per exchange (classic frames: 96 and 49).
+  19 frames from the NC and 14 from the PLC per exchange (classic frames: 107 and 49).
 
 * **Values.** Data-block words and double words are big-endian as in S7 (a DBC marks them
   Motorola, start bit = the most significant bit, frame byte x 8 + 7); a bit ``n.b`` or a byte

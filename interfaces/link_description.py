@@ -8,11 +8,14 @@ fixed program ignores it).  It travels as UTF-8 JSON (input registers from 4096 
     {"format": 1, "machine": "turn_mill", "channels": ["CHAN1"], "axes": ["X1", "Z1", ...],
      "plant_io": {"I0.0": "EStop.chainOk", ...}, "ipo_cycle_us": 2000, "plc_cycle_ipo": 5,
      "program": "basic_machine", "parameters": {...},
-     "nc_to_plc_registers": 323, "plc_to_nc_registers": 132,
+     "nc_to_plc_registers": 359, "plc_to_nc_registers": 163,
+     "alarms": {"data_block": 100, "input_register": 325, "entries": 8, ...},
      "can": {"link_id": 256, "nc_to_plc_id": 512, "plc_to_nc_id": 1024, "fd": true, "checksum": true},
      "can_timeout_us": 50000}
 
-The register counts let a client check that it computes the same layout as the server.  ``can``
+The register counts let a client check that it computes the same layout as the server.
+``alarms`` says where the NC's alarm list is (data block 100, its first input register) and what
+its codes mean (:mod:`interfaces.alarm_block`).  ``can``
 comes only over the CAN link (:mod:`interfaces.codec_can`, there as segments of the description
 frame): the identifiers and frame format the PLC must use, and the time after which its
 time-out monitor treats a missing frame of the NC as a failure.
@@ -25,6 +28,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from interfaces import alarm_block
 from interfaces.catalog import load_catalog
 from interfaces.codec_can import DEFAULT_TIMEOUT_US, CanLayout, CanMapError, CanSettings
 from interfaces.codec_modbus import RegisterMap, Table
@@ -57,6 +61,7 @@ class LinkDescription:
     plc_to_nc_registers: int = 0
     can: CanSettings | None = None  # the CAN link's identifiers and frame format
     can_timeout_us: int = DEFAULT_TIMEOUT_US  # the CAN link's time-out monitor
+    alarms: Mapping[str, Any] = field(default_factory=dict)  # where the alarm list DB100 is, its codes
 
     @classmethod
     def of(cls, environment: PlcEnvironment, program: str | None, register_map: RegisterMap,
@@ -66,7 +71,7 @@ class LinkDescription:
         return cls(environment.machine, layout.channels, layout.axes, entries, environment.ipo_cycle_us,
                    environment.plc_cycle_ipo, program, dict(environment.parameters),
                    register_map.registers(Table.NC_TO_PLC), register_map.registers(Table.PLC_TO_NC), can,
-                   can_timeout_us)
+                   can_timeout_us, alarm_block.describe(environment.catalog, register_map))
 
     def to_json(self) -> bytes:
         document = {
@@ -74,6 +79,7 @@ class LinkDescription:
             "plant_io": dict(self.plant_io), "ipo_cycle_us": self.ipo_cycle_us, "plc_cycle_ipo": self.plc_cycle_ipo,
             "program": self.program, "parameters": dict(self.parameters),
             "nc_to_plc_registers": self.nc_to_plc_registers, "plc_to_nc_registers": self.plc_to_nc_registers,
+            "alarms": dict(self.alarms),
         }
         if self.can is not None:
             document["can"] = self.can.as_dict()
@@ -92,7 +98,7 @@ class LinkDescription:
                        document.get("program"), dict(document.get("parameters") or {}),
                        int(document["nc_to_plc_registers"]), int(document["plc_to_nc_registers"]),
                        None if can is None else CanSettings.from_dict(can),
-                       int(document.get("can_timeout_us", DEFAULT_TIMEOUT_US)))
+                       int(document.get("can_timeout_us", DEFAULT_TIMEOUT_US)), dict(document.get("alarms") or {}))
         except (UnicodeDecodeError, ValueError, KeyError, TypeError, AttributeError) as error:
             if isinstance(error, DescriptionError):
                 raise

@@ -10,7 +10,9 @@ placeholder of its instance (``<Axis>.basic.in.enc1Synchronized``).  A machine's
 * machine axis n is ``DB(30+n)`` and ``<Axis>`` becomes the axis name (``X1``),
 * ``<ModeGroup>`` becomes ``MODEGROUP``, ``<Nc>`` becomes ``NC`` and ``<Hmi>`` becomes ``HMI``
   (the operator panel's DB19: its ``.out.`` signals go PLC -> OP, its ``.in.`` signals OP -> PLC,
-  so the OP stands on the NC's side of the interface).
+  so the OP stands on the NC's side of the interface),
+* ``<Alarms>`` becomes ``ALARMS``: DB100, the NC's alarm list for the PLC (a project block behind
+  the axis blocks).
 
 This module is pure: it builds the catalogue from already parsed documents
 (``interfaces.catalog.load_catalog`` reads the YAML files).
@@ -78,6 +80,7 @@ class InstanceKind(StrEnum):
     HMI = "hmi"  # the operator panel (OP): DB19
     CHANNEL = "channel"
     AXIS = "axis"
+    ALARMS = "alarms"  # the NC's alarm list for the PLC: DB100 (project)
 
 
 FIRST_DB: dict[InstanceKind, int] = {
@@ -86,6 +89,7 @@ FIRST_DB: dict[InstanceKind, int] = {
     InstanceKind.HMI: 19,
     InstanceKind.CHANNEL: 21,
     InstanceKind.AXIS: 31,
+    InstanceKind.ALARMS: 100,
 }
 PLACEHOLDER: dict[InstanceKind, str] = {
     InstanceKind.NCK: "<Nc>",
@@ -93,10 +97,12 @@ PLACEHOLDER: dict[InstanceKind, str] = {
     InstanceKind.HMI: "<Hmi>",
     InstanceKind.CHANNEL: "<Chan>",
     InstanceKind.AXIS: "<Axis>",
+    InstanceKind.ALARMS: "<Alarms>",
 }
 NCK_INSTANCE = "NC"
 MODE_GROUP_INSTANCE = "MODEGROUP"
 HMI_INSTANCE = "HMI"
+ALARMS_INSTANCE = "ALARMS"
 
 _TYPE_BYTES: dict[SignalType, int] = {
     SignalType.BOOL: 1,
@@ -341,6 +347,8 @@ class InterfaceLayout:
             return ((MODE_GROUP_INSTANCE, 11),)
         if kind is InstanceKind.HMI:
             return ((HMI_INSTANCE, 19),)
+        if kind is InstanceKind.ALARMS:
+            return ((ALARMS_INSTANCE, FIRST_DB[InstanceKind.ALARMS]),)
         if kind is InstanceKind.CHANNEL:
             return tuple((name, 20 + k) for k, name in enumerate(self.channels, start=1))
         return tuple((name, 30 + n) for n, name in enumerate(self.axes, start=1))

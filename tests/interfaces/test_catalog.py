@@ -88,18 +88,27 @@ def test_expanded_symbols_and_addresses_are_unique() -> None:
     assert len(set(addresses)) == len(addresses)
     per_kind = {section.kind: len(section.signals) for section in load_catalog().sections}
     expected = (per_kind[InstanceKind.NCK] + per_kind[InstanceKind.MODE_GROUP] + per_kind[InstanceKind.HMI]
-                + 2 * per_kind[InstanceKind.CHANNEL] + 3 * per_kind[InstanceKind.AXIS])
+                + 2 * per_kind[InstanceKind.CHANNEL] + 3 * per_kind[InstanceKind.AXIS] + per_kind[InstanceKind.ALARMS])
     assert len(items) == expected
 
 
 def test_instances_land_in_their_data_blocks() -> None:
     assert expanded().area_sizes.keys() == {"DB10", "DB11", "DB19", "DB21", "DB22", "DB31", "DB32",
-                                               "DB33"}
+                                               "DB33", "DB100"}
     assert expanded().resolve("CHAN2.basic.out.reset").address == Address.parse("DB22.DBX7.7")
     assert expanded().resolve("SP1.basic.in.enc1Synchronized").address == Address.parse("DB33.DBX60.4")
     assert expanded().resolve("MODEGROUP.basic.out.jogMode").address == Address.parse("DB11.DBX0.2")
     assert expanded().resolve("NC.basic.out.emergencyStop").address == Address.parse("DB10.DBX56.1")
     assert expanded().resolve("HMI.basic.out.displayWcsValues").address == Address.parse("DB19.DBX0.7")
+    assert expanded().resolve("ALARMS.entry[2].in.number").address == Address.parse("DB100.DBD12")
+
+
+def test_the_alarm_block_is_a_project_block_behind_every_axis() -> None:
+    """DB100 follows the axis blocks in every link's order, so it moves no address of theirs."""
+    section = load_catalog().section(InstanceKind.ALARMS)
+    assert section.db == 100 and all(signal.origin is Origin.PROJECT for signal in section.signals)
+    assert all(signal.direction is Direction.NC_TO_PLC for signal in section.signals)
+    assert expanded().byte_ranges(Direction.NC_TO_PLC)[-1] == ("DB100", 0, section.size)
 
 
 # --------------------------------------------------------------------------------------------
@@ -224,7 +233,7 @@ def test_control_entries_are_the_agreed_ones() -> None:
 
 
 def test_symbols_are_well_formed_and_match_the_direction() -> None:
-    form = re.compile(r"^<(Nc|ModeGroup|Hmi|Chan|Axis)>(\.[A-Za-z][A-Za-z0-9]*(\[\d+\])?)+$")
+    form = re.compile(r"^<(Nc|ModeGroup|Hmi|Chan|Axis|Alarms)>(\.[A-Za-z][A-Za-z0-9]*(\[\d+\])?)+$")
     for signal in load_catalog().signals:
         assert form.match(signal.symbol), signal.symbol
         expected = Direction.PLC_TO_NC if ".out." in signal.symbol else Direction.NC_TO_PLC
@@ -301,7 +310,7 @@ def test_signals_that_must_not_be_catalogued() -> None:
     [
         ("Y9.basic.in.enc1Synchronized",
          "unknown signal 'Y9.basic.in.enc1Synchronized': 'Y9' is not an instance of this machine"
-         " (known: CHAN1, CHAN2, HMI, MODEGROUP, NC, SP1, X1, Z1)"),
+         " (known: ALARMS, CHAN1, CHAN2, HMI, MODEGROUP, NC, SP1, X1, Z1)"),
         ("X1.basic.in.enc1Synchronised",
          "unknown signal 'X1.basic.in.enc1Synchronised'; did you mean X1.basic.in.enc1Synchronized"
          " or X1.basic.in.enc2Synchronized?"),

@@ -26,3 +26,22 @@ def test_a_plc_refuses_what_it_cannot_read_with_its_setup_error(text: bytes) -> 
         LinkDescription.from_json(text)
     with pytest.raises(PlcSetupError):
         LinkDescription.for_plc(text)
+
+
+def test_the_description_says_where_the_alarm_block_is_and_what_its_codes_mean() -> None:
+    from interfaces.catalog import load_catalog
+    from interfaces.codec_modbus import RegisterMap, Table
+    from interfaces.plant_io import PlantIoMap
+    from interfaces.plc import PlcEnvironment
+    from interfaces.signals import InterfaceLayout, expand
+
+    catalog = expand(load_catalog(), InterfaceLayout(("CHAN1",), ("X1", "SP1")))
+    plant_io = PlantIoMap.from_mapping({"I0.0": "MCP.auto"}, ("X1", "SP1"))
+    register_map = RegisterMap.build(catalog, plant_io.area_sizes())
+    described = LinkDescription.of(PlcEnvironment(catalog, plant_io, 0.01, {}, "m", 2000, 5), None, register_map)
+    alarms = LinkDescription.from_json(described.to_json()).alarms
+    location = register_map.location(catalog.resolve("ALARMS.list.in.count"))
+    assert location is not None and location.table is Table.NC_TO_PLC
+    assert (alarms["data_block"], alarms["input_register"], alarms["entries"]) == (100, location.register, 8)
+    assert alarms["input_register"] + 34 == register_map.registers(Table.NC_TO_PLC)  # the table's last range
+    assert alarms["cleared_by"][4].startswith("emergency stop released, acknowledged with DB10.DBX56.2")

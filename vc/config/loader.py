@@ -166,7 +166,8 @@ NCK_INSTANCE = "NC"
 COUPLED_LIKE_PARAMETERS = (mdd.FIPO_TYPE, mdd.AX_JERK_ENABLE, mdd.AX_JERK_MODE, mdd.AX_JERK_TIME, mdd.AX_JERK_FREQ,
                            mdd.AX_JERK_DAMP, mdd.JOG_AND_POS_JERK_ENABLE, mdd.JOG_AND_POS_MAX_JERK)
 # Instance names the interface and the plant I/O vocabulary already use.
-RESERVED_NAMES = frozenset({"NC", "MODEGROUP", "MCP", "EStop", "Drives", "Lamp", "Door", "PLC"})  # PLC: the FMU
+RESERVED_NAMES = frozenset({"NC", "MODEGROUP", "HMI", "ALARMS", "MCP", "EStop", "Drives", "Lamp", "Door",
+                            "PLC"})  # PLC: the FMU
 MAX_CHANNELS = 10  # DB21..DB30: channel 11 would collide with DB31 of machine axis 1
 MAX_AXES = 31  # MD10000 has 31 entries
 MAX_CHANNEL_AXES = 20  # MD20070 has 20 entries

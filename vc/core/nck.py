@@ -27,6 +27,7 @@ from interfaces.image import ProcessImage
 from interfaces.signals import Catalog, Direction, InstanceKind, expand
 from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
+from vc.core.alarm_area import AlarmArea
 from vc.core.alarms import STOP_AXES, Alarm, AlarmList, Clear, Reaction
 from vc.core.axis import AxisSignals, MachineAxis, Owner
 from vc.core.channel import Channel, ChannelSignals, ChannelState, Mode
@@ -90,6 +91,10 @@ class Nck:
         self._servo_check_version = -1
         self._nck_signals = NckSignals(SignalTable(catalog, InstanceKind.NCK))
         self._nck_area = self.image.area("DB10")
+        self._alarm_area = AlarmArea(SignalTable(catalog, InstanceKind.ALARMS), self.image.area("DB100"),
+                                     {channel.name: channel.number for channel in machine.channels},
+                                     {axis.name: axis.number for axis in machine.axes})
+        self._alarm_area_version = -1
         self._hmi_signals = HmiSignals(SignalTable(catalog, InstanceKind.HMI))
         self.handwheels = Handwheels()
         self._handwheel_signals = HandwheelSignals(SignalTable(catalog, InstanceKind.AXIS))
@@ -594,6 +599,9 @@ class Nck:
 
     def _write_status(self) -> None:
         present = self.alarms.present
+        if self.alarms.version != self._alarm_area_version:
+            self._alarm_area_version = self.alarms.version
+            self._alarm_area.write(self.alarms)
         sig, area = self._nck_signals, self._nck_area
         sig.emergency_stop_active.put(area, self.emergency_stop)
         sig.nc_ready.put(area, True)

@@ -26,6 +26,7 @@ from enum import Enum
 from interfaces.address import Address, AddressError
 from interfaces.plant_io import PlantIoMap, plant_function
 from interfaces.signals import (
+    ALARMS_INSTANCE,
     HMI_INSTANCE,
     MODE_GROUP_INSTANCE,
     NCK_INSTANCE,
@@ -125,7 +126,8 @@ class NameResolver:
         self.plant_io = plant_io
         self.axes = tuple(axes)
         self.channels = tuple(channels)
-        self._instances = {NCK_INSTANCE, MODE_GROUP_INSTANCE, HMI_INSTANCE, *self.axes, *self.channels}
+        self._instances = {NCK_INSTANCE, MODE_GROUP_INSTANCE, HMI_INSTANCE, ALARMS_INSTANCE, *self.axes,
+                           *self.channels}
         self._cache: dict[str, Quantity] = {}
 
     def resolve(self, name: str) -> Quantity:

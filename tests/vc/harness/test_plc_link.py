@@ -249,3 +249,45 @@ def test_in_lockstep_an_s7_client_sees_what_the_modbus_plc_wrote() -> None:
         written = bytes(simulation.interface.areas["DB31"][0:32])
         assert written[2] & 0x02  # the PLC gave X1 its controller enable (DB31.DBX2.1)
         assert served == written
+
+
+def test_the_alarm_block_db100_reaches_a_modbus_client_and_an_s7_client() -> None:
+    """Alarm 3000 (the PLC reports the open e-stop chain) read as input registers at DB100's place in
+    the NC-to-PLC table, and as S7 data block DB100."""
+    import threading
+
+    import snap7
+
+    from interfaces.codec_modbus import RegisterMap, Table
+    from interfaces.links.modbus_tcp import ModbusLinkClient
+
+    with PlcProcess(s7=Endpoint("127.0.0.1", 0)) as plc:
+        simulation = Simulation(TURN_MILL, "basic_machine", connector=plc.link)
+        simulation.step(100)
+        simulation.write(TURN_MILL.plant_io.resolve("EStop.chainOk"), 0)
+        simulation.step(50)
+        assert [alarm.number for alarm in simulation.alarms()] == [3000]
+        register_map = RegisterMap.build(simulation.catalog, TURN_MILL.plant_io.area_sizes())
+        first = register_map.table_byte(Table.NC_TO_PLC, "DB100", 0)
+        assert first is not None and first % 2 == 0
+        assert first // 2 + 34 == register_map.registers(Table.NC_TO_PLC)  # 68 bytes, the end of the table
+        assert plc.link.modbus is not None and plc.link.s7 is not None
+        read: list[int] = []
+        client = ModbusLinkClient("127.0.0.1", plc.link.modbus.port)
+        reader = threading.Thread(target=lambda: client.connect() and read.extend(
+            client.read_input_registers(first // 2, 6)))
+        reader.start()
+        while reader.is_alive():
+            plc.link.serve()  # the server answers while the harness waits
+            reader.join(0.01)
+        client.close()
+        # count, changes, entry 1: number (two registers), channel | axis, reaction | clearedBy
+        assert read[0] == 1 and read[2:4] == [0, 3000] and read[4] == 0 and read[5] == 0x3B05
+        s7 = snap7.client.Client()
+        s7.connect("127.0.0.1", 0, 1, plc.link.s7.port)
+        try:
+            block = bytes(s7.db_read(100, 0, 12))
+        finally:
+            s7.disconnect()
+        assert block == bytes(simulation.nck.image.area("DB100")[0:12])
+        assert int.from_bytes(block[4:8], "big") == 3000 and block[11] == 5
