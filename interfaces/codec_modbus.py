@@ -54,9 +54,9 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
   PLC-to-NC table, and write the grant into holding register 0 last.  The harness takes the
   outputs when holding register 1 equals the session and holding register 0 the grant.
 
-* **Description.** Input registers from 4096 hold the interface description as UTF-8 JSON
-  (see :mod:`interfaces.link_description`), two bytes a register, so a client that can be
-  stepped configures itself from the server.
+* **Description.** Input registers from 4096 (up to 16383) hold the interface description as
+  UTF-8 JSON (see :mod:`interfaces.link_description`), two bytes a register, so a client that can
+  be stepped configures itself from the server.
 
 The tables never exceed 4096 registers (65536 bits, the largest coil number).
 """
@@ -77,7 +77,7 @@ LINK_REGISTERS = 16  # registers 0..15 of each table: the link block
 DATA_START_BYTE = 2 * LINK_REGISTERS
 MAX_TABLE_REGISTERS = 4096  # 65536 bits: the highest coil / discrete input number is 65535
 DESCRIPTION_REGISTER = 4096  # first input register of the description
-MAX_DESCRIPTION_BYTES = 2 * 4096
+MAX_DESCRIPTION_BYTES = 2 * 12288  # input registers 4096..16383 (the commissioning facts of many axes fit)
 READ_LIMIT = 125  # registers in one read request or response (FC 3, 4): the protocol's limit
 WRITE_LIMIT = 123  # registers in one write request (FC 16)
 LINK_VERSION = 1

@@ -10,12 +10,16 @@ fixed program ignores it).  It travels as UTF-8 JSON (input registers from 4096 
      "program": "basic_machine", "parameters": {...},
      "nc_to_plc_registers": 359, "plc_to_nc_registers": 163,
      "alarms": {"data_block": 100, "input_register": 325, "entries": 8, ...},
+     "commissioning": {"axes": [{"axis": "X1", "approach": "plus", "cam": [280.0, 295.0], ...}],
+                       "reference_order": {"CHAN1": [["Z1", "Y1"], ["X1"]]}, "plant_needs": [...]},
      "can": {"link_id": 256, "nc_to_plc_id": 512, "plc_to_nc_id": 1024, "fd": true, "checksum": true},
      "can_timeout_us": 50000}
 
 The register counts let a client check that it computes the same layout as the server.
 ``alarms`` says where the NC's alarm list is (data block 100, its first input register) and what
-its codes mean (:mod:`interfaces.alarm_block`).  ``can``
+its codes mean (:mod:`interfaces.alarm_block`); ``commissioning`` how each axis is referenced
+(direction MD34010, cam and limit switch positions, MD34110 and what must come first) and what the
+plant needs from the PLC (:class:`interfaces.commissioning.Commissioning`).  ``can``
 comes only over the CAN link (:mod:`interfaces.codec_can`, there as segments of the description
 frame): the identifiers and frame format the PLC must use, and the time after which its
 time-out monitor treats a missing frame of the NC as a failure.
@@ -62,6 +66,7 @@ class LinkDescription:
     can: CanSettings | None = None  # the CAN link's identifiers and frame format
     can_timeout_us: int = DEFAULT_TIMEOUT_US  # the CAN link's time-out monitor
     alarms: Mapping[str, Any] = field(default_factory=dict)  # where the alarm list DB100 is, its codes
+    commissioning: Mapping[str, Any] = field(default_factory=dict)  # Commissioning.as_dict(): referencing, wiring
 
     @classmethod
     def of(cls, environment: PlcEnvironment, program: str | None, register_map: RegisterMap,
@@ -71,7 +76,8 @@ class LinkDescription:
         return cls(environment.machine, layout.channels, layout.axes, entries, environment.ipo_cycle_us,
                    environment.plc_cycle_ipo, program, dict(environment.parameters),
                    register_map.registers(Table.NC_TO_PLC), register_map.registers(Table.PLC_TO_NC), can,
-                   can_timeout_us, alarm_block.describe(environment.catalog, register_map))
+                   can_timeout_us, alarm_block.describe(environment.catalog, register_map),
+                   environment.commissioning.as_dict() if environment.commissioning is not None else {})
 
     def to_json(self) -> bytes:
         document = {
@@ -81,6 +87,8 @@ class LinkDescription:
             "nc_to_plc_registers": self.nc_to_plc_registers, "plc_to_nc_registers": self.plc_to_nc_registers,
             "alarms": dict(self.alarms),
         }
+        if self.commissioning:
+            document["commissioning"] = dict(self.commissioning)
         if self.can is not None:
             document["can"] = self.can.as_dict()
             document["can_timeout_us"] = self.can_timeout_us
@@ -98,7 +106,8 @@ class LinkDescription:
                        document.get("program"), dict(document.get("parameters") or {}),
                        int(document["nc_to_plc_registers"]), int(document["plc_to_nc_registers"]),
                        None if can is None else CanSettings.from_dict(can),
-                       int(document.get("can_timeout_us", DEFAULT_TIMEOUT_US)), dict(document.get("alarms") or {}))
+                       int(document.get("can_timeout_us", DEFAULT_TIMEOUT_US)), dict(document.get("alarms") or {}),
+                       dict(document.get("commissioning") or {}))
         except (UnicodeDecodeError, ValueError, KeyError, TypeError, AttributeError) as error:
             if isinstance(error, DescriptionError):
                 raise

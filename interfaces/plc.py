@@ -22,6 +22,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Protocol, runtime_checkable
 
+from interfaces.commissioning import Commissioning
 from interfaces.image import ProcessImage
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import ExpandedCatalog
@@ -36,6 +37,7 @@ class PlcEnvironment:
     machine: str = ""  # the machine's name, for links that describe the interface to a remote PLC
     ipo_cycle_us: int = 0  # the NC's IPO cycle ...
     plc_cycle_ipo: int = 0  # ... and the PLC period in IPO cycles (scan_time_s = their product)
+    commissioning: Commissioning | None = None  # referencing, wiring: what a link describes to a remote PLC
 
 
 class SoftPlc(Protocol):

@@ -1,7 +1,10 @@
 """The expanded signal map of a machine as CSV, JSON or Markdown (``vc map``).
 
 One row per signal of every DB instance, then the machine's plant I/O, then the registers of
-the Modbus link block.  The CSV columns start with
+the Modbus link block, then the machine's commissioning facts (instance ``COMMISSIONING``:
+``X1.commissioning`` how each axis is referenced and where its cam and limit switches are,
+``CHAN1.referenceOrder``, and ``wiring.*`` what the plant needs from the PLC; address and
+meaning only).  The CSV columns start with
 ``symbol,address,direction,type,modbus_table,modbus_address,bit``:
 
 * a bit signal is listed as a coil (PLC writes) or discrete input (PLC reads): ``modbus_address``
@@ -11,6 +14,9 @@ the Modbus link block.  The CSV columns start with
   the first register, ``bit`` the lowest bit of the value in it (8 for a byte in the high half);
 * ``modbus_number`` is the 1-based display number (0xxxx coil, 1xxxx discrete input, 3xxxx input
   register, 4xxxx holding register);
+* ``modelled`` is ``yes`` when the simulated NC reads (PLC -> NC) or writes (NC -> PLC) the
+  signal, else ``no: <why>`` (the catalogue's ``not_modelled``): a PLC waiting for such a signal
+  waits for ever, and that is not the PLC's fault;
 * ``can_id`` is the identifier of the CAN data frame that carries the signal (hexadecimal) and
   ``can_start_bit`` its start bit as the DBC file gives it (``vc map --format dbc``): frame byte x 8
   + bit for bits and bytes, the most significant bit (frame byte x 8 + 7) for S7 words and double
@@ -47,12 +53,14 @@ from interfaces.codec_modbus import (
     RegisterMap,
     display_number,
 )
+from interfaces.commissioning import Commissioning
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import ExpandedCatalog, SignalRef
 
 COLUMNS = ("symbol", "address", "direction", "type", "modbus_table", "modbus_address", "bit", "modbus_number",
            "register", "register_bit", "can_id", "can_start_bit", "bits", "trigger", "bp_symbol", "instance", "meaning",
-           "source", "origin", "note")
+           "source", "origin", "note", "modelled")
+COMMISSIONING_INSTANCE = "COMMISSIONING"
 
 # The link block (interfaces/codec_modbus.py): (symbol, table kind, register, registers, meaning)
 LINK_ROWS = (
@@ -97,6 +105,7 @@ class MapRow:
     source: str
     origin: str
     note: str
+    modelled: str  # "yes", "no: <why>", "-" for facts
 
 
 def _modbus_columns(location: Location | None) -> tuple[str, int | str, int | str, str, int | str, int | str]:
@@ -114,8 +123,10 @@ def _can_columns(location: CanLocation | None) -> tuple[str, int | str]:
     return ("", "") if location is None else (f"0x{location.can_id:03X}", location.start_bit)
 
 
-def map_rows(catalog: ExpandedCatalog, plant_io: PlantIoMap, can: CanSettings | None = None) -> list[MapRow]:
-    """The rows of the map; ``can``: the machine's CAN settings (default identifiers otherwise)."""
+def map_rows(catalog: ExpandedCatalog, plant_io: PlantIoMap, can: CanSettings | None = None,
+             commissioning: Commissioning | None = None) -> list[MapRow]:
+    """The rows of the map; ``can``: the machine's CAN settings (default identifiers otherwise);
+    ``commissioning``: the machine's facts, as rows at the end."""
     register_map = RegisterMap.build(catalog, plant_io.area_sizes())
     can_layout = CanLayout.build(catalog, plant_io.area_sizes(), can or CanSettings())
     rows = []
@@ -125,23 +136,28 @@ def map_rows(catalog: ExpandedCatalog, plant_io: PlantIoMap, can: CanSettings | 
         rows.append(MapRow(item.symbol, str(item.address), d.direction.value, d.type.value,
                            *_modbus_columns(register_map.location(ref)), *_can_columns(can_layout.location(ref)),
                            d.bits, d.trigger.value, d.bp_symbol, item.instance, d.meaning, d.source, d.origin.value,
-                           d.note))
+                           d.note, "yes" if d.modelled else f"no: {d.not_modelled}"))
     for point in plant_io.points:
         bits = 1 if point.address.is_bit else 8 * point.address.size
         ref = plant_io.resolve(point.name)
         rows.append(MapRow(point.name, str(point.address), point.direction.value, point.type.value,
                            *_modbus_columns(register_map.location(ref)), *_can_columns(can_layout.location(ref)),
                            bits, "level", "-", "PLANT", point.meaning, "machine file plant_io", "project",
-                           f"driven by the {point.owner.value}"))
+                           f"driven by the {point.owner.value}", "yes"))
     for symbol, kind, register, count, meaning in LINK_ROWS:
         direction = "nc_to_plc" if kind == "input_register" else "plc_to_nc"
         rows.append(MapRow(symbol, "-", direction, "dword" if count == 2 else "word", kind, register, 0,
                            display_number(kind, register), "", "", "", "", 16 * count, "level", "-", "LINK", meaning,
-                           "interfaces/codec_modbus.py", "project", "Modbus link block"))
+                           "interfaces/codec_modbus.py", "project", "Modbus link block", "yes"))
     rows.append(MapRow("LINK.description", "-", "nc_to_plc", "text", "input_register", DESCRIPTION_REGISTER, 0,
                        display_number("input_register", DESCRIPTION_REGISTER), "", "", "", "", 0, "level", "-", "LINK",
                        "interface description, UTF-8 JSON, LINK.descriptionBytes long",
-                       "interfaces/link_description.py", "project", "Modbus link block"))
+                       "interfaces/link_description.py", "project", "Modbus link block", "yes"))
+    if commissioning is not None:
+        for name, addresses, meaning in commissioning.rows(catalog.layout.channels):
+            rows.append(MapRow(name, addresses, "-", "fact", "", "", "", "", "", "", "", "", 0, "-", "-",
+                               COMMISSIONING_INSTANCE, meaning, "machine file (vc map)", "project",
+                               "commissioning fact", "-"))
     return rows
 
 
@@ -160,16 +176,24 @@ def to_json(rows: Sequence[MapRow]) -> str:
 
 def to_markdown(rows: Sequence[MapRow]) -> str:
     shown = ("symbol", "address", "direction", "type", "modbus_table", "modbus_address", "bit", "register",
-             "register_bit", "can_id", "can_start_bit", "trigger", "meaning")
+             "register_bit", "can_id", "can_start_bit", "trigger", "meaning", "modelled")
+    facts = [row for row in rows if row.instance == COMMISSIONING_INSTANCE]
     lines: list[str] = []
+    if facts:
+        lines += ["", "## Commissioning", "", "How each axis is referenced, where its cam and limit switches are"
+                  " wired on the slide (physical machine coordinates), the order of channel-specific referencing,"
+                  " and what the plant needs from the PLC:", "", "| name | addresses | fact |", "|---|---|---|"]
+        lines += [f"| {_cell(row.symbol)} | {_cell(row.address)} | {_cell(row.meaning)} |" for row in facts]
     instance = None
     for row in rows:
+        if row.instance == COMMISSIONING_INSTANCE:
+            continue
         if row.instance != instance:
             instance = row.instance
             title = {"PLANT": "Plant I/O", "LINK": "Modbus link block"}.get(
                 instance, f"{instance} ({row.address.split('.')[0]})")
             lines += ["", f"## {title}", "", "| " + " | ".join(shown) + " |", "|" + "---|" * len(shown)]
-        cells = [str(getattr(row, column)).replace("|", "\\|").replace("\n", " ") for column in shown]
+        cells = [_cell(getattr(row, column)) for column in shown]
         lines.append("| " + " | ".join(cells) + " |")
     convention = ("\n\nModbus: bit signals are coils (PLC writes) or discrete inputs (PLC reads) with number"
                   " = table byte x 8 + bit, and the same bit in its holding or input register (S7 byte order:"
@@ -177,6 +201,10 @@ def to_markdown(rows: Sequence[MapRow]) -> str:
                   " connecting a PLC: docs/modbus.md. CAN: the data frame's identifier and the signal's start"
                   " bit as in the DBC file (vc map --format dbc; docs/can.md).\n")
     return "# Signal map" + convention + "\n".join(lines) + "\n"
+
+
+def _cell(value: object) -> str:
+    return str(value).replace("|", "\\|").replace("\n", " ")
 
 
 FORMATTERS = {"csv": to_csv, "json": to_json, "md": to_markdown}

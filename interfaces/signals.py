@@ -137,6 +137,11 @@ class SignalDef:
     source: str
     origin: Origin
     note: str = ""
+    not_modelled: str = ""  # why the simulated NC neither reads nor writes it ("" = it does)
+
+    @property
+    def modelled(self) -> bool:
+        return not self.not_modelled
 
     @property
     def byte_span(self) -> range:
@@ -230,7 +235,7 @@ def _parse_signal(
     if missing:
         problems.append(f"{where} ({entry.get('address', '?')}): missing {', '.join(missing)}")
         return None
-    unknown = sorted(set(entry) - set(_REQUIRED_FIELDS) - {"bits", "note"})
+    unknown = sorted(set(entry) - set(_REQUIRED_FIELDS) - {"bits", "note", "not_modelled"})
     if unknown:
         problems.append(f"{where} ({entry['address']}): unknown keys {', '.join(unknown)}")
     try:
@@ -279,6 +284,7 @@ def _parse_signal(
         source=str(entry["source"]).strip(),
         origin=origin,
         note=str(entry.get("note", "")).strip(),
+        not_modelled=str(entry.get("not_modelled", "")).strip(),
     )
 
 

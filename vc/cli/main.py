@@ -91,7 +91,9 @@ def _map(arguments: argparse.Namespace) -> int:
                         nc_cycle_ms=round(can.period_cycles(ipo_us, machine.plc_cycle_ipo) * ipo_us / 1000),
                         plc_cycle_ms=round(machine.plc_cycle_ipo * ipo_us / 1000)), arguments.output)
         return 0
-    rows = map_rows(catalog, machine.plant_io, can.settings)
+    from vc.harness.commissioning import commissioning_of  # the facts need the NC's rules
+
+    rows = map_rows(catalog, machine.plant_io, can.settings, commissioning_of(machine, catalog))
     if arguments.format in EXPORTS:
         return _export(EXPORTS[arguments.format], rows, ExportContext(
             machine.name, RegisterMap.build(catalog, machine.plant_io.area_sizes()), arguments.io_base or 0),

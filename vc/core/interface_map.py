@@ -57,19 +57,25 @@ class Field:
 
 
 class SignalTable:
-    """The signals of one DB kind, looked up by their symbol without the instance."""
+    """The signals of one DB kind, looked up by their symbol without the instance.
 
-    def __init__(self, catalog: Catalog, kind: InstanceKind):
+    ``used`` collects the catalogue symbol of every signal looked up: what the NC reads and writes
+    (shared by the tables of one NCK, it tells which catalogue signals the NC models)."""
+
+    def __init__(self, catalog: Catalog, kind: InstanceKind, used: set[str] | None = None):
         section = catalog.section(kind)
         prefix = PLACEHOLDER[kind] + "."
         self._signals: dict[str, SignalDef] = {s.symbol[len(prefix):]: s for s in section.signals}
         self.size = section.size
+        self.used: set[str] = used if used is not None else set()
 
     def definition(self, name: str) -> SignalDef:
         try:
-            return self._signals[name]
+            definition = self._signals[name]
         except KeyError:
             raise KeyError(f"the signal catalogue has no '{name}'") from None
+        self.used.add(definition.symbol)
+        return definition
 
     def bit(self, name: str) -> Bit:
         definition = self.definition(name)

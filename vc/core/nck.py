@@ -89,16 +89,19 @@ class Nck:
         self._alarm_count = 0
         self._servo_held_by_alarm: set[str] = set()  # axes an alarm took the controller enable from
         self._servo_check_version = -1
-        self._nck_signals = NckSignals(SignalTable(catalog, InstanceKind.NCK))
+        # every catalogue signal the NC reads or writes, by its catalogue symbol: the signals it models
+        self.signals_used: set[str] = set()
+        used = self.signals_used
+        self._nck_signals = NckSignals(SignalTable(catalog, InstanceKind.NCK, used))
         self._nck_area = self.image.area("DB10")
-        self._alarm_area = AlarmArea(SignalTable(catalog, InstanceKind.ALARMS), self.image.area("DB100"),
+        self._alarm_area = AlarmArea(SignalTable(catalog, InstanceKind.ALARMS, used), self.image.area("DB100"),
                                      {channel.name: channel.number for channel in machine.channels},
                                      {axis.name: axis.number for axis in machine.axes})
         self._alarm_area_version = -1
-        self._hmi_signals = HmiSignals(SignalTable(catalog, InstanceKind.HMI))
+        self._hmi_signals = HmiSignals(SignalTable(catalog, InstanceKind.HMI, used))
         self.handwheels = Handwheels()
-        self._handwheel_signals = HandwheelSignals(SignalTable(catalog, InstanceKind.AXIS))
-        geometry_table = SignalTable(catalog, InstanceKind.CHANNEL)
+        self._handwheel_signals = HandwheelSignals(SignalTable(catalog, InstanceKind.AXIS, used))
+        geometry_table = SignalTable(catalog, InstanceKind.CHANNEL, used)
         self._geometry_handwheel_signals = tuple(HandwheelSignals(geometry_table, f"geoAxis{number}.out.")
                                                  for number in range(1, GEOMETRY_AXES + 1))
         self._geometry_handwheel_shown = geometry_table.field("geoAxis1.in.handwheelAssignedNumber")
@@ -108,9 +111,9 @@ class Nck:
         self._handwheel_outputs_for: object = None
         self._drf_active: dict[str, bool] = {}
         self._drf_travelling: set[str] = set()  # axes with DRF travel to go (most cycles: none)
-        self.mode_group = ModeGroup(ModeGroupSignals(SignalTable(catalog, InstanceKind.MODE_GROUP)),
+        self.mode_group = ModeGroup(ModeGroupSignals(SignalTable(catalog, InstanceKind.MODE_GROUP, used)),
                                     self.image.area("DB11"))
-        axis_signals = AxisSignals(SignalTable(catalog, InstanceKind.AXIS))
+        axis_signals = AxisSignals(SignalTable(catalog, InstanceKind.AXIS, used))
         channel_of_axis = {axis: channel.name for channel in machine.channels for axis in channel.axes}
         positions = physical or {}
         self.axes = [
@@ -129,7 +132,7 @@ class Nck:
                                       nck.float(MD.OVR_FACTOR_LIMIT_BIN))
         self._axis_coding = OverrideCoding(nck.bool(MD.OVR_AX_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_AX_SPEED),
                                            nck.float(MD.OVR_FACTOR_LIMIT_BIN))
-        channel_table = SignalTable(catalog, InstanceKind.CHANNEL)
+        channel_table = SignalTable(catalog, InstanceKind.CHANNEL, used)
         channel_signals = ChannelSignals(channel_table)
         self.channels = [
             Channel(channel, channel_signals, self.image.area(f"DB{channel.db}"),
@@ -146,13 +149,13 @@ class Nck:
                 channel.inclined = inclined
                 self.inclined_axes.append(inclined)
         self.referencing.order_inclined_pairs(self.inclined_axes)
-        retraction_signals = RetractionSignals(SignalTable(catalog, InstanceKind.CHANNEL))
+        retraction_signals = RetractionSignals(SignalTable(catalog, InstanceKind.CHANNEL, used))
         self.retractions = {channel.name: ManualRetraction(channel, self.memory, retraction_signals,
                                                            self.image.area(f"DB{channel.config.db}"),
                                                            nck.int(MD.JOG_MODE_MASK))
                             for channel in self.channels}
         self.mode_group.power_on(self._power_on_mode())
-        spindle_signals = SpindleSignals(SignalTable(catalog, InstanceKind.AXIS))
+        spindle_signals = SpindleSignals(SignalTable(catalog, InstanceKind.AXIS, used))
         spindle_coding = OverrideCoding(nck.bool(MD.OVR_SPIND_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_SPIND_SPEED),
                                         nck.float(MD.OVR_FACTOR_LIMIT_BIN))
         self.spindles: list[Spindle] = []
@@ -166,10 +169,10 @@ class Nck:
                     self.spindles.append(spindle)
         self._spindle_of = {spindle.name: spindle for spindle in self.spindles}
         self.couplings = Couplings(list(machine.channels), self._spindle_of,
-                                   CouplingSignals(SignalTable(catalog, InstanceKind.AXIS)),
+                                   CouplingSignals(SignalTable(catalog, InstanceKind.AXIS, used)),
                                    {spindle.name: self.image.area(f"DB{spindle.axis.config.db}")
                                     for spindle in self.spindles}, self.dt, self.alarms)
-        drive_signals = DriveEsrSignals(SignalTable(catalog, InstanceKind.AXIS))
+        drive_signals = DriveEsrSignals(SignalTable(catalog, InstanceKind.AXIS, used))
         self.esr = NckEsr({axis.name: DriveEsr(axis, drive_signals, self.image.area(f"DB{axis.config.db}"), self.dt,
                                                self._parameter_set_of(axis.name))
                            for axis in self.axes})

@@ -31,6 +31,7 @@ from vc.core.alarms import Alarm
 from vc.core.channel import Channel
 from vc.core.nc_memory import NcMemory
 from vc.core.nck import Nck
+from vc.harness.commissioning import commissioning_of
 from vc.harness.link_faults import FaultInjectable, LinkFault, LinkFaultKind
 from vc.observables import (
     AXIS_QUANTITIES,
@@ -85,7 +86,8 @@ class Simulation:
         if self.plc_name is not None:
             scan_time = self.plc_period * self.nck.cycle_us / 1_000_000
             environment = PlcEnvironment(self.catalog, machine.plant_io, scan_time, machine.plc_parameters,
-                                         machine.name, self.nck.cycle_us, self.plc_period)
+                                         machine.name, self.nck.cycle_us, self.plc_period,
+                                         commissioning_of(machine, self.catalog))
             self.plc = self.connector.connect(environment, self.plc_name)
         self._cyclic: CyclicPlc | None = self.plc if isinstance(self.plc, CyclicPlc) else None
         self._observed = ProcessImage({**self.catalog.area_sizes, **machine.plant_io.area_sizes()})

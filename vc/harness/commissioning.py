@@ -1,0 +1,183 @@
+"""The commissioning facts of a machine (:mod:`interfaces.commissioning`) from its machine file.
+
+What a PLC engineer would otherwise find by probing: the referencing of each axis (measuring
+system, direction MD34010, reference point MD34100, the cam, MD34110 and the inclined-axis rule
+of seed 000), the positions of cams and limit switches as the plant has them wired, and what the
+plant needs from the PLC (the copies of cams and limit switches, the drive line-up, the gearbox
+with its oscillation, the chucks, the emergency stop with its acknowledgement).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from interfaces.commissioning import AxisFacts, Commissioning, PlantNeed
+from interfaces.plant_io import PlantIoMap
+from interfaces.signals import ExpandedCatalog
+from vc.config import md_dictionary as MD
+from vc.config.model import AxisConfig, ChannelConfig, MachineConfig
+from vc.core.encoder import ENC_TYPE_ABSOLUTE
+from vc.core.inclined_axis_channel import NOZAGC_SIGNAL
+from vc.core.transforms.inclined_axis import InclinedAxisParameters, parameters_for_channel
+from vc.plant.plant import DRIVE_READY_DELAY_S
+
+DISTANCE_CODED = {3: "distance-coded scale, 2 marks", 8: "distance-coded scale, 4 marks"}
+
+
+def commissioning_of(machine: MachineConfig, catalog: ExpandedCatalog) -> Commissioning:
+    inclined = _inclined_pairs(machine.channels)
+    axes = tuple(_axis_facts(axis, inclined) for axis in machine.axes)
+    order = {channel.name: _reference_order(machine, channel) for channel in machine.channels}
+    return Commissioning(axes, order, tuple(_needs(machine, catalog)))
+
+
+def _inclined_pairs(channels: Sequence[ChannelConfig]) -> dict[str, str]:
+    """Orthogonal axis -> the inclined axis that must be referenced before it."""
+    pairs = {}
+    for channel in channels:
+        parameters = parameters_for_channel(channel)
+        if isinstance(parameters, InclinedAxisParameters):
+            pairs[channel.axes[parameters.orthogonal_axis - 1]] = channel.axes[parameters.inclined_axis - 1]
+    return pairs
+
+
+def _axis_facts(axis: AxisConfig, inclined: dict[str, str]) -> AxisFacts:
+    md = axis.md
+    name = axis.name
+    spindle = axis.is_spindle
+    kind = "spindle" if spindle else "rotary axis" if axis.is_rotary else "linear axis"
+    unit = "deg" if axis.is_rotary else "mm"
+    cam = md.bool(MD.REFP_CAM_IS_ACTIVE)
+    absolute = md.int(MD.ENC_TYPE, 0) == ENC_TYPE_ABSOLUTE
+    mode = md.int(MD.ENC_REFP_MODE, 0)
+    if absolute:
+        referencing = (f"absolute encoder, MD34210 = {md.int(MD.ENC_REFP_STATE, 0)} (2: calibrated, referenced at"
+                       " power-on; 0: to be calibrated)")
+    elif mode in DISTANCE_CODED:
+        referencing = f"{DISTANCE_CODED[mode]}, referenced after crossing them"
+    elif spindle:
+        referencing = "synchronises on the first zero mark it passes while it turns (no REF needed)"
+    else:
+        referencing = "incremental encoder: reference cam, then its zero mark" if cam else \
+            "incremental encoder: the next zero mark, no cam"
+    directed = not spindle and not absolute
+    before = (inclined[name],) if name in inclined else ()
+    prerequisite = ""
+    if before:
+        prerequisite = (f"reference {before[0]} (inclined axis) first: {name} starts only while {before[0]} stands at"
+                        " its reference point, else alarm 65820 (seed 000 L62-66, L375)")
+    elif name in inclined.values():
+        orthogonal = next(key for key, value in inclined.items() if value == name)
+        prerequisite = f"the inclined axis: reference it before {orthogonal}"
+    plant = axis.plant
+    return AxisFacts(
+        axis=name, db=axis.db, kind=kind, unit=unit, referencing=referencing,
+        approach=("minus" if md.bool(MD.REFP_CAM_DIR_IS_MINUS) else "plus") if directed else "",
+        reference_cycle=md.int(MD.REFP_CYCLE_NR),
+        reference_position=None if spindle or absolute else md.float(MD.REFP_SET_POS, 0),
+        cam=plant.ref_cam, hw_limit_minus=plant.hw_limit_minus, hw_limit_plus=plant.hw_limit_plus,
+        sw_limits=None if spindle else (md.float(MD.POS_LIMIT_MINUS), md.float(MD.POS_LIMIT_PLUS)),
+        before=before, prerequisite=prerequisite,
+        gear_stages=plant.gearbox.stages if plant.gearbox is not None else 0,
+    )
+
+
+def _reference_order(machine: MachineConfig, channel: ChannelConfig) -> tuple[tuple[str, ...], ...]:
+    steps: dict[int, list[str]] = {}
+    for name in channel.axes:
+        cycle = machine.axis(name).md.int(MD.REFP_CYCLE_NR)
+        if cycle > 0:
+            steps.setdefault(cycle, []).append(name)
+    return tuple(tuple(steps[cycle]) for cycle in sorted(steps))
+
+
+def _needs(machine: MachineConfig, catalog: ExpandedCatalog) -> list[PlantNeed]:
+    io = machine.plant_io
+
+    def point(name: str) -> str | None:
+        found = io.by_name(name)
+        return None if found is None else f"{name} ({found.address})"
+
+    def at(symbol: str) -> str:
+        return str(catalog.resolve(symbol).address)
+
+    needs = _safety_and_drives(io, catalog, machine)
+    for axis in machine.axes:
+        name = axis.name
+        cam = point(f"{name}.refCam")
+        if cam is not None and axis.plant.ref_cam is not None:
+            target = at(f"{name}.basic.out.refPointApproachCam")
+            needs.append(PlantNeed(f"{name}.refCam", "copy", (cam,), (target,),
+                                   f"copy {cam} to {name}.basic.out.refPointApproachCam ({target}) every scan: the NC"
+                                   " references on the PLC's copy, one scan late"))
+        for side, switch in (("Minus", axis.plant.hw_limit_minus), ("Plus", axis.plant.hw_limit_plus)):
+            wired = point(f"{name}.hwLimit{side}")
+            if wired is None or switch is None:
+                continue
+            target = at(f"{name}.basic.out.hwLimitSwitch{side}")
+            needs.append(PlantNeed(f"{name}.hwLimit{side}", "copy_inverse", (wired,), (target,),
+                                   f"normally closed, 0 = actuated ({'<=' if side == 'Minus' else '>='} {switch:g}):"
+                                   f" copy its inverse to {name}.basic.out.hwLimitSwitch{side} ({target}); the NC"
+                                   " stops the axis with alarm 21614"))
+        if axis.plant.gearbox is not None:
+            needs.append(_gearbox(axis, io))
+        if axis.plant.chuck is not None:
+            valves = [text for text in (point(f"{name}.chuckClose"), point(f"{name}.chuckRelease")) if text]
+            sensors = [text for text in (point(f"{name}.chuckClosed"), point(f"{name}.chuckOpen")) if text]
+            needs.append(PlantNeed(f"{name}.chuck", "chuck", (*valves, *sensors), (),
+                                   f"{' / '.join(valves)}: one solenoid at a time strokes the chuck in"
+                                   f" {axis.plant.chuck.travel_time_s:g} s while the drive line-up (its hydraulics)"
+                                   f" is on; {' / '.join(sensors)} report the end positions"))
+    nozagc = point("MCP.noOrthogonalCompensation")
+    for channel in machine.channels:
+        if nozagc is not None and isinstance(parameters_for_channel(channel), InclinedAxisParameters):
+            target = at(f"{channel.name}.{NOZAGC_SIGNAL}")
+            needs.append(PlantNeed(f"{channel.name}.nozagc", "copy", (nozagc,), (target,),
+                                   f"copy {nozagc} to {channel.name}.{NOZAGC_SIGNAL} ({target}): the inclined axis"
+                                   " moves without carrying the orthogonal one (G63.5 NOZAGC)"))
+    return needs
+
+
+def _safety_and_drives(io: PlantIoMap, catalog: ExpandedCatalog, machine: MachineConfig) -> list[PlantNeed]:
+    needs = []
+    chain = io.by_name("EStop.chainOk")
+    stop, ack = catalog.resolve("NC.basic.out.emergencyStop").address, catalog.resolve(
+        "NC.basic.out.emergencyStopAck").address
+    resets = [str(catalog.resolve(f"{channel.name}.basic.out.reset").address) for channel in machine.channels]
+    mode_group_reset = catalog.resolve("MODEGROUP.basic.out.reset").address
+    chain_text = f"EStop.chainOk ({chain.address}, 1 = healthy): copy its inverse to " if chain else ""
+    needs.append(PlantNeed("EStop", "emergency_stop", (f"EStop.chainOk ({chain.address})",) if chain else (),
+                           (str(stop), str(ack), *resets, str(mode_group_reset)),
+                           f"{chain_text}NC.basic.out.emergencyStop ({stop}): alarm 3000, rapid stop. To leave it"
+                           f" the button must be released (56.1 = 0), the acknowledgement {ack} held at 1, and a"
+                           f" reset rise while it is 1: the channel's {' / '.join(resets)} or the mode group's"
+                           f" {mode_group_reset}. {ack} alone leaves alarm 3000 standing"))
+    on, ready = io.by_name("Drives.on"), io.by_name("Drives.ready")
+    if ready is not None:
+        precharge = f" and the DC link's precharge ({machine.dc_link.precharge_time:g} s)" if machine.dc_link else ""
+        switch = f"Drives.on ({on.address}) switches the infeed on; " if on is not None else ""
+        wired = tuple(f"{p.name} ({p.address})" for p in (on, ready) if p is not None)
+        needs.append(PlantNeed("Drives", "drives", wired, ("DB3x.DBX21.7", "DB3x.DBX2.1", "DB3x.DBX92.7"),
+                               f"{switch}Drives.ready ({ready.address}) follows after {DRIVE_READY_DELAY_S:g} s"
+                               f"{precharge}. Then give each axis pulse enable DBX21.7 and controller enable DBX2.1"
+                               " (with measuring system 1, DBX1.5): the drive answers DBX92.7 drive ready"))
+    return needs
+
+
+def _gearbox(axis: AxisConfig, io: PlantIoMap) -> PlantNeed:
+    name = axis.name
+    gearbox = axis.plant.gearbox
+    assert gearbox is not None
+    shifts = [f"{name}.gearShift{n} ({p.address})" for n in range(1, gearbox.stages + 1)
+              if (p := io.by_name(f"{name}.gearShift{n}")) is not None]
+    sensors = [f"{name}.gearEngaged{n} ({p.address})" for n in range(1, gearbox.stages + 1)
+               if (p := io.by_name(f"{name}.gearEngaged{n}")) is not None]
+    db = f"DB{axis.db}"
+    return PlantNeed(
+        f"{name}.gearbox", "gearbox", (*shifts, *sensors), (f"{db}.DBX82.0-82.3", f"{db}.DBX18.4-18.7", f"{db}.DBX84.6",
+                                                  f"{db}.DBX16.0-16.3"),
+        f"{gearbox.stages} gear stages. The NC asks with {db}.DBX82.3 and the stage in 82.0-82.2, brakes and shows"
+        f" oscillation mode 84.6. Hold the stage's actuator ({', '.join(shifts)}) on; its teeth mesh only while the"
+        f" motor turns for {gearbox.shift_time_s:g} s, so set oscillation enable {db}.DBX18.5 meanwhile (the NC"
+        f" oscillates; with 18.4 the PLC oscillates by 18.6 / 18.7). When {' / '.join(sensors)} reports the stage,"
+        f" write it to {db}.DBX16.0-16.2 and set 16.3 (gear changed) until 82.3 falls")
