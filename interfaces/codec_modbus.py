@@ -35,8 +35,8 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
       1  session: counts power-ons          9  description length in bytes
       2  mode: 1 lockstep, 2 free-running  10  NC-to-PLC table size in registers
       3  scan grant (lockstep)             11  PLC-to-NC table size in registers
-      4  NC cycle counter, high word       12..15  0
-      5  NC cycle counter, low word
+      4  NC cycle counter, high word       12  boot id: random 1..65535, new with every harness process
+      5  NC cycle counter, low word        13..15  0
       6  IPO cycle in microseconds
       7  PLC period in IPO cycles
 
@@ -47,8 +47,12 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
       1  session ready: the session the PLC has (re)started its program for
       2..15  reserved, read 0 (register writes there are dropped, coil writes refused)
 
-  Lockstep, as a PLC implements it: when input register 1 (session) changes, read the
-  description, restart the program, forget the last grant and write the session into holding
+  Sessions count from 1 in every harness process; the boot id tells two processes apart.  A PLC
+  restarts its program whenever the session or the boot id differs from those it started for
+  (also after a reconnect: a server restarted in between starts at session 1 again).
+
+  Lockstep, as a PLC implements it: when input register 1 (session) or 12 (boot id) changes, read
+  the description, restart the program, forget the last grant and write the session into holding
   register 1.  When input register 3 (grant; 1..65535, never 0, from 1 again in every session)
   differs from the last one handled: read the NC-to-PLC table, run one scan, write the
   PLC-to-NC table, and write the grant into holding register 0 last.  The harness takes the
@@ -95,6 +99,7 @@ REG_DESCRIPTION_START = 8
 REG_DESCRIPTION_BYTES = 9
 REG_NC_TO_PLC_REGISTERS = 10
 REG_PLC_TO_NC_REGISTERS = 11
+REG_BOOT_ID = 12
 # Link block, PLC-to-NC table (holding registers)
 REG_SCAN_DONE = 0
 REG_SESSION_READY = 1

@@ -9,8 +9,9 @@ of :mod:`interfaces.codec_modbus`) and follows the server's mode:
 * **free-running**: scan every PLC period of the wall clock (or ``period_s``): read, scan,
   write, and count the scan-done register up as the sign of life.
 
-A new session (the harness powered the machine on again, or started the next scenario) means
-a PLC restart: the description is read again and the program starts from its initial state.
+A new session (the harness powered the machine on again, or started the next scenario) or a new
+boot id (another harness process, whose sessions count from 1 again) means a PLC restart: the
+description is read again and the program starts from its initial state.
 
 In lockstep the harness answers only while it waits for the PLC, and it may pause between two
 scans for longer than a real-time PLC would wait (a garbage collection of a long ``vc run``, a
@@ -32,6 +33,7 @@ from interfaces.codec_modbus import (
     LINK_VERSION,
     MODE_LOCKSTEP,
     READ_LIMIT,
+    REG_BOOT_ID,
     REG_DESCRIPTION_BYTES,
     REG_DESCRIPTION_START,
     REG_MODE,
@@ -60,6 +62,7 @@ LOCKSTEP_TIMEOUT_S = 120.0  # lockstep: the harness may pause between scans (mod
 @dataclass(slots=True)
 class _Session:
     number: int
+    boot_id: int  # the harness process's boot id the session belongs to
     lockstep: bool
     description: LinkDescription
     register_map: RegisterMap
@@ -98,7 +101,9 @@ class RemotePlc:
         if head[REG_VERSION] != LINK_VERSION:
             raise PlcSetupError(f"the server speaks link version {head[REG_VERSION]}, this PLC {LINK_VERSION}")
         session = self.session
-        if session is None or session.number != head[REG_SESSION]:
+        if session is None or (session.number, session.boot_id) != (head[REG_SESSION], head[REG_BOOT_ID]):
+            # a new session of this harness, or a harness process started since (its sessions count from
+            # 1 again): restart the program
             session = self._start_session(head)
             head = self.client.read_input_registers(0, self._poll_count())
         if session.lockstep:
@@ -127,11 +132,12 @@ class RemotePlc:
         lockstep = head[REG_MODE] == MODE_LOCKSTEP
         self.client.timeout_s = LOCKSTEP_TIMEOUT_S if lockstep else TIMEOUT_S
         self.session = _Session(
-            head[REG_SESSION], lockstep, description, register_map, plc,
+            head[REG_SESSION], head[REG_BOOT_ID], lockstep, description, register_map, plc,
             ProcessImage(environment.catalog.area_sizes), ProcessImage(environment.plant_io.area_sizes()),
             bytearray(sizes[Table.NC_TO_PLC]), bytearray(sizes[Table.PLC_TO_NC]))
         self.client.write_registers(REG_SESSION_READY, [self.session.number])
-        self.log(f"session {self.session.number}: machine {description.machine}, program {name},"
+        self.log(f"session {self.session.number} (boot id {self.session.boot_id}): machine {description.machine},"
+                 f" program {name},"
                  f" {'lockstep' if self.session.lockstep else 'free-running'}")
         return self.session
 

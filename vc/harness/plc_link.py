@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import secrets
 import struct
 import time as wallclock
 from collections.abc import Callable, Collection, Mapping
@@ -33,6 +34,7 @@ from interfaces.codec_modbus import (
     LINK_VERSION,
     MODE_FREE_RUNNING,
     MODE_LOCKSTEP,
+    REG_BOOT_ID,
     REG_DESCRIPTION_BYTES,
     REG_DESCRIPTION_START,
     REG_IPO_CYCLE_US,
@@ -141,11 +143,13 @@ class PlcLink:
                  allowed_clients: Collection[str] = (), allow_writers: Collection[str] = (),
                  limits: ConnectionLimits | None = None, first_scan_timeout_s: float | None = 30.0,
                  scan_timeout_s: float | None = 10.0, on_wait: Callable[[str], None] | None = None,
-                 peer_ended: Callable[[], str | None] = lambda: None):
+                 peer_ended: Callable[[], str | None] = lambda: None, boot_id: int | None = None):
         """``allowed_clients``: who may connect; ``allow_writers``: who may write besides the
         session's PLC; ``limits``: connections and idle time-out (interfaces/links/access.py).
         ``peer_ended`` tells why the PLC process the harness started is gone (None while it runs),
-        so that lockstep stops waiting for a PLC that cannot answer any more."""
+        so that lockstep stops waiting for a PLC that cannot answer any more.  ``boot_id`` (default:
+        random, 1..65535) tells a PLC this link from one of an earlier harness process, whose
+        sessions counted from 1 as well; it is link metadata, never part of a trace."""
         if modbus is None and s7 is None:
             raise LinkError("a PLC link needs a Modbus TCP or an S7 endpoint")
         if mode is LinkMode.LOCKSTEP and modbus is None:
@@ -160,6 +164,7 @@ class PlcLink:
         self.tables = ModbusTables(on_write=self._modbus_written)
         self.owner = LinkOwner(allow_writers)  # the session's PLC, one for both servers
         self.session = 0
+        self.boot_id = boot_id if boot_id is not None else secrets.randbelow(0xFFFF) + 1
         self.outputs_written = False  # a Modbus client wrote PLC-to-NC registers since the last exchange
         self._handshake = asyncio.Event()
         self.modbus: ModbusServerLink | None = None
@@ -217,6 +222,7 @@ class PlcLink:
             REG_DESCRIPTION_START: DESCRIPTION_REGISTER, REG_DESCRIPTION_BYTES: len(tables.description),
             REG_NC_TO_PLC_REGISTERS: register_map.registers(Table.NC_TO_PLC),
             REG_PLC_TO_NC_REGISTERS: register_map.registers(Table.PLC_TO_NC),
+            REG_BOOT_ID: self.boot_id,
         }
         for register, value in block.items():
             self.set_input_register(register, value)

@@ -291,3 +291,46 @@ def test_the_alarm_block_db100_reaches_a_modbus_client_and_an_s7_client() -> Non
             s7.disconnect()
         assert block == bytes(simulation.nck.image.area("DB100")[0:12])
         assert int.from_bytes(block[4:8], "big") == 3000 and block[11] == 5
+
+
+class _TablesClient:
+    """The PLC's Modbus client, answered by a link's tables directly (no request on the wire)."""
+
+    def __init__(self, link: PlcLink):
+        self.link = link
+
+    def read_input_registers(self, address: int, count: int) -> list[int]:
+        registers = [0] * 65536
+        assert self.link.tables.answer(4, address, count, registers, None) is None
+        return registers[address: address + count]
+
+    def write_registers(self, address: int, values: list[int]) -> None:
+        assert self.link.tables.answer(16, address, len(values), [0] * 65536, values) is None
+
+    write_registers_last_first = write_registers
+
+
+def test_a_new_boot_id_restarts_the_plc_program_though_the_session_number_is_the_same() -> None:
+    """Sessions count from 1 in every harness process: a PLC that carried on across a server restart
+    because it saw session 1 again would run on stale state.  The boot id (IR 12) tells them apart."""
+    from plc_stub.remote import RemotePlc
+
+    first = PlcLink(LinkMode.FREE_RUNNING, modbus=Endpoint("127.0.0.1", 0), boot_id=111)
+    second = PlcLink(LinkMode.FREE_RUNNING, modbus=Endpoint("127.0.0.1", 0))
+    try:
+        assert 1 <= second.boot_id <= 0xFFFF
+        second.boot_id = 222  # the random one, made known for the test
+        client = _TablesClient(first)
+        plc = RemotePlc(client)  # type: ignore[arg-type]
+        Simulation(TURN_MILL, "basic_machine", connector=first).step(5)
+        assert plc.poll() and plc.session is not None and (plc.session.number, plc.session.boot_id) == (1, 111)
+        started = plc.session
+        assert plc.poll() and plc.session is started  # the same session: no restart
+        Simulation(TURN_MILL, "basic_machine", connector=second).step(5)  # the "restarted server": session 1 again
+        client.link = second
+        assert plc.poll() and plc.session is not started
+        assert (plc.session.number, plc.session.boot_id) == (1, 222)
+        assert second.holding_register(1) == 1  # the PLC reported session 1 ready to the new server
+    finally:
+        first.close()
+        second.close()
