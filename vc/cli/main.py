@@ -13,15 +13,16 @@
     vc map --machine M --format codesys|openplc|tia|s7|awlsim [--io-base N] [-o FILE]
                                                       the signal map for a PLC tool (docs/plc_tools.md)
     vc serve [--machine M] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
-             [--scenario FILE] [--duration S] [--record FILE] [--allow IP,...] [--allow-writers IP,...]
-             [--max-clients N] [--idle-timeout S] [--verbose]
+             [--scenario FILE [--junit FILE] [--keep-running]] [--duration S] [--record FILE] [--allow IP,...]
+             [--allow-writers IP,...] [--max-clients N] [--idle-timeout S] [--verbose]
                                                       the NC as a server (or CAN node) for a PLC in another
-                                                      process; --record records the session
+                                                      process; with a scenario the exit code is its result;
+                                                      --record records the session
     vc replay FILE [--machine M] [--to-scenario OUT.yaml [--name NAME]]
                                                       replay a recorded session without the PLC and report the
                                                       first difference, or turn it into a scenario
                                                       (docs/recording.md)
-    vc bench [--machine M] [--seconds S]         real-time factor and cost per IPO cycle, light and heavy
+    vc bench [--machine M] [--seconds S]              real-time factor and cost per IPO cycle, light and heavy
     vc bench --scaling [--machine M] [--seconds S]
                                                       the cost per IPO cycle by what moves, per machine
     vc bench --link modbus [--seconds S]              what the Modbus TCP link costs (bench/README.md)
@@ -379,6 +380,9 @@ def _percent(text: str) -> float:
 
 
 def _serve(arguments: argparse.Namespace) -> int:
+    if (arguments.junit or arguments.keep_running) and not arguments.scenario:
+        print("--junit and --keep-running need --scenario", file=sys.stderr)
+        return EXIT_PROBLEMS
     from interfaces.links.access import ConnectionLimits
     from interfaces.links.can_bus import BusSpec
     from interfaces.links.errors import LinkError
@@ -407,6 +411,8 @@ def _serve(arguments: argparse.Namespace) -> int:
             speed=None if arguments.speed == "max" else _speed(arguments.speed),
             program=arguments.program,
             scenario=arguments.scenario,
+            keep_running=arguments.keep_running,
+            junit=arguments.junit,
             duration_s=arguments.duration,
             stats_every_s=arguments.stats,
             say=lambda text: print(text, flush=True),
@@ -543,7 +549,13 @@ def build_parser() -> argparse.ArgumentParser:
                        help="real-time factor with --realtime: 0.5, 2 ... or max (default 1)")
     serve.add_argument("--program", default="basic_machine",
                        help="the PLC program a PLC that follows the harness runs (default basic_machine)")
-    serve.add_argument("--scenario", metavar="FILE", help="a scenario that plays the operator (its machine is used)")
+    serve.add_argument("--scenario", metavar="FILE",
+                       help="a scenario that plays the operator for the PLC on the link (its machine is used; its"
+                            " plc: is optional and names what plc_stub runs); the server stops when it ends and"
+                            " the exit code is its result: 0 passed, 1 failed, 2 a problem in the file")
+    serve.add_argument("--junit", metavar="FILE", help="with --scenario: write its JUnit XML report")
+    serve.add_argument("--keep-running", action="store_true",
+                       help="with --scenario: keep the machine running after it (Ctrl-C or --duration ends)")
     serve.add_argument("--duration", type=float, metavar="S", help="stop after S simulated seconds")
     serve.add_argument("--stats", type=float, default=10.0, metavar="S",
                        help="print real-time statistics every S seconds (default 10)")

@@ -5,12 +5,19 @@ Over Modbus TCP (and S7), or as a node on a CAN bus (``--can BUS``, with the mac
 done, so a PLC that can be stepped (``python -m plc_stub``) runs deterministically; time stands
 while no PLC answers.  Real time (``--realtime``): the IPO cycles follow the wall clock
 (``--speed`` scales it), the PLC scans on its own clock, and the NC watches the PLC's sign of
-life (alarm 2000 after MD10100 without one).  A scenario (``--scenario``) plays the operator;
-afterwards the machine keeps running until Ctrl-C or ``--duration``.  An ``observer`` (the session
-recording of ``--record``) sees every cycle and every action of the operator.  Every ``--stats``
-seconds, and at the end, a line tells the pacing (real time: overruns, those caused by serving the
-links, the share of real time the NC kept) and the link (clients, requests, refused writes, closed
-connections, for CAN frames and bus faults).
+life (alarm 2000 after MD10100 without one).  An ``observer`` (the session recording of
+``--record``) sees every cycle and every action of the operator.  Every ``--stats`` seconds of the
+wall clock, also while a scenario runs, and at the end, a line tells the pacing (real time:
+overruns, those caused by serving the links, the share of real time the NC kept) and the link
+(clients, requests, refused writes, closed connections, for CAN frames and bus faults).
+
+A scenario (``--scenario``) plays the operator for the PLC on the link.  Its ``plc:`` is optional
+and names the program the harness asks a PLC that follows it (``python -m plc_stub``) to run
+(default ``--program``); a PLC of your own runs its own program.  ``plc: none`` (the scenario as
+the PLC) cannot be served.  When the scenario ends the server stops and ``vc serve`` exits with
+the scenario's code (0 passed, 1 failed, 2 a problem in the file), after writing ``--junit
+FILE``; ``--keep-running`` keeps the machine running after it until Ctrl-C or ``--duration``,
+with the same exit code.  Without a scenario the machine runs until Ctrl-C or ``--duration``.
 """
 
 from __future__ import annotations
@@ -80,6 +87,8 @@ class ServeOptions:
     speed: float | None = 1.0  # None: as fast as possible
     program: str = "basic_machine"  # what the harness asks a PLC that follows it (plc_stub) to run
     scenario: str | None = None
+    keep_running: bool = False  # after the scenario, until Ctrl-C or duration_s
+    junit: str | None = None  # the scenario's JUnit XML report
     duration_s: float | None = None  # simulated seconds, then stop
     stats_every_s: float = 10.0
     say: Callable[[str], None] = field(default=print)
@@ -132,31 +141,40 @@ def serve(options: ServeOptions) -> int:
     loop = link.loop or asyncio.new_event_loop()  # the pacer's
     try:
         ipo_s = Simulation.ipo_seconds(machine)
-        pacer = RealtimePacer(loop, ipo_s, options.speed) if options.realtime else None
+        simulations: list[Simulation] = []  # one per power-on; the latest is served
+        targets: list[Simulation | ObservedSimulation] = []  # the same, as the operator sees them
+        realtime = RealtimePacer(loop, ipo_s, options.speed) if options.realtime else None
+        pacer = _ReportingPacer(realtime, options.stats_every_s, link,
+                                lambda: simulations[-1] if simulations else None, say)
         _banner(options, machine, link, program, mode, say)
-        simulations: list[Simulation | ObservedSimulation] = []
 
         def power_on(scenario: Scenario | None = None) -> Simulation | ObservedSimulation:
             powered = scenario.machine if scenario else machine
             link.configure_for(powered)
             simulation = Simulation(powered, program, connector=link, pacer=pacer)
+            simulations.append(simulation)
             observer = options.observer
-            simulations.append(simulation if observer is None else ObservedSimulation(simulation, [observer]))
-            return simulations[-1]
+            targets.append(simulation if observer is None else ObservedSimulation(simulation, [observer]))
+            return targets[-1]
 
         code = EXIT_PASSED
         try:
             if scenario_path is not None:
-                code = run_command([scenario_path], power_on, plc_programs().keys())
+                code = run_command([scenario_path], power_on, plc_programs().keys(), junit=options.junit,
+                                   default_plc=options.program)
+                if not options.keep_running:
+                    say(f"scenario done (exit code {code}); the server stops (--keep-running keeps the machine"
+                        " running)")
+                    return code
                 say("scenario done; the machine keeps running (Ctrl-C ends)")
-            _keep_running(simulations[-1] if simulations else power_on(), pacer, link, options)
+            _keep_running(targets[-1] if targets else power_on(), options)
         except KeyboardInterrupt:
             say("stopped")
-        if pacer is not None:
-            say(f"real time: {pacer.stats()}")
-        if simulations:
-            last = simulations[-1]
-            say(f"link: {link.peer_state(last if isinstance(last, Simulation) else last.simulation)}")
+        finally:
+            if realtime is not None:
+                say(f"real time: {realtime.stats()}")
+            if simulations:
+                say(f"link: {link.peer_state(simulations[-1])}")
         return code
     finally:
         link.close()
@@ -169,8 +187,11 @@ def _machine_and_program(options: ServeOptions) -> tuple[MachineConfig, str, str
         return load_machine(options.machine_path), options.program, None
     from vc.scenario.loader import load_scenarios
 
-    (scenario,) = load_scenarios([options.scenario], plc_programs().keys())
-    return scenario.machine, scenario.plc_program or options.program, options.scenario
+    (scenario,) = load_scenarios([options.scenario], plc_programs().keys(), default_plc=options.program)
+    if scenario.plc_program is None:
+        raise LinkError(f"{options.scenario}: plc: none makes the scenario the PLC; a served scenario plays the"
+                        " operator for the PLC on the link (leave plc: out, or name the program plc_stub runs)")
+    return scenario.machine, scenario.plc_program, options.scenario
 
 
 def _banner(options: ServeOptions, machine: MachineConfig, link: ServedLink, program: str, mode: LinkMode,
@@ -186,18 +207,37 @@ def _banner(options: ServeOptions, machine: MachineConfig, link: ServedLink, pro
         say(f"real time, {speed}; the NC watches the PLC's sign of life (alarm 2000){link.watched}")
 
 
-def _keep_running(target: Simulation | ObservedSimulation, pacer: RealtimePacer | None, link: ServedLink,
-                  options: ServeOptions) -> None:
-    """Step until the duration is over; every ``--stats`` seconds of the wall clock the pacing of
-    the cycles since the last line (real time) and the link's state."""
+def _keep_running(target: Simulation | ObservedSimulation, options: ServeOptions) -> None:
+    """Step until the duration is over (the statistics come from the pacer)."""
     simulation = target if isinstance(target, Simulation) else target.simulation
     alarms = AlarmWatch(simulation, options.say)
     stop_cycle = None if options.duration_s is None else round(options.duration_s / simulation.ipo_cycle_s)
-    next_stats = wallclock.monotonic() + options.stats_every_s
     while stop_cycle is None or simulation.cycle < stop_cycle:
         target.step(1)
         alarms.check()
-        if wallclock.monotonic() >= next_stats:
-            next_stats += options.stats_every_s
-            pacing = f"{pacer.take_window()}; " if pacer is not None else ""
-            options.say(f"{simulation.time_s:9.3f} s  {pacing}{link.peer_state(simulation)}")
+
+
+class _ReportingPacer:
+    """Paces the cycles to the wall clock in real time (none in lockstep) and prints, every
+    ``every_s`` wall seconds from inside the cycle, the pacing since the last line (real time) and
+    the link's state: so the lines come while a scenario runs too."""
+
+    def __init__(self, pacer: RealtimePacer | None, every_s: float, link: ServedLink,
+                 current: Callable[[], Simulation | None], say: Callable[[str], None]):
+        self.pacer = pacer
+        self.every_s = every_s
+        self.link = link
+        self.current = current  # the simulation of the latest power-on
+        self.say = say
+        self._next = wallclock.monotonic() + every_s
+
+    def wait_next_cycle(self) -> None:
+        if self.pacer is not None:
+            self.pacer.wait_next_cycle()
+        if wallclock.monotonic() < self._next:
+            return
+        self._next += self.every_s
+        simulation = self.current()
+        if simulation is not None:
+            pacing = f"{self.pacer.take_window()}; " if self.pacer is not None else ""
+            self.say(f"{simulation.time_s:9.3f} s  {pacing}{self.link.peer_state(simulation)}")

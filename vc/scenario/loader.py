@@ -142,7 +142,8 @@ def load_scenario(path: str, known_programs: Programs, *, catalog: Catalog | Non
 
 
 def load_scenarios(paths: Sequence[str], known_programs: Programs, *, catalog: Catalog | None = None,
-                   machine_loader: MachineLoader | None = None, variant: int | None = None) -> list[Scenario]:
+                   machine_loader: MachineLoader | None = None, variant: int | None = None,
+                   default_plc: str | None = None) -> list[Scenario]:
     """Load every scenario of ``paths`` (files, or directories searched recursively for ``*.yaml``
     outside directories named ``machines``), each variant of a ``vary:`` matrix and of a campaign
     file a scenario of its own (:mod:`vc.scenario.variants`).  Raises one :class:`SourceError`
@@ -150,7 +151,10 @@ def load_scenarios(paths: Sequence[str], known_programs: Programs, *, catalog: C
 
     ``known_programs`` names the PLC programs a scenario may run; given as the registry
     (name -> factory), each scenario's program is also started once on its machine, to check
-    its parameters (the machine file's ``plc:`` section and ``plc_parameters``) before anything runs."""
+    its parameters (the machine file's ``plc:`` section and ``plc_parameters``) before anything runs.
+    ``default_plc``: the program of a scenario without ``plc:`` (``vc serve``, where the PLC is on
+    the link and ``plc:`` only names what a PLC that follows the harness runs); None: ``plc:`` is
+    required."""
     files, problems = scenario_files(paths)
     machines = _Machines(machine_loader or default_machine_loader)
     collected = Problems()
@@ -158,7 +162,7 @@ def load_scenarios(paths: Sequence[str], known_programs: Programs, *, catalog: C
     scenarios: list[Scenario] = []
 
     def check(path: str, document: LocatedMap, found: Problems) -> Scenario | None:
-        return _ScenarioChecker(path, known_programs, catalog, machines, found).check(document)
+        return _ScenarioChecker(path, known_programs, catalog, machines, found, default_plc).check(document)
 
     for file in files:
         scenarios += check_file(file, _read_scenario, check, collected, only=variant)
@@ -276,8 +280,9 @@ def _kind_of_value(value: object) -> str:
 
 class _ScenarioChecker:
     def __init__(self, path: str, known_programs: Programs, catalog: Catalog | None,
-                 machines: _Machines, problems: Problems):
+                 machines: _Machines, problems: Problems, default_plc: str | None = None):
         self.path = path
+        self.default_plc = default_plc
         self.directory = os.path.dirname(path)
         self.known_programs = known_programs
         self.catalog = catalog
@@ -298,7 +303,9 @@ class _ScenarioChecker:
 
     def check(self, document: LocatedMap) -> Scenario | None:
         problems_before = len(self.problems.items)
-        self.check_keys(document, TOP_KEYS, REQUIRED_TOP_KEYS, "the scenario")
+        required = REQUIRED_TOP_KEYS if self.default_plc is None else tuple(
+            key for key in REQUIRED_TOP_KEYS if key != "plc")
+        self.check_keys(document, TOP_KEYS, required, "the scenario")
         name = self.text(document, "name")
         description = self.text(document, "description") if "description" in document else ""
         self.plc = self.check_plc(document)
@@ -340,7 +347,7 @@ class _ScenarioChecker:
 
     def check_plc(self, document: LocatedMap) -> str:
         if "plc" not in document:
-            return NO_PLC
+            return self.default_plc or NO_PLC
         value = document["plc"]
         mark = document.mark_of("plc")
         if value is False:  # YAML reads "plc: no" or "plc: off" as false

@@ -81,7 +81,7 @@ def stop(process: subprocess.Popen[str]) -> None:
 def serving() -> Iterator[tuple[int, Lines]]:
     port = free_port()
     server = spawn("-m", "vc.cli.main", "serve", "--modbus", f"127.0.0.1:{port}", "--scenario", SCENARIO,
-                   "--duration", "600")
+                   "--keep-running", "--duration", "600")
     plc = spawn("-m", "plc_stub", "--modbus", f"127.0.0.1:{port}", "--connect-timeout", "30")
     try:
         yield port, Lines(server)
@@ -165,3 +165,63 @@ def test_serve_refuses_limits_and_writers_it_cannot_use(arguments: list[str], me
                                                         capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["serve", "--modbus", "127.0.0.1:0", *arguments, "--duration", "0.01"]) == 2
     assert message in capsys.readouterr().err
+
+
+SERVED = """name: served without plc
+machine: turn_mill
+steps:
+  - wait: {until: "Z1.basic.in.posCtrlActive == 1", timeout: 2s}
+  - press: MCP.jog
+  - hold: MCP.plus.Z1
+  - wait: 300ms
+  - expect: {Z1.velocity: "%s"}
+  - release: MCP.plus.Z1
+"""
+
+
+@pytest.mark.parametrize(("expected", "code"), [("2000 +- 0.01", 0), ("1234", 1)], ids=["passes", "fails"])
+def test_a_served_scenario_ends_the_server_with_its_exit_code_and_junit_report(tmp_path: Path, expected: str,
+                                                                               code: int) -> None:
+    scenario = tmp_path / "served.yaml"
+    scenario.write_text(SERVED % expected)  # no plc: the PLC is the one on the link
+    junit = tmp_path / "served.xml"
+    port = free_port()
+    server = spawn("-m", "vc.cli.main", "serve", "--modbus", f"127.0.0.1:{port}", "--scenario", str(scenario),
+                   "--junit", str(junit))
+    plc = spawn("-m", "plc_stub", "--modbus", f"127.0.0.1:{port}", "--connect-timeout", "30")
+    try:
+        output = Lines(server)
+        output.wait_for(f"scenario done (exit code {code}); the server stops")
+        assert server.wait(TIMEOUT) == code
+        report = junit.read_text(encoding="utf-8")
+        assert 'tests="1"' in report and (f'failures="{code}"' in report)
+    finally:
+        stop(plc)
+        stop(server)
+
+
+def test_a_served_scenario_with_plc_none_is_refused(tmp_path: Path) -> None:
+    scenario = tmp_path / "as_plc.yaml"
+    scenario.write_text((SERVED % "2000 +- 0.01").replace("machine: turn_mill\n", "machine: turn_mill\nplc: none\n"))
+    result = subprocess.run([sys.executable, "-m", "vc.cli.main", "serve", "--modbus", f"127.0.0.1:{free_port()}",
+                             "--scenario", str(scenario)], capture_output=True, text=True, timeout=60, cwd=ROOT)
+    assert result.returncode == 2
+    assert "plc: none makes the scenario the PLC" in result.stderr
+
+
+def test_statistics_come_while_a_scenario_runs_in_real_time(tmp_path: Path) -> None:
+    scenario = tmp_path / "served.yaml"
+    scenario.write_text((SERVED % "2000 +- 0.01").replace("wait: 300ms", "wait: 2s"))
+    port = free_port()
+    server = spawn("-m", "vc.cli.main", "serve", "--modbus", f"127.0.0.1:{port}", "--scenario", str(scenario),
+                   "--realtime", "--stats", "0.5")
+    plc = spawn("-m", "plc_stub", "--modbus", f"127.0.0.1:{port}", "--connect-timeout", "30")
+    try:
+        output = Lines(server)
+        output.wait_for("Modbus client(s)")  # a statistics line ...
+        line = output.wait_for("scenario done")  # ... before the scenario ends
+        assert "exit code 0" in line, output.seen
+        assert server.wait(TIMEOUT) == 0
+    finally:
+        stop(plc)
+        stop(server)
