@@ -77,8 +77,10 @@ def _map(arguments: argparse.Namespace) -> int:
     catalog = expand(load_catalog(), machine.layout)
     if arguments.format == GUIDE_FORMAT:
         from vc.cli.modbus_guide import modbus_guide  # it imports the NC core: only for this format
+        from vc.harness.commissioning import commissioning_of
 
-        _write(modbus_guide(machine.name, machine.source, catalog, machine.plant_io), arguments.output)
+        _write(modbus_guide(machine.name, machine.source, catalog, machine.plant_io,
+                            commissioning_of(machine, catalog)), arguments.output)
         return 0
     can = machine.can
     if arguments.format == DBC_FORMAT:

@@ -19,22 +19,23 @@ from vc.cli.modbus_guide import (
     openplc_devices,
 )
 from vc.config.loader import load_machine
+from vc.harness.commissioning import commissioning_of
 
 ROOT = Path(__file__).resolve().parents[3]
-MACHINE = "scenarios/machines/turn_mill.yaml"
+MACHINE = "turn_mill"  # the packaged machine, by name: the guide's commands work from any directory
 DOC = ROOT / "docs" / "modbus.md"
 REGENERATE = f"vc map --machine {MACHINE} --format guide > docs/modbus.md"
 
 
-def _machine(relative: str) -> tuple[str, ExpandedCatalog, PlantIoMap]:
-    machine = load_machine(str(ROOT / relative))
+def _machine(reference: str) -> tuple[str, ExpandedCatalog, PlantIoMap]:
+    machine = load_machine(reference if "/" not in reference else str(ROOT / reference))
     return machine.name, expand(load_catalog(), machine.layout), machine.plant_io
 
 
 @pytest.fixture(scope="module")
 def guide() -> str:
     name, catalog, plant_io = _machine(MACHINE)
-    return modbus_guide(name, MACHINE, catalog, plant_io)
+    return modbus_guide(name, MACHINE, catalog, plant_io, commissioning_of(load_machine(MACHINE), catalog))
 
 
 @pytest.fixture(scope="module")
@@ -149,3 +150,51 @@ def test_guide_channel_table_lists_every_channel(guide: str, register_map: Regis
     for channel in codesys_channels(register_map):
         code = "Read Input Registers (FC 4)" if channel.table is Table.NC_TO_PLC else "Write Multiple Registers (FC 16)"
         assert f"| {channel.name} | {code} | {channel.offset} | {channel.length} |" in guide
+
+
+def _section(guide: str, heading: str) -> str:
+    return guide.split(f"\n## {heading}\n", 1)[1].split("\n## ", 1)[0]
+
+
+def test_the_gear_signals_are_in_the_signal_tables_with_their_registers(guide: str,
+                                                                         register_map: RegisterMap) -> None:
+    _, catalog, _ = _machine(MACHINE)
+    for symbol in ("SP1.spindle.out.oscillEnable", "SP1.spindle.in.gearChangeoverRequested",
+                   "SP1.spindle.out.gearStageSelection", "SP1.spindle.in.oscillModeActive"):
+        location = register_map.location(catalog.resolve(symbol))
+        assert location is not None
+        cells = _row(guide, "OpenPLC", symbol)
+        assert cells[3] == f"{'IR' if location.table is Table.NC_TO_PLC else 'HR'} {location.register}", symbol
+    assert not any(line.startswith("| `SP2.spindle.out.oscillEnable`") for line in guide.splitlines())  # no gearbox
+    rule = _section(guide, "What the NC expects of the PLC")
+    assert "set oscillation enable `SP1.spindle.out.oscillEnable` (DB34.DBX18.5, HR 124 bit 13)" in rule
+    assert "Without 18.5 the spindle stands still and the gearbox stays in neutral" in rule
+
+
+def test_the_emergency_stop_acknowledgement_needs_a_reset_while_56_2_is_set(guide: str) -> None:
+    rule = _section(guide, "What the NC expects of the PLC")
+    assert "`NC.basic.out.emergencyStopAck` (DB10.DBX56.2, HR 45 bit 10) = 1" in rule
+    assert "`CHAN1.basic.out.reset` (DB21.DBX7.7, HR 51 bit 7)" in rule and "56.2 alone leaves alarm 3000" in rule
+
+
+def test_the_alarm_block_time_base_and_boot_id_are_documented_at_their_registers(guide: str,
+                                                                                register_map: RegisterMap) -> None:
+    _, catalog, _ = _machine(MACHINE)
+    count = register_map.location(catalog.resolve("ALARMS.list.in.count"))
+    assert count is not None
+    alarms = _section(guide, "Alarms: DB100")
+    assert f"input registers {count.register}..{register_map.registers(Table.NC_TO_PLC) - 1}" in alarms
+    assert f"| DBD4 | IR {count.register + 2}..{count.register + 3} |" in alarms
+    time = _section(guide, "Time base, sessions and reconnecting")
+    assert "IR 4..5 count the NC's IPO cycles" in time and "IR 12 is a random boot id" in time
+    assert "| IR 12 | `LINK.bootId` |" in guide
+    assert "or IR 12 (the boot id) differs" in _section(guide, "Lockstep with a third-party PLC")
+
+
+def test_the_guide_states_the_commissioning_facts_and_the_served_scenario(guide: str) -> None:
+    facts = _section(guide, "Commissioning this machine")
+    assert "| X1 (DB31) | incremental encoder: reference cam, then its zero mark | X1+ | 280 .. 295 mm |" in facts
+    assert "| Y1 (DB33) |" in facts and "| Y1- | -95 .. -80 mm | -118 mm / 118 mm |" in facts
+    assert "else alarm 65820" in facts and "Z1 and Y1 then X1" in facts
+    served = _section(guide, "A scenario against your PLC")
+    assert "--junit report.xml" in served and "0 passed, 1 failed, 2" in served
