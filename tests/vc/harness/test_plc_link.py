@@ -334,3 +334,17 @@ def test_a_new_boot_id_restarts_the_plc_program_though_the_session_number_is_the
     finally:
         first.close()
         second.close()
+
+
+def test_the_time_base_registers_count_the_nc_cycles_one_plc_period_per_granted_scan(process: PlcProcess) -> None:
+    """IR 4..5 (docs/modbus.md, time base): the NC's IPO cycles of the session at each exchange; every
+    granted scan advances them by IR 7 cycles, whatever the wall clock does."""
+    link = process.link
+    simulation = Simulation(TURN_MILL, "basic_machine", connector=link)
+    period = TURN_MILL.plc_cycle_ipo
+    assert link.tables.nc_to_plc[14:16] == period.to_bytes(2, "big")  # IR 7: the PLC period in IPO cycles
+    for scans in range(1, 40):
+        simulation.step(period)
+        grant = int.from_bytes(link.tables.nc_to_plc[6:8], "big")  # IR 3
+        cycles = int.from_bytes(link.tables.nc_to_plc[8:12], "big")  # IR 4..5, high word first
+        assert (grant, cycles) == (scans + 1, simulation.nck.cycle) == (scans + 1, scans * period)
