@@ -8,6 +8,8 @@
     --period MS            scan period in free-running mode (default: the machine's PLC period)
     --connect-timeout S    give up when no server answers (no harness is heard on the bus) for this long
                            (default 30 s)
+    --answer-timeout S     Modbus: wait this long for the answer to a request before the connection counts
+                           as lost and is made again (default 3 s in real time, 120 s in lockstep)
 
 Exit codes: 0 stopped (Ctrl-C), 1 no server (no bus, no harness heard), 2 the PLC cannot run what the
 harness describes.
@@ -52,6 +54,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--program", help="PLC program (default: the one the harness asks for)")
     parser.add_argument("--period", type=float, metavar="MS", help="scan period in free-running mode, ms")
     parser.add_argument("--connect-timeout", type=float, default=30.0, metavar="S")
+    parser.add_argument("--answer-timeout", type=float, default=None, metavar="S",
+                        help="Modbus: seconds to wait for an answer before reconnecting (default 3 in real time,"
+                             " 120 in lockstep)")
     arguments = parser.parse_args(argv)
     period_s = arguments.period / 1000 if arguments.period else None
 
@@ -63,7 +68,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return run_on_can(arguments.can, arguments.program, period_s, arguments.connect_timeout, log,
                               arguments.can_link_id)
         host, port = arguments.modbus
-        return run_forever(host, port, arguments.program, period_s, arguments.connect_timeout, log)
+        return run_forever(host, port, arguments.program, period_s, arguments.connect_timeout, log,
+                           answer_timeout_s=arguments.answer_timeout)
     except KeyboardInterrupt:
         return 0
 

@@ -11,13 +11,16 @@ of :mod:`interfaces.codec_modbus`) and follows the server's mode:
 
 A new session (the harness powered the machine on again, or started the next scenario) or a new
 boot id (another harness process, whose sessions count from 1 again) means a PLC restart: the
-description is read again and the program starts from its initial state.
+description is read again and the program starts from its initial state.  A connection lost and
+made again to the same session of the same process keeps the program: it carries on where it was,
+and in lockstep the outputs of a scan whose write was lost are sent again instead of the scan
+running twice.
 
 In lockstep the harness answers only while it waits for the PLC, and it may pause between two
 scans for longer than a real-time PLC would wait (a garbage collection of a long ``vc run``, a
 busy host): a request waits :data:`LOCKSTEP_TIMEOUT_S` for its answer there, not the real-time
-:data:`TIMEOUT_S`, so that a pause never restarts the program in the middle of a session.  A
-harness that is gone closes the connection, which ends the wait at once.
+:data:`TIMEOUT_S`, so that a pause never reconnects in the middle of a session (``--answer-timeout``
+sets one time-out for both).  A harness that is gone closes the connection, which ends the wait at once.
 """
 
 from __future__ import annotations
@@ -73,6 +76,8 @@ class _Session:
     plc_to_nc: bytearray
     last_grant: int = 0
     life: int = 0
+    # lockstep: the outputs of a scan whose write the link lost, (grant, registers), until they are sent
+    unsent: tuple[int, list[int]] | None = None
 
     @property
     def areas(self) -> dict[str, bytearray]:
@@ -83,13 +88,15 @@ class RemotePlc:
     """One PLC process: ``run`` until stopped (``should_stop``) or the server goes away for good."""
 
     def __init__(self, client: ModbusLinkClient, program: str | None = None, period_s: float | None = None,
-                 log: Callable[[str], None] = lambda text: None):
+                 log: Callable[[str], None] = lambda text: None, answer_timeout_s: float | None = None):
         self.client = client
+        self.answer_timeout_s = answer_timeout_s
         self.program = program
         self.period_s = period_s
         self.log = log
         self.session: _Session | None = None
         self.scans = 0
+        self._reconnected = False
 
     # ------------------------------------------------------------------ one poll
     def poll(self) -> bool:
@@ -106,8 +113,16 @@ class RemotePlc:
             # 1 again): restart the program
             session = self._start_session(head)
             head = self.client.read_input_registers(0, self._poll_count())
+        elif self._reconnected:
+            # the same session of the same harness process after a reconnect: the program carries on
+            # with its state; the session is claimed again on this connection
+            self.client.write_registers(REG_SESSION_READY, [session.number])
+            self.log(f"session {session.number} (boot id {session.boot_id}) goes on after the reconnect")
+        self._reconnected = False
         if session.lockstep:
             grant = head[REG_SCAN_GRANT]
+            if session.unsent is not None and self._resend(session, grant):
+                return True
             if grant == 0 or grant == session.last_grant:
                 return False
             self._scan(session, head, grant)
@@ -130,7 +145,7 @@ class RemotePlc:
         environment, register_map, plc, name = description.start_program(REGISTRY, self.program)
         sizes = register_map.table_bytes
         lockstep = head[REG_MODE] == MODE_LOCKSTEP
-        self.client.timeout_s = LOCKSTEP_TIMEOUT_S if lockstep else TIMEOUT_S
+        self.client.timeout_s = self.answer_timeout_s or (LOCKSTEP_TIMEOUT_S if lockstep else TIMEOUT_S)
         self.session = _Session(
             head[REG_SESSION], head[REG_BOOT_ID], lockstep, description, register_map, plc,
             ProcessImage(environment.catalog.area_sizes), ProcessImage(environment.plant_io.area_sizes()),
@@ -160,8 +175,24 @@ class RemotePlc:
         # The whole table from register 0, the chunk with register 0 last: the scan-done word
         # reaches the server after every output of the scan.
         values = read_registers(outputs, 0, session.register_map.registers(Table.PLC_TO_NC))
+        if session.lockstep:
+            session.unsent = (done, values)  # until the write is through: a lost link must not run the scan twice
         self.client.write_registers_last_first(0, values)
+        session.unsent = None
         self.scans += 1
+
+    def _resend(self, session: _Session, grant: int) -> bool:
+        """After a lost link: the outputs of the scan it lost go again while the harness still waits
+        for that scan (True); once it granted another, it had taken them (False)."""
+        assert session.unsent is not None
+        unsent_grant, values = session.unsent
+        session.last_grant = unsent_grant
+        if grant != unsent_grant:
+            session.unsent = None
+            return False
+        self.client.write_registers_last_first(0, values)
+        session.unsent = None
+        return True
 
     # ------------------------------------------------------------------ the loop (plc_stub.scan_loop)
     def run(self, should_stop: Callable[[], bool] = lambda: False) -> None:
@@ -182,17 +213,20 @@ class RemotePlc:
     def scan(self) -> None:
         self.poll()
 
-    def restart(self) -> None:
-        """After a reconnect: the next poll sets the session up again (a PLC restart)."""
-        self.session = None
-        self.client.timeout_s = TIMEOUT_S
+    def reconnected(self) -> None:
+        """After a reconnect: the next poll reads the link block anew; the program restarts only when
+        the session or the boot id changed (docs/modbus.md, reconnecting)."""
+        self._reconnected = True
 
 
 def run_forever(host: str, port: int, program: str | None, period_s: float | None, connect_timeout_s: float,
-                log: Callable[[str], None], should_stop: Callable[[], bool] = lambda: False) -> int:
-    """Connect (and reconnect) to the harness and run; the exit code of ``python -m plc_stub``."""
-    client = ModbusLinkClient(host, port, timeout_s=TIMEOUT_S)
-    plc = RemotePlc(client, program, period_s, log)
+                log: Callable[[str], None], should_stop: Callable[[], bool] = lambda: False,
+                answer_timeout_s: float | None = None) -> int:
+    """Connect (and reconnect) to the harness and run; the exit code of ``python -m plc_stub``.
+    ``answer_timeout_s``: how long a request may go unanswered before the connection is made again
+    (None: :data:`TIMEOUT_S` in real time, :data:`LOCKSTEP_TIMEOUT_S` in lockstep)."""
+    client = ModbusLinkClient(host, port, timeout_s=answer_timeout_s or TIMEOUT_S)
+    plc = RemotePlc(client, program, period_s, log, answer_timeout_s)
 
     def run() -> int:
         deadline = wallclock.monotonic() + connect_timeout_s
@@ -212,7 +246,7 @@ def run_forever(host: str, port: int, program: str | None, period_s: float | Non
             except LinkError as error:
                 log(f"link lost: {error}; reconnecting")
                 client.close()
-                plc.restart()
+                plc.reconnected()
                 connected = False
                 deadline = wallclock.monotonic() + connect_timeout_s
         return EXIT_STOPPED

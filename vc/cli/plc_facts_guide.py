@@ -18,6 +18,7 @@ from interfaces.codec_modbus import (
     REG_NC_CYCLE_HIGH,
     REG_NC_CYCLE_LOW,
     REG_PLC_CYCLE_IPO,
+    REG_SCAN_DONE,
     REG_SCAN_GRANT,
     REG_SESSION,
     REG_SESSION_READY,
@@ -188,10 +189,14 @@ def time_and_sessions_section() -> list[str]:
         f" process; IR {REG_BOOT_ID} is a random boot id (1..65535) of the process. A PLC restarts its program"
         f" from its initial state whenever IR {REG_SESSION} or IR {REG_BOOT_ID} differs from the values it started"
         f" for, and writes HR {REG_SESSION_READY} = IR {REG_SESSION}.",
-        f"* **Reconnecting.** After a lost connection read IR 0..15 anew before anything else: a server restarted"
-        f" in between starts at session 1 again, and only the boot id tells it from the session you ran; carrying"
-        f" on with the old program state would act on stale state. In lockstep the next scan is the one IR"
-        f" {REG_SCAN_GRANT} grants now; forget the last grant on a restart.",
+        "* **Reconnecting.** After a lost connection read IR 0..15 anew before anything else. A server"
+        " restarted in between starts at session 1 again, and only the boot id tells it from the session you"
+        " ran: carrying on would act on stale state, so restart. With the same session and boot id carry on"
+        " with the program as it is; the harness answers only while it waits for a scan, so a busy harness can"
+        f" leave a request unanswered for seconds without anything being lost. In lockstep, if IR {REG_SCAN_GRANT}"
+        f" still grants the scan whose outputs you were writing, write them again (with HR {REG_SCAN_DONE} ="
+        " the grant last) instead of running the scan a second time; if it grants a later one, the harness"
+        " took them.",
     ]
 
 

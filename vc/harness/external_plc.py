@@ -106,7 +106,8 @@ class PlcProcess(_ChildPlcRun[PlcLink]):
     def __init__(self, mode: LinkMode = LinkMode.LOCKSTEP, first_scan_timeout_s: float = 30.0,
                  scan_timeout_s: float = 10.0, module: str = "plc_stub", arguments: Sequence[str] = (),
                  s7: Endpoint | None = None):
-        """``s7``: serve the data blocks over S7 as well (``vc serve --s7``)."""
+        """``s7``: serve the data blocks over S7 as well (``vc serve --s7``); ``arguments``: more
+        options of ``python -m plc_stub`` (or of ``module``)."""
         self.link = PlcLink(mode, modbus=Endpoint("127.0.0.1", 0), s7=s7,
                             first_scan_timeout_s=first_scan_timeout_s, scan_timeout_s=scan_timeout_s,
                             peer_ended=self._ended)

@@ -231,21 +231,26 @@ def test_real_time_another_client_can_neither_keep_the_sign_of_life_nor_move_an_
         link.close()
 
 
+def _s7_read(link: PlcLink, db: int, size: int) -> bytes:
+    """Bytes 0 .. size - 1 of data block ``db`` as a python-snap7 client reads them from the link."""
+    import snap7
+
+    assert link.s7 is not None
+    client = snap7.client.Client()
+    client.connect("127.0.0.1", 0, 1, link.s7.port)
+    try:
+        return bytes(client.db_read(db, 0, size))
+    finally:
+        client.disconnect()
+
+
 def test_in_lockstep_an_s7_client_sees_what_the_modbus_plc_wrote() -> None:
     """With the PLC on Modbus, DB31.DBB0..31 read over S7 are the PLC's outputs in lockstep too
     (the scan used to return before the copy, and S7 read zeros; real time: test_serve)."""
-    import snap7
-
     with PlcProcess(s7=Endpoint("127.0.0.1", 0)) as plc:
         simulation = Simulation(TURN_MILL, "basic_machine", connector=plc.link)
         simulation.step(250)  # 0.5 s: the PLC has enabled the axes
-        assert plc.link.s7 is not None
-        client = snap7.client.Client()
-        client.connect("127.0.0.1", 0, 1, plc.link.s7.port)
-        try:
-            served = bytes(client.db_read(31, 0, 32))
-        finally:
-            client.disconnect()
+        served = _s7_read(plc.link, 31, 32)
         written = bytes(simulation.interface.areas["DB31"][0:32])
         assert written[2] & 0x02  # the PLC gave X1 its controller enable (DB31.DBX2.1)
         assert served == written
@@ -255,8 +260,6 @@ def test_the_alarm_block_db100_reaches_a_modbus_client_and_an_s7_client() -> Non
     """Alarm 3000 (the PLC reports the open e-stop chain) read as input registers at DB100's place in
     the NC-to-PLC table, and as S7 data block DB100."""
     import threading
-
-    import snap7
 
     from interfaces.codec_modbus import RegisterMap, Table
     from interfaces.links.modbus_tcp import ModbusLinkClient
@@ -271,7 +274,7 @@ def test_the_alarm_block_db100_reaches_a_modbus_client_and_an_s7_client() -> Non
         first = register_map.table_byte(Table.NC_TO_PLC, "DB100", 0)
         assert first is not None and first % 2 == 0
         assert first // 2 + 34 == register_map.registers(Table.NC_TO_PLC)  # 68 bytes, the end of the table
-        assert plc.link.modbus is not None and plc.link.s7 is not None
+        assert plc.link.modbus is not None
         read: list[int] = []
         client = ModbusLinkClient("127.0.0.1", plc.link.modbus.port)
         reader = threading.Thread(target=lambda: client.connect() and read.extend(
@@ -283,12 +286,7 @@ def test_the_alarm_block_db100_reaches_a_modbus_client_and_an_s7_client() -> Non
         client.close()
         # count, changes, entry 1: number (two registers), channel | axis, reaction | clearedBy
         assert read[0] == 1 and read[2:4] == [0, 3000] and read[4] == 0 and read[5] == 0x3B05
-        s7 = snap7.client.Client()
-        s7.connect("127.0.0.1", 0, 1, plc.link.s7.port)
-        try:
-            block = bytes(s7.db_read(100, 0, 12))
-        finally:
-            s7.disconnect()
+        block = _s7_read(plc.link, 100, 12)
         assert block == bytes(simulation.nck.image.area("DB100")[0:12])
         assert int.from_bytes(block[4:8], "big") == 3000 and block[11] == 5
 
@@ -348,3 +346,29 @@ def test_the_time_base_registers_count_the_nc_cycles_one_plc_period_per_granted_
         grant = int.from_bytes(link.tables.nc_to_plc[6:8], "big")  # IR 3
         cycles = int.from_bytes(link.tables.nc_to_plc[8:12], "big")  # IR 4..5, high word first
         assert (grant, cycles) == (scans + 1, simulation.nck.cycle) == (scans + 1, scans * period)
+
+
+def test_a_connection_lost_within_a_session_keeps_the_plc_program_and_the_trace() -> None:
+    """The harness answers the PLC only while it waits for a scan; when it does not for longer than the
+    PLC's answer time-out (here 0.3 s; a busy machine, a long first scan), the PLC reconnects.  Within
+    the same session and boot id its program carries on and a lost write is sent again, so the run
+    stays the in-process run cycle for cycle (a restart used to shift it by a scan)."""
+    import time
+
+    def run(simulation: Simulation, stall_at: set[int]) -> list[object]:
+        seen = []
+        for chunk in range(60):  # 0.6 s in PLC periods; the keys as an operator presses them
+            if chunk in stall_at:
+                time.sleep(0.8)  # the harness busy elsewhere: no Modbus answers
+            key = {2: ("MCP.mda", 1), 6: ("MCP.mda", 0), 10: ("MCP.jog", 1), 14: ("MCP.jog", 0)}.get(chunk)
+            if key is not None:
+                simulation.write(simulation.plant_io.resolve(key[0]), key[1])
+            simulation.step(TURN_MILL.plc_cycle_ipo)
+            seen.append(images(simulation))
+        return seen
+
+    with PlcProcess(arguments=("--answer-timeout", "0.3")) as plc:
+        linked = run(Simulation(TURN_MILL, "basic_machine", connector=plc.link), stall_at={0, 3, 12, 30})
+        sessions = plc.link.session
+    assert sessions == 1
+    assert linked == run(Simulation(TURN_MILL, "basic_machine"), stall_at=set())
