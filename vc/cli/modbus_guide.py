@@ -58,6 +58,7 @@ from interfaces.codec_modbus import (
     Table,
     display_number,
 )
+from interfaces.commissioning import Commissioning
 from interfaces.exports.client_setups import (
     OPENPLC_FIRST,
     OPENPLC_SLAVE_ENTRIES,
@@ -67,7 +68,6 @@ from interfaces.exports.client_setups import (
 )
 from interfaces.links.access import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CLIENTS
 from interfaces.links.modbus_tcp import SERVED_FUNCTIONS
-from interfaces.commissioning import Commissioning
 from interfaces.plant_io import PlantIoMap
 from interfaces.signal_map import LINK_ROWS
 from interfaces.signals import ExpandedCatalog, SignalRef, SignalType
