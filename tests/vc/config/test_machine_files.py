@@ -57,14 +57,15 @@ def test_an_unknown_name_lists_the_packaged_machines() -> None:
 
 
 def test_a_built_wheel_ships_the_machines_and_vc_map_finds_them_by_name(tmp_path: Path) -> None:
-    """A plain (non-editable) install: build the wheel from a copy of the sources, install it into
+    """A plain (non-editable) install: build the wheel from a copy of the sources (pure Python: no
+    setup.py, so nothing is compiled), install it into
     a directory of its own and run ``vc map --machine turn_mill`` from elsewhere with only that
     installation of the project on the path (``-S``: not the editable one of this environment)."""
     source = tmp_path / "source"
     source.mkdir()
     for name in ("pyproject.toml", "README.md"):
         shutil.copyfile(ROOT / name, source / name)
-    for package in ("vc", "interfaces", "plc_stub", "fmu"):
+    for package in ("vc", "interfaces", "plc_stub", "fmu", "vc_build", "plc_awlsim", "awlsimhw_vcmodbus"):
         shutil.copytree(ROOT / package, source / package, ignore=shutil.ignore_patterns("__pycache__"))
     wheels = tmp_path / "wheels"
     subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-build-isolation", "--no-deps", "-q",

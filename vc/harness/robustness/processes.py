@@ -141,7 +141,7 @@ class ServedNc:
                 self.s7_port = int(self.serve.wait_for(r"^S7 on [\d.]+:(\d+)").group(1))
             plc = plc_arguments if plc_arguments is not None else ["--modbus", f"127.0.0.1:{self.modbus_port}"]
             self.plc = Child("plc_stub", ["-m", "plc_stub", *plc])
-            self.plc.wait_for(r"session \d+: machine", errors=True)
+            self.plc.wait_for(r"session \d+( \(boot id \d+\))?: machine", errors=True)
         except BaseException:
             self.close()
             raise
