@@ -77,7 +77,7 @@ def _map(arguments: argparse.Namespace) -> int:
     catalog = expand(load_catalog(), machine.layout)
     if arguments.format == GUIDE_FORMAT:
         from vc.cli.modbus_guide import modbus_guide  # it imports the NC core: only for this format
-        from vc.harness.commissioning import commissioning_of
+        from vc.simulation.commissioning import commissioning_of
 
         _write(modbus_guide(machine.name, machine.source, catalog, machine.plant_io,
                             commissioning_of(machine, catalog)), arguments.output)
@@ -94,7 +94,7 @@ def _map(arguments: argparse.Namespace) -> int:
                         nc_cycle_ms=round(can.period_cycles(ipo_us, machine.plc_cycle_ipo) * ipo_us / 1000),
                         plc_cycle_ms=round(machine.plc_cycle_ipo * ipo_us / 1000)), arguments.output)
         return 0
-    from vc.harness.commissioning import commissioning_of  # the facts need the NC's rules
+    from vc.simulation.commissioning import commissioning_of  # the facts need the NC's rules
 
     rows = map_rows(catalog, machine.plant_io, can.settings, commissioning_of(machine, catalog))
     if arguments.format in EXPORTS:

@@ -29,8 +29,8 @@ from vc.config import md_dictionary as MD
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.harness.bench_workloads import Load, MotionPlan, motion_plan
-from vc.harness.simulation import Simulation
 from vc.located_yaml import LocatedMap, load_text
+from vc.simulation.lockstep import Simulation
 
 LIGHT_PLC = "basic_machine"
 HEAVY_PLC = "spindle"

@@ -33,7 +33,7 @@ from vc.config.model import MachineConfig
 from vc.harness.benchmark import Workload, benchmark_machine
 from vc.harness.can_link import CanLinkedPlc, VirtualCanPlc
 from vc.harness.external_plc import CanPlcProcess
-from vc.harness.simulation import Simulation
+from vc.simulation.lockstep import Simulation
 
 _PEER_START_TIMEOUT_S = 60.0
 _ANSWER_TIMEOUT_S = 5.0

@@ -43,7 +43,7 @@ from fmu.export import ExportResult, PythonRuntime, export_fmu
 from fmu.unit import PLC_SIGN_OF_LIFE, Causality, Kind, NcUnit
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
-from vc.harness.simulation import Simulation
+from vc.simulation.lockstep import Simulation
 
 STROKE_S = 2.0  # the traverse keys reverse after this long: 67 mm at the turn-mill's JOG velocity of 2000 mm/min
 SETTLE_S = 0.1  # untimed, after power-on: the drives enable and the position control closes

@@ -56,7 +56,7 @@ from vc.harness.benchmark import Workload, benchmark_machine
 from vc.harness.external_plc import PlcProcess
 from vc.harness.pacer import PacingStats, RealtimePacer, percentile
 from vc.harness.plc_link import LinkedPlc, LinkMode
-from vc.harness.simulation import Simulation
+from vc.simulation.lockstep import Simulation
 
 LOOPBACK = "127.0.0.1"
 DEVICE_ID = 1  # both servers answer every unit id; the PLC client asks for 1

@@ -60,7 +60,7 @@ from interfaces.links.modbus_tcp import ModbusServerLink, ModbusTables
 from interfaces.links.s7 import S7ServerLink
 from interfaces.plc import PlcEnvironment
 from vc.config.model import MachineConfig
-from vc.harness.simulation import Simulation
+from vc.simulation.lockstep import Simulation
 
 _WORD = struct.Struct(">H")
 

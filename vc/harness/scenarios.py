@@ -5,11 +5,11 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 from interfaces.links.inprocess import plc_programs
-from vc.harness.simulation import Simulation
 from vc.scenario.cluster import ClusterSettings
 from vc.scenario.command import plot_command, run_command
 from vc.scenario.model import LINK_CAN, Scenario
 from vc.scenario.target import ScenarioTarget
+from vc.simulation.lockstep import Simulation
 from vc_build import status as build_status
 
 TargetFactory = Callable[[Scenario], Simulation]

@@ -22,7 +22,6 @@ from pathlib import Path
 from typing import Protocol
 
 from vc.located_yaml import Mark
-from vc.observables import StepRefused
 from vc.scenario.durations import Duration, format_seconds
 from vc.scenario.expressions import EvaluationError, Evaluator, Expression
 from vc.scenario.model import (
@@ -55,6 +54,7 @@ from vc.scenario.quantities import Quantity, QuantityKind
 from vc.scenario.target import ScenarioTarget
 from vc.scenario.trace import Recorder, Recording, write_traces
 from vc.scenario.values import format_value
+from vc.simulation.observables import StepRefused
 
 HISTORY_CHANGES = 10  # changes per name in a failure report
 HISTORY_WINDOW_S = 5.0  # ... within this much simulated time before the failure

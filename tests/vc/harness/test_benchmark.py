@@ -23,7 +23,7 @@ from vc.harness.benchmark import (
     benchmark_machine,
     run_benchmark,
 )
-from vc.harness.simulation import Simulation
+from vc.simulation.lockstep import Simulation
 
 ROOT = Path(__file__).resolve().parents[3]
 TURN_MILL = str(ROOT / "scenarios" / "machines" / "turn_mill.yaml")

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from interfaces.codec_can import ControllerState
 from interfaces.signals import Direction
-from vc.harness.link_faults import CanController, FaultyWire, LinkFault, LinkFaultKind, active, disturbed
-from vc.observables import LINK_FAULTS
+from vc.simulation.link_faults import CanController, FaultyWire, LinkFault, LinkFaultKind, active, disturbed
+from vc.simulation.observables import LINK_FAULTS
 
 BOTH = frozenset((Direction.NC_TO_PLC, Direction.PLC_TO_NC))
 

@@ -13,8 +13,8 @@ import pytest
 from interfaces.links.inprocess import UnknownPlcProgram
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
-from vc.harness.simulation import AXIS_QUANTITIES, Simulation
 from vc.located_yaml import load_text
+from vc.simulation.lockstep import AXIS_QUANTITIES, Simulation
 
 ROOT = Path(__file__).resolve().parents[3]
 TURN_MILL = str(ROOT / "scenarios" / "machines" / "turn_mill.yaml")

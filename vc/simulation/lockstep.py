@@ -31,9 +31,10 @@ from vc.core.alarms import Alarm
 from vc.core.channel import Channel
 from vc.core.nc_memory import NcMemory
 from vc.core.nck import Nck
-from vc.harness.commissioning import commissioning_of
-from vc.harness.link_faults import FaultInjectable, LinkFault, LinkFaultKind
-from vc.observables import (
+from vc.plant.plant import Plant
+from vc.simulation.commissioning import commissioning_of
+from vc.simulation.link_faults import FaultInjectable, LinkFault, LinkFaultKind
+from vc.simulation.observables import (
     AXIS_QUANTITIES,
     CHANNEL_QUANTITIES,
     COUPLING_QUANTITY_MEANINGS,
@@ -42,7 +43,6 @@ from vc.observables import (
     NCK_QUANTITIES,
     StepRefused,
 )
-from vc.plant.plant import Plant
 
 
 class Pacer(Protocol):

@@ -1,7 +1,7 @@
 """A simulation with observers: told after every IPO cycle and after every action of the operator.
 
 :class:`ObservedSimulation` is a :class:`~vc.scenario.target.ScenarioTarget` over a
-:class:`~vc.harness.simulation.Simulation`.  It steps the simulation one IPO cycle at a time and
+:class:`~vc.simulation.lockstep.Simulation`.  It steps the simulation one IPO cycle at a time and
 after each one calls every :class:`SimulationObserver`; every action of the operator (a scenario
 step that writes, forces, releases, loads a program, switches the machine off and on ...) goes to
 the simulation and then, as an :class:`OperatorAction`, to the observers.  The interface
@@ -22,7 +22,7 @@ from typing import Protocol
 from interfaces.image import Value
 from interfaces.signals import SignalRef, UnknownSignalError
 from vc.core.alarms import Alarm
-from vc.harness.simulation import Simulation
+from vc.simulation.lockstep import Simulation
 
 # The kinds of operator actions and the names of their arguments, in order.
 ACTION_ARGUMENTS: dict[str, tuple[str, ...]] = {

@@ -19,8 +19,8 @@ from vc.cli.main import main
 from vc.config.loader import load_machine
 from vc.config.machine_files import packaged_machines
 from vc.config.model import MachineConfig
-from vc.harness.commissioning import commissioning_of
 from vc.located_yaml import LocatedMap, load_text
+from vc.simulation.commissioning import commissioning_of
 
 
 def facts(machine: MachineConfig) -> Commissioning:

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from vc.config.loader import load_machine
-from vc.harness.observed import ACTION_ARGUMENTS, ObservedSimulation, OperatorAction, perform, resolve
-from vc.harness.simulation import Simulation
+from vc.simulation.lockstep import Simulation
+from vc.simulation.observed import ACTION_ARGUMENTS, ObservedSimulation, OperatorAction, perform, resolve
 
 MACHINE = Path(__file__).resolve().parents[3] / "scenarios" / "machines" / "turn_mill.yaml"
 

@@ -24,11 +24,11 @@ from typing import Generic, Protocol, TypeVar, runtime_checkable
 
 from interfaces.codec_can import ControllerState
 from interfaces.signals import Direction
-from vc.observables import LINK_AREA as LINK_AREA  # the link frames among a fault's areas
+from vc.simulation.observables import LINK_AREA as LINK_AREA  # the link frames among a fault's areas
 
 
 class LinkFaultKind(StrEnum):
-    """The kinds of ``LINK_FAULTS`` in vc/observables.py."""
+    """The kinds of ``LINK_FAULTS`` in vc/simulation/observables.py."""
 
     LOSS = "loss"
     DELAY = "delay"
@@ -64,7 +64,7 @@ class FaultInjectable(Protocol):
     def inject_fault(self, fault: LinkFault) -> None: ...
 
     def quantity(self, name: str) -> float:
-        """One of ``LINK_QUANTITIES`` in vc/observables.py."""
+        """One of ``LINK_QUANTITIES`` in vc/simulation/observables.py."""
 
 
 Item = TypeVar("Item")
