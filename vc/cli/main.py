@@ -155,7 +155,7 @@ def _bench(arguments: argparse.Namespace) -> int:
         return _bench_fmu(arguments)
     if arguments.link == "can":
         return _bench_can(arguments)
-    from vc.harness.benchmark import BenchmarkError, run_light_and_heavy
+    from vc.bench.lockstep import BenchmarkError, run_light_and_heavy
 
     seconds = DEFAULT_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
     try:
@@ -179,14 +179,14 @@ def _bench(arguments: argparse.Namespace) -> int:
 
 def _bench_scaling(arguments: argparse.Namespace) -> int:
     """The cost per IPO cycle of each machine idle, with two axes and with everything moving."""
-    from vc.harness.bench_scaling import (
+    from vc.bench.lockstep import BenchmarkError
+    from vc.bench.scaling import (
         SCALING_MACHINES,
         SCALING_PLC,
         row_figures,
         run_scaling,
         scaling_table,
     )
-    from vc.harness.benchmark import BenchmarkError
 
     seconds = DEFAULT_SCALING_SECONDS if arguments.seconds is None else arguments.seconds
     machines = SCALING_MACHINES if arguments.machine is None else (arguments.machine,)
@@ -227,7 +227,7 @@ def _say(text: str) -> None:
 
 def _bench_modbus(arguments: argparse.Namespace) -> int:
     from interfaces.links.errors import LinkError
-    from vc.harness.link_benchmark import run_link_benchmark
+    from vc.bench.modbus_link import run_link_benchmark
 
     seconds = DEFAULT_REALTIME_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
     return _figures_of(lambda: run_link_benchmark(arguments.machine, realtime_seconds=seconds,
@@ -238,7 +238,7 @@ def _bench_modbus(arguments: argparse.Namespace) -> int:
 
 def _bench_can(arguments: argparse.Namespace) -> int:
     from interfaces.links.errors import LinkError
-    from vc.harness.can_benchmark import run_can_benchmark
+    from vc.bench.can_link import run_can_benchmark
 
     seconds = DEFAULT_CAN_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
     return _figures_of(lambda: run_can_benchmark(arguments.machine, seconds, frames=arguments.frames, say=_say),
@@ -248,7 +248,7 @@ def _bench_can(arguments: argparse.Namespace) -> int:
 def _bench_fmu(arguments: argparse.Namespace) -> int:
     from fmu.export import PythonRuntime
     from fmu.instance import FmuError
-    from vc.harness.fmu_benchmark import FmuBenchmarkError, run_fmu_benchmark
+    from vc.bench.fmu_steps import FmuBenchmarkError, run_fmu_benchmark
 
     seconds = DEFAULT_FMU_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
     python = PythonRuntime(arguments.python)

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from vc.harness import robustness_files
-from vc.harness.robustness_files import (
+from vc.bench.robustness import files as robustness_files
+from vc.bench.robustness.files import (
     MUTATIONS,
     Mutant,
     Shipped,

@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 from interfaces.codec_can import Frame
 from interfaces.links.can_bus import CAN_ERR_BUSOFF, BusSpec, CanBus, private_udp_bus
-from vc.harness.robustness.campaign import CampaignSettings, Row, Say
-from vc.harness.robustness.processes import CampaignError, ServedNc, final_pacing, growth_pct
+from vc.bench.robustness.campaign import CampaignSettings, Row, Say
+from vc.bench.robustness.processes import CampaignError, ServedNc, final_pacing, growth_pct
 
 SCENARIO = "scenarios/referencing/incremental_jog_ref_falling_edge.yaml"
 PAUSE_S = 0.0005  # between two inputs of the noise

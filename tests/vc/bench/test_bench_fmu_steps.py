@@ -16,16 +16,16 @@ import pytest
 
 from fmu.export import PythonRuntime
 from fmu.unit import PLC_SIGN_OF_LIFE, Causality, NcUnit
-from vc.cli.main import main
-from vc.config.loader import load_machine
-from vc.harness import fmu_benchmark
-from vc.harness.fmu_benchmark import (
+from vc.bench import fmu_steps
+from vc.bench.fmu_steps import (
     FmuBenchmarkError,
     FmuBenchmarkResult,
     JogDriver,
     inprocess_ports,
     run_fmu_benchmark,
 )
+from vc.cli.main import main
+from vc.config.loader import load_machine
 
 ROOT = Path(__file__).resolve().parents[3]
 TURN_MILL = str(ROOT / "scenarios" / "machines" / "turn_mill.yaml")
@@ -145,7 +145,7 @@ def test_the_cli_prints_the_figures_as_the_last_line_in_json(
         asked.update(machine_path=machine_path, seconds=seconds, python=options["python"])
         return result  # the benchmark ran once, for the whole module
 
-    monkeypatch.setattr(fmu_benchmark, "run_fmu_benchmark", measured)
+    monkeypatch.setattr(fmu_steps, "run_fmu_benchmark", measured)
     assert main(["bench", "--link", "fmu", "--machine", TURN_MILL, "--seconds", "3", "--python", "host"]) == 0
     assert asked == {"machine_path": TURN_MILL, "seconds": 3.0, "python": PythonRuntime.HOST}
     figures = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
@@ -166,7 +166,7 @@ def test_the_cli_defaults_to_20_simulated_seconds(
         asked.append(seconds)
         return result
 
-    monkeypatch.setattr(fmu_benchmark, "run_fmu_benchmark", measured)
+    monkeypatch.setattr(fmu_steps, "run_fmu_benchmark", measured)
     assert main(["bench", "--link", "fmu", "--machine", TURN_MILL]) == 0
     assert asked == [20.0]
 

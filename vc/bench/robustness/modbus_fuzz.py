@@ -29,8 +29,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from interfaces.links.modbus_tcp import SERVED_FUNCTIONS, WRITE_FUNCTIONS
-from vc.harness.robustness.campaign import CampaignSettings, Row, Say
-from vc.harness.robustness.processes import ServedNc, final_pacing, growth_pct
+from vc.bench.robustness.campaign import CampaignSettings, Row, Say
+from vc.bench.robustness.processes import ServedNc, final_pacing, growth_pct
 
 ANSWER_TIMEOUT_S = 5.0
 IDLE_TIMEOUT_S = 2.0  # the server's --idle-timeout in this part: the half-open connections must go

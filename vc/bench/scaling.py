@@ -1,7 +1,7 @@
 """``vc bench --scaling``: how the cost of an IPO cycle grows with what moves.
 
 Each machine (by default the three packaged machines) runs each load of
-vc/harness/bench_workloads.py (idle, two axes, everything) on a fresh simulation, all with
+vc/bench/workloads.py (idle, two axes, everything) on a fresh simulation, all with
 the PLC program ``spindle`` so that the rows of a machine differ in the motion alone (the light
 workload of ``vc bench`` runs ``basic_machine``: its figure differs a little from the two-axes
 row here).  Each row is checked like a ``vc bench`` workload (what should move moved, nothing
@@ -12,8 +12,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from vc.harness.bench_workloads import Load
-from vc.harness.benchmark import HEAVY_PLC, BenchmarkResult, run_benchmark
+from vc.bench.lockstep import HEAVY_PLC, BenchmarkResult, run_benchmark
+from vc.bench.workloads import Load
 
 SCALING_MACHINES = (
     "mill_3axis",

@@ -14,10 +14,8 @@ from pathlib import Path
 import pytest
 
 from interfaces.codec_modbus import READ_LIMIT, WRITE_LIMIT, Table
-from vc.cli.main import main
-from vc.config.loader import load_machine
-from vc.harness import link_benchmark
-from vc.harness.link_benchmark import (
+from vc.bench import modbus_link
+from vc.bench.modbus_link import (
     ExchangeClient,
     LinkBenchmark,
     ServerKind,
@@ -26,6 +24,8 @@ from vc.harness.link_benchmark import (
     register_map_of,
     run_link_benchmark,
 )
+from vc.cli.main import main
+from vc.config.loader import load_machine
 
 ROOT = Path(__file__).resolve().parents[3]
 TURN_MILL = str(ROOT / "scenarios" / "machines" / "turn_mill.yaml")
@@ -110,7 +110,7 @@ def test_the_cli_prints_the_figures_as_the_last_line_in_json(
         asked.update(options, machine_path=machine_path)
         return result  # the measurements ran once, for the whole module
 
-    monkeypatch.setattr(link_benchmark, "run_link_benchmark", measured)
+    monkeypatch.setattr(modbus_link, "run_link_benchmark", measured)
     assert main(["bench", "--link", "modbus", "--machine", TURN_MILL, "--seconds", "5", "--exchanges", "40"]) == 0
     assert asked["realtime_seconds"] == 5.0 and asked["exchanges"] == 40 and asked["lockstep_seconds"] == 10.0
     figures = json.loads(capsys.readouterr().out.strip().splitlines()[-1])

@@ -29,8 +29,8 @@ import snap7
 from snap7.error import S7ConnectionError, S7TimeoutError
 from snap7.type import Areas
 
-from vc.harness.robustness.campaign import CampaignSettings, Row, Say
-from vc.harness.robustness.processes import ServedNc, final_pacing, growth_pct
+from vc.bench.robustness.campaign import CampaignSettings, Row, Say
+from vc.bench.robustness.processes import ServedNc, final_pacing, growth_pct
 
 IDLE_SESSIONS = 70
 BLOCKS = (10, 11, 19, 21, 31, 32, 33, 34, 35, 36, 40)  # turn_mill's interface blocks and one it has not

@@ -11,7 +11,7 @@ operator selects MDA and presses NC start on the panel, and again whenever the p
   and the program stands in its first spindle block until alarm 65830), every axis and spindle
   moving, on turn_mill SP2 coupled to SP1.
 
-The loads are in vc/harness/bench_workloads.py.  Figures: the real-time factor (simulated
+The loads are in vc/bench/workloads.py.  Figures: the real-time factor (simulated
 seconds per wall-clock second) and the cost of one IPO cycle in microseconds, for the whole
 loop (NC + plant + PLC).  Every 100 IPO cycles the operator looks at the velocities and the
 coupling: a run whose motion differs from its load's (an axis that should move stood, one
@@ -25,10 +25,10 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
+from vc.bench.workloads import Load, MotionPlan, motion_plan
 from vc.config import md_dictionary as MD
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
-from vc.harness.bench_workloads import Load, MotionPlan, motion_plan
 from vc.located_yaml import LocatedMap, load_text
 from vc.simulation.lockstep import Simulation
 

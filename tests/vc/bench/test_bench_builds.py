@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from vc.harness.build_comparison import (
+from vc.bench.builds import (
     BENCH_FIGURES,
     Build,
     Samples,

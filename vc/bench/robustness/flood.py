@@ -18,8 +18,8 @@ import threading
 import time as wallclock
 from dataclasses import dataclass
 
-from vc.harness.robustness.campaign import CampaignSettings, Row, Say
-from vc.harness.robustness.processes import ServedNc, growth_pct
+from vc.bench.robustness.campaign import CampaignSettings, Row, Say
+from vc.bench.robustness.processes import ServedNc, growth_pct
 
 READ = struct.pack(">HHHBBHH", 1, 0, 6, 1, 4, 0, 125)  # FC 4, 125 input registers from 0
 ANSWER_BYTES = 9 + 2 * 125

@@ -28,9 +28,9 @@ from interfaces.codec_can import CanLayout, Frame
 from interfaces.links.can_bus import BusSpec, CanBus, private_udp_bus, private_virtual_bus
 from interfaces.links.errors import LinkError
 from interfaces.signals import Direction, expand
+from vc.bench.lockstep import Workload, benchmark_machine
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
-from vc.harness.benchmark import Workload, benchmark_machine
 from vc.harness.can_link import CanLinkedPlc, VirtualCanPlc
 from vc.harness.external_plc import CanPlcProcess
 from vc.simulation.lockstep import Simulation

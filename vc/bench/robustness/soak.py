@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import time as wallclock
 
-from vc.harness.robustness.campaign import CampaignSettings, Row, Say
-from vc.harness.robustness.processes import ServedNc, final_pacing, growth_pct
+from vc.bench.robustness.campaign import CampaignSettings, Row, Say
+from vc.bench.robustness.processes import ServedNc, final_pacing, growth_pct
 
 SAMPLE_S = 10.0
 WARM_UP_MAX_S = 60.0

@@ -46,13 +46,13 @@ from interfaces.links.modbus_tcp import (
     start_plain_register_server,
 )
 from interfaces.signals import expand
-from vc.config.loader import load_machine
-from vc.config.model import MachineConfig
-from vc.core.alarms import Alarm
 
 # The workload of ``vc bench`` itself, so that the lockstep and real-time figures compare with
 # the in-process real-time factor.
-from vc.harness.benchmark import Workload, benchmark_machine
+from vc.bench.lockstep import Workload, benchmark_machine
+from vc.config.loader import load_machine
+from vc.config.model import MachineConfig
+from vc.core.alarms import Alarm
 from vc.harness.external_plc import PlcProcess
 from vc.harness.pacer import PacingStats, RealtimePacer, percentile
 from vc.harness.plc_link import LinkedPlc, LinkMode

@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
+from vc.bench.can_link import burst_of
 from vc.cli.main import main
 from vc.config.loader import load_machine
-from vc.harness.can_benchmark import burst_of
 
 ROOT = Path(__file__).resolve().parents[3]
 TURN_MILL = str(ROOT / "scenarios" / "machines" / "turn_mill.yaml")

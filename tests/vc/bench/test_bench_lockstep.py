@@ -12,9 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from vc.harness.bench_scaling import SCALING_MACHINES, row_figures, run_scaling, scaling_table
-from vc.harness.bench_workloads import Load, motion_plan
-from vc.harness.benchmark import (
+from vc.bench.lockstep import (
     HEAVY_PLC,
     LIGHT_PLC,
     BenchmarkError,
@@ -23,6 +21,8 @@ from vc.harness.benchmark import (
     benchmark_machine,
     run_benchmark,
 )
+from vc.bench.scaling import SCALING_MACHINES, row_figures, run_scaling, scaling_table
+from vc.bench.workloads import Load, motion_plan
 from vc.simulation.lockstep import Simulation
 
 ROOT = Path(__file__).resolve().parents[3]

@@ -8,12 +8,12 @@ from __future__ import annotations
 
 import pytest
 
-from vc.harness.robustness.campaign import CampaignSettings, Row, table
-from vc.harness.robustness.can_noise import run_can_noise
-from vc.harness.robustness.flood import run_flood
-from vc.harness.robustness.modbus_fuzz import run_modbus_fuzz
-from vc.harness.robustness.s7_probe import run_s7_probe
-from vc.harness.robustness.soak import run_soak
+from vc.bench.robustness.campaign import CampaignSettings, Row, table
+from vc.bench.robustness.can_noise import run_can_noise
+from vc.bench.robustness.flood import run_flood
+from vc.bench.robustness.modbus_fuzz import run_modbus_fuzz
+from vc.bench.robustness.s7_probe import run_s7_probe
+from vc.bench.robustness.soak import run_soak
 
 SHORT = CampaignSettings(modbus_frames=400, s7_requests=150, can_inputs=300, flood_seconds=2.0, flood_connections=8,
                          soak_minutes=0.1, seed=7)
