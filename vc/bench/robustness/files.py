@@ -100,7 +100,7 @@ _OFFSET_MESSAGE = re.compile(r"position \d+|<unicode string>|Traceback")
 
 def default_root() -> Path:
     """The shipped scenarios directory of this checkout."""
-    return Path(__file__).resolve().parents[2] / "scenarios"
+    return Path(__file__).resolve().parents[3] / "scenarios"
 
 
 # ---------------------------------------------------------------------------------- mutants
