@@ -27,7 +27,7 @@ from interfaces.links.can_bus import BusSpec, private_udp_bus
 from vc.config.model import MachineConfig
 from vc.harness.can_link import CanLink
 from vc.harness.plc_link import Endpoint, LinkMode, PlcLink
-from vc.harness.scenarios import simulation_for
+from vc.harness.targets import simulation_for
 from vc.scenario.model import Scenario
 from vc.simulation.lockstep import Pacer, Simulation
 

@@ -273,7 +273,7 @@ def test_selected_program_runs_in_auto(config: MachineConfig) -> None:
 def test_a_fault_the_machine_cannot_have_now_fails_the_step_instead_of_the_run(tmp_path: Path) -> None:
     """A workpiece clamp on a spindle that follows none ended the run in a KeyError traceback."""
     from interfaces.links.inprocess import plc_programs
-    from vc.harness.scenarios import simulation_for
+    from vc.harness.targets import simulation_for
     from vc.scenario.loader import load_scenarios
     from vc.scenario.runner import run_scenarios
 

@@ -77,7 +77,7 @@ from types import FrameType
 import yaml
 
 from interfaces.links.inprocess import plc_programs
-from vc.harness.scenarios import simulation_for
+from vc.harness.targets import simulation_for
 from vc.located_yaml import Problem, SourceError
 from vc.scenario.durations import Duration
 from vc.scenario.loader import load_scenarios
