@@ -41,6 +41,7 @@ from enum import Enum
 from functools import partial
 from typing import NoReturn
 
+from interfaces.errors import VcError
 from interfaces.image import ProcessImage, Value, ValueRangeError, decode
 from interfaces.plant_io import Owner
 from interfaces.signals import NCK_INSTANCE, Direction, SignalRef, SignalType
@@ -85,7 +86,7 @@ class Variable:
     description: str
 
 
-class UnitError(Exception):
+class UnitError(VcError):
     """Something the host asked of the unit that it cannot do; the message says what and why."""
 
 

@@ -72,6 +72,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
 
+from interfaces.errors import VcError
 from interfaces.exchange import MODE_FREE_RUNNING as MODE_FREE_RUNNING  # the link block's mode values
 from interfaces.exchange import MODE_LOCKSTEP as MODE_LOCKSTEP
 from interfaces.exchange import exchange_ranges, link_direction
@@ -110,7 +111,7 @@ WRITE_COIL, WRITE_REGISTER, WRITE_COILS, WRITE_REGISTERS = 5, 6, 15, 16
 MASK_WRITE_REGISTER, READ_WRITE_REGISTERS = 22, 23
 
 
-class ModbusMapError(ValueError):
+class ModbusMapError(VcError, ValueError):
     """The interface does not fit the Modbus tables (too many bytes)."""
 
 

@@ -56,6 +56,7 @@ from interfaces.codec_modbus import (
     REG_VERSION,
     registers_text,
 )
+from interfaces.errors import VcError
 from interfaces.links.errors import LinkError
 from interfaces.links.modbus_tcp import ModbusLinkClient
 from plc_awlsim.awlsim_api import (
@@ -72,7 +73,7 @@ _WORD = struct.Struct(">H")
 POLL_PAUSE_S = 0.01  # between polls while no machine is powered on
 
 
-class HarnessGone(AwlSimError):  # type: ignore[misc]  # awlsim is not annotated
+class HarnessGone(VcError, AwlSimError):  # type: ignore[misc]  # awlsim is not annotated
     """No harness answered within the connect time-out."""
 
 

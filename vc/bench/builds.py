@@ -30,6 +30,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from enum import StrEnum
 
+from interfaces.errors import VcError
 from vc_build import PURE_VARIABLE
 
 DEFAULT_RUNS = 3
@@ -72,7 +73,7 @@ def run_figure(jobs: int, path: str) -> Figure:
     return Figure(f"run_j{jobs}_s", f"vc run {path} -j {jobs}, wall s", False)
 
 
-class ComparisonError(Exception):
+class ComparisonError(VcError):
     """A measurement could not be taken (a build missing, a command failing): no table."""
 
 

@@ -41,6 +41,7 @@ from typing import Any
 
 from fmu.export import ExportResult, PythonRuntime, export_fmu
 from fmu.unit import PLC_SIGN_OF_LIFE, Causality, Kind, NcUnit
+from interfaces.errors import VcError
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.simulation.lockstep import Simulation
@@ -52,7 +53,7 @@ MODE_GROUP = "MODEGROUP"
 DRIVES_ON = "Drives.on"  # the plant's infeed contactor, where the machine has one
 
 
-class FmuBenchmarkError(Exception):
+class FmuBenchmarkError(VcError):
     """The benchmark cannot run here; the message says why and what to do."""
 
 

@@ -25,6 +25,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
+from interfaces.errors import VcError
 from vc.bench.workloads import Load, MotionPlan, motion_plan
 from vc.config import md_dictionary as MD
 from vc.config.loader import load_machine
@@ -39,7 +40,7 @@ OBSERVE_EVERY = 100  # IPO cycles between two looks at the motion
 SETUP_TIMEOUT_S = 30.0  # simulated: the untimed setup program and first run must end within this
 
 
-class BenchmarkError(Exception):
+class BenchmarkError(VcError):
     """The workload did not do what it stands for: no figure."""
 
 

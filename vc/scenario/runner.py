@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol
 
+from interfaces.errors import VcError
 from vc.located_yaml import Mark
 from vc.scenario.durations import Duration, format_seconds
 from vc.scenario.expressions import EvaluationError, Evaluator, Expression
@@ -122,7 +123,7 @@ class RunObserver(Protocol):
     def scenario_finished(self, result: ScenarioResult) -> None: ...
 
 
-class _Stop(Exception):
+class _Stop(VcError):
     def __init__(self, failure: Failure):
         super().__init__(failure.message)
         self.failure = failure

@@ -5,6 +5,8 @@ The scenario language, the harness and the FMU share this vocabulary.
 
 from __future__ import annotations
 
+from interfaces.errors import VcError
+
 # Quantities of an axis or spindle that can be read besides interface signals
 # (mm and mm/min on a linear axis, degrees and rev/min on a rotary axis or spindle).
 AXIS_QUANTITY_MEANINGS = {
@@ -101,7 +103,7 @@ LINK_QUANTITY_MEANINGS = {
 LINK_QUANTITIES = tuple(LINK_QUANTITY_MEANINGS)
 
 
-class StepRefused(Exception):
+class StepRefused(VcError):
     """What a step asks cannot be done in the state the machine is in now (a workpiece clamped in a
     spindle that follows none): the step fails with this message, as a check does.  Here, below the
     simulation and the scenario runner, so that the simulation (and the FMU that carries it) needs

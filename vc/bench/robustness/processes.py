@@ -20,12 +20,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from types import TracebackType
 
+from interfaces.errors import VcError
+
 ROOT = Path(__file__).resolve().parents[3]  # the repository: scenario paths are relative to it
 TRACEBACK = "Traceback (most recent call last)"
 START_TIMEOUT_S = 60.0
 
 
-class CampaignError(Exception):
+class CampaignError(VcError):
     """The harness could not be set up for a part (a process that does not start, a line that never comes)."""
 
 
