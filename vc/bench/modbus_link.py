@@ -37,7 +37,7 @@ from multiprocessing.connection import Connection
 from typing import Any
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import READ_LIMIT, REG_SCAN_DONE, WRITE_LIMIT, RegisterMap, Table
+from interfaces.codec_modbus import READ_LIMIT, WRITE_LIMIT, LinkHolding, RegisterMap, Table
 from interfaces.links.modbus_tcp import (
     LinkError,
     ModbusLinkClient,
@@ -481,6 +481,6 @@ def measure_realtime(machine_path: str, wall_seconds: float = 60.0) -> RealtimeF
         alarms: list[Alarm] = list(simulation.nck.alarms.history)
         return RealtimeFigures(
             wall, ipo_s * 1000, machine.plc_cycle_ipo * ipo_s * 1000, pacer.take_window(),
-            link.holding_register(REG_SCAN_DONE), link.tables.writes,
+            link.holding_register(LinkHolding.SCAN_DONE), link.tables.writes,
             tuple(alarm.number for alarm in alarms if alarm.number in SIGN_OF_LIFE_ALARMS),
             collections.longest_s * 1000, collections.collections, switches)
