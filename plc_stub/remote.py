@@ -47,7 +47,7 @@ from interfaces.image import ProcessImage
 from interfaces.link_description import LinkDescription, PlcSetupError
 from interfaces.links.modbus_tcp import LinkError, ModbusLinkClient
 from interfaces.plc import SoftPlc
-from plc_stub.programs import REGISTRY
+from plc_stub.programs import FACTORIES
 from plc_stub.scan_loop import EXIT_NO_HARNESS, EXIT_STOPPED, exit_code, run_scans
 
 _WORD = struct.Struct(">H")
@@ -135,7 +135,7 @@ class RemotePlc:
         first = head[LinkInput.DESCRIPTION_START]
         text = registers_text(self.client.read_input_registers(first, math.ceil(length / 2)), length)
         description = LinkDescription.for_plc(text)
-        environment, register_map, plc, name = description.start_program(REGISTRY, self.program)
+        environment, register_map, plc, name = description.start_program(FACTORIES, self.program)
         sizes = register_map.table_bytes
         lockstep = head[LinkInput.MODE] == MODE_LOCKSTEP
         self.client.timeout_s = self.answer_timeout_s or (LOCKSTEP_TIMEOUT_S if lockstep else TIMEOUT_S)
