@@ -54,8 +54,9 @@ from interfaces.catalog import load_catalog
 from interfaces.codec_modbus import RegisterMap
 from interfaces.exports import EXPORTS, Export, ExportContext
 from interfaces.links.access import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CLIENTS
-from interfaces.signal_map import FORMATTERS, MapRow, map_rows
+from interfaces.signal_map import MapRow, map_rows
 from interfaces.signals import expand
+from vc.cli.map_formats import FORMATTERS
 from vc.config.loader import load_machine
 from vc.config.machine_files import DEFAULT_MACHINE, packaged_machines
 from vc.located_yaml import SourceError
