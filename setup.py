@@ -10,7 +10,7 @@ Metadata lives in pyproject.toml; this file only adds the compiled parts.
 
 * Which modules: what runs every IPO cycle, chosen by profile (``COMPILED`` below): the NC core,
   the plant, the soft PLC's runtime and programs, and the pure interface modules.  The simulation loop
-  (vc/harness/simulation.py) stays Python: it checks PLC objects against runtime-checkable protocols,
+  (vc/simulation/lockstep.py) stays Python: it checks PLC objects against runtime-checkable protocols,
   which compiled code cannot do, and costs a handful of calls per cycle.  Everything else
   (loaders, CLI, links, reports) stays Python: it runs once per scenario or waits on sockets.
 * When: on ``pip install`` (editable or not) where a C compiler, the Python headers and mypyc are

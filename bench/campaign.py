@@ -45,7 +45,7 @@ from pathlib import Path
 from typing import Any
 
 from interfaces.links.inprocess import plc_programs
-from vc.harness.scenarios import simulation_for
+from vc.harness.targets import simulation_for
 from vc.scenario.cluster import ClusterSettings, run_on_cluster
 from vc.scenario.loader import load_scenarios
 from vc.scenario.model import Scenario

@@ -4,14 +4,14 @@
 alternating rounds (``--runs``, default 3), then a table of the medians with the machine (CPU,
 cores, Python) and, as the last line, the medians as one JSON object.  Run it from the
 checkout after ``pip install -e .`` compiled the build (vc --version says so); see
-bench/README.md and vc/harness/build_comparison.py.
+bench/README.md and vc/bench/builds.py.
 """
 
 from __future__ import annotations
 
 import sys
 
-from vc.harness.build_comparison import main
+from vc.bench.builds import main
 
 if __name__ == "__main__":
     sys.exit(main())

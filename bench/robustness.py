@@ -2,10 +2,10 @@
 
 Each part starts the harness as a user would (``vc serve``, ``python -m plc_stub``), abuses it and
 gives one row of a table: inputs tried, crashes, hangs, tracebacks, false passes, lost requests,
-rule violations, RSS growth, overruns (the parts are in vc/harness/robustness/; bench/README.md
+rule violations, RSS growth, overruns (the parts are in vc/bench/robustness/; bench/README.md
 says what each does).  Not a test: it takes minutes (the soak ten by default, an hour with
 ``--soak-minutes 60``); the test suite runs a short version of each part
-(tests/vc/harness/test_robustness.py).
+(tests/vc/bench/test_robustness.py).
 
 Prints each part's progress, the table, and as its last line the rows as one JSON object.  Exit
 code 1 when a row is not clean (a crash, hang, traceback, false pass, lost request or violation).
@@ -19,13 +19,13 @@ import json
 import sys
 from collections.abc import Sequence
 
-from vc.harness.robustness.campaign import CampaignSettings, Part, Row, Say, failed_row, table
-from vc.harness.robustness.can_noise import run_can_noise
-from vc.harness.robustness.flood import run_flood
-from vc.harness.robustness.modbus_fuzz import run_modbus_fuzz
-from vc.harness.robustness.s7_probe import run_s7_probe
-from vc.harness.robustness.soak import run_soak
-from vc.harness.robustness_files import run_file_mutations
+from vc.bench.robustness.campaign import CampaignSettings, Part, Row, Say, failed_row, table
+from vc.bench.robustness.can_noise import run_can_noise
+from vc.bench.robustness.files import run_file_mutations
+from vc.bench.robustness.flood import run_flood
+from vc.bench.robustness.modbus_fuzz import run_modbus_fuzz
+from vc.bench.robustness.s7_probe import run_s7_probe
+from vc.bench.robustness.soak import run_soak
 
 
 def _file_part(settings: CampaignSettings, say: Say) -> Row:
@@ -44,7 +44,7 @@ PARTS: list[Part] = [
     Part("flood", run_flood),
     Part("s7", run_s7_probe),
     Part("can", run_can_noise),
-    Part("files", _file_part),  # the scenario and machine files (vc/harness/robustness_files.py)
+    Part("files", _file_part),  # the scenario and machine files (vc/bench/robustness/files.py)
     Part("soak", run_soak),  # only with --soak
 ]
 

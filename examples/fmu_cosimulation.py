@@ -22,7 +22,7 @@ towards the chuck; the plant model sees the tool tip enter the chuck's protectio
 opens its contact in the emergency-stop chain; the PLC sets DB10.DBX56.1 and the NC brakes.
 
 The order at communication point t_k (k PLC cycles after power-on) is the harness's
-lockstep (``vc/harness/simulation.py``: NC step, plant step, every fifth IPO cycle a scan):
+lockstep (``vc/simulation/lockstep.py``: NC step, plant step, every fifth IPO cycle a scan):
 
 1. get the FMU's outputs: NC->PLC signals and plant inputs as the IPO cycle ending at t_k
    left them (the FMU's plant updates its sensors with every IPO cycle);

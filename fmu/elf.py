@@ -12,6 +12,8 @@ import struct
 from dataclasses import dataclass
 from pathlib import Path
 
+from interfaces.errors import VcError
+
 _ELF_MAGIC = b"\x7fELF"
 _SHT_DYNAMIC = 6
 _SHT_GNU_VERNEED = 0x6FFFFFFE
@@ -25,7 +27,7 @@ GLIBC_LIBRARIES = frozenset({"libc.so.6", "libm.so.6", "libpthread.so.0", "libdl
                              "libutil.so.1", "ld-linux-x86-64.so.2", "ld-linux-aarch64.so.1"})
 
 
-class ElfError(Exception):
+class ElfError(VcError):
     """Not an ELF file this module reads."""
 
 

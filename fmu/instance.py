@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from fmu.unit import Kind, NcUnit, UnitError
+from interfaces.errors import VcError
 
 MANIFEST = "vc_fmu.json"
 
@@ -40,7 +41,7 @@ class Status(IntEnum):
     FATAL = 4
 
 
-class FmuError(Exception):
+class FmuError(VcError):
     """Why the FMU cannot work (an export that fails, an instance that ends); the plain message."""
 
     def __repr__(self) -> str:

@@ -12,7 +12,7 @@ Variables, each named as the rest of the project names it (FMI structured names)
                 (``SP1.gearShift2``); the NC reads them at the start of its next IPO cycle
     outputs     every NC->PLC signal (``X1.basic.in.enc1Synchronized``) and every plant input
                 I (``X1.refCam``), as they are at the end of the last IPO cycle; and per axis
-                and spindle the continuous quantities of ``vc.observables`` (``X1.position``,
+                and spindle the continuous quantities of ``vc.simulation.observables`` (``X1.position``,
                 ``SP1.velocity`` in rev/min, ``SP1.physical`` = the spindle's angle), per spindle
                 its coupling quantities (``SP2.syncDeviation``, 0 while it follows nobody), and
                 on a machine with a DC link ``NC.dcLinkVoltage``
@@ -41,15 +41,16 @@ from enum import Enum
 from functools import partial
 from typing import NoReturn
 
+from interfaces.errors import VcError
 from interfaces.image import ProcessImage, Value, ValueRangeError, decode
 from interfaces.plant_io import Owner
 from interfaces.signals import NCK_INSTANCE, Direction, SignalRef, SignalType
 from vc.config.loader import load_machine
 from vc.config.md_dictionary import IPO_SYSCLOCK_TIME_RATIO
 from vc.config.model import MachineConfig
-from vc.harness.simulation import Simulation
 from vc.located_yaml import LocatedMap, SourceError, load_text
-from vc.observables import AXIS_QUANTITY_MEANINGS, COUPLING_QUANTITY_MEANINGS, NCK_QUANTITY_MEANINGS
+from vc.simulation.lockstep import Simulation
+from vc.simulation.observables import AXIS_QUANTITY_MEANINGS, COUPLING_QUANTITY_MEANINGS, NCK_QUANTITY_MEANINGS
 
 IPO_CYCLE = "ipoCycle"
 PLC_SIGN_OF_LIFE = "PLC.signOfLife"
@@ -85,7 +86,7 @@ class Variable:
     description: str
 
 
-class UnitError(Exception):
+class UnitError(VcError):
     """Something the host asked of the unit that it cannot do; the message says what and why."""
 
 

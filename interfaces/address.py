@@ -19,6 +19,8 @@ import re
 from dataclasses import dataclass
 from typing import Literal
 
+from interfaces.errors import VcError
+
 Width = Literal["X", "B", "W", "D"]
 
 _WIDTH_BYTES: dict[str, int] = {"X": 1, "B": 1, "W": 2, "D": 4}
@@ -27,7 +29,7 @@ _DB_PATTERN = re.compile(r"^DB(\d+)\.DB([XBWD])(\d+)(?:\.(\d+))?$")
 _IO_PATTERN = re.compile(r"^([IQ])([BWD]?)(\d+)(?:\.(\d+))?$")
 
 
-class AddressError(ValueError):
+class AddressError(VcError, ValueError):
     """A text that is not a valid absolute address."""
 
 

@@ -81,6 +81,7 @@ from dataclasses import dataclass
 from enum import IntEnum
 from typing import NamedTuple
 
+from interfaces.errors import VcError
 from interfaces.exchange import exchange_ranges, link_direction
 from interfaces.signals import Direction, ExpandedCatalog, SignalRef, SignalType
 
@@ -109,7 +110,7 @@ _SEGMENT_NUMBER = struct.Struct(">H")
 _LINK = struct.Struct(">BBHHB")  # version|low nibble, life, session, grant/done, reserved
 
 
-class CanMapError(ValueError):
+class CanMapError(VcError, ValueError):
     """The interface does not fit the identifiers (overlapping or beyond 0x7FF): every clash in
     ``problems``, joined in the message."""
 

@@ -70,8 +70,9 @@ from __future__ import annotations
 import struct
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from enum import StrEnum
+from enum import IntEnum, StrEnum
 
+from interfaces.errors import VcError
 from interfaces.exchange import MODE_FREE_RUNNING as MODE_FREE_RUNNING  # the link block's mode values
 from interfaces.exchange import MODE_LOCKSTEP as MODE_LOCKSTEP
 from interfaces.exchange import exchange_ranges, link_direction
@@ -86,31 +87,41 @@ READ_LIMIT = 125  # registers in one read request or response (FC 3, 4): the pro
 WRITE_LIMIT = 123  # registers in one write request (FC 16)
 LINK_VERSION = 1
 
-# Link block, NC-to-PLC table (input registers)
-REG_VERSION = 0
-REG_SESSION = 1
-REG_MODE = 2
-REG_SCAN_GRANT = 3
-REG_NC_CYCLE_HIGH = 4
-REG_NC_CYCLE_LOW = 5
-REG_IPO_CYCLE_US = 6
-REG_PLC_CYCLE_IPO = 7
-REG_DESCRIPTION_START = 8
-REG_DESCRIPTION_BYTES = 9
-REG_NC_TO_PLC_REGISTERS = 10
-REG_PLC_TO_NC_REGISTERS = 11
-REG_BOOT_ID = 12
-# Link block, PLC-to-NC table (holding registers)
-REG_SCAN_DONE = 0
-REG_SESSION_READY = 1
-
 # Modbus function codes by the table they address
 READ_COILS, READ_DISCRETE_INPUTS, READ_HOLDING, READ_INPUT = 1, 2, 3, 4
 WRITE_COIL, WRITE_REGISTER, WRITE_COILS, WRITE_REGISTERS = 5, 6, 15, 16
 MASK_WRITE_REGISTER, READ_WRITE_REGISTERS = 22, 23
 
 
-class ModbusMapError(ValueError):
+class LinkInput(IntEnum):
+    """The link block of the NC-to-PLC table (input registers 0..15): what the harness tells the PLC."""
+
+    VERSION = 0
+    SESSION = 1
+    MODE = 2
+    SCAN_GRANT = 3
+    NC_CYCLE_HIGH = 4
+    NC_CYCLE_LOW = 5
+    IPO_CYCLE_US = 6
+    PLC_CYCLE_IPO = 7
+    DESCRIPTION_START = 8
+    DESCRIPTION_BYTES = 9
+    NC_TO_PLC_REGISTERS = 10
+    PLC_TO_NC_REGISTERS = 11
+    BOOT_ID = 12
+
+
+class LinkHolding(IntEnum):
+    """The link block of the PLC-to-NC table (holding registers 0..15): what the PLC answers.
+
+    A table of its own, not members of :class:`LinkInput`: the numbers restart at 0, and
+    one IntEnum would make ``SCAN_DONE`` an alias of ``VERSION``."""
+
+    SCAN_DONE = 0
+    SESSION_READY = 1
+
+
+class ModbusMapError(VcError, ValueError):
     """The interface does not fit the Modbus tables (too many bytes)."""
 
 
@@ -174,7 +185,7 @@ class RegisterMap:
         self.table_bytes = dict(table_bytes)
         self._writable = self._data_mask(Table.PLC_TO_NC)
         # registers 0 and 1 of the PLC-to-NC link block are the PLC's own words
-        self._writable[2 * REG_SCAN_DONE: 2 * REG_SESSION_READY + 2] = b"\xff" * 4
+        self._writable[2 * LinkHolding.SCAN_DONE: 2 * LinkHolding.SESSION_READY + 2] = b"\xff" * 4
 
     @classmethod
     def build(cls, catalog: ExpandedCatalog, plant_sizes: Mapping[str, int]) -> RegisterMap:

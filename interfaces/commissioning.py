@@ -7,7 +7,7 @@ what must come before it (the inclined-axis rule, alarm 65820).  Per machine: th
 channel-specific referencing, and what the plant needs from the PLC (the cam and limit copies,
 the drive line-up, the gearbox and its oscillation, the chucks, the emergency stop).
 
-The harness builds them from the machine (:mod:`vc.harness.commissioning`); ``vc map`` prints
+The harness builds them from the machine (:mod:`vc.simulation.commissioning`); ``vc map`` prints
 them, and the link description carries them to a PLC as JSON (:meth:`Commissioning.as_dict`).
 """
 

@@ -14,6 +14,7 @@ import struct
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
+from interfaces.errors import VcError
 from interfaces.signals import SignalRef, SignalType
 
 Value = int | float
@@ -21,7 +22,7 @@ Value = int | float
 _REAL = struct.Struct(">f")
 
 
-class ValueRangeError(ValueError):
+class ValueRangeError(VcError, ValueError):
     """A value that does not fit the signal's type (e.g. 300 for a byte)."""
 
 

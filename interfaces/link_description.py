@@ -36,6 +36,7 @@ from interfaces import alarm_block
 from interfaces.catalog import load_catalog
 from interfaces.codec_can import DEFAULT_TIMEOUT_US, CanLayout, CanMapError, CanSettings
 from interfaces.codec_modbus import RegisterMap, Table
+from interfaces.errors import VcError
 from interfaces.plant_io import PlantIoError, PlantIoMap
 from interfaces.plc import PlcEnvironment, PlcFactory, SoftPlc
 from interfaces.signals import InterfaceLayout, expand
@@ -43,11 +44,11 @@ from interfaces.signals import InterfaceLayout, expand
 FORMAT = 1
 
 
-class DescriptionError(ValueError):
+class DescriptionError(VcError, ValueError):
     """A description that cannot be read or does not fit this side's catalogue."""
 
 
-class PlcSetupError(Exception):
+class PlcSetupError(VcError):
     """The PLC cannot run what the harness describes (unknown program, other catalogue)."""
 
 

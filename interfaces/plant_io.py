@@ -31,6 +31,7 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from interfaces.address import Address, AddressError
+from interfaces.errors import VcError
 from interfaces.signals import Direction, SignalRef, SignalType, UnknownSignalError
 
 
@@ -194,7 +195,7 @@ class PlantIoPoint:
         return SignalRef(self.name, self.address, self.type, bits, self.direction, None)
 
 
-class PlantIoError(ValueError):
+class PlantIoError(VcError, ValueError):
     """Problems in a plant I/O list; ``problems`` pairs each key with its message."""
 
     def __init__(self, problems: list[tuple[str, str]]):

@@ -27,29 +27,13 @@ The conventions themselves are documented in :mod:`interfaces.codec_modbus` and 
 
 from __future__ import annotations
 
-import csv
-import io
-import json
-from collections.abc import Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 from interfaces.codec_can import CanLayout, CanLocation, CanSettings
 from interfaces.codec_modbus import (
     DESCRIPTION_REGISTER,
-    REG_BOOT_ID,
-    REG_DESCRIPTION_BYTES,
-    REG_DESCRIPTION_START,
-    REG_IPO_CYCLE_US,
-    REG_MODE,
-    REG_NC_CYCLE_HIGH,
-    REG_NC_TO_PLC_REGISTERS,
-    REG_PLC_CYCLE_IPO,
-    REG_PLC_TO_NC_REGISTERS,
-    REG_SCAN_DONE,
-    REG_SCAN_GRANT,
-    REG_SESSION,
-    REG_SESSION_READY,
-    REG_VERSION,
+    LinkHolding,
+    LinkInput,
     Location,
     RegisterMap,
     display_number,
@@ -65,24 +49,26 @@ COMMISSIONING_INSTANCE = "COMMISSIONING"
 
 # The link block (interfaces/codec_modbus.py): (symbol, table kind, register, registers, meaning)
 LINK_ROWS = (
-    ("LINK.version", "input_register", REG_VERSION, 1, "link protocol version (1); 0 = no machine powered on yet"),
-    ("LINK.session", "input_register", REG_SESSION, 1, "session: counts the harness's power-ons from 1 in every"
+    ("LINK.version", "input_register", LinkInput.VERSION, 1, "link protocol version (1); 0 = no machine powered on"
+     " yet"),
+    ("LINK.session", "input_register", LinkInput.SESSION, 1, "session: counts the harness's power-ons from 1 in every"
      " harness process; a new one (or a new boot id) restarts the PLC program"),
-    ("LINK.mode", "input_register", REG_MODE, 1, "1 = lockstep, 2 = free-running (real time)"),
-    ("LINK.scanGrant", "input_register", REG_SCAN_GRANT, 1, "lockstep: the number of the scan the PLC may run"),
-    ("LINK.ncCycle", "input_register", REG_NC_CYCLE_HIGH, 2, "NC IPO cycles at the last exchange, high word first"),
-    ("LINK.ipoCycleUs", "input_register", REG_IPO_CYCLE_US, 1, "IPO cycle in microseconds"),
-    ("LINK.plcCycleIpo", "input_register", REG_PLC_CYCLE_IPO, 1, "PLC period in IPO cycles"),
-    ("LINK.descriptionStart", "input_register", REG_DESCRIPTION_START, 1, "first register of the description"),
-    ("LINK.descriptionBytes", "input_register", REG_DESCRIPTION_BYTES, 1, "length of the description in bytes"),
-    ("LINK.ncToPlcRegisters", "input_register", REG_NC_TO_PLC_REGISTERS, 1, "size of the NC-to-PLC table"),
-    ("LINK.plcToNcRegisters", "input_register", REG_PLC_TO_NC_REGISTERS, 1, "size of the PLC-to-NC table"),
-    ("LINK.bootId", "input_register", REG_BOOT_ID, 1, "boot id: random 1..65535, new with every harness process;"
+    ("LINK.mode", "input_register", LinkInput.MODE, 1, "1 = lockstep, 2 = free-running (real time)"),
+    ("LINK.scanGrant", "input_register", LinkInput.SCAN_GRANT, 1, "lockstep: the number of the scan the PLC may run"),
+    ("LINK.ncCycle", "input_register", LinkInput.NC_CYCLE_HIGH, 2, "NC IPO cycles at the last exchange, high word"
+     " first"),
+    ("LINK.ipoCycleUs", "input_register", LinkInput.IPO_CYCLE_US, 1, "IPO cycle in microseconds"),
+    ("LINK.plcCycleIpo", "input_register", LinkInput.PLC_CYCLE_IPO, 1, "PLC period in IPO cycles"),
+    ("LINK.descriptionStart", "input_register", LinkInput.DESCRIPTION_START, 1, "first register of the description"),
+    ("LINK.descriptionBytes", "input_register", LinkInput.DESCRIPTION_BYTES, 1, "length of the description in bytes"),
+    ("LINK.ncToPlcRegisters", "input_register", LinkInput.NC_TO_PLC_REGISTERS, 1, "size of the NC-to-PLC table"),
+    ("LINK.plcToNcRegisters", "input_register", LinkInput.PLC_TO_NC_REGISTERS, 1, "size of the PLC-to-NC table"),
+    ("LINK.bootId", "input_register", LinkInput.BOOT_ID, 1, "boot id: random 1..65535, new with every harness process;"
      " a PLC restarts its program when it or the session changes"),
-    ("LINK.scanDone", "holding_register", REG_SCAN_DONE, 1, "lockstep: the granted scan the PLC finished;"
+    ("LINK.scanDone", "holding_register", LinkHolding.SCAN_DONE, 1, "lockstep: the granted scan the PLC finished;"
      " free-running: a counter the PLC changes every scan (its sign of life)"),
-    ("LINK.sessionReady", "holding_register", REG_SESSION_READY, 1, "the session the PLC has started its program"
-     " for"),
+    ("LINK.sessionReady", "holding_register", LinkHolding.SESSION_READY, 1, "the session the PLC has started its"
+     " program for"),
 )
 
 
@@ -162,52 +148,3 @@ def map_rows(catalog: ExpandedCatalog, plant_io: PlantIoMap, can: CanSettings | 
                                COMMISSIONING_INSTANCE, meaning, "machine file (vc map)", "project",
                                "commissioning fact", "-"))
     return rows
-
-
-def to_csv(rows: Sequence[MapRow]) -> str:
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(COLUMNS)
-    for row in rows:
-        writer.writerow(getattr(row, column) for column in COLUMNS)
-    return buffer.getvalue()
-
-
-def to_json(rows: Sequence[MapRow]) -> str:
-    return json.dumps([asdict(row) for row in rows], indent=1, ensure_ascii=False) + "\n"
-
-
-def to_markdown(rows: Sequence[MapRow]) -> str:
-    shown = ("symbol", "address", "direction", "type", "modbus_table", "modbus_address", "bit", "register",
-             "register_bit", "can_id", "can_start_bit", "trigger", "meaning", "modelled")
-    facts = [row for row in rows if row.instance == COMMISSIONING_INSTANCE]
-    lines: list[str] = []
-    if facts:
-        lines += ["", "## Commissioning", "", "How each axis is referenced, where its cam and limit switches are"
-                  " wired on the slide (physical machine coordinates), the order of channel-specific referencing,"
-                  " and what the plant needs from the PLC:", "", "| name | addresses | fact |", "|---|---|---|"]
-        lines += [f"| {_cell(row.symbol)} | {_cell(row.address)} | {_cell(row.meaning)} |" for row in facts]
-    instance = None
-    for row in rows:
-        if row.instance == COMMISSIONING_INSTANCE:
-            continue
-        if row.instance != instance:
-            instance = row.instance
-            title = {"PLANT": "Plant I/O", "LINK": "Modbus link block"}.get(
-                instance, f"{instance} ({row.address.split('.')[0]})")
-            lines += ["", f"## {title}", "", "| " + " | ".join(shown) + " |", "|" + "---|" * len(shown)]
-        cells = [_cell(getattr(row, column)) for column in shown]
-        lines.append("| " + " | ".join(cells) + " |")
-    convention = ("\n\nModbus: bit signals are coils (PLC writes) or discrete inputs (PLC reads) with number"
-                  " = table byte x 8 + bit, and the same bit in its holding or input register (S7 byte order:"
-                  " an even table byte is the high byte). The convention: interfaces/codec_modbus.py;"
-                  " connecting a PLC: docs/modbus.md. CAN: the data frame's identifier and the signal's start"
-                  " bit as in the DBC file (vc map --format dbc; docs/can.md).\n")
-    return "# Signal map" + convention + "\n".join(lines) + "\n"
-
-
-def _cell(value: object) -> str:
-    return str(value).replace("|", "\\|").replace("\n", " ")
-
-
-FORMATTERS = {"csv": to_csv, "json": to_json, "md": to_markdown}

@@ -26,9 +26,10 @@ from enum import StrEnum
 from typing import Any
 
 from interfaces.address import Address, AddressError
+from interfaces.errors import VcError
 
 
-class CatalogError(ValueError):
+class CatalogError(VcError, ValueError):
     """One or more problems in catalogue documents; ``problems`` holds each with its location."""
 
     def __init__(self, problems: Sequence[str]):
@@ -36,7 +37,7 @@ class CatalogError(ValueError):
         super().__init__("\n".join(self.problems))
 
 
-class UnknownSignalError(KeyError):
+class UnknownSignalError(VcError, KeyError):
     """A name that is neither a catalogue symbol, a catalogue address nor a plant I/O point."""
 
     def __init__(self, message: str):

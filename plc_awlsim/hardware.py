@@ -41,21 +41,11 @@ from interfaces.codec_modbus import (
     LINK_VERSION,
     MODE_LOCKSTEP,
     READ_LIMIT,
-    REG_DESCRIPTION_BYTES,
-    REG_DESCRIPTION_START,
-    REG_IPO_CYCLE_US,
-    REG_MODE,
-    REG_NC_CYCLE_HIGH,
-    REG_NC_TO_PLC_REGISTERS,
-    REG_PLC_CYCLE_IPO,
-    REG_PLC_TO_NC_REGISTERS,
-    REG_SCAN_DONE,
-    REG_SCAN_GRANT,
-    REG_SESSION,
-    REG_SESSION_READY,
-    REG_VERSION,
+    LinkHolding,
+    LinkInput,
     registers_text,
 )
+from interfaces.errors import VcError
 from interfaces.links.errors import LinkError
 from interfaces.links.modbus_tcp import ModbusLinkClient
 from plc_awlsim.awlsim_api import (
@@ -72,7 +62,7 @@ _WORD = struct.Struct(">H")
 POLL_PAUSE_S = 0.01  # between polls while no machine is powered on
 
 
-class HarnessGone(AwlSimError):  # type: ignore[misc]  # awlsim is not annotated
+class HarnessGone(VcError, AwlSimError):  # type: ignore[misc]  # awlsim is not annotated
     """No harness answered within the connect time-out."""
 
 
@@ -145,11 +135,11 @@ class HardwareInterface(AbstractHardwareInterface):  # type: ignore[misc]  # awl
                 self._warm_restart()
             assert session is not None
             head = self._read(0, min(READ_LIMIT, session.nc_to_plc_bytes // 2))
-            if head[REG_VERSION] == 0 or head[REG_SESSION] != session.number:
+            if head[LinkInput.VERSION] == 0 or head[LinkInput.SESSION] != session.number:
                 self._restart_due = True
                 continue
             if session.lockstep:
-                grant = head[REG_SCAN_GRANT]
+                grant = head[LinkInput.SCAN_GRANT]
                 if grant == 0 or grant == self._last_grant:
                     continue
                 self._last_grant = grant
@@ -169,8 +159,8 @@ class HardwareInterface(AbstractHardwareInterface):  # type: ignore[misc]  # awl
         if session is None or done is None or self.client is None:
             return  # OB 100: no scan was granted
         outputs = bytearray(self.cpu.fetchOutputRange(self.outputAddressBase, session.plc_to_nc_bytes))
-        _WORD.pack_into(outputs, 2 * REG_SCAN_DONE, done)
-        _WORD.pack_into(outputs, 2 * REG_SESSION_READY, session.number)
+        _WORD.pack_into(outputs, 2 * LinkHolding.SCAN_DONE, done)
+        _WORD.pack_into(outputs, 2 * LinkHolding.SESSION_READY, session.number)
         values = list(struct.unpack(f">{len(outputs) // 2}H", outputs))
         try:
             self.client.write_registers_last_first(0, values)
@@ -183,18 +173,19 @@ class HardwareInterface(AbstractHardwareInterface):  # type: ignore[misc]  # awl
         """Poll until the harness has powered a machine on; open its session (HR 1 = session)."""
         while True:
             head = self._read(0, LINK_REGISTERS)
-            if head[REG_VERSION] == 0:
+            if head[LinkInput.VERSION] == 0:
                 wallclock.sleep(POLL_PAUSE_S)
                 continue
-            if head[REG_VERSION] != LINK_VERSION:
-                raise AwlSimError(f"the harness speaks link version {head[REG_VERSION]}, this bridge {LINK_VERSION}")
-            length = head[REG_DESCRIPTION_BYTES]
-            description = registers_text(self._read(head[REG_DESCRIPTION_START], (length + 1) // 2), length)
-            self.session = Session(head[REG_SESSION], head[REG_MODE] == MODE_LOCKSTEP,
-                                   2 * head[REG_NC_TO_PLC_REGISTERS], 2 * head[REG_PLC_TO_NC_REGISTERS],
-                                   head[REG_IPO_CYCLE_US], head[REG_PLC_CYCLE_IPO], description)
+            if head[LinkInput.VERSION] != LINK_VERSION:
+                raise AwlSimError(f"the harness speaks link version {head[LinkInput.VERSION]},"
+                                  f" this bridge {LINK_VERSION}")
+            length = head[LinkInput.DESCRIPTION_BYTES]
+            description = registers_text(self._read(head[LinkInput.DESCRIPTION_START], (length + 1) // 2), length)
+            self.session = Session(head[LinkInput.SESSION], head[LinkInput.MODE] == MODE_LOCKSTEP,
+                                   2 * head[LinkInput.NC_TO_PLC_REGISTERS], 2 * head[LinkInput.PLC_TO_NC_REGISTERS],
+                                   head[LinkInput.IPO_CYCLE_US], head[LinkInput.PLC_CYCLE_IPO], description)
             self._fit_process_images(self.session)
-            self._write(REG_SESSION_READY, [self.session.number])
+            self._write(LinkHolding.SESSION_READY, [self.session.number])
             self._last_grant = 0
             self.scans = 0
             self._next_scan = wallclock.perf_counter()
@@ -204,8 +195,8 @@ class HardwareInterface(AbstractHardwareInterface):  # type: ignore[misc]  # awl
         total = session.nc_to_plc_bytes // 2
         registers = head[:total] + (self._read(len(head), total - len(head)) if len(head) < total else [])
         self.cpu.storeInputRange(self.inputAddressBase, bytearray(struct.pack(f">{total}H", *registers)))
-        self.clock.set_cycles(registers[REG_NC_CYCLE_HIGH] << 16 | registers[REG_NC_CYCLE_HIGH + 1],
-                              registers[REG_IPO_CYCLE_US])
+        self.clock.set_cycles(registers[LinkInput.NC_CYCLE_HIGH] << 16 | registers[LinkInput.NC_CYCLE_HIGH + 1],
+                              registers[LinkInput.IPO_CYCLE_US])
         self.scans += 1
         self._granted = done
 

@@ -17,6 +17,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from interfaces.errors import VcError
 from interfaces.exports.context import ExportContext
 from interfaces.exports.symbol_tables import awlsim_csv
 from interfaces.link_description import DescriptionError, LinkDescription
@@ -28,7 +29,7 @@ EXIT_STOPPED, EXIT_NO_HARNESS, EXIT_CANNOT_RUN = 0, 1, 2
 MNEMONICS = {"en": S7CPUConfig.MNEMONICS_EN, "de": S7CPUConfig.MNEMONICS_DE}
 
 
-class ProgramError(Exception):
+class ProgramError(VcError):
     """The program or its symbol table cannot run; the message says where."""
 
 

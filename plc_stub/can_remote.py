@@ -17,7 +17,7 @@ from interfaces.codec_can import DEFAULT_LINK_ID
 from interfaces.links.can_bus import BusSpec, CanBus
 from interfaces.links.can_plc import CanPlcNode
 from interfaces.links.errors import LinkError
-from plc_stub.programs import REGISTRY
+from plc_stub.programs import FACTORIES
 from plc_stub.scan_loop import EXIT_NO_HARNESS, EXIT_STOPPED, exit_code, run_scans
 
 POLL_S = 0.1
@@ -66,7 +66,7 @@ def run_on_can(bus_text: str, program: str | None, period_s: float | None, idle_
     except LinkError as error:
         log(str(error))
         return EXIT_NO_HARNESS
-    node = CanPlcNode(bus, REGISTRY, link_id=link_id, program=program, log=log)
+    node = CanPlcNode(bus, FACTORIES, link_id=link_id, program=program, log=log)
     log(f"listening on the CAN bus {bus.spec}, link frames from 0x{link_id:03X}")
 
     def run() -> int:

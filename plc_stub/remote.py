@@ -36,15 +36,8 @@ from interfaces.codec_modbus import (
     LINK_VERSION,
     MODE_LOCKSTEP,
     READ_LIMIT,
-    REG_BOOT_ID,
-    REG_DESCRIPTION_BYTES,
-    REG_DESCRIPTION_START,
-    REG_MODE,
-    REG_SCAN_DONE,
-    REG_SCAN_GRANT,
-    REG_SESSION,
-    REG_SESSION_READY,
-    REG_VERSION,
+    LinkHolding,
+    LinkInput,
     RegisterMap,
     Table,
     read_registers,
@@ -54,7 +47,7 @@ from interfaces.image import ProcessImage
 from interfaces.link_description import LinkDescription, PlcSetupError
 from interfaces.links.modbus_tcp import LinkError, ModbusLinkClient
 from interfaces.plc import SoftPlc
-from plc_stub.programs import REGISTRY
+from plc_stub.programs import FACTORIES
 from plc_stub.scan_loop import EXIT_NO_HARNESS, EXIT_STOPPED, exit_code, run_scans
 
 _WORD = struct.Struct(">H")
@@ -102,13 +95,13 @@ class RemotePlc:
     def poll(self) -> bool:
         """Read the link block and do what it asks; True if a scan ran."""
         head = self.client.read_input_registers(0, self._poll_count())
-        if head[REG_VERSION] == 0:  # the harness has not powered a machine on yet
+        if head[LinkInput.VERSION] == 0:  # the harness has not powered a machine on yet
             wallclock.sleep(0.01)
             return False
-        if head[REG_VERSION] != LINK_VERSION:
-            raise PlcSetupError(f"the server speaks link version {head[REG_VERSION]}, this PLC {LINK_VERSION}")
+        if head[LinkInput.VERSION] != LINK_VERSION:
+            raise PlcSetupError(f"the server speaks link version {head[LinkInput.VERSION]}, this PLC {LINK_VERSION}")
         session = self.session
-        if session is None or (session.number, session.boot_id) != (head[REG_SESSION], head[REG_BOOT_ID]):
+        if session is None or (session.number, session.boot_id) != (head[LinkInput.SESSION], head[LinkInput.BOOT_ID]):
             # a new session of this harness, or a harness process started since (its sessions count from
             # 1 again): restart the program
             session = self._start_session(head)
@@ -116,11 +109,11 @@ class RemotePlc:
         elif self._reconnected:
             # the same session of the same harness process after a reconnect: the program carries on
             # with its state; the session is claimed again on this connection
-            self.client.write_registers(REG_SESSION_READY, [session.number])
+            self.client.write_registers(LinkHolding.SESSION_READY, [session.number])
             self.log(f"session {session.number} (boot id {session.boot_id}) goes on after the reconnect")
         self._reconnected = False
         if session.lockstep:
-            grant = head[REG_SCAN_GRANT]
+            grant = head[LinkInput.SCAN_GRANT]
             if session.unsent is not None and self._resend(session, grant):
                 return True
             if grant == 0 or grant == session.last_grant:
@@ -138,19 +131,19 @@ class RemotePlc:
         return min(READ_LIMIT, self.session.register_map.registers(Table.NC_TO_PLC))
 
     def _start_session(self, head: list[int]) -> _Session:
-        length = head[REG_DESCRIPTION_BYTES]
-        text = registers_text(self.client.read_input_registers(head[REG_DESCRIPTION_START], math.ceil(length / 2)),
-                              length)
+        length = head[LinkInput.DESCRIPTION_BYTES]
+        first = head[LinkInput.DESCRIPTION_START]
+        text = registers_text(self.client.read_input_registers(first, math.ceil(length / 2)), length)
         description = LinkDescription.for_plc(text)
-        environment, register_map, plc, name = description.start_program(REGISTRY, self.program)
+        environment, register_map, plc, name = description.start_program(FACTORIES, self.program)
         sizes = register_map.table_bytes
-        lockstep = head[REG_MODE] == MODE_LOCKSTEP
+        lockstep = head[LinkInput.MODE] == MODE_LOCKSTEP
         self.client.timeout_s = self.answer_timeout_s or (LOCKSTEP_TIMEOUT_S if lockstep else TIMEOUT_S)
         self.session = _Session(
-            head[REG_SESSION], head[REG_BOOT_ID], lockstep, description, register_map, plc,
+            head[LinkInput.SESSION], head[LinkInput.BOOT_ID], lockstep, description, register_map, plc,
             ProcessImage(environment.catalog.area_sizes), ProcessImage(environment.plant_io.area_sizes()),
             bytearray(sizes[Table.NC_TO_PLC]), bytearray(sizes[Table.PLC_TO_NC]))
-        self.client.write_registers(REG_SESSION_READY, [self.session.number])
+        self.client.write_registers(LinkHolding.SESSION_READY, [self.session.number])
         self.log(f"session {self.session.number} (boot id {self.session.boot_id}): machine {description.machine},"
                  f" program {name},"
                  f" {'lockstep' if self.session.lockstep else 'free-running'}")
@@ -170,8 +163,8 @@ class RemotePlc:
         session.plc.scan(session.interface, session.plant)
         outputs = session.plc_to_nc
         session.register_map.fill_table(Table.PLC_TO_NC, areas, outputs)
-        _WORD.pack_into(outputs, 2 * REG_SCAN_DONE, done)
-        _WORD.pack_into(outputs, 2 * REG_SESSION_READY, session.number)
+        _WORD.pack_into(outputs, 2 * LinkHolding.SCAN_DONE, done)
+        _WORD.pack_into(outputs, 2 * LinkHolding.SESSION_READY, session.number)
         # The whole table from register 0, the chunk with register 0 last: the scan-done word
         # reaches the server after every output of the scan.
         values = read_registers(outputs, 0, session.register_map.registers(Table.PLC_TO_NC))

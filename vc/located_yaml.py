@@ -26,6 +26,7 @@ from typing import Any
 
 import yaml
 
+from interfaces.errors import VcError
 from vc.input_limits import MAX_FILE_BYTES, MAX_INTEGER_DIGITS, MAX_NESTING, MAX_VALUES
 
 
@@ -48,7 +49,7 @@ class Problem:
         return f"{self.mark}: {self.message}"
 
 
-class SourceError(Exception):
+class SourceError(VcError):
     """One or more problems in input files, each with its location."""
 
     def __init__(self, problems: list[Problem]):
@@ -132,7 +133,7 @@ _TIMESTAMP = f"{_YAML}timestamp"  # an unquoted date is text to the harness, whi
 _COLLECTION_TAGS = (f"{_YAML}seq", f"{_YAML}map")
 
 
-class InputLimitError(yaml.YAMLError):
+class InputLimitError(VcError, yaml.YAMLError):
     """A file beyond a limit of :mod:`vc.input_limits`, or an alias that contains itself, at an event."""
 
     def __init__(self, message: str, event: yaml.Event):

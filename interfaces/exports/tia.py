@@ -18,6 +18,7 @@ import datetime
 import io
 from collections.abc import Sequence
 
+from interfaces.errors import VcError
 from interfaces.exports.context import ExportContext
 from interfaces.exports.tags import DataType, PlcTag, plc_tags
 from interfaces.signal_map import MapRow
@@ -30,7 +31,7 @@ TIA_TYPES = {DataType.BOOL: "Bool", DataType.BYTE: "Byte", DataType.WORD: "Word"
 FIXED_DATE = datetime.datetime(2000, 1, 1)  # a constant, not the clock
 
 
-class MissingExtra(RuntimeError):
+class MissingExtra(VcError, RuntimeError):
     """openpyxl is not installed."""
 
 

@@ -3,6 +3,8 @@ as the protocol says.  Each adapter module translates its library's exceptions i
 
 from __future__ import annotations
 
+from interfaces.errors import VcError
 
-class LinkError(Exception):
+
+class LinkError(VcError):
     """A link could not be set up or a peer did not answer as the protocol says."""

@@ -12,12 +12,13 @@ from collections.abc import Mapping
 from functools import lru_cache
 from importlib.metadata import entry_points
 
+from interfaces.errors import VcError
 from interfaces.plc import PlcEnvironment, PlcFactory, SoftPlc
 
 ENTRY_POINT_GROUP = "vc_harness.plc_programs"
 
 
-class UnknownPlcProgram(LookupError):
+class UnknownPlcProgram(VcError, LookupError):
     pass
 
 

@@ -78,14 +78,13 @@ from interfaces.codec_modbus import (
     READ_INPUT,
     READ_LIMIT,
     READ_WRITE_REGISTERS,
-    REG_SESSION,
-    REG_SESSION_READY,
-    REG_VERSION,
     WRITE_COIL,
     WRITE_COILS,
     WRITE_LIMIT,
     WRITE_REGISTER,
     WRITE_REGISTERS,
+    LinkHolding,
+    LinkInput,
     bits_writable,
     read_registers,
     text_registers,
@@ -140,9 +139,9 @@ class ModbusTables:
     @property
     def session(self) -> int:
         """The open session (input register 1); 0 while no machine is powered on (version 0)."""
-        if not read_registers(self.nc_to_plc, REG_VERSION, 1)[0]:
+        if not read_registers(self.nc_to_plc, LinkInput.VERSION, 1)[0]:
             return 0
-        return read_registers(self.nc_to_plc, REG_SESSION, 1)[0]
+        return read_registers(self.nc_to_plc, LinkInput.SESSION, 1)[0]
 
     # ------------------------------------------------------------------ requests
     def answer(self, function_code: int, address: int, count: int, registers: list[int],
@@ -260,7 +259,7 @@ def claims_session(pdu: ModbusPDU, session: int) -> bool:
         first, values = pdu.write_address, pdu.write_registers
     else:
         return False
-    index = REG_SESSION_READY - first
+    index = LinkHolding.SESSION_READY - first
     return session != 0 and 0 <= index < len(values) and values[index] == session
 
 

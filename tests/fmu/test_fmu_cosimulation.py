@@ -24,8 +24,8 @@ from interfaces.signals import SignalRef, UnknownSignalError
 from vc.config.loader import load_machine
 from vc.config.md_dictionary import REFP_CYCLE_NR, REFP_SET_POS
 from vc.config.model import MachineConfig
-from vc.harness.simulation import Simulation
-from vc.observables import AXIS_QUANTITIES
+from vc.simulation.lockstep import Simulation
+from vc.simulation.observables import AXIS_QUANTITIES
 
 
 def _load_example() -> ModuleType:

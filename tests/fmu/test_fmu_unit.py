@@ -9,7 +9,7 @@ import pytest
 from conftest import REPOSITORY, TURN_MILL
 
 from fmu.unit import IPO_CYCLE, PLC_SIGN_OF_LIFE, Causality, Kind, NcUnit, UnitError, Variability
-from vc.harness.simulation import Simulation
+from vc.simulation.lockstep import Simulation
 
 
 @pytest.fixture

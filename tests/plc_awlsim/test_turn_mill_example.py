@@ -13,7 +13,7 @@ pytest.importorskip("awlsim")
 
 from interfaces.links.inprocess import plc_programs
 from vc.harness.external_plc import ExternalPlcs
-from vc.harness.scenarios import simulation_for
+from vc.harness.targets import simulation_for
 from vc.scenario.command import EXIT_FAILED, EXIT_PASSED, run_command
 
 ROOT = Path(__file__).resolve().parents[2]

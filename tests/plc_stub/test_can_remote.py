@@ -1,6 +1,6 @@
 """``python -m plc_stub --can``: what it says and how it ends when there is nothing to run for, and
 that noise on the bus does not end it.  (The PLC on the bus with a harness:
-tests/vc/harness/test_can_link.py; under noise with a harness: tests/vc/harness/test_robustness.py.)"""
+tests/vc/harness/test_can_link.py; under noise with a harness: tests/vc/bench/test_robustness.py.)"""
 
 from __future__ import annotations
 

@@ -12,7 +12,7 @@ from rich.console import Console
 
 from interfaces.links.inprocess import plc_programs
 from vc.harness.external_plc import CanPlcProcess, PlcProcess
-from vc.harness.scenarios import simulation_for
+from vc.harness.targets import simulation_for
 from vc.scenario.command import EXIT_PASSED, run_command
 from vc.scenario.loader import scenario_files
 

@@ -12,7 +12,7 @@ import pytest
 from rich.console import Console
 
 from interfaces.links.inprocess import plc_programs
-from vc.harness.scenarios import simulation_for
+from vc.harness.targets import simulation_for
 from vc.scenario.command import EXIT_FAILED, EXIT_PASSED, run_command
 from vc.scenario.golden import GoldenCheck, GoldenSummary, compare, golden_path, load, store, summarize
 from vc.scenario.loader import load_scenario, scenario_files

@@ -18,11 +18,11 @@ from rich.console import Console
 from interfaces.links.inprocess import plc_programs
 from vc.harness.can_link import VirtualCanPlc
 from vc.harness.external_plc import CanPlcProcess
-from vc.harness.scenarios import simulation_for
-from vc.harness.simulation import Simulation
+from vc.harness.targets import simulation_for
 from vc.scenario.command import EXIT_PASSED, run_command
 from vc.scenario.loader import load_scenarios, scenario_files
 from vc.scenario.model import Scenario
+from vc.simulation.lockstep import Simulation
 
 ROOT = Path(__file__).resolve().parents[2]
 LIBRARY = [str(Path(path).relative_to(ROOT)) if Path(path).is_absolute() else path

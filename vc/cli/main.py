@@ -54,8 +54,9 @@ from interfaces.catalog import load_catalog
 from interfaces.codec_modbus import RegisterMap
 from interfaces.exports import EXPORTS, Export, ExportContext
 from interfaces.links.access import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CLIENTS
-from interfaces.signal_map import FORMATTERS, MapRow, map_rows
+from interfaces.signal_map import MapRow, map_rows
 from interfaces.signals import expand
+from vc.cli.map_formats import FORMATTERS
 from vc.config.loader import load_machine
 from vc.config.machine_files import DEFAULT_MACHINE, packaged_machines
 from vc.located_yaml import SourceError
@@ -77,7 +78,7 @@ def _map(arguments: argparse.Namespace) -> int:
     catalog = expand(load_catalog(), machine.layout)
     if arguments.format == GUIDE_FORMAT:
         from vc.cli.modbus_guide import modbus_guide  # it imports the NC core: only for this format
-        from vc.harness.commissioning import commissioning_of
+        from vc.simulation.commissioning import commissioning_of
 
         _write(modbus_guide(machine.name, machine.source, catalog, machine.plant_io,
                             commissioning_of(machine, catalog)), arguments.output)
@@ -94,7 +95,7 @@ def _map(arguments: argparse.Namespace) -> int:
                         nc_cycle_ms=round(can.period_cycles(ipo_us, machine.plc_cycle_ipo) * ipo_us / 1000),
                         plc_cycle_ms=round(machine.plc_cycle_ipo * ipo_us / 1000)), arguments.output)
         return 0
-    from vc.harness.commissioning import commissioning_of  # the facts need the NC's rules
+    from vc.simulation.commissioning import commissioning_of  # the facts need the NC's rules
 
     rows = map_rows(catalog, machine.plant_io, can.settings, commissioning_of(machine, catalog))
     if arguments.format in EXPORTS:
@@ -155,7 +156,7 @@ def _bench(arguments: argparse.Namespace) -> int:
         return _bench_fmu(arguments)
     if arguments.link == "can":
         return _bench_can(arguments)
-    from vc.harness.benchmark import BenchmarkError, run_light_and_heavy
+    from vc.bench.lockstep import BenchmarkError, run_light_and_heavy
 
     seconds = DEFAULT_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
     try:
@@ -179,14 +180,14 @@ def _bench(arguments: argparse.Namespace) -> int:
 
 def _bench_scaling(arguments: argparse.Namespace) -> int:
     """The cost per IPO cycle of each machine idle, with two axes and with everything moving."""
-    from vc.harness.bench_scaling import (
+    from vc.bench.lockstep import BenchmarkError
+    from vc.bench.scaling import (
         SCALING_MACHINES,
         SCALING_PLC,
         row_figures,
         run_scaling,
         scaling_table,
     )
-    from vc.harness.benchmark import BenchmarkError
 
     seconds = DEFAULT_SCALING_SECONDS if arguments.seconds is None else arguments.seconds
     machines = SCALING_MACHINES if arguments.machine is None else (arguments.machine,)
@@ -227,7 +228,7 @@ def _say(text: str) -> None:
 
 def _bench_modbus(arguments: argparse.Namespace) -> int:
     from interfaces.links.errors import LinkError
-    from vc.harness.link_benchmark import run_link_benchmark
+    from vc.bench.modbus_link import run_link_benchmark
 
     seconds = DEFAULT_REALTIME_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
     return _figures_of(lambda: run_link_benchmark(arguments.machine, realtime_seconds=seconds,
@@ -238,7 +239,7 @@ def _bench_modbus(arguments: argparse.Namespace) -> int:
 
 def _bench_can(arguments: argparse.Namespace) -> int:
     from interfaces.links.errors import LinkError
-    from vc.harness.can_benchmark import run_can_benchmark
+    from vc.bench.can_link import run_can_benchmark
 
     seconds = DEFAULT_CAN_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
     return _figures_of(lambda: run_can_benchmark(arguments.machine, seconds, frames=arguments.frames, say=_say),
@@ -248,7 +249,7 @@ def _bench_can(arguments: argparse.Namespace) -> int:
 def _bench_fmu(arguments: argparse.Namespace) -> int:
     from fmu.export import PythonRuntime
     from fmu.instance import FmuError
-    from vc.harness.fmu_benchmark import FmuBenchmarkError, run_fmu_benchmark
+    from vc.bench.fmu_steps import FmuBenchmarkError, run_fmu_benchmark
 
     seconds = DEFAULT_FMU_BENCH_SECONDS if arguments.seconds is None else arguments.seconds
     python = PythonRuntime(arguments.python)

@@ -38,21 +38,13 @@ from interfaces.codec_modbus import (
     READ_INPUT,
     READ_LIMIT,
     READ_WRITE_REGISTERS,
-    REG_BOOT_ID,
-    REG_MODE,
-    REG_NC_TO_PLC_REGISTERS,
-    REG_PLC_CYCLE_IPO,
-    REG_PLC_TO_NC_REGISTERS,
-    REG_SCAN_DONE,
-    REG_SCAN_GRANT,
-    REG_SESSION,
-    REG_SESSION_READY,
-    REG_VERSION,
     WRITE_COIL,
     WRITE_COILS,
     WRITE_LIMIT,
     WRITE_REGISTER,
     WRITE_REGISTERS,
+    LinkHolding,
+    LinkInput,
     Location,
     RegisterMap,
     Table,
@@ -292,9 +284,9 @@ def _convention(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[str
         " any address beyond a table's size, a coil write into padding or reserved registers, a description"
         f" read beyond its length. The description (UTF-8 JSON, two bytes a register) starts at input"
         f" register {DESCRIPTION_REGISTER}.",
-        f"* **The PLC owns its link.** While a session is open (IR {REG_VERSION} not 0), in lockstep and in real"
-        f" time, only the session's PLC writes: the connection that wrote the session (IR {REG_SESSION}) into"
-        f" HR {REG_SESSION_READY}, as every PLC of this protocol does when a session starts. It keeps the link"
+        f"* **The PLC owns its link.** While a session is open (IR {LinkInput.VERSION} not 0), in lockstep and in real"
+        f" time, only the session's PLC writes: the connection that wrote the session (IR {LinkInput.SESSION}) into"
+        f" HR {LinkHolding.SESSION_READY}, as every PLC of this protocol does when a session starts. It keeps the link"
         " until it disconnects (a new session keeps it). Every other client may read; a write of it (FC"
         f" {WRITE_COIL}, {WRITE_REGISTER}, {WRITE_COILS}, {WRITE_REGISTERS}, {MASK_WRITE_REGISTER},"
         f" {READ_WRITE_REGISTERS}) into the PLC-to-NC table gets exception 01 (illegal function), changes nothing"
@@ -318,18 +310,18 @@ def _convention(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[str
                 [(_span("IR " if kind == "input_register" else "HR ", register, register + count - 1),
                   f"`{symbol}`", meaning) for symbol, kind, register, count, meaning in LINK_ROWS]),
         "",
-        f"* **Lockstep** (IR {REG_MODE} = {MODE_LOCKSTEP}, `vc serve` without `--realtime`): the NC advances one"
+        f"* **Lockstep** (IR {LinkInput.MODE} = {MODE_LOCKSTEP}, `vc serve` without `--realtime`): the NC advances one"
         f" PLC period per scan the PLC reports done, and time stands while it waits. For PLCs that can be"
         f" stepped; the protocol is in *Lockstep with a third-party PLC* at the end.",
-        f"* **Free-running** (IR {REG_MODE} = {MODE_FREE_RUNNING}, `vc serve --realtime`): the NC runs on the"
+        f"* **Free-running** (IR {LinkInput.MODE} = {MODE_FREE_RUNNING}, `vc serve --realtime`): the NC runs on the"
         f" wall clock and the PLC scans on its own. The PLC must write a value that changes every scan into"
-        f" HR {REG_SCAN_DONE}, its sign of life (a scan counter). The NC raises alarm {PLC_SIGN_OF_LIFE_ALARM}"
+        f" HR {LinkHolding.SCAN_DONE}, its sign of life (a scan counter). The NC raises alarm {PLC_SIGN_OF_LIFE_ALARM}"
         f" when it sees no change for longer than MD{PLC_CYCLIC_TIMEOUT.number} {PLC_CYCLIC_TIMEOUT.name}"
         f" (default {_seconds(PLC_CYCLIC_TIMEOUT)}): axes stop, NC start is disabled, a reset clears it"
         f" once the PLC scans again. Alarm {PLC_NOT_STARTED_ALARM} follows when the sign of life never changes"
         f" within MD{PLC_RUNNINGUP_TIMEOUT.number} {PLC_RUNNINGUP_TIMEOUT.name}"
-        f" (default {_seconds(PLC_RUNNINGUP_TIMEOUT)}) of power-on. Copy IR {REG_SESSION} into"
-        f" HR {REG_SESSION_READY} as well; it is required in lockstep and harmless here.",
+        f" (default {_seconds(PLC_RUNNINGUP_TIMEOUT)}) of power-on. Copy IR {LinkInput.SESSION} into"
+        f" HR {LinkHolding.SESSION_READY} as well; it is required in lockstep and harmless here.",
     ]
     return lines
 
@@ -355,7 +347,8 @@ def _sizes(register_map: RegisterMap) -> list[str]:
         "",
         *_table(("table", "registers", "data registers", "bits", "bit numbers"), rows),
         "",
-        f"IR {REG_NC_TO_PLC_REGISTERS} and IR {REG_PLC_TO_NC_REGISTERS} report the two sizes, so a PLC can check"
+        f"IR {LinkInput.NC_TO_PLC_REGISTERS} and IR {LinkInput.PLC_TO_NC_REGISTERS} report the two sizes, so a"
+        f" PLC can check"
         " that its configuration matches the machine.",
         "",
         "*Layout* (the byte ranges in table order):",
@@ -398,7 +391,7 @@ def _openplc(register_map: RegisterMap, signals: Sequence[GuideSignal], catalog:
         f"One request carries at most {READ_LIMIT} registers read or {WRITE_LIMIT} written,"
         " and OpenPLC sends one request per range of a device, so the tables are split over several devices"
         " on the same server. Each device is a connection of its own, and only one connection owns the link"
-        f" (the one that writes HR {REG_SESSION_READY}, *{devices[0].name}*): let the PLC's address write from"
+        f" (the one that writes HR {LinkHolding.SESSION_READY}, *{devices[0].name}*): let the PLC's address write from"
         f" all of them. Start the harness in real time (`{serve} --realtime --allow-writers {SERVER_HOST}`), then:",
         "",
         f"1. *Settings*, *Slave Devices*: Polling Period {OPENPLC_POLLING_MS} ms (the default of 100 ms lets the"
@@ -439,17 +432,18 @@ def _openplc_program(register_map: RegisterMap, catalog: ExpandedCatalog) -> lis
     status, key = catalog.resolve(status_symbol), catalog.resolve(key_symbol)
     status_at, key_at = _located(register_map, status), _located(register_map, key)
     assert status_at.register_bit is not None and key_at.register_bit is not None
-    session = _openplc_word(Table.NC_TO_PLC, REG_SESSION)
-    life, ready = _openplc_word(Table.PLC_TO_NC, REG_SCAN_DONE), _openplc_word(Table.PLC_TO_NC, REG_SESSION_READY)
+    session = _openplc_word(Table.NC_TO_PLC, LinkInput.SESSION)
+    life = _openplc_word(Table.PLC_TO_NC, LinkHolding.SCAN_DONE)
+    ready = _openplc_word(Table.PLC_TO_NC, LinkHolding.SESSION_READY)
     return [
         "Structured Text for OpenPLC: one input bit, one output bit, the sign of life:",
         "",
         "```",
         "PROGRAM nc_link",
         "  VAR",
-        f"    session AT {session} : UINT;        (* IR {REG_SESSION}: the session *)",
-        f"    signOfLife AT {life} : UINT;     (* HR {REG_SCAN_DONE}: changes every scan *)",
-        f"    sessionReady AT {ready} : UINT;   (* HR {REG_SESSION_READY}: the session echoed *)",
+        f"    session AT {session} : UINT;        (* IR {LinkInput.SESSION}: the session *)",
+        f"    signOfLife AT {life} : UINT;     (* HR {LinkHolding.SCAN_DONE}: changes every scan *)",
+        f"    sessionReady AT {ready} : UINT;   (* HR {LinkHolding.SESSION_READY}: the session echoed *)",
         f"    statusWord AT {_openplc_word(Table.NC_TO_PLC, status_at.register)} : WORD;"
         f"     (* IR {status_at.register} *)",
         f"    keyWord AT {_openplc_word(Table.PLC_TO_NC, key_at.register)} : WORD;"
@@ -512,8 +506,8 @@ def _codesys(register_map: RegisterMap, signals: Sequence[GuideSignal], catalog:
         "",
         *_table(("channel", "access type", "offset", "length", "registers", "trigger"), channel_rows),
         "",
-        f"*{link_out.name}* writes the sign of life (index {REG_SCAN_DONE}) and the session (index"
-        f" {REG_SESSION_READY}); it comes last so that, when channels go out in list order, the scan-done word"
+        f"*{link_out.name}* writes the sign of life (index {LinkHolding.SCAN_DONE}) and the session (index"
+        f" {LinkHolding.SESSION_READY}); it comes last so that, when channels go out in list order, the scan-done word"
         " follows the outputs. Its first write makes the slave's connection the session's PLC: the output"
         " channels before it are refused (exception 01) in the very first cycle only.",
         "",
@@ -526,8 +520,10 @@ def _codesys(register_map: RegisterMap, signals: Sequence[GuideSignal], catalog:
         f" \"{status_channel.name}\" to {_variable(status_channel)}, \"{link_out.name}\" to {_variable(link_out)}",
         f"synchronized := {_variable(status_channel)}[{status_at.register - status_channel.offset}]"
         f".{status_at.register_bit};  // {status_symbol}: IR {status_at.register} bit {status_at.register_bit}",
-        f"{_variable(link_out)}[{REG_SCAN_DONE}] := {_variable(link_out)}[{REG_SCAN_DONE}] + 1;  // sign of life",
-        f"{_variable(link_out)}[{REG_SESSION_READY}] := {_variable(link_in)}[{REG_SESSION}];  // the session echoed",
+        f"{_variable(link_out)}[{LinkHolding.SCAN_DONE}] := {_variable(link_out)}[{LinkHolding.SCAN_DONE}] + 1;"
+        f"  // sign of life",
+        f"{_variable(link_out)}[{LinkHolding.SESSION_READY}] := {_variable(link_in)}[{LinkInput.SESSION}];  //"
+        f" the session echoed",
         "```",
         "",
         "As with OpenPLC, every word of a write channel is sent: drive every PLC-to-NC signal you need,"
@@ -551,23 +547,26 @@ def _lockstep(register_map: RegisterMap) -> list[str]:
         " its channels, a client in Python or C): cyclic transfers beside the program, as in the setups above,"
         " cannot keep the order.",
         "",
-        f"1. Read IR 0..{LINK_REGISTERS - 1}. IR {REG_VERSION} = 0: no machine is powered on yet, poll again."
-        f" Check IR {REG_NC_TO_PLC_REGISTERS} = {inputs} and IR {REG_PLC_TO_NC_REGISTERS} = {outputs}"
-        f" (the table sizes this configuration expects) and IR {REG_MODE} = {MODE_LOCKSTEP}.",
-        f"2. When IR {REG_SESSION} (the session) or IR {REG_BOOT_ID} (the boot id) differs from those you run:"
+        f"1. Read IR 0..{LINK_REGISTERS - 1}. IR {LinkInput.VERSION} = 0: no machine is powered on yet, poll again."
+        f" Check IR {LinkInput.NC_TO_PLC_REGISTERS} = {inputs} and IR {LinkInput.PLC_TO_NC_REGISTERS} = {outputs}"
+        f" (the table sizes this configuration expects) and IR {LinkInput.MODE} = {MODE_LOCKSTEP}.",
+        f"2. When IR {LinkInput.SESSION} (the session) or IR {LinkInput.BOOT_ID} (the boot id) differs from"
+        f" those you run:"
         f" the machine was powered on again, or another harness process serves it. Restart the program from its"
-        f" initial state, forget the last grant, and write HR {REG_SESSION_READY} = IR {REG_SESSION}, once per"
+        f" initial state, forget the last grant, and write HR {LinkHolding.SESSION_READY} = IR"
+        f" {LinkInput.SESSION}, once per"
         " session. The first of these writes makes your connection the session's PLC, the only one whose writes"
         " the server takes; make all writes over it.",
-        f"3. Read IR {REG_SCAN_GRANT}, the scan grant. While it is 0 or equal to the last grant you finished,"
+        f"3. Read IR {LinkInput.SCAN_GRANT}, the scan grant. While it is 0 or equal to the last grant you finished,"
         " poll again (no scan).",
         f"4. When it changed: read the NC-to-PLC data (IR {LINK_REGISTERS}..{inputs - 1}; the server published"
         " them before the grant and holds them while it waits), run exactly one scan, write the PLC-to-NC data"
-        f" (HR {LINK_REGISTERS}..{outputs - 1}), then write HR {REG_SCAN_DONE} = the grant. The scan-done word"
+        f" (HR {LINK_REGISTERS}..{outputs - 1}), then write HR {LinkHolding.SCAN_DONE} = the grant. The scan-done word"
         " must be the last write of the scan; it may share the last FC 16 request with outputs, because the"
         " server applies a request as a whole. Remember the grant.",
-        f"5. The NC accepts the scan when HR {REG_SCAN_DONE} equals the grant and HR {REG_SESSION_READY} equals"
-        f" the session, advances one PLC period (IR {REG_PLC_CYCLE_IPO} IPO cycles), publishes the new inputs"
+        f"5. The NC accepts the scan when HR {LinkHolding.SCAN_DONE} equals the grant and HR"
+        f" {LinkHolding.SESSION_READY} equals"
+        f" the session, advances one PLC period (IR {LinkInput.PLC_CYCLE_IPO} IPO cycles), publishes the new inputs"
         " and grants the next scan: the grant counts 1, 2, .. 65535, 1, .. and is never 0.",
         "",
         "`python -m plc_stub --modbus HOST:PORT` is a client that follows this protocol (plc_stub/remote.py).",

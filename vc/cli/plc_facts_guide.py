@@ -13,15 +13,8 @@ from collections.abc import Iterable, Sequence
 
 from interfaces import alarm_block
 from interfaces.codec_modbus import (
-    REG_BOOT_ID,
-    REG_IPO_CYCLE_US,
-    REG_NC_CYCLE_HIGH,
-    REG_NC_CYCLE_LOW,
-    REG_PLC_CYCLE_IPO,
-    REG_SCAN_DONE,
-    REG_SCAN_GRANT,
-    REG_SESSION,
-    REG_SESSION_READY,
+    LinkHolding,
+    LinkInput,
     RegisterMap,
     Table,
 )
@@ -179,22 +172,26 @@ def time_and_sessions_section() -> list[str]:
         "* **Time base.** In lockstep the NC stands while the PLC works, so the wall clock says nothing about"
         " machine time: when the pair runs 4 to 7 times faster than real time, a TON of 2 s on the wall clock of"
         " a soft PLC (awlsim, OpenPLC, CODESYS) lasts 8 to 14 s of machine time, and less than 2 s when the"
-        f" pair runs slower. Take the time from the NC: IR {REG_NC_CYCLE_HIGH}..{REG_NC_CYCLE_LOW} count the NC's"
+        f" pair runs slower. Take the time from the NC: IR {LinkInput.NC_CYCLE_HIGH}..{LinkInput.NC_CYCLE_LOW}"
+        f" count the NC's"
         " IPO cycles since the power-on of the session at each exchange (high word first), IR"
-        f" {REG_IPO_CYCLE_US} is the IPO cycle in microseconds: machine time = cycles x IR {REG_IPO_CYCLE_US} us."
-        f" Every granted scan advances the count by exactly IR {REG_PLC_CYCLE_IPO} cycles (the PLC period), so a"
+        f" {LinkInput.IPO_CYCLE_US} is the IPO cycle in microseconds: machine time = cycles x IR"
+        f" {LinkInput.IPO_CYCLE_US} us."
+        f" Every granted scan advances the count by exactly IR {LinkInput.PLC_CYCLE_IPO} cycles (the PLC period), so a"
         " timer that adds the PLC period per scan, or compares the count with the one at its start, runs on"
         " machine time and gives the same result at any speed. In real time the count follows the wall clock.",
-        f"* **Sessions.** IR {REG_SESSION} counts the harness's power-ons (1, 2, ..) from 1 in every `vc serve`"
-        f" process; IR {REG_BOOT_ID} is a random boot id (1..65535) of the process. A PLC restarts its program"
-        f" from its initial state whenever IR {REG_SESSION} or IR {REG_BOOT_ID} differs from the values it started"
-        f" for, and writes HR {REG_SESSION_READY} = IR {REG_SESSION}.",
+        f"* **Sessions.** IR {LinkInput.SESSION} counts the harness's power-ons (1, 2, ..) from 1 in every `vc serve`"
+        f" process; IR {LinkInput.BOOT_ID} is a random boot id (1..65535) of the process. A PLC restarts its program"
+        f" from its initial state whenever IR {LinkInput.SESSION} or IR {LinkInput.BOOT_ID} differs from the"
+        f" values it started"
+        f" for, and writes HR {LinkHolding.SESSION_READY} = IR {LinkInput.SESSION}.",
         "* **Reconnecting.** After a lost connection read IR 0..15 anew before anything else. A server"
         " restarted in between starts at session 1 again, and only the boot id tells it from the session you"
         " ran: carrying on would act on stale state, so restart. With the same session and boot id carry on"
         " with the program as it is; the harness answers only while it waits for a scan, so a busy harness can"
-        f" leave a request unanswered for seconds without anything being lost. In lockstep, if IR {REG_SCAN_GRANT}"
-        f" still grants the scan whose outputs you were writing, write them again (with HR {REG_SCAN_DONE} ="
+        f" leave a request unanswered for seconds without anything being lost. In lockstep, if IR"
+        f" {LinkInput.SCAN_GRANT}"
+        f" still grants the scan whose outputs you were writing, write them again (with HR {LinkHolding.SCAN_DONE} ="
         " the grant last) instead of running the scan a second time; if it grants a later one, the harness"
         " took them.",
     ]

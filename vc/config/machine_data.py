@@ -15,6 +15,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from enum import StrEnum
 
+from interfaces.errors import VcError
 from vc.input_limits import MAX_MAGNITUDE, MIN_MD_MAGNITUDE
 
 MdScalar = bool | int | float | str
@@ -70,7 +71,7 @@ class MdDef:
         return self.length > 0
 
 
-class MdValueError(ValueError):
+class MdValueError(VcError, ValueError):
     """A value a machine datum cannot take; the message names the datum and what it accepts."""
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from interfaces.errors import VcError
 from vc.config.machine_data import MdDef, MdLevel, MdType
 
 N, C, A = MdLevel.NCK, MdLevel.CHANNEL, MdLevel.AXIS
@@ -801,7 +802,7 @@ def level_text(level: MdLevel) -> str:
     return f"{_LEVEL_TEXT[level]} ({level.prefix})"
 
 
-class MdKeyError(ValueError):
+class MdKeyError(VcError, ValueError):
     """A text that does not name a machine datum; the message says why."""
 
 

@@ -1,7 +1,7 @@
 """Collecting interface coverage while scenarios run: ``vc run --coverage FILE``.
 
 :class:`CoverageCollector` wraps the factory that makes a scenario's simulation: each simulation
-is observed (``vc.harness.observed``) by a :class:`CoverageObserver`, which after every IPO cycle
+is observed (``vc.simulation.observed``) by a :class:`CoverageObserver`, which after every IPO cycle
 
 * compares the bytes of the interface and the plant I/O with those of the cycle before (one
   ``memcmp`` per area) and, only where they differ, decodes the signals in the changed bytes;
@@ -30,9 +30,9 @@ from vc.core.alarms import AlarmList, Clear
 from vc.core.nck import Nck
 from vc.coverage.data import CoverageData, MachineCoverage, ValueRecord
 from vc.coverage.probes import Probe, state_probes
-from vc.harness.observed import ObservedSimulation, OperatorAction
-from vc.harness.simulation import Simulation
 from vc.scenario.model import Scenario
+from vc.simulation.lockstep import Simulation
+from vc.simulation.observed import ObservedSimulation, OperatorAction
 
 # Catalogue groups that mean nothing on some instances: (kind, symbol part, who has them)
 NOT_APPLICABLE: tuple[tuple[InstanceKind, str, str], ...] = (

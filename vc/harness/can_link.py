@@ -18,10 +18,10 @@ frame) must have arrived within ``can.timeout`` (default 50 ms), counted in NC c
 one is missing the link holds the PLC's sign of life, so the NC's watch raises alarm 2000 once
 MD10100 has passed without a change: the axes stop; a reset clears it when the frames are back.
 
-**Faults** (:mod:`vc.harness.link_faults`) act on the frames between the bus and the NC: frames
+**Faults** (:mod:`vc.simulation.link_faults`) act on the frames between the bus and the NC: frames
 the NC sends are lost or wait before they go on the bus, frames from the PLC are lost or wait
 before the NC takes them.  A disturbance (``bus_off``) acts through the NC's CAN controller
-(:class:`~vc.harness.link_faults.CanController`): failed transmissions count its error counter
+(:class:`~vc.simulation.link_faults.CanController`): failed transmissions count its error counter
 up until it is bus-off; then it sends and hears nothing until its restart (``can.restart``).  On
 a real bus the controller state python-can and SocketCAN report (:attr:`CanBus.state`) counts as
 well: while it is bus-off the NC sends nothing.  In lockstep the link frames are also the
@@ -35,7 +35,7 @@ a datagram that is no frame or an error frame on the wire is counted by the adap
 (:mod:`interfaces.links.can_bus`).
 
 The link's counters and states are scenario quantities (``CAN.lostFromPlc``, ``CAN.busState``
-...: ``LINK_QUANTITIES`` in vc/observables.py), counted per session.
+...: ``LINK_QUANTITIES`` in vc/simulation/observables.py), counted per session.
 """
 
 from __future__ import annotations
@@ -66,9 +66,9 @@ from interfaces.links.inprocess import plc_programs
 from interfaces.plc import PlcEnvironment
 from interfaces.signals import Direction
 from vc.config.model import CanConfig, MachineConfig
-from vc.harness.link_faults import LINK_AREA, CanController, FaultyWire, LinkFault, active, disturbed
 from vc.harness.plc_link import LinkMode, Patience
-from vc.harness.simulation import Simulation
+from vc.simulation.link_faults import LINK_AREA, CanController, FaultyWire, LinkFault, active, disturbed
+from vc.simulation.lockstep import Simulation
 
 RECEIVE_WAIT_S = 0.5  # lockstep: how long one receive waits before the patience is checked
 
@@ -197,7 +197,7 @@ class CanLinkedPlc:
         self.faults = [*active(self.faults, self.cycle), fault]
 
     def quantity(self, name: str) -> float:
-        """One of ``LINK_QUANTITIES`` (vc/observables.py) now."""
+        """One of ``LINK_QUANTITIES`` (vc/simulation/observables.py) now."""
         return float(self._quantities[name]())
 
     def _readers(self) -> dict[str, Callable[[], float]]:

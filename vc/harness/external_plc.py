@@ -27,9 +27,9 @@ from interfaces.links.can_bus import BusSpec, private_udp_bus
 from vc.config.model import MachineConfig
 from vc.harness.can_link import CanLink
 from vc.harness.plc_link import Endpoint, LinkMode, PlcLink
-from vc.harness.scenarios import simulation_for
-from vc.harness.simulation import Pacer, Simulation
+from vc.harness.targets import simulation_for
 from vc.scenario.model import Scenario
+from vc.simulation.lockstep import Pacer, Simulation
 
 # plc: KIND:FILE -> the module run as ``python -m MODULE --modbus HOST:PORT FILE``
 EXTERNAL_PLC_MODULES = {"awlsim": "plc_awlsim"}

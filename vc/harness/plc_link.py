@@ -34,20 +34,8 @@ from interfaces.codec_modbus import (
     LINK_VERSION,
     MODE_FREE_RUNNING,
     MODE_LOCKSTEP,
-    REG_BOOT_ID,
-    REG_DESCRIPTION_BYTES,
-    REG_DESCRIPTION_START,
-    REG_IPO_CYCLE_US,
-    REG_MODE,
-    REG_NC_CYCLE_HIGH,
-    REG_NC_TO_PLC_REGISTERS,
-    REG_PLC_CYCLE_IPO,
-    REG_PLC_TO_NC_REGISTERS,
-    REG_SCAN_DONE,
-    REG_SCAN_GRANT,
-    REG_SESSION,
-    REG_SESSION_READY,
-    REG_VERSION,
+    LinkHolding,
+    LinkInput,
     RegisterMap,
     Table,
 )
@@ -60,7 +48,7 @@ from interfaces.links.modbus_tcp import ModbusServerLink, ModbusTables
 from interfaces.links.s7 import S7ServerLink
 from interfaces.plc import PlcEnvironment
 from vc.config.model import MachineConfig
-from vc.harness.simulation import Simulation
+from vc.simulation.lockstep import Simulation
 
 _WORD = struct.Struct(">H")
 
@@ -216,13 +204,13 @@ class PlcLink:
         tables.set_description(description.to_json())
         self.outputs_written = False
         block = {
-            REG_VERSION: LINK_VERSION, REG_SESSION: self.session,
-            REG_MODE: MODE_LOCKSTEP if self.mode is LinkMode.LOCKSTEP else MODE_FREE_RUNNING,
-            REG_IPO_CYCLE_US: environment.ipo_cycle_us, REG_PLC_CYCLE_IPO: environment.plc_cycle_ipo,
-            REG_DESCRIPTION_START: DESCRIPTION_REGISTER, REG_DESCRIPTION_BYTES: len(tables.description),
-            REG_NC_TO_PLC_REGISTERS: register_map.registers(Table.NC_TO_PLC),
-            REG_PLC_TO_NC_REGISTERS: register_map.registers(Table.PLC_TO_NC),
-            REG_BOOT_ID: self.boot_id,
+            LinkInput.VERSION: LINK_VERSION, LinkInput.SESSION: self.session,
+            LinkInput.MODE: MODE_LOCKSTEP if self.mode is LinkMode.LOCKSTEP else MODE_FREE_RUNNING,
+            LinkInput.IPO_CYCLE_US: environment.ipo_cycle_us, LinkInput.PLC_CYCLE_IPO: environment.plc_cycle_ipo,
+            LinkInput.DESCRIPTION_START: DESCRIPTION_REGISTER, LinkInput.DESCRIPTION_BYTES: len(tables.description),
+            LinkInput.NC_TO_PLC_REGISTERS: register_map.registers(Table.NC_TO_PLC),
+            LinkInput.PLC_TO_NC_REGISTERS: register_map.registers(Table.PLC_TO_NC),
+            LinkInput.BOOT_ID: self.boot_id,
         }
         for register, value in block.items():
             self.set_input_register(register, value)
@@ -239,15 +227,15 @@ class PlcLink:
 
     def _modbus_written(self, first: int, count: int) -> None:
         self.outputs_written = True
-        if first <= REG_SESSION_READY:
+        if first <= LinkHolding.SESSION_READY:
             self._handshake.set()  # scan done or session ready may have changed
 
     # ------------------------------------------------------------------ waiting
     def wait_for_scan(self, grant: int, first: bool) -> None:
         """Serve the clients until the PLC reports scan ``grant`` of this session done."""
         def done() -> bool:
-            return self.holding_register(REG_SESSION_READY) == self.session and \
-                self.holding_register(REG_SCAN_DONE) == grant
+            return self.holding_register(LinkHolding.SESSION_READY) == self.session and \
+                self.holding_register(LinkHolding.SCAN_DONE) == grant
 
         if done():
             return
@@ -316,19 +304,19 @@ class LinkedPlc:
         areas: Mapping[str, bytearray] = {**interface.areas, **plant.areas}
         register_map.fill_table(Table.NC_TO_PLC, areas, link.tables.nc_to_plc)
         cycle = self.scans * self.plc_cycle_ipo
-        link.set_input_register(REG_NC_CYCLE_HIGH, cycle >> 16)
-        link.set_input_register(REG_NC_CYCLE_HIGH + 1, cycle)
+        link.set_input_register(LinkInput.NC_CYCLE_HIGH, cycle >> 16)
+        link.set_input_register(LinkInput.NC_CYCLE_HIGH + 1, cycle)
         if link.s7 is not None:
             link.s7.publish(areas)
         self.scans += 1
         if link.mode is LinkMode.LOCKSTEP:
             grant = grant_of_scan(self.scans)
-            link.set_input_register(REG_SCAN_GRANT, grant)
+            link.set_input_register(LinkInput.SCAN_GRANT, grant)
             link.wait_for_scan(grant, first=self.scans == 1)
             self._life = grant
             self._take_modbus(areas, interface, plant)
             return
-        self._life = link.holding_register(REG_SCAN_DONE)
+        self._life = link.holding_register(LinkHolding.SCAN_DONE)
         if link.outputs_written:
             self._take_modbus(areas, interface, plant)
         elif link.s7 is not None and link.s7.take_outputs(areas):

@@ -1,30 +1,25 @@
-"""``vc run``: scenario files against the lockstep simulation with the built-in PLC programs."""
+"""``vc run``: scenario files against the lockstep simulation with the built-in PLC programs.
+
+The targets come from :mod:`vc.harness.targets` (in this process) and :mod:`vc.harness.external_plc`
+(a PLC in its own process); this module only chooses among them.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
+from interfaces.links.can_bus import BusSpec
 from interfaces.links.inprocess import plc_programs
-from vc.harness.simulation import Simulation
+from vc.harness.external_plc import CanPlcProcess, ExternalPlcs, PlcProcess
+from vc.harness.targets import TargetFactory, simulation_for
 from vc.scenario.cluster import ClusterSettings
 from vc.scenario.command import plot_command, run_command
 from vc.scenario.model import LINK_CAN, Scenario
 from vc.scenario.target import ScenarioTarget
 from vc_build import status as build_status
 
-TargetFactory = Callable[[Scenario], Simulation]
 # wraps the factory of a run, e.g. to observe each simulation (vc run --coverage)
 Observe = Callable[[TargetFactory], Callable[[Scenario], ScenarioTarget]]
-
-
-def simulation_for(scenario: Scenario) -> Simulation:
-    """A fresh power-on of the scenario's machine with its PLC program (or none); a scenario that
-    asks for a CAN link gets its program behind a virtual CAN bus in this process."""
-    if scenario.plc_program is not None and scenario.link == LINK_CAN:
-        from vc.harness.can_link import virtual_can_simulation
-
-        return virtual_can_simulation(scenario.machine, scenario.plc_program)
-    return Simulation(scenario.machine, scenario.plc_program)
 
 
 def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_dir: str | None = None,
@@ -40,8 +35,6 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
     PLC in its own process, in every run.  ``observe`` wraps the run's factory of simulations
     (the interface coverage observes each one, in this process: such a run has no workers).
     ``report_dir`` gets the HTML report with the timing diagrams."""
-    from vc.harness.external_plc import ExternalPlcs
-
     build = build_status().describe()
 
     def run(make_target: TargetFactory, workers: int | None = 1, on: ClusterSettings | None = None) -> int:
@@ -54,14 +47,9 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
                                cluster=on if observe is None else None, report_dir=report_dir)
 
     if link == "modbus":
-        from vc.harness.external_plc import PlcProcess
-
         with PlcProcess() as process:
             return run(process.target_factory())
     if link == LINK_CAN:
-        from interfaces.links.can_bus import BusSpec
-        from vc.harness.external_plc import CanPlcProcess
-
         with CanPlcProcess(bus=BusSpec.parse(can_bus) if can_bus else None) as can_process:
             return run(can_process.target_factory())
     return run(simulation_for, jobs, ClusterSettings(cluster, cluster_files) if cluster else None)

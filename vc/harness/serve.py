@@ -36,12 +36,12 @@ from interfaces.plc import PlcEnvironment, SoftPlc
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.harness.can_link import CanLink
-from vc.harness.observed import ObservedSimulation, SimulationObserver
 from vc.harness.pacer import RealtimePacer
 from vc.harness.plc_link import Endpoint, LinkMode, PlcLink, check_bind
-from vc.harness.simulation import Simulation
 from vc.scenario.command import EXIT_PASSED, run_command
 from vc.scenario.model import Scenario
+from vc.simulation.lockstep import Simulation
+from vc.simulation.observed import ObservedSimulation, SimulationObserver
 
 
 class ServedLink(Protocol):

@@ -20,7 +20,7 @@ and the row's kind:
     [cycle, "plc", AREA, BYTE, "HEX"]   the PLC wrote these bytes (PLC-to-NC data, plant outputs Q)
     [cycle, "nc", AREA, BYTE, "HEX"]    the NC showed these bytes (NC-to-PLC data)
     [cycle, "life"]                     the PLC's sign of life did not change in this cycle's scan
-    [cycle, "op", KIND, ARGUMENT...]    an action of the operator (vc.harness.observed.ACTION_ARGUMENTS)
+    [cycle, "op", KIND, ARGUMENT...]    an action of the operator (vc.simulation.observed.ACTION_ARGUMENTS)
     [cycle, "end"]                      the session ended here
 
 ``plc`` and ``nc`` rows carry only bytes that changed (after a power-on: all of them), ``HEX`` two
@@ -37,8 +37,8 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import IO, Any
 
-from vc.harness.observed import ACTION_ARGUMENTS, ActionArgument, OperatorAction
 from vc.located_yaml import Mark, Problem, SourceError
+from vc.simulation.observed import ACTION_ARGUMENTS, ActionArgument, OperatorAction
 
 FORMAT = "vc-recording"
 VERSION = 1

@@ -1,7 +1,7 @@
 """Recording a live session (``vc serve --record FILE``): what the PLC wrote, what the NC showed,
 what the operator did, cycle by cycle.
 
-:class:`SessionRecorder` observes the served simulation (``vc.harness.observed``).  After every
+:class:`SessionRecorder` observes the served simulation (``vc.simulation.observed``).  After every
 IPO cycle it compares
 
 * the PLC's bytes - the PLC-to-NC data of the wire and the plant outputs Q - and
@@ -18,9 +18,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from vc.harness.observed import OperatorAction
-from vc.harness.simulation import Simulation
 from vc.recording.format import LIFE, NC, PLC, Action, Bytes, Header, Marker, RecordedFile, RecordingWriter
+from vc.simulation.lockstep import Simulation
+from vc.simulation.observed import OperatorAction
 
 MERGE_GAP = 4  # changed bytes this close together go into one row
 

@@ -21,10 +21,10 @@ from interfaces.plc import PlcEnvironment
 from interfaces.signals import SignalRef
 from vc.config.loader import load_machine, load_machine_text
 from vc.config.model import MachineConfig
-from vc.harness.observed import perform
-from vc.harness.simulation import Simulation
 from vc.located_yaml import LocatedMap, Mark, Problem, SourceError, load_text
 from vc.recording.format import NC, Action, Bytes, Recording
+from vc.simulation.lockstep import Simulation
+from vc.simulation.observed import perform
 
 NOT_REPLAYED = ("link_fault",)  # a fault of the CAN link: its effect, the timing of the PLC's writes, is recorded
 

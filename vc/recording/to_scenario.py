@@ -21,17 +21,18 @@ import os
 from dataclasses import dataclass, field
 
 from interfaces.catalog import load_catalog
+from interfaces.errors import VcError
 from interfaces.image import ProcessImage, Value, decode
 from interfaces.signals import Direction, SignalRef, expand
 from vc.config.model import MachineConfig
-from vc.harness.observed import OperatorAction
 from vc.located_yaml import load_text
 from vc.recording.format import LIFE, NC, Bytes, Marker, Recording
 from vc.recording.replay import recorded_machine
 from vc.scenario.values import format_value
+from vc.simulation.observed import OperatorAction
 
 
-class ConversionError(ValueError):
+class ConversionError(VcError, ValueError):
     """The recording holds something a scenario cannot express (with where and why)."""
 
 

@@ -47,7 +47,7 @@ File grammar (``[...]`` = optional)::
                   DB21.DBB4, DB31.DBD88); plant I/O name (MCP.jog) or address (I0.3);
                   AXIS.QUANTITY (X1.position, see vc.scenario.target.AXIS_QUANTITIES);
                   INSTANCE.MD<number>[<index>] (X1.MD34210: as the control holds it now);
-                  CAN.QUANTITY (CAN.lostFromPlc, with link: can; vc.observables.LINK_QUANTITIES); time
+                  CAN.QUANTITY (CAN.lostFromPlc, with link: can; vc.simulation.observables.LINK_QUANTITIES); time
     DURATION      20ms, 2s, 1.5 s, 1min, 500us, or a number of seconds
     VALUE         a number, true or false; checked against the signal's type
     EXPECTED      1, true (exact); 99.5 (within 1e-9); "100 +- 0.001" or "100 ± 0.001" (bounds

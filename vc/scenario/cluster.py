@@ -45,6 +45,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from interfaces.errors import VcError
 from vc.scenario.model import Scenario
 from vc.scenario.runner import RunObserver, ScenarioResult, finish, trace_names
 from vc.scenario.tasks import (
@@ -67,7 +68,7 @@ WORKER_WAIT_S = 60.0  # for the first worker to join the scheduler
 CONNECT_TIMEOUT = "20s"
 
 
-class ClusterError(Exception):
+class ClusterError(VcError):
     """The cluster cannot be used: Dask missing, no scheduler at the address, no worker joining."""
 
 

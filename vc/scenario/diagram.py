@@ -18,6 +18,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from interfaces.errors import VcError
 from vc.scenario.timing import ANALOG, BUS, DIGITAL, Lane, TimingDiagram
 
 if TYPE_CHECKING:
@@ -35,7 +36,7 @@ _FAIL = "#c0392b"
 _WINDOW = "#2e8b57"
 
 
-class DiagramError(Exception):
+class DiagramError(VcError):
     """matplotlib is missing."""
 
 

@@ -14,13 +14,14 @@ import re
 from dataclasses import dataclass
 from decimal import ROUND_CEILING, Decimal, InvalidOperation
 
+from interfaces.errors import VcError
 from vc.input_limits import MAX_DURATION_S
 
 _UNIT_US: dict[str, int] = {"us": 1, "ms": 1_000, "s": 1_000_000, "min": 60_000_000}
 _PATTERN = re.compile(r"^\s*(?P<number>[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(?P<unit>[a-z]*)\s*$")
 
 
-class DurationError(ValueError):
+class DurationError(VcError, ValueError):
     """A text or value that is not a duration; the message says what is accepted."""
 
 

@@ -44,6 +44,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Protocol
 
+from interfaces.errors import VcError
 from interfaces.signals import UnknownSignalError
 from vc.input_limits import MAX_EXPRESSION_DEPTH, MAX_EXPRESSION_NESTING, MAX_MAGNITUDE
 from vc.scenario.quantities import NameResolver, Quantity
@@ -52,7 +53,7 @@ Number = int | float
 Evaluator = Callable[[], Number]
 
 
-class ExpressionError(ValueError):
+class ExpressionError(VcError, ValueError):
     """A syntax or name problem in an expression, at a 1-based column of its text."""
 
     def __init__(self, message: str, column: int | None = None):
@@ -64,7 +65,7 @@ class ExpressionError(ValueError):
         return self.message if self.column is None else f"{self.message} at column {self.column}"
 
 
-class EvaluationError(ArithmeticError):
+class EvaluationError(VcError, ArithmeticError):
     """A condition could not be evaluated in this cycle (division by zero, a value not finite)."""
 
 

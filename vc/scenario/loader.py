@@ -47,7 +47,6 @@ from vc.core.alarms import ALARM_TEXTS
 from vc.core.handwheel import HANDWHEELS
 from vc.input_limits import MAX_MAGNITUDE
 from vc.located_yaml import LocatedList, LocatedMap, Mark, Problem, Problems, SourceError, load_file, read_source
-from vc.observables import FAULTS, LINK_AREA, LINK_DIRECTIONS, LINK_FAULTS, MACHINE_FAULTS, MAINS
 from vc.scenario.durations import Duration, DurationError, format_seconds, parse_duration
 from vc.scenario.expressions import AlarmCall, Expression, ExpressionError, Name, parse_expression, walk
 from vc.scenario.model import (
@@ -84,6 +83,7 @@ from vc.scenario.model import (
 from vc.scenario.quantities import NameResolver, Quantity, QuantityKind
 from vc.scenario.values import ExpectedValue, ExpectedValueError, parse_expected
 from vc.scenario.variants import check_file
+from vc.simulation.observables import FAULTS, LINK_AREA, LINK_DIRECTIONS, LINK_FAULTS, MACHINE_FAULTS, MAINS
 
 TOP_KEYS = ("name", "description", "machine", "plc", "link", "machine_data", "plc_parameters", "timeout",
             "invariants", "steps")

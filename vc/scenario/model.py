@@ -204,7 +204,7 @@ class PowerCycle(Step):
 
 @dataclass(frozen=True, slots=True)
 class InjectFault(Step):
-    """A fault of the simulated machine on one axis (``FAULTS`` in vc/observables.py)."""
+    """A fault of the simulated machine on one axis (``FAULTS`` in vc/simulation/observables.py)."""
 
     axis: str
     fault: str
@@ -216,7 +216,7 @@ class InjectFault(Step):
 
 @dataclass(frozen=True, slots=True)
 class InjectLinkFault(Step):
-    """A fault of the CAN bus between NC and PLC for ``duration`` (``LINK_FAULTS`` in vc/observables.py)."""
+    """A fault of the CAN bus between NC and PLC for ``duration`` (``LINK_FAULTS`` in vc/simulation/observables.py)."""
 
     fault: str  # loss, delay, bus_off
     duration: Duration

@@ -20,6 +20,8 @@ import re
 from collections.abc import Mapping, MutableSet, Sequence
 from typing import Any
 
+from interfaces.errors import VcError
+
 PLACEHOLDER = re.compile(r"\$\{([^{}]*)\}")
 MARKER = "${"
 
@@ -27,7 +29,7 @@ Number = int | float
 _OPERATORS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/"}
 
 
-class PlaceholderError(ValueError):
+class PlaceholderError(VcError, ValueError):
     """A placeholder that cannot be filled: its message and its 1-based column in the text."""
 
     def __init__(self, message: str, column: int):

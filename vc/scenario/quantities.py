@@ -38,7 +38,13 @@ from interfaces.signals import (
 )
 from vc.config.machine_data import MdLevel
 from vc.config.md_dictionary import BY_NUMBER, level_text
-from vc.observables import AXIS_QUANTITIES, CHANNEL_QUANTITIES, LINK_INSTANCE, LINK_QUANTITIES, NCK_QUANTITIES
+from vc.simulation.observables import (
+    AXIS_QUANTITIES,
+    CHANNEL_QUANTITIES,
+    LINK_INSTANCE,
+    LINK_QUANTITIES,
+    NCK_QUANTITIES,
+)
 
 TIME = "time"
 

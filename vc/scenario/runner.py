@@ -21,8 +21,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol
 
+from interfaces.errors import VcError
 from vc.located_yaml import Mark
-from vc.observables import StepRefused
 from vc.scenario.durations import Duration, format_seconds
 from vc.scenario.expressions import EvaluationError, Evaluator, Expression
 from vc.scenario.model import (
@@ -55,6 +55,7 @@ from vc.scenario.quantities import Quantity, QuantityKind
 from vc.scenario.target import ScenarioTarget
 from vc.scenario.trace import Recorder, Recording, write_traces
 from vc.scenario.values import format_value
+from vc.simulation.observables import StepRefused
 
 HISTORY_CHANGES = 10  # changes per name in a failure report
 HISTORY_WINDOW_S = 5.0  # ... within this much simulated time before the failure
@@ -122,7 +123,7 @@ class RunObserver(Protocol):
     def scenario_finished(self, result: ScenarioResult) -> None: ...
 
 
-class _Stop(Exception):
+class _Stop(VcError):
     def __init__(self, failure: Failure):
         super().__init__(failure.message)
         self.failure = failure

@@ -1,6 +1,6 @@
 """What the scenario runner needs from a running simulation.
 
-The harness (``vc.harness.simulation.Simulation``) implements this protocol; the runner
+The composed machine (``vc.simulation.lockstep.Simulation``) implements this protocol; the runner
 depends only on it.  Time is counted in IPO cycles; every read shows the value as it is
 *at the interface* at the end of the last completed cycle.
 """
@@ -48,10 +48,10 @@ class ScenarioTarget(Protocol):
         """End a force; the owner's value applies again from the next cycle."""
 
     def axis_quantity(self, axis: str, quantity: str) -> float:
-        """One of ``vc.observables.AXIS_QUANTITIES`` for a machine axis or spindle."""
+        """One of ``vc.simulation.observables.AXIS_QUANTITIES`` for a machine axis or spindle."""
 
     def link_quantity(self, name: str) -> float:
-        """One of ``vc.observables.LINK_QUANTITIES`` of the CAN link the PLC sits behind."""
+        """One of ``vc.simulation.observables.LINK_QUANTITIES`` of the CAN link the PLC sits behind."""
 
     def alarms(self) -> Sequence[Alarm]:
         """Alarms present now."""
@@ -73,12 +73,12 @@ class ScenarioTarget(Protocol):
 
     def inject_fault(self, axis: str, kind: str, start: float = 0.0, end: float = 0.0, amount: float = 0.0,
                      encoder: int = 1) -> None:
-        """A fault of the simulated machine: ``vc.observables.FAULTS``; raises :class:`vc.observables.StepRefused` for a
-        fault the machine cannot have now."""
+        """A fault of the simulated machine: ``vc.simulation.observables.FAULTS``; raises
+        :class:`vc.simulation.observables.StepRefused` for a fault the machine cannot have now."""
 
     def inject_link_fault(self, kind: str, duration_us: int, directions: Sequence[str] = ("nc_to_plc", "plc_to_nc"),
                           areas: Sequence[str] = (), delay_us: int = 0, every: int = 1) -> None:
-        """A fault of the CAN bus between NC and PLC from now on: ``vc.observables.LINK_FAULTS``."""
+        """A fault of the CAN bus between NC and PLC from now on: ``vc.simulation.observables.LINK_FAULTS``."""
 
     def clear_faults(self, axis: str) -> None:
         """The machine's faults on ``axis`` are repaired."""

@@ -25,6 +25,7 @@ import math
 import re
 from dataclasses import dataclass
 
+from interfaces.errors import VcError
 from vc.input_limits import MAX_MAGNITUDE
 
 FLOAT_TOLERANCE = 1e-9
@@ -36,7 +37,7 @@ _COMPARE = re.compile(rf"^\s*(?P<op>==|!=|<=|>=|<|>)\s*(?P<value>{_NUMBER})\s*$"
 _PLAIN = re.compile(rf"^\s*(?P<value>{_NUMBER})\s*$")
 
 
-class ExpectedValueError(ValueError):
+class ExpectedValueError(VcError, ValueError):
     """A text that is not an expected value."""
 
 

@@ -22,7 +22,7 @@ from vc.cli.main import main
 from vc.config.loader import load_machine
 from vc.harness.can_link import CanLinkedPlc
 from vc.harness.external_plc import CanPlcProcess
-from vc.harness.simulation import Simulation
+from vc.simulation.lockstep import Simulation
 
 ROOT = Path(__file__).resolve().parents[3]
 MACHINE = str(ROOT / "scenarios" / "machines" / "turn_mill.yaml")

@@ -19,7 +19,7 @@ from vc.cli.modbus_guide import (
     openplc_devices,
 )
 from vc.config.loader import load_machine
-from vc.harness.commissioning import commissioning_of
+from vc.simulation.commissioning import commissioning_of
 
 ROOT = Path(__file__).resolve().parents[3]
 MACHINE = "turn_mill"  # the packaged machine, by name: the guide's commands work from any directory

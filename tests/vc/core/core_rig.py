@@ -24,8 +24,8 @@ from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.core.axis import MachineAxis
 from vc.core.channel import Channel
-from vc.harness.simulation import Simulation
 from vc.located_yaml import load_text
+from vc.simulation.lockstep import Simulation
 
 ROOT = Path(__file__).resolve().parents[3]
 TURN_MILL = str(ROOT / "scenarios" / "machines" / "turn_mill.yaml")

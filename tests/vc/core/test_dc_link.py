@@ -16,7 +16,7 @@ from vc.config.model import DcLinkConfig
 from vc.core.dc_link import DcLink
 from vc.core.drive_esr import STAT_BELOW_MINIMUM_SPEED, STAT_DC_LINK_UNDERVOLTAGE, STAT_REACTION
 from vc.core.drive_esr import Reaction as DriveReaction
-from vc.harness.simulation import Simulation
+from vc.simulation.lockstep import Simulation
 
 CAPACITANCE = 4000e-6
 LOAD = 3000.0

@@ -11,7 +11,7 @@ import pytest
 from interfaces.links.inprocess import plc_programs
 from vc.coverage.collector import CoverageCollector
 from vc.coverage.data import FALLS, RISES, CoverageData
-from vc.harness.scenarios import simulation_for
+from vc.harness.targets import simulation_for
 from vc.scenario.loader import load_scenarios
 from vc.scenario.runner import run_scenarios
 

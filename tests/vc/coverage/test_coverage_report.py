@@ -17,7 +17,7 @@ from vc.coverage.data import CoverageData
 from vc.coverage.html import report_html
 from vc.coverage.report import Report, build_report, check_thresholds, summary_text
 from vc.coverage.state_machines import STATE_MACHINES
-from vc.harness.scenarios import simulation_for
+from vc.harness.targets import simulation_for
 from vc.scenario.loader import load_scenarios
 from vc.scenario.runner import run_scenarios
 

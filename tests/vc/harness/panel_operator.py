@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from vc.harness.simulation import Simulation
+from vc.simulation.lockstep import Simulation
 
 
 def operate(simulation: Simulation) -> None:

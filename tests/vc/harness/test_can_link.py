@@ -29,8 +29,8 @@ from vc.harness.can_link import CanLink, CanLinkedPlc, VirtualCanPlc, virtual_ca
 from vc.harness.external_plc import CanPlcProcess
 from vc.harness.pacer import RealtimePacer
 from vc.harness.plc_link import LinkMode
-from vc.harness.simulation import Simulation
-from vc.observables import LINK_QUANTITIES
+from vc.simulation.lockstep import Simulation
+from vc.simulation.observables import LINK_QUANTITIES
 
 ROOT = Path(__file__).resolve().parents[3]
 TURN_MILL = load_machine(str(ROOT / "scenarios" / "machines" / "turn_mill.yaml"))

@@ -25,8 +25,8 @@ from vc.config.model import MachineConfig
 from vc.harness.external_plc import PlcProcess
 from vc.harness.pacer import RealtimePacer
 from vc.harness.plc_link import Endpoint, LinkMode, PlcLink, check_bind
-from vc.harness.simulation import Simulation
 from vc.located_yaml import LocatedMap, load_text
+from vc.simulation.lockstep import Simulation
 
 ROOT = Path(__file__).resolve().parents[3]
 TURN_MILL = load_machine(str(ROOT / "scenarios" / "machines" / "turn_mill.yaml"))

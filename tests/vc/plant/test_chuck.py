@@ -20,8 +20,8 @@ from interfaces.image import ProcessImage
 from interfaces.plant_io import PlantIoMap
 from vc.config.loader import load_machine
 from vc.config.model import ChuckPlant, MachineConfig
-from vc.harness.simulation import Simulation
 from vc.plant.plant import DRIVE_READY_DELAY_S, Plant
+from vc.simulation.lockstep import Simulation
 
 ROOT = Path(__file__).resolve().parents[3]
 IPO_US = 2000

@@ -18,10 +18,10 @@ from interfaces.image import ProcessImage
 from interfaces.plant_io import PlantIoMap
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
-from vc.harness.simulation import Simulation
 from vc.located_yaml import LocatedMap
 from vc.plant.gearbox import MESHING_SPEED_DEG_S
 from vc.plant.plant import Plant
+from vc.simulation.lockstep import Simulation
 
 ROOT = Path(__file__).resolve().parents[3]
 IPO_US = 2000

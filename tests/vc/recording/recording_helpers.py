@@ -7,12 +7,12 @@ from pathlib import Path
 
 from interfaces.links.inprocess import InProcessConnector, plc_programs
 from interfaces.plc import PlcConnector
-from vc.harness.observed import ObservedSimulation
-from vc.harness.simulation import Simulation
 from vc.recording.format import RecordedFile
 from vc.recording.recorder import SessionInfo, SessionRecorder
 from vc.scenario.loader import load_scenario
 from vc.scenario.runner import ScenarioResult, run_scenario
+from vc.simulation.lockstep import Simulation
+from vc.simulation.observed import ObservedSimulation
 
 ROOT = Path(__file__).resolve().parents[3]
 OPERATOR = ROOT / "tests" / "vc" / "recording" / "reference_x1_operator.yaml"

@@ -10,7 +10,6 @@ import pytest
 from recording_helpers import OPERATOR, record_scenario
 
 from vc.cli.main import main
-from vc.harness.observed import OperatorAction
 from vc.located_yaml import SourceError
 from vc.recording.format import (
     END,
@@ -26,6 +25,7 @@ from vc.recording.format import (
     read_recording,
     row_json,
 )
+from vc.simulation.observed import OperatorAction
 
 HEADER = Header("mini", RecordedFile("machines/mini.yaml", "machine: mini\n"), None, "basic_machine", "modbus",
                 "lockstep", 2000, 5, {"DB10": 120, "DB31": 160, "I": 4, "Q": 2}, "test")

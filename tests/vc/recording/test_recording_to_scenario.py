@@ -11,7 +11,7 @@ from recording_helpers import OPERATOR, ROOT, record_scenario
 
 from interfaces.links.inprocess import plc_programs
 from vc.cli.main import main
-from vc.harness.scenarios import simulation_for
+from vc.harness.targets import simulation_for
 from vc.recording.format import read_recording
 from vc.recording.to_scenario import ConversionError, to_scenario
 from vc.scenario.loader import load_scenario

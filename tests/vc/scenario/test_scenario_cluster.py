@@ -20,7 +20,7 @@ import pytest
 from rich.console import Console
 
 from interfaces.links.inprocess import plc_programs
-from vc.harness.scenarios import simulation_for
+from vc.harness.targets import simulation_for
 from vc.scenario.cluster import (
     Bundle,
     ClusterError,

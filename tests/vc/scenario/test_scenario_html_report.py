@@ -18,7 +18,7 @@ from rich.console import Console
 
 from interfaces.links.inprocess import plc_programs
 from vc.cli.main import main
-from vc.harness.scenarios import simulation_for
+from vc.harness.targets import simulation_for
 from vc.scenario.command import EXIT_FAILED, EXIT_PASSED, run_command
 from vc.scenario.loader import load_scenarios
 from vc.scenario.runner import run_one

@@ -14,10 +14,10 @@ import pytest
 from rich.console import Console
 
 from interfaces.links.inprocess import plc_programs
-from vc.harness.scenarios import simulation_for
-from vc.harness.simulation import Simulation
+from vc.harness.targets import simulation_for
 from vc.scenario.command import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_PASSED, run_command
 from vc.scenario.model import Scenario
+from vc.simulation.lockstep import Simulation
 
 ROOT = Path(__file__).resolve().parents[3]
 FOUNDATION = "scenarios/foundation"
