@@ -1,6 +1,6 @@
 """The five-axis functions of a channel (Syntec, seed 001): G43.4, G43 / G49, G68.2 / G69, G53.1.
 
-The kinematic chain is the channel's MD63000-63055 (``vc/core/transforms/five_axis.py``); the
+The kinematic chain is the channel's MD63000-63055 (``vc/core/kinematics/five_axis.py``); the
 linear axes are the geometry axes (MD20050), the rotary axes those of MD63000.  This module
 decides, the transforms compute:
 
@@ -47,8 +47,7 @@ from vc.core.five_axis_program import (
     FiveAxisWords,
 )
 from vc.core.interpreter import BlockPlan, DecodeAlarm, end_point_limit_alarm, software_limit_alarm
-from vc.core.tool_path import ToolPathSegment
-from vc.core.transforms.five_axis import (
+from vc.core.kinematics.five_axis import (
     NO_ROTATION,
     Kinematics,
     MachinePosition,
@@ -61,9 +60,10 @@ from vc.core.transforms.five_axis import (
     tool_axes,
     tool_center_point,
 )
-from vc.core.transforms.geometry import Vec3
-from vc.core.transforms.tilted_plane import align_tool, euler_frame
-from vc.core.transforms.transform_alarm import FIVE_AXIS_PROGRAM, ROTARY_RANGE, TransformAlarm
+from vc.core.kinematics.geometry import Vec3
+from vc.core.kinematics.tilted_plane import align_tool, euler_frame
+from vc.core.kinematics.transform_alarm import FIVE_AXIS_PROGRAM, ROTARY_RANGE, TransformAlarm
+from vc.core.tool_path import ToolPathSegment
 
 # Words each five-axis G code takes (seed 001 L42-46, L59-60).
 _ARGUMENTS = {TOOL_CENTER_POINT: "HLER", LENGTH_COMPENSATION: "H", TILTED_PLANE: "IJK", ALIGN_TOOL: "P"}

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from vc.core.transforms.tilted_plane import Frame
+from vc.core.kinematics.tilted_plane import Frame
 
 TOOL_CENTER_POINT = 43.4
 LENGTH_COMPENSATION = 43.0

@@ -1,6 +1,6 @@
 """The inclined-axis control of a channel on the NC core (GSK 988TD, seed 000).
 
-The formulas and decisions are the pure functions of ``vc/core/transforms/inclined_axis.py``;
+The formulas and decisions are the pure functions of ``vc/core/kinematics/inclined_axis.py``;
 this module applies them to the channel's two machine axes:
 
 * ``program_positions``: where the pair stands in program (Cartesian) coordinates, the start of
@@ -42,7 +42,7 @@ from vc.core.axis import FREE_JOG, JogLimits, MachineAxis, Owner
 from vc.core.circle import Arc
 from vc.core.interface_map import Bit, SignalTable
 from vc.core.interpreter import BlockPlan, DecodeAlarm, software_limit_alarm
-from vc.core.transforms.inclined_axis import (
+from vc.core.kinematics.inclined_axis import (
     AxisPair,
     ConflictingFunction,
     InclinedAxisOff,
@@ -62,7 +62,7 @@ from vc.core.transforms.inclined_axis import (
     stroke_check_position,
     to_program,
 )
-from vc.core.transforms.transform_alarm import INCLINED_G28_BLOCK, INCLINED_ORDER
+from vc.core.kinematics.transform_alarm import INCLINED_G28_BLOCK, INCLINED_ORDER
 
 ARC_CHECK_POINTS_MIN = 32  # points of an arc checked against the stroke limits before it moves ...
 ARC_CHECK_POINTS_MAX = 512  # ... about one per mm of its path

@@ -23,6 +23,7 @@ from vc.config.model import MachineConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis import MachineAxis
 from vc.core.inclined_axis_channel import InclinedAxisControl, at_reference_point
+from vc.core.kinematics.inclined_axis import reference_order_alarm
 from vc.core.nc_memory import NcMemory
 from vc.core.referencing import (
     AxisReferencing,
@@ -31,7 +32,6 @@ from vc.core.referencing import (
     Source,
     passive_distance_coded,
 )
-from vc.core.transforms.inclined_axis import reference_order_alarm
 
 
 class ReferencingControl:

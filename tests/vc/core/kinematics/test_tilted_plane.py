@@ -8,9 +8,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from vc.core.transforms.five_axis import FiveAxisParameters, Kinematics, RotaryAngles, resolve
-from vc.core.transforms.geometry import ORIGIN, Vec3
-from vc.core.transforms.tilted_plane import (
+from vc.core.kinematics.five_axis import FiveAxisParameters, Kinematics, RotaryAngles, resolve
+from vc.core.kinematics.geometry import ORIGIN, Vec3
+from vc.core.kinematics.tilted_plane import (
     Frame,
     TeachFailure,
     align_tool,
@@ -18,7 +18,7 @@ from vc.core.transforms.tilted_plane import (
     three_point_frame,
     two_vector_frame,
 )
-from vc.core.transforms.transform_alarm import ROTARY_P_OUT_OF_RANGE, TransformAlarm
+from vc.core.kinematics.transform_alarm import ROTARY_P_OUT_OF_RANGE, TransformAlarm
 
 
 def near(actual: Vec3, expected: tuple[float, float, float], tolerance: float = 1e-4) -> bool:

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from vc.core.transforms.geometry import (
+from vc.core.kinematics.geometry import (
     IDENTITY,
     X_AXIS,
     Y_AXIS,

@@ -14,7 +14,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from vc.config.loader import load_machine
-from vc.core.transforms.inclined_axis import (
+from vc.core.kinematics.inclined_axis import (
     IS_C_DEGREES,
     AxisFallback,
     AxisPair,
@@ -42,7 +42,7 @@ from vc.core.transforms.inclined_axis import (
     to_machine,
     to_program,
 )
-from vc.core.transforms.transform_alarm import (
+from vc.core.kinematics.transform_alarm import (
     INCLINED_CONFIGURATION,
     INCLINED_G28_BLOCK,
     INCLINED_INCOMPATIBLE,

@@ -55,7 +55,7 @@ from enum import IntEnum
 
 from vc.config import md_dictionary as MD
 from vc.config.machine_data import MachineData, MdDef
-from vc.core.transforms.geometry import (
+from vc.core.kinematics.geometry import (
     IDENTITY,
     ORIGIN,
     X_AXIS,
@@ -68,7 +68,7 @@ from vc.core.transforms.geometry import (
     signed_degrees,
     wrap_degrees,
 )
-from vc.core.transforms.transform_alarm import ROTARY_NO_SOLUTION, TransformAlarm
+from vc.core.kinematics.transform_alarm import ROTARY_NO_SOLUTION, TransformAlarm
 
 BLU_DEGREES = 0.001  # a Syntec angle BLU (290 degrees = 290000, seed 001 L15)
 BLU_MM = 0.001  # a Syntec length BLU, by the same rule [INF]

@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from vc.config.loader import load_machine
-from vc.core.transforms.five_axis import (
+from vc.core.kinematics.five_axis import (
     NO_ROTATION,
     FiveAxisParameters,
     Kinematics,
@@ -40,8 +40,8 @@ from vc.core.transforms.five_axis import (
     tool_axes,
     tool_center_point,
 )
-from vc.core.transforms.geometry import ORIGIN, Vec3, signed_degrees
-from vc.core.transforms.transform_alarm import ROTARY_NO_SOLUTION, TransformAlarm
+from vc.core.kinematics.geometry import ORIGIN, Vec3, signed_degrees
+from vc.core.kinematics.transform_alarm import ROTARY_NO_SOLUTION, TransformAlarm
 
 MILL_5AXIS = str(Path(__file__).resolve().parents[4] / "scenarios" / "machines" / "mill_5axis.yaml")
 RIGHT, LEFT = 1, 2  # Pr3007/3008

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from vc.core.transforms.five_axis import (
+from vc.core.kinematics.five_axis import (
     NO_ROTATION,
     Kinematics,
     Preference,
@@ -35,8 +35,8 @@ from vc.core.transforms.five_axis import (
     choose_solution,
     orientation_solutions,
 )
-from vc.core.transforms.geometry import X_AXIS, Z_AXIS, Mat3, Vec3, rotation
-from vc.core.transforms.transform_alarm import ROTARY_P_OUT_OF_RANGE, TransformAlarm
+from vc.core.kinematics.geometry import X_AXIS, Z_AXIS, Mat3, Vec3, rotation
+from vc.core.kinematics.transform_alarm import ROTARY_P_OUT_OF_RANGE, TransformAlarm
 
 ORTHOGONALITY_TOLERANCE = 1e-6  # cosine between the taught X and Z axes still taken as 90 degrees
 

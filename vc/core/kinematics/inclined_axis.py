@@ -48,7 +48,7 @@ from typing import NamedTuple
 from vc.config import md_dictionary as MD
 from vc.config.machine_data import MachineData
 from vc.config.model import ChannelConfig
-from vc.core.transforms.transform_alarm import (
+from vc.core.kinematics.transform_alarm import (
     INCLINED_CONFIGURATION,
     INCLINED_G28_BLOCK,
     INCLINED_INCOMPATIBLE,
