@@ -1,4 +1,4 @@
-"""The arc of a G2 / G3 block in program coordinates (vc/core/circle.py)."""
+"""The arc of a G2 / G3 block in program coordinates (vc/core/interpolation/circle.py)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import math
 import pytest
 from core_rig import DT, MILL, Rig, machine
 
-from vc.core.circle import Arc, ArcTolerance, plan_arc
+from vc.core.interpolation.circle import Arc, ArcTolerance, plan_arc
 
 PLANE = ("X1", "Y1")
 TOLERANCE = ArcTolerance()  # MD21000 = 0.01 mm, MD21010 = 0.001 as delivered

@@ -10,7 +10,12 @@ from core_rig import Rig, machine
 
 from interfaces.catalog import load_catalog
 from vc.config.loader import load_machine
-from vc.core.coupling import (
+from vc.core.coupling_types import BlockChange, Kind, block_change_of, kind_of
+from vc.core.nck.nck import Nck
+from vc.core.program.interpreter import BlockPlan, DecodeAlarm, ModalState, decode
+from vc.core.program.program import parse_program
+from vc.core.program.sync_actions import VariableWrite
+from vc.core.spindle.coupling import (
     ALARM_COUPLING_ACTIVE,
     ALARM_COUPLING_NOT_DEFINED,
     ALARM_TOO_MANY_COUPLINGS,
@@ -18,11 +23,6 @@ from vc.core.coupling import (
     dynamic_matching,
     wrap180,
 )
-from vc.core.coupling_types import BlockChange, Kind, block_change_of, kind_of
-from vc.core.interpreter import BlockPlan, DecodeAlarm, ModalState, decode
-from vc.core.nck import Nck
-from vc.core.program import parse_program
-from vc.core.sync_actions import VariableWrite
 
 TURN_MILL = str(Path(__file__).resolve().parents[3] / "scenarios" / "machines" / "turn_mill.yaml")
 

@@ -13,7 +13,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from vc.config.model import AxisConfig
-from vc.core.encoder import DistanceCode, MeasuringSystem, zero_mark_spacing
+from vc.core.axis.encoder import DistanceCode, MeasuringSystem, zero_mark_spacing
 
 
 def axis(name: str, overrides: str = "") -> AxisConfig:

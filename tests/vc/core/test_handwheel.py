@@ -1,10 +1,10 @@
-"""The handwheels' pulses (vc/core/handwheel.py): detents spread evenly over the turn."""
+"""The handwheels' pulses (vc/core/axis/handwheel.py): detents spread evenly over the turn."""
 
 from __future__ import annotations
 
 import pytest
 
-from vc.core.handwheel import Handwheels
+from vc.core.axis.handwheel import Handwheels
 
 
 def test_the_detents_arrive_evenly_and_the_wheel_turns_until_its_time_is_over() -> None:

@@ -12,7 +12,7 @@ import math
 import pytest
 
 from tests.vc.core.core_rig import Rig, machine, with_start_position
-from vc.core.referencing import Source
+from vc.core.referencing.referencing import Source
 
 TAN = math.tan(math.radians(-30.0))
 COS = math.cos(math.radians(-30.0))

@@ -13,8 +13,9 @@ from core_rig import ABSOLUTE_XYZ, machine
 
 from interfaces.catalog import load_catalog
 from vc.config.model import ChannelConfig
-from vc.core.axis import MachineAxis
-from vc.core.interpreter import (
+from vc.core.axis.axis import MachineAxis
+from vc.core.nck.nck import Nck
+from vc.core.program.interpreter import (
     EXACT_STOP_COARSE,
     EXACT_STOP_FINE,
     INTERPOLATION_END,
@@ -23,8 +24,7 @@ from vc.core.interpreter import (
     ModalState,
     decode,
 )
-from vc.core.nck import Nck
-from vc.core.program import parse_program
+from vc.core.program.program import parse_program
 
 
 class Decoder:

@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from vc.core.motion import JerkFilter, braking_distance, ramp, stopping_distance, stopping_velocity
+from vc.core.axis.motion import JerkFilter, braking_distance, ramp, stopping_distance, stopping_velocity
 
 DT = 0.002  # s, one IPO cycle
 ACCEL = 4000.0  # mm/s^2 = MD32300 4 m/s^2

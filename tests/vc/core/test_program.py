@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from vc.core.program import (
+from vc.core.program.program import (
     Assignment,
     Block,
     Call,

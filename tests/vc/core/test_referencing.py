@@ -4,7 +4,7 @@ slip, the NC's machine-data memory and the positioning of the referencing proced
 Turn-mill X1: measuring system 1 = motor encoder (zero marks every 10 mm at ..., 265, 275,
 285), measuring system 2 = linear scale with distance-coded marks (MD34300 = B = 20 mm,
 MD34310 = I = 0.02 mm, first mark at physical -20, MD34090[1] = -20: actual = physical).
-Scale 2 layout (vc/core/encoder.py): mark 2k at -20 + 20k, mark 2k+1 at -20 + 20k + 10 +
+Scale 2 layout (vc/core/axis/encoder.py): mark 2k at -20 + 20k, mark 2k+1 at -20 + 20k + 10 +
 (k+1)*0.02.  The slide stands at 150 at power-on.
 """
 
@@ -20,10 +20,15 @@ from hypothesis import strategies as st
 
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList
-from vc.core.axis import MachineAxis, Owner
-from vc.core.encoder import DistanceCode
+from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.encoder import DistanceCode
 from vc.core.nc_memory import BufferedEncoder, NcMemory
-from vc.core.referencing import AxisReferencing, encoder_slip, modulo_reference_position, restore_at_power_on
+from vc.core.referencing.referencing import (
+    AxisReferencing,
+    encoder_slip,
+    modulo_reference_position,
+    restore_at_power_on,
+)
 
 SCALE = DistanceCode(20.0, 0.02, -20.0)  # measuring system 2 of X1
 

@@ -1,4 +1,4 @@
-"""The retract motion's jerk-limited profile (vc/core/retract_motion.py, MD32431, seed 003 L8340-8349)."""
+"""The retract motion's jerk-limited profile (vc/core/retraction/retract_motion.py, MD32431, seed 003 L8340-8349)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from vc.core.retract_motion import SCurve
+from vc.core.retraction.retract_motion import SCurve
 
 
 @pytest.mark.parametrize(

@@ -18,8 +18,8 @@ import pytest
 from core_rig import ABSOLUTE_XYZ, Rig, machine
 
 from vc.config import md_dictionary as MD
-from vc.core.gear_change import select_gear
-from vc.core.spindle import Spindle, SpindleMode
+from vc.core.spindle.gear_change import select_gear
+from vc.core.spindle.spindle import Spindle, SpindleMode
 
 IPO = 0.002
 

@@ -1,4 +1,4 @@
-"""Stored stroke limits 2 (G22 / G23) and 3 (vc/core/stroke_limits.py), alone and on turn_mill's
+"""Stored stroke limits 2 (G22 / G23) and 3 (vc/core/axis/stroke_limits.py), alone and on turn_mill's
 inclined Y1 (theta -30 degrees, C = 1; seed 000 L264-291, L414-429).
 
 X1, Y1, Z1 are absolute and referenced at power-on: X1 at 150, Y1 at 0, Z1 at 300.  The box of
@@ -12,7 +12,7 @@ import math
 import pytest
 from core_rig import Rig, machine
 
-from vc.core.stroke_limits import StrokeArea
+from vc.core.axis.stroke_limits import StrokeArea
 
 COS = math.cos(math.radians(-30.0))
 TAN = math.tan(math.radians(-30.0))

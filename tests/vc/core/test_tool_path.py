@@ -14,8 +14,8 @@ from typing import Any
 import pytest
 
 from tests.vc.core.core_rig import Rig, machine
-from vc.core.axis import MachineAxis
-from vc.core.tool_path import ToolPathSegment
+from vc.core.axis.axis import MachineAxis
+from vc.core.interpolation.tool_path import ToolPathSegment
 
 DT = 0.002
 

@@ -15,7 +15,7 @@ geometry axis (DB21.DBX13.0..13.4 / 17.x / 21.x [control: the seed prints these 
 at DB31.DBX5.x, L33005-33009]): a detent moves the geometry axis in the WCS, through the machine
 axis it is; under the inclined-axis transform program Y is the inclined axis's travel x cos(theta),
 so a detent moves the inclined axis by the increment / cos(theta) and JOG's Cartesian rule carries
-the orthogonal one (NOZAGC = 0, vc/core/inclined_axis_channel.py).  DB21.DBX40.0..2 reports the
+the orthogonal one (NOZAGC = 0, vc/core/transforms/inclined_axis_control.py).  DB21.DBX40.0..2 reports the
 handwheel of geometry axis 1 (L34189-34193; the seed prints no such bits for geometry axes 2 and 3).
 
 In a manual retraction (L35590-35598) the pulses are evaluated by priority: the retract (tool)

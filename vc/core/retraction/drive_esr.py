@@ -21,7 +21,7 @@ second cycle.  Timeline of one axis (figures 22-1, 22-2, 22-4)::
     ACKNOWLEDGED ──enable 0 -> 1 and $AN_ESR_TRIGGER = 0──▶ ARMED
 
 Generator operation (p0888 = 3, set up in the drive: the axis's ``drive:`` parameters) turns the
-motor's kinetic energy into the DC link's when the supply fails (L41700-41769, vc/core/dc_link.py):
+motor's kinetic energy into the DC link's when the supply fails (L41700-41769, vc/core/retraction/dc_link.py):
 from the trigger T1 until T2 = T1 + p0892 the drive holds its speed setpoint, and its Vdc_min
 controller brakes the motor whenever the link falls to p1248 (DB31.DBX95.1, r0056.15); at T2 it
 brakes on the ramp.  DB31.DBX95.3 (r2199.0) shows the motor below the minimum speed p2161, where
@@ -38,9 +38,9 @@ from enum import Enum
 
 from vc.config import md_dictionary as MD
 from vc.config.model import EXTENDED_RETRACT, EXTENDED_STOP, GENERATOR_OPERATION, SPEED_HYSTERESIS
-from vc.core.axis import MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.motion import ramp
 from vc.core.interface_map import SignalTable
-from vc.core.motion import ramp
 
 TRIGGER_CYCLES = 2  # $AN_ESR_TRIGGER must stand this many IPO cycles to reach the drive (L41806-41809)
 STAT_REACTION = 1 << 2  # $AA_ESR_STAT bit 2 = r0887.12 = DB31.DBX95.2

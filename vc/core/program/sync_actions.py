@@ -26,7 +26,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from vc.core.program import number, tokenize
+from vc.core.program.program import number, tokenize
 from vc.input_limits import MAX_EXPRESSION_DEPTH, MAX_EXPRESSION_NESTING, MAX_MAGNITUDE
 
 Reader = Callable[[str, str], float]  # (variable, index) -> value; KeyError for an unknown variable

@@ -36,8 +36,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from vc.core.axis import FREE_JOG, JogLimits, MachineAxis, Owner
-from vc.core.channel import Channel, ChannelState, Mode
+from vc.core.axis.axis import FREE_JOG, JogLimits, MachineAxis, Owner
+from vc.core.channel.channel import Channel, ChannelState, Mode
 from vc.core.interface_map import SignalTable
 from vc.core.nc_memory import NcMemory, RetractData
 

@@ -27,25 +27,25 @@ from interfaces.image import ProcessImage
 from interfaces.signals import Catalog, Direction, InstanceKind, expand
 from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
-from vc.core.alarm_area import AlarmArea
 from vc.core.alarms import STOP_AXES, Alarm, AlarmList, Clear, Reaction
-from vc.core.axis import AxisSignals, MachineAxis, Owner
-from vc.core.channel import Channel, ChannelSignals, ChannelState, Mode
-from vc.core.coupling import Couplings, CouplingSignals
-from vc.core.dc_link import DcLink
-from vc.core.drive_esr import DriveEsr, DriveEsrSignals
-from vc.core.esr import ChannelEsr, NckEsr
-from vc.core.handwheel import GEOMETRY_AXES, Handwheels, HandwheelSignals
-from vc.core.inclined_axis_channel import InclinedAxisControl, inclined_axis_control
+from vc.core.axis.axis import AxisSignals, MachineAxis, Owner
+from vc.core.axis.handwheel import GEOMETRY_AXES, Handwheels, HandwheelSignals
+from vc.core.channel.channel import Channel, ChannelSignals, ChannelState, Mode
+from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.interface_map import SignalTable
-from vc.core.manual_retraction import ManualRetraction, RetractionSignals
-from vc.core.mode_group import ModeGroup, ModeGroupSignals
 from vc.core.nc_memory import NcMemory
+from vc.core.nck.alarm_area import AlarmArea
+from vc.core.nck.manual_retraction import ManualRetraction, RetractionSignals
+from vc.core.nck.mode_group import ModeGroup, ModeGroupSignals
 from vc.core.overrides import OverrideCoding
-from vc.core.polygon import PolygonTurning
-from vc.core.referencing import buffer_at_power_off, encoder_slip, restore_at_power_on
-from vc.core.referencing_control import ReferencingControl
-from vc.core.spindle import Spindle, SpindleSignals
+from vc.core.referencing.referencing import buffer_at_power_off, encoder_slip, restore_at_power_on
+from vc.core.retraction.dc_link import DcLink
+from vc.core.retraction.drive_esr import DriveEsr, DriveEsrSignals
+from vc.core.retraction.esr import ChannelEsr, NckEsr
+from vc.core.spindle.coupling import Couplings, CouplingSignals
+from vc.core.spindle.polygon import PolygonTurning
+from vc.core.spindle.spindle import Spindle, SpindleSignals
+from vc.core.transforms.inclined_axis_control import InclinedAxisControl, inclined_axis_control
 
 EMERGENCY_STOP_ALARM = 3000
 PLC_SIGN_OF_LIFE_ALARM = 2000

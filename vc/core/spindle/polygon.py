@@ -23,11 +23,11 @@ from __future__ import annotations
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import Alarm, Reaction
-from vc.core.axis import MachineAxis
-from vc.core.coupling import Couplings
+from vc.core.axis.axis import MachineAxis
 from vc.core.coupling_types import BlockChange, Kind
-from vc.core.interpreter import PolygonCommand
-from vc.core.spindle import RPM, Spindle
+from vc.core.program.interpreter import PolygonCommand
+from vc.core.spindle.coupling import Couplings
+from vc.core.spindle.spindle import RPM, Spindle
 
 ALARM_NOT_AVAILABLE = 12550  # no master / slave configured: the function is not available
 ALARM_RESYNC_NOT_ALLOWED = 65841

@@ -32,9 +32,9 @@ from enum import Enum
 from vc.config import md_dictionary as MD
 from vc.config.model import AxisConfig
 from vc.core.alarms import AlarmList
-from vc.core.encoder import MeasuringSystem, rotary_frequency_limit_velocity
+from vc.core.axis.encoder import MeasuringSystem, rotary_frequency_limit_velocity
+from vc.core.axis.motion import JerkFilter, ramp, stopping_velocity
 from vc.core.interface_map import SignalTable
-from vc.core.motion import JerkFilter, ramp, stopping_velocity
 
 _TINY = 1e-9
 _RESOLUTION = 1e-6  # mm or degrees: far below the control's internal precision of 1 um
@@ -46,10 +46,11 @@ class Owner(Enum):
     PATH = "path"
     REF = "ref"
     BRAKE = "brake"
-    SPINDLE = "spindle"  # a spindle turning, oscillating or positioning on its own (vc/core/spindle.py)
-    COUPLING = "coupling"  # the following spindle of a coupling (vc/core/coupling.py)
-    TRANSFORM = "transform"  # the orthogonal axis carried along by its inclined axis (vc/core/inclined_axis_channel.py)
-    RETRACT = "retract"  # a retract motion at maximum dynamics (LIFTFAST, ESR: vc/core/retract_motion.py)
+    SPINDLE = "spindle"  # a spindle turning, oscillating or positioning on its own (vc/core/spindle/spindle.py)
+    COUPLING = "coupling"  # the following spindle of a coupling (vc/core/spindle/coupling.py)
+    # the orthogonal axis carried along by its inclined axis (vc/core/transforms/inclined_axis_control.py)
+    TRANSFORM = "transform"
+    RETRACT = "retract"  # a retract motion at maximum dynamics (LIFTFAST, ESR: vc/core/retraction/retract_motion.py)
 
 
 @dataclass(frozen=True, slots=True)
@@ -58,7 +59,7 @@ class AxisDynamics:
 
     max_velocity: float
     max_accel: float
-    max_jerk: float  # MD32431: the retract motion's jerk limit (vc/core/retract_motion.py)
+    max_jerk: float  # MD32431: the retract motion's jerk limit (vc/core/retraction/retract_motion.py)
     jog_velocity: float
     jog_rapid_velocity: float
     drf_velocity: float  # the DRF offset's handwheel velocity: JOG velocity x MD32090
@@ -121,7 +122,7 @@ def dynamics_of(axis: AxisConfig) -> AxisDynamics:
 @dataclass(frozen=True, slots=True)
 class CoupledLoop:
     """The position loop a synchronous spindle coupling sets on a spindle in place of its own
-    (vc/core/coupling.py, L22997-23006, L23756-23775): Kv, feedforward weight (0 = off) and the
+    (vc/core/spindle/coupling.py, L22997-23006, L23756-23775): Kv, feedforward weight (0 = off) and the
     equivalent speed-control time MD32810 the feedforward's symmetrising models.  The drive itself
     keeps its own lag: MD32810 only tells the control how fast the drive is."""
 
@@ -286,7 +287,7 @@ class MachineAxis:
         self.speed_control = False
         # a part clamped in this spindle and another: the slide is held at k x the other's position + offset
         self.clamp: tuple[MachineAxis, float, float] | None = None
-        self.handwheel_rest = 0.0  # JOG: the handwheel's distance still to travel (vc/core/handwheel.py)
+        self.handwheel_rest = 0.0  # JOG: the handwheel's distance still to travel (vc/core/axis/handwheel.py)
         self._coupled_loop: CoupledLoop | None = None  # set each cycle while the spindle is coupled
         # DRF (AUTO / MDA, DB21.DBX0.3): the handwheel's offset in the MCS, overlaid on the path (part of
         # ``overlay``), and the distance of it still to travel; it outlives reset and program end (L36426)

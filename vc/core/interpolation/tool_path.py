@@ -4,7 +4,7 @@ Under G43.4 the channel interpolates the tool tip and the rotary angles, not the
 axes: the path parameter ``s`` runs over the path in program coordinates and, every IPO
 cycle, a transform turns the program point at ``s`` into machine axis positions
 (``positions_at``).  The machine axes then move on curves, and their velocities are not in
-a fixed ratio to the path velocity as in a linear block (``vc/core/path.py``).
+a fixed ratio to the path velocity as in a linear block (``vc/core/interpolation/path.py``).
 
 Axis limits.  When the segment is planned, ``positions_at`` is sampled along the path once
 (``samples``, also the points the software limits are checked at); the largest first and second
@@ -28,8 +28,8 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
-from vc.core.axis import MachineAxis
-from vc.core.motion import path_step
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.motion import path_step
 
 SAMPLES_MIN = 32  # samples along a segment for its axis limits ...
 SAMPLES_MAX = 512  # ... about one per mm or degree of the path or of the largest machine-axis travel

@@ -14,8 +14,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from vc.core.axis import MachineAxis
-from vc.core.motion import path_step
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.motion import path_step
 
 
 @dataclass(slots=True)

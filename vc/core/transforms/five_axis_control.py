@@ -7,7 +7,7 @@ decides, the transforms compute:
 * ``apply`` checks a block's five-axis words and sets the modal state (``FiveAxisModal``);
 * ``program_positions`` is where the geometry axes stand in program coordinates, the start of
   incremental words;
-* ``plan`` turns a block into a :class:`~vc.core.tool_path.ToolPathSegment` while a transform is
+* ``plan`` turns a block into a :class:`~vc.core.interpolation.tool_path.ToolPathSegment` while a transform is
   active, or refuses it with an alarm before anything moves;
 * ``quantity`` is the tool tip and direction for traces and scenarios.
 
@@ -35,18 +35,8 @@ from collections.abc import Collection, Sequence
 
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
-from vc.core.axis import MachineAxis
-from vc.core.five_axis_program import (
-    ALIGN_TOOL,
-    LENGTH_CANCEL,
-    LENGTH_COMPENSATION,
-    TILTED_PLANE,
-    TILTED_PLANE_CANCEL,
-    TOOL_CENTER_POINT,
-    FiveAxisModal,
-    FiveAxisWords,
-)
-from vc.core.interpreter import BlockPlan, DecodeAlarm, end_point_limit_alarm, software_limit_alarm
+from vc.core.axis.axis import MachineAxis
+from vc.core.interpolation.tool_path import ToolPathSegment
 from vc.core.kinematics.five_axis import (
     NO_ROTATION,
     Kinematics,
@@ -63,7 +53,17 @@ from vc.core.kinematics.five_axis import (
 from vc.core.kinematics.geometry import Vec3
 from vc.core.kinematics.tilted_plane import align_tool, euler_frame
 from vc.core.kinematics.transform_alarm import FIVE_AXIS_PROGRAM, ROTARY_RANGE, TransformAlarm
-from vc.core.tool_path import ToolPathSegment
+from vc.core.program.five_axis_program import (
+    ALIGN_TOOL,
+    LENGTH_CANCEL,
+    LENGTH_COMPENSATION,
+    TILTED_PLANE,
+    TILTED_PLANE_CANCEL,
+    TOOL_CENTER_POINT,
+    FiveAxisModal,
+    FiveAxisWords,
+)
+from vc.core.program.interpreter import BlockPlan, DecodeAlarm, end_point_limit_alarm, software_limit_alarm
 
 # Words each five-axis G code takes (seed 001 L42-46, L59-60).
 _ARGUMENTS = {TOOL_CENTER_POINT: "HLER", LENGTH_COMPENSATION: "H", TILTED_PLANE: "IJK", ALIGN_TOOL: "P"}

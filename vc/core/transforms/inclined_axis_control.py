@@ -38,10 +38,9 @@ from collections.abc import Collection, Mapping
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
-from vc.core.axis import FREE_JOG, JogLimits, MachineAxis, Owner
-from vc.core.circle import Arc
+from vc.core.axis.axis import FREE_JOG, JogLimits, MachineAxis, Owner
 from vc.core.interface_map import Bit, SignalTable
-from vc.core.interpreter import BlockPlan, DecodeAlarm, software_limit_alarm
+from vc.core.interpolation.circle import Arc
 from vc.core.kinematics.inclined_axis import (
     AxisPair,
     ConflictingFunction,
@@ -63,6 +62,7 @@ from vc.core.kinematics.inclined_axis import (
     to_program,
 )
 from vc.core.kinematics.transform_alarm import INCLINED_G28_BLOCK, INCLINED_ORDER
+from vc.core.program.interpreter import BlockPlan, DecodeAlarm, software_limit_alarm
 
 ARC_CHECK_POINTS_MIN = 32  # points of an arc checked against the stroke limits before it moves ...
 ARC_CHECK_POINTS_MAX = 512  # ... about one per mm of its path

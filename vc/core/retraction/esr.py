@@ -54,10 +54,12 @@ from typing import TYPE_CHECKING
 
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList, Reaction
-from vc.core.axis import MachineAxis, Owner
-from vc.core.drive_esr import TRIGGER_CYCLES, DriveEsr
-from vc.core.drive_esr import Reaction as DriveReaction
-from vc.core.retract_motion import (
+from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.interpolation.thread_cutting import ThreadSegment
+from vc.core.program.sync_actions import Reader, SyncAction, VariableWrite
+from vc.core.retraction.drive_esr import TRIGGER_CYCLES, DriveEsr
+from vc.core.retraction.drive_esr import Reaction as DriveReaction
+from vc.core.retraction.retract_motion import (
     LFPOS,
     RetractMotion,
     RetractProgramming,
@@ -68,12 +70,10 @@ from vc.core.retract_motion import (
     retract_positions,
     through_transform,
 )
-from vc.core.sync_actions import Reader, SyncAction, VariableWrite
-from vc.core.thread_cutting import ThreadSegment
 
 if TYPE_CHECKING:
-    from vc.core.path import PathSegment
-    from vc.core.tool_path import ToolPathSegment
+    from vc.core.interpolation.path import PathSegment
+    from vc.core.interpolation.tool_path import ToolPathSegment
 
     Interpolation = PathSegment | ToolPathSegment | ThreadSegment  # what the stop axes run on
 

@@ -1,7 +1,7 @@
 """Spindles (seed 003 chapter 13): modes, speed, positioning, gear stages, monitoring, DB31 status.
 
 A spindle is a machine axis with MD35000 > 0.  :class:`Spindle` owns its motion whenever it
-turns on its own (owner ``SPINDLE`` of the :class:`~vc.core.axis.MachineAxis`): it ramps the
+turns on its own (owner ``SPINDLE`` of the :class:`~vc.core.axis.axis.MachineAxis`): it ramps the
 speed setpoint, integrates it into the axis's position setpoint and lets the axis's loop, drive
 and encoder do the rest.  In axis mode (M70) the channel's path moves it like a rotary axis.
 
@@ -40,8 +40,14 @@ from enum import Enum
 from vc.config import md_dictionary as MD
 from vc.config.machine_data import MachineData, MdDef
 from vc.core.alarms import STOP_AXES, AlarmList
-from vc.core.axis import MachineAxis, Owner
-from vc.core.gear_change import (
+from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.motion import braking_distance, ramp, stopping_velocity
+from vc.core.interface_map import SignalTable
+from vc.core.nc_memory import NcMemory
+from vc.core.overrides import OverrideCoding
+from vc.core.program.interpreter import SpindleCommand
+from vc.core.referencing.referencing import lose_calibration
+from vc.core.spindle.gear_change import (
     ALARM_CATCH_UP_IMPOSSIBLE,
     ALARM_GEAR_CHANGE_NOT_POSSIBLE,
     ALARM_NOT_ACKNOWLEDGED,
@@ -56,12 +62,6 @@ from vc.core.gear_change import (
     Oscillation,
     select_gear,
 )
-from vc.core.interface_map import SignalTable
-from vc.core.interpreter import SpindleCommand
-from vc.core.motion import braking_distance, ramp, stopping_velocity
-from vc.core.nc_memory import NcMemory
-from vc.core.overrides import OverrideCoding
-from vc.core.referencing import lose_calibration
 
 RPM = 6.0  # rev/min -> deg/s
 REV_S2 = 360.0  # rev/s^2 -> deg/s^2
@@ -80,7 +80,7 @@ class SpindleMode(Enum):
     OSCILLATION = "oscillation"
     POSITIONING = "positioning"
     AXIS = "axis"
-    SYNCHRONOUS = "synchronous"  # following spindle of a coupling (84.4): vc/core/coupling.py drives it
+    SYNCHRONOUS = "synchronous"  # following spindle of a coupling (84.4): vc/core/spindle/coupling.py drives it
 
 
 class SpindleSignals:
@@ -437,7 +437,7 @@ class Spindle:
             return self.stationary()
         return True
 
-    # ------------------------------------------------------------------ coupling (vc/core/coupling.py)
+    # ------------------------------------------------------------------ coupling (vc/core/spindle/coupling.py)
     def enter_synchronous_mode(self) -> None:
         """The spindle becomes the following spindle of a coupling: its own motion ends."""
         self.quiet = False

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 from vc.config import md_dictionary as MD
 from vc.config.machine_data import MdDef
-from vc.core.axis import MachineAxis
+from vc.core.axis.axis import MachineAxis
 
 STROKE_LIMIT_2_PLUS = 502  # FANUC OT0502 + overtravel (soft 2)
 STROKE_LIMIT_2_MINUS = 503

@@ -15,18 +15,19 @@ from dataclasses import dataclass, field
 
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
-from vc.core.axis import MachineAxis
-from vc.core.circle import CENTRE_WORDS, CIRCLE_END_POINT, PLANES, Arc, ArcTolerance, plan_arc
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.stroke_limits import StrokeCommand
 from vc.core.coupling_types import SYNCHRONISM_THRESHOLDS, block_change_of, kind_of
-from vc.core.drive_esr import MAX_DELAY_S, DriveEsrCommand, esrr_command, esrs_command
-from vc.core.five_axis_program import (
+from vc.core.interpolation.circle import CENTRE_WORDS, CIRCLE_END_POINT, PLANES, Arc, ArcTolerance, plan_arc
+from vc.core.interpolation.thread_cutting import ThreadCommand
+from vc.core.program.five_axis_program import (
     FIVE_AXIS_ADDRESSES,
     FIVE_AXIS_G_CODES,
     TILTED_PLANE,
     FiveAxisModal,
     FiveAxisWords,
 )
-from vc.core.program import (
+from vc.core.program.program import (
     Assignment,
     Block,
     Call,
@@ -37,10 +38,9 @@ from vc.core.program import (
     ValueFunction,
     Word,
 )
-from vc.core.retract_motion import LFPOS, LFTXT, LFWP, RetractProgramming
-from vc.core.stroke_limits import StrokeCommand
-from vc.core.sync_actions import SyncAction, SyncActionError, VariableWrite, parse_actions, parse_condition
-from vc.core.thread_cutting import ThreadCommand
+from vc.core.program.sync_actions import SyncAction, SyncActionError, VariableWrite, parse_actions, parse_condition
+from vc.core.retraction.drive_esr import MAX_DELAY_S, DriveEsrCommand, esrr_command, esrs_command
+from vc.core.retraction.retract_motion import LFPOS, LFTXT, LFWP, RetractProgramming
 
 POLYGON_OUT_OF_RANGE = 65840  # project numbers: seed 002 names no alarms (spec 7.5 TV-PG-7)
 POLYGON_OWN_BLOCK = 65842
@@ -958,7 +958,7 @@ def _reference_return(decoder: _Decoder) -> bool:
 
 
 def _circle(decoder: _Decoder) -> None:
-    """G2 / G3 in the working plane (``vc/core/circle.py``): the end point from the axis words, the
+    """G2 / G3 in the working plane (``vc/core/interpolation/circle.py``): the end point from the axis words, the
     centre from I J K (incremental from the start point) or the radius from R / CR=; the start
     point is the program position.  The plane's axes join the targets (a full circle names none)."""
     plan, modal, channel, label = decoder.plan, decoder.modal, decoder.channel, decoder.block.label
@@ -1001,7 +1001,7 @@ def _circle(decoder: _Decoder) -> None:
 def _stroke_limit(decoder: _Decoder) -> None:
     """G22 [X_ I_] [Y_ J_] [Z_ K_] / G23 in a block of their own: each geometry axis word and the
     I / J / K of that axis are two corners of the box of stored stroke limit 2 (seed 000 L264-291,
-    ``vc/core/stroke_limits.py``); G23 takes no words [control: FANUC / GSK]."""
+    ``vc/core/axis/stroke_limits.py``); G23 takes no words [control: FANUC / GSK]."""
     plan, channel, label = decoder.plan, decoder.channel, decoder.block.label
     command = plan.stroke_limit
     assert command is not None

@@ -44,11 +44,11 @@ from vc.config import md_dictionary as MD
 from vc.config.machine_data import MachineData, MdDef
 from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
-from vc.core.axis import CoupledLoop, MachineAxis, Owner
+from vc.core.axis.axis import CoupledLoop, MachineAxis, Owner
+from vc.core.axis.motion import ramp, stopping_distance, stopping_velocity
 from vc.core.coupling_types import BlockChange, Kind
 from vc.core.interface_map import SignalTable
-from vc.core.motion import ramp, stopping_distance, stopping_velocity
-from vc.core.spindle import RPM, Spindle, SpindleMode
+from vc.core.spindle.spindle import RPM, Spindle, SpindleMode
 
 ALARM_OVERLAY_NOT_ENABLED = 16771  # differential speed without DB31.DBX26.4 (L23450-23456)
 ALARM_NO_SPEED_PROGRAMMED = 16111  # M3/M4 on the FS without S (L23485-23488)
@@ -661,7 +661,7 @@ class Couplings:
     # ------------------------------------------------------------------ PLC inputs
     def reset_movement(self, name: str) -> None:
         """DB31.DBX2.2 delete distance to go / spindle reset on its rising edge (the spindle itself
-        brakes, vc/core/spindle.py).  On an FS: the differential speed and its direction are
+        brakes, vc/core/spindle/spindle.py).  On an FS: the differential speed and its direction are
         deleted (L23529-23532) and a SPOS offset motion ends; on an LS: the overlaid motions of
         its FSs end as fast as possible, those of COUPON / COUPONC excepted, and the coupling stays
         (L23299-23303)."""

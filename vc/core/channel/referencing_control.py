@@ -21,17 +21,17 @@ from collections.abc import Sequence
 from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig
 from vc.core.alarms import AlarmList
-from vc.core.axis import MachineAxis
-from vc.core.inclined_axis_channel import InclinedAxisControl, at_reference_point
+from vc.core.axis.axis import MachineAxis
 from vc.core.kinematics.inclined_axis import reference_order_alarm
 from vc.core.nc_memory import NcMemory
-from vc.core.referencing import (
+from vc.core.referencing.referencing import (
     AxisReferencing,
     CycleConditions,
     PassiveMarkWatcher,
     Source,
     passive_distance_coded,
 )
+from vc.core.transforms.inclined_axis_control import InclinedAxisControl, at_reference_point
 
 
 class ReferencingControl:

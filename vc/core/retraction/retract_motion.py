@@ -31,7 +31,7 @@ from collections.abc import Collection
 from dataclasses import dataclass, field
 from typing import Protocol
 
-from vc.core.axis import MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis, Owner
 
 LFTXT, LFWP, LFPOS = "LFTXT", "LFWP", "LFPOS"  # G group 46: how the retract target is given
 # The plane's first and second axis (geometry axis names): ALF=1 points along the first, ALF=3 along the second.

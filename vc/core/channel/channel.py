@@ -38,14 +38,16 @@ from enum import Enum
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import CHANNEL_INTERRUPT, NC_START_DISABLED, STOP_AXES, AlarmList, Clear
-from vc.core.axis import FREE_JOG, JogLimits, MachineAxis, Owner
-from vc.core.coupling import ALARM_COUPLING_ACTIVE, Couplings
+from vc.core.axis.axis import FREE_JOG, JogLimits, MachineAxis, Owner
+from vc.core.axis.stroke_limits import BOUNDARY, StrokeLimitControl, StrokeStop
+from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.coupling_types import BlockChange, block_change_of, kind_of
-from vc.core.esr import ChannelEsr
-from vc.core.five_axis_channel import FiveAxisControl
-from vc.core.inclined_axis_channel import InclinedAxisControl
 from vc.core.interface_map import SignalTable
-from vc.core.interpreter import (
+from vc.core.interpolation.path import PathSegment
+from vc.core.interpolation.thread_cutting import THREAD_SPINDLE_STANDS, ThreadSegment
+from vc.core.interpolation.tool_path import ToolPathSegment
+from vc.core.overrides import OverrideCoding
+from vc.core.program.interpreter import (
     EXACT_STOP_COARSE,
     EXACT_STOP_FINE,
     BlockPlan,
@@ -56,17 +58,15 @@ from vc.core.interpreter import (
     decode,
     software_limit_alarm,
 )
-from vc.core.overrides import OverrideCoding
-from vc.core.path import PathSegment
-from vc.core.polygon import ALARM_AXIS_SYNCHRONISED, PolygonTurning
-from vc.core.program import Block, Jump, jump_target, parse_program
-from vc.core.referencing import Source, State
-from vc.core.referencing_control import ReferencingControl
-from vc.core.spindle import RPM, SUPPRESS_IN_DRY_RUN, SUPPRESS_IN_PROGRAM_TEST, Spindle, SpindleMode
-from vc.core.stroke_limits import BOUNDARY, StrokeLimitControl, StrokeStop
-from vc.core.sync_actions import SyncActionError, VariableWrite, parse_condition
-from vc.core.thread_cutting import THREAD_SPINDLE_STANDS, ThreadSegment
-from vc.core.tool_path import ToolPathSegment
+from vc.core.program.program import Block, Jump, jump_target, parse_program
+from vc.core.program.sync_actions import SyncActionError, VariableWrite, parse_condition
+from vc.core.referencing.referencing import Source, State
+from vc.core.retraction.esr import ChannelEsr
+from vc.core.spindle.coupling import ALARM_COUPLING_ACTIVE, Couplings
+from vc.core.spindle.polygon import ALARM_AXIS_SYNCHRONISED, PolygonTurning
+from vc.core.spindle.spindle import RPM, SUPPRESS_IN_DRY_RUN, SUPPRESS_IN_PROGRAM_TEST, Spindle, SpindleMode
+from vc.core.transforms.five_axis_control import FiveAxisControl
+from vc.core.transforms.inclined_axis_control import InclinedAxisControl
 
 
 class ChannelState(Enum):
@@ -936,7 +936,7 @@ class Channel:
 
     def stroke_jog_limits(self, axis: MachineAxis, cycle: int) -> JogLimits:
         """JOG stops on the boundary of stored stroke limits 2 and 3; held against it, the key raises
-        the limit's alarm (docstring of ``vc/core/stroke_limits.py``)."""
+        the limit's alarm (docstring of ``vc/core/axis/stroke_limits.py``)."""
         keys = axis.inputs
         if not (keys.key_plus or keys.key_minus or axis.owner is Owner.JOG):
             return FREE_JOG

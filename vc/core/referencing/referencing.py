@@ -44,8 +44,8 @@ from enum import Enum
 from vc.config import md_dictionary as MD
 from vc.config.machine_data import MachineData
 from vc.core.alarms import AlarmList
-from vc.core.axis import MachineAxis, Owner
-from vc.core.encoder import (
+from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.encoder import (
     DISTANCE_CODED_MODES,
     ENC_STATE_CALIBRATED,
     ENC_STATE_CALIBRATION_ENABLED,
@@ -53,7 +53,7 @@ from vc.core.encoder import (
     ENC_STATE_RESTORE,
     MeasuringSystem,
 )
-from vc.core.motion import braking_distance, ramp, stopping_velocity
+from vc.core.axis.motion import braking_distance, ramp, stopping_velocity
 from vc.core.nc_memory import BufferedEncoder, NcMemory
 
 ALARM_CAM_NOT_REACHED = 20000

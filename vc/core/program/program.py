@@ -14,10 +14,10 @@ A block is one line.  Its items::
     IF $AC_LIFTFAST GOTOB MM_THREAD
     GOTOF N100               a jump (GOTOB back, GOTOF forward, GOTO / GOTOC forward then back)
                              to a label or block number, with or without a condition (kept as
-                             text for vc/core/sync_actions.py); a label may stand before it
+                             text for vc/core/program/sync_actions.py); a label may stand before it
     IDS=2 WHENEVER $A_IN[1]==1 DO $AC_ESR_TRIGGER=1
                              a synchronized action: kept as condition and action text for
-                             vc/core/sync_actions.py (ID= modal, IDS= static)
+                             vc/core/program/sync_actions.py (ID= modal, IDS= static)
     ; comment                everything after ';' is a comment
 
 Parsing only checks the form; what a word means is the interpreter's business, so a new
