@@ -20,7 +20,7 @@ from enum import Enum
 
 from vc.core.channel.channel import ChannelState, ProgramState
 from vc.core.referencing.referencing import State as ReferencingState
-from vc.core.retraction.drive_esr import Reaction as DriveReaction
+from vc.core.retraction.drive_esr import DriveEsrReaction as DriveReaction
 from vc.core.spindle.coupling import Phase as CouplingPhase
 from vc.core.spindle.gear_change import GearState
 from vc.core.spindle.spindle import SpindleMode

@@ -16,11 +16,12 @@ from test_spindle import spindle_rig
 
 from vc.core.axis.axis import MachineAxis
 from vc.core.interpolation.tool_path import ToolPathSegment
+from vc.core.program.commands import RetractProgramming
 from vc.core.program.interpreter import BlockPlan, DecodeAlarm, ModalState, decode
 from vc.core.program.program import parse_program
 from vc.core.program.sync_actions import SyncActionError, parse_actions, parse_condition
 from vc.core.retraction.drive_esr import EXTENDED_RETRACT, EXTENDED_STOP
-from vc.core.retraction.retract_motion import RetractProgramming, direction_targets, retract_groups
+from vc.core.retraction.retract_motion import direction_targets, retract_groups
 
 ESR_MACHINE = ("CHAN1: {MD20700: 0, MD21380: 0.1, MD21381: 0.04}\n"
                "X1: {MD30240: [4], MD34210: [2], MD37500: 21}\n"

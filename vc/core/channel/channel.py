@@ -41,20 +41,18 @@ from vc.core.alarms import CHANNEL_INTERRUPT, NC_START_DISABLED, STOP_AXES, Alar
 from vc.core.axis.axis import FREE_JOG, JogLimits, MachineAxis, Owner
 from vc.core.axis.stroke_limits import BOUNDARY, StrokeLimitControl, StrokeStop
 from vc.core.channel.referencing_control import ReferencingControl
-from vc.core.coupling_types import BlockChange, block_change_of, kind_of
 from vc.core.interface_map import SignalTable
 from vc.core.interpolation.path import PathSegment
 from vc.core.interpolation.thread_cutting import THREAD_SPINDLE_STANDS, ThreadSegment
 from vc.core.interpolation.tool_path import ToolPathSegment
 from vc.core.overrides import OverrideCoding
+from vc.core.program.commands import BlockChange, CouplingCommand, SpindleCommand, block_change_of, kind_of
 from vc.core.program.interpreter import (
     EXACT_STOP_COARSE,
     EXACT_STOP_FINE,
     BlockPlan,
-    CouplingCommand,
     DecodeAlarm,
     ModalState,
-    SpindleCommand,
     decode,
     software_limit_alarm,
 )

@@ -17,9 +17,24 @@ from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.stroke_limits import StrokeCommand
-from vc.core.coupling_types import SYNCHRONISM_THRESHOLDS, block_change_of, kind_of
 from vc.core.interpolation.circle import CENTRE_WORDS, CIRCLE_END_POINT, PLANES, Arc, ArcTolerance, plan_arc
 from vc.core.interpolation.thread_cutting import ThreadCommand
+from vc.core.program.commands import (
+    LFPOS,
+    LFTXT,
+    LFWP,
+    MAX_DELAY_S,
+    SYNCHRONISM_THRESHOLDS,
+    CouplingCommand,
+    DriveEsrCommand,
+    PolygonCommand,
+    RetractProgramming,
+    SpindleCommand,
+    block_change_of,
+    esrr_command,
+    esrs_command,
+    kind_of,
+)
 from vc.core.program.five_axis_program import (
     FIVE_AXIS_ADDRESSES,
     FIVE_AXIS_G_CODES,
@@ -39,8 +54,6 @@ from vc.core.program.program import (
     Word,
 )
 from vc.core.program.sync_actions import SyncAction, SyncActionError, VariableWrite, parse_actions, parse_condition
-from vc.core.retraction.drive_esr import MAX_DELAY_S, DriveEsrCommand, esrr_command, esrs_command
-from vc.core.retraction.retract_motion import LFPOS, LFTXT, LFWP, RetractProgramming
 
 POLYGON_OUT_OF_RANGE = 65840  # project numbers: seed 002 names no alarms (spec 7.5 TV-PG-7)
 POLYGON_OWN_BLOCK = 65842
@@ -82,44 +95,6 @@ class ModalState:
         self.circle = ""
         self.thread_lead = None
         self.retract.reset()
-
-
-@dataclass(slots=True)
-class SpindleCommand:
-    """What one block asks of one spindle (seed 003 chapter 13)."""
-
-    speed: float | None = None  # S, rev/min
-    direction: int | None = None  # M3, M4 or M5
-    gear: int | None = None  # M40 .. M45
-    position: tuple[str, float] | None = None  # SPOS / SPOSA / M19: (AC|IC|DC|ACP|ACN, degrees)
-    wait_for_position: bool = True  # SPOS and M19 hold the block; SPOSA does not
-    axis_mode: bool = False  # M70, or the spindle programmed by its axis name
-    m_function: int | None = None  # the M function shown in DB31.DBB86
-
-
-@dataclass(frozen=True, slots=True)
-class CouplingCommand:
-    """COUPDEF, COUPON, COUPONC, COUPOF, COUPOFS, COUPDEL, COUPRES or WAITC (seed 003 §14.2)."""
-
-    function: str
-    following: str  # machine axis of the FS
-    leading: str = ""  # machine axis of the LS ("" where the call names none)
-    numerator: float | None = None  # COUPDEF ratio
-    denominator: float | None = None
-    block_change: str | None = None  # COUPDEF "NOC" / "FINE" / "COARSE" / "IPOSTOP"; WAITC's condition
-    kind: str | None = None  # COUPDEF "DV" / "AV" / "VV"
-    offset: float | None = None  # COUPON's POSFS
-
-
-@dataclass(frozen=True, slots=True)
-class PolygonCommand:
-    """G51.2 P Q R A (start) or G50.2 (cancel), seed 002 L21-51."""
-
-    start: bool
-    p: float = 0.0  # master (workpiece) rotation factor = number of tools
-    q: float = 0.0  # slave (tool) rotation factor = number of sides, its sign the direction
-    r: float = 0.0  # master offset angle before the synchronisation (relative)
-    a: float = 0.0  # helix lead per master revolution
 
 
 @dataclass(frozen=True, slots=True)

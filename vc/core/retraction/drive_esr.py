@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from enum import Enum
 
 from vc.config import md_dictionary as MD
@@ -41,36 +40,16 @@ from vc.config.model import EXTENDED_RETRACT, EXTENDED_STOP, GENERATOR_OPERATION
 from vc.core.axis.axis import MachineAxis, Owner
 from vc.core.axis.motion import ramp
 from vc.core.interface_map import SignalTable
+from vc.core.program.commands import DriveEsrCommand
 
 TRIGGER_CYCLES = 2  # $AN_ESR_TRIGGER must stand this many IPO cycles to reach the drive (L41806-41809)
 STAT_REACTION = 1 << 2  # $AA_ESR_STAT bit 2 = r0887.12 = DB31.DBX95.2
 STAT_DC_LINK_UNDERVOLTAGE = 1 << 3  # bit 3 = r0056.15 = DB31.DBX95.1 (L41837-41870)
 STAT_BELOW_MINIMUM_SPEED = 1 << 4  # bit 4 = r2199.0 = DB31.DBX95.3
 REACTIONS = (EXTENDED_STOP, EXTENDED_RETRACT, GENERATOR_OPERATION)
-MAX_DELAY_S = 20.0  # ESRS: p0892 range 0.00 - 20.00 s (L41932-41940)
 
 
-@dataclass(frozen=True, slots=True)
-class DriveEsrCommand:
-    """One axis of ESRS(<axis>, <time>, ...) or ESRR(<axis>, <distance>, <velocity>, ...)."""
-
-    axis: str  # machine axis
-    configuration: int  # p0888: 1 = stop (ESRS), 2 = retract (ESRR)
-    delay: float  # p0892, s
-    velocity: float = 0.0  # ESRR: retract velocity, signed by the distance, per minute (mm/min, deg/min)
-
-
-def esrs_command(axis: str, delay: float) -> DriveEsrCommand:
-    return DriveEsrCommand(axis, EXTENDED_STOP, delay)
-
-
-def esrr_command(axis: str, distance: float, velocity: float) -> DriveEsrCommand:
-    """p0892 = distance / velocity (L41977-41980); the distance's sign gives the direction [INF]."""
-    return DriveEsrCommand(axis, EXTENDED_RETRACT, abs(distance) / velocity * 60.0,
-                           velocity if distance >= 0 else -velocity)
-
-
-class Reaction(Enum):
+class DriveEsrReaction(Enum):
     ARMED = "armed"
     REACTING = "reacting"
     DONE = "done"
@@ -100,7 +79,7 @@ class DriveEsr:
         self.retract_velocity = 0.0  # the same on the load side, per second (mm/s, deg/s)
         self.enabled = False  # $AA_ESR_ENABLE
         self._acknowledge_pending = False
-        self.reaction = Reaction.ARMED
+        self.reaction = DriveEsrReaction.ARMED
         self._triggered = False  # r0887.12: reaction triggered (until acknowledged)
         self._elapsed = 0
         self._hold_velocity = 0.0  # stop: the speed setpoint of the trigger moment
@@ -137,9 +116,9 @@ class DriveEsr:
     def set_enable(self, enabled: bool) -> None:
         """1 -> 0 acknowledges a triggered reaction (at once, or when it ends); 0 -> 1 arms again."""
         if self.enabled and not enabled and self.triggered:
-            if self.reaction is Reaction.DONE:
+            if self.reaction is DriveEsrReaction.DONE:
                 self.triggered = False
-                self.reaction = Reaction.ARMED
+                self.reaction = DriveEsrReaction.ARMED
             else:
                 self._acknowledge_pending = True
         self.enabled = enabled
@@ -156,7 +135,7 @@ class DriveEsr:
 
     @property
     def reacting(self) -> bool:
-        return self.reaction is Reaction.REACTING
+        return self.reaction is DriveEsrReaction.REACTING
 
     @property
     def status(self) -> int:
@@ -169,7 +148,7 @@ class DriveEsr:
     @property
     def buffering(self) -> bool:
         """The generator reaction runs: the Vdc_min controller may brake the motor for the link."""
-        return self.reaction is Reaction.REACTING and self.p0888 == GENERATOR_OPERATION \
+        return self.reaction is DriveEsrReaction.REACTING and self.p0888 == GENERATOR_OPERATION \
             and self.axis.owner is Owner.RETRACT
 
     def feed(self, energy: float) -> float:
@@ -212,15 +191,15 @@ class DriveEsr:
     # ------------------------------------------------------------------ IPO cycle
     def cycle(self, trigger_cycles: int) -> None:
         """``trigger_cycles``: for how many cycles $AN_ESR_TRIGGER has stood at 1."""
-        if self.reaction is Reaction.ARMED and not self.triggered and self.enabled and self.p0888 in REACTIONS \
+        if self.reaction is DriveEsrReaction.ARMED and not self.triggered and self.enabled and self.p0888 in REACTIONS \
                 and trigger_cycles >= TRIGGER_CYCLES:
             self._start()
-        if self.reaction is Reaction.REACTING:
+        if self.reaction is DriveEsrReaction.REACTING:
             self._react()
 
     def _start(self) -> None:
         axis = self.axis
-        self.reaction = Reaction.REACTING
+        self.reaction = DriveEsrReaction.REACTING
         self.triggered = True
         self._elapsed = 0
         self._hold_velocity = axis.command_velocity
@@ -244,9 +223,9 @@ class DriveEsr:
         if not within_delay and (velocity == 0.0 or axis.owner is not Owner.RETRACT):
             if axis.owner is Owner.RETRACT:
                 axis.release()
-            self.reaction = Reaction.DONE
+            self.reaction = DriveEsrReaction.DONE
             self._set_vdc_min_active(False)
             if self._acknowledge_pending:
                 self._acknowledge_pending = False
                 self.triggered = False
-                self.reaction = Reaction.ARMED
+                self.reaction = DriveEsrReaction.ARMED

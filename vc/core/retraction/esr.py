@@ -56,13 +56,12 @@ from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList, Reaction
 from vc.core.axis.axis import MachineAxis, Owner
 from vc.core.interpolation.thread_cutting import ThreadSegment
+from vc.core.program.commands import LFPOS, RetractProgramming
 from vc.core.program.sync_actions import Reader, SyncAction, VariableWrite
 from vc.core.retraction.drive_esr import TRIGGER_CYCLES, DriveEsr
-from vc.core.retraction.drive_esr import Reaction as DriveReaction
+from vc.core.retraction.drive_esr import DriveEsrReaction as DriveReaction
 from vc.core.retraction.retract_motion import (
-    LFPOS,
     RetractMotion,
-    RetractProgramming,
     TransformGroup,
     direction_targets,
     machine_groups,

@@ -28,46 +28,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Collection
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Protocol
 
 from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.program.commands import RetractProgramming
 
-LFTXT, LFWP, LFPOS = "LFTXT", "LFWP", "LFPOS"  # G group 46: how the retract target is given
 # The plane's first and second axis (geometry axis names): ALF=1 points along the first, ALF=3 along the second.
 PLANE_AXES = {"G17": ("X", "Y"), "G18": ("Z", "X"), "G19": ("Y", "Z")}
-
-
-@dataclass(slots=True)
-class RetractProgramming:
-    """The modal retract words of a channel; ``reset()`` gives the reset values (MD20150: LFOF, LFTXT;
-    DILF back to MD21200, L8394-8398)."""
-
-    enabled: bool = False  # LFON / LFOF: fast retraction in G33
-    target_mode: str = LFTXT  # LFTXT / LFWP / LFPOS
-    distance: float | None = None  # DILF; None = MD21200
-    direction: int = 1  # ALF
-    positions: dict[str, tuple[float, bool]] = field(default_factory=dict)  # POLF: machine axis -> (value, IC)
-    axial: tuple[str, ...] = ()  # POLFMASK: machine axes retracting each on its own
-    linear: tuple[str, ...] = ()  # POLFMLIN: machine axes retracting together on a line
-
-    def reset(self) -> None:
-        self.enabled = False
-        self.target_mode = LFTXT
-        self.distance = None
-        self.direction = 1
-        self.positions = {}
-        self.axial = ()
-        self.linear = ()
-
-    def position_targets(self, axes: list[str], where: dict[str, float]) -> dict[str, float]:
-        """The POLF end points of ``axes`` (those with a POLF value), from the positions at the trigger."""
-        targets = {}
-        for name in axes:
-            if name in self.positions:
-                value, incremental = self.positions[name]
-                targets[name] = where[name] + value if incremental else value
-        return targets
 
 
 def direction_targets(direction: int, distance: float, plane: str, machine_axis_of: dict[str, str],

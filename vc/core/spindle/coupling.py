@@ -46,8 +46,8 @@ from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import CoupledLoop, MachineAxis, Owner
 from vc.core.axis.motion import ramp, stopping_distance, stopping_velocity
-from vc.core.coupling_types import BlockChange, Kind
 from vc.core.interface_map import SignalTable
+from vc.core.program.commands import BlockChange, Kind
 from vc.core.spindle.spindle import RPM, Spindle, SpindleMode
 
 ALARM_OVERLAY_NOT_ENABLED = 16771  # differential speed without DB31.DBX26.4 (L23450-23456)

@@ -24,8 +24,7 @@ from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import Alarm, Reaction
 from vc.core.axis.axis import MachineAxis
-from vc.core.coupling_types import BlockChange, Kind
-from vc.core.program.interpreter import PolygonCommand
+from vc.core.program.commands import BlockChange, Kind, PolygonCommand
 from vc.core.spindle.coupling import Couplings
 from vc.core.spindle.spindle import RPM, Spindle
 

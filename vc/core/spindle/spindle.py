@@ -45,7 +45,7 @@ from vc.core.axis.motion import braking_distance, ramp, stopping_velocity
 from vc.core.interface_map import SignalTable
 from vc.core.nc_memory import NcMemory
 from vc.core.overrides import OverrideCoding
-from vc.core.program.interpreter import SpindleCommand
+from vc.core.program.commands import SpindleCommand
 from vc.core.referencing.referencing import lose_calibration
 from vc.core.spindle.gear_change import (
     ALARM_CATCH_UP_IMPOSSIBLE,
