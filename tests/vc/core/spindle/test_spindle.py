@@ -15,25 +15,13 @@ import itertools
 import struct
 
 import pytest
-from core_rig import ABSOLUTE_XYZ, Rig, machine
+from core_rig import ABSOLUTE_XYZ, Rig, machine, spindle_rig
 
 from vc.config import md_dictionary as MD
 from vc.core.spindle.gear_change import select_gear
 from vc.core.spindle.spindle import Spindle, SpindleMode
 
 IPO = 0.002
-
-
-def spindle_rig(extra: str = "", base: str = ABSOLUTE_XYZ) -> Rig:
-    """The machine (``base`` machine data, then ``extra``) in MDA with the overrides at 100 %; the PLC
-    reports SP1's gearbox in stage 1 (16.0-16.2), which the NC takes over in reset state."""
-    rig = Rig(machine(base + ("\n" + extra if extra else "")))
-    rig.ready_mda()
-    for name in ("SP1", "SP2"):
-        rig.set(f"{name}.spindle.out.ovrFactor", 100)
-    rig.set("SP1.spindle.out.gearStageSelection", 1)
-    rig.step(12)
-    return rig
 
 
 def sp1(rig: Rig) -> Spindle:

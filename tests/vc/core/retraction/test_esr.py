@@ -11,8 +11,7 @@ import itertools
 import math
 
 import pytest
-from core_rig import ABSOLUTE_XYZ, DT, FIVE_AXIS, Rig, machine
-from test_spindle import spindle_rig
+from core_rig import ABSOLUTE_XYZ, DT, FIVE_AXIS, Rig, machine, spindle_rig
 
 from vc.core.axis.axis import MachineAxis
 from vc.core.interpolation.tool_path import ToolPathSegment

@@ -24,7 +24,7 @@ from vc.core.spindle.coupling import (
     wrap180,
 )
 
-TURN_MILL = str(Path(__file__).resolve().parents[3] / "scenarios" / "machines" / "turn_mill.yaml")
+TURN_MILL = str(Path(__file__).resolve().parents[4] / "scenarios" / "machines" / "turn_mill.yaml")
 
 
 @pytest.fixture()

@@ -7,8 +7,7 @@ with the project's PI-service request DB21.DBX396.0.
 from __future__ import annotations
 
 import pytest
-from core_rig import MILL, Rig, machine
-from test_spindle import spindle_rig
+from core_rig import MILL, Rig, machine, spindle_rig
 
 from vc.config.model import MachineConfig
 from vc.core.nc_memory import RetractData
