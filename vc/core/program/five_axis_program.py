@@ -13,7 +13,7 @@ The words (spec 8.4, seed 001 L42-46, L54-60):
 * ``G53.1 [P_]``: turns the rotary axes so that the tool stands along the plane's Z axis.
 
 The interpreter collects the words of a block into :class:`FiveAxisWords`; the channel's
-five-axis control (``five_axis_channel``) checks them against the machine and applies them
+five-axis control (``vc.core.transforms.five_axis_control``) checks them against the machine and applies them
 to :class:`FiveAxisModal`, the part of the channel's modal state these words set.
 """
 

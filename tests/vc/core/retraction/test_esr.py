@@ -626,7 +626,7 @@ def test_a_jump_after_a_fast_retraction_leaves_the_chain_so_its_target_thread_is
     assert z1.setpoint == pytest.approx(90.0, abs=1e-6) and x1.setpoint == pytest.approx(40.0, abs=1e-6)
 
 
-FIVE_AXIS_CHAIN = ("X1", "Y1", "Z1", "A1", "C1")  # mill_5axis, see test_five_axis_channel.py
+FIVE_AXIS_CHAIN = ("X1", "Y1", "Z1", "A1", "C1")  # mill_5axis, see transforms/test_five_axis_control.py
 
 
 def _tool_tip(rig: Rig) -> tuple[float, ...]:
