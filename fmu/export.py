@@ -12,7 +12,7 @@ Two variants (docs/fmu.md says which to take):
 
 Either way the code the FMU runs is copied under a package of its own, ``vc_fmu_<digest>``:
 the modules the entry module imports (found by following the imports) with their project
-imports rewritten (``from vc.core.nck`` -> ``from vc_fmu_<digest>.vc.core.nck``); the entry
+imports rewritten (``from vc.core.nck.nck`` -> ``from vc_fmu_<digest>.vc.core.nck.nck``); the entry
 module itself becomes a script.  In the lean FMU this keeps a host that imported this project
 (or anything else called ``vc``) from lending the FMU its own modules; the digest is taken
 over that code, so two FMUs of the same code share their modules and different code never meets.

@@ -1,7 +1,7 @@
 """DB100, the NC's alarm list for the PLC: its layout and codes (pure, no I/O).
 
 The catalogue (``interfaces/catalog/db100_alarms.yaml``, origin project) declares the signals;
-this module states the codes once, for the NC that writes them (``vc/core/alarm_area.py``), the
+this module states the codes once, for the NC that writes them (``vc/core/nck/alarm_area.py``), the
 link description that tells a PLC where they are, and the documentation::
 
     DBW0   count: alarms present (may exceed ENTRIES)

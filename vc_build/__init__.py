@@ -12,7 +12,7 @@ extension (``*.so``), the finder decides:
   the module loads from its ``.py`` source.  All or none: compiled modules call each
   other directly in C, so one edited source makes every compiled module run from source.
 
-So an editable checkout whose developer edits ``vc/core/axis.py`` after ``pip install -e .``
+So an editable checkout whose developer edits ``vc/core/axis/axis.py`` after ``pip install -e .``
 runs the edited Python, and ``vc --version`` says why it is not the compiled build; reinstalling
 compiles again.  ``VC_PURE=1`` asks for the pure build on purpose (the test suite runs the
 scenario library in both).

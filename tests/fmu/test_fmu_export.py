@@ -119,8 +119,8 @@ def test_the_self_contained_fmu_carries_the_machine_its_code_pyyaml_and_a_python
     assert manifest["model"] == "turn_mill" and manifest["machine"] == "machine/turn_mill.yaml"
     assert manifest["token"] == description.guid and manifest["fmi"] == [2]
     assert machine == Path(TURN_MILL).read_bytes()
-    assert f"resources/{bundle}/vc/core/nck.py" in names
-    assert f"resources/{bundle}/vc/core/__pycache__/nck.{sys.implementation.cache_tag}.pyc" in names
+    assert f"resources/{bundle}/vc/core/nck/nck.py" in names
+    assert f"resources/{bundle}/vc/core/nck/__pycache__/nck.{sys.implementation.cache_tag}.pyc" in names
     assert f"resources/{bundle}/interfaces/catalog/db31_axis.yaml" in names
     assert "resources/vc_nc_worker.py" in names and "resources/yaml/composer.py" in names
     assert "binaries/linux64/turn_mill.so" in names
@@ -143,7 +143,7 @@ def test_the_lean_fmu_carries_the_machine_and_its_code_under_a_name_of_its_own(
                 text = archive.read(name).decode()
                 assert "from vc." not in text and "from interfaces." not in text, name
     assert manifest["model"] == "turn_mill" and manifest["machine"] == "machine/turn_mill.yaml"
-    assert f"resources/{bundle}/vc/core/nck.py" in names
+    assert f"resources/{bundle}/vc/core/nck/nck.py" in names
     assert f"resources/vc_nc_{bundle.removeprefix('vc_fmu_')}.py" in names
     assert "binaries/linux64/turn_mill.so" in names
     assert not [name for name in names if "/vc/scenario/" in name or "/plc_stub/" in name]
@@ -168,10 +168,10 @@ def test_the_export_copies_the_python_source_where_a_compiled_module_stands_besi
     compiled = tmp_path / f"nck{EXTENSION_SUFFIXES[0]}"
     compiled.write_bytes(b"\x7fELF")
     (tmp_path / "nck.py").write_text("CYCLE = 1\n")
-    assert _python_source(ModuleSpec("vc.core.nck", None, origin=str(compiled))) == tmp_path / "nck.py"
-    assert _python_source(ModuleSpec("vc.core.nck", None, origin=str(tmp_path / "nck.py"))) == tmp_path / "nck.py"
+    assert _python_source(ModuleSpec("vc.core.nck.nck", None, origin=str(compiled))) == tmp_path / "nck.py"
+    assert _python_source(ModuleSpec("vc.core.nck.nck", None, origin=str(tmp_path / "nck.py"))) == tmp_path / "nck.py"
     (tmp_path / "nck.py").unlink()
-    assert _python_source(ModuleSpec("vc.core.nck", None, origin=str(compiled))) is None
+    assert _python_source(ModuleSpec("vc.core.nck.nck", None, origin=str(compiled))) is None
 
 
 def test_the_same_code_and_machine_give_the_same_token(tmp_path: Path, turn_mill_export: ExportResult) -> None:
@@ -426,9 +426,9 @@ def test_a_host_with_its_own_vc_modules_does_not_shadow_the_fmu(any_export: Expo
 
 
 def test_a_host_that_imported_the_project_runs_the_lean_fmu_beside_it(turn_mill_lean_export: ExportResult) -> None:
-    import vc.core.nck
+    import vc.core.nck.nck
 
     result = simulate_fmu(str(turn_mill_lean_export.path), stop_time=0.05, output=["X1.physical"])
     assert result["X1.physical"][-1] == 150.0
-    bundled = [module for name, module in sys.modules.items() if name.endswith(".vc.core.nck")]
-    assert bundled and all(module is not vc.core.nck for module in bundled)
+    bundled = [module for name, module in sys.modules.items() if name.endswith(".vc.core.nck.nck")]
+    assert bundled and all(module is not vc.core.nck.nck for module in bundled)

@@ -73,7 +73,7 @@ from vc.cli.plc_facts_guide import (
 )
 from vc.config.machine_data import MdDef
 from vc.config.md_dictionary import PLC_CYCLIC_TIMEOUT, PLC_RUNNINGUP_TIMEOUT
-from vc.core.nck import PLC_NOT_STARTED_ALARM, PLC_SIGN_OF_LIFE_ALARM
+from vc.core.nck.nck import PLC_NOT_STARTED_ALARM, PLC_SIGN_OF_LIFE_ALARM
 
 OPENPLC_POLLING_MS = 10  # the slave devices' polling period to set (OpenPLC's default of 100 ms is too slow)
 CODESYS_CYCLE_MS = 10  # the channels' cycle time: the PLC period of the example machines

@@ -47,7 +47,7 @@ Rules:
 * ``sim`` holds what the control cannot know: ``start_position`` (where the slide stands at
   power-on), ``zero_mark_offset`` / ``zero_mark_offset_2`` (measuring system 1 / 2: physical
   position of one zero mark, of the first distance-coded mark, or of an absolute encoder's
-  zero; see vc/core/encoder.py) and ``encoder_serial`` / ``encoder_serial_2`` (the serial
+  zero; see vc/core/axis/encoder.py) and ``encoder_serial`` / ``encoder_serial_2`` (the serial
   numbers of the mounted encoders, which the control compares with MD34230).  ``plant`` holds switches:
   ``ref_cam: [start, end]`` and ``hw_limits: [minus, plus]`` (``null`` = no switch there), and a
   spindle's load gearbox: ``gearbox: {stages: n, shift_time: s, engaged: k}`` with n = MD35090 gear
@@ -63,7 +63,7 @@ Rules:
   operation ``{p0888: 3, p0892: s, p1240: 2, p1248: V, p2161: rev/min, p0341: kg m^2, p0342: ratio}``
   (seed 003 L41700-41769); none of it without p0888 = 3 (1 and 2 are written by ESRS / ESRR from
   the program).  It needs the machine's ``dc_link: {supply_voltage: V (r0208), capacitance_uf: uF,
-  load_power: W, precharge_time: s (optional)}`` (vc/core/dc_link.py).
+  load_power: W, precharge_time: s (optional)}`` (vc/core/retraction/dc_link.py).
 * Every machine axis belongs to exactly one channel.  A channel axis without a name in
   MD20080 is called by its machine axis name in part programs.
 * Scenario overrides (``load_machine(..., overrides=...)``) are ``{instance: {key: value}}``

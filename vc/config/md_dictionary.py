@@ -634,7 +634,7 @@ INCL_AXIS_ORTHOGONAL = MdDef(62806, "INCL_AXIS_ORTHOGONAL", C, INT, 0,
 # The seed contradicts itself on 8211/8212 that are 0, equal or beyond the axis count:
 # L45-49 picks the axes from the M/T series table, L460 makes the function invalid.  The
 # choice is configured here (spec 9.2), not hard-coded; the default follows the parameter
-# table L460 and the referencing order check of vc/core/referencing_control.py.
+# table L460 and the referencing order check of vc/core/channel/referencing_control.py.
 INCL_AXIS_FALLBACK = MdDef(62807, "INCL_AXIS_FALLBACK", C, INT, 0,
                            "MD62805/62806 unusable (0, equal or beyond the channel's axes): 0 = inclined-axis"
                            " control invalid (L460), 1 = M-series table: inclined = geometry axis Y, orthogonal"
@@ -649,7 +649,7 @@ INCL_AXIS_ORTHO_DIAMETER = MdDef(62808, "INCL_AXIS_ORTHO_DIAMETER", C, BOOL, Fal
 # Stored stroke limits 2 (G22 / G23) and 3, which seed 000 L264-291, L414-429 names for the
 # inclined-axis control with the FANUC / GSK convention but without their parameters: the
 # control's parameters 1300 #0, 1310 #0 / #1 and 1322-1325 as project machine data (62810..),
-# each saying which parameter it carries (vc/core/stroke_limits.py).
+# each saying which parameter it carries (vc/core/axis/stroke_limits.py).
 STROKE2_OUTSIDE_FORBIDDEN = MdDef(62810, "STROKE2_OUTSIDE_FORBIDDEN", C, BOOL, False,
                                   "stored stroke limit 2: 0 = the inside of its box is forbidden, 1 = the outside"
                                   " (FANUC / GSK parameter 1300 #0 OUT); project machine datum",

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from interfaces.image import decode
 from interfaces.signals import InstanceKind, SignalRef
 from vc.core.alarms import AlarmList, Clear
-from vc.core.nck import Nck
+from vc.core.nck.nck import Nck
 from vc.coverage.data import CoverageData, MachineCoverage, ValueRecord
 from vc.coverage.probes import Probe, state_probes
 from vc.scenario.model import Scenario

@@ -17,16 +17,16 @@ from collections.abc import Callable
 from enum import Enum
 
 from vc.config import md_dictionary as MD
-from vc.core.channel import Channel, Mode
-from vc.core.drive_esr import DriveEsr
-from vc.core.encoder import DISTANCE_CODED_MODES
-from vc.core.esr import ChannelEsr
-from vc.core.manual_retraction import ManualRetraction
-from vc.core.mode_group import ModeGroup
-from vc.core.nck import Nck
-from vc.core.referencing import AxisReferencing
-from vc.core.referencing import State as R
-from vc.core.spindle import Spindle
+from vc.core.axis.encoder import DISTANCE_CODED_MODES
+from vc.core.channel.channel import Channel, Mode
+from vc.core.nck.manual_retraction import ManualRetraction
+from vc.core.nck.mode_group import ModeGroup
+from vc.core.nck.nck import Nck
+from vc.core.referencing.referencing import AxisReferencing
+from vc.core.referencing.referencing import State as R
+from vc.core.retraction.drive_esr import DriveEsr
+from vc.core.retraction.esr import ChannelEsr
+from vc.core.spindle.spindle import Spindle
 from vc.coverage.data import CoverageData, FunctionCoverage
 
 State = Enum | str

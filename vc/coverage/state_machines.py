@@ -18,12 +18,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import Enum
 
-from vc.core.channel import ChannelState, ProgramState
-from vc.core.coupling import Phase as CouplingPhase
-from vc.core.drive_esr import Reaction as DriveReaction
-from vc.core.gear_change import GearState
-from vc.core.referencing import State as ReferencingState
-from vc.core.spindle import SpindleMode
+from vc.core.channel.channel import ChannelState, ProgramState
+from vc.core.referencing.referencing import State as ReferencingState
+from vc.core.retraction.drive_esr import DriveEsrReaction as DriveReaction
+from vc.core.spindle.coupling import Phase as CouplingPhase
+from vc.core.spindle.gear_change import GearState
+from vc.core.spindle.spindle import SpindleMode
 
 
 @dataclass(frozen=True, slots=True)
@@ -65,7 +65,7 @@ def _transitions(*items: tuple[str, str, str]) -> tuple[TransitionDef, ...]:
 
 
 R = ReferencingState
-_REFERENCING = "vc/core/referencing.py"
+_REFERENCING = "vc/core/referencing/referencing.py"
 
 
 def _referencing(name: str, title: str, states: tuple[ReferencingState, ...],
@@ -78,7 +78,7 @@ _ABORT = "abort: reset, an alarm, the traverse key or REF taken away"
 
 STATE_MACHINES: tuple[StateMachine, ...] = (
     StateMachine(
-        "mode_group", "Mode group: operating mode and machine function REF (DB11)", "vc/core/mode_group.py",
+        "mode_group", "Mode group: operating mode and machine function REF (DB11)", "vc/core/nck/mode_group.py",
         "mode group",
         (StateDef("JOG", "JOG (DB11.DBX6.2)", "self.jog_active = "),
          StateDef("JOG REF", "JOG with the machine function REF (DB11.DBX7.2)", "self.ref_active = "),
@@ -93,14 +93,14 @@ STATE_MACHINES: tuple[StateMachine, ...] = (
                      ("JOG REF", "MDA", "DB11.DBX0.1: REF ends with JOG"),
                      ("JOG REF", "AUTO", "DB11.DBX0.0: REF ends with JOG"))),
     StateMachine(
-        "channel", "Channel state (DB21.DBX35.5-35.7)", "vc/core/channel.py", "channel",
+        "channel", "Channel state (DB21.DBX35.5-35.7)", "vc/core/channel/channel.py", "channel",
         _enum_states(tuple(ChannelState)),
         _transitions(("RESET", "ACTIVE", "NC start"), ("ACTIVE", "INTERRUPTED", "NC stop, an alarm"),
                      ("RESET", "INTERRUPTED", "NC start, and an alarm of the first block in the same cycle"),
                      ("INTERRUPTED", "ACTIVE", "NC start"), ("ACTIVE", "RESET", "program end, reset"),
                      ("INTERRUPTED", "RESET", "reset"))),
     StateMachine(
-        "program", "Program state (DB21.DBX35.0-35.4)", "vc/core/channel.py", "channel",
+        "program", "Program state (DB21.DBX35.0-35.4)", "vc/core/channel/channel.py", "channel",
         _enum_states(tuple(ProgramState)),
         _transitions(("ABORTED", "RUNNING", "NC start"), ("RUNNING", "ABORTED", "program end, reset"),
                      ("ABORTED", "STOPPED", "NC start, and an alarm of the first block in the same cycle"),
@@ -156,7 +156,7 @@ STATE_MACHINES: tuple[StateMachine, ...] = (
         ("IDLE", "FOLLOW_UP", "start in follow-up mode"), ("FOLLOW_UP", "DONE", "the slide crossed the marks"),
         ("FOLLOW_UP", "IDLE", "follow-up mode ended"), ("DONE", "FOLLOW_UP", "G74 on a referenced axis")),
     StateMachine(
-        "spindle_mode", "Spindle modes (DB31.DBX84.3-84.7)", "vc/core/spindle.py", "spindle",
+        "spindle_mode", "Spindle modes (DB31.DBX84.3-84.7)", "vc/core/spindle/spindle.py", "spindle",
         _enum_states(tuple(SpindleMode)),
         _transitions(("CONTROL", "OSCILLATION", "gear change"), ("POSITIONING", "OSCILLATION", "gear change"),
                      ("OSCILLATION", "CONTROL", "gear changed (16.3)"),
@@ -167,7 +167,7 @@ STATE_MACHINES: tuple[StateMachine, ...] = (
                      ("POSITIONING", "SYNCHRONOUS", "COUPON on a positioned spindle"),
                      ("SYNCHRONOUS", "CONTROL", "COUPOF"))),
     StateMachine(
-        "gear_change", "Gear stage change dialog (DB31.DBX82.3, 16.3)", "vc/core/gear_change.py", "spindle",
+        "gear_change", "Gear stage change dialog (DB31.DBX82.3, 16.3)", "vc/core/spindle/gear_change.py", "spindle",
         (StateDef("NONE", "no gear change", "The dialog (:class:`GearChange`)"), *_enum_states(tuple(GearState))),
         _transitions(("NONE", "REQUESTED", "M40 S / M41..M45 with another stage"),
                      ("NONE", "AT_STANDSTILL", "requested at standstill (REQUESTED lasts less than a cycle)"),
@@ -179,26 +179,28 @@ STATE_MACHINES: tuple[StateMachine, ...] = (
                      ("REQUESTED", "NONE", "gear changed before standstill, reset"),
                      ("TO_POSITION", "NONE", "position not reached (22020), reset"))),
     StateMachine(
-        "coupling", "Synchronous spindle coupling of a following spindle", "vc/core/coupling.py", "spindle",
+        "coupling", "Synchronous spindle coupling of a following spindle", "vc/core/spindle/coupling.py", "spindle",
         (StateDef("UNCOUPLED", "follows no leading spindle", "defined ──COUPON"), *_enum_states(tuple(CouplingPhase))),
         _transitions(("UNCOUPLED", "SYNCHRONISING", "COUPON, the configured pair at NC start"),
                      ("UNCOUPLED", "SYNCHRONOUS", "COUPON with both spindles at standstill: synchronous at once"),
                      ("SYNCHRONISING", "SYNCHRONOUS", "synchronism reached"),
                      ("SYNCHRONOUS", "UNCOUPLED", "COUPOF, reset"), ("SYNCHRONISING", "UNCOUPLED", "COUPOF, reset"))),
     StateMachine(
-        "esr.drive", "Drive-autonomous ESR of an axis (DB31.DBX95.2)", "vc/core/drive_esr.py", "axis",
+        "esr.drive", "Drive-autonomous ESR of an axis (DB31.DBX95.2)", "vc/core/retraction/drive_esr.py", "axis",
         _enum_states(tuple(DriveReaction)),
         _transitions(("ARMED", "REACTING", "$AN_ESR_TRIGGER with $AA_ESR_ENABLE = 1"),
                      ("REACTING", "DONE", "the reaction ended"),
                      ("DONE", "ARMED", "$AA_ESR_ENABLE 1 -> 0 -> 1 (acknowledged)"))),
     StateMachine(
-        "esr.retract", "Fast retraction and NC-controlled ESR retract of a channel", "vc/core/esr.py", "channel",
+        "esr.retract", "Fast retraction and NC-controlled ESR retract of a channel", "vc/core/retraction/esr.py",
+        "channel",
         (StateDef("IDLE", "no retract motion", "def start_channel_reaction"),
          StateDef("RETRACTING", "the retract axes move to their POLF / LIFTFAST positions", "self.motion = ")),
         _transitions(("IDLE", "RETRACTING", "$AC_ESR_TRIGGER, LIFTFAST in G33, POLFA"),
                      ("RETRACTING", "IDLE", "at the retract positions"))),
     StateMachine(
-        "esr.stop", "NC-controlled ESR stop axes of a channel (MD21380, MD21381)", "vc/core/esr.py", "channel",
+        "esr.stop", "NC-controlled ESR stop axes of a channel (MD21380, MD21381)", "vc/core/retraction/esr.py",
+        "channel",
         (StateDef("IDLE", "no stop reaction", "class _StopAxes"),
          StateDef("RUNNING_ON", "the path runs on for MD21380", "brake_at: int"),
          StateDef("BRAKING", "the stop axes brake within MD21381", "stopped_by: int")),
@@ -207,7 +209,7 @@ STATE_MACHINES: tuple[StateMachine, ...] = (
                      ("RUNNING_ON", "BRAKING", "MD21380 elapsed"), ("BRAKING", "IDLE", "the stop axes stand"))),
     StateMachine(
         "manual_retraction", "Manual retraction along the tool axis (DB21.DBX377.4, 377.5)",
-        "vc/core/manual_retraction.py", "channel",
+        "vc/core/nck/manual_retraction.py", "channel",
         (StateDef("NO_DATA", "no retract data", "NO DATA ──"),
          StateDef("DATA", "retract data kept (377.5)", "▶ DATA (377.5 = 1)"),
          StateDef("ACTIVE", "retraction selected (377.4)", "▶ ACTIVE (377.4 = 1)")),

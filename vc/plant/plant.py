@@ -52,7 +52,7 @@ class _AxisSwitches:
 
 
 class ChargedLink(Protocol):
-    """The drive line-up's DC link as the infeed's ready signal sees it (vc/core/dc_link.py)."""
+    """The drive line-up's DC link as the infeed's ready signal sees it (vc/core/retraction/dc_link.py)."""
 
     @property
     def charged(self) -> bool:

@@ -44,7 +44,7 @@ from vc.config.machine_files import machine_file as packaged_machine_file
 from vc.config.md_dictionary import BY_NUMBER
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import ALARM_TEXTS
-from vc.core.handwheel import HANDWHEELS
+from vc.core.axis.handwheel import HANDWHEELS
 from vc.input_limits import MAX_MAGNITUDE
 from vc.located_yaml import LocatedList, LocatedMap, Mark, Problem, Problems, SourceError, load_file, read_source
 from vc.scenario.durations import Duration, DurationError, format_seconds, parse_duration

@@ -16,9 +16,9 @@ from interfaces.plant_io import PlantIoMap
 from interfaces.signals import ExpandedCatalog
 from vc.config import md_dictionary as MD
 from vc.config.model import AxisConfig, ChannelConfig, MachineConfig
-from vc.core.encoder import ENC_TYPE_ABSOLUTE
-from vc.core.inclined_axis_channel import NOZAGC_SIGNAL
-from vc.core.transforms.inclined_axis import InclinedAxisParameters, parameters_for_channel
+from vc.core.axis.encoder import ENC_TYPE_ABSOLUTE
+from vc.core.kinematics.inclined_axis import InclinedAxisParameters, parameters_for_channel
+from vc.core.transforms.inclined_axis_control import NOZAGC_SIGNAL
 from vc.plant.plant import DRIVE_READY_DELAY_S
 
 DISTANCE_CODED = {3: "distance-coded scale, 2 marks", 8: "distance-coded scale, 4 marks"}

@@ -28,7 +28,7 @@ from vc.config.machine_data import MachineData
 from vc.config.md_dictionary import BY_NUMBER
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import Alarm
-from vc.core.channel import Channel
+from vc.core.channel.channel import Channel
 from vc.core.nc_memory import NcMemory
 from vc.core.nck import Nck
 from vc.plant.plant import Plant

@@ -163,3 +163,15 @@ class Rig:
         names = ("progStateRunning", "progStateWaiting", "progStateStopped", "progStateInterrupted",
                  "progStateAborted", "stateActive", "stateInterrupted", "stateReset")
         return {name: self.get(f"{channel}.basic.in.{name}") for name in names}
+
+
+def spindle_rig(extra: str = "", base: str = ABSOLUTE_XYZ) -> Rig:
+    """The machine (``base`` machine data, then ``extra``) in MDA with the overrides at 100 %; the PLC
+    reports SP1's gearbox in stage 1 (16.0-16.2), which the NC takes over in reset state."""
+    rig = Rig(machine(base + ("\n" + extra if extra else "")))
+    rig.ready_mda()
+    for name in ("SP1", "SP2"):
+        rig.set(f"{name}.spindle.out.ovrFactor", 100)
+    rig.set("SP1.spindle.out.gearStageSelection", 1)
+    rig.step(12)
+    return rig

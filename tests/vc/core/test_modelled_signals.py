@@ -16,7 +16,7 @@ from interfaces.catalog import load_catalog
 from interfaces.signals import PLACEHOLDER, Direction, InstanceKind, SignalDef, expand
 from vc.config.loader import load_machine
 from vc.config.machine_files import packaged_machines
-from vc.core.nck import Nck
+from vc.core.nck.nck import Nck
 
 GOLDEN = Path(__file__).resolve().parents[2] / "golden"
 

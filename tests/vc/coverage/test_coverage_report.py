@@ -54,9 +54,9 @@ def test_what_was_never_exercised_has_meaning_and_source(report: Report) -> None
     gaps = {(gap.category, gap.item): gap for gap in report.gaps}
     brake = gaps[("functions", "P2_BRAKE_OFF_CAM")]
     assert brake.missing == "never entered" and brake.meaning == "phase 2: braking off the cam"
-    line = next(number for number, text in enumerate((ROOT / "vc/core/referencing.py").read_text().splitlines(),
-                                                     start=1) if "P2_BRAKE_OFF_CAM = " in text)
-    assert brake.source == f"vc/core/referencing.py:{line}"
+    source = (ROOT / "vc/core/referencing/referencing.py").read_text().splitlines()
+    line = next(number for number, text in enumerate(source, start=1) if "P2_BRAKE_OFF_CAM = " in text)
+    assert brake.source == f"vc/core/referencing/referencing.py:{line}"
     lost = gaps[("signals", "Z1.basic.in.enc1Synchronized")]
     assert lost.address == "DB32.DBX60.4" and lost.missing == "seen 1, rises, falls"
     assert lost.meaning == "Referenced / synchronized, measuring system 1" and "seed 003 L633" in lost.source
@@ -72,7 +72,7 @@ def test_the_html_page_stands_alone(report: Report) -> None:
     assert page.startswith("<!DOCTYPE html>") and page.rstrip().endswith("</html>")
     assert "<script" not in page and "http" not in page and "<link" not in page
     assert "P2_BRAKE_OFF_CAM" in page and "phase 2: braking off the cam" in page
-    assert "vc/core/referencing.py:" in page and "Z1.basic.in.enc1Synchronized" in page
+    assert "vc/core/referencing/referencing.py:" in page and "Z1.basic.in.enc1Synchronized" in page
     assert "&lt;" not in page.split("<body>")[0]  # nothing escaped in the head
 
 

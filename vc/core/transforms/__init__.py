@@ -1,11 +1,11 @@
-"""Kinematic transforms: pure functions between programmed and machine positions.
+"""Transform controls (layer 3 of vc/core): the channel-side controls that apply the kinematics
+to a channel's axes (docs/kinematics.md).
 
-``inclined_axis``  GSK 988TD inclined (angular) axis control (seed 000)
-``five_axis``      Syntec five-axis mechanism chains, types 1-5, RTCP (seed 001)
-``tilted_plane``   G68.2 tilted working plane and G53.1 tool alignment (seed 001)
-``geometry``       the vectors and rotations they share
+``inclined_axis_control``  GSK 988TD inclined (angular) axis control (seed 000)
+``five_axis_control``      Syntec five-axis functions G43.4, G68.2, G53.1 (seed 001)
 
-No state and no I/O: the NC core calls them with positions and parameters and acts on the
-results, alarms included (``transform_alarm``).  Formulas, conventions and the choices the
-seeds leave open are in docs/kinematics.md.
+The pure math they call is in ``vc.core.kinematics``.
+
+Imports: program (block plans), interpolation, kinematics, axis and the base modules; never its
+siblings spindle and retraction, never referencing, channel or nck.
 """
