@@ -14,13 +14,9 @@ import grimp
 
 PACKAGES = ("vc", "plc_stub", "interfaces", "fmu")
 
-# Cycles that stand today outside vc/core, each as the set of modules it ties together.  They are
-# known and to be broken where those modules are reworked; any other cycle fails the test.
-KNOWN_CYCLES: frozenset[frozenset[str]] = frozenset({
-    # scenarios.py starts the external PLC processes (imports inside functions) and external_plc.py
-    # builds its simulation with scenarios.simulation_for
-    frozenset({"vc.harness.external_plc", "vc.harness.scenarios"}),
-})
+# Cycles known and accepted, each as the set of modules it ties together (none today); any other
+# cycle fails the test.
+KNOWN_CYCLES: frozenset[frozenset[str]] = frozenset()
 
 
 def import_graph() -> dict[str, set[str]]:

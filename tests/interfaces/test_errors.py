@@ -12,8 +12,6 @@ from interfaces.errors import VcError
 
 PACKAGES = ("interfaces", "vc", "plc_stub", "fmu", "vc_build", "plc_awlsim", "awlsimhw_vcmodbus")
 NOT_PYTHON = {"fmu._vc_fmi"}  # the FMU's C binary: it travels with the package and is never imported
-# Still without the root (module.Class): the NC core's exceptions, until the core gets it.
-CORE_WITHOUT_ROOT = {"vc.core.sync_actions.SyncActionError", "vc.core.program._SyntaxError"}
 # A BaseException on purpose: the wall-clock bound of the file campaign must pass every
 # ``except Exception`` of the code under test.
 NOT_AN_ERROR = {"vc.bench.robustness.files._Hang"}
@@ -52,7 +50,7 @@ def exception_classes() -> dict[str, type[BaseException]]:
 def test_every_exception_class_derives_from_the_root(exception_classes: dict[str, type[BaseException]]) -> None:
     assert len(exception_classes) > 30  # the walk found the project's exceptions
     without = {name for name, cls in exception_classes.items() if not issubclass(cls, VcError)}
-    assert without == CORE_WITHOUT_ROOT | NOT_AN_ERROR
+    assert without == NOT_AN_ERROR
 
 
 def test_a_standard_base_is_kept_beside_the_root(exception_classes: dict[str, type[BaseException]]) -> None:

@@ -30,7 +30,7 @@ from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import Alarm
 from vc.core.channel.channel import Channel
 from vc.core.nc_memory import NcMemory
-from vc.core.nck import Nck
+from vc.core.nck.nck import Nck
 from vc.plant.plant import Plant
 from vc.simulation.commissioning import commissioning_of
 from vc.simulation.link_faults import FaultInjectable, LinkFault, LinkFaultKind

@@ -22,8 +22,8 @@ from pathlib import Path
 from interfaces.image import Value
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
-from vc.core.axis import MachineAxis
-from vc.core.channel import Channel
+from vc.core.axis.axis import MachineAxis
+from vc.core.channel.channel import Channel
 from vc.located_yaml import load_text
 from vc.simulation.lockstep import Simulation
 

@@ -32,6 +32,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from interfaces.errors import VcError
 from vc.input_limits import MAX_MAGNITUDE
 
 _WHOLE = r"\d{1,18}(?!\d)"  # a block or action number: longer runs of digits are no number of the control
@@ -143,7 +144,7 @@ class Block:
         return f"N{self.number}" if self.number is not None else f"line {self.line}"
 
 
-class _SyntaxError(Exception):
+class _SyntaxError(VcError):
     pass
 
 

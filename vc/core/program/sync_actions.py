@@ -26,6 +26,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from interfaces.errors import VcError
 from vc.core.program.program import number, tokenize
 from vc.input_limits import MAX_EXPRESSION_DEPTH, MAX_EXPRESSION_NESTING, MAX_MAGNITUDE
 
@@ -59,7 +60,7 @@ def _combine(operator: Callable[[float, float], float], left: Expression, right:
     return expression
 
 
-class SyncActionError(ValueError):
+class SyncActionError(VcError, ValueError):
     """The text of a synchronized action cannot be read (alarm 12080)."""
 
 

@@ -13,9 +13,9 @@ import pytest
 from core_rig import DT, machine
 
 from vc.config.model import DcLinkConfig
-from vc.core.dc_link import DcLink
-from vc.core.drive_esr import STAT_BELOW_MINIMUM_SPEED, STAT_DC_LINK_UNDERVOLTAGE, STAT_REACTION
-from vc.core.drive_esr import Reaction as DriveReaction
+from vc.core.retraction.dc_link import DcLink
+from vc.core.retraction.drive_esr import STAT_BELOW_MINIMUM_SPEED, STAT_DC_LINK_UNDERVOLTAGE, STAT_REACTION
+from vc.core.retraction.drive_esr import DriveEsrReaction as DriveReaction
 from vc.simulation.lockstep import Simulation
 
 CAPACITANCE = 4000e-6
