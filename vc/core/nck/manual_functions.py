@@ -1,0 +1,169 @@
+"""The manual functions of the NCK: JOG with the traverse keys, handwheels, DRF, referencing
+with the traverse keys (JOG-REF / MDA-REF), and manual retraction following the operator.
+
+They run after the channels' programs in the IPO cycle (a channel that runs a program takes no
+manual motion) and before the spindles and position control, which move what they command.
+Handwheels are a function of the NCK, not of an axis: one handwheel's pulses go to the axes the
+PLC assigns it to (DB31.DBX4.0..4.2, or a geometry axis's DB21.DBX12.0..2 / 16.0..2 / 20.0..2), so
+the routing lives here, over every channel.
+"""
+
+from __future__ import annotations
+
+from interfaces.image import ProcessImage
+from interfaces.signals import Catalog, InstanceKind
+from vc.core.alarms import STOP_AXES, AlarmList
+from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.handwheel import GEOMETRY_AXES, Handwheels, HandwheelSignals
+from vc.core.channel.channel import Channel, Mode
+from vc.core.channel.referencing_control import ReferencingControl
+from vc.core.interface_map import SignalTable
+from vc.core.nck.manual_retraction import ManualRetraction
+from vc.core.nck.mode_group import ModeGroup
+from vc.core.spindle.coupling import Couplings
+
+
+class ManualFunctions:
+    def __init__(self, catalog: Catalog, image: ProcessImage, used: set[str], mode_group: ModeGroup,
+                 channels: list[Channel], alarms: AlarmList, referencing: ReferencingControl,
+                 retractions: dict[str, ManualRetraction], couplings: Couplings):
+        self.image = image
+        self.mode_group = mode_group
+        self.channels = channels
+        self.alarms = alarms
+        self.referencing = referencing
+        self.retractions = retractions
+        self.couplings = couplings
+        self.handwheels = Handwheels()
+        self._handwheel_signals = HandwheelSignals(SignalTable(catalog, InstanceKind.AXIS, used))
+        geometry_table = SignalTable(catalog, InstanceKind.CHANNEL, used)
+        self._geometry_handwheel_signals = tuple(HandwheelSignals(geometry_table, f"geoAxis{number}.out.")
+                                                 for number in range(1, GEOMETRY_AXES + 1))
+        self._geometry_handwheel_shown = geometry_table.field("geoAxis1.in.handwheelAssignedNumber")
+        self._drf_requested = geometry_table.bit("basic.out.handwheelOffsetDrf")  # DB21.DBX0.3
+        self._drf_shown = geometry_table.bit("basic.in.handwheelOvrActive")  # DB21.DBX33.3
+        # what the handwheel outputs depend on (mode, PLC data): they are written only when it changed
+        self._handwheel_outputs_for: object = None
+        self._drf_active: dict[str, bool] = {}
+        self._drf_travelling: set[str] = set()  # axes with DRF travel to go (most cycles: none)
+
+    def cycle(self, cycle: int, emergency_stop: bool, plc_data_version: int) -> None:
+        """JOG with the traverse keys, or in JOG-REF / MDA-REF referencing with them; handwheels
+        and DRF; then manual retraction follows what moved.  ``plc_data_version``: the version of
+        the PLC's data the NCK latched last (the handwheel outputs depend on it)."""
+        mode_group = self.mode_group
+        reference_keys = mode_group.reference_function and mode_group.mode in (Mode.JOG, Mode.MDA)
+        jog_mode = mode_group.mode is Mode.JOG and not mode_group.reference_function
+        keys_followed = reference_keys or jog_mode
+        pulses = self.handwheels.pulses() if self.handwheels.any_turning else {}
+        drf_mode = mode_group.mode in (Mode.AUTO, Mode.MDA) and not mode_group.reference_function
+        outputs_for = (mode_group.mode, mode_group.reference_function, plc_data_version)
+        refresh_outputs = outputs_for != self._handwheel_outputs_for
+        self._handwheel_outputs_for = outputs_for
+        for channel in self.channels:
+            axes_stopped = emergency_stop or bool(self.alarms.reactions(channel.name) & STOP_AXES)
+            allowed = keys_followed and not channel.is_active and not axes_stopped
+            if pulses and allowed and jog_mode:
+                self._handwheel_pulses(channel, pulses)
+            if refresh_outputs:
+                self._show_geometry_handwheel(channel)
+                self._show_drf(channel, drf_mode)
+            self._drf(channel, pulses, axes_stopped)
+            self.referencing.traverse_keys(channel.name, channel.axes, allowed and reference_keys, cycle)
+            feed_disable = channel.inputs.feed_disable
+            jog_allowed = allowed and jog_mode
+            retraction = self.retractions[channel.name]
+            inclined = channel.inclined
+            for axis in channel.axes:
+                if axis.is_spindle and axis.name in self.couplings.active:
+                    inputs = axis.inputs
+                    direction = (1 if inputs.key_plus else -1) if jog_allowed and inputs.key_plus != inputs.key_minus \
+                        else 0
+                    self.couplings.jog(axis.name, direction, inputs.feed_stop or feed_disable)
+                # outside JOG only a jog that is still running out needs its cycle; in JOG an axis at
+                # rest needs it only when a key or its handwheel asks it to move (limits cost time)
+                inputs = axis.inputs
+                asked = jog_allowed and (inputs.key_plus != inputs.key_minus or axis.handwheel_rest != 0.0)
+                if (asked or axis.owner is Owner.JOG) and not axis.is_spindle:
+                    limits = retraction.jog_limits(axis)
+                    if inclined is not None:
+                        limits = limits.and_(inclined.jog_limits(axis))
+                    limits = limits.and_(channel.stroke_jog_limits(axis, cycle))  # G22, stroke limit 3
+                    axis.jog_cycle(jog_allowed, feed_disable, limits)
+        for retraction in self.retractions.values():
+            retraction.follow()
+
+    def _handwheel_pulses(self, channel: Channel, pulses: dict[int, int]) -> None:
+        """Hand this cycle's pulses of the turning handwheels to the axes the PLC assigned them to
+        (DB31.DBX4.0..4.2, or the geometry axes' DB21.DBX12.0..2 / 16.0..2 / 20.0..2), by the
+        increment it selects for them; spindles take none."""
+        receivers = self._handwheel_receivers(channel, pulses)
+        counted = {(number, axis.name) for number, axis in self.retractions[channel.name].handwheel_priority(
+            [(number, axis) for number, axis, _ in receivers])}
+        for number, axis, per_detent in receivers:
+            if (number, axis.name) in counted and pulses[number] and per_detent and not axis.is_spindle:
+                axis.add_handwheel_travel(pulses[number] * per_detent)
+
+    def _show_drf(self, channel: Channel, drf_mode: bool) -> None:
+        """DB21.DBX33.3: DRF requested (DB21.DBX0.3) in AUTO or MDA."""
+        area = self.image.area(channel.area_key)
+        active = drf_mode and self._drf_requested.get(area)
+        self._drf_active[channel.name] = active
+        if self._drf_shown.get(area) != active:
+            self._drf_shown.put(area, active)
+
+    def _drf(self, channel: Channel, pulses: dict[int, int], axes_stopped: bool) -> None:
+        """DRF (seed 003 §16.13.3, L36409-36506): in AUTO and MDA with DB21.DBX0.3 the pulses of a
+        handwheel assigned to a machine axis (DB31.DBX4.0..4.2, not to a geometry axis: L36419) build
+        up the axis's DRF offset, travelled overlaid on the path; DB21.DBX33.3 acknowledges it.  On a
+        coupled following spindle they move the relation as overlaid motion (L22011-22015); an
+        uncoupled spindle takes none [control]."""
+        if pulses and self._drf_active[channel.name] and not axes_stopped:
+            signals = self._handwheel_signals
+            for axis in channel.axes:
+                axis_area = self.image.area(axis.area_key)
+                assigned, per_detent = signals.assigned(axis_area), signals.increment(axis_area)
+                detents = sum(count for number, count in pulses.items() if assigned & (1 << (number - 1)))
+                if not (detents and per_detent):
+                    continue
+                if axis.is_spindle:
+                    self.couplings.drf(axis.name, detents * per_detent)
+                else:
+                    axis.add_drf_travel(detents * per_detent)
+                    self._drf_travelling.add(axis.name)
+        if not self._drf_travelling:
+            return
+        for axis in channel.axes:
+            if axis.name in self._drf_travelling:
+                axis.drf_cycle(axes_stopped or axis.inputs.feed_stop or channel.inputs.feed_disable
+                               or not axis.drive_ready)
+                if not axis.drf_moving:
+                    self._drf_travelling.discard(axis.name)
+
+    def _show_geometry_handwheel(self, channel: Channel) -> None:
+        """DB21.DBX40.0..2: the handwheel assigned to geometry axis 1, as the PLC selects it (L34189-34193);
+        the seed prints no such bits for geometry axes 2 and 3."""
+        area = self.image.area(channel.area_key)
+        assigned = self._geometry_handwheel_signals[0].assigned(area) if channel.config.geometry_axes[0] else 0
+        if self._geometry_handwheel_shown.get(area) != assigned:
+            self._geometry_handwheel_shown.put(area, assigned)
+
+    def _handwheel_receivers(self, channel: Channel, pulses: dict[int, int]) -> list[tuple[int, MachineAxis, float]]:
+        """(handwheel, machine axis, its travel per detent) of every assignment of a turning handwheel."""
+        receivers: list[tuple[int, MachineAxis, float]] = []
+        signals = self._handwheel_signals
+        for axis in channel.axes:
+            area = self.image.area(axis.area_key)
+            assigned = signals.assigned(area)
+            if assigned:
+                receivers += [(number, axis, signals.increment(area)) for number in pulses
+                              if assigned & (1 << (number - 1))]
+        area = self.image.area(channel.area_key)
+        inclined = channel.inclined
+        for geometry, name in zip(self._geometry_handwheel_signals, channel.config.geometry_axes, strict=False):
+            assigned = geometry.assigned(area) if name else 0
+            if assigned:
+                axis = channel.axes_by_name[name]
+                per_detent = geometry.increment(area) * (inclined.geometry_travel(axis) if inclined else 1.0)
+                receivers += [(number, axis, per_detent) for number in pulses if assigned & (1 << (number - 1))]
+        return receivers
