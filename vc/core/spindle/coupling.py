@@ -928,7 +928,7 @@ class Couplings:
         return direction * step / self._dt
 
     def quantity(self, following: str, name: str) -> float:
-        """The system variables of a coupled FS (``COUPLING_QUANTITY_MEANINGS`` in vc/observables.py)."""
+        """The system variables of a coupled FS (``COUPLING_QUANTITY_MEANINGS`` in vc/simulation/observables.py)."""
         coupling = self.active.get(following)
         if coupling is None:
             return 0.0

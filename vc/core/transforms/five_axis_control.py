@@ -338,7 +338,7 @@ class FiveAxisControl:
 
     def quantity(self, name: str, modal: FiveAxisModal) -> float:
         """What scenarios read of the tool: CHAN1.toolTipX .. toolDirZ, CHAN1.tcpActive (their
-        meanings: CHANNEL_QUANTITY_MEANINGS in vc/observables.py)."""
+        meanings: CHANNEL_QUANTITY_MEANINGS in vc/simulation/observables.py)."""
         if name == "tcpActive":
             return 1.0 if modal.tool_center_point else 0.0
         pose = self.tool_pose(modal)
