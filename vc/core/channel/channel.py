@@ -47,15 +47,15 @@ from vc.core.interpolation.thread_cutting import THREAD_SPINDLE_STANDS, ThreadSe
 from vc.core.interpolation.tool_path import ToolPathSegment
 from vc.core.overrides import OverrideCoding
 from vc.core.program.commands import BlockChange, CouplingCommand, SpindleCommand, block_change_of, kind_of
-from vc.core.program.interpreter import (
+from vc.core.program.block_plan import (
     EXACT_STOP_COARSE,
     EXACT_STOP_FINE,
     BlockPlan,
     DecodeAlarm,
     ModalState,
-    decode,
     software_limit_alarm,
 )
+from vc.core.program.interpreter import decode
 from vc.core.program.program import Block, Jump, jump_target, parse_program
 from vc.core.program.sync_actions import SyncActionError, VariableWrite, parse_condition
 from vc.core.referencing.referencing import Source, State
