@@ -53,6 +53,7 @@ from vc.core.kinematics.five_axis import (
 from vc.core.kinematics.geometry import Vec3
 from vc.core.kinematics.tilted_plane import align_tool, euler_frame
 from vc.core.kinematics.transform_alarm import FIVE_AXIS_PROGRAM, ROTARY_RANGE, TransformAlarm
+from vc.core.program.block_plan import BlockPlan, DecodeAlarm, end_point_limit_alarm, software_limit_alarm
 from vc.core.program.five_axis_program import (
     ALIGN_TOOL,
     LENGTH_CANCEL,
@@ -63,7 +64,6 @@ from vc.core.program.five_axis_program import (
     FiveAxisModal,
     FiveAxisWords,
 )
-from vc.core.program.interpreter import BlockPlan, DecodeAlarm, end_point_limit_alarm, software_limit_alarm
 
 # Words each five-axis G code takes (seed 001 L42-46, L59-60).
 _ARGUMENTS = {TOOL_CENTER_POINT: "HLER", LENGTH_COMPENSATION: "H", TILTED_PLANE: "IJK", ALIGN_TOOL: "P"}

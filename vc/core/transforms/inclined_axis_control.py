@@ -62,7 +62,7 @@ from vc.core.kinematics.inclined_axis import (
     to_program,
 )
 from vc.core.kinematics.transform_alarm import INCLINED_G28_BLOCK, INCLINED_ORDER
-from vc.core.program.interpreter import BlockPlan, DecodeAlarm, software_limit_alarm
+from vc.core.program.block_plan import BlockPlan, DecodeAlarm, software_limit_alarm
 
 ARC_CHECK_POINTS_MIN = 32  # points of an arc checked against the stroke limits before it moves ...
 ARC_CHECK_POINTS_MAX = 512  # ... about one per mm of its path

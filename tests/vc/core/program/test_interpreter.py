@@ -15,15 +15,15 @@ from interfaces.catalog import load_catalog
 from vc.config.model import ChannelConfig
 from vc.core.axis.axis import MachineAxis
 from vc.core.nck.nck import Nck
-from vc.core.program.interpreter import (
+from vc.core.program.block_plan import (
     EXACT_STOP_COARSE,
     EXACT_STOP_FINE,
     INTERPOLATION_END,
     BlockPlan,
     DecodeAlarm,
     ModalState,
-    decode,
 )
+from vc.core.program.interpreter import decode
 from vc.core.program.program import parse_program
 
 

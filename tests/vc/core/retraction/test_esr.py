@@ -15,8 +15,9 @@ from core_rig import ABSOLUTE_XYZ, DT, FIVE_AXIS, Rig, machine, spindle_rig
 
 from vc.core.axis.axis import MachineAxis
 from vc.core.interpolation.tool_path import ToolPathSegment
+from vc.core.program.block_plan import BlockPlan, DecodeAlarm, ModalState
 from vc.core.program.commands import RetractProgramming
-from vc.core.program.interpreter import BlockPlan, DecodeAlarm, ModalState, decode
+from vc.core.program.interpreter import decode
 from vc.core.program.program import parse_program
 from vc.core.program.sync_actions import SyncActionError, parse_actions, parse_condition
 from vc.core.retraction.drive_esr import EXTENDED_RETRACT, EXTENDED_STOP

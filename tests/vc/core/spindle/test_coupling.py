@@ -11,8 +11,9 @@ from core_rig import Rig, machine
 from interfaces.catalog import load_catalog
 from vc.config.loader import load_machine
 from vc.core.nck.nck import Nck
+from vc.core.program.block_plan import BlockPlan, DecodeAlarm, ModalState
 from vc.core.program.commands import BlockChange, Kind, block_change_of, kind_of
-from vc.core.program.interpreter import BlockPlan, DecodeAlarm, ModalState, decode
+from vc.core.program.interpreter import decode
 from vc.core.program.program import parse_program
 from vc.core.program.sync_actions import VariableWrite
 from vc.core.spindle.coupling import (

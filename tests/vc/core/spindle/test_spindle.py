@@ -210,7 +210,7 @@ def test_m40_gear_change_follows_t1_to_t4_of_the_timing_diagram() -> None:
     rig.set("SP1.spindle.out.oscillEnable", 1)
     run_seconds(rig, 0.3)
     assert abs(speed(rig)) > 10  # oscillating (MD35400 = 60 rev/min, MD35410 = 20 rev/s^2)
-    assert rig.channel.program_state.value == "running" and rig.channel._block_index == 1  # block held
+    assert rig.channel.program_state.value == "running" and rig.channel.run.block_index == 1  # block held
     acknowledge(rig, 2)
     rig.step(2)
     assert bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 0

@@ -1,0 +1,102 @@
+"""The channel and program state and where the program stands: what the channel's parts share.
+
+Channel and program states (DB21.DBX35.x)::
+
+    RESET / aborted ──NC start (AUTO: selected program, MDA: MDA buffer)──▶ ACTIVE / running
+    ACTIVE / running ──NC stop, M0, alarm with interrupt──▶ INTERRUPTED / stopped
+    INTERRUPTED / stopped ──mode change (e.g. to JOG)──▶ INTERRUPTED / interrupted
+    INTERRUPTED ──NC start (in the mode the program was started in)──▶ ACTIVE / running
+    any ──reset, M2, M30──▶ RESET / aborted
+
+The :class:`~vc.core.channel.channel.Channel` makes these transitions on its commands; its parts
+(block execution, the spindle functions, thread cutting and the ESR) read and change the one
+:class:`ProgramRun` it owns, so each sees the block, the phase and the state the others left.
+"""
+
+from __future__ import annotations
+
+from enum import Enum
+
+from vc.core.alarms import AlarmList
+from vc.core.interpolation.path import PathSegment
+from vc.core.interpolation.tool_path import ToolPathSegment
+from vc.core.program.block_plan import BlockPlan, ModalState
+from vc.core.program.program import Block
+
+
+class ChannelState(Enum):
+    RESET = "reset"
+    ACTIVE = "active"
+    INTERRUPTED = "interrupted"
+
+
+class ProgramState(Enum):
+    ABORTED = "aborted"
+    RUNNING = "running"
+    WAITING = "waiting"
+    STOPPED = "stopped"
+    INTERRUPTED = "interrupted"
+
+
+class Phase(Enum):
+    DECODE = "decode"
+    INTERPOLATE = "interpolate"
+    BLOCK_END = "block_end"
+    DWELL = "dwell"
+    REFERENCE = "reference"  # G74: waiting until the programmed axes are referenced
+    SPINDLE = "spindle"  # the block's gear change, M70, or the spindle speed before machining
+    CONTOUR_LOST = "contour_lost"  # an axis was braked off the path: NC start cannot continue
+
+
+class Mode(Enum):
+    AUTO = "AUTO"
+    MDA = "MDA"
+    JOG = "JOG"
+
+
+class ProgramRun:
+    """The channel and program state, the modal state, the program and the block in progress."""
+
+    def __init__(self) -> None:
+        self.state = ChannelState.RESET
+        self.program_state = ProgramState.ABORTED
+        self.modal = ModalState()
+        self.started_in: Mode | None = None
+        self.blocks: tuple[Block, ...] = ()
+        self.block_index = 0
+        self.leaving_thread_chain = False  # after a fast retraction: skip the chain's other G33 blocks
+        self.current_block: Block | None = None
+        self.phase = Phase.DECODE
+        self.plan: BlockPlan | None = None
+        self.segment: PathSegment | ToolPathSegment | None = None  # the path of the running block
+        self.stop_after_block = False
+        self.stopping = False  # braking on the path after NC stop / an alarm
+        self.aborting = False  # braking on the path after a reset
+
+    def interrupt(self) -> None:
+        """The running program stops (braking on the path) and can continue with NC start."""
+        if self.state is ChannelState.ACTIVE:
+            self.state = ChannelState.INTERRUPTED
+            self.program_state = ProgramState.STOPPED
+            self.stopping = True
+
+    def end(self) -> None:
+        """Reset or program end: the channel in reset, the program aborted, the modal state reset."""
+        self.state = ChannelState.RESET
+        self.program_state = ProgramState.ABORTED
+        self.started_in = None
+        self.blocks = ()
+        self.block_index = 0
+        self.leaving_thread_chain = False
+        self.current_block = None
+        self.phase = Phase.DECODE
+        self.plan = None
+        self.stop_after_block = False
+        self.stopping = False
+        self.modal.reset()
+
+
+def raise_block_alarm(alarms: AlarmList, channel: str, number: int, cycle: int, block: Block, *parameters: object,
+                      axis: str = "") -> None:
+    """An alarm of the block ``block`` of channel ``channel``: the channel and the block's label first."""
+    alarms.raise_alarm(number, cycle, channel, block.label, *parameters, channel=channel, axis=axis)

@@ -1,0 +1,109 @@
+"""The decoder of one block: the block, the modal state and the plan it fills, and what the word
+handlers (``motion_words``, ``spindle_words``, ``retract_words``) share while they read the block.
+
+A handler reports a faulty word with :meth:`BlockDecoder.fail`; the first alarm of a block is the
+one raised.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Collection, Mapping
+
+from vc.config import md_dictionary as MD
+from vc.config.model import ChannelConfig
+from vc.core.axis.axis import MachineAxis
+from vc.core.program.block_plan import BlockPlan, DecodeAlarm, ModalState
+from vc.core.program.commands import SpindleCommand
+from vc.core.program.five_axis_program import FIVE_AXIS_G_CODES, FiveAxisWords
+from vc.core.program.program import Block, ValueFunction, Word
+
+
+class BlockDecoder:
+    def __init__(self, block: Block, modal: ModalState, channel: ChannelConfig, axes: dict[str, MachineAxis],
+                 program_positions: Mapping[str, float], limits_checked_elsewhere: Collection[str]):
+        self.block = block
+        self.modal = modal
+        self.channel = channel
+        self.axes = axes
+        self.program_positions = program_positions  # where a transform puts an axis in program coordinates
+        self.limits_checked_elsewhere = limits_checked_elsewhere  # a transform checks their software limits
+        if any(isinstance(item, Word) and item.address == "G" and item.value == 53 for item in block.items):
+            self.program_positions = {}  # G53: machine coordinates; incremental words count from the setpoint
+        self.plan = BlockPlan()
+        self.alarm: DecodeAlarm | None = None
+        self.dwell_requested = False
+        self.reference_requested = False  # G74
+        self.other_g_words = False  # G words besides G74 (a G74 block stands alone)
+        self.dwell_value: float | None = None
+        self.feed_word: float | None = None
+        self.polygon_block = any(isinstance(item, Word) and item.address == "G" and round(item.value * 10) in (512, 502)
+                                 for item in block.items)
+        self.polygon_words: dict[str, float] = {}
+        self.five_axis_codes = {round(item.value * 10) / 10 for item in block.items
+                                if isinstance(item, Word) and item.address == "G"} & FIVE_AXIS_G_CODES
+        if self.five_axis_codes:
+            self.plan.five_axis = FiveAxisWords()
+        self.pitch_words: dict[str, float] = {}  # I / J / K: thread pitch (G33, G331) or circle centre (G2, G3)
+        self.radius_word: float | None = None  # R / CR=: circle radius (G2, G3)
+        self.start_angle: float | None = None  # SF= of a G33 block
+
+    def fail(self, number: int, *parameters: object, axis: str = "") -> None:
+        if self.alarm is None:
+            self.alarm = DecodeAlarm(number, parameters, axis)
+
+    def unknown(self, text: str) -> None:
+        self.fail(12550, self.channel.name, self.block.label, text)
+
+    def spindle(self, number: int | None) -> SpindleCommand | None:
+        """The command of spindle ``number`` (None: the channel's master spindle, MD20090)."""
+        if number is None:
+            number = self.channel.md.int(MD.SPIND_DEF_MASTER_SPIND)
+        for name, axis in self.axes.items():
+            if axis.config.spindle_number == number:
+                return self.plan.spindles.setdefault(name, SpindleCommand())
+        self.fail(16105, self.channel.name, self.block.label, number)
+        return None
+
+    def spindle_axis(self, text: object) -> str | None:
+        """The machine axis of ``S<n>`` (or of a spindle's axis name) in a coupling call."""
+        name = str(text).strip().upper()
+        if len(name) > 1 and name[0] == "S" and name[1:].isdigit():
+            command_count = len(self.plan.spindles)
+            found = self.spindle(int(name[1:]))
+            if found is None:
+                return None
+            axis = next(a for a, c in self.plan.spindles.items() if c is found)
+            if len(self.plan.spindles) > command_count and found == SpindleCommand():
+                del self.plan.spindles[axis]  # only looked up: no spindle function in the block
+            return axis
+        machine_axis = self.machine_axis(name)
+        if machine_axis is not None and self.axes[machine_axis].is_spindle:
+            return machine_axis
+        self.fail(16105, self.channel.name, self.block.label, name)
+        return None
+
+    def machine_axis(self, name: str) -> str | None:
+        """The machine axis of this channel that ``name`` (geometry, channel or machine axis name) means."""
+        machine_axis = self.channel.axis_for_program_name(name)
+        return machine_axis if machine_axis in self.axes else None
+
+    def axis_value(self, name: str, value: object) -> None:
+        machine_axis = self.machine_axis(name)
+        if machine_axis is None:
+            self.unknown(name)
+            return
+        axis = self.axes[machine_axis]
+        if axis.is_spindle and not axis.axis_mode:
+            # the axis name of a spindle switches it to axis mode: an implicit M70 (L17421-17462)
+            self.plan.spindles.setdefault(machine_axis, SpindleCommand()).axis_mode = True
+        if isinstance(value, ValueFunction) and value.name in ("AC", "IC"):
+            absolute, number = value.name == "AC", value.value
+        elif isinstance(value, float):
+            absolute, number = self.modal.absolute, value
+        else:
+            self.unknown(f"{name}={value}")
+            return
+        start = self.plan.targets.get(machine_axis, self.program_positions.get(machine_axis, axis.setpoint))
+        self.plan.targets[machine_axis] = number if absolute else start + number
+        if not absolute and self.plan.five_axis is not None:
+            self.plan.five_axis.incremental_axes = True
