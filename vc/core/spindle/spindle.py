@@ -34,45 +34,33 @@ axis referencing uses between the mark and the reference point (L18011-18025).
 from __future__ import annotations
 
 import struct
-from dataclasses import dataclass
 from enum import Enum
 
 from vc.config import md_dictionary as MD
 from vc.config.machine_data import MachineData, MdDef
 from vc.core.alarms import STOP_AXES, AlarmList
 from vc.core.axis.axis import MachineAxis, Owner
-from vc.core.axis.motion import braking_distance, ramp, stopping_velocity
-from vc.core.interface_map import SignalTable
+from vc.core.axis.motion import ramp
 from vc.core.nc_memory import NcMemory
 from vc.core.overrides import OverrideCoding
 from vc.core.program.commands import SpindleCommand
-from vc.core.referencing.referencing import lose_calibration
 from vc.core.spindle.gear_change import (
     ALARM_CATCH_UP_IMPOSSIBLE,
     ALARM_GEAR_CHANGE_NOT_POSSIBLE,
-    ALARM_NOT_ACKNOWLEDGED,
-    ALARM_POSITION_NOT_REACHED,
-    ALARM_WRONG_GEAR,
-    GEAR_CHANGE_AT_POSITION,
-    GEAR_CHANGE_SIMULATED,
-    GEAR_CHANGE_WITH_OSCILLATION,
-    SUPPRESS_WRONG_GEAR,
     GearChange,
-    GearState,
-    Oscillation,
-    select_gear,
+    GearOutcome,
 )
+from vc.core.spindle.positioning import Positioning, PositioningDrive
+from vc.core.spindle.signals import SpindleInputs
+from vc.core.spindle.signals import SpindleSignals as SpindleSignals  # the NCK builds them with the spindles
 
 RPM = 6.0  # rev/min -> deg/s
 REV_S2 = 360.0  # rev/s^2 -> deg/s^2
 ALARM_CHUCK_SPEED = 22100
 ALARM_ZERO_MARK_MISSING = 20002  # the positioning's zero-mark search (MD34060) [control: the referencing alarm]
-_ARRIVED = 1e-9
 POSITION_CONTROL_RESERVE = 0.9  # the speed a position-controlled spindle may use (L16747-16750)
-_STABLE_CYCLES = 10  # a gear reported in reset state is taken once it stood this long (L18603-18606)
 SUPPRESS_IN_DRY_RUN = 1 << 0  # MD35035 bit 0: no gear change in dry run
 SUPPRESS_IN_PROGRAM_TEST = 1 << 1  # MD35035 bit 1: ... nor in program test
-CATCH_UP_AFTER_SUPPRESSION = 1 << 2  # MD35035 bit 2: the programmed stage is engaged afterwards
 
 
 class SpindleMode(Enum):
@@ -81,79 +69,6 @@ class SpindleMode(Enum):
     POSITIONING = "positioning"
     AXIS = "axis"
     SYNCHRONOUS = "synchronous"  # following spindle of a coupling (84.4): vc/core/spindle/coupling.py drives it
-
-
-class SpindleSignals:
-    """The DB31 spindle signals (catalogue symbols without the instance)."""
-
-    def __init__(self, table: SignalTable):
-        self.gear_reported = table.field("spindle.out.gearStageSelection")
-        self.gear_done = table.bit("spindle.out.gearChangeoverDone")
-        self.delete_s = table.bit("spindle.out.deleteSValue")
-        self.use_feed_override = table.bit("spindle.out.useFeedrateOvr")
-        self.invert_m3_m4 = table.bit("spindle.out.invertM3M4")
-        self.oscillation_by_plc = table.bit("spindle.out.oscillRequest")
-        self.oscillation_enable = table.bit("spindle.out.oscillEnable")
-        self.oscillation_cw = table.bit("spindle.out.oscillSetDirCw")
-        self.oscillation_ccw = table.bit("spindle.out.oscillSetDirCcw")
-        self.override = table.field("spindle.out.ovrFactor")
-        self.rapid_stop = table.bit("drive.out.rapidStop")
-        self.resync = (table.bit("spindle.out.resyncEnc1"), table.bit("spindle.out.resyncEnc2"))
-        self.resync_for_positioning = (table.bit("spindle.out.resyncEnc1ForPos"),
-                                       table.bit("spindle.out.resyncEnc2ForPos"))
-        self.plc_stop = table.bit("spindle.out.stop")
-        self.plc_start_cw = table.bit("spindle.out.startCw")
-        self.plc_start_ccw = table.bit("spindle.out.startCcw")
-        self.requested_gear = table.field("spindle.in.requestedGearStageNumber")
-        self.change_gear = table.bit("spindle.in.gearChangeoverRequested")
-        self.speed_limit_exceeded = table.bit("spindle.in.speedLimitationExceeded")
-        self.setpoint_limited = table.bit("spindle.in.speedSetpointAboveMax")
-        self.setpoint_raised = table.bit("spindle.in.speedSetpointBelowMin")
-        self.speed_reached = table.bit("spindle.in.speedSetpointReached")
-        self.clockwise = table.bit("spindle.in.cwRotActive")
-        self.positioning_mode = table.bit("spindle.in.posModeActive")
-        self.oscillation_mode = table.bit("spindle.in.oscillModeActive")
-        self.control_mode = table.bit("spindle.in.ctrlModeActive")
-        self.in_position = table.bit("spindle.in.inPos")
-        self.m_function = table.field("spindle.in.mFuncNumber")
-        self.s_value = table.real_offset("spindle.in.sFuncValue")
-        self.spindle_mode = table.bit("basic.in.spindleModeActive")
-        self.parameter_set = table.field("drive.in.posCtrlParameterSetNumber")
-
-
-@dataclass(slots=True)
-class SpindleInputs:
-    gear_reported: int = 0
-    gear_done: bool = False
-    delete_s: bool = False
-    use_feed_override: bool = False
-    invert_m3_m4: bool = False
-    reset_movement: bool = False  # DB31.DBX2.2 as last seen (edge-evaluated)
-    oscillation_by_plc: bool = False
-    oscillation_enable: bool = False
-    oscillation_cw: bool = False
-    oscillation_ccw: bool = False
-    override_raw: int = 0
-    rapid_stop: bool = False
-    resync: tuple[bool, bool] = (False, False)
-    resync_for_positioning: tuple[bool, bool] = (False, False)
-    plc_stop: bool = False
-    plc_start_cw: bool = False
-    plc_start_ccw: bool = False
-
-
-@dataclass(slots=True)
-class Positioning:
-    """A running SPOS / SPOSA / M19 (or the approach to the gear-change position)."""
-
-    mode: str  # AC, IC, DC, ACP, ACN
-    value: float  # degrees
-    wait: bool  # SPOS and M19 hold the block until the target; SPOSA does not
-    programmed: bool = True  # SPOS / SPOSA / M19; False: the approach to the gear-change position
-    direction: int = 0  # the direction of the approach, once chosen
-    searched: float = 0.0  # degrees turned looking for a zero mark
-    target: float | None = None  # the setpoint where the spindle stops (NC coordinates)
-    done: bool = False
 
 
 class Spindle:
@@ -165,8 +80,6 @@ class Spindle:
         """``memory`` and ``alarms``: where a gear stage change that recalibrates an absolute
         motor encoder writes MD34210 and raises 25022, also when a reset ends the change."""
         self.axis = axis
-        self._memory = memory
-        self._alarms = alarms
         self.name = axis.name
         self.number = axis.config.spindle_number
         self.channel = channel
@@ -176,25 +89,16 @@ class Spindle:
         self._override_coding = override_coding
         self._feed_coding = feed_coding
         self._dt = dt
-        self._suppress_wrong_gear = bool(suppress_alarm_mask & SUPPRESS_WRONG_GEAR)
-        self._gear_wait_cycles = max(1, round(gear_wait_s / dt))
         self.inputs = SpindleInputs()
         md = self.md
-        self.gears = md.int(MD.NUM_GEAR_STEPS)
-        self.change_enable = md.int(MD.GEAR_STEP_CHANGE_ENABLE)
-        self.oscillation = Oscillation.of(md, dt)
+        self.gear_change = GearChange(axis, self.inputs, channel, dt, suppress_alarm_mask, gear_wait_s, memory, alarms)
+        self._positioning_drive = PositioningDrive(axis, md, dt)
         self.mode = SpindleMode.CONTROL
         self.speed = 0.0  # programmed S, rev/min
         self.direction = 0  # +1 M3, -1 M4, 0 M5 (before M3/M4 inversion by DBX17.6)
-        self.automatic_gear = True  # M40 is the default after reset (L21331)
-        self.gear = 1  # active gear stage (its parameter set and limits)
-        self.acknowledged_gear = 1  # shown in DBX82.0-82.2 outside a change
-        self.change: GearChange | None = None
         self.positioning: Positioning | None = None
         self.position_control = md.int(MD.SPIND_DEFAULT_MODE) == 1
         self.braking_for_axis_mode = False  # M70 from rotation: braking like M5 before axis mode
-        self.dialog_forced = False  # stage 0 reported at program start: the next change talks to the PLC
-        self.suppressed_gear: int | None = None  # programmed while changes were suppressed ($P_GEAR)
         self.m_function = 0
         self.last_rotation = 0  # direction of the last rotation, for the oscillation start
         self.set_speed = 0.0  # after override and limits, rev/min (monitoring)
@@ -202,12 +106,9 @@ class Spindle:
         self.raised = False
         self.limits_unreported = False  # a suppressed change's clamping shows no 83.1 / 83.2 (L19996-20001)
         self.at_chuck_limit = False
-        self._reported_since = 0
-        self._last_report = 0  # the last gear report taken in reset state (DBX16.0-16.2)
         self._last_physical = axis.physical
         self._status: tuple[object, ...] = ()
         self._planned = False  # the positioning's command is a planned profile, not a ramp target
-        self._zero_mark_missing = False
         self.quiet = False  # nothing to do until an input, a command, a reset or an alarm changes
         self.held = False  # NC stop axes and spindles (DB21.DBX7.4) until NC start
         self.stopped_by_alarm = False  # an alarm's interpolation stop brakes the spindle
@@ -227,8 +128,23 @@ class Spindle:
             self.position_control = True
 
     # ------------------------------------------------------------------ gear data
-    def _gear_float(self, md_def: MdDef, gear: int | None = None) -> float:
-        return self.md.float(md_def, self.gear if gear is None else gear)
+    @property
+    def gear(self) -> int:
+        """The active gear stage (its parameter set and limits)."""
+        return self.gear_change.gear
+
+    @property
+    def suppressed_gear(self) -> int | None:
+        """The stage programmed while changes were suppressed ($P_GEAR), to be caught up."""
+        return self.gear_change.suppressed_gear
+
+    @property
+    def change(self) -> GearChange | None:
+        """The gear change while one runs."""
+        return self.gear_change if self.gear_change.state is not None else None
+
+    def _gear_float(self, md_def: MdDef) -> float:
+        return self.gear_change.gear_float(md_def)
 
     def _apply_gear_data(self) -> None:
         """The gear's (or axis mode's) parameter set: Kv, and with a motor encoder the zero-mark
@@ -242,11 +158,6 @@ class Spindle:
             if not md.bool(MD.ENC_IS_DIRECT, encoder.index):
                 ratio = md.int(MD.DRIVE_AX_RATIO_DENOM, index) / md.int(MD.DRIVE_AX_RATIO_NUMERA, index)
                 axis.set_encoder_turn(encoder, abs(360.0 * ratio))
-
-    def _ratio(self, gear: int) -> float:
-        """Load revolutions per motor revolution in ``gear`` (MD31050 / MD31060)."""
-        md = self.md
-        return md.int(MD.DRIVE_AX_RATIO_DENOM, gear) / md.int(MD.DRIVE_AX_RATIO_NUMERA, gear)
 
     @property
     def parameter_set(self) -> int:
@@ -277,10 +188,7 @@ class Spindle:
         to go / spindle reset, which the spindle carries out here (the coupling has its part)."""
         self.quiet = False
         area, sig, inp = self._area, self._signals, self.inputs
-        reported = sig.gear_reported.get(area)
-        if reported != inp.gear_reported:
-            self._reported_since = 0
-        inp.gear_reported = reported
+        self.gear_change.take_report(sig.gear_reported.get(area))
         inp.gear_done = sig.gear_done.get(area)
         inp.delete_s = sig.delete_s.get(area)
         inp.use_feed_override = sig.use_feed_override.get(area)
@@ -311,7 +219,7 @@ class Spindle:
         """The simple spindle interface DBB30: start CW / CCW with the last S, stop along the
         braking ramp (L11335, L35586-35606), on their rising edges."""
         inp = self.inputs
-        if self.change is None and self.mode in (SpindleMode.CONTROL, SpindleMode.POSITIONING):
+        if self.gear_change.state is None and self.mode in (SpindleMode.CONTROL, SpindleMode.POSITIONING):
             if stop and not inp.plc_stop:
                 self.direction = 0
             elif self.start_keys_locked:
@@ -337,8 +245,6 @@ class Spindle:
         self.quiet = False
         if command.m_function is not None:
             self.m_function = command.m_function
-        if command.gear is not None:
-            self.automatic_gear = command.gear == 40
         if command.speed is not None:
             self.speed = max(0.0, command.speed)
             struct.pack_into(">f", self._area, self._signals.s_value, self.speed)  # DBD88 (L17367)
@@ -346,10 +252,7 @@ class Spindle:
             self.direction = {3: 1, 4: -1, 5: 0}[command.direction]
             if self.mode in (SpindleMode.POSITIONING, SpindleMode.AXIS):
                 self._enter_control_mode()
-        target = self._requested_gear(command)
-        if command.gear is not None or (self.automatic_gear and command.speed is not None):
-            # the block programs a stage: it replaces one a suppressed block left to catch up
-            self.suppressed_gear = target if suppress_gear_change else None
+        target = self.gear_change.programmed(command, suppress_gear_change)
         if target is not None:
             if command.gear == 40 and self.mode is not SpindleMode.CONTROL:
                 alarms.raise_alarm(ALARM_GEAR_CHANGE_NOT_POSSIBLE, cycle, self.channel, block, self.number,
@@ -363,8 +266,8 @@ class Spindle:
         elif command.speed is not None or command.gear is not None:
             self.limits_unreported = False
         if command.axis_mode and self.mode is not SpindleMode.AXIS:
-            used = self.md.int(MD.GEAR_STEP_USED_IN_AXISMODE)
-            if used and used != self.gear and self.change is None and self._changes_enabled:
+            used = self.gear_change.for_axis_mode()
+            if used is not None:
                 self._start_change(used, cycle)  # MD35014: the gear of axis mode (L19886-19891)
             self._enter_axis_mode()
         if command.position is not None:
@@ -376,44 +279,26 @@ class Spindle:
         engaged now with the full dialog, before the block goes on (the control's REPOS, L20019-20035);
         in positioning or axis mode that is impossible: alarm 22011 (L20050-20055).  Without bit 2
         the active stage stays (L20005-20007)."""
-        target, self.suppressed_gear = self.suppressed_gear, None
-        if target is None or not self.md.int(MD.SPIND_FUNCTION_MASK) & CATCH_UP_AFTER_SUPPRESSION:
+        target = self.gear_change.catch_up_target()
+        if target is None:
             return
         self.quiet = False
         if self.mode is not SpindleMode.CONTROL:
             alarms.raise_alarm(ALARM_CATCH_UP_IMPOSSIBLE, cycle, self.channel, block, self.number,
                                channel=self.channel, axis=self.name)
-        elif self.change is None and (target != self.gear or self.dialog_forced):
+        elif self.gear_change.changes_to(target):
             self.limits_unreported = False
             self._start_change(target, cycle)
 
-    @property
-    def _changes_enabled(self) -> bool:
-        return bool(self.change_enable & (GEAR_CHANGE_WITH_OSCILLATION | GEAR_CHANGE_AT_POSITION))
-
     def needs_gear_change(self, command: SpindleCommand) -> bool:
         """The block would change the gear stage (M41..M45 or S with M40)."""
-        return self._requested_gear(command) is not None
-
-    def _requested_gear(self, command: SpindleCommand) -> int | None:
-        if not self._changes_enabled:
-            return None  # a fixed ratio: the data of gear stage 1 (MD35010 = 0, L18245-18256)
-        # the PLC reported stage 0 (gearbox disengaged) at program start: the next change runs the
-        # dialog whatever the active stage is (L18758-18766)
-        current = 0 if self.dialog_forced else self.gear
-        if command.gear is not None and command.gear >= 41:
-            wanted = min(command.gear - 40, self.gears)
-            return wanted if wanted != self.gear or current == 0 else None
-        if self.automatic_gear and command.speed is not None:
-            chosen = select_gear(self.md, command.speed, current)
-            return chosen if chosen is not None and (chosen != self.gear or current == 0) else None
-        return None
+        return self.gear_change.requested(command) is not None
 
     # ------------------------------------------------------------------ block change
     @property
     def holds_motion(self) -> bool:
         """The block's gear change or transition to axis mode is not finished yet (L18540-18548)."""
-        if self.change is not None:
+        if self.gear_change.state is not None:
             return True
         return self.mode is SpindleMode.AXIS and self.axis.owner is Owner.SPINDLE
 
@@ -524,12 +409,12 @@ class Spindle:
         """Channel reset or M2 / M30: MD35040 = 0 brakes and forgets S and the direction
         (L16196-16214); a running change ends and the reported gear is taken (L18694-18698)."""
         self.quiet = False
-        if self.change is not None:
-            self._finish_change(self.inputs.gear_reported, None, 0)
+        if self.gear_change.state is not None:
+            self._end_gear_change()
         if self.positioning is not None and not self.positioning.done:
             self._enter_control_mode()  # a running positioning is aborted (L16672-16686)
-        self.automatic_gear = True
-        self.suppressed_gear = None
+        self.gear_change.automatic_gear = True
+        self.gear_change.suppressed_gear = None
         self.held = False
         self.spcon = False  # [control] reset ends SPCON like the other modal spindle functions
         if not self.md.int(MD.SPIND_ACTIVE_AFTER_RESET):
@@ -544,7 +429,7 @@ class Spindle:
         """A part program starts: the NC reads the PLC's actual stage; 0 = disengaged means the next
         change is made with the full dialog (L18758-18766)."""
         self.quiet = False
-        self.dialog_forced = self._changes_enabled and self.inputs.gear_reported == 0
+        self.gear_change.dialog_forced = self.gear_change.changes_enabled and self.inputs.gear_reported == 0
         if self.md.int(MD.SPIND_DEFAULT_ACT_MASK) >= 1:
             self._apply_default_mode()
 
@@ -562,8 +447,8 @@ class Spindle:
         """DB31.DBX2.2: stop, delete S and the direction, abort positioning and a gear change
         (L16212-16214, L16676-16678, L18646)."""
         self.quiet = False
-        if self.change is not None:
-            self._finish_change(self.inputs.gear_reported, None, 0)
+        if self.gear_change.state is not None:
+            self._end_gear_change()
         self.direction = 0
         self.speed = 0.0
         if self.mode is SpindleMode.POSITIONING:
@@ -573,7 +458,7 @@ class Spindle:
         """DB21.DBX7.4 NC stop axes and spindles: the spindle stops until NC start, but not
         during a gear change (L18627-18655)."""
         self.quiet = False
-        if self.change is None:
+        if self.gear_change.state is None:
             self.held = True
 
     def nc_start(self) -> None:
@@ -586,143 +471,61 @@ class Spindle:
         self.direction = 0
         self.positioning = None
 
-    # ------------------------------------------------------------------ gear change
+    # ------------------------------------------------------------------ gear change (gear_change.py)
     def _start_change(self, target: int, cycle: int) -> None:
-        self.dialog_forced = False
-        simulated = bool(self.change_enable & GEAR_CHANGE_SIMULATED)
-        at_position = bool(self.change_enable & GEAR_CHANGE_AT_POSITION)
-        self.change = GearChange(target, GearState.TO_POSITION if at_position else GearState.REQUESTED, cycle,
-                                 simulated, self.mode)
-        if at_position:
-            position = self._gear_float(MD.GEAR_STEP_CHANGE_POSITION)
-            self._start_positioning(Positioning("DC", position, True, programmed=False), for_change=True)
+        change = self.gear_change
+        change.start(target, cycle, self.mode in (SpindleMode.POSITIONING, SpindleMode.AXIS))
+        if change.outcome is GearOutcome.DIALOG:
+            self._enter_oscillation_mode()
         else:
-            self._open_dialog()
+            position = change.change_position()
+            self._start_positioning(Positioning("DC", position, True, programmed=False), for_change=True)
 
-    def _open_dialog(self) -> None:
-        change = self.change
-        assert change is not None
-        change.state = GearState.REQUESTED
+    def _gear_change_cycle(self, cycle: int, alarms: AlarmList) -> float | None:
+        """The velocity the gear change commands this cycle (None: it does not command), and the
+        mode it asks for."""
+        change = self.gear_change
+        command = change.cycle(cycle, alarms, self.stationary(), self.position_control, self.positioning,
+                               self.last_rotation)
+        outcome = change.outcome
+        if outcome is GearOutcome.DIALOG:
+            self._enter_oscillation_mode()
+        elif outcome is GearOutcome.ABORTED:
+            self.positioning = None
+            self._enter_control_mode()
+            self.direction = 0
+        elif outcome is GearOutcome.CHANGED:
+            self._gear_changed()
+        return command
+
+    def _enter_oscillation_mode(self) -> None:
+        """The dialog opens: oscillation mode (84.6); at the change position a motor encoder keeps
+        position control (L19577-19587)."""
         with_motor_encoder = not self.md.bool(MD.ENC_IS_DIRECT, self.axis.encoder.index)
-        fixed_position = bool(self.change_enable & GEAR_CHANGE_AT_POSITION)
+        fixed_position = self.gear_change.at_position
         if self.mode is not SpindleMode.POSITIONING or not fixed_position:
             self.positioning = None
         self.mode = SpindleMode.OSCILLATION
-        # at the change position a motor encoder keeps position control (L19577-19587)
         self.position_control = fixed_position and with_motor_encoder
         self.axis.resting = False
 
-    def _change_cycle(self, cycle: int, alarms: AlarmList) -> float | None:
-        """The velocity the gear change commands this cycle (None: the change does not command)."""
-        change = self.change
-        assert change is not None
-        inp = self.inputs
-        if change.dialog_open and not change.acknowledged_timeout and \
-                cycle - change.started_cycle > self._gear_wait_cycles:
-            change.acknowledged_timeout = True
-            alarms.raise_alarm(ALARM_NOT_ACKNOWLEDGED, cycle, self.channel, self.number,
-                               f"{self._gear_wait_cycles * self._dt:g}", channel=self.channel, axis=self.name)
-        if change.state in (GearState.TO_POSITION, GearState.POSITION_DELAY):
-            return self._change_position_cycle(change, cycle, alarms)
-        stationary = self.stationary()
-        if change.state is GearState.REQUESTED and stationary:
-            change.state = GearState.AT_STANDSTILL
-        if change.simulated and change.state is GearState.AT_STANDSTILL:
-            self._finish_change(change.target, alarms, cycle)
-            return 0.0
-        if change.dialog_open and inp.gear_done:
-            self._finish_change(inp.gear_reported, alarms, cycle)
-            return None
-        if self.position_control and not inp.oscillation_enable:
-            # at the change position the spindle stands in position control; oscillation is not
-            # needed there, "but in principle it can still be enabled" (L19593-19603)
-            return 0.0
-        if change.state is GearState.REQUESTED:
-            return 0.0  # braking (the ramp chooses the acceleration)
-        if not inp.oscillation_enable or inp.rapid_stop or self.axis.inputs.feed_stop:
-            change.oscillation_direction = 0
-            return 0.0
-        if inp.oscillation_by_plc:
-            if inp.oscillation_cw == inp.oscillation_ccw:
-                return 0.0
-            return self.oscillation.speed if inp.oscillation_cw else -self.oscillation.speed
-        return self.oscillation.step(change, self.last_rotation)
+    def _end_gear_change(self) -> None:
+        """A reset ends the change: the gear the PLC reports becomes active (L18694-18698)."""
+        self.gear_change.finish(self.inputs.gear_reported, None, 0)
+        self._gear_changed()
 
-    def _change_position_cycle(self, change: GearChange, cycle: int, alarms: AlarmList) -> float | None:
-        positioning = self.positioning
-        if change.state is GearState.TO_POSITION:
-            if positioning is None:
-                return None
-            if not self.axis.drive_ready:
-                return self._position_not_reached(cycle, alarms)
-            if positioning.done and abs(self.axis.distance_to_end_point) <= self.axis.dyn.fine_window:
-                change.state = GearState.POSITION_DELAY
-                change.delay_cycles = round(self._gear_float(MD.SPIND_POSIT_DELAY_TIME) / self._dt)
-            elif positioning.done and cycle - change.started_cycle > self._gear_wait_cycles:
-                return self._position_not_reached(cycle, alarms)
-            return None
-        change.delay_cycles -= 1
-        if change.delay_cycles <= 0:
-            self._open_dialog()
-        return None
-
-    def _position_not_reached(self, cycle: int, alarms: AlarmList) -> float:
-        """No dialog when the gear-change position is not reached: it protects the gearbox (L19697-19701)."""
-        alarms.raise_alarm(ALARM_POSITION_NOT_REACHED, cycle, self.channel, "", self.number,
-                           channel=self.channel, axis=self.name)
-        self.change = None
+    def _gear_changed(self) -> None:
+        """Control mode with the new gear's data; after a change from positioning or axis mode M5
+        (L18657-18675)."""
         self.positioning = None
-        self._enter_control_mode()
-        self.direction = 0
-        return 0.0
-
-    def _finish_change(self, reported: int, alarms: AlarmList | None, cycle: int) -> None:
-        """The PLC reported the gear (16.3), a reset ended the change, or the NC simulated it."""
-        change = self.change
-        assert change is not None
-        self.change = None
-        previous = self.gear
-        self.gear = max(0, min(reported, self.gears))
-        self.acknowledged_gear = self.gear
-        self._last_report = self.inputs.gear_reported
-        if alarms is not None and self.gear != change.target and not self._suppress_wrong_gear:
-            alarms.raise_alarm(ALARM_WRONG_GEAR, cycle, self.channel, "", self.number, self.gear, change.target,
-                               channel=self.channel, axis=self.name)
-        motor_encoder = not self.md.bool(MD.ENC_IS_DIRECT, self.axis.encoder.index)
-        if motor_encoder and previous != self.gear and not self.axis.encoder.absolute:
-            self.axis.encoder.referenced = False  # a new ratio between motor and spindle (L19281-19284)
-        if self._ratio(previous) != self._ratio(self.gear):
-            for encoder in self.axis.encoders:
-                if encoder.absolute and not self.md.bool(MD.ENC_IS_DIRECT, encoder.index) \
-                        and self._memory.view(self.name, self.md).int(MD.ENC_REFP_STATE, encoder.index):
-                    # the stage between the load and an absolute motor encoder changed its ratio: the
-                    # encoder must be calibrated again (seed 003 L1992-1996, L2025-2040)
-                    lose_calibration(self.axis, encoder.index, self._memory, self._alarms, cycle)
-        self.positioning = None
-        if change.mode_before in (SpindleMode.POSITIONING, SpindleMode.AXIS):
-            self.direction = 0  # after a change from positioning or axis mode: M5 (L18657-18675)
+        if self.gear_change.stops_spindle:
+            self.direction = 0
         self.mode = SpindleMode.CONTROL
         self.position_control = self.md.int(MD.SPIND_DEFAULT_MODE) == 1
         self._apply_gear_data()
         self.axis.resting = False
 
-    def accept_reported_gear(self) -> None:
-        """Reset state: the PLC may set the gear without a request (L18597-18625); the NC takes a
-        new report once it stood still and acknowledges it in DBX82.0-82.2.  Only a report that
-        changed counts: a PLC that never writes the bits (a spindle without a gearbox) leaves the
-        gear alone [control: the gear stage of the last change, gear 1 after power-on]."""
-        inp = self.inputs
-        if self.change is not None or inp.gear_done or inp.gear_reported == self._last_report \
-                or not self._changes_enabled:
-            return
-        self._reported_since += 1
-        if self._reported_since >= _STABLE_CYCLES and inp.gear_reported <= self.gears:
-            self._last_report = inp.gear_reported
-            self.gear = inp.gear_reported
-            self.acknowledged_gear = self.gear
-            self._apply_gear_data()
-
-    # ------------------------------------------------------------------ positioning
+    # ------------------------------------------------------------------ positioning (positioning.py)
     def _start_positioning(self, positioning: Positioning, for_change: bool = False) -> None:
         index = self.axis.encoder.index
         if self.inputs.resync_for_positioning[index]:
@@ -734,71 +537,20 @@ class Spindle:
         self.axis.resting = False
 
     def _positioning_cycle(self) -> float | None:
-        """SPOS: brake to MD35300, synchronise, then land on the target in position control.
-        Returns the velocity command; ``self._planned`` tells the drive not to ramp it again."""
+        """The velocity command of the running positioning; ``self._planned`` tells the drive not
+        to ramp it again."""
         positioning = self.positioning
         assert positioning is not None
-        axis = self.axis
         if positioning.done:
             return None
         limit = self._gear_float(MD.SPIND_POSCTRL_VELO) * RPM * self.override()  # override acts (L16690)
-        velocity = axis.command_velocity
-        if positioning.direction == 0:
-            positioning.direction = self._approach_direction(positioning, velocity)
-        direction = positioning.direction
-        if not axis.encoder.referenced:
-            self.position_control = False
-            positioning.searched += abs(velocity) * self._dt
-            if positioning.mode != "IC" and positioning.searched > self.md.float(MD.REFP_MAX_MARKER_DIST):
-                self._zero_mark_missing = True  # no zero mark within MD34060 (L16912-16915)
-                return 0.0
-            return direction * limit  # turn (at most MD35300) until the next zero mark
-        if abs(velocity) > limit + 1e-9 and velocity * direction > 0:
-            return direction * limit  # brake to the position-control speed first
-        if velocity * direction < 0:
-            # ACP / ACN (or IC) against the rotation: brake to a stop along the ramp of the mode,
-            # then approach from the other side (L18000-18004)
-            return 0.0
-        self.position_control = True
         accel = self._gear_float(MD.GEAR_STEP_POSCTRL_ACCEL) * REV_S2
-        self._planned = True
-        if positioning.target is None:
-            positioning.target = self._target_setpoint(positioning, abs(velocity), accel)
-        remaining = (positioning.target - axis.setpoint) * direction
-        if remaining <= _ARRIVED:
-            axis.setpoint = positioning.target
-            positioning.done = True
-            return 0.0
-        speed = min(abs(velocity) + accel * self._dt, limit, stopping_velocity(remaining, accel, self._dt))
-        return direction * speed
-
-    def _approach_direction(self, positioning: Positioning, velocity: float) -> int:
-        if positioning.mode == "ACP":
-            return 1
-        if positioning.mode == "ACN":
-            return -1
-        if positioning.mode == "IC":
-            return 1 if positioning.value >= 0 else -1
-        if abs(velocity) > self.axis.dyn.standstill_velocity:
-            return 1 if velocity > 0 else -1  # keep the direction of rotation (L16745-16759)
-        if not self.axis.encoder.referenced:
-            return 1 if self.md.int(MD.SPIND_POSITIONING_DIR) == 3 else -1
-        # synchronised at standstill, AC / DC: the shorter way
-        error = (positioning.value - self.axis.shown(self.axis.setpoint)) % 360.0
-        return 1 if error <= 180.0 else -1
-
-    def _target_setpoint(self, positioning: Positioning, speed: float, accel: float) -> float:
-        """Where the spindle stops: the programmed angle ahead in the approach direction, beyond
-        the braking distance (or the incremental distance)."""
-        axis = self.axis
-        direction = positioning.direction
-        if positioning.mode == "IC":
-            return axis.setpoint + positioning.value
-        ahead = ((positioning.value - axis.setpoint) * direction) % 360.0
-        needed = braking_distance(speed, accel)
-        while ahead + 1e-9 < needed:
-            ahead += 360.0
-        return axis.setpoint + direction * ahead
+        drive = self._positioning_drive
+        command = drive.step(positioning, limit, accel)
+        if drive.position_control is not None:
+            self.position_control = drive.position_control
+        self._planned = drive.planned
+        return command
 
     # ------------------------------------------------------------------ the cycle
     def cycle(self, cycle: int, alarms: AlarmList, channel_in_reset: bool, esr_run_on: bool = False) -> None:
@@ -807,18 +559,18 @@ class Spindle:
         axis = self.axis
         self.alarm_version = alarms.version
         self._synchronise()
-        if channel_in_reset:
-            self.accept_reported_gear()
+        if channel_in_reset and self.gear_change.accept_reported_gear():
+            self._apply_gear_data()
         self._planned = False
         command: float | None
-        if self.change is not None:
-            command = self._change_cycle(cycle, alarms)
+        if self.gear_change.state is not None:
+            command = self._gear_change_cycle(cycle, alarms)
             if command is None and self.positioning is not None and not self.positioning.done:
                 command = self._positioning_cycle()
         elif self.mode is SpindleMode.POSITIONING and self.positioning is not None:
             command = self._positioning_cycle()
-            if self._zero_mark_missing:
-                self._zero_mark_missing = False
+            if self._positioning_drive.zero_mark_missing:
+                self._positioning_drive.zero_mark_missing = False
                 alarms.raise_alarm(ALARM_ZERO_MARK_MISSING, cycle, self.channel, self.name,
                                    channel=self.channel, axis=self.name)
                 self._enter_control_mode()  # the positioning is aborted: the spindle brakes
@@ -844,8 +596,7 @@ class Spindle:
         self.write_outputs()
         # quiet: stands, nothing asked of it, no input changed: the NCK skips it until an input, a
         # command, a reset or an alarm changes (most cycles of most spindles)
-        self.quiet = (self.change is None and (self.positioning is None or self.positioning.done)
-                      and self.inputs.gear_reported == self._last_report
+        self.quiet = (self.gear_change.settled and (self.positioning is None or self.positioning.done)
                       and (self.direction == 0 or self.mode is SpindleMode.AXIS) and axis.velocity == 0.0
                       and axis.command_velocity == 0.0 and axis.owner is Owner.NONE)
 
@@ -888,10 +639,8 @@ class Spindle:
     def _acceleration(self, command: float) -> float:
         if self.acceleration_override is not None:
             return self.acceleration_override
-        change = self.change
-        if change is not None and change.state in (GearState.REQUESTED, GearState.AT_STANDSTILL) \
-                and (self.inputs.oscillation_enable or change.state is GearState.AT_STANDSTILL):
-            return self.oscillation.accel  # braking into / during oscillation (L18372-18374)
+        if self.gear_change.brakes_into_oscillation:
+            return self.gear_change.oscillation.accel  # braking into / during oscillation (L18372-18374)
         if self.position_control:
             accel = self._gear_float(MD.GEAR_STEP_POSCTRL_ACCEL) * REV_S2
         else:
@@ -988,9 +737,9 @@ class Spindle:
                 and abs(axis.distance_to_end_point) <= axis.dyn.fine_window)
 
     def write_outputs(self) -> None:
-        change = self.change
-        dialog = change is not None and change.dialog_open
-        requested = change.target if dialog and change is not None else self.acknowledged_gear
+        change = self.gear_change
+        dialog = change.dialog_open
+        requested = change.target if dialog else change.acknowledged_gear
         direction_shown = 1 if self.axis.velocity > self.axis.dyn.standstill_velocity else 0
         status = (
             requested, dialog, self.at_chuck_limit,
