@@ -435,8 +435,8 @@ class Couplings:
         fs.leave_synchronous_mode(0.0 if stop else velocity / RPM)
         self._alarms.clear(ALARM_OVERLAY_NOT_ENABLED, axis=following)
         leading = self._spindles[coupling.definition.leading]
-        leading.speed_cap = None
-        leading.acceleration_cap = None
+        leading.speed_control.speed_cap = None
+        leading.speed_control.acceleration_cap = None
         leading.coupling_hold = False
         if coupling.helix is not None:
             coupling.helix[0].fold_overlay()
@@ -453,7 +453,8 @@ class Couplings:
         # COUPON's offset, the resynchronisation and polygon turning's R move "at the highest possible
         # velocity" (L22015-22021): the FS's largest set speed of its gear stage, which under
         # position control keeps the 10 % control reserve (L22089-22094) and MD35135
-        speed = limit if limit else self._spindles[coupling.definition.following].max_speed * RPM
+        fs = self._spindles[coupling.definition.following]
+        speed = limit if limit else fs.speed_control.max_speed(fs.position_control) * RPM
         if coupling.overlay is not None:
             distance += coupling.overlay.left
         coupling.target += distance
@@ -470,7 +471,7 @@ class Couplings:
         overlay = coupling.overlay
         if overlay is None or not overlay.positioning:
             return
-        accel = self._spindles[coupling.definition.following].coupled_acceleration()
+        accel = self._spindles[coupling.definition.following].speed_control.position_control_acceleration()
         braking = math.copysign(stopping_distance(abs(overlay.velocity), accel, self._dt), overlay.velocity)
         if abs(braking) < abs(overlay.left):
             coupling.target -= overlay.left - braking
@@ -483,7 +484,8 @@ class Couplings:
         motion of its own, so DBX2.2 deletes only the SPOS [control]."""
         coupling = self.active[following]
         fs = self._spindles[following]
-        limit = feed * RPM / 360.0 if feed > 0.0 else fs.positioning_speed() * RPM  # DBX17.0: _overlay_step
+        # FA[Sn] (DBX17.0 scales it: _overlay_step), else MD35300
+        limit = feed * RPM / 360.0 if feed > 0.0 else fs.speed_control.positioning_speed() * RPM
         if coupling.phase is Phase.SYNCHRONISING:
             # no relation yet: the motion follows COUPON's pending offset once setpoint synchronism
             # is reached; an absolute position replaces that offset [control]
@@ -539,12 +541,14 @@ class Couplings:
             return
         fs = self._spindles[following]
         axis = fs.axis
+        accel = fs.speed_control.position_control_acceleration()
         if coupling.drf_rest and not direction:
-            self._drf_step(coupling, axis, fs.coupled_acceleration(), stopped)
+            self._drf_step(coupling, axis, accel, stopped)
             return
-        wanted = 0.0 if stopped or not coupling.jog_allowed else direction * axis.dyn.jog_velocity * fs.override()
+        wanted = 0.0 if stopped or not coupling.jog_allowed else \
+            direction * axis.dyn.jog_velocity * fs.speed_control.override()
         if wanted or coupling.jog_velocity:
-            coupling.jog_velocity = ramp(coupling.jog_velocity, wanted, fs.coupled_acceleration(), self._dt)
+            coupling.jog_velocity = ramp(coupling.jog_velocity, wanted, accel, self._dt)
             axis.resting = False
 
     def drf(self, following: str, distance: float) -> None:
@@ -769,15 +773,16 @@ class Couplings:
         fs = self._spindles[following]
         ls = self._spindles[coupling.definition.leading]
         axis, dt, k = fs.axis, self._dt, coupling.ratio
-        ls.speed_cap = fs.max_speed / abs(k) if k else None  # the LS slows so the FS keeps its limits
+        # the LS slows so the FS keeps its limits
+        ls.speed_control.speed_cap = fs.speed_control.max_speed(fs.position_control) / abs(k) if k else None
         # an LS with a kinked acceleration characteristic accelerates no faster than the FS can follow
         # with its own constant acceleration (L23797-23805; the seed says so in that context, so an LS
         # without MD35230 keeps its ramps [INF])
         kinked = ls.md.float(MD.ACCEL_REDUCTION_FACTOR) > 0.0
-        ls.acceleration_cap = fs.coupled_acceleration() / abs(k) if k and kinked else None
+        accel = fs.speed_control.position_control_acceleration()
+        ls.speed_control.acceleration_cap = accel / abs(k) if k and kinked else None
         self._follow_coordinate_shifts(coupling, axis, ls.axis)
         position, velocity = self._leading(coupling)
-        accel = fs.coupled_acceleration()
         # VV: only the speed is coupled; an FS without position control runs on its speed controller,
         # so what a load takes from its position stays lost (L21965-21968)
         axis.set_speed_control(coupling.definition.kind is Kind.VV and not fs.position_control)
@@ -816,7 +821,7 @@ class Couplings:
             coupled_velocity = k * velocity + coupling.differential_velocity
             # the FS's own kinked characteristic counts only while it synchronises (L23806-23809)
             new_velocity = ramp(axis.command_velocity, coupled_velocity,
-                                accel * fs.acceleration_reduction(axis.command_velocity), dt)
+                                accel * fs.speed_control.acceleration_reduction(axis.command_velocity), dt)
             axis.command_velocity = new_velocity
             axis.setpoint += new_velocity * dt
             if abs(new_velocity - coupled_velocity) <= _SPEEDS_AGREE:
@@ -842,7 +847,7 @@ class Couplings:
         if fs.inputs.delete_s or fs.held or fs.stopped_by_alarm or not coupling.differential:
             return 0.0
         direction = -1.0 if fs.inputs.invert_m3_m4 else 1.0
-        return direction * coupling.differential * fs.override() * RPM
+        return direction * coupling.differential * fs.speed_control.override() * RPM
 
     @staticmethod
     def _follow_coordinate_shifts(coupling: Coupling, fs: MachineAxis, ls: MachineAxis) -> None:
@@ -896,7 +901,7 @@ class Couplings:
         fs = self._spindles[coupling.definition.following]
         # DBX17.0: the feed override scales FA[Sn] of an SPOS on the FS in every cycle of the motion
         # (L22017-22021), so a change of the override or of 17.0 acts on the running motion
-        override = fs.override() if overlay.positioning and fs.inputs.use_feed_override else 1.0
+        override = fs.speed_control.override() if overlay.positioning and fs.inputs.use_feed_override else 1.0
         speed = min(ramp(abs(overlay.velocity), overlay.limit * override, accel, self._dt),
                     stopping_velocity(abs(overlay.left), accel, self._dt))
         step = min(speed * self._dt, abs(overlay.left))

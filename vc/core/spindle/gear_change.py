@@ -130,6 +130,7 @@ class GearOutcome(Enum):
     """What a cycle of the change asks of the spindle, which switches its modes itself."""
 
     NONE = "nothing"
+    TO_POSITION = "the change begins at the change position: positioning to MD35012"
     DIALOG = "the dialog opened: oscillation mode"
     ABORTED = "the gear-change position was not reached: control mode, M5"
     CHANGED = "the change ended (16.3, a reset, simulated): control mode with the new gear's data"
@@ -187,6 +188,17 @@ class GearChange:
         """Load revolutions per motor revolution in ``gear`` (MD31050 / MD31060)."""
         md = self._md
         return md.int(MD.DRIVE_AX_RATIO_DENOM, gear) / md.int(MD.DRIVE_AX_RATIO_NUMERA, gear)
+
+    def apply_parameter_set(self, index: int) -> None:
+        """The gear's (or axis mode's) parameter set ``index``: Kv, and with a motor encoder the
+        zero-mark spacing of the new ratio (§13.4.4, L18960-18995) and the spindle speed at which
+        the encoder reaches its limit frequency MD36300 (§13.8.7: a motor speed, the same in every
+        gear stage)."""
+        axis, md = self._axis, self._md
+        axis.set_loop_gain(md.float(MD.POSCTRL_GAIN, min(index, 5)))
+        for encoder in axis.encoders:
+            if not md.bool(MD.ENC_IS_DIRECT, encoder.index):
+                axis.set_encoder_turn(encoder, abs(360.0 * self.ratio(index)))
 
     @property
     def changes_enabled(self) -> bool:
@@ -250,6 +262,11 @@ class GearChange:
         used = self._md.int(MD.GEAR_STEP_USED_IN_AXISMODE)
         return used if used and used != self.gear and self.state is None and self.changes_enabled else None
 
+    def reset(self) -> None:
+        """Channel reset or M2 / M30: M40 again (L21331), nothing to catch up."""
+        self.automatic_gear = True
+        self.suppressed_gear = None
+
     def catch_up_target(self) -> int | None:
         """Dry run / program test deselected: the stage programmed meanwhile, to be engaged now with
         MD35035 bit 2 (L20019-20035); without it the active stage stays (L20005-20007)."""
@@ -264,8 +281,8 @@ class GearChange:
 
     # ------------------------------------------------------------------ the change
     def start(self, target: int, cycle: int, stops_spindle: bool) -> None:
-        """A change to ``target`` begins: at the change position (``state`` TO_POSITION, the spindle
-        positions to :meth:`change_position`) or with the dialog (outcome DIALOG)."""
+        """A change to ``target`` begins: at the change position (the spindle positions to
+        :meth:`change_position`) or with the dialog."""
         self.dialog_forced = False
         self.target = target
         self.started_cycle = cycle
@@ -278,6 +295,7 @@ class GearChange:
         self.outcome = GearOutcome.NONE
         if self.at_position:
             self.state = GearState.TO_POSITION
+            self.outcome = GearOutcome.TO_POSITION
         else:
             self._open_dialog()
 

@@ -20,8 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vc.config import md_dictionary as MD
-from vc.config.machine_data import MachineData
-from vc.core.axis.axis import MachineAxis
+from vc.core.axis.axis import MachineAxis, Owner
 from vc.core.axis.motion import braking_distance, stopping_velocity
 
 _ARRIVED = 1e-9
@@ -40,13 +39,31 @@ class Positioning:
     target: float | None = None  # the setpoint where the spindle stops (NC coordinates)
     done: bool = False
 
+    def reached(self, axis: MachineAxis) -> bool:
+        """On the position: done and in exact stop fine."""
+        return self.done and abs(axis.distance_to_end_point) <= axis.dyn.fine_window
+
+    def holds_block_end(self, axis: MachineAxis) -> bool:
+        """SPOS / M19 until the spindle stands on its target (60.6, §13.8.8)."""
+        if not self.wait:
+            return False
+        if not self.done:
+            return True
+        return abs(axis.distance_to_end_point) > axis.dyn.coarse_window
+
+    def in_position(self, axis: MachineAxis) -> bool:
+        """85.5: after SPOS / SPOSA / M19 while synchronised, in exact stop fine, on the target;
+        only for the function "spindle positioning", not at the gear-change position (L17059-17068)."""
+        return (self.programmed and self.done and axis.encoder.referenced and axis.owner is Owner.NONE
+                and abs(axis.distance_to_end_point) <= axis.dyn.fine_window)
+
 
 class PositioningDrive:
     """The velocity command of a spindle's running positioning (see the module docstring)."""
 
-    def __init__(self, axis: MachineAxis, md: MachineData, dt: float):
+    def __init__(self, axis: MachineAxis, dt: float):
         self._axis = axis
-        self._md = md
+        self._md = axis.config.md
         self._dt = dt
         self.planned = False  # this cycle's command is a planned profile, not a ramp target
         # what the motion asks of the spindle's position control this cycle: off while it searches a
@@ -55,9 +72,9 @@ class PositioningDrive:
         self.zero_mark_missing = False  # no zero mark within MD34060: the spindle raises 20002
 
     def step(self, positioning: Positioning, limit: float, accel: float) -> float:
-        """SPOS: brake to MD35300, synchronise, then land on the target in position control.
-        ``limit``: MD35300 of the gear with the override (deg/s); ``accel``: MD35210 of the gear
-        (deg/s^2).  Returns the velocity command; ``planned`` tells the drive not to ramp it again."""
+        """SPOS: brake to ``limit`` (MD35300 of the gear with the override, deg/s), synchronise, then
+        land on the target in position control with ``accel`` (MD35210 of the gear, deg/s^2).
+        Returns the velocity command; ``planned`` tells the drive not to ramp it again."""
         self.planned = False
         self.position_control = None
         axis = self._axis

@@ -2,13 +2,16 @@
 as the spindle last took them.
 
 :class:`SpindleSignals` names the signals once for every spindle (catalogue symbols without the
-instance); :class:`SpindleInputs` holds one spindle's PLC inputs of this cycle, which the spindle,
-its gear change and its positioning read (edge-evaluated inputs keep their last value).
+instance) and reads and writes them; :class:`SpindleInputs` holds one spindle's PLC inputs of this
+cycle, which the spindle, its gear change and its positioning read (edge-evaluated inputs keep
+their last value); :class:`SpindleStatus` is what the spindle shows the PLC.
 """
 
 from __future__ import annotations
 
+import struct
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from vc.core.interface_map import SignalTable
 
@@ -50,6 +53,41 @@ class SpindleSignals:
         self.spindle_mode = table.bit("basic.in.spindleModeActive")
         self.parameter_set = table.field("drive.in.posCtrlParameterSetNumber")
 
+    def write(self, area: bytearray, status: SpindleStatus) -> None:
+        self.requested_gear.put(area, status.requested_gear)
+        self.change_gear.put(area, status.change_gear)
+        self.speed_limit_exceeded.put(area, status.speed_limit_exceeded)
+        self.setpoint_limited.put(area, status.setpoint_limited)
+        self.setpoint_raised.put(area, status.setpoint_raised)
+        self.speed_reached.put(area, status.speed_reached)
+        self.clockwise.put(area, status.clockwise)
+        self.control_mode.put(area, status.control_mode)
+        self.oscillation_mode.put(area, status.oscillation_mode)
+        self.positioning_mode.put(area, status.positioning_mode)
+        self.spindle_mode.put(area, status.spindle_mode)
+        self.in_position.put(area, status.in_position)
+        self.m_function.put(area, status.m_function)
+        self.parameter_set.put(area, status.parameter_set)
+
+    def write_s_value(self, area: bytearray, speed: float) -> None:
+        struct.pack_into(">f", area, self.s_value, speed)  # DBD88 (L17367)
+
+    def read_levels(self, area: bytearray, inputs: SpindleInputs) -> None:
+        """The inputs taken as they stand; the gear report, the resynchronisation, the spindle keys
+        and the spindle reset are edge-evaluated by the spindle."""
+        inputs.gear_done = self.gear_done.get(area)
+        inputs.delete_s = self.delete_s.get(area)
+        inputs.use_feed_override = self.use_feed_override.get(area)
+        inputs.invert_m3_m4 = self.invert_m3_m4.get(area)
+        inputs.oscillation_by_plc = self.oscillation_by_plc.get(area)
+        inputs.oscillation_enable = self.oscillation_enable.get(area)
+        inputs.oscillation_cw = self.oscillation_cw.get(area)
+        inputs.oscillation_ccw = self.oscillation_ccw.get(area)
+        inputs.override_raw = self.override.get(area)
+        inputs.rapid_stop = self.rapid_stop.get(area)
+        inputs.resync_for_positioning = (self.resync_for_positioning[0].get(area),
+                                         self.resync_for_positioning[1].get(area))
+
 
 @dataclass(slots=True)
 class SpindleInputs:
@@ -70,3 +108,24 @@ class SpindleInputs:
     plc_stop: bool = False
     plc_start_cw: bool = False
     plc_start_ccw: bool = False
+
+
+class SpindleStatus(NamedTuple):
+    """What a spindle shows the PLC (the NC -> PLC signals of :class:`SpindleSignals`), and the
+    position control its axis follows."""
+
+    requested_gear: int  # the set gear during a change, else the active one
+    change_gear: bool
+    speed_limit_exceeded: bool
+    setpoint_limited: bool
+    setpoint_raised: bool
+    speed_reached: bool
+    clockwise: bool
+    control_mode: bool
+    oscillation_mode: bool
+    positioning_mode: bool
+    spindle_mode: bool  # not in axis mode
+    in_position: bool
+    m_function: int
+    parameter_set: int
+    position_control: bool
