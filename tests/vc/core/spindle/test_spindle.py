@@ -18,7 +18,6 @@ import pytest
 from core_rig import ABSOLUTE_XYZ, Rig, machine, spindle_rig
 
 from vc.config import md_dictionary as MD
-from vc.core.spindle.gear_change import select_gear
 from vc.core.spindle.spindle import Spindle, SpindleMode
 
 IPO = 0.002
@@ -45,30 +44,6 @@ def acknowledge(rig: Rig, gear: int) -> None:
     rig.set("SP1.spindle.out.gearStageSelection", gear)
     rig.set("SP1.spindle.out.gearChangeoverDone", 1)
     rig.set("SP1.spindle.out.oscillEnable", 0)
-
-
-# ------------------------------------------------------------------------------ M40 selection
-
-
-@pytest.mark.parametrize(("speed_rpm", "current", "expected"), [
-    (500.0, 1, None),  # inside gear 1's window [10, 800]: keep
-    (1500.0, 1, 2),  # above 800: gear 2's window [700, 2000]
-    (750.0, 2, None),  # the hysteresis: 750 lies in gear 2's window [700, 2000]
-    (600.0, 2, 1),  # below 700: gear 1
-    (3000.0, 1, 3),
-    (9000.0, 1, 3),  # above every window: the highest gear
-    (5.0, 2, 1),  # below gear 1's window: gear 1
-    (0.0, 2, None),  # S0: no change while MD35120[1] > 0
-])
-def test_m40_chooses_the_gear_from_the_switching_thresholds(speed_rpm: float, current: int,
-                                                            expected: int | None) -> None:
-    md = machine().axis("SP1").md
-    assert select_gear(md, speed_rpm, current) == expected
-
-
-def test_s0_selects_gear_1_when_its_lower_threshold_is_0() -> None:
-    md = machine("SP1: {MD35120: [0, 0, 700, 1800]}").axis("SP1").md
-    assert select_gear(md, 0.0, 2) == 1
 
 
 # ------------------------------------------------------------------------------ control mode
@@ -744,31 +719,3 @@ def test_a_reset_during_a_change_takes_the_reported_stage_even_0() -> None:
     rig.pulse("CHAN1.basic.out.reset", 5)
     rig.step(5)
     assert sp1(rig).gear_change.gear == 0 and rig.alarm_numbers() == []
-
-
-# ------------------------------------------------------------------------------ kinked acceleration characteristic
-
-
-@pytest.mark.parametrize(("kind", "at_1500", "at_2000", "above"), [
-    (0, 0.6, 0.6, 0.6),  # constant: 1 - MD35230 at once above the speed point
-    (1, 1.0 / (1.0 + 0.4 / 0.6 * 0.5), 0.6, 0.6),  # hyperbola from 1 at the point to 0.6 at MD35130
-    (2, 0.8, 0.6, 0.6),  # straight line
-])
-def test_acceleration_reduction_above_the_speed_point(kind: int, at_1500: float, at_2000: float,
-                                                      above: float) -> None:
-    # MD35130 = 2000 rev/min, MD35220 = 0.5: the reduction starts at 1000 rev/min and reaches
-    # 1 - MD35230 = 0.6 at 2000 rev/min (seed 003 L23797-23810)
-    rig = spindle_rig("SP1: {MD35130: [2000, 2000, 2000, 2000, 2000, 2000], MD35220: 0.5, MD35230: 0.4,"
-                      f" MD35242: {kind}}}")
-    spindle = sp1(rig)
-    rpm = 6.0  # deg/s per rev/min
-    assert spindle.speed_control.acceleration_reduction(900 * rpm) == 1.0
-    assert spindle.speed_control.acceleration_reduction(1000 * rpm) == 1.0
-    assert spindle.speed_control.acceleration_reduction(-1500 * rpm) == pytest.approx(at_1500)
-    assert spindle.speed_control.acceleration_reduction(2000 * rpm) == pytest.approx(at_2000)
-    assert spindle.speed_control.acceleration_reduction(2500 * rpm) == pytest.approx(above)
-
-
-def test_no_acceleration_reduction_without_md35230() -> None:
-    rig = spindle_rig("SP1: {MD35220: 0.1}")
-    assert sp1(rig).speed_control.acceleration_reduction(5000 * 6.0) == 1.0
