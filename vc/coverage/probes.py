@@ -115,8 +115,8 @@ def _mode_group_state(mode_group: ModeGroup) -> Callable[[], State]:
 
 def _gear_state(spindle: Spindle) -> Callable[[], State]:
     def read() -> State:
-        change = spindle.change
-        return "NONE" if change is None else change.state
+        state = spindle.gear_change.state
+        return "NONE" if state is None else state
     return read
 
 

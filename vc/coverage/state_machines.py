@@ -21,7 +21,7 @@ from enum import Enum
 from vc.core.channel.channel import ChannelState, ProgramState
 from vc.core.referencing.referencing import State as ReferencingState
 from vc.core.retraction.drive_esr import DriveEsrReaction as DriveReaction
-from vc.core.spindle.coupling import Phase as CouplingPhase
+from vc.core.spindle.coupling_state import Phase as CouplingPhase
 from vc.core.spindle.gear_change import GearState
 from vc.core.spindle.spindle import SpindleMode
 
@@ -179,7 +179,8 @@ STATE_MACHINES: tuple[StateMachine, ...] = (
                      ("REQUESTED", "NONE", "gear changed before standstill, reset"),
                      ("TO_POSITION", "NONE", "position not reached (22020), reset"))),
     StateMachine(
-        "coupling", "Synchronous spindle coupling of a following spindle", "vc/core/spindle/coupling.py", "spindle",
+        "coupling", "Synchronous spindle coupling of a following spindle", "vc/core/spindle/coupling_state.py",
+        "spindle",
         (StateDef("UNCOUPLED", "follows no leading spindle", "defined ──COUPON"), *_enum_states(tuple(CouplingPhase))),
         _transitions(("UNCOUPLED", "SYNCHRONISING", "COUPON, the configured pair at NC start"),
                      ("UNCOUPLED", "SYNCHRONOUS", "COUPON with both spindles at standstill: synchronous at once"),

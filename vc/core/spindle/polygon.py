@@ -95,11 +95,11 @@ class PolygonTurning:
         master = self._spindles[self.master]
         time = self._channel.md.float(MD.POLYGON_MASTER_ACC_TIME) / 1000.0
         if not on or time <= 0.0:
-            master.acceleration_override = None
+            master.speed_control.acceleration_override = None
             return
         start = self._channel.md.float(MD.POLYGON_MASTER_ACC_START_VELO) / 60.0  # deg/min -> deg/s
         top = master.md.float(MD.MAX_AX_VELO) * RPM
-        master.acceleration_override = max(top - start, 0.0) / time
+        master.speed_control.acceleration_override = max(top - start, 0.0) / time
 
     def revolution_speed(self) -> float | None:
         """While synchronous: the speed (rev/min) G99 takes its feed from, by 0201 ERV (seed 002

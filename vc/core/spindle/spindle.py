@@ -1,4 +1,4 @@
-"""Spindles (seed 003 chapter 13): modes, speed, positioning, gear stages, monitoring, DB31 status.
+"""Spindles (seed 003 chapter 13): the modes of a spindle and their DB31 status.
 
 A spindle is a machine axis with MD35000 > 0.  :class:`Spindle` owns its motion whenever it
 turns on its own (owner ``SPINDLE`` of the :class:`~vc.core.axis.axis.MachineAxis`): it ramps the
@@ -12,67 +12,46 @@ Modes and their status bits (spec B.3, L16008-16100)::
     CONTROL, POSITIONING ──M70 (or its axis name)──▶ AXIS (60.0 = 0) ──M3 / M4 / M5──▶ CONTROL
     (a turning spindle first brakes like M5, then position control and parameter set 0)
 
-Speed (§13.8): set speed = S x spindle override (DBB19, or the axis override DBB0 with
-DBX17.0), clamped to the gear's MD35130 and MD35100 (83.1) and raised to its MD35140 (83.2,
-speed control only); ramps with MD35200 (speed control) or MD35210 (position control) of the
-gear.  83.5 when the actual speed is within MD35150 x the set speed (always with MD35150 = 0);
-83.0 and alarm 22100 above MD35100 x (1 + MD35150); 61.4 with no setpoint and the actual
-speed below MD36060 (the axis reports it).
+(A SYNCHRONOUS spindle follows a coupling's leading spindle: vc/core/spindle/coupling.py.)
 
-Positioning (§13.2.5): from rotation the spindle brakes to MD35300 keeping its direction; an
-unsynchronised spindle turns on (from standstill in the direction MD35350, or the ACP / ACN
-direction) until it passes a zero mark; then position control (61.5) brakes onto the target
-with MD35210; ACP / ACN against the rotation brake to a stop first and reverse.  85.5 "in
-position" while synchronised, within exact stop fine and on the programmed position (SPOS,
-SPOSA, M19 only, not at the gear-change position).
+:class:`Spindle` keeps the modes: it takes the program's commands and the PLC's, switches the mode
+and chooses the velocity command of the mode each cycle.  It owns by composition what the modes
+use (each module says what it does):
 
-Synchronisation: a turning spindle whose encoder is not referenced takes the zero mark it
-passes: there its actual value is MD34100[n] - direction x (MD34080 + MD34090), the relation
-axis referencing uses between the mark and the reference point (L18011-18025).
+``gear_change.GearChange``            the gear stages and the change dialog (oscillation mode)
+``positioning.PositioningDrive``      the motion of SPOS / SPOSA / M19 (positioning mode)
+``speed_control.SpeedControl``        speed limits, override, ramp, setpoint, speed monitoring (83.x)
+``zero_mark.ZeroMarkSynchronisation`` synchronisation of a turning spindle with its zero mark
+``signals``                           the DB31 signals it reads and writes
 """
 
 from __future__ import annotations
 
-import struct
-from dataclasses import dataclass
 from enum import Enum
 
 from vc.config import md_dictionary as MD
-from vc.config.machine_data import MachineData, MdDef
+from vc.config.machine_data import MachineData
 from vc.core.alarms import STOP_AXES, AlarmList
 from vc.core.axis.axis import MachineAxis, Owner
-from vc.core.axis.motion import braking_distance, ramp, stopping_velocity
-from vc.core.interface_map import SignalTable
 from vc.core.nc_memory import NcMemory
 from vc.core.overrides import OverrideCoding
 from vc.core.program.commands import SpindleCommand
-from vc.core.referencing.referencing import lose_calibration
 from vc.core.spindle.gear_change import (
     ALARM_CATCH_UP_IMPOSSIBLE,
     ALARM_GEAR_CHANGE_NOT_POSSIBLE,
-    ALARM_NOT_ACKNOWLEDGED,
-    ALARM_POSITION_NOT_REACHED,
-    ALARM_WRONG_GEAR,
-    GEAR_CHANGE_AT_POSITION,
-    GEAR_CHANGE_SIMULATED,
-    GEAR_CHANGE_WITH_OSCILLATION,
-    SUPPRESS_WRONG_GEAR,
     GearChange,
-    GearState,
-    Oscillation,
-    select_gear,
+    GearOutcome,
 )
+from vc.core.spindle.positioning import Positioning, PositioningDrive
+from vc.core.spindle.signals import SpindleInputs, SpindleStatus
+from vc.core.spindle.signals import SpindleSignals as SpindleSignals  # the NCK builds them with the spindles
+from vc.core.spindle.speed_control import RPM as RPM  # rev/min -> deg/s, for the spindle's callers
+from vc.core.spindle.speed_control import SpeedControl
+from vc.core.spindle.zero_mark import ZeroMarkSynchronisation
 
-RPM = 6.0  # rev/min -> deg/s
-REV_S2 = 360.0  # rev/s^2 -> deg/s^2
-ALARM_CHUCK_SPEED = 22100
 ALARM_ZERO_MARK_MISSING = 20002  # the positioning's zero-mark search (MD34060) [control: the referencing alarm]
-_ARRIVED = 1e-9
-POSITION_CONTROL_RESERVE = 0.9  # the speed a position-controlled spindle may use (L16747-16750)
-_STABLE_CYCLES = 10  # a gear reported in reset state is taken once it stood this long (L18603-18606)
 SUPPRESS_IN_DRY_RUN = 1 << 0  # MD35035 bit 0: no gear change in dry run
 SUPPRESS_IN_PROGRAM_TEST = 1 << 1  # MD35035 bit 1: ... nor in program test
-CATCH_UP_AFTER_SUPPRESSION = 1 << 2  # MD35035 bit 2: the programmed stage is engaged afterwards
 
 
 class SpindleMode(Enum):
@@ -81,79 +60,6 @@ class SpindleMode(Enum):
     POSITIONING = "positioning"
     AXIS = "axis"
     SYNCHRONOUS = "synchronous"  # following spindle of a coupling (84.4): vc/core/spindle/coupling.py drives it
-
-
-class SpindleSignals:
-    """The DB31 spindle signals (catalogue symbols without the instance)."""
-
-    def __init__(self, table: SignalTable):
-        self.gear_reported = table.field("spindle.out.gearStageSelection")
-        self.gear_done = table.bit("spindle.out.gearChangeoverDone")
-        self.delete_s = table.bit("spindle.out.deleteSValue")
-        self.use_feed_override = table.bit("spindle.out.useFeedrateOvr")
-        self.invert_m3_m4 = table.bit("spindle.out.invertM3M4")
-        self.oscillation_by_plc = table.bit("spindle.out.oscillRequest")
-        self.oscillation_enable = table.bit("spindle.out.oscillEnable")
-        self.oscillation_cw = table.bit("spindle.out.oscillSetDirCw")
-        self.oscillation_ccw = table.bit("spindle.out.oscillSetDirCcw")
-        self.override = table.field("spindle.out.ovrFactor")
-        self.rapid_stop = table.bit("drive.out.rapidStop")
-        self.resync = (table.bit("spindle.out.resyncEnc1"), table.bit("spindle.out.resyncEnc2"))
-        self.resync_for_positioning = (table.bit("spindle.out.resyncEnc1ForPos"),
-                                       table.bit("spindle.out.resyncEnc2ForPos"))
-        self.plc_stop = table.bit("spindle.out.stop")
-        self.plc_start_cw = table.bit("spindle.out.startCw")
-        self.plc_start_ccw = table.bit("spindle.out.startCcw")
-        self.requested_gear = table.field("spindle.in.requestedGearStageNumber")
-        self.change_gear = table.bit("spindle.in.gearChangeoverRequested")
-        self.speed_limit_exceeded = table.bit("spindle.in.speedLimitationExceeded")
-        self.setpoint_limited = table.bit("spindle.in.speedSetpointAboveMax")
-        self.setpoint_raised = table.bit("spindle.in.speedSetpointBelowMin")
-        self.speed_reached = table.bit("spindle.in.speedSetpointReached")
-        self.clockwise = table.bit("spindle.in.cwRotActive")
-        self.positioning_mode = table.bit("spindle.in.posModeActive")
-        self.oscillation_mode = table.bit("spindle.in.oscillModeActive")
-        self.control_mode = table.bit("spindle.in.ctrlModeActive")
-        self.in_position = table.bit("spindle.in.inPos")
-        self.m_function = table.field("spindle.in.mFuncNumber")
-        self.s_value = table.real_offset("spindle.in.sFuncValue")
-        self.spindle_mode = table.bit("basic.in.spindleModeActive")
-        self.parameter_set = table.field("drive.in.posCtrlParameterSetNumber")
-
-
-@dataclass(slots=True)
-class SpindleInputs:
-    gear_reported: int = 0
-    gear_done: bool = False
-    delete_s: bool = False
-    use_feed_override: bool = False
-    invert_m3_m4: bool = False
-    reset_movement: bool = False  # DB31.DBX2.2 as last seen (edge-evaluated)
-    oscillation_by_plc: bool = False
-    oscillation_enable: bool = False
-    oscillation_cw: bool = False
-    oscillation_ccw: bool = False
-    override_raw: int = 0
-    rapid_stop: bool = False
-    resync: tuple[bool, bool] = (False, False)
-    resync_for_positioning: tuple[bool, bool] = (False, False)
-    plc_stop: bool = False
-    plc_start_cw: bool = False
-    plc_start_ccw: bool = False
-
-
-@dataclass(slots=True)
-class Positioning:
-    """A running SPOS / SPOSA / M19 (or the approach to the gear-change position)."""
-
-    mode: str  # AC, IC, DC, ACP, ACN
-    value: float  # degrees
-    wait: bool  # SPOS and M19 hold the block until the target; SPOSA does not
-    programmed: bool = True  # SPOS / SPOSA / M19; False: the approach to the gear-change position
-    direction: int = 0  # the direction of the approach, once chosen
-    searched: float = 0.0  # degrees turned looking for a zero mark
-    target: float | None = None  # the setpoint where the spindle stops (NC coordinates)
-    done: bool = False
 
 
 class Spindle:
@@ -165,111 +71,58 @@ class Spindle:
         """``memory`` and ``alarms``: where a gear stage change that recalibrates an absolute
         motor encoder writes MD34210 and raises 25022, also when a reset ends the change."""
         self.axis = axis
-        self._memory = memory
-        self._alarms = alarms
         self.name = axis.name
         self.number = axis.config.spindle_number
         self.channel = channel
         self.md: MachineData = axis.config.md
         self._signals = signals
         self._area = area
-        self._override_coding = override_coding
-        self._feed_coding = feed_coding
         self._dt = dt
-        self._suppress_wrong_gear = bool(suppress_alarm_mask & SUPPRESS_WRONG_GEAR)
-        self._gear_wait_cycles = max(1, round(gear_wait_s / dt))
         self.inputs = SpindleInputs()
         md = self.md
-        self.gears = md.int(MD.NUM_GEAR_STEPS)
-        self.change_enable = md.int(MD.GEAR_STEP_CHANGE_ENABLE)
-        self.oscillation = Oscillation.of(md, dt)
+        self.gear_change = GearChange(axis, self.inputs, channel, dt, suppress_alarm_mask, gear_wait_s, memory, alarms)
+        self.speed_control = SpeedControl(axis, self.gear_change, self.inputs, override_coding, feed_coding,
+                                          channel, dt)
+        self._positioning_drive = PositioningDrive(axis, dt)
+        self._zero_mark = ZeroMarkSynchronisation(axis)
         self.mode = SpindleMode.CONTROL
         self.speed = 0.0  # programmed S, rev/min
         self.direction = 0  # +1 M3, -1 M4, 0 M5 (before M3/M4 inversion by DBX17.6)
-        self.automatic_gear = True  # M40 is the default after reset (L21331)
-        self.gear = 1  # active gear stage (its parameter set and limits)
-        self.acknowledged_gear = 1  # shown in DBX82.0-82.2 outside a change
-        self.change: GearChange | None = None
         self.positioning: Positioning | None = None
         self.position_control = md.int(MD.SPIND_DEFAULT_MODE) == 1
         self.braking_for_axis_mode = False  # M70 from rotation: braking like M5 before axis mode
-        self.dialog_forced = False  # stage 0 reported at program start: the next change talks to the PLC
-        self.suppressed_gear: int | None = None  # programmed while changes were suppressed ($P_GEAR)
         self.m_function = 0
-        self.last_rotation = 0  # direction of the last rotation, for the oscillation start
-        self.set_speed = 0.0  # after override and limits, rev/min (monitoring)
-        self.limited = False
-        self.raised = False
         self.limits_unreported = False  # a suppressed change's clamping shows no 83.1 / 83.2 (L19996-20001)
-        self.at_chuck_limit = False
-        self._reported_since = 0
-        self._last_report = 0  # the last gear report taken in reset state (DBX16.0-16.2)
-        self._last_physical = axis.physical
-        self._status: tuple[object, ...] = ()
-        self._planned = False  # the positioning's command is a planned profile, not a ramp target
-        self._zero_mark_missing = False
+        self._status: SpindleStatus | None = None  # as last written
         self.quiet = False  # nothing to do until an input, a command, a reset or an alarm changes
         self.held = False  # NC stop axes and spindles (DB21.DBX7.4) until NC start
         self.stopped_by_alarm = False  # an alarm's interpolation stop brakes the spindle
         self.spcon = False  # SPCON programmed: position control until SPCOF, M3/M4/M5 or reset
-        self.speed_cap: float | None = None  # leading spindle: the coupled FS's limit over the ratio
-        self.acceleration_cap: float | None = None  # leading spindle: the coupled FS's acceleration over the ratio
         self.coupling_hold = False  # leading spindle: a coupled FS's spindle stop brakes the group
         self.sync_speed_reached = False  # following spindle: the differential speed is reached (83.5)
-        self.acceleration_override: float | None = None  # deg/s^2 while polygon turning sets the ramp
         self.start_keys_locked = False  # manual retraction: DBX30.1 / 30.2 start nothing (L35582-35588)
         self.alarm_version = -1
         self._apply_gear_data()
-        if md.int(MD.SPIND_DEFAULT_MODE) == 3:
-            self._enter_axis_mode()
-        elif md.int(MD.SPIND_DEFAULT_MODE) == 2:
-            self.mode = SpindleMode.POSITIONING
-            self.position_control = True
+        self._apply_default_mode()
 
     # ------------------------------------------------------------------ gear data
-    def _gear_float(self, md_def: MdDef, gear: int | None = None) -> float:
-        return self.md.float(md_def, self.gear if gear is None else gear)
+    @property
+    def suppressed_gear(self) -> int | None:
+        """The stage programmed while changes were suppressed ($P_GEAR), to be caught up."""
+        return self.gear_change.suppressed_gear
+
+    @property
+    def change(self) -> GearChange | None:
+        """The gear change while one runs."""
+        return self.gear_change if self.gear_change.state is not None else None
 
     def _apply_gear_data(self) -> None:
-        """The gear's (or axis mode's) parameter set: Kv, and with a motor encoder the zero-mark
-        spacing of the new ratio (§13.4.4, L18960-18995) and the spindle speed at which the
-        encoder reaches its limit frequency MD36300 (§13.8.7: a motor speed, the same in every
-        gear stage)."""
-        axis, md = self.axis, self.md
-        index = self.parameter_set
-        axis.set_loop_gain(md.float(MD.POSCTRL_GAIN, min(index, 5)))
-        for encoder in axis.encoders:
-            if not md.bool(MD.ENC_IS_DIRECT, encoder.index):
-                ratio = md.int(MD.DRIVE_AX_RATIO_DENOM, index) / md.int(MD.DRIVE_AX_RATIO_NUMERA, index)
-                axis.set_encoder_turn(encoder, abs(360.0 * ratio))
-
-    def _ratio(self, gear: int) -> float:
-        """Load revolutions per motor revolution in ``gear`` (MD31050 / MD31060)."""
-        md = self.md
-        return md.int(MD.DRIVE_AX_RATIO_DENOM, gear) / md.int(MD.DRIVE_AX_RATIO_NUMERA, gear)
+        self.gear_change.apply_parameter_set(self.parameter_set)
 
     @property
     def parameter_set(self) -> int:
-        return 0 if self.mode is SpindleMode.AXIS and not self.braking_for_axis_mode else self.gear
-
-    @property
-    def max_speed(self) -> float:
-        """Largest set speed of the active gear (rev/min): MD35130, the chuck MD35100, MD32000.
-
-        Under position control 10 % is kept as control reserve: 90 % of that and of the active
-        encoder's limit frequency, and MD35135 of the gear when set (L16747-16750, L16834-16838,
-        L18226-18228)."""
-        limit = min(self._gear_float(MD.GEAR_STEP_MAX_VELO_LIMIT), self.md.float(MD.SPIND_VELO_LIMIT),
-                    self.md.float(MD.MAX_AX_VELO))
-        if self.speed_cap is not None:
-            limit = min(limit, self.speed_cap)
-        if not self.position_control:
-            return limit
-        if self.axis.active_encoder is not None:
-            limit = min(limit, self.axis.encoder.limit_velocity / RPM)
-        limit *= POSITION_CONTROL_RESERVE
-        position_control_limit = self._gear_float(MD.GEAR_STEP_PC_MAX_VELO_LIMIT)
-        return min(limit, position_control_limit) if position_control_limit > 0.0 else limit
+        """The gear stage's parameter set, 0 in axis mode."""
+        return 0 if self.mode is SpindleMode.AXIS and not self.braking_for_axis_mode else self.gear_change.gear
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> bool:
@@ -277,28 +130,14 @@ class Spindle:
         to go / spindle reset, which the spindle carries out here (the coupling has its part)."""
         self.quiet = False
         area, sig, inp = self._area, self._signals, self.inputs
-        reported = sig.gear_reported.get(area)
-        if reported != inp.gear_reported:
-            self._reported_since = 0
-        inp.gear_reported = reported
-        inp.gear_done = sig.gear_done.get(area)
-        inp.delete_s = sig.delete_s.get(area)
-        inp.use_feed_override = sig.use_feed_override.get(area)
-        inp.invert_m3_m4 = sig.invert_m3_m4.get(area)
-        inp.oscillation_by_plc = sig.oscillation_by_plc.get(area)
-        inp.oscillation_enable = sig.oscillation_enable.get(area)
-        inp.oscillation_cw = sig.oscillation_cw.get(area)
-        inp.oscillation_ccw = sig.oscillation_ccw.get(area)
-        inp.override_raw = sig.override.get(area)
-        inp.rapid_stop = sig.rapid_stop.get(area)
+        self.gear_change.take_report(sig.gear_reported.get(area))
+        sig.read_levels(area, inp)
         resync = (sig.resync[0].get(area), sig.resync[1].get(area))
         for index, (now, before) in enumerate(zip(resync, inp.resync, strict=True)):
             if now and not before and index < len(self.axis.encoders) and self.mode is SpindleMode.CONTROL:
                 # 16.4 / 16.5 rising: synchronise again at the next zero mark (L18125-18146)
                 self.axis.encoders[index].referenced = False
         inp.resync = resync
-        inp.resync_for_positioning = (sig.resync_for_positioning[0].get(area),
-                                      sig.resync_for_positioning[1].get(area))
         self._plc_spindle_keys(sig.plc_stop.get(area), sig.plc_start_cw.get(area), sig.plc_start_ccw.get(area))
         reset = self.axis.inputs.reset_movement
         reset_edge = reset and not inp.reset_movement
@@ -311,7 +150,7 @@ class Spindle:
         """The simple spindle interface DBB30: start CW / CCW with the last S, stop along the
         braking ramp (L11335, L35586-35606), on their rising edges."""
         inp = self.inputs
-        if self.change is None and self.mode in (SpindleMode.CONTROL, SpindleMode.POSITIONING):
+        if self.gear_change.state is None and self.mode in (SpindleMode.CONTROL, SpindleMode.POSITIONING):
             if stop and not inp.plc_stop:
                 self.direction = 0
             elif self.start_keys_locked:
@@ -324,12 +163,6 @@ class Spindle:
                 self._enter_control_mode()
         inp.plc_stop, inp.plc_start_cw, inp.plc_start_ccw = stop, start_cw, start_ccw
 
-    def override(self) -> float:
-        axis = self.axis
-        if self.inputs.use_feed_override:
-            return self._feed_coding.factor(axis.inputs.override_raw, axis.inputs.override_active)
-        return self._override_coding.factor(self.inputs.override_raw, axis.inputs.override_active)
-
     # ------------------------------------------------------------------ program commands
     def program(self, command: SpindleCommand, cycle: int, alarms: AlarmList, block: str,
                 suppress_gear_change: bool) -> None:
@@ -337,19 +170,14 @@ class Spindle:
         self.quiet = False
         if command.m_function is not None:
             self.m_function = command.m_function
-        if command.gear is not None:
-            self.automatic_gear = command.gear == 40
         if command.speed is not None:
             self.speed = max(0.0, command.speed)
-            struct.pack_into(">f", self._area, self._signals.s_value, self.speed)  # DBD88 (L17367)
+            self.show_speed(self.speed)
         if command.direction is not None:
             self.direction = {3: 1, 4: -1, 5: 0}[command.direction]
             if self.mode in (SpindleMode.POSITIONING, SpindleMode.AXIS):
                 self._enter_control_mode()
-        target = self._requested_gear(command)
-        if command.gear is not None or (self.automatic_gear and command.speed is not None):
-            # the block programs a stage: it replaces one a suppressed block left to catch up
-            self.suppressed_gear = target if suppress_gear_change else None
+        target = self.gear_change.programmed(command, suppress_gear_change)
         if target is not None:
             if command.gear == 40 and self.mode is not SpindleMode.CONTROL:
                 alarms.raise_alarm(ALARM_GEAR_CHANGE_NOT_POSSIBLE, cycle, self.channel, block, self.number,
@@ -363,8 +191,8 @@ class Spindle:
         elif command.speed is not None or command.gear is not None:
             self.limits_unreported = False
         if command.axis_mode and self.mode is not SpindleMode.AXIS:
-            used = self.md.int(MD.GEAR_STEP_USED_IN_AXISMODE)
-            if used and used != self.gear and self.change is None and self._changes_enabled:
+            used = self.gear_change.for_axis_mode()
+            if used is not None:
                 self._start_change(used, cycle)  # MD35014: the gear of axis mode (L19886-19891)
             self._enter_axis_mode()
         if command.position is not None:
@@ -376,63 +204,39 @@ class Spindle:
         engaged now with the full dialog, before the block goes on (the control's REPOS, L20019-20035);
         in positioning or axis mode that is impossible: alarm 22011 (L20050-20055).  Without bit 2
         the active stage stays (L20005-20007)."""
-        target, self.suppressed_gear = self.suppressed_gear, None
-        if target is None or not self.md.int(MD.SPIND_FUNCTION_MASK) & CATCH_UP_AFTER_SUPPRESSION:
+        target = self.gear_change.catch_up_target()
+        if target is None:
             return
         self.quiet = False
         if self.mode is not SpindleMode.CONTROL:
             alarms.raise_alarm(ALARM_CATCH_UP_IMPOSSIBLE, cycle, self.channel, block, self.number,
                                channel=self.channel, axis=self.name)
-        elif self.change is None and (target != self.gear or self.dialog_forced):
+        elif self.gear_change.changes_to(target):
             self.limits_unreported = False
             self._start_change(target, cycle)
 
-    @property
-    def _changes_enabled(self) -> bool:
-        return bool(self.change_enable & (GEAR_CHANGE_WITH_OSCILLATION | GEAR_CHANGE_AT_POSITION))
-
     def needs_gear_change(self, command: SpindleCommand) -> bool:
         """The block would change the gear stage (M41..M45 or S with M40)."""
-        return self._requested_gear(command) is not None
-
-    def _requested_gear(self, command: SpindleCommand) -> int | None:
-        if not self._changes_enabled:
-            return None  # a fixed ratio: the data of gear stage 1 (MD35010 = 0, L18245-18256)
-        # the PLC reported stage 0 (gearbox disengaged) at program start: the next change runs the
-        # dialog whatever the active stage is (L18758-18766)
-        current = 0 if self.dialog_forced else self.gear
-        if command.gear is not None and command.gear >= 41:
-            wanted = min(command.gear - 40, self.gears)
-            return wanted if wanted != self.gear or current == 0 else None
-        if self.automatic_gear and command.speed is not None:
-            chosen = select_gear(self.md, command.speed, current)
-            return chosen if chosen is not None and (chosen != self.gear or current == 0) else None
-        return None
+        return self.gear_change.requested(command) is not None
 
     # ------------------------------------------------------------------ block change
     @property
     def holds_motion(self) -> bool:
         """The block's gear change or transition to axis mode is not finished yet (L18540-18548)."""
-        if self.change is not None:
+        if self.gear_change.state is not None:
             return True
         return self.mode is SpindleMode.AXIS and self.axis.owner is Owner.SPINDLE
 
     @property
     def holds_block_end(self) -> bool:
         """SPOS / M19 until the spindle stands on its target (60.6, §13.8.8)."""
-        positioning = self.positioning
-        if positioning is None or not positioning.wait:
-            return False
-        if not positioning.done:
-            return True
-        return abs(self.axis.distance_to_end_point) > self.axis.dyn.coarse_window
+        return self.positioning is not None and self.positioning.holds_block_end(self.axis)
 
     def positioned_or_stopped(self) -> bool:
         """WAITS: on the position of SPOS / SPOSA / M19, or standing after M5; a spindle turning
         with M3 / M4 or coupled has nothing to wait for [control]."""
-        positioning = self.positioning
-        if positioning is not None:
-            return positioning.done and abs(self.axis.distance_to_end_point) <= self.axis.dyn.fine_window
+        if self.positioning is not None:
+            return self.positioning.reached(self.axis)
         if self.mode is SpindleMode.CONTROL and self.direction == 0:
             return self.stationary()
         return True
@@ -474,15 +278,7 @@ class Spindle:
             self.set_position_control(on or self.mode is SpindleMode.SYNCHRONOUS)
 
     def show_speed(self, speed: float) -> None:
-        struct.pack_into(">f", self._area, self._signals.s_value, speed)  # DBD88 (L17367)
-
-    def positioning_speed(self) -> float:
-        """MD35300 of the active gear, rev/min."""
-        return self._gear_float(MD.SPIND_POSCTRL_VELO)
-
-    def coupled_acceleration(self) -> float:
-        """The acceleration of a coupled FS's own motion (position control ramp), deg/s^2."""
-        return self._gear_float(MD.GEAR_STEP_POSCTRL_ACCEL) * REV_S2
+        self._signals.write_s_value(self._area, speed)
 
     # ------------------------------------------------------------------ modes
     def _enter_control_mode(self) -> None:
@@ -516,20 +312,15 @@ class Spindle:
         self.quiet = False
         self._enter_axis_mode()
 
-    @property
-    def in_axis_mode(self) -> bool:
-        return self.mode is SpindleMode.AXIS
-
     def reset(self, program_end: bool) -> None:
         """Channel reset or M2 / M30: MD35040 = 0 brakes and forgets S and the direction
         (L16196-16214); a running change ends and the reported gear is taken (L18694-18698)."""
         self.quiet = False
-        if self.change is not None:
-            self._finish_change(self.inputs.gear_reported, None, 0)
+        if self.gear_change.state is not None:
+            self._end_gear_change()
         if self.positioning is not None and not self.positioning.done:
             self._enter_control_mode()  # a running positioning is aborted (L16672-16686)
-        self.automatic_gear = True
-        self.suppressed_gear = None
+        self.gear_change.reset()
         self.held = False
         self.spcon = False  # [control] reset ends SPCON like the other modal spindle functions
         if not self.md.int(MD.SPIND_ACTIVE_AFTER_RESET):
@@ -544,7 +335,7 @@ class Spindle:
         """A part program starts: the NC reads the PLC's actual stage; 0 = disengaged means the next
         change is made with the full dialog (L18758-18766)."""
         self.quiet = False
-        self.dialog_forced = self._changes_enabled and self.inputs.gear_reported == 0
+        self.gear_change.dialog_forced = self.gear_change.changes_enabled and self.inputs.gear_reported == 0
         if self.md.int(MD.SPIND_DEFAULT_ACT_MASK) >= 1:
             self._apply_default_mode()
 
@@ -562,8 +353,8 @@ class Spindle:
         """DB31.DBX2.2: stop, delete S and the direction, abort positioning and a gear change
         (L16212-16214, L16676-16678, L18646)."""
         self.quiet = False
-        if self.change is not None:
-            self._finish_change(self.inputs.gear_reported, None, 0)
+        if self.gear_change.state is not None:
+            self._end_gear_change()
         self.direction = 0
         self.speed = 0.0
         if self.mode is SpindleMode.POSITIONING:
@@ -573,7 +364,7 @@ class Spindle:
         """DB21.DBX7.4 NC stop axes and spindles: the spindle stops until NC start, but not
         during a gear change (L18627-18655)."""
         self.quiet = False
-        if self.change is None:
+        if self.gear_change.state is None:
             self.held = True
 
     def nc_start(self) -> None:
@@ -586,143 +377,61 @@ class Spindle:
         self.direction = 0
         self.positioning = None
 
-    # ------------------------------------------------------------------ gear change
+    # ------------------------------------------------------------------ gear change (gear_change.py)
     def _start_change(self, target: int, cycle: int) -> None:
-        self.dialog_forced = False
-        simulated = bool(self.change_enable & GEAR_CHANGE_SIMULATED)
-        at_position = bool(self.change_enable & GEAR_CHANGE_AT_POSITION)
-        self.change = GearChange(target, GearState.TO_POSITION if at_position else GearState.REQUESTED, cycle,
-                                 simulated, self.mode)
-        if at_position:
-            position = self._gear_float(MD.GEAR_STEP_CHANGE_POSITION)
-            self._start_positioning(Positioning("DC", position, True, programmed=False), for_change=True)
-        else:
-            self._open_dialog()
+        self.gear_change.start(target, cycle, self.mode in (SpindleMode.POSITIONING, SpindleMode.AXIS))
+        self._follow_gear_change()
 
-    def _open_dialog(self) -> None:
-        change = self.change
-        assert change is not None
-        change.state = GearState.REQUESTED
+    def _gear_change_cycle(self, cycle: int, alarms: AlarmList) -> float | None:
+        """The velocity the gear change commands this cycle (None: it does not command)."""
+        command = self.gear_change.cycle(cycle, alarms, self.stationary(), self.position_control, self.positioning,
+                                         self.speed_control.last_rotation)
+        self._follow_gear_change()
+        return command
+
+    def _follow_gear_change(self) -> None:
+        """The mode the gear change asks for."""
+        outcome = self.gear_change.outcome
+        if outcome is GearOutcome.DIALOG:
+            self._enter_oscillation_mode()
+        elif outcome is GearOutcome.TO_POSITION:
+            position = self.gear_change.change_position()
+            self._start_positioning(Positioning("DC", position, True, programmed=False), for_change=True)
+        elif outcome is GearOutcome.ABORTED:
+            self.positioning = None
+            self._enter_control_mode()
+            self.direction = 0
+        elif outcome is GearOutcome.CHANGED:
+            self._gear_changed()
+
+    def _enter_oscillation_mode(self) -> None:
+        """The dialog opens: oscillation mode (84.6); at the change position a motor encoder keeps
+        position control (L19577-19587)."""
         with_motor_encoder = not self.md.bool(MD.ENC_IS_DIRECT, self.axis.encoder.index)
-        fixed_position = bool(self.change_enable & GEAR_CHANGE_AT_POSITION)
+        fixed_position = self.gear_change.at_position
         if self.mode is not SpindleMode.POSITIONING or not fixed_position:
             self.positioning = None
         self.mode = SpindleMode.OSCILLATION
-        # at the change position a motor encoder keeps position control (L19577-19587)
         self.position_control = fixed_position and with_motor_encoder
         self.axis.resting = False
 
-    def _change_cycle(self, cycle: int, alarms: AlarmList) -> float | None:
-        """The velocity the gear change commands this cycle (None: the change does not command)."""
-        change = self.change
-        assert change is not None
-        inp = self.inputs
-        if change.dialog_open and not change.acknowledged_timeout and \
-                cycle - change.started_cycle > self._gear_wait_cycles:
-            change.acknowledged_timeout = True
-            alarms.raise_alarm(ALARM_NOT_ACKNOWLEDGED, cycle, self.channel, self.number,
-                               f"{self._gear_wait_cycles * self._dt:g}", channel=self.channel, axis=self.name)
-        if change.state in (GearState.TO_POSITION, GearState.POSITION_DELAY):
-            return self._change_position_cycle(change, cycle, alarms)
-        stationary = self.stationary()
-        if change.state is GearState.REQUESTED and stationary:
-            change.state = GearState.AT_STANDSTILL
-        if change.simulated and change.state is GearState.AT_STANDSTILL:
-            self._finish_change(change.target, alarms, cycle)
-            return 0.0
-        if change.dialog_open and inp.gear_done:
-            self._finish_change(inp.gear_reported, alarms, cycle)
-            return None
-        if self.position_control and not inp.oscillation_enable:
-            # at the change position the spindle stands in position control; oscillation is not
-            # needed there, "but in principle it can still be enabled" (L19593-19603)
-            return 0.0
-        if change.state is GearState.REQUESTED:
-            return 0.0  # braking (the ramp chooses the acceleration)
-        if not inp.oscillation_enable or inp.rapid_stop or self.axis.inputs.feed_stop:
-            change.oscillation_direction = 0
-            return 0.0
-        if inp.oscillation_by_plc:
-            if inp.oscillation_cw == inp.oscillation_ccw:
-                return 0.0
-            return self.oscillation.speed if inp.oscillation_cw else -self.oscillation.speed
-        return self.oscillation.step(change, self.last_rotation)
+    def _end_gear_change(self) -> None:
+        """A reset ends the change: the gear the PLC reports becomes active (L18694-18698)."""
+        self.gear_change.finish(self.inputs.gear_reported, None, 0)
+        self._follow_gear_change()
 
-    def _change_position_cycle(self, change: GearChange, cycle: int, alarms: AlarmList) -> float | None:
-        positioning = self.positioning
-        if change.state is GearState.TO_POSITION:
-            if positioning is None:
-                return None
-            if not self.axis.drive_ready:
-                return self._position_not_reached(cycle, alarms)
-            if positioning.done and abs(self.axis.distance_to_end_point) <= self.axis.dyn.fine_window:
-                change.state = GearState.POSITION_DELAY
-                change.delay_cycles = round(self._gear_float(MD.SPIND_POSIT_DELAY_TIME) / self._dt)
-            elif positioning.done and cycle - change.started_cycle > self._gear_wait_cycles:
-                return self._position_not_reached(cycle, alarms)
-            return None
-        change.delay_cycles -= 1
-        if change.delay_cycles <= 0:
-            self._open_dialog()
-        return None
-
-    def _position_not_reached(self, cycle: int, alarms: AlarmList) -> float:
-        """No dialog when the gear-change position is not reached: it protects the gearbox (L19697-19701)."""
-        alarms.raise_alarm(ALARM_POSITION_NOT_REACHED, cycle, self.channel, "", self.number,
-                           channel=self.channel, axis=self.name)
-        self.change = None
+    def _gear_changed(self) -> None:
+        """Control mode with the new gear's data; after a change from positioning or axis mode M5
+        (L18657-18675)."""
         self.positioning = None
-        self._enter_control_mode()
-        self.direction = 0
-        return 0.0
-
-    def _finish_change(self, reported: int, alarms: AlarmList | None, cycle: int) -> None:
-        """The PLC reported the gear (16.3), a reset ended the change, or the NC simulated it."""
-        change = self.change
-        assert change is not None
-        self.change = None
-        previous = self.gear
-        self.gear = max(0, min(reported, self.gears))
-        self.acknowledged_gear = self.gear
-        self._last_report = self.inputs.gear_reported
-        if alarms is not None and self.gear != change.target and not self._suppress_wrong_gear:
-            alarms.raise_alarm(ALARM_WRONG_GEAR, cycle, self.channel, "", self.number, self.gear, change.target,
-                               channel=self.channel, axis=self.name)
-        motor_encoder = not self.md.bool(MD.ENC_IS_DIRECT, self.axis.encoder.index)
-        if motor_encoder and previous != self.gear and not self.axis.encoder.absolute:
-            self.axis.encoder.referenced = False  # a new ratio between motor and spindle (L19281-19284)
-        if self._ratio(previous) != self._ratio(self.gear):
-            for encoder in self.axis.encoders:
-                if encoder.absolute and not self.md.bool(MD.ENC_IS_DIRECT, encoder.index) \
-                        and self._memory.view(self.name, self.md).int(MD.ENC_REFP_STATE, encoder.index):
-                    # the stage between the load and an absolute motor encoder changed its ratio: the
-                    # encoder must be calibrated again (seed 003 L1992-1996, L2025-2040)
-                    lose_calibration(self.axis, encoder.index, self._memory, self._alarms, cycle)
-        self.positioning = None
-        if change.mode_before in (SpindleMode.POSITIONING, SpindleMode.AXIS):
-            self.direction = 0  # after a change from positioning or axis mode: M5 (L18657-18675)
+        if self.gear_change.stops_spindle:
+            self.direction = 0
         self.mode = SpindleMode.CONTROL
         self.position_control = self.md.int(MD.SPIND_DEFAULT_MODE) == 1
         self._apply_gear_data()
         self.axis.resting = False
 
-    def accept_reported_gear(self) -> None:
-        """Reset state: the PLC may set the gear without a request (L18597-18625); the NC takes a
-        new report once it stood still and acknowledges it in DBX82.0-82.2.  Only a report that
-        changed counts: a PLC that never writes the bits (a spindle without a gearbox) leaves the
-        gear alone [control: the gear stage of the last change, gear 1 after power-on]."""
-        inp = self.inputs
-        if self.change is not None or inp.gear_done or inp.gear_reported == self._last_report \
-                or not self._changes_enabled:
-            return
-        self._reported_since += 1
-        if self._reported_since >= _STABLE_CYCLES and inp.gear_reported <= self.gears:
-            self._last_report = inp.gear_reported
-            self.gear = inp.gear_reported
-            self.acknowledged_gear = self.gear
-            self._apply_gear_data()
-
-    # ------------------------------------------------------------------ positioning
+    # ------------------------------------------------------------------ positioning (positioning.py)
     def _start_positioning(self, positioning: Positioning, for_change: bool = False) -> None:
         index = self.axis.encoder.index
         if self.inputs.resync_for_positioning[index]:
@@ -734,71 +443,19 @@ class Spindle:
         self.axis.resting = False
 
     def _positioning_cycle(self) -> float | None:
-        """SPOS: brake to MD35300, synchronise, then land on the target in position control.
-        Returns the velocity command; ``self._planned`` tells the drive not to ramp it again."""
+        """The velocity command of the running positioning (the drive's ``planned``: not to be
+        ramped again)."""
         positioning = self.positioning
         assert positioning is not None
-        axis = self.axis
         if positioning.done:
             return None
-        limit = self._gear_float(MD.SPIND_POSCTRL_VELO) * RPM * self.override()  # override acts (L16690)
-        velocity = axis.command_velocity
-        if positioning.direction == 0:
-            positioning.direction = self._approach_direction(positioning, velocity)
-        direction = positioning.direction
-        if not axis.encoder.referenced:
-            self.position_control = False
-            positioning.searched += abs(velocity) * self._dt
-            if positioning.mode != "IC" and positioning.searched > self.md.float(MD.REFP_MAX_MARKER_DIST):
-                self._zero_mark_missing = True  # no zero mark within MD34060 (L16912-16915)
-                return 0.0
-            return direction * limit  # turn (at most MD35300) until the next zero mark
-        if abs(velocity) > limit + 1e-9 and velocity * direction > 0:
-            return direction * limit  # brake to the position-control speed first
-        if velocity * direction < 0:
-            # ACP / ACN (or IC) against the rotation: brake to a stop along the ramp of the mode,
-            # then approach from the other side (L18000-18004)
-            return 0.0
-        self.position_control = True
-        accel = self._gear_float(MD.GEAR_STEP_POSCTRL_ACCEL) * REV_S2
-        self._planned = True
-        if positioning.target is None:
-            positioning.target = self._target_setpoint(positioning, abs(velocity), accel)
-        remaining = (positioning.target - axis.setpoint) * direction
-        if remaining <= _ARRIVED:
-            axis.setpoint = positioning.target
-            positioning.done = True
-            return 0.0
-        speed = min(abs(velocity) + accel * self._dt, limit, stopping_velocity(remaining, accel, self._dt))
-        return direction * speed
-
-    def _approach_direction(self, positioning: Positioning, velocity: float) -> int:
-        if positioning.mode == "ACP":
-            return 1
-        if positioning.mode == "ACN":
-            return -1
-        if positioning.mode == "IC":
-            return 1 if positioning.value >= 0 else -1
-        if abs(velocity) > self.axis.dyn.standstill_velocity:
-            return 1 if velocity > 0 else -1  # keep the direction of rotation (L16745-16759)
-        if not self.axis.encoder.referenced:
-            return 1 if self.md.int(MD.SPIND_POSITIONING_DIR) == 3 else -1
-        # synchronised at standstill, AC / DC: the shorter way
-        error = (positioning.value - self.axis.shown(self.axis.setpoint)) % 360.0
-        return 1 if error <= 180.0 else -1
-
-    def _target_setpoint(self, positioning: Positioning, speed: float, accel: float) -> float:
-        """Where the spindle stops: the programmed angle ahead in the approach direction, beyond
-        the braking distance (or the incremental distance)."""
-        axis = self.axis
-        direction = positioning.direction
-        if positioning.mode == "IC":
-            return axis.setpoint + positioning.value
-        ahead = ((positioning.value - axis.setpoint) * direction) % 360.0
-        needed = braking_distance(speed, accel)
-        while ahead + 1e-9 < needed:
-            ahead += 360.0
-        return axis.setpoint + direction * ahead
+        speed = self.speed_control
+        limit = speed.positioning_speed() * RPM * speed.override()  # the override acts (L16690)
+        drive = self._positioning_drive
+        command = drive.step(positioning, limit, speed.position_control_acceleration())
+        if drive.position_control is not None:
+            self.position_control = drive.position_control
+        return command
 
     # ------------------------------------------------------------------ the cycle
     def cycle(self, cycle: int, alarms: AlarmList, channel_in_reset: bool, esr_run_on: bool = False) -> None:
@@ -806,19 +463,19 @@ class Spindle:
         ``esr_run_on``: a G33 thread on this spindle runs on for MD21380 through the alarms' stop."""
         axis = self.axis
         self.alarm_version = alarms.version
-        self._synchronise()
-        if channel_in_reset:
-            self.accept_reported_gear()
-        self._planned = False
+        self._zero_mark.cycle()
+        if channel_in_reset and self.gear_change.accept_reported_gear():
+            self._apply_gear_data()
+        self._positioning_drive.planned = False
         command: float | None
-        if self.change is not None:
-            command = self._change_cycle(cycle, alarms)
+        if self.gear_change.state is not None:
+            command = self._gear_change_cycle(cycle, alarms)
             if command is None and self.positioning is not None and not self.positioning.done:
                 command = self._positioning_cycle()
         elif self.mode is SpindleMode.POSITIONING and self.positioning is not None:
             command = self._positioning_cycle()
-            if self._zero_mark_missing:
-                self._zero_mark_missing = False
+            if self._positioning_drive.zero_mark_missing:
+                self._positioning_drive.zero_mark_missing = False
                 alarms.raise_alarm(ALARM_ZERO_MARK_MISSING, cycle, self.channel, self.name,
                                    channel=self.channel, axis=self.name)
                 self._enter_control_mode()  # the positioning is aborted: the spindle brakes
@@ -837,188 +494,60 @@ class Spindle:
         if stopped and command is not None:
             command = 0.0
         if command is not None and axis.owner in (Owner.NONE, Owner.SPINDLE):
-            self._drive(command)
+            positioned = self.positioning is not None and self.positioning.done
+            self.speed_control.drive(command, self._positioning_drive.planned, self.position_control, positioned)
         if self.braking_for_axis_mode and axis.owner is not Owner.SPINDLE:
             self._axis_mode_reached()  # stands (or another owner took the axis): axis mode proper
-        self._monitor(cycle, alarms)
+        self.speed_control.monitor(cycle, alarms)
         self.write_outputs()
         # quiet: stands, nothing asked of it, no input changed: the NCK skips it until an input, a
         # command, a reset or an alarm changes (most cycles of most spindles)
-        self.quiet = (self.change is None and (self.positioning is None or self.positioning.done)
-                      and self.inputs.gear_reported == self._last_report
+        self.quiet = (self.gear_change.settled and (self.positioning is None or self.positioning.done)
                       and (self.direction == 0 or self.mode is SpindleMode.AXIS) and axis.velocity == 0.0
                       and axis.command_velocity == 0.0 and axis.owner is Owner.NONE)
 
     def _control_speed(self) -> float:
         """Speed control: S x override within the gear's limits, in the programmed direction."""
-        inp, axis = self.inputs, self.axis
+        inp = self.inputs
         programmed = 0.0 if inp.delete_s else self.speed
         direction = -self.direction if inp.invert_m3_m4 else self.direction
-        override = self.override()
-        wanted = programmed * override
-        maximum = self.max_speed
-        minimum = self._gear_float(MD.GEAR_STEP_MIN_VELO_LIMIT)
-        stopped = direction == 0 or wanted == 0.0 or axis.inputs.feed_stop or self.coupling_hold
-        self.limited = direction != 0 and wanted > maximum
-        self.raised = not stopped and 0.0 < wanted < minimum
-        set_speed = 0.0 if stopped else min(max(wanted, minimum), maximum)
-        self.set_speed = set_speed
-        return direction * set_speed * RPM
-
-    def _drive(self, command: float) -> None:
-        """Ramp toward ``command`` (deg/s) and move the setpoint; own the axis while it moves."""
-        axis = self.axis
-        if self._planned:
-            velocity = command  # positioning planned its own profile
-        else:
-            velocity = ramp(axis.command_velocity, command, self._acceleration(command), self._dt)
-        if velocity == 0.0 and axis.command_velocity == 0.0:
-            if axis.owner is Owner.SPINDLE:
-                axis.release()
-            return
-        if axis.owner is Owner.NONE:
-            axis.take(Owner.SPINDLE)
-        axis.command_velocity = velocity
-        axis.setpoint += velocity * self._dt
-        if velocity:
-            self.last_rotation = 1 if velocity > 0 else -1
-        if velocity == 0.0 and self.positioning is not None and self.positioning.done:
-            axis.release()
-
-    def _acceleration(self, command: float) -> float:
-        if self.acceleration_override is not None:
-            return self.acceleration_override
-        change = self.change
-        if change is not None and change.state in (GearState.REQUESTED, GearState.AT_STANDSTILL) \
-                and (self.inputs.oscillation_enable or change.state is GearState.AT_STANDSTILL):
-            return self.oscillation.accel  # braking into / during oscillation (L18372-18374)
-        if self.position_control:
-            accel = self._gear_float(MD.GEAR_STEP_POSCTRL_ACCEL) * REV_S2
-        else:
-            accel = self._gear_float(MD.GEAR_STEP_SPEEDCTRL_ACCEL) * REV_S2
-        accel *= self.acceleration_reduction(self.axis.command_velocity)
-        return accel if self.acceleration_cap is None else min(accel, self.acceleration_cap)
-
-    def acceleration_reduction(self, velocity: float) -> float:
-        """The share of the acceleration left at ``velocity`` (deg/s) by the kinked characteristic
-        MD35220 / MD35230 / MD35242 (seed 003 L23797-23810), for speeding up and braking alike.
-        Above the speed point, a share of the gear stage's MD35130 [control], the acceleration falls
-        to 1 - MD35230 at MD35130 and stays there: at once (0, constant), along a hyperbola through
-        both ends (1, the seed's default) [INF] or along a straight line (2)."""
-        factor = self.md.float(MD.ACCEL_REDUCTION_FACTOR)
-        top = self._gear_float(MD.GEAR_STEP_MAX_VELO_LIMIT)
-        point = self.md.float(MD.ACCEL_REDUCTION_SPEED_POINT) * top
-        speed = abs(velocity) / RPM
-        if factor <= 0.0 or speed <= point:
-            return 1.0
-        kind = self.md.int(MD.ACCEL_REDUCTION_TYPE)
-        share = min((speed - point) / (top - point), 1.0)  # of the way from the point to MD35130
-        if kind == 0:
-            return 1.0 - factor
-        if kind == 2:
-            return 1.0 - factor * share
-        return 1.0 / (1.0 + factor / (1.0 - factor) * share)
+        wanted = programmed * self.speed_control.override()
+        held = self.axis.inputs.feed_stop or self.coupling_hold
+        return self.speed_control.setpoint(direction, wanted, held, self.position_control)
 
     def stationary(self) -> bool:
-        axis = self.axis
-        return axis.command_velocity == 0.0 and abs(axis.velocity) <= axis.dyn.standstill_velocity
-
-    def _synchronise(self) -> None:
-        """An unsynchronised turning spindle takes the zero mark it passed (§13.3); an absolute
-        encoder is referenced by its calibration instead (§4.9), and one that lost it stays
-        unreferenced until it is calibrated again (seed 003 L2025-2040)."""
-        axis = self.axis
-        physical, before = axis.physical, self._last_physical
-        self._last_physical = physical
-        encoder = axis.encoder
-        if encoder.referenced or encoder.frequency_exceeded or physical == before or axis.active_encoder is None \
-                or encoder.absolute:
-            return
-        mark = encoder.zero_mark_between(before, physical)
-        if mark is None:
-            return
-        md, index = self.md, encoder.index
-        direction = 1 if physical > before else -1
-        offset = md.float(MD.REFP_MOVE_DIST, index) + md.float(MD.REFP_MOVE_DIST_CORR, index)
-        value = md.float(MD.REFP_SET_POS, self._reference_value_index()) - direction * offset
-        axis.synchronise(encoder, mark, value)
-
-    def _reference_value_index(self) -> int:
-        """DB31.DBX2.4..2.7 select one of the four reference values MD34100[0..3]."""
-        selection = self.axis.inputs.ref_point_selection
-        for index in range(4):
-            if selection & (1 << index):
-                return index
-        return 0
+        return self.speed_control.stationary()
 
     # ------------------------------------------------------------------ monitoring and status
-    def _monitor(self, cycle: int, alarms: AlarmList) -> None:
-        """83.0 and alarm 22100 above the chuck speed (L20932-21020)."""
-        actual = abs(self.axis.velocity) / RPM
-        limit = self.md.float(MD.SPIND_VELO_LIMIT) * (1.0 + self.md.float(MD.SPIND_DES_VELO_TOL))
-        self.at_chuck_limit = actual > limit
-        if self.at_chuck_limit:
-            alarms.raise_alarm(ALARM_CHUCK_SPEED, cycle, self.channel, "", self.number,
-                               channel=self.channel, axis=self.name)
-
     def speed_reached(self) -> bool:
-        """83.5: actual speed within MD35150 x set speed; always with MD35150 = 0 (L20840-20858)."""
+        """83.5 (see :meth:`SpeedControl.reached`); a following spindle's differential speed."""
         if self.mode is SpindleMode.SYNCHRONOUS:
             return self.sync_speed_reached  # the differential speed (L23507-23511)
-        tolerance = self.md.float(MD.SPIND_DES_VELO_TOL)
-        if tolerance == 0.0:
-            return True
-        if self.mode is not SpindleMode.CONTROL:
-            return False
-        axis = self.axis
-        actual = axis.velocity / RPM
         direction = -self.direction if self.inputs.invert_m3_m4 else self.direction
-        wanted = direction * self.set_speed
-        if wanted == 0.0:
-            return self.stationary()
-        return abs(actual - wanted) <= tolerance * abs(wanted)
+        return self.speed_control.reached(self.mode is SpindleMode.CONTROL, direction)
 
     def in_position(self) -> bool:
         """85.5: after SPOS / SPOSA / M19 while synchronised, in exact stop fine, on the target;
         only for the function "spindle positioning", not at the gear-change position (L17059-17068)."""
-        positioning, axis = self.positioning, self.axis
-        return (positioning is not None and positioning.programmed and positioning.done
-                and self.mode is SpindleMode.POSITIONING
-                and axis.encoder.referenced and axis.owner is Owner.NONE
-                and abs(axis.distance_to_end_point) <= axis.dyn.fine_window)
+        positioning = self.positioning
+        return positioning is not None and self.mode is SpindleMode.POSITIONING and positioning.in_position(self.axis)
 
     def write_outputs(self) -> None:
-        change = self.change
-        dialog = change is not None and change.dialog_open
-        requested = change.target if dialog and change is not None else self.acknowledged_gear
-        direction_shown = 1 if self.axis.velocity > self.axis.dyn.standstill_velocity else 0
-        status = (
-            requested, dialog, self.at_chuck_limit,
-            self.limited and self.mode is SpindleMode.CONTROL and not self.limits_unreported,
-            self.raised and self.mode is SpindleMode.CONTROL and not self.limits_unreported,
-            self.speed_reached(), direction_shown,
-            self.mode, self.in_position(), self.m_function, self.parameter_set, self.position_control,
-        )
-        if status == self._status:
+        """The DB31 status of the spindle, written when it changed; the axis follows the position control."""
+        change, speed, mode = self.gear_change, self.speed_control, self.mode
+        dialog = change.dialog_open
+        limits_shown = mode is SpindleMode.CONTROL and not self.limits_unreported
+        status = SpindleStatus(
+            change.target if dialog else change.acknowledged_gear, dialog, speed.at_chuck_limit,
+            speed.limited and limits_shown, speed.raised and limits_shown, self.speed_reached(),
+            self.axis.velocity > self.axis.dyn.standstill_velocity, mode is SpindleMode.CONTROL,
+            mode is SpindleMode.OSCILLATION, mode is SpindleMode.POSITIONING, mode is not SpindleMode.AXIS,
+            self.in_position(), self.m_function, self.parameter_set, self.position_control)
+        before = self._status
+        if status == before:
             return
-        position_control_changed = not self._status or self._status[-1] != self.position_control
         self._status = status
-        area, sig = self._area, self._signals
-        sig.requested_gear.put(area, requested)
-        sig.change_gear.put(area, dialog)
-        sig.speed_limit_exceeded.put(area, self.at_chuck_limit)
-        sig.setpoint_limited.put(area, bool(status[3]))
-        sig.setpoint_raised.put(area, bool(status[4]))
-        sig.speed_reached.put(area, bool(status[5]))
-        sig.clockwise.put(area, bool(direction_shown))
-        sig.control_mode.put(area, self.mode is SpindleMode.CONTROL)
-        sig.oscillation_mode.put(area, self.mode is SpindleMode.OSCILLATION)
-        sig.positioning_mode.put(area, self.mode is SpindleMode.POSITIONING)
-        sig.spindle_mode.put(area, self.mode is not SpindleMode.AXIS)
-        sig.in_position.put(area, bool(status[8]))
-        sig.m_function.put(area, self.m_function)
-        sig.parameter_set.put(area, self.parameter_set)
-        if position_control_changed:
+        self._signals.write(self._area, status)
+        if before is None or before.position_control != status.position_control:
             self.axis.position_control = self.position_control
             self.axis.resting = False
-

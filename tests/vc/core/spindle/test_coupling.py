@@ -21,8 +21,6 @@ from vc.core.spindle.coupling import (
     ALARM_COUPLING_NOT_DEFINED,
     ALARM_TOO_MANY_COUPLINGS,
     ALARM_WRITE_PROTECTED,
-    dynamic_matching,
-    wrap180,
 )
 
 TURN_MILL = str(Path(__file__).resolve().parents[4] / "scenarios" / "machines" / "turn_mill.yaml")
@@ -40,18 +38,6 @@ def test_block_change_takes_only_the_initial_letters() -> None:
     assert block_change_of("IPOSTOP") is BlockChange.IPOSTOP
     assert block_change_of("sometime") is None
     assert kind_of("Dv") is Kind.DV and kind_of("VV") is Kind.VV and kind_of("XY") is None
-
-
-def test_tv_ss_6_dynamic_matching_gives_the_faster_spindle_the_difference() -> None:
-    # MD32810 LS 5 ms, FS 3 ms: MD32900[FS] = 1, MD32910[FS] = 5 - 3 = 2 ms (seed 003 L23713-23720)
-    assert dynamic_matching(0.005, 0.003) == (1, 0.002)
-    assert dynamic_matching(0.003, 0.003) == (0, 0.0)
-
-
-def test_wrap180_keeps_the_short_way() -> None:
-    assert wrap180(350.0) == -10.0
-    assert wrap180(-190.0) == 170.0
-    assert wrap180(77.0) == 77.0
 
 
 def test_configured_pair_comes_from_md21300(nck: Nck) -> None:

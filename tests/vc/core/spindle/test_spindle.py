@@ -18,7 +18,6 @@ import pytest
 from core_rig import ABSOLUTE_XYZ, Rig, machine, spindle_rig
 
 from vc.config import md_dictionary as MD
-from vc.core.spindle.gear_change import select_gear
 from vc.core.spindle.spindle import Spindle, SpindleMode
 
 IPO = 0.002
@@ -45,30 +44,6 @@ def acknowledge(rig: Rig, gear: int) -> None:
     rig.set("SP1.spindle.out.gearStageSelection", gear)
     rig.set("SP1.spindle.out.gearChangeoverDone", 1)
     rig.set("SP1.spindle.out.oscillEnable", 0)
-
-
-# ------------------------------------------------------------------------------ M40 selection
-
-
-@pytest.mark.parametrize(("speed_rpm", "current", "expected"), [
-    (500.0, 1, None),  # inside gear 1's window [10, 800]: keep
-    (1500.0, 1, 2),  # above 800: gear 2's window [700, 2000]
-    (750.0, 2, None),  # the hysteresis: 750 lies in gear 2's window [700, 2000]
-    (600.0, 2, 1),  # below 700: gear 1
-    (3000.0, 1, 3),
-    (9000.0, 1, 3),  # above every window: the highest gear
-    (5.0, 2, 1),  # below gear 1's window: gear 1
-    (0.0, 2, None),  # S0: no change while MD35120[1] > 0
-])
-def test_m40_chooses_the_gear_from_the_switching_thresholds(speed_rpm: float, current: int,
-                                                            expected: int | None) -> None:
-    md = machine().axis("SP1").md
-    assert select_gear(md, speed_rpm, current) == expected
-
-
-def test_s0_selects_gear_1_when_its_lower_threshold_is_0() -> None:
-    md = machine("SP1: {MD35120: [0, 0, 700, 1800]}").axis("SP1").md
-    assert select_gear(md, 0.0, 2) == 1
 
 
 # ------------------------------------------------------------------------------ control mode
@@ -263,7 +238,7 @@ def test_a_wrong_gear_reported_raises_22010_and_takes_the_reported_gear() -> Non
     acknowledge(rig, 2)  # the PLC engaged gear 2 instead of 3
     rig.step(2)
     assert rig.alarm_numbers() == [22010]
-    assert sp1(rig).gear == 2
+    assert sp1(rig).gear_change.gear == 2
 
 
 def test_md11410_bit_3_suppresses_22010() -> None:
@@ -287,7 +262,7 @@ def test_no_acknowledgement_within_md10192_raises_the_alarm_and_a_reset_ends_the
     rig.pulse("CHAN1.basic.out.reset", 5)
     rig.step(5)
     assert bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 0
-    assert rig.alarm_numbers() == [] and sp1(rig).gear == 1  # the reported gear, no alarm (L18694-18698)
+    assert rig.alarm_numbers() == [] and sp1(rig).gear_change.gear == 1  # the reported gear, no alarm (L18694-18698)
 
 
 def test_simulated_dialog_needs_no_plc() -> None:
@@ -298,7 +273,7 @@ def test_simulated_dialog_needs_no_plc() -> None:
         rig.step(1)
         seen_request |= bool(bit(rig, "SP1.spindle.in.gearChangeoverRequested"))
     assert not seen_request
-    assert sp1(rig).gear == 2 and speed(rig) == pytest.approx(1300.0)
+    assert sp1(rig).gear_change.gear == 2 and speed(rig) == pytest.approx(1300.0)
 
 
 def test_gear_change_at_a_fixed_position_positions_waits_and_then_asks() -> None:
@@ -391,7 +366,7 @@ def test_the_plc_sets_the_gear_in_reset_state() -> None:
     rig = spindle_rig()
     rig.set("SP1.spindle.out.gearStageSelection", 3)
     rig.step(20)
-    assert sp1(rig).gear == 3
+    assert sp1(rig).gear_change.gear == 3
     assert rig.get("SP1.spindle.in.requestedGearStageNumber") == 3  # acknowledged (L18610-18616)
     assert rig.get("SP1.drive.in.posCtrlParameterSetNumber") == 3
 
@@ -402,7 +377,7 @@ def test_gear_0_means_the_next_change_always_talks_to_the_plc() -> None:
     rig.step(20)
     rig.set("SP1.spindle.out.gearStageSelection", 0)  # the gearbox is disengaged
     rig.step(20)
-    assert sp1(rig).gear == 0
+    assert sp1(rig).gear_change.gear == 0
     rig.mda("M41")
     rig.run_until(lambda: bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 1, 100)
     assert rig.get("SP1.spindle.in.requestedGearStageNumber") == 1
@@ -415,7 +390,7 @@ def test_stage_0_reported_at_program_start_makes_the_next_change_talk_to_the_plc
     rig.ready_mda()
     rig.set("SP1.spindle.out.ovrFactor", 100)
     rig.step(20)  # the PLC reports 0 in 16.0-16.2 from power-on: the gearbox is disengaged
-    assert sp1(rig).gear == 1  # the NC's stage after power-on; 0 never changed, so not taken over
+    assert sp1(rig).gear_change.gear == 1  # the NC's stage after power-on; 0 never changed, so not taken over
     rig.mda("M41")
     rig.run_until(lambda: bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 1, 100)
     assert rig.get("SP1.spindle.in.requestedGearStageNumber") == 1
@@ -436,7 +411,7 @@ def test_dry_run_with_md35035_bit_0_suppresses_the_change() -> None:
     for _ in range(300):
         rig.step(1)
         assert bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 0
-    assert sp1(rig).gear == 1 and speed(rig) == pytest.approx(800.0)  # clamped to gear 1
+    assert sp1(rig).gear_change.gear == 1 and speed(rig) == pytest.approx(800.0)  # clamped to gear 1
     # ... and the signal of that limitation is suppressed too (L19996-20001)
     assert bit(rig, "SP1.spindle.in.speedSetpointAboveMax") == 0
 
@@ -453,7 +428,7 @@ def test_a_later_block_in_dry_run_replaces_the_stage_to_catch_up() -> None:
     for _ in range(400):
         rig.step(1)
         assert bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 0
-    assert sp1(rig).gear == 1
+    assert sp1(rig).gear_change.gear == 1
 
 
 def test_without_md35035_bit_2_the_active_stage_stays_after_dry_run() -> None:
@@ -466,7 +441,7 @@ def test_without_md35035_bit_2_the_active_stage_stays_after_dry_run() -> None:
     for _ in range(300):
         rig.step(1)
         assert bit(rig, "SP1.spindle.in.gearChangeoverRequested") == 0
-    assert sp1(rig).gear == 1 and sp1(rig).suppressed_gear is None
+    assert sp1(rig).gear_change.gear == 1 and sp1(rig).suppressed_gear is None
 
 
 def test_a_spindle_without_gears_ignores_m40_and_m41() -> None:
@@ -743,32 +718,4 @@ def test_a_reset_during_a_change_takes_the_reported_stage_even_0() -> None:
     rig.set("SP1.spindle.out.gearStageSelection", 0)  # the gearbox is in neutral
     rig.pulse("CHAN1.basic.out.reset", 5)
     rig.step(5)
-    assert sp1(rig).gear == 0 and rig.alarm_numbers() == []
-
-
-# ------------------------------------------------------------------------------ kinked acceleration characteristic
-
-
-@pytest.mark.parametrize(("kind", "at_1500", "at_2000", "above"), [
-    (0, 0.6, 0.6, 0.6),  # constant: 1 - MD35230 at once above the speed point
-    (1, 1.0 / (1.0 + 0.4 / 0.6 * 0.5), 0.6, 0.6),  # hyperbola from 1 at the point to 0.6 at MD35130
-    (2, 0.8, 0.6, 0.6),  # straight line
-])
-def test_acceleration_reduction_above_the_speed_point(kind: int, at_1500: float, at_2000: float,
-                                                      above: float) -> None:
-    # MD35130 = 2000 rev/min, MD35220 = 0.5: the reduction starts at 1000 rev/min and reaches
-    # 1 - MD35230 = 0.6 at 2000 rev/min (seed 003 L23797-23810)
-    rig = spindle_rig("SP1: {MD35130: [2000, 2000, 2000, 2000, 2000, 2000], MD35220: 0.5, MD35230: 0.4,"
-                      f" MD35242: {kind}}}")
-    spindle = sp1(rig)
-    rpm = 6.0  # deg/s per rev/min
-    assert spindle.acceleration_reduction(900 * rpm) == 1.0
-    assert spindle.acceleration_reduction(1000 * rpm) == 1.0
-    assert spindle.acceleration_reduction(-1500 * rpm) == pytest.approx(at_1500)
-    assert spindle.acceleration_reduction(2000 * rpm) == pytest.approx(at_2000)
-    assert spindle.acceleration_reduction(2500 * rpm) == pytest.approx(above)
-
-
-def test_no_acceleration_reduction_without_md35230() -> None:
-    rig = spindle_rig("SP1: {MD35220: 0.1}")
-    assert sp1(rig).acceleration_reduction(5000 * 6.0) == 1.0
+    assert sp1(rig).gear_change.gear == 0 and rig.alarm_numbers() == []
