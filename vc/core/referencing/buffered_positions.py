@@ -93,7 +93,7 @@ def encoder_slip(axis: MachineAxis, encoder_index: int, amount: float, memory: N
     """
     encoder = axis.encoders[encoder_index]
     encoder.offset += amount
-    encoder.referenced = encoder.restored = encoder.reference_return_due = False
+    encoder.lose_reference()
     alarms.raise_alarm(ALARM_ZERO_MARK_MONITORING, 0, axis.name, channel=axis.channel, axis=axis.name)
     if encoder.absolute:
         lose_calibration(axis, encoder_index, memory, alarms, 0)
@@ -107,7 +107,7 @@ def lose_calibration(axis: MachineAxis, encoder_index: int, memory: NcMemory, al
     "axis <axis> encoder <n> warning 0"; the axis is no longer referenced by it (seed 003
     L2025-2040)."""
     encoder = axis.encoders[encoder_index]
-    encoder.referenced = encoder.restored = encoder.reference_return_due = False
+    encoder.lose_reference()
     memory.write(axis.name, MD.ENC_REFP_STATE, ENC_STATE_NOT_CALIBRATED, encoder_index, axis.config.md)
     alarms.raise_alarm(ALARM_ENCODER_WARNING, cycle, axis.name, encoder_index + 1, 0,
                        channel=axis.channel, axis=axis.name)
