@@ -13,11 +13,12 @@ time gives the setpoint (``owner``: the diagram).
 Measuring systems: one or two (MD30200); DB31.DBX1.5 / 1.6 select which one is active.
 With neither selected the axis is "parked": no actual value, no position control.
 
-The axis owns the pieces of its functions that run on events or in one mode only: ``AxisJog``
-(JOG with the traverse keys and the handwheel, the software limit switches in JOG: ``jog``),
-``DrfOffset`` (the DRF offset in AUTO / MDA: ``drf``); its DB31 signals are decoded and written
-by ``AxisSignals`` (``signals``).  The per-cycle work (position loop, drive, encoder,
-exact stop and standstill monitoring) stays here, on the axis's own attributes.
+The axis owns its functions' pieces: ``PositionLoop`` (Kv, feedforward, symmetrising and the
+drive's lag: ``position_loop``), ``AxisJog`` (JOG with the traverse keys and the handwheel, the
+software limit switches in JOG: ``jog``), ``DrfOffset`` (the DRF offset in AUTO / MDA: ``drf``);
+its DB31 signals are decoded and written by ``AxisSignals`` (``signals``).  The cycle itself
+(the slide, the encoder, enables, exact stop and standstill monitoring, the status bits) stays
+here, on the axis's own attributes: ``control_cycle`` runs every IPO cycle for every moving axis.
 """
 
 from __future__ import annotations
@@ -34,8 +35,9 @@ from vc.core.axis.encoder import MeasuringSystem
 from vc.core.axis.jog import FREE_JOG as FREE_JOG
 from vc.core.axis.jog import AxisJog
 from vc.core.axis.jog import JogLimits as JogLimits
-from vc.core.axis.motion import JerkFilter, ramp
+from vc.core.axis.motion import ramp
 from vc.core.axis.owner import Owner as Owner
+from vc.core.axis.position_loop import PositionLoop
 from vc.core.axis.signals import AxisInputs
 from vc.core.axis.signals import AxisSignals as AxisSignals
 
@@ -43,7 +45,6 @@ from vc.core.axis.signals import AxisSignals as AxisSignals
 # import them from here with MachineAxis (re-exported).
 
 _TINY = 1e-9
-_RESOLUTION = 1e-6  # mm or degrees: far below the control's internal precision of 1 um
 
 
 class MachineAxis:
@@ -77,10 +78,6 @@ class MachineAxis:
         self.setpoint = self.actual  # interpolated position setpoint (before the jerk filter)
         self.command_velocity = 0.0  # velocity of the interpolated setpoint, signed, per second
         self.velocity = 0.0  # actual velocity of the slide, signed, per second
-        self._loop_setpoint = self.actual  # setpoint after the jerk filter
-        self._model_position = self.actual  # the setpoint as the drive can follow it (symmetrising)
-        self._model_velocity = 0.0
-        self._drive_velocity = 0.0
         self.owner = Owner.NONE
         self.servo_on = False
         self.follow_up = False
@@ -92,7 +89,7 @@ class MachineAxis:
         self._fine_reached = True
         self.at_software_limit = 0  # -1 / +1 while resting on the minus / plus software limit switch
         self.jog = AxisJog(dt)  # the traverse keys and the handwheel in JOG
-        self.jerk_filter: JerkFilter | None = jerk_filter_of(config, self.dyn, dt, self.actual)
+        self.loop = PositionLoop(dt, self.actual, jerk_filter_of(config, self.dyn, dt, self.actual))
         self.resting = False  # at rest and no input changed since: the cycle may skip the axis
         self.coordinate_shift = 0.0  # the sum of every shift(): the NC coordinates against the first ones
         self._status: tuple[bool, ...] = ()  # the status bits last written
@@ -107,12 +104,8 @@ class MachineAxis:
         self.overlay = 0.0
         self.overlay_velocity = 0.0
         self.disturbance_velocity = 0.0  # a load the drive must hold against (plant fault), per second
-        # on the speed controller alone (the FS of a VV coupling without position control, L21965-21968):
-        # the drive gets the setpoint's speed and nothing pulls the slide back to the setpoint position
-        self.speed_control = False
         # a part clamped in this spindle and another: the slide is held at k x the other's position + offset
         self.clamp: tuple[MachineAxis, float, float] | None = None
-        self._coupled_loop: CoupledLoop | None = None  # set each cycle while the spindle is coupled
         # DRF (AUTO / MDA, DB21.DBX0.3): the handwheel's offset in the MCS, overlaid on the path (part of
         # ``overlay``), and the distance of it still to travel; it outlives reset and program end (L36426)
         self.drf = DrfOffset(dt)
@@ -195,10 +188,8 @@ class MachineAxis:
 
     def stand_at(self, actual: float) -> None:
         """Power-on: the axis stands still at ``actual``; every setpoint stage agrees with it."""
-        self.actual = self.setpoint = self._loop_setpoint = self._model_position = actual
-        self._model_velocity = 0.0
-        if self.jerk_filter:
-            self.jerk_filter.reset(actual)
+        self.actual = self.setpoint = actual
+        self.loop.hold_at(actual)
         self.resting = False
 
     def shift(self, delta: float) -> None:
@@ -208,10 +199,7 @@ class MachineAxis:
         self.coordinate_shift += delta
         self.actual += delta
         self.setpoint += delta
-        self._loop_setpoint += delta
-        self._model_position += delta
-        if self.jerk_filter:
-            self.jerk_filter.reset(self._loop_setpoint)
+        self.loop.shift(delta)
         self.resting = False
 
     def synchronise(self, encoder: MeasuringSystem, physical: float, actual: float) -> None:
@@ -254,42 +242,21 @@ class MachineAxis:
     @property
     def following_error(self) -> float:
         """Position setpoint at the position controller minus actual value."""
-        return self._loop_setpoint - self.actual
+        return self.loop.setpoint - self.actual
 
     @property
     def lag_per_velocity(self) -> float:
-        """Following error per unit of a constant velocity (s), by the loop of
-        ``_close_position_loop``: with feedforward the symmetrising model, and the slide on it,
-        lags the setpoint by the drive's MD32810 less the cycle it is compared in; without it the
-        Kv loop needs velocity / Kv.  Dynamic-response matching (MD32910) delays the setpoint before
-        the loop and adds its time."""
-        dyn = self.dyn
-        kv, feedforward, symmetrising_time = self._loop_parameters()
-        if feedforward:
-            return max(symmetrising_time - self._dt, 0.0) + dyn.dyn_match_time
-        return (1.0 / kv if kv else 0.0) + dyn.dyn_match_time
+        """Following error per unit of a constant velocity (s): ``PositionLoop.lag_per_velocity``."""
+        return self.loop.lag_per_velocity(self.dyn)
 
     @property
     def coupled_loop(self) -> CoupledLoop | None:
-        return self._coupled_loop
+        """The position loop a synchronous spindle coupling sets in place of the axis's own."""
+        return self.loop.coupled
 
     @coupled_loop.setter
     def coupled_loop(self, loop: CoupledLoop | None) -> None:
-        before = self._loop_parameters()[2]
-        self._coupled_loop = loop
-        after = self._loop_parameters()[2]
-        if after != before:
-            # the symmetrising model lags a moving setpoint by its time constant: it takes the new lag
-            # at once (integrating the velocity alone it would keep the old one for good)
-            self._model_position -= self._model_velocity * (after - before)
-
-    def _loop_parameters(self) -> tuple[float, float, float]:
-        """Kv, feedforward weight and symmetrising time: the coupling's while coupled, else the axis's."""
-        loop = self._coupled_loop
-        if loop is not None:
-            return loop.kv, loop.feedforward, loop.symmetrising_time
-        dyn = self.dyn
-        return dyn.kv, dyn.feedforward, dyn.drive_time_constant
+        self.loop.set_coupled(self.dyn, loop)
 
     @property
     def distance_to_end_point(self) -> float:
@@ -381,19 +348,22 @@ class MachineAxis:
             return False
         self._update_servo_state(cycle, alarms)
         dt = self._dt
+        loop = self.loop
         if self.servo_on:
-            self._close_position_loop(dt)
+            if loop.close(self.dyn, self.setpoint + self.overlay, self.actual, self.command_velocity):
+                # Settled below the measuring resolution: the slide stands on the setpoint.
+                self.physical += loop.setpoint - self.actual
         else:
             # No position control: the drive brakes on its own ramp and the slide stops.
-            self._drive_velocity = ramp(self._drive_velocity, 0.0, self.dyn.rapid_stop_decel, dt)
+            loop.drive_velocity = ramp(loop.drive_velocity, 0.0, self.dyn.rapid_stop_decel, dt)
         if self.disabled:
             # Axis disable: the setpoints do not reach the drive; the NC shows the setpoint as actual value.
-            self._drive_velocity = 0.0
+            loop.drive_velocity = 0.0
             self.velocity = self.command_velocity
-            self.actual = self._loop_setpoint if self.servo_on else self.actual
+            self.actual = loop.setpoint if self.servo_on else self.actual
         else:
-            slide_velocity = self._drive_velocity + self.disturbance_velocity if self.servo_on \
-                else self._drive_velocity + self.external_velocity
+            slide_velocity = loop.drive_velocity + self.disturbance_velocity if self.servo_on \
+                else loop.drive_velocity + self.external_velocity
             self.physical += slide_velocity * dt
             self.velocity = slide_velocity
             if self.clamp is not None:
@@ -403,55 +373,14 @@ class MachineAxis:
             if self.active_encoder is not None:
                 self.actual = self.encoder.actual(self.physical)
         if not self.servo_on and (self.follow_up or self._tracking):
-            self.setpoint = self._loop_setpoint = self._model_position = self.actual
-            self._model_velocity = 0.0
+            self.setpoint = self.actual
+            loop.hold_at(self.actual)
             self.command_velocity = 0.0
-            if self.jerk_filter:
-                self.jerk_filter.reset(self.actual)
         if abs(self.velocity) > self._lowest_limit_velocity or self._frequency_exceeded_somewhere:
             self._monitor_encoder_frequency(cycle, alarms)
         self._monitor(cycle, alarms)
         self._write_outputs()
         return True
-
-    def _close_position_loop(self, dt: float) -> None:
-        """Kv loop with speed feedforward; the drive is a first-order lag (MD32810).
-
-        With feedforward the setpoint is compared with the actual value only after the
-        same lag as the drive's (the control's symmetrising with MD32810), so the loop
-        corrects real deviations and not the drive's own delay: no overshoot at the end.
-        """
-        dyn = self.dyn
-        previous = self._loop_setpoint
-        target = self.setpoint + self.overlay
-        loop_setpoint = self.jerk_filter.apply(target) if self.jerk_filter else target
-        self._loop_setpoint = loop_setpoint
-        kv, weight, symmetrising_time = self._loop_parameters()
-        feedforward = (loop_setpoint - previous) / dt * weight
-        tau = dyn.drive_time_constant
-        lag = dt / tau if tau > dt else 1.0
-        model_lag = dt / symmetrising_time if symmetrising_time > dt else 1.0
-        symmetrising = bool(feedforward or self._model_velocity)
-        # The model and the slide are compared at the same instant, then both move on.
-        compare = self._model_position if symmetrising else loop_setpoint
-        if self.speed_control:
-            velocity_command = (loop_setpoint - previous) / dt
-        else:
-            velocity_command = kv * (compare - self.actual) + feedforward
-        limit = 1.2 * dyn.max_velocity
-        velocity_command = max(-limit, min(limit, velocity_command))
-        self._drive_velocity += (velocity_command - self._drive_velocity) * lag
-        if symmetrising:
-            self._model_velocity += (feedforward - self._model_velocity) * model_lag
-            self._model_position += self._model_velocity * dt
-        else:
-            self._model_position = loop_setpoint
-        if (not self.speed_control and self.command_velocity == 0.0 and abs(loop_setpoint - self.actual) < _RESOLUTION
-                and abs(self._drive_velocity) < _RESOLUTION / dt and abs(self._model_velocity) < _RESOLUTION / dt):
-            # Settled below the measuring resolution: the slide stands on the setpoint.
-            self.physical += loop_setpoint - self.actual
-            self._drive_velocity = self._model_velocity = 0.0
-            self._model_position = loop_setpoint
 
     def _update_servo_state(self, cycle: int, alarms: AlarmList) -> None:
         inp = self.inputs
@@ -468,10 +397,8 @@ class MachineAxis:
         # Enable returns: take the present position (follow-up), or return to the held setpoint.
         if not self.servo_on and wanted and (self.follow_up or self._tracking
                                              or (self.owner is Owner.NONE and inp.follow_up_mode)):
-            self.setpoint = self._loop_setpoint = self._model_position = self.actual
-            self._model_velocity = 0.0
-            if self.jerk_filter:
-                self.jerk_filter.reset(self.actual)
+            self.setpoint = self.actual
+            self.loop.hold_at(self.actual)
         if wanted:
             self._tracking = False
         self.servo_on = wanted
@@ -485,11 +412,12 @@ class MachineAxis:
     def set_speed_control(self, on: bool) -> None:
         """Position control off (``on``) or back on: the position loop takes over where the slide is,
         not where the setpoint ran ahead of it."""
-        if self.speed_control and not on:
-            self.setpoint = self._loop_setpoint = self._model_position = self.actual
-            if self.jerk_filter:
-                self.jerk_filter.reset(self.actual)
-        self.speed_control = on
+        loop = self.loop
+        if loop.speed_control and not on:
+            self.setpoint = loop.setpoint = loop.model_position = self.actual
+            if loop.jerk_filter:
+                loop.jerk_filter.reset(self.actual)
+        loop.speed_control = on
 
     def set_loop_gain(self, kv: float) -> None:
         """The servo gain of the active parameter set (MD32200[n], e.g. a spindle's gear stage)."""
@@ -548,9 +476,10 @@ class MachineAxis:
         if self.at_software_limit:
             self.jog.monitor_software_limit(self, cycle, alarms)
         # At rest when nothing moves: the next cycles can skip the loop until an input changes.
-        self.resting = (interpolation_done and self.velocity == 0.0 and self._drive_velocity == 0.0
-                             and self._loop_setpoint == self.setpoint + self.overlay and error <= dyn.fine_window
-                             and (self.jerk_filter is None or self.jerk_filter.settled(self.setpoint, 0.0))
+        loop = self.loop
+        self.resting = (interpolation_done and self.velocity == 0.0 and loop.drive_velocity == 0.0
+                             and loop.setpoint == self.setpoint + self.overlay and error <= dyn.fine_window
+                             and (loop.jerk_filter is None or loop.jerk_filter.settled(self.setpoint, 0.0))
                              and self._servo_off_countdown <= 0 and not self.at_software_limit)
 
     def _write_outputs(self) -> None:
