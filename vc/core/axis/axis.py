@@ -7,213 +7,44 @@ configured), closes the position loop (Kv, speed feedforward), moves the simulat
 reads the encoder, monitors, and writes its DB31 status bits.
 
 Internal units: mm, mm/s, mm/s^2 for linear axes; degrees, deg/s, deg/s^2 for rotary
-axes and spindles.  Machine data come in the control's units (mm/min, rev/min, m/s^2).
-
-Motion owners (one at a time)::
-
-    NONE ──key held in JOG──▶ JOG ──key released, stopped──▶ NONE
-    NONE ──block with this axis──▶ PATH ──block end──▶ NONE
-    NONE ──referencing started──▶ REF ──referenced, aborted──▶ NONE
-    NONE ──spindle turns (M3/M4, SPOS, oscillation)──▶ SPINDLE ──stands──▶ NONE
-    any ──e-stop, enable removed, hardware limit──▶ BRAKE ──standstill──▶ NONE
-    PATH / NONE ──fast retraction, ESR retract──▶ RETRACT ──at the retract position──▶ NONE
+axes and spindles (``dynamics``: the machine data converted once).  One motion owner at a
+time gives the setpoint (``owner``: the diagram).
 
 Measuring systems: one or two (MD30200); DB31.DBX1.5 / 1.6 select which one is active.
 With neither selected the axis is "parked": no actual value, no position control.
+
+The axis owns its functions' pieces: ``PositionLoop`` (Kv, feedforward, symmetrising and the
+drive's lag: ``position_loop``), ``AxisJog`` (JOG with the traverse keys and the handwheel, the
+software limit switches in JOG: ``jog``), ``DrfOffset`` (the DRF offset in AUTO / MDA: ``drf``);
+its DB31 signals are decoded and written by ``AxisSignals`` (``signals``).  The cycle itself
+(the slide, the encoder, enables, exact stop and standstill monitoring, the status bits) stays
+here, on the axis's own attributes: ``control_cycle`` runs every IPO cycle for every moving axis.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
-from dataclasses import dataclass
-from enum import Enum
 
 from vc.config import md_dictionary as MD
 from vc.config.model import AxisConfig
 from vc.core.alarms import AlarmList
-from vc.core.axis.encoder import MeasuringSystem, rotary_frequency_limit_velocity
-from vc.core.axis.motion import JerkFilter, ramp, stopping_velocity
-from vc.core.interface_map import SignalTable
+from vc.core.axis.drf import DrfOffset
+from vc.core.axis.dynamics import CoupledLoop as CoupledLoop
+from vc.core.axis.dynamics import dynamics_of, jerk_filter_of
+from vc.core.axis.encoder import MeasuringSystem
+from vc.core.axis.jog import FREE_JOG as FREE_JOG
+from vc.core.axis.jog import AxisJog
+from vc.core.axis.jog import JogLimits as JogLimits
+from vc.core.axis.motion import ramp
+from vc.core.axis.owner import Owner as Owner
+from vc.core.axis.position_loop import PositionLoop
+from vc.core.axis.signals import AxisInputs
+from vc.core.axis.signals import AxisSignals as AxisSignals
+
+# CoupledLoop, FREE_JOG, JogLimits, Owner and AxisSignals are imported "as" themselves: the axis's users
+# import them from here with MachineAxis (re-exported).
 
 _TINY = 1e-9
-_RESOLUTION = 1e-6  # mm or degrees: far below the control's internal precision of 1 um
-
-
-class Owner(Enum):
-    NONE = "none"
-    JOG = "jog"
-    PATH = "path"
-    REF = "ref"
-    BRAKE = "brake"
-    SPINDLE = "spindle"  # a spindle turning, oscillating or positioning on its own (vc/core/spindle/spindle.py)
-    COUPLING = "coupling"  # the following spindle of a coupling (vc/core/spindle/coupling.py)
-    # the orthogonal axis carried along by its inclined axis (vc/core/transforms/inclined_axis_control.py)
-    TRANSFORM = "transform"
-    RETRACT = "retract"  # a retract motion at maximum dynamics (LIFTFAST, ESR: vc/core/retraction/retract_motion.py)
-
-
-@dataclass(frozen=True, slots=True)
-class AxisDynamics:
-    """Limits and loop parameters in internal units (per second)."""
-
-    max_velocity: float
-    max_accel: float
-    max_jerk: float  # MD32431: the retract motion's jerk limit (vc/core/retraction/retract_motion.py)
-    jog_velocity: float
-    jog_rapid_velocity: float
-    drf_velocity: float  # the DRF offset's handwheel velocity: JOG velocity x MD32090
-    rapid_stop_decel: float
-    kv: float
-    feedforward: float  # 0 = off, else weighting factor
-    drive_time_constant: float
-    dyn_match_time: float  # MD32910 where MD32900 enables it: the setpoint's extra delay
-    coarse_window: float
-    fine_window: float
-    standstill_velocity: float
-    positioning_time: float
-    standstill_tolerance: float
-    standstill_delay: float
-    servo_disable_delay: float
-    limit_minus: float
-    limit_plus: float
-    brake_rapid_at_limit_switch: bool
-    display_velocity_factor: float  # internal per second -> mm/min or rev/min
-
-
-def dynamics_of(axis: AxisConfig) -> AxisDynamics:
-    md = axis.md
-    if axis.is_rotary:
-        velocity_unit = 6.0  # rev/min -> deg/s
-        accel_unit = 360.0  # rev/s^2 -> deg/s^2
-    else:
-        velocity_unit = 1.0 / 60.0  # mm/min -> mm/s
-        accel_unit = 1000.0  # m/s^2 -> mm/s^2
-    max_velocity = md.float(MD.MAX_AX_VELO) * velocity_unit
-    emergency_time = md.float(MD.AX_EMERGENCY_STOP_TIME)
-    max_accel = md.float(MD.MAX_AX_ACCEL, 0) * accel_unit
-    return AxisDynamics(
-        max_velocity=max_velocity,
-        max_accel=max_accel,
-        max_jerk=md.float(MD.MAX_AX_JERK, 0) * accel_unit,  # m/s^3 -> mm/s^3, rev/s^3 -> deg/s^3
-        jog_velocity=min(md.float(MD.JOG_VELO) * velocity_unit, max_velocity),
-        jog_rapid_velocity=min(md.float(MD.JOG_VELO_RAPID) * velocity_unit, max_velocity),
-        drf_velocity=min(md.float(MD.JOG_VELO) * velocity_unit, max_velocity) * md.float(MD.HANDWH_VELO_OVERLAY_FACTOR),
-        # MD36610: the rapid-stop ramp takes the axis from MAX_AX_VELO to standstill in this time
-        rapid_stop_decel=max_velocity / emergency_time if emergency_time > 0 else math.inf,
-        kv=md.float(MD.POSCTRL_GAIN, 0),
-        feedforward=md.float(MD.VELO_FFW_WEIGHT, 0) if md.int(MD.FFW_MODE) else 0.0,
-        drive_time_constant=md.float(MD.EQUIV_SPEEDCTRL_TIME, 0),
-        dyn_match_time=md.float(MD.DYN_MATCH_TIME, 0) if md.bool(MD.DYN_MATCH_ENABLE) else 0.0,
-        coarse_window=md.float(MD.STOP_LIMIT_COARSE),
-        fine_window=md.float(MD.STOP_LIMIT_FINE),
-        standstill_velocity=md.float(MD.STANDSTILL_VELO_TOL) * velocity_unit,
-        positioning_time=md.float(MD.POSITIONING_TIME),
-        standstill_tolerance=md.float(MD.STANDSTILL_POS_TOL),
-        standstill_delay=md.float(MD.STANDSTILL_DELAY_TIME),
-        servo_disable_delay=md.float(MD.SERVO_DISABLE_DELAY_TIME),
-        limit_minus=md.float(MD.POS_LIMIT_MINUS),
-        limit_plus=md.float(MD.POS_LIMIT_PLUS),
-        brake_rapid_at_limit_switch=md.int(MD.BRAKE_MODE_CHOICE) == 1,
-        display_velocity_factor=1.0 / velocity_unit,
-    )
-
-
-@dataclass(frozen=True, slots=True)
-class CoupledLoop:
-    """The position loop a synchronous spindle coupling sets on a spindle in place of its own
-    (vc/core/spindle/coupling.py, L22997-23006, L23756-23775): Kv, feedforward weight (0 = off) and the
-    equivalent speed-control time MD32810 the feedforward's symmetrising models.  The drive itself
-    keeps its own lag: MD32810 only tells the control how fast the drive is."""
-
-    kv: float
-    feedforward: float
-    symmetrising_time: float
-
-
-@dataclass(frozen=True, slots=True)
-class JogLimits:
-    """What JOG may do with an axis beyond its own data: the traverse keys it follows, and a
-    velocity and acceleration an axis moved along with it needs (manual retraction's spindle)."""
-
-    plus: bool = True
-    minus: bool = True
-    velocity: float = math.inf  # per second
-    accel: float = math.inf  # per second squared
-    # The setpoints between which JOG keeps the axis in place of its software limit switches
-    # MD36100 / MD36110, where a transform checks them in other coordinates (inclined axis, AOT).
-    window: tuple[float, float] | None = None
-
-    def and_(self, other: JogLimits) -> JogLimits:
-        """Both sets of limits at once."""
-        if other is FREE_JOG:
-            return self
-        if self is FREE_JOG:
-            return other
-        window = self.window if other.window is None else other.window if self.window is None else \
-            (max(self.window[0], other.window[0]), min(self.window[1], other.window[1]))
-        return JogLimits(self.plus and other.plus, self.minus and other.minus,
-                         min(self.velocity, other.velocity), min(self.accel, other.accel), window)
-
-
-FREE_JOG = JogLimits()
-
-
-class AxisSignals:
-    """Byte positions of the DB31 signals an axis reads and writes."""
-
-    def __init__(self, table: SignalTable):
-        self.feed_override = table.field("basic.out.feedrateOvrFactor")
-        self.disable = table.bit("basic.out.disable")
-        self.follow_up_mode = table.bit("basic.out.followUpMode")
-        self.override_active = table.bit("basic.out.enableOvr")
-        self.controller_enable = table.bit("basic.out.enableCtrl")
-        self.reset_movement = table.bit("basic.out.resetMovement")
-        self.feed_stop = table.bit("basic.out.feedStopSpindleStop")
-        self.rapid_key = table.bit("basic.out.enableRapidTravers")
-        self.key_minus = table.bit("basic.out.traversKeyMinus")
-        self.key_plus = table.bit("basic.out.traversKeyPlus")
-        self.hw_limit_minus = table.bit("basic.out.hwLimitSwitchMinus")
-        self.hw_limit_plus = table.bit("basic.out.hwLimitSwitchPlus")
-        self.pulse_enable = table.bit("drive.out.enablePulses")
-        self.ref_cam = table.bit("basic.out.refPointApproachCam")
-        self.ref_point_selection = table.field("basic.out.refPointSelection")
-        self.encoder_activation = (table.bit("basic.out.enc1Activation"), table.bit("basic.out.enc2Activation"))
-        self.referenced = (table.bit("basic.in.enc1Synchronized"), table.bit("basic.in.enc2Synchronized"))
-        self.frequency_exceeded = (table.bit("basic.in.enc1FreqLimitExceeded"),
-                                   table.bit("basic.in.enc2FreqLimitExceeded"))
-        self.restored = (table.bit("basic.in.enc1Restored"), table.bit("basic.in.enc2Restored"))
-        self.exact_coarse = table.bit("basic.in.posCoarseReached")
-        self.exact_fine = table.bit("basic.in.posFineReached")
-        self.follow_up_active = table.bit("basic.in.followUpModeActive")
-        self.stationary = table.bit("basic.in.isStationary")
-        self.position_control = table.bit("basic.in.posCtrlActive")
-        self.disabled = table.bit("basic.in.disabled")
-        self.command_minus = table.bit("basic.in.traversMinusCommandActive")
-        self.command_plus = table.bit("basic.in.traversPlusCommandActive")
-        self.drive_enabled = table.bit("drive.in.enabled")
-
-
-@dataclass(slots=True)
-class AxisInputs:
-    """The PLC-to-NC signals of one axis, decoded when the PLC changed its outputs."""
-
-    controller_enable: bool = False
-    pulse_enable: bool = False
-    disable: bool = False
-    follow_up_mode: bool = False
-    override_active: bool = False
-    override_raw: int = 0
-    feed_stop: bool = False
-    rapid_key: bool = False
-    key_minus: bool = False
-    key_plus: bool = False
-    hw_limit_minus: bool = False
-    hw_limit_plus: bool = False
-    reset_movement: bool = False
-    ref_cam: bool = False  # DB31.DBX12.7: the reference cam as the PLC copied it
-    ref_point_selection: int = 0  # DB31.DBX2.4..2.7: one bit per reference point value 1..4
-    encoder_selected: int | None = None  # DB31.DBX1.5 / 1.6: 0 or 1; None = parked
 
 
 class MachineAxis:
@@ -247,10 +78,6 @@ class MachineAxis:
         self.setpoint = self.actual  # interpolated position setpoint (before the jerk filter)
         self.command_velocity = 0.0  # velocity of the interpolated setpoint, signed, per second
         self.velocity = 0.0  # actual velocity of the slide, signed, per second
-        self._loop_setpoint = self.actual  # setpoint after the jerk filter
-        self._model_position = self.actual  # the setpoint as the drive can follow it (symmetrising)
-        self._model_velocity = 0.0
-        self._drive_velocity = 0.0
         self.owner = Owner.NONE
         self.servo_on = False
         self.follow_up = False
@@ -261,13 +88,8 @@ class MachineAxis:
         self._motion_end_cycle = 0  # cycles since the interpolator reached its end point
         self._fine_reached = True
         self.at_software_limit = 0  # -1 / +1 while resting on the minus / plus software limit switch
-        self._jog_window: tuple[float, float] | None = None  # JogLimits.window of the last JOG cycle
-        self.jerk_filter: JerkFilter | None = None
-        jerk = config.md.bool(MD.AX_JERK_ENABLE)
-        if jerk or self.dyn.dyn_match_time:
-            jerk_time = config.md.float(MD.AX_JERK_TIME) if jerk else 0.0
-            self.jerk_filter = JerkFilter(config.md.int(MD.AX_JERK_MODE), jerk_time, dt, self.actual,
-                                          self.dyn.dyn_match_time)
+        self.jog = AxisJog(dt)  # the traverse keys and the handwheel in JOG
+        self.loop = PositionLoop(dt, self.actual, jerk_filter_of(config, self.dyn, dt, self.actual))
         self.resting = False  # at rest and no input changed since: the cycle may skip the axis
         self.coordinate_shift = 0.0  # the sum of every shift(): the NC coordinates against the first ones
         self._status: tuple[bool, ...] = ()  # the status bits last written
@@ -282,39 +104,17 @@ class MachineAxis:
         self.overlay = 0.0
         self.overlay_velocity = 0.0
         self.disturbance_velocity = 0.0  # a load the drive must hold against (plant fault), per second
-        # on the speed controller alone (the FS of a VV coupling without position control, L21965-21968):
-        # the drive gets the setpoint's speed and nothing pulls the slide back to the setpoint position
-        self.speed_control = False
         # a part clamped in this spindle and another: the slide is held at k x the other's position + offset
         self.clamp: tuple[MachineAxis, float, float] | None = None
-        self.handwheel_rest = 0.0  # JOG: the handwheel's distance still to travel (vc/core/axis/handwheel.py)
-        self._coupled_loop: CoupledLoop | None = None  # set each cycle while the spindle is coupled
         # DRF (AUTO / MDA, DB21.DBX0.3): the handwheel's offset in the MCS, overlaid on the path (part of
         # ``overlay``), and the distance of it still to travel; it outlives reset and program end (L36426)
-        self.drf_offset = 0.0
-        self.drf_rest = 0.0
-        self._drf_velocity = 0.0
+        self.drf = DrfOffset(dt)
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
-        area, sig, inp = self._area, self._signals, self.inputs
-        inp.controller_enable = bool(area[sig.controller_enable.byte] & sig.controller_enable.mask)
-        inp.pulse_enable = bool(area[sig.pulse_enable.byte] & sig.pulse_enable.mask)
-        inp.disable = bool(area[sig.disable.byte] & sig.disable.mask)
-        inp.follow_up_mode = bool(area[sig.follow_up_mode.byte] & sig.follow_up_mode.mask)
-        inp.override_active = bool(area[sig.override_active.byte] & sig.override_active.mask)
-        inp.override_raw = sig.feed_override.get(area)
-        inp.feed_stop = bool(area[sig.feed_stop.byte] & sig.feed_stop.mask)
-        inp.rapid_key = bool(area[sig.rapid_key.byte] & sig.rapid_key.mask)
-        inp.key_minus = bool(area[sig.key_minus.byte] & sig.key_minus.mask)
-        inp.key_plus = bool(area[sig.key_plus.byte] & sig.key_plus.mask)
-        inp.hw_limit_minus = bool(area[sig.hw_limit_minus.byte] & sig.hw_limit_minus.mask)
-        inp.hw_limit_plus = bool(area[sig.hw_limit_plus.byte] & sig.hw_limit_plus.mask)
-        inp.reset_movement = bool(area[sig.reset_movement.byte] & sig.reset_movement.mask)
-        inp.ref_cam = bool(area[sig.ref_cam.byte] & sig.ref_cam.mask)
-        inp.ref_point_selection = sig.ref_point_selection.get(area)
-        first, second = (bit.get(area) for bit in sig.encoder_activation)
-        inp.encoder_selected = 0 if first else (1 if second and len(self.encoders) > 1 else None)
+        """The PLC changed its outputs: read this axis's DB31 signals."""
+        inp = self.inputs
+        self._signals.read_inputs(self._area, inp, len(self.encoders))
         self.resting = False
         if inp.encoder_selected != self.active_encoder:
             self._select_encoder(inp.encoder_selected)
@@ -331,51 +131,47 @@ class MachineAxis:
     def fold_overlay(self) -> None:
         """The overlaid distance becomes part of the programmed position (nothing moves); the DRF
         offset stays overlaid."""
-        self.setpoint += self.overlay - self.drf_offset
-        self.overlay = self.drf_offset
-        self.overlay_velocity = self._drf_velocity
+        self.setpoint += self.overlay - self.drf.offset
+        self.overlay = self.drf.offset
+        self.overlay_velocity = self.drf.velocity
         self.resting = False
 
     def add_drf_travel(self, distance: float) -> None:
         """Handwheel pulses with DRF: the DRF offset grows by ``distance`` (sign = direction)."""
-        self.drf_rest += distance
+        self.drf.add_travel(distance)
         self.resting = False
 
     def drf_cycle(self, stopped: bool) -> None:
-        """The DRF offset's travel, one IPO cycle: at the DRF handwheel velocity (MD32090), braking
-        to land on its end point, overlaid on whatever the path does; ``stopped`` (feed stop, feed
-        disable, not ready) brakes it and drops the rest [control, as the handwheel in JOG]."""
-        rest = self.drf_rest
-        if stopped:
-            self.drf_rest = rest = 0.0
-        accel = self.dyn.max_accel
-        target = math.copysign(min(self.dyn.drf_velocity, stopping_velocity(abs(rest), accel, self._dt)), rest) \
-            if rest else 0.0
-        velocity = ramp(self._drf_velocity, target, accel, self._dt)
-        step = velocity * self._dt
-        if rest and (rest - step) * rest <= _TINY * abs(rest):
-            step, velocity = rest, 0.0  # land exactly on the end point
-        self.drf_rest = rest - step if rest else 0.0
-        self._drf_velocity = velocity
-        self.drf_offset += step
-        self.add_overlay(step, velocity)
+        """The DRF offset's travel, one IPO cycle (``DrfOffset.step``), overlaid on whatever the path does."""
+        drf = self.drf
+        step = drf.step(stopped, self.dyn.max_accel, self.dyn.drf_velocity)
+        self.add_overlay(step, drf.velocity)
 
     def delete_drf_offset(self) -> None:
         """DRFOF: the DRF offset is deleted and the axis does not move (seed 003 L36470-36490): the
         offset becomes part of the programmed position, as a folded overlay does; a DRF travel still
         to go is dropped."""
-        if not (self.drf_offset or self.drf_rest or self._drf_velocity):
+        drf = self.drf
+        if not (drf.offset or drf.moving):
             return
-        self.setpoint += self.drf_offset
-        self.overlay -= self.drf_offset
-        self.drf_offset = self.drf_rest = 0.0
-        self.overlay_velocity -= self._drf_velocity
-        self._drf_velocity = 0.0
+        self.setpoint += drf.offset
+        self.overlay -= drf.offset
+        self.overlay_velocity -= drf.velocity
+        drf.clear()
         self.resting = False
 
     @property
     def drf_moving(self) -> bool:
-        return bool(self.drf_rest or self._drf_velocity)
+        return self.drf.moving
+
+    @property
+    def drf_offset(self) -> float:
+        """The DRF offset in the MCS (part of ``overlay``); a coupling's DRF adds to it."""
+        return self.drf.offset
+
+    @drf_offset.setter
+    def drf_offset(self, offset: float) -> None:
+        self.drf.offset = offset
 
     def _select_encoder(self, selected: int | None) -> None:
         """Measuring-system switch-over: the new actual value is taken over, nothing moves."""
@@ -392,10 +188,8 @@ class MachineAxis:
 
     def stand_at(self, actual: float) -> None:
         """Power-on: the axis stands still at ``actual``; every setpoint stage agrees with it."""
-        self.actual = self.setpoint = self._loop_setpoint = self._model_position = actual
-        self._model_velocity = 0.0
-        if self.jerk_filter:
-            self.jerk_filter.reset(actual)
+        self.actual = self.setpoint = actual
+        self.loop.hold_at(actual)
         self.resting = False
 
     def shift(self, delta: float) -> None:
@@ -405,10 +199,7 @@ class MachineAxis:
         self.coordinate_shift += delta
         self.actual += delta
         self.setpoint += delta
-        self._loop_setpoint += delta
-        self._model_position += delta
-        if self.jerk_filter:
-            self.jerk_filter.reset(self._loop_setpoint)
+        self.loop.shift(delta)
         self.resting = False
 
     def synchronise(self, encoder: MeasuringSystem, physical: float, actual: float) -> None:
@@ -451,42 +242,21 @@ class MachineAxis:
     @property
     def following_error(self) -> float:
         """Position setpoint at the position controller minus actual value."""
-        return self._loop_setpoint - self.actual
+        return self.loop.setpoint - self.actual
 
     @property
     def lag_per_velocity(self) -> float:
-        """Following error per unit of a constant velocity (s), by the loop of
-        ``_close_position_loop``: with feedforward the symmetrising model, and the slide on it,
-        lags the setpoint by the drive's MD32810 less the cycle it is compared in; without it the
-        Kv loop needs velocity / Kv.  Dynamic-response matching (MD32910) delays the setpoint before
-        the loop and adds its time."""
-        dyn = self.dyn
-        kv, feedforward, symmetrising_time = self._loop_parameters()
-        if feedforward:
-            return max(symmetrising_time - self._dt, 0.0) + dyn.dyn_match_time
-        return (1.0 / kv if kv else 0.0) + dyn.dyn_match_time
+        """Following error per unit of a constant velocity (s): ``PositionLoop.lag_per_velocity``."""
+        return self.loop.lag_per_velocity(self.dyn)
 
     @property
     def coupled_loop(self) -> CoupledLoop | None:
-        return self._coupled_loop
+        """The position loop a synchronous spindle coupling sets in place of the axis's own."""
+        return self.loop.coupled
 
     @coupled_loop.setter
     def coupled_loop(self, loop: CoupledLoop | None) -> None:
-        before = self._loop_parameters()[2]
-        self._coupled_loop = loop
-        after = self._loop_parameters()[2]
-        if after != before:
-            # the symmetrising model lags a moving setpoint by its time constant: it takes the new lag
-            # at once (integrating the velocity alone it would keep the old one for good)
-            self._model_position -= self._model_velocity * (after - before)
-
-    def _loop_parameters(self) -> tuple[float, float, float]:
-        """Kv, feedforward weight and symmetrising time: the coupling's while coupled, else the axis's."""
-        loop = self._coupled_loop
-        if loop is not None:
-            return loop.kv, loop.feedforward, loop.symmetrising_time
-        dyn = self.dyn
-        return dyn.kv, dyn.feedforward, dyn.drive_time_constant
+        self.loop.set_coupled(self.dyn, loop)
 
     @property
     def distance_to_end_point(self) -> float:
@@ -545,103 +315,17 @@ class MachineAxis:
 
     def add_handwheel_travel(self, distance: float) -> None:
         """Handwheel pulses in JOG: ``distance`` more to travel (sign = direction)."""
-        self.handwheel_rest += distance
+        self.jog.add_handwheel_travel(distance)
         self.resting = False
+
+    @property
+    def handwheel_rest(self) -> float:
+        """JOG: the handwheel's distance still to travel."""
+        return self.jog.handwheel_rest
 
     def jog_cycle(self, allowed: bool, channel_feed_disable: bool, limits: JogLimits = FREE_JOG) -> None:
         """Continuous JOG with the traverse keys (level-triggered), or the handwheel's travel, one IPO cycle."""
-        inp = self.inputs
-        direction = 0
-        self._jog_window = limits.window
-        if allowed and inp.key_plus != inp.key_minus:
-            direction = 1 if inp.key_plus else -1
-            if (direction > 0 and not limits.plus) or (direction < 0 and not limits.minus):
-                direction = 0
-            elif (direction > 0 and inp.hw_limit_plus) or (direction < 0 and inp.hw_limit_minus):
-                direction = 0  # only away from an actuated limit switch
-            elif self._jog_bounded and self.owner is Owner.NONE and (
-                    (direction > 0 and self.setpoint >= self._soft_limits[1])
-                    or (direction < 0 and self.setpoint <= self._soft_limits[0])):
-                direction = 0  # resting on a software limit switch: only away from it
-        handwheel = self._handwheel_direction(allowed, direction, limits)
-        if (direction or handwheel) and self.owner is Owner.NONE and self.drive_ready:
-            self.take(Owner.JOG)
-        if self.owner is not Owner.JOG:
-            self.handwheel_rest = 0.0
-            return
-        speed = self.dyn.jog_rapid_velocity if inp.rapid_key else self.dyn.jog_velocity
-        stopped = inp.feed_stop or channel_feed_disable or not self.drive_ready
-        target = 0.0 if stopped else direction * min(speed * self.override, limits.velocity)
-        accel = min(self.dyn.max_accel, limits.accel)
-        if handwheel and not stopped:
-            # the handwheel's distance at JOG velocity, braking to stop on its end point
-            target = handwheel * min(speed * self.override, limits.velocity,
-                                     stopping_velocity(abs(self.handwheel_rest), accel, self._dt))
-        velocity = ramp(self.command_velocity, target, accel, self._dt)
-        if self._jog_bounded:
-            velocity = self._limit_to_software_limits(velocity, accel)
-        self.command_velocity = velocity
-        self.setpoint += velocity * self._dt
-        if handwheel:
-            self._travel_handwheel(velocity * self._dt, handwheel)
-        if self._jog_bounded:
-            self._arrive_at_software_limits()
-        if handwheel and velocity == 0.0 and self.at_software_limit == handwheel:
-            self.handwheel_rest = 0.0  # the rest lies beyond the software limit switch
-        if velocity == 0.0 and not self.handwheel_rest and (direction == 0 or self.at_software_limit == direction):
-            self.release()  # stopped: key released, or resting on the software limit it points to
-
-    def _handwheel_direction(self, allowed: bool, key_direction: int, limits: JogLimits) -> int:
-        """The direction of the handwheel's travel this cycle (0: none); the traverse keys, a
-        direction JOG may not go and an actuated limit switch drop what is left of it."""
-        rest = self.handwheel_rest
-        if not rest:
-            return 0
-        way = 1 if rest > 0 else -1
-        if not allowed or key_direction or not (limits.plus if way > 0 else limits.minus) or \
-                (self.inputs.hw_limit_plus if way > 0 else self.inputs.hw_limit_minus):
-            self.handwheel_rest = 0.0
-            return 0
-        return way
-
-    def _travel_handwheel(self, travelled: float, way: int) -> None:
-        """Count the travel off the handwheel's distance; land exactly on its end point."""
-        rest = self.handwheel_rest - travelled
-        if rest * way <= _TINY:
-            self.setpoint += rest
-            rest = 0.0
-        self.handwheel_rest = rest
-
-    @property
-    def _jog_bounded(self) -> bool:
-        """JOG stops on ``_soft_limits``: its own once they are active, and a transform's window
-        (the limits of an axis it carries) even while this axis is not referenced."""
-        return self.software_limits_active or self._jog_window is not None
-
-    @property
-    def _soft_limits(self) -> tuple[float, float]:
-        """The software limits JOG keeps: MD36100 / MD36110, or the window a transform gave."""
-        return self._jog_window if self._jog_window is not None else (self.dyn.limit_minus, self.dyn.limit_plus)
-
-    def _limit_to_software_limits(self, velocity: float, accel: float) -> float:
-        """Brake so as to stop exactly on a software limit switch (JOG), never harder than ``accel``."""
-        dt = self._dt
-        minus, plus = self._soft_limits
-        if velocity > 0.0:
-            return min(velocity, stopping_velocity(plus - self.setpoint, accel, dt))
-        if velocity < 0.0:
-            return max(velocity, -stopping_velocity(self.setpoint - minus, accel, dt))
-        return velocity
-
-    def _arrive_at_software_limits(self) -> None:
-        """Snap the rounding rest when the setpoint reached a software limit switch."""
-        minus, plus = self._soft_limits
-        if self.command_velocity > 0.0 and plus - self.setpoint <= _TINY:
-            self.setpoint = plus
-            self.at_software_limit = 1
-        elif self.command_velocity < 0.0 and self.setpoint - minus <= _TINY:
-            self.setpoint = minus
-            self.at_software_limit = -1
+        self.jog.cycle(self, allowed, channel_feed_disable, limits)
 
     def _brake_cycle(self) -> None:
         velocity = ramp(self.command_velocity, 0.0, self._brake_decel, self._dt)
@@ -664,19 +348,22 @@ class MachineAxis:
             return False
         self._update_servo_state(cycle, alarms)
         dt = self._dt
+        loop = self.loop
         if self.servo_on:
-            self._close_position_loop(dt)
+            if loop.close(self.dyn, self.setpoint + self.overlay, self.actual, self.command_velocity):
+                # Settled below the measuring resolution: the slide stands on the setpoint.
+                self.physical += loop.setpoint - self.actual
         else:
             # No position control: the drive brakes on its own ramp and the slide stops.
-            self._drive_velocity = ramp(self._drive_velocity, 0.0, self.dyn.rapid_stop_decel, dt)
+            loop.drive_velocity = ramp(loop.drive_velocity, 0.0, self.dyn.rapid_stop_decel, dt)
         if self.disabled:
             # Axis disable: the setpoints do not reach the drive; the NC shows the setpoint as actual value.
-            self._drive_velocity = 0.0
+            loop.drive_velocity = 0.0
             self.velocity = self.command_velocity
-            self.actual = self._loop_setpoint if self.servo_on else self.actual
+            self.actual = loop.setpoint if self.servo_on else self.actual
         else:
-            slide_velocity = self._drive_velocity + self.disturbance_velocity if self.servo_on \
-                else self._drive_velocity + self.external_velocity
+            slide_velocity = loop.drive_velocity + self.disturbance_velocity if self.servo_on \
+                else loop.drive_velocity + self.external_velocity
             self.physical += slide_velocity * dt
             self.velocity = slide_velocity
             if self.clamp is not None:
@@ -686,55 +373,14 @@ class MachineAxis:
             if self.active_encoder is not None:
                 self.actual = self.encoder.actual(self.physical)
         if not self.servo_on and (self.follow_up or self._tracking):
-            self.setpoint = self._loop_setpoint = self._model_position = self.actual
-            self._model_velocity = 0.0
+            self.setpoint = self.actual
+            loop.hold_at(self.actual)
             self.command_velocity = 0.0
-            if self.jerk_filter:
-                self.jerk_filter.reset(self.actual)
         if abs(self.velocity) > self._lowest_limit_velocity or self._frequency_exceeded_somewhere:
             self._monitor_encoder_frequency(cycle, alarms)
         self._monitor(cycle, alarms)
         self._write_outputs()
         return True
-
-    def _close_position_loop(self, dt: float) -> None:
-        """Kv loop with speed feedforward; the drive is a first-order lag (MD32810).
-
-        With feedforward the setpoint is compared with the actual value only after the
-        same lag as the drive's (the control's symmetrising with MD32810), so the loop
-        corrects real deviations and not the drive's own delay: no overshoot at the end.
-        """
-        dyn = self.dyn
-        previous = self._loop_setpoint
-        target = self.setpoint + self.overlay
-        loop_setpoint = self.jerk_filter.apply(target) if self.jerk_filter else target
-        self._loop_setpoint = loop_setpoint
-        kv, weight, symmetrising_time = self._loop_parameters()
-        feedforward = (loop_setpoint - previous) / dt * weight
-        tau = dyn.drive_time_constant
-        lag = dt / tau if tau > dt else 1.0
-        model_lag = dt / symmetrising_time if symmetrising_time > dt else 1.0
-        symmetrising = bool(feedforward or self._model_velocity)
-        # The model and the slide are compared at the same instant, then both move on.
-        compare = self._model_position if symmetrising else loop_setpoint
-        if self.speed_control:
-            velocity_command = (loop_setpoint - previous) / dt
-        else:
-            velocity_command = kv * (compare - self.actual) + feedforward
-        limit = 1.2 * dyn.max_velocity
-        velocity_command = max(-limit, min(limit, velocity_command))
-        self._drive_velocity += (velocity_command - self._drive_velocity) * lag
-        if symmetrising:
-            self._model_velocity += (feedforward - self._model_velocity) * model_lag
-            self._model_position += self._model_velocity * dt
-        else:
-            self._model_position = loop_setpoint
-        if (not self.speed_control and self.command_velocity == 0.0 and abs(loop_setpoint - self.actual) < _RESOLUTION
-                and abs(self._drive_velocity) < _RESOLUTION / dt and abs(self._model_velocity) < _RESOLUTION / dt):
-            # Settled below the measuring resolution: the slide stands on the setpoint.
-            self.physical += loop_setpoint - self.actual
-            self._drive_velocity = self._model_velocity = 0.0
-            self._model_position = loop_setpoint
 
     def _update_servo_state(self, cycle: int, alarms: AlarmList) -> None:
         inp = self.inputs
@@ -751,33 +397,27 @@ class MachineAxis:
         # Enable returns: take the present position (follow-up), or return to the held setpoint.
         if not self.servo_on and wanted and (self.follow_up or self._tracking
                                              or (self.owner is Owner.NONE and inp.follow_up_mode)):
-            self.setpoint = self._loop_setpoint = self._model_position = self.actual
-            self._model_velocity = 0.0
-            if self.jerk_filter:
-                self.jerk_filter.reset(self.actual)
+            self.setpoint = self.actual
+            self.loop.hold_at(self.actual)
         if wanted:
             self._tracking = False
         self.servo_on = wanted
         self.follow_up = not wanted and (inp.follow_up_mode or forced_off)
 
     def set_encoder_turn(self, encoder: MeasuringSystem, turn: float) -> None:
-        """A rotary motor encoder now turns once per ``turn`` of the axis (a spindle's new gear
-        stage, §13.4.4): its zero marks come every ``turn`` and its limit frequency MD36300 is
-        reached at another axis speed (§13.8.7)."""
-        md = self.config.md
-        encoder.spacing = turn
-        encoder.limit_velocity = rotary_frequency_limit_velocity(md, encoder.index, turn)
-        encoder.resync_velocity = encoder.limit_velocity * md.float(MD.ENC_FREQ_LIMIT_LOW, encoder.index) / 100.0
+        """A rotary motor encoder now turns once per ``turn`` of the axis (``MeasuringSystem.set_turn``)."""
+        encoder.set_turn(self.config.md, turn)
         self._lowest_limit_velocity = min(each.limit_velocity for each in self.encoders)
 
     def set_speed_control(self, on: bool) -> None:
         """Position control off (``on``) or back on: the position loop takes over where the slide is,
         not where the setpoint ran ahead of it."""
-        if self.speed_control and not on:
-            self.setpoint = self._loop_setpoint = self._model_position = self.actual
-            if self.jerk_filter:
-                self.jerk_filter.reset(self.actual)
-        self.speed_control = on
+        loop = self.loop
+        if loop.speed_control and not on:
+            self.setpoint = loop.setpoint = loop.model_position = self.actual
+            if loop.jerk_filter:
+                loop.jerk_filter.reset(self.actual)
+        loop.speed_control = on
 
     def set_loop_gain(self, kv: float) -> None:
         """The servo gain of the active parameter set (MD32200[n], e.g. a spindle's gear stage)."""
@@ -795,15 +435,9 @@ class MachineAxis:
         active one raises alarm 21610 [control]; a spindle resynchronises (L21129-21180)."""
         speed = abs(self.velocity)
         for encoder in self.encoders:
-            if speed > encoder.limit_velocity:
-                if not encoder.frequency_exceeded:
-                    encoder.frequency_exceeded = True
-                    encoder.referenced = encoder.restored = encoder.reference_return_due = False
-                    if encoder is self.encoder and not self.is_spindle:
-                        alarms.raise_alarm(21610, cycle, self.channel, self.name, encoder.index + 1,
-                                           channel=self.channel, axis=self.name)
-            elif encoder.frequency_exceeded and speed < encoder.resync_velocity:
-                encoder.frequency_exceeded = False
+            if encoder.watch_limit_frequency(speed) and encoder is self.encoder and not self.is_spindle:
+                alarms.raise_alarm(21610, cycle, self.channel, self.name, encoder.index + 1,
+                                   channel=self.channel, axis=self.name)
         self._frequency_exceeded_somewhere = any(encoder.frequency_exceeded for encoder in self.encoders)
 
     def preset_actual(self, value: float) -> None:
@@ -812,23 +446,16 @@ class MachineAxis:
         delta = value - self.actual
         for encoder in self.encoders:
             encoder.offset += delta
-        self.drop_reference()
-        self.shift(delta)
-
-    def drop_reference(self) -> None:
-        """Every measuring system loses its reference: the axis must be referenced again."""
-        for encoder in self.encoders:
-            encoder.referenced = encoder.restored = encoder.reference_return_due = False
+            encoder.lose_reference()
         self.resting = False  # the status bits change
+        self.shift(delta)
 
     def require_reference_return(self) -> None:
         """The machine position is still exact, only its relation to the program is lost: the axis
         shows itself unreferenced (DB31.DBX60.4 / 60.5 = 0, NC start locked by MD20700) until it is
         referenced again, and its software limits stay active [control]."""
         for encoder in self.encoders:
-            if encoder.referenced or encoder.restored or encoder.reference_return_due:
-                encoder.referenced = encoder.restored = False
-                encoder.reference_return_due = True
+            encoder.require_reference_return()
         self.resting = False  # the status bits change
 
     def _monitor(self, cycle: int, alarms: AlarmList) -> None:
@@ -847,19 +474,12 @@ class MachineAxis:
         else:
             self._fine_reached = False
         if self.at_software_limit:
-            minus, plus = self._soft_limits
-            resting_on_limit = (self.at_software_limit > 0 and self.setpoint >= plus - _TINY) or \
-                               (self.at_software_limit < 0 and self.setpoint <= minus + _TINY)
-            if resting_on_limit:
-                alarms.raise_alarm(10621, cycle, self.channel, self.name,
-                                   "+" if self.at_software_limit > 0 else "-", channel=self.channel, axis=self.name)
-            else:
-                self.at_software_limit = 0
-                alarms.clear(10621, axis=self.name)
+            self.jog.monitor_software_limit(self, cycle, alarms)
         # At rest when nothing moves: the next cycles can skip the loop until an input changes.
-        self.resting = (interpolation_done and self.velocity == 0.0 and self._drive_velocity == 0.0
-                             and self._loop_setpoint == self.setpoint + self.overlay and error <= dyn.fine_window
-                             and (self.jerk_filter is None or self.jerk_filter.settled(self.setpoint, 0.0))
+        loop = self.loop
+        self.resting = (interpolation_done and self.velocity == 0.0 and loop.drive_velocity == 0.0
+                             and loop.setpoint == self.setpoint + self.overlay and error <= dyn.fine_window
+                             and (loop.jerk_filter is None or loop.jerk_filter.settled(self.setpoint, 0.0))
                              and self._servo_off_countdown <= 0 and not self.at_software_limit)
 
     def _write_outputs(self) -> None:
@@ -888,21 +508,4 @@ class MachineAxis:
         if status == self._status:
             return
         self._status = status
-        area, sig = self._area, self._signals
-        (coarse, fine, stationary, position_control, follow_up, referenced_1, referenced_2, restored_1, restored_2,
-         frequency_1, frequency_2, disabled, plus, minus, drive_enabled) = status
-        sig.exact_coarse.put(area, coarse)
-        sig.exact_fine.put(area, fine)
-        sig.stationary.put(area, stationary)
-        sig.position_control.put(area, position_control)
-        sig.follow_up_active.put(area, follow_up)
-        sig.referenced[0].put(area, referenced_1)
-        sig.referenced[1].put(area, referenced_2)
-        sig.restored[0].put(area, restored_1)
-        sig.restored[1].put(area, restored_2)
-        sig.frequency_exceeded[0].put(area, frequency_1)
-        sig.frequency_exceeded[1].put(area, frequency_2)
-        sig.disabled.put(area, disabled)
-        sig.command_plus.put(area, plus)
-        sig.command_minus.put(area, minus)
-        sig.drive_enabled.put(area, drive_enabled)
+        self._signals.write_status(self._area, status)

@@ -209,6 +209,37 @@ class MeasuringSystem:
         self.referenced = True
         self.restored = self.reference_return_due = False
 
+    def lose_reference(self) -> None:
+        """The position is no longer trusted: the measuring system must be referenced again."""
+        self.referenced = self.restored = self.reference_return_due = False
+
+    def require_reference_return(self) -> None:
+        """The position is still exact, only its relation to the program is lost (see
+        ``reference_return_due``); a measuring system that never had a position stays so."""
+        if self.referenced or self.restored or self.reference_return_due:
+            self.referenced = self.restored = False
+            self.reference_return_due = True
+
+    def set_turn(self, md: MachineData, turn: float) -> None:
+        """A rotary motor encoder now turns once per ``turn`` of the axis (a spindle's new gear
+        stage, §13.4.4): its zero marks come every ``turn`` and its limit frequency MD36300 is
+        reached at another axis speed (§13.8.7)."""
+        self.spacing = turn
+        self.limit_velocity = rotary_frequency_limit_velocity(md, self.index, turn)
+        self.resync_velocity = self.limit_velocity * md.float(MD.ENC_FREQ_LIMIT_LOW, self.index) / 100.0
+
+    def watch_limit_frequency(self, speed: float) -> bool:
+        """Above its limit frequency MD36300 the encoder loses counts and with them its reference
+        (seed 003 L758-761) until the axis is below MD36302 again; True in the cycle it starts."""
+        if speed > self.limit_velocity:
+            if not self.frequency_exceeded:
+                self.frequency_exceeded = True
+                self.lose_reference()
+                return True
+        elif self.frequency_exceeded and speed < self.resync_velocity:
+            self.frequency_exceeded = False
+        return False
+
     def _visible(self, position: float) -> bool:
         return not any(low <= position <= high for low, high in self.missing_marks)
 

@@ -34,6 +34,9 @@ Properties per phase (§4.5.4-4.5.6): feed override acts in phases 1 and 3; in p
 axis runs at 100 % and 0 % aborts (alarm 20005); feed stop acts in every phase; NC stop and
 NC start act in phases 1 and 3 only.  In hold mode (MD11300 = 1) releasing the traverse
 key brakes the axis without aborting; pressing it again continues.
+
+The marks of a distance-coded scale are decoded in ``distance_coded``; what the reference state
+of a measuring system is at power-on comes from ``buffered_positions``.
 """
 
 from __future__ import annotations
@@ -49,12 +52,18 @@ from vc.core.axis.encoder import (
     DISTANCE_CODED_MODES,
     ENC_STATE_CALIBRATED,
     ENC_STATE_CALIBRATION_ENABLED,
-    ENC_STATE_NOT_CALIBRATED,
-    ENC_STATE_RESTORE,
     MeasuringSystem,
 )
 from vc.core.axis.motion import braking_distance, ramp, stopping_velocity
-from vc.core.nc_memory import BufferedEncoder, NcMemory
+from vc.core.nc_memory import NcMemory
+
+# the power-on restore, the power-off buffering and the loss of a reference stay importable from here
+# for the NCK and the spindle ("x as x": re-exported)
+from vc.core.referencing.buffered_positions import buffer_at_power_off as buffer_at_power_off
+from vc.core.referencing.buffered_positions import encoder_slip as encoder_slip
+from vc.core.referencing.buffered_positions import lose_calibration as lose_calibration
+from vc.core.referencing.buffered_positions import restore_at_power_on as restore_at_power_on
+from vc.core.referencing.distance_coded import decode_marks, passive_distance_coded
 
 ALARM_CAM_NOT_REACHED = 20000
 ALARM_NO_CAM_SIGNAL = 20001
@@ -62,9 +71,6 @@ ALARM_ZERO_MARK_MISSING = 20002
 ALARM_MEASURING_SYSTEM = 20003
 ALARM_REFERENCE_MARK_MISSING = 20004
 ALARM_APPROACH_ABORTED = 20005
-ALARM_ZERO_MARK_MONITORING = 25020
-ALARM_ENCODER_WARNING = 25022
-MISC_MODULO_REFERENCE = 1 << 1  # MD30455 bit 1: distance-coded rotary reference into the modulo range
 
 
 class Source(Enum):
@@ -644,169 +650,3 @@ _HANDLERS = {
     State.DC_REVERSE: AxisReferencing._dc_reverse,
     State.DC_BRAKE: AxisReferencing._dc_brake,
 }
-
-
-# ---------------------------------------------------------------------------------- power on and off
-def restore_at_power_on(axis: MachineAxis, memory: NcMemory, alarms: AlarmList) -> None:
-    """The reference state of each measuring system when the control powers on (§4.9, §4.10).
-
-    * absolute: calibrated (MD34210 = 2) means referenced at once, actual value = reading +
-      MD34090; a different encoder serial number than MD34230 (a new encoder) takes the
-      calibration away: MD34210 := 0 and alarm 25022 (L2028-2043);
-    * incremental, MD34210 = 2 (referenced, automatic referencing): referenced with the
-      buffered actual value if the axis stood in exact stop fine at switch-off, else not
-      referenced and MD34210 back to 1;
-    * incremental, MD34210 = 3: the buffered position is restored (DB31.DBX71.4/71.5), the
-      axis is not referenced;
-    * otherwise an incremental encoder starts at actual value 0, not referenced.
-    """
-    for encoder in axis.encoders:
-        index = encoder.index
-        base = axis.config.md
-        md = memory.view(axis.name, base)
-        physical = axis.physical
-        if encoder.absolute:
-            serial = (axis.config.sim.encoder_serial, axis.config.sim.encoder_serial_2)[index]
-            if serial != md.int(MD.ENC_SERIAL_NUMBER, index):
-                memory.write(axis.name, MD.ENC_SERIAL_NUMBER, serial, index, base)
-                if md.int(MD.ENC_REFP_STATE, index) != ENC_STATE_NOT_CALIBRATED:
-                    memory.write(axis.name, MD.ENC_REFP_STATE, ENC_STATE_NOT_CALIBRATED, index, base)
-                    alarms.raise_alarm(ALARM_ENCODER_WARNING, 0, axis.name, index + 1, 0,
-                                       channel=axis.channel, axis=axis.name)
-                md = memory.view(axis.name, base)
-            encoder.offset = encoder.calibrated_actual(physical, md.float(MD.REFP_MOVE_DIST_CORR, index)) - physical
-            encoder.referenced = md.int(MD.ENC_REFP_STATE, index) == ENC_STATE_CALIBRATED
-            continue
-        buffered = memory.buffered.get((axis.name, index))
-        state = md.int(MD.ENC_REFP_STATE, index)
-        if state == ENC_STATE_CALIBRATED:
-            if buffered is not None and buffered.referenced and buffered.exact_stop_fine:
-                encoder.offset = buffered.actual - physical
-                encoder.referenced = True
-                continue
-            memory.write(axis.name, MD.ENC_REFP_STATE, ENC_STATE_CALIBRATION_ENABLED, index, base)
-        elif state == ENC_STATE_RESTORE and buffered is not None and (buffered.referenced or buffered.restored):
-            encoder.offset = buffered.actual - physical
-            encoder.restored = True
-            continue
-        encoder.offset = -physical
-    axis.stand_at(axis.encoder.actual(axis.physical))
-
-
-def buffer_at_power_off(axis: MachineAxis, memory: NcMemory) -> None:
-    """What the control keeps of each measuring system when it is switched off."""
-    in_exact_stop = axis.at_rest and abs(axis.distance_to_end_point) <= axis.dyn.fine_window
-    for encoder in axis.encoders:
-        memory.buffered[(axis.name, encoder.index)] = BufferedEncoder(
-            encoder.actual(axis.physical), encoder.referenced, encoder.restored, in_exact_stop)
-        if encoder.absolute:
-            memory.write(axis.name, MD.ACT_POS_ABS, encoder.absolute_reading(axis.physical), encoder.index,
-                         axis.config.md)
-
-
-def encoder_slip(axis: MachineAxis, encoder_index: int, amount: float, memory: NcMemory, alarms: AlarmList) -> None:
-    """The zero-mark monitoring sees the encoder count wrongly (a fault of the plant).
-
-    The position is no longer trusted: an incremental encoder loses its reference; an
-    absolute encoder loses its calibration (MD34210 := 0) with alarms 25020 and 25022
-    (seed 003 L2028-2043).
-    """
-    encoder = axis.encoders[encoder_index]
-    encoder.offset += amount
-    encoder.referenced = encoder.restored = encoder.reference_return_due = False
-    alarms.raise_alarm(ALARM_ZERO_MARK_MONITORING, 0, axis.name, channel=axis.channel, axis=axis.name)
-    if encoder.absolute:
-        lose_calibration(axis, encoder_index, memory, alarms, 0)
-    if encoder is axis.encoder:
-        axis.shift(encoder.actual(axis.physical) - axis.actual)
-
-
-def lose_calibration(axis: MachineAxis, encoder_index: int, memory: NcMemory, alarms: AlarmList, cycle: int) -> None:
-    """The control sees that an absolute encoder must be calibrated again (a gear stage change with
-    a new ratio, the zero-mark monitoring, a new serial number): MD34210 := 0 and alarm 25022
-    "axis <axis> encoder <n> warning 0"; the axis is no longer referenced by it (seed 003
-    L2025-2040)."""
-    encoder = axis.encoders[encoder_index]
-    encoder.referenced = encoder.restored = encoder.reference_return_due = False
-    memory.write(axis.name, MD.ENC_REFP_STATE, ENC_STATE_NOT_CALIBRATED, encoder_index, axis.config.md)
-    alarms.raise_alarm(ALARM_ENCODER_WARNING, cycle, axis.name, encoder_index + 1, 0,
-                       channel=axis.channel, axis=axis.name)
-    axis.resting = False  # DB31.DBX60.4 / 60.5 change
-
-
-# ---------------------------------------------------------------------------------- passive scales
-PASSIVE_REFERENCED_BY_MARKS = 2  # MD30242: a passive encoder, not independent
-
-
-def passive_distance_coded(axis: MachineAxis, encoder: MeasuringSystem, md: MachineData) -> bool:
-    """A passive distance-coded measuring system that references itself by crossing its marks
-    (MD30242 = 2, MD34200 = 3 or 8; seed 003 L1727-1780, L5931-5943)."""
-    return (encoder is not axis.encoder and encoder.mode in DISTANCE_CODED_MODES
-            and md.int(MD.ENC_IS_INDEPENDENT, encoder.index) == PASSIVE_REFERENCED_BY_MARKS)
-
-
-class PassiveMarkWatcher:
-    """Watches a passive distance-coded scale while the axis moves for any reason; once it has
-    crossed its marks (2 or 4, in one direction) the scale knows its position: referenced.
-
-    The seed's sequence (L1766-1780): first the active system is referenced (60.4 = 1, 60.5 = 0),
-    then traversing the marks references the passive one; so the watcher counts marks only
-    while the active system is referenced."""
-
-    def __init__(self, axis: MachineAxis, encoder: MeasuringSystem, md: MachineData):
-        self.axis = axis
-        self.encoder = encoder
-        self._md = md
-        self._last = axis.physical
-        self._direction = 0
-        self._marks: list[float] = []
-
-    def cycle(self) -> None:
-        encoder, physical = self.encoder, self.axis.physical
-        moved_from, self._last = self._last, physical
-        if encoder.referenced or physical == moved_from or encoder is self.axis.encoder:
-            return
-        if not self.axis.encoder.referenced:
-            self._marks = []
-            return
-        direction = 1 if physical > moved_from else -1
-        if direction != self._direction:
-            self._direction, self._marks = direction, []
-        for mark in encoder.coded_marks_between(moved_from, physical):
-            self._marks.append(mark)
-            if len(self._marks) == (4 if encoder.mode == 8 else 2):
-                value = decode_marks(encoder, self._marks, direction, self._md)
-                if value is not None:
-                    encoder.set_actual(self._marks[0], value)
-                self._marks = []
-                return
-
-
-def decode_marks(encoder: MeasuringSystem, marks: list[float], direction: int, md: MachineData) -> float | None:
-    """The actual value at the first of ``marks`` (crossed in ``direction``), or None if they do not fit."""
-    code = encoder.distance_code
-    assert code is not None
-    first = code.identify(abs(marks[1] - marks[0]), direction)
-    if first is None:
-        return None
-    step = 1 if direction * code.orientation > 0 else -1
-    for number, mark in enumerate(marks):
-        expected = code.position(first + number * step) - code.position(first)
-        if abs(expected - (mark - marks[0])) > code.increment / 4:
-            return None  # the 4-mark plausibility check (MD34200 = 8)
-    # The scale reads its distance from its first mark; counted against the machine coordinates
-    # (MD34320) it enters the actual value with a minus sign (seed 003 L1404-1407, L1431-1437).
-    value = code.orientation * code.reading(first) + md.float(MD.REFP_MOVE_DIST_CORR, encoder.index)
-    return modulo_reference_position(value, md)
-
-
-def modulo_reference_position(value: float, md: MachineData) -> float:
-    """A rotary encoder knows its position within one turn only; on a modulo rotary axis
-    (MD30310) or with MD30455 bit 1 the NC maps it into the modulo range MD30330/MD30340
-    (seed 003 L1653-1670).  Elsewhere the value stands as decoded."""
-    if not md.bool(MD.IS_ROT_AX):
-        return value
-    if not (md.bool(MD.ROT_IS_MODULO) or md.int(MD.MISC_FUNCTION_MASK) & MISC_MODULO_REFERENCE):
-        return value
-    start, size = md.float(MD.MODULO_RANGE_START), md.float(MD.MODULO_RANGE)
-    return start + (value - start) % size

@@ -1,0 +1,80 @@
+"""The DB31 codec of an axis (vc/core/axis/signals.py): the PLC's outputs decoded into AxisInputs,
+the status bits written where the signal catalogue puts them."""
+
+from __future__ import annotations
+
+import pytest
+
+from interfaces.signals import InstanceKind
+from vc.core.axis.signals import AxisInputs, AxisSignals
+from vc.core.interface_map import SignalTable
+from vc.scenario.loader import default_catalog
+
+
+@pytest.fixture(scope="module")
+def table() -> SignalTable:
+    return SignalTable(default_catalog(), InstanceKind.AXIS)
+
+
+def area_with(table: SignalTable, *bits: str) -> bytearray:
+    area = bytearray(table.size)
+    for name in bits:
+        table.bit(name).put(area, True)
+    return area
+
+
+def test_an_empty_area_reads_as_no_enable_and_parked(table: SignalTable) -> None:
+    inputs = AxisInputs(controller_enable=True, encoder_selected=0)
+    AxisSignals(table).read_inputs(bytearray(table.size), inputs, 2)
+    assert inputs == AxisInputs()  # every signal 0: nothing enabled, no measuring system selected
+
+
+def test_each_bit_reaches_its_input(table: SignalTable) -> None:
+    signals = AxisSignals(table)
+    area = area_with(table, "basic.out.enableCtrl", "drive.out.enablePulses", "basic.out.traversKeyMinus",
+                     "basic.out.hwLimitSwitchPlus", "basic.out.refPointApproachCam")
+    signals.feed_override.put(area, 37)
+    inputs = AxisInputs()
+    signals.read_inputs(area, inputs, 1)
+    assert (inputs.controller_enable, inputs.pulse_enable, inputs.key_minus, inputs.hw_limit_plus,
+            inputs.ref_cam) == (True, True, True, True, True)
+    assert (inputs.key_plus, inputs.hw_limit_minus, inputs.disable, inputs.feed_stop) == (False, False, False, False)
+    assert inputs.override_raw == 37
+
+
+@pytest.mark.parametrize(("selected", "encoders", "expected"), [
+    (("basic.out.enc1Activation",), 1, 0),
+    (("basic.out.enc1Activation", "basic.out.enc2Activation"), 2, 0),  # measuring system 1 wins
+    (("basic.out.enc2Activation",), 2, 1),
+    (("basic.out.enc2Activation",), 1, None),  # an axis without a second measuring system stays parked
+    ((), 2, None),
+])
+def test_the_measuring_system_selection(table: SignalTable, selected: tuple[str, ...], encoders: int,
+                                        expected: int | None) -> None:
+    inputs = AxisInputs()
+    AxisSignals(table).read_inputs(area_with(table, *selected), inputs, encoders)
+    assert inputs.encoder_selected == expected
+
+
+STATUS_ORDER = ("basic.in.posCoarseReached", "basic.in.posFineReached", "basic.in.isStationary",
+                "basic.in.posCtrlActive", "basic.in.followUpModeActive", "basic.in.enc1Synchronized",
+                "basic.in.enc2Synchronized", "basic.in.enc1Restored", "basic.in.enc2Restored",
+                "basic.in.enc1FreqLimitExceeded", "basic.in.enc2FreqLimitExceeded", "basic.in.disabled",
+                "basic.in.traversPlusCommandActive", "basic.in.traversMinusCommandActive", "drive.in.enabled")
+
+
+@pytest.mark.parametrize("position", range(len(STATUS_ORDER)))
+def test_each_status_bit_is_written_to_its_signal_alone(table: SignalTable, position: int) -> None:
+    area = bytearray(table.size)
+    status = tuple(index == position for index in range(len(STATUS_ORDER)))
+    AxisSignals(table).write_status(area, status)
+    assert [table.bit(name).get(area) for name in STATUS_ORDER] == list(status)
+    assert sum(bin(byte).count("1") for byte in area) == 1
+
+
+def test_status_bits_are_cleared_again(table: SignalTable) -> None:
+    signals = AxisSignals(table)
+    area = bytearray(table.size)
+    signals.write_status(area, (True,) * len(STATUS_ORDER))
+    signals.write_status(area, (False,) * len(STATUS_ORDER))
+    assert not any(area)
