@@ -60,6 +60,7 @@ COMPILED = (
     "plc_stub/blocks.py",
     "plc_stub/programs/*.py",
     "interfaces/address.py",
+    "interfaces/bit_access.py",
     "interfaces/image.py",
     "interfaces/plant_io.py",
     "interfaces/exchange.py",

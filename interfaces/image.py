@@ -14,6 +14,7 @@ import struct
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
+from interfaces.bit_access import read_field, write_field
 from interfaces.errors import VcError
 from interfaces.signals import SignalRef, SignalType
 
@@ -36,16 +37,9 @@ def value_range(signal_type: SignalType, bits: int) -> tuple[float, float]:
 def decode(buffer: bytes | bytearray, ref: SignalRef) -> Value:
     """Read the value of ``ref`` from the bytes of its area."""
     address = ref.address
-    signal_type = ref.type
-    if signal_type is SignalType.BOOL:
-        return (buffer[address.byte] >> address.bit) & 1
-    if signal_type is SignalType.BITS:
-        return (buffer[address.byte] >> address.bit) & ((1 << ref.bits) - 1)
-    if signal_type is SignalType.BYTE:
-        return buffer[address.byte]
-    if signal_type is SignalType.REAL:
+    if ref.type is SignalType.REAL:
         return float(_REAL.unpack_from(buffer, address.byte)[0])
-    return int.from_bytes(buffer[address.byte : address.byte + address.size], "big")
+    return read_field(buffer, address.byte, address.bit if address.is_bit else 0, ref.bits)
 
 
 def encode(buffer: bytearray, ref: SignalRef, value: Value) -> None:
@@ -62,13 +56,7 @@ def encode(buffer: bytearray, ref: SignalRef, value: Value) -> None:
     low, high = value_range(signal_type, ref.bits)
     if not low <= value <= high:
         raise ValueRangeError(f"{ref.name} is a {signal_type.value}; {value} is outside {int(low)}..{int(high)}")
-    if signal_type in (SignalType.BOOL, SignalType.BITS):
-        mask = ((1 << ref.bits) - 1) << address.bit
-        buffer[address.byte] = (buffer[address.byte] & ~mask) | ((value << address.bit) & mask)
-    elif signal_type is SignalType.BYTE:
-        buffer[address.byte] = value
-    else:
-        buffer[address.byte : address.byte + address.size] = value.to_bytes(address.size, "big")
+    write_field(buffer, address.byte, address.bit if address.is_bit else 0, ref.bits, value)
 
 
 @dataclass(frozen=True, slots=True)

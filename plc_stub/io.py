@@ -2,12 +2,14 @@
 
 A program asks for its inputs and outputs by name at construction, interface signals by
 symbol (``X1.basic.out.traversKeyPlus``) and plant I/O by function (``MCP.plus.X1``),
-and then reads and writes ``.value`` in every scan.  Asking for an input as an output
+and then reads and writes ``.value`` in every scan (through the accessors of
+:mod:`interfaces.bit_access`, which the NC uses too).  Asking for an input as an output
 (or the other way round) is a programming error and fails when the program is built.
 """
 
 from __future__ import annotations
 
+from interfaces.bit_access import Bit, Field
 from interfaces.image import ProcessImage
 from interfaces.plc import PlcEnvironment
 from interfaces.signals import Direction, SignalRef, SignalType, UnknownSignalError
@@ -19,64 +21,58 @@ _OUTPUTS = (Direction.PLC_TO_NC, Direction.PLC_TO_PLANT)
 class Bool:
     """One bit of the PLC's image."""
 
-    __slots__ = ("_area", "_byte", "_mask", "name")
+    __slots__ = ("_area", "_bit", "name")
 
     def __init__(self, area: bytearray, ref: SignalRef):
         self._area = area
-        self._byte = ref.address.byte
-        self._mask = 1 << ref.address.bit
+        self._bit = Bit(ref.address.byte, 1 << ref.address.bit)
         self.name = ref.name
 
     @property
     def value(self) -> bool:
-        return bool(self._area[self._byte] & self._mask)
+        return self._bit.get(self._area)
 
     @value.setter
     def value(self, on: bool) -> None:
-        if on:
-            self._area[self._byte] |= self._mask
-        else:
-            self._area[self._byte] &= ~self._mask & 0xFF
+        self._bit.put(self._area, on)
 
 
 class Byte:
     """One byte of the PLC's image (an override switch, an override factor)."""
 
-    __slots__ = ("_area", "_byte", "name")
+    __slots__ = ("_area", "_field", "name")
 
     def __init__(self, area: bytearray, ref: SignalRef):
         self._area = area
-        self._byte = ref.address.byte
+        self._field = Field(ref.address.byte, 0, 8, SignalType.BYTE)
         self.name = ref.name
 
     @property
     def value(self) -> int:
-        return self._area[self._byte]
+        return self._field.get(self._area)
 
     @value.setter
     def value(self, number: int) -> None:
-        self._area[self._byte] = number & 0xFF
+        self._field.put(self._area, number)
 
 
 class BitField:
     """An unsigned field of a few bits inside one byte (a gear stage in DB31.DBX16.0..16.2)."""
 
-    __slots__ = ("_area", "_byte", "_mask", "_shift", "name")
+    __slots__ = ("_area", "_field", "name")
 
     def __init__(self, area: bytearray, ref: SignalRef):
         self._area = area
-        self._byte = ref.address.byte
-        self._shift = ref.address.bit
-        self._mask = ((1 << ref.bits) - 1) << ref.address.bit
+        self._field = Field(ref.address.byte, ref.address.bit, ref.bits, SignalType.BITS)
         self.name = ref.name
 
     @property
     def value(self) -> int:
-        return (self._area[self._byte] & self._mask) >> self._shift
+        return self._field.get(self._area)
 
     @value.setter
     def value(self, number: int) -> None:
-        self._area[self._byte] = (self._area[self._byte] & ~self._mask & 0xFF) | (number << self._shift & self._mask)
+        self._field.put(self._area, number)
 
 
 class PlcIo:

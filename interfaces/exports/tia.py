@@ -8,14 +8,15 @@ process image view (:mod:`interfaces.exports.tags`): ``%I386.4``, ``%IB33``, ``%
 allows 128 characters), the comment the symbol, the S7 address and the meaning.  The tags land in
 the tag table named in ``Path`` (``VC <machine>``).  The HMI may write the PLC's outputs only.
 
-openpyxl writes the workbook (the ``tia`` extra); the document properties carry a fixed date, so
-the same map gives the same file.
+openpyxl writes the workbook (the ``tia`` extra); the document properties and the archive's entries
+carry a fixed date, so the same map gives the same file.
 """
 
 from __future__ import annotations
 
 import datetime
 import io
+import zipfile
 from collections.abc import Sequence
 
 from interfaces.errors import VcError
@@ -54,6 +55,7 @@ def tag_rows(rows: Sequence[MapRow], context: ExportContext) -> list[tuple[str, 
 def tia_workbook(rows: Sequence[MapRow], context: ExportContext) -> bytes:
     try:
         from openpyxl import Workbook
+        from openpyxl.writer.excel import ExcelWriter
     except ImportError:
         raise MissingExtra("the tia format needs openpyxl: pip install 'vc-harness[tia]'") from None
     workbook = Workbook()
@@ -65,5 +67,19 @@ def tia_workbook(rows: Sequence[MapRow], context: ExportContext) -> bytes:
     workbook.properties.created = workbook.properties.modified = FIXED_DATE
     workbook.properties.creator = "vc map"
     buffer = io.BytesIO()
-    workbook.save(buffer)
-    return buffer.getvalue()
+    # ExcelWriter, not Workbook.save: save stamps the document's "modified" with the clock
+    ExcelWriter(workbook, zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED)).save()
+    return _without_clock(buffer.getvalue())
+
+
+def _without_clock(workbook: bytes) -> bytes:
+    """The same archive with every member stamped with a fixed date: openpyxl stamps the zip entries
+    with the time of the save, so two saves in different seconds differed."""
+    packed = io.BytesIO()
+    with zipfile.ZipFile(io.BytesIO(workbook)) as source, zipfile.ZipFile(packed, "w") as target:
+        for member in source.infolist():
+            stamped = zipfile.ZipInfo(member.filename, date_time=FIXED_DATE.timetuple()[:6])
+            stamped.compress_type = member.compress_type
+            stamped.external_attr = member.external_attr
+            target.writestr(stamped, source.read(member.filename))
+    return packed.getvalue()

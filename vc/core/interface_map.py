@@ -2,58 +2,15 @@
 
 The core never writes an address: it names signals by their catalogue symbol without
 the instance (``basic.out.traversKeyPlus``) and gets a :class:`Bit` or :class:`Field`
-with the byte offset and mask inside the instance's data block.  The cycle then works on
-the bytes directly, which keeps an IPO cycle cheap.
+with the byte offset and mask inside the instance's data block (:mod:`interfaces.bit_access`,
+shared with the PLC runtime).  The cycle then works on the bytes directly, which keeps an IPO
+cycle cheap.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
+from interfaces.bit_access import Bit, Field
 from interfaces.signals import PLACEHOLDER, Catalog, InstanceKind, SignalDef, SignalType
-
-
-@dataclass(frozen=True, slots=True)
-class Bit:
-    byte: int
-    mask: int
-
-    def get(self, area: bytearray) -> bool:
-        return bool(area[self.byte] & self.mask)
-
-    def put(self, area: bytearray, value: bool) -> None:
-        if value:
-            area[self.byte] |= self.mask
-        else:
-            area[self.byte] &= ~self.mask & 0xFF
-
-
-@dataclass(frozen=True, slots=True)
-class Field:
-    """An unsigned bits field, a byte, a word or a double word (big-endian) inside one DB."""
-
-    byte: int
-    shift: int
-    width_bits: int
-    type: SignalType
-
-    def get(self, area: bytearray) -> int:
-        if self.type in (SignalType.BITS, SignalType.BOOL):
-            return (area[self.byte] >> self.shift) & ((1 << self.width_bits) - 1)
-        if self.type is SignalType.BYTE:
-            return area[self.byte]
-        size = self.width_bits // 8
-        return int.from_bytes(area[self.byte : self.byte + size], "big")
-
-    def put(self, area: bytearray, value: int) -> None:
-        if self.type in (SignalType.BITS, SignalType.BOOL):
-            mask = ((1 << self.width_bits) - 1) << self.shift
-            area[self.byte] = (area[self.byte] & ~mask & 0xFF) | ((value << self.shift) & mask)
-        elif self.type is SignalType.BYTE:
-            area[self.byte] = value & 0xFF
-        else:
-            size = self.width_bits // 8
-            area[self.byte : self.byte + size] = (value & ((1 << (8 * size)) - 1)).to_bytes(size, "big")
 
 
 class SignalTable:

@@ -215,12 +215,8 @@ def test_the_step7_ascii_table_has_the_fixed_columns(turn_mill) -> None:
 
 def test_an_awlsim_program_builds_against_the_exported_symbols(turn_mill) -> None:
     pytest.importorskip("awlsim")
-    import awlsim_loader.awlcompiler
-    import awlsim_loader.core  # noqa: F401
-    from awlsim.awlcompiler import AwlParser
-    from awlsim.common.cpuconfig import S7CPUConfig
-    from awlsim.common.sources import AwlSource
-    from awlsim.core.main import AwlSim
+    # the bridge's view of awlsim loads its modules in the order they need (the CPU core first)
+    from plc_awlsim.awlsim_api import AwlParser, AwlSim, AwlSource, S7CPUConfig
 
     rows, context = turn_mill
     sim = AwlSim()

@@ -29,7 +29,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from vc.core.interface_map import Bit, Field, SignalTable
+from interfaces.bit_access import Bit, Field
+from vc.core.interface_map import SignalTable
 
 HANDWHEELS = 3
 GEOMETRY_AXES = 3  # geometry axes 1..3 of a channel: DB21 bytes 12, 16, 20

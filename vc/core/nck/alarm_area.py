@@ -6,8 +6,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from interfaces.alarm_block import ENTRY_BYTES, FIRST_ENTRY_BYTE, cleared_by_code
+from interfaces.bit_access import Field
 from vc.core.alarms import AlarmList
-from vc.core.interface_map import Field, SignalTable
+from vc.core.interface_map import SignalTable
 
 
 class _EntrySignals:

@@ -35,11 +35,12 @@ import dataclasses
 import math
 from collections.abc import Collection, Mapping
 
+from interfaces.bit_access import Bit
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import FREE_JOG, JogLimits, MachineAxis, Owner
-from vc.core.interface_map import Bit, SignalTable
+from vc.core.interface_map import SignalTable
 from vc.core.interpolation.circle import Arc
 from vc.core.kinematics.inclined_axis import (
     AxisPair,
