@@ -43,6 +43,7 @@ from setuptools.command.build_py import build_py
 
 ROOT = Path(__file__).resolve().parent
 MANIFEST = Path("vc_build") / "compiled.json"
+COMPILED_PACKAGES = ("vc", "plc_stub", "interfaces")  # where compiled modules live (fmu/ holds the FMU binary)
 GROUP = "vc_harness"  # the shared library: vc_harness__mypyc.*.so
 OPT_LEVEL = os.environ.get("VC_MYPYC_OPT_LEVEL", "3")
 # the setup.py commands that build code; pip's metadata steps run setup.py too, and mypyc's type
@@ -188,8 +189,24 @@ def reusable_in_place(text: str) -> bool:
         (ROOT / (module.replace(".", "/") + suffix)).exists() for module in modules)
 
 
+def remove_stale_extensions(modules: set[str]) -> None:
+    """An editable checkout keeps the compiled module shims beside the sources: remove those of
+    modules this build does not compile (a module moved or renamed since the last build), so that
+    no extension stands where no source is and nothing finds a module that no longer exists."""
+    if "editable_wheel" not in sys.argv[1:]:
+        return
+    suffix = sysconfig.get_config_var("EXT_SUFFIX") or ".so"
+    for package in COMPILED_PACKAGES:
+        for shim in (ROOT / package).rglob(f"*{suffix}"):
+            module = ".".join(shim.relative_to(ROOT).with_name(shim.name[: -len(suffix)]).parts)
+            if module not in modules:
+                shim.unlink()
+
+
 def build() -> None:
     reason = why_not_compiled()
+    if BUILDING.intersection(sys.argv[1:]):
+        remove_stale_extensions(set() if reason is not None else set(map(module_name, compiled_sources())))
     if reason is not None:
         (ROOT / MANIFEST).unlink(missing_ok=True)  # the pure build vouches for no extension
         print(f"vc-harness: installing the pure-Python build ({reason})", file=sys.stderr)

@@ -18,7 +18,8 @@ from enum import Enum
 
 from vc.config import md_dictionary as MD
 from vc.core.axis.encoder import DISTANCE_CODED_MODES
-from vc.core.channel.channel import Channel, Mode
+from vc.core.channel.channel import Channel
+from vc.core.channel.program_run import Mode
 from vc.core.nck.manual_retraction import ManualRetraction
 from vc.core.nck.mode_group import ModeGroup
 from vc.core.nck.nck import Nck

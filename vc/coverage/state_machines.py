@@ -18,7 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import Enum
 
-from vc.core.channel.channel import ChannelState, ProgramState
+from vc.core.channel.program_run import ChannelState, ProgramState
 from vc.core.referencing.referencing import State as ReferencingState
 from vc.core.retraction.drive_esr import DriveEsrReaction as DriveReaction
 from vc.core.spindle.coupling_state import Phase as CouplingPhase

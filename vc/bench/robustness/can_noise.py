@@ -106,7 +106,7 @@ def run_can_noise(settings: CampaignSettings, say: Say) -> Row:
     """The part's row (module docstring)."""
     half = max(1, settings.can_inputs // 2)
     spec = private_udp_bus()
-    lockstep = _under_noise(["--can", str(spec), "--scenario", SCENARIO], spec, half, settings.seed,
+    lockstep = _under_noise(["--can", str(spec), "--scenario", SCENARIO, "--keep-running"], spec, half, settings.seed,
                             until="^scenario done")
     passed = any("PASS" in line for line in lockstep.served.serve.lines)
     say(f"  can lockstep: {lockstep.noise.sent} noise inputs; scenario {'passed' if passed else 'FAILED'};"

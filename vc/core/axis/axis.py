@@ -29,20 +29,13 @@ from vc.config import md_dictionary as MD
 from vc.config.model import AxisConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.drf import DrfOffset
-from vc.core.axis.dynamics import CoupledLoop as CoupledLoop
-from vc.core.axis.dynamics import dynamics_of, jerk_filter_of
+from vc.core.axis.dynamics import CoupledLoop, dynamics_of, jerk_filter_of
 from vc.core.axis.encoder import MeasuringSystem
-from vc.core.axis.jog import FREE_JOG as FREE_JOG
-from vc.core.axis.jog import AxisJog
-from vc.core.axis.jog import JogLimits as JogLimits
+from vc.core.axis.jog import FREE_JOG, AxisJog, JogLimits
 from vc.core.axis.motion import ramp
-from vc.core.axis.owner import Owner as Owner
+from vc.core.axis.owner import Owner
 from vc.core.axis.position_loop import PositionLoop
-from vc.core.axis.signals import AxisInputs
-from vc.core.axis.signals import AxisSignals as AxisSignals
-
-# CoupledLoop, FREE_JOG, JogLimits, Owner and AxisSignals are imported "as" themselves: the axis's users
-# import them from here with MachineAxis (re-exported).
+from vc.core.axis.signals import AxisInputs, AxisSignals
 
 _TINY = 1e-9
 

@@ -24,7 +24,8 @@ from collections.abc import Callable, Sequence
 
 from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
-from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.owner import Owner
 from vc.core.axis.stroke_limits import BOUNDARY, StrokeStop
 from vc.core.channel.interface import ChannelInputs
 from vc.core.channel.program_run import ChannelState, Phase, ProgramRun, ProgramState, raise_block_alarm

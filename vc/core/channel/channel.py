@@ -26,7 +26,9 @@ from __future__ import annotations
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import CHANNEL_INTERRUPT, NC_START_DISABLED, STOP_AXES, AlarmList, Clear
-from vc.core.axis.axis import JogLimits, MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.jog import JogLimits
+from vc.core.axis.owner import Owner
 from vc.core.axis.stroke_limits import StrokeLimitControl
 from vc.core.channel.block_execution import BlockExecution
 from vc.core.channel.channel_referencing import ChannelReferencing
@@ -47,9 +49,6 @@ from vc.core.spindle.polygon import PolygonTurning
 from vc.core.spindle.spindle import Spindle
 from vc.core.transforms.five_axis_control import FiveAxisControl
 from vc.core.transforms.inclined_axis_control import InclinedAxisControl
-
-# the NCK builds a channel from these
-__all__ = ["Channel", "ChannelSignals", "ChannelState", "Mode", "ProgramState"]
 
 
 class Channel:

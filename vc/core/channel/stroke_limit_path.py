@@ -11,7 +11,9 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from vc.core.alarms import AlarmList
-from vc.core.axis.axis import FREE_JOG, JogLimits, MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.jog import FREE_JOG, JogLimits
+from vc.core.axis.owner import Owner
 from vc.core.axis.stroke_limits import BOUNDARY, StrokeLimitControl, StrokeStop
 from vc.core.interpolation.path import PathSegment
 from vc.core.interpolation.tool_path import ToolPathSegment

@@ -20,7 +20,8 @@ from collections.abc import Callable, Sequence
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
-from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.owner import Owner
 from vc.core.channel.program_run import ChannelState, Phase, ProgramRun, ProgramState, raise_block_alarm
 from vc.core.channel.spindle_functions import SpindleFunctions
 from vc.core.interpolation.thread_cutting import THREAD_SPINDLE_STANDS, ThreadSegment

@@ -18,7 +18,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.owner import Owner
 from vc.core.interpolation.path import drop_axis
 
 THREAD_SPINDLE_STANDS = 65870  # project alarm: the seed names none

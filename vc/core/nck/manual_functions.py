@@ -13,9 +13,11 @@ from __future__ import annotations
 from interfaces.image import ProcessImage
 from interfaces.signals import Catalog, InstanceKind
 from vc.core.alarms import STOP_AXES, AlarmList
-from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
 from vc.core.axis.handwheel import GEOMETRY_AXES, Handwheels, HandwheelSignals
-from vc.core.channel.channel import Channel, Mode
+from vc.core.axis.owner import Owner
+from vc.core.channel.channel import Channel
+from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.interface_map import SignalTable
 from vc.core.nck.manual_retraction import ManualRetraction

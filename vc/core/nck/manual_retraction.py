@@ -36,8 +36,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from vc.core.axis.axis import FREE_JOG, JogLimits, MachineAxis, Owner
-from vc.core.channel.channel import Channel, ChannelState, Mode
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.jog import FREE_JOG, JogLimits
+from vc.core.axis.owner import Owner
+from vc.core.channel.channel import Channel
+from vc.core.channel.program_run import ChannelState, Mode
 from vc.core.interface_map import SignalTable
 from vc.core.nc_memory import NcMemory, RetractData
 

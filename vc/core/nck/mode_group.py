@@ -9,7 +9,7 @@ machine function inside JOG or MDA.  DB11.DBX0.7 resets every channel of the gro
 
 from __future__ import annotations
 
-from vc.core.channel.channel import Mode
+from vc.core.channel.program_run import Mode
 from vc.core.interface_map import SignalTable
 
 

@@ -50,12 +50,13 @@ from interfaces.signals import Catalog, Direction, expand
 from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import Alarm, AlarmList, Clear, Reaction
-from vc.core.axis.axis import MachineAxis, Owner
-from vc.core.channel.channel import ChannelState, Mode
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.owner import Owner
+from vc.core.channel.program_run import ChannelState, Mode
 from vc.core.nc_memory import NcMemory
 from vc.core.nck.alarm_reactions import EMERGENCY_STOP_ALARM, AlarmReactions
 from vc.core.nck.power_on import power_on
-from vc.core.referencing.referencing import buffer_at_power_off, encoder_slip
+from vc.core.referencing.buffered_positions import buffer_at_power_off, encoder_slip
 from vc.core.retraction.dc_link import DcLink
 
 PLC_SIGN_OF_LIFE_ALARM = 2000

@@ -22,8 +22,11 @@ from interfaces.signals import Catalog, InstanceKind
 from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig
 from vc.core.alarms import AlarmList
-from vc.core.axis.axis import AxisSignals, MachineAxis
-from vc.core.channel.channel import Channel, ChannelSignals, Mode
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.signals import AxisSignals
+from vc.core.channel.channel import Channel
+from vc.core.channel.interface import ChannelSignals
+from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.interface_map import SignalTable
 from vc.core.nc_memory import NcMemory
@@ -32,7 +35,7 @@ from vc.core.nck.manual_functions import ManualFunctions
 from vc.core.nck.manual_retraction import ManualRetraction, RetractionSignals
 from vc.core.nck.mode_group import ModeGroup, ModeGroupSignals
 from vc.core.overrides import OverrideCoding
-from vc.core.referencing.referencing import restore_at_power_on
+from vc.core.referencing.buffered_positions import restore_at_power_on
 from vc.core.retraction.dc_link import DcLink
 from vc.core.retraction.drive_esr import DriveEsr, DriveEsrSignals
 from vc.core.retraction.esr import ChannelEsr, NckEsr

@@ -47,7 +47,7 @@ from enum import Enum
 from vc.config import md_dictionary as MD
 from vc.config.machine_data import MachineData
 from vc.core.alarms import AlarmList
-from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
 from vc.core.axis.encoder import (
     DISTANCE_CODED_MODES,
     ENC_STATE_CALIBRATED,
@@ -55,14 +55,8 @@ from vc.core.axis.encoder import (
     MeasuringSystem,
 )
 from vc.core.axis.motion import braking_distance, ramp, stopping_velocity
+from vc.core.axis.owner import Owner
 from vc.core.nc_memory import NcMemory
-
-# the power-on restore, the power-off buffering and the loss of a reference stay importable from here
-# for the NCK and the spindle ("x as x": re-exported)
-from vc.core.referencing.buffered_positions import buffer_at_power_off as buffer_at_power_off
-from vc.core.referencing.buffered_positions import encoder_slip as encoder_slip
-from vc.core.referencing.buffered_positions import lose_calibration as lose_calibration
-from vc.core.referencing.buffered_positions import restore_at_power_on as restore_at_power_on
 from vc.core.referencing.distance_coded import decode_marks, passive_distance_coded
 
 ALARM_CAM_NOT_REACHED = 20000

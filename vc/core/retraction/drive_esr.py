@@ -37,8 +37,9 @@ from enum import Enum
 
 from vc.config import md_dictionary as MD
 from vc.config.model import EXTENDED_RETRACT, EXTENDED_STOP, GENERATOR_OPERATION, SPEED_HYSTERESIS
-from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
 from vc.core.axis.motion import ramp
+from vc.core.axis.owner import Owner
 from vc.core.interface_map import SignalTable
 from vc.core.program.commands import DriveEsrCommand
 

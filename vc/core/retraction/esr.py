@@ -54,7 +54,8 @@ from typing import TYPE_CHECKING
 
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList, Reaction
-from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.owner import Owner
 from vc.core.interpolation.thread_cutting import ThreadSegment
 from vc.core.program.commands import LFPOS, RetractProgramming
 from vc.core.program.sync_actions import Reader, SyncAction, VariableWrite

@@ -31,7 +31,8 @@ from collections.abc import Collection
 from dataclasses import dataclass
 from typing import Protocol
 
-from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.owner import Owner
 from vc.core.program.commands import RetractProgramming
 
 # The plane's first and second axis (geometry axis names): ALF=1 points along the first, ALF=3 along the second.

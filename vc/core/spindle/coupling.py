@@ -20,7 +20,7 @@ from collections.abc import Callable
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
-from vc.core.axis.axis import Owner
+from vc.core.axis.owner import Owner
 from vc.core.program.commands import BlockChange, Kind
 from vc.core.spindle.coupling_monitor import ALARM_NOT_SYNCHRONISED, SynchronismMonitor
 from vc.core.spindle.coupling_motion import CouplingMotion

@@ -22,8 +22,10 @@ import math
 
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList
-from vc.core.axis.axis import CoupledLoop, MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.dynamics import CoupledLoop
 from vc.core.axis.motion import ramp, stopping_distance, stopping_velocity
+from vc.core.axis.owner import Owner
 from vc.core.program.commands import Kind
 from vc.core.spindle.coupling_signals import ALARM_OVERLAY_NOT_ENABLED, CouplingInputs
 from vc.core.spindle.coupling_state import Coupling, Overlay, Phase, actual_relation, leading_position, wrap180

@@ -42,7 +42,7 @@ from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
 from vc.core.nc_memory import NcMemory
 from vc.core.program.commands import SpindleCommand
-from vc.core.referencing.referencing import lose_calibration
+from vc.core.referencing.buffered_positions import lose_calibration
 from vc.core.spindle.positioning import Positioning
 from vc.core.spindle.signals import SpindleInputs
 

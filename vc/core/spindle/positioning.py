@@ -20,8 +20,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vc.config import md_dictionary as MD
-from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
 from vc.core.axis.motion import braking_distance, stopping_velocity
+from vc.core.axis.owner import Owner
 
 _ARRIVED = 1e-9
 

@@ -19,8 +19,9 @@ from __future__ import annotations
 
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList
-from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
 from vc.core.axis.motion import ramp
+from vc.core.axis.owner import Owner
 from vc.core.overrides import OverrideCoding
 from vc.core.spindle.gear_change import GearChange
 from vc.core.spindle.signals import SpindleInputs

@@ -32,7 +32,8 @@ from enum import Enum
 from vc.config import md_dictionary as MD
 from vc.config.machine_data import MachineData
 from vc.core.alarms import STOP_AXES, AlarmList
-from vc.core.axis.axis import MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.owner import Owner
 from vc.core.nc_memory import NcMemory
 from vc.core.overrides import OverrideCoding
 from vc.core.program.commands import SpindleCommand

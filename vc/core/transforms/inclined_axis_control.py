@@ -39,7 +39,9 @@ from interfaces.bit_access import Bit
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
-from vc.core.axis.axis import FREE_JOG, JogLimits, MachineAxis, Owner
+from vc.core.axis.axis import MachineAxis
+from vc.core.axis.jog import FREE_JOG, JogLimits
+from vc.core.axis.owner import Owner
 from vc.core.interface_map import SignalTable
 from vc.core.interpolation.circle import Arc
 from vc.core.kinematics.inclined_axis import (

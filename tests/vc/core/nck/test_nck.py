@@ -10,7 +10,7 @@ from __future__ import annotations
 import pytest
 from core_rig import ABSOLUTE_X1, ABSOLUTE_XYZ, DT, Rig, machine
 
-from vc.core.channel.channel import Mode
+from vc.core.channel.program_run import Mode
 
 
 def modes(rig: Rig) -> tuple[int, int, int]:

@@ -19,8 +19,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from vc.config import md_dictionary as MD
-from vc.core.axis.axis import Owner
 from vc.core.axis.encoder import DistanceCode
+from vc.core.axis.owner import Owner
 from vc.core.nc_memory import NcMemory
 from vc.core.referencing.referencing import AxisReferencing
 

@@ -14,7 +14,7 @@ from collections.abc import Callable
 import pytest
 from core_rig import FIVE_AXIS, Rig, machine
 
-from vc.core.channel.channel import ChannelState
+from vc.core.channel.program_run import ChannelState
 
 CHAIN = ("X1", "Y1", "Z1", "A1", "C1")
 ABSOLUTE = "CHAN1: {MD20700: 0, MD62950: [100.0, 50.0]}\n" + "\n".join(
