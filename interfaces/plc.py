@@ -66,6 +66,7 @@ PlcFactory = Callable[[PlcEnvironment], SoftPlc]
 
 class PlcConnector(Protocol):
     """Where the harness gets its PLC from at every power-on: the built-in programs in-process,
-    or a link to a PLC in another process (Modbus TCP, S7)."""
+    or a link to a PLC in another process (Modbus TCP, S7, CAN: the harness's ``Link`` contract in
+    vc/harness/links/)."""
 
     def connect(self, environment: PlcEnvironment, program: str) -> SoftPlc: ...

@@ -22,8 +22,8 @@ import sys
 from collections.abc import Sequence
 
 from interfaces.links.endpoint import parse_endpoint
-from plc_stub.can_remote import run_on_can
-from plc_stub.remote import run_forever
+from plc_stub.links.can import run_on_can
+from plc_stub.links.modbus import run_forever
 
 
 def _endpoint(text: str) -> tuple[str, int]:

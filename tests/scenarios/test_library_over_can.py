@@ -16,8 +16,8 @@ import pytest
 from rich.console import Console
 
 from interfaces.links.inprocess import plc_programs
-from vc.harness.can_link import VirtualCanPlc
 from vc.harness.external_plc import CanPlcProcess
+from vc.harness.links.can import VirtualCanPlc
 from vc.harness.targets import simulation_for
 from vc.scenario.command import EXIT_PASSED, run_command
 from vc.scenario.loader import load_scenarios, scenario_files

@@ -31,8 +31,8 @@ from interfaces.signals import Direction, expand
 from vc.bench.lockstep import Workload, benchmark_machine
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
-from vc.harness.can_link import CanLinkedPlc, VirtualCanPlc
 from vc.harness.external_plc import CanPlcProcess
+from vc.harness.links.can import CanLinkedPlc, VirtualCanPlc
 from vc.simulation.lockstep import Simulation
 
 _PEER_START_TIMEOUT_S = 60.0

@@ -54,8 +54,9 @@ from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.core.alarms import Alarm
 from vc.harness.external_plc import PlcProcess
+from vc.harness.links import LinkMode
+from vc.harness.links.modbus import LinkedPlc
 from vc.harness.pacer import PacingStats, RealtimePacer, percentile
-from vc.harness.plc_link import LinkedPlc, LinkMode
 from vc.simulation.lockstep import Simulation
 
 LOOPBACK = "127.0.0.1"

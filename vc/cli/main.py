@@ -389,7 +389,7 @@ def _serve(arguments: argparse.Namespace) -> int:
     from interfaces.links.access import ConnectionLimits
     from interfaces.links.can_bus import BusSpec
     from interfaces.links.errors import LinkError
-    from vc.harness.plc_link import Endpoint
+    from vc.harness.links.modbus import Endpoint
     from vc.harness.serve import ServeOptions, serve
 
     recorder = None

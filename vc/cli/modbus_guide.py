@@ -569,5 +569,5 @@ def _lockstep(register_map: RegisterMap) -> list[str]:
         f" the session, advances one PLC period (IR {LinkInput.PLC_CYCLE_IPO} IPO cycles), publishes the new inputs"
         " and grants the next scan: the grant counts 1, 2, .. 65535, 1, .. and is never 0.",
         "",
-        "`python -m plc_stub --modbus HOST:PORT` is a client that follows this protocol (plc_stub/remote.py).",
+        "`python -m plc_stub --modbus HOST:PORT` is a client that follows this protocol (plc_stub/links/modbus.py).",
     ]

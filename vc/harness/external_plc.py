@@ -19,16 +19,18 @@ from __future__ import annotations
 
 import subprocess
 import sys
-from collections.abc import Callable, Sequence
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Mapping, Sequence
 from types import TracebackType
-from typing import Generic, Protocol, Self, TypeVar
+from typing import Any, Generic, Self, TypeVar
 
 from interfaces.links.can_bus import BusSpec, private_udp_bus
 from vc.config.model import MachineConfig
-from vc.harness.can_link import CanLink
-from vc.harness.plc_link import Endpoint, LinkMode, PlcLink
+from vc.harness.links import Link, LinkMode
+from vc.harness.links.can import CanLink
+from vc.harness.links.modbus import Endpoint, PlcLink
 from vc.harness.targets import simulation_for
-from vc.scenario.model import Scenario
+from vc.scenario.model import LINK_CAN, Scenario
 from vc.simulation.lockstep import Pacer, Simulation
 
 # plc: KIND:FILE -> the module run as ``python -m MODULE --modbus HOST:PORT FILE``
@@ -60,15 +62,12 @@ class _PlcChild:
             self.process.stderr.close()
 
 
-class _Link(Protocol):
-    def close(self) -> None: ...
+LinkType = TypeVar("LinkType", bound=Link)
 
 
-LinkType = TypeVar("LinkType", bound=_Link)
-
-
-class _ChildPlcRun(Generic[LinkType]):
-    """What both links share: the link, the child process, its end, the context manager."""
+class ChildPlcRun(ABC, Generic[LinkType]):
+    """A PLC in a child process over a link of one technology: what every technology shares is the
+    link, the child process, its end and the context manager; each gives the targets of its run."""
 
     link: LinkType
     _child: _PlcChild | None = None
@@ -86,6 +85,10 @@ class _ChildPlcRun(Generic[LinkType]):
             self._child.close()
             self._child = None
 
+    @abstractmethod
+    def target_factory(self) -> Callable[[Scenario], Simulation]:
+        """The run's targets: the scenarios with a PLC program over the link, the others in-process."""
+
     def close(self) -> None:
         self._close_child()
         self.link.close()
@@ -98,7 +101,7 @@ class _ChildPlcRun(Generic[LinkType]):
         self.close()
 
 
-class PlcProcess(_ChildPlcRun[PlcLink]):
+class PlcProcess(ChildPlcRun[PlcLink]):
     """A ``python -m plc_stub`` process (or ``module`` with ``arguments`` after the endpoint) connected
     to a Modbus TCP link (lockstep unless told otherwise) on a loopback server with an ephemeral
     port; a context manager."""
@@ -122,7 +125,7 @@ class PlcProcess(_ChildPlcRun[PlcLink]):
         return make
 
 
-class CanPlcProcess(_ChildPlcRun[CanLink]):
+class CanPlcProcess(ChildPlcRun[CanLink]):
     """A ``python -m plc_stub --can`` process on a CAN bus with the harness (lockstep unless told
     otherwise); by default a UDP multicast channel no other run on this host uses.  The process is
     started at the first power-on, and again for a machine whose link frames have other identifiers."""
@@ -151,6 +154,14 @@ class CanPlcProcess(_ChildPlcRun[CanLink]):
                 return simulation_for(scenario)
             return self.simulation(scenario.machine, scenario.plc_program)
         return make
+
+
+# ``vc run --link NAME``: the PLC process and its link, by technology; the argument is the run's CAN
+# bus (``--can-bus``; None: a UDP multicast channel of the run's own), which only CAN has
+PLC_PROCESSES: Mapping[str, Callable[[str | None], ChildPlcRun[Any]]] = {
+    "modbus": lambda can_bus: PlcProcess(),
+    LINK_CAN: lambda can_bus: CanPlcProcess(bus=BusSpec.parse(can_bus) if can_bus else None),
+}
 
 
 class ExternalPlcs:

@@ -8,13 +8,12 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
-from interfaces.links.can_bus import BusSpec
 from interfaces.links.inprocess import plc_programs
-from vc.harness.external_plc import CanPlcProcess, ExternalPlcs, PlcProcess
+from vc.harness.external_plc import PLC_PROCESSES, ExternalPlcs
 from vc.harness.targets import TargetFactory, simulation_for
 from vc.scenario.cluster import ClusterSettings
 from vc.scenario.command import plot_command, run_command
-from vc.scenario.model import LINK_CAN, Scenario
+from vc.scenario.model import Scenario
 from vc.scenario.target import ScenarioTarget
 from vc_build import status as build_status
 
@@ -46,12 +45,9 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
                                jobs=workers if observe is None else 1, build=build,
                                cluster=on if observe is None else None, report_dir=report_dir)
 
-    if link == "modbus":
-        with PlcProcess() as process:
+    if link in PLC_PROCESSES:
+        with PLC_PROCESSES[link](can_bus) as process:
             return run(process.target_factory())
-    if link == LINK_CAN:
-        with CanPlcProcess(bus=BusSpec.parse(can_bus) if can_bus else None) as can_process:
-            return run(can_process.target_factory())
     return run(simulation_for, jobs, ClusterSettings(cluster, cluster_files) if cluster else None)
 
 

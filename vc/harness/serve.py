@@ -26,51 +26,21 @@ import asyncio
 import time as wallclock
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Protocol
 
 from interfaces.links.access import ConnectionLimits
 from interfaces.links.can_bus import BusSpec
 from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import plc_programs
-from interfaces.plc import PlcEnvironment, SoftPlc
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
-from vc.harness.can_link import CanLink
+from vc.harness.links import Link, LinkMode
+from vc.harness.links.can import CanLink
+from vc.harness.links.modbus import Endpoint, PlcLink, check_bind
 from vc.harness.pacer import RealtimePacer
-from vc.harness.plc_link import Endpoint, LinkMode, PlcLink, check_bind
 from vc.scenario.command import EXIT_PASSED, run_command
 from vc.scenario.model import Scenario
 from vc.simulation.lockstep import Simulation
 from vc.simulation.observed import ObservedSimulation, SimulationObserver
-
-
-class ServedLink(Protocol):
-    """What ``vc serve`` needs of a link to a PLC in another process (Modbus TCP / S7, or CAN)."""
-
-    @property
-    def loop(self) -> asyncio.AbstractEventLoop | None:
-        """The link's event loop, which the pacer shares; None: it has none."""
-
-    @property
-    def plc_command(self) -> str:
-        """How plc_stub follows the harness on this link."""
-
-    @property
-    def watched(self) -> str:
-        """What the NC watches besides the PLC's sign of life, for the banner."""
-
-    def connect(self, environment: PlcEnvironment, program: str) -> SoftPlc: ...
-
-    def configure_for(self, machine: MachineConfig) -> None:
-        """The settings of the machine the next power-on uses."""
-
-    def banner(self, machine: MachineConfig) -> list[str]:
-        """Where the link listens and where its map comes from."""
-
-    def peer_state(self, simulation: Simulation) -> str:
-        """The PLC's side for the statistics line."""
-
-    def close(self) -> None: ...
 
 
 @dataclass(slots=True)
@@ -131,7 +101,7 @@ def serve(options: ServeOptions) -> int:
     def on_wait(text: str) -> None:
         say(f"waiting: {text}")
 
-    link: ServedLink
+    link: Link
     if options.can is not None:
         link = CanLink(mode, options.can, first_scan_timeout_s=None, scan_timeout_s=None, on_wait=on_wait)
     else:
@@ -194,7 +164,7 @@ def _machine_and_program(options: ServeOptions) -> tuple[MachineConfig, str, str
     return scenario.machine, scenario.plc_program, options.scenario
 
 
-def _banner(options: ServeOptions, machine: MachineConfig, link: ServedLink, program: str, mode: LinkMode,
+def _banner(options: ServeOptions, machine: MachineConfig, link: Link, program: str, mode: LinkMode,
             say: Callable[[str], None]) -> None:
     say(f"machine {machine.name} ({machine.source})")
     for line in link.banner(machine):
@@ -222,7 +192,7 @@ class _ReportingPacer:
     ``every_s`` wall seconds from inside the cycle, the pacing since the last line (real time) and
     the link's state: so the lines come while a scenario runs too."""
 
-    def __init__(self, pacer: RealtimePacer | None, every_s: float, link: ServedLink,
+    def __init__(self, pacer: RealtimePacer | None, every_s: float, link: Link,
                  current: Callable[[], Simulation | None], say: Callable[[str], None]):
         self.pacer = pacer
         self.every_s = every_s

@@ -18,7 +18,7 @@ def simulation_for(scenario: Scenario) -> Simulation:
     """A fresh power-on of the scenario's machine with its PLC program (or none); a scenario that
     asks for a CAN link gets its program behind a virtual CAN bus in this process."""
     if scenario.plc_program is not None and scenario.link == LINK_CAN:
-        from vc.harness.can_link import virtual_can_simulation  # python-can only for such a scenario
+        from vc.harness.links.can import virtual_can_simulation  # python-can only for such a scenario
 
         return virtual_can_simulation(scenario.machine, scenario.plc_program)
     return Simulation(scenario.machine, scenario.plc_program)

@@ -59,7 +59,8 @@ def disturbed(faults: Iterable[LinkFault], cycle: int) -> bool:
 
 @runtime_checkable
 class FaultInjectable(Protocol):
-    """A PLC link that takes faults of its bus and shows its counters (the CAN link)."""
+    """A PLC link that takes faults of its bus and shows its counters (the CAN link): a capability
+    beside the links' contract (vc/harness/links/), which the Modbus and S7 link do not have."""
 
     def inject_fault(self, fault: LinkFault) -> None: ...
 

@@ -20,8 +20,8 @@ from interfaces.links.can_bus import CanBus
 from interfaces.signals import SignalRef
 from vc.cli.main import main
 from vc.config.loader import load_machine
-from vc.harness.can_link import CanLinkedPlc
 from vc.harness.external_plc import CanPlcProcess
+from vc.harness.links.can import CanLinkedPlc
 from vc.simulation.lockstep import Simulation
 
 ROOT = Path(__file__).resolve().parents[3]

@@ -24,15 +24,15 @@ from interfaces.links.can_bus import BusSpec, CanBus, private_udp_bus, socketcan
 from interfaces.links.errors import LinkError
 from vc.config.loader import load_machine
 from vc.config.model import CanConfig, MachineConfig
-from vc.harness import can_link
-from vc.harness.can_link import CanLink, CanLinkedPlc, VirtualCanPlc, virtual_can_simulation
 from vc.harness.external_plc import CanPlcProcess
+from vc.harness.links import LinkMode
+from vc.harness.links import can as can_link  # the module, beside python-can (can)
+from vc.harness.links.can import CanLink, CanLinkedPlc, VirtualCanPlc, virtual_can_simulation
 from vc.harness.pacer import RealtimePacer
-from vc.harness.plc_link import LinkMode
 from vc.simulation.lockstep import Simulation
 from vc.simulation.observables import LINK_QUANTITIES
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = Path(__file__).resolve().parents[4]
 TURN_MILL = load_machine(str(ROOT / "scenarios" / "machines" / "turn_mill.yaml"))
 FIVE_AXIS = load_machine(str(ROOT / "scenarios" / "machines" / "mill_5axis.yaml"))
 

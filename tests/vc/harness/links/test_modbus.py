@@ -23,12 +23,13 @@ from interfaces.links.modbus_tcp import LinkError
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.harness.external_plc import PlcProcess
+from vc.harness.links import LinkMode
+from vc.harness.links.modbus import Endpoint, PlcLink, check_bind
 from vc.harness.pacer import RealtimePacer
-from vc.harness.plc_link import Endpoint, LinkMode, PlcLink, check_bind
 from vc.located_yaml import LocatedMap, load_text
 from vc.simulation.lockstep import Simulation
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = Path(__file__).resolve().parents[4]
 TURN_MILL = load_machine(str(ROOT / "scenarios" / "machines" / "turn_mill.yaml"))
 FIVE_AXIS = load_machine(str(ROOT / "scenarios" / "machines" / "mill_5axis.yaml"))
 TURN_MILL_IPO_S = Simulation.ipo_seconds(TURN_MILL)
@@ -311,7 +312,7 @@ class _TablesClient:
 def test_a_new_boot_id_restarts_the_plc_program_though_the_session_number_is_the_same() -> None:
     """Sessions count from 1 in every harness process: a PLC that carried on across a server restart
     because it saw session 1 again would run on stale state.  The boot id (IR 12) tells them apart."""
-    from plc_stub.remote import RemotePlc
+    from plc_stub.links.modbus import RemotePlc
 
     first = PlcLink(LinkMode.FREE_RUNNING, modbus=Endpoint("127.0.0.1", 0), boot_id=111)
     second = PlcLink(LinkMode.FREE_RUNNING, modbus=Endpoint("127.0.0.1", 0))

@@ -1,6 +1,6 @@
 """``python -m plc_stub --can``: what it says and how it ends when there is nothing to run for, and
 that noise on the bus does not end it.  (The PLC on the bus with a harness:
-tests/vc/harness/test_can_link.py; under noise with a harness: tests/vc/bench/test_robustness.py.)"""
+tests/vc/harness/links/test_can.py; under noise with a harness: tests/vc/bench/test_robustness.py.)"""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import pytest
 
 from interfaces.links.can_bus import CAN_ERR_BUSOFF, CanBus, private_udp_bus
 from plc_stub.__main__ import main
-from plc_stub.can_remote import run_on_can
+from plc_stub.links.can import run_on_can
 
 
 def test_modbus_or_can_not_both(capsys: pytest.CaptureFixture[str]) -> None:

@@ -1,6 +1,6 @@
-"""The harness's end of a PLC in another process: Modbus TCP (and S7) servers and the exchange.
+"""The harness's end of a PLC in another process over Modbus TCP (and S7): the servers and the exchange.
 
-:class:`PlcLink` is a :class:`~interfaces.plc.PlcConnector`: at every power-on of the
+:class:`PlcLink` is a :class:`~vc.harness.links.Link`: at every power-on of the
 simulation it opens a new *session* (new tables for the machine, the interface description,
 the session number in the link block) and hands the simulation a :class:`LinkedPlc` whose
 ``scan`` exchanges the interface with the remote PLC once per PLC period:
@@ -16,6 +16,11 @@ The servers share one asyncio loop with the pacer, run only while the harness wa
 :mod:`interfaces.links.modbus_tcp` for the threading argument.  Only the session's PLC writes
 into the NC (:mod:`interfaces.links.access`): the connection that wrote the session into holding
 register 1 (or, over S7, wrote first), one owner for both servers.
+
+S7 is a second server of the same link, not a link of its own: it shares the sessions, the owner
+and the outputs with the Modbus server (its tables mirror the Modbus PLC's outputs, and a
+free-running S7 PLC writes into the same areas), and lockstep needs the Modbus handshake
+registers; the S7 protocol itself is in :mod:`interfaces.links.s7`.
 """
 
 from __future__ import annotations
@@ -24,10 +29,8 @@ import asyncio
 import contextlib
 import secrets
 import struct
-import time as wallclock
 from collections.abc import Callable, Collection, Mapping
-from dataclasses import dataclass, field
-from enum import StrEnum
+from dataclasses import dataclass
 
 from interfaces.codec_modbus import (
     DESCRIPTION_REGISTER,
@@ -48,14 +51,11 @@ from interfaces.links.modbus_tcp import ModbusServerLink, ModbusTables
 from interfaces.links.s7 import S7ServerLink
 from interfaces.plc import PlcEnvironment
 from vc.config.model import MachineConfig
+from vc.harness.links import LinkMode
+from vc.harness.links.patience import Patience
 from vc.simulation.lockstep import Simulation
 
 _WORD = struct.Struct(">H")
-
-
-class LinkMode(StrEnum):
-    LOCKSTEP = "lockstep"
-    FREE_RUNNING = "free_running"
 
 
 @dataclass(frozen=True, slots=True)
@@ -87,41 +87,6 @@ def check_bind(endpoint: Endpoint, allow_remote: bool) -> None:
     if endpoint.host not in LOOPBACK and not allow_remote:
         raise LinkError(f"{endpoint.host} is not the loopback interface: binding there lets other machines"
                         " write into the NC; add --allow-remote to do so")
-
-
-@dataclass(slots=True)
-class Patience:
-    """How long the harness waits for a PLC's answer and what it says meanwhile: it announces the
-    wait once, and gives up after the time-out (None: never) or as soon as the PLC process is gone."""
-
-    timeout_s: float | None
-    announce_after_s: float
-    on_wait: Callable[[str], None] | None
-    peer_ended: Callable[[], str | None]
-    silence: Callable[[float], str]  # what the harness says after waiting so many seconds
-    began: float = field(default_factory=wallclock.monotonic)
-    announced: bool = False
-
-    @classmethod
-    def for_scan(cls, first: bool, first_scan_timeout_s: float | None, scan_timeout_s: float | None,
-                 on_wait: Callable[[str], None] | None, peer_ended: Callable[[], str | None],
-                 silence: Callable[[float], str]) -> Patience:
-        """The first scan of a session may take long (a PLC starts); later scans are quick."""
-        timeout = first_scan_timeout_s if first else scan_timeout_s
-        announce_after = 1.0 if first or scan_timeout_s is None else scan_timeout_s / 2
-        return cls(timeout, announce_after, on_wait, peer_ended, silence)
-
-    def check(self) -> None:
-        """Raise :class:`LinkError` when waiting is over; announce a long wait once."""
-        waited = wallclock.monotonic() - self.began
-        ended = self.peer_ended()
-        if ended is not None:
-            raise LinkError(f"{self.silence(waited)}: {ended}")
-        if self.timeout_s is not None and waited > self.timeout_s:
-            raise LinkError(self.silence(waited))
-        if not self.announced and waited > self.announce_after_s and self.on_wait is not None:
-            self.announced = True
-            self.on_wait(self.silence(waited))
 
 
 class PlcLink:

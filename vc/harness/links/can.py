@@ -1,7 +1,7 @@
 """The harness's end of a PLC on a CAN bus (:mod:`interfaces.codec_can`): sessions, cyclic frames,
 the time-out monitor, lockstep and faults of the bus.
 
-:class:`CanLink` is a :class:`~interfaces.plc.PlcConnector`: at every power-on it opens a session
+:class:`CanLink` is a :class:`~vc.harness.links.Link`: at every power-on it opens a session
 (the machine's frames, the description, the session number in the NC link frame) and hands the
 simulation a :class:`CanLinkedPlc`:
 
@@ -66,7 +66,8 @@ from interfaces.links.inprocess import plc_programs
 from interfaces.plc import PlcEnvironment
 from interfaces.signals import Direction
 from vc.config.model import CanConfig, MachineConfig
-from vc.harness.plc_link import LinkMode, Patience
+from vc.harness.links import LinkMode
+from vc.harness.links.patience import Patience
 from vc.simulation.link_faults import LINK_AREA, CanController, FaultyWire, LinkFault, active, disturbed
 from vc.simulation.lockstep import Simulation
 
