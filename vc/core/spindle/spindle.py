@@ -95,6 +95,7 @@ class Spindle:
         self.m_function = 0
         self.limits_unreported = False  # a suppressed change's clamping shows no 83.1 / 83.2 (L19996-20001)
         self._status: SpindleStatus | None = None  # as last written
+        self._shown: tuple[object, ...] = ()  # the same, as the tuple write_outputs compares
         self.quiet = False  # nothing to do until an input, a command, a reset or an alarm changes
         self.held = False  # NC stop axes and spindles (DB21.DBX7.4) until NC start
         self.stopped_by_alarm = False  # an alarm's interpolation stop brakes the spindle
@@ -538,15 +539,17 @@ class Spindle:
         change, speed, mode = self.gear_change, self.speed_control, self.mode
         dialog = change.dialog_open
         limits_shown = mode is SpindleMode.CONTROL and not self.limits_unreported
-        status = SpindleStatus(
-            change.target if dialog else change.acknowledged_gear, dialog, speed.at_chuck_limit,
-            speed.limited and limits_shown, speed.raised and limits_shown, self.speed_reached(),
-            self.axis.velocity > self.axis.dyn.standstill_velocity, mode is SpindleMode.CONTROL,
-            mode is SpindleMode.OSCILLATION, mode is SpindleMode.POSITIONING, mode is not SpindleMode.AXIS,
-            self.in_position(), self.m_function, self.parameter_set, self.position_control)
-        before = self._status
-        if status == before:
+        # a plain tuple first: compared every cycle, the status is built only when it changed
+        shown = (change.target if dialog else change.acknowledged_gear, dialog, speed.at_chuck_limit,
+                 speed.limited and limits_shown, speed.raised and limits_shown, self.speed_reached(),
+                 self.axis.velocity > self.axis.dyn.standstill_velocity, mode is SpindleMode.CONTROL,
+                 mode is SpindleMode.OSCILLATION, mode is SpindleMode.POSITIONING, mode is not SpindleMode.AXIS,
+                 self.in_position(), self.m_function, self.parameter_set, self.position_control)
+        if shown == self._shown:
             return
+        self._shown = shown
+        before = self._status
+        status = SpindleStatus(*shown)
         self._status = status
         self._signals.write(self._area, status)
         if before is None or before.position_control != status.position_control:
