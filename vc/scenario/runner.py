@@ -1,7 +1,9 @@
 """Running checked scenarios against a simulation, through :class:`ScenarioTarget` only.
 
-Steps run in order.  Time passes only in steps that take time (``press``, ``pulse``,
-``wait``); everything else happens between two IPO cycles.  After every cycle the runner
+Steps run in order, each by its kind's runner in the table of step kinds
+(:mod:`vc.scenario.steps.table`); this module is the run loop they act through.  Time passes
+only in steps that take time (``press``, ``pulse``, ``turn``, ``wait``); everything else happens
+between two IPO cycles.  After every cycle the runner
 records the changes, checks the invariants (the first violation fails the scenario) and
 watches the ``when`` events; the scenario's ``timeout`` bounds the simulated time.  A failed
 step ends the scenario.
@@ -23,35 +25,11 @@ from typing import Protocol
 
 from interfaces.errors import VcError
 from vc.located_yaml import Mark
-from vc.scenario.durations import Duration, format_seconds
+from vc.scenario.durations import format_seconds
 from vc.scenario.expressions import EvaluationError, Evaluator, Expression
-from vc.scenario.model import (
-    AcknowledgeAlarms,
-    ClearFaults,
-    EdgeKind,
-    Event,
-    ExpectAlarm,
-    ExpectCondition,
-    ExpectOrder,
-    ExpectTiming,
-    ExpectValues,
-    Hold,
-    InjectFault,
-    InjectLinkFault,
-    LoadMda,
-    MoveByHand,
-    PowerCycle,
-    Press,
-    Release,
-    Scenario,
-    SelectProgram,
-    SetValues,
-    Step,
-    TurnHandwheels,
-    Wait,
-    WaitUntil,
-)
+from vc.scenario.model import EdgeKind, Event, Scenario, Step, WaitUntil
 from vc.scenario.quantities import Quantity, QuantityKind
+from vc.scenario.steps.table import STEPS
 from vc.scenario.target import ScenarioTarget
 from vc.scenario.trace import Recorder, Recording, write_traces
 from vc.scenario.values import format_value
@@ -297,116 +275,10 @@ class _Run:
         self.steps_done += 1
 
     def act(self, step: Step) -> None:
-        target = self.target
-        if isinstance(step, Press):
-            self.write_keys(step.keys, 1)
-            self.advance(step.duration.cycles(self.ipo_cycle_us))
-            self.write_keys(step.keys, 0)
-        elif isinstance(step, Hold):
-            self.write_keys(step.keys, 1)
-        elif isinstance(step, Release):
-            for quantity in step.names:
-                assert quantity.ref is not None
-                if quantity.name in self.forced:
-                    # the owner's value applies again from the next cycle on
-                    self.forced.discard(quantity.name)
-                    target.release(quantity.ref)
-                else:
-                    target.write(quantity.ref, 0)
-            self.after_writes(step.names)
-        elif isinstance(step, SetValues):
-            for quantity, value in step.values:
-                assert quantity.ref is not None
-                if step.forced:
-                    target.force(quantity.ref, value)
-                    self.forced.add(quantity.name)
-                else:
-                    target.write(quantity.ref, value)
-            self.after_writes(step.quantities)
-        elif isinstance(step, LoadMda):
-            target.load_mda(step.channel, step.text)
-        elif isinstance(step, SelectProgram):
-            target.select_program(step.channel, step.name, step.text)
-        elif isinstance(step, Wait):
-            self.advance(step.duration.cycles(self.ipo_cycle_us))
-        elif isinstance(step, WaitUntil):
-            self.wait_until(step)
-        elif isinstance(step, ExpectValues):
-            self.expect_values(step)
-        elif isinstance(step, ExpectCondition):
-            if not self.evaluate(step.condition.compile(self.probe), step.condition):
-                raise self.fail(step, f"expected {step.condition}{self.now(step.quantities, '; found ')}")
-        elif isinstance(step, ExpectAlarm):
-            self.expect_alarm(step)
-        elif isinstance(step, ExpectOrder):
-            self.expect_order(step)
-        elif isinstance(step, ExpectTiming):
-            self.expect_timing(step)
-        elif isinstance(step, PowerCycle):
-            target.power_cycle(step.off.seconds)
-            self.after_cycle()
-        elif isinstance(step, InjectFault):
-            target.inject_fault(step.axis, step.fault, step.start, step.end, step.amount, step.encoder)
-        elif isinstance(step, InjectLinkFault):
-            target.inject_link_fault(step.fault, step.duration.microseconds, step.directions, step.areas,
-                                     step.delay.microseconds, step.every)
-        elif isinstance(step, ClearFaults):
-            target.clear_faults(step.axis)
-        elif isinstance(step, AcknowledgeAlarms):
-            target.acknowledge_alarms()
-        elif isinstance(step, MoveByHand):
-            target.move_by_hand(step.axis, step.velocity)
-        elif isinstance(step, TurnHandwheels):
-            cycles = step.duration.cycles(self.ipo_cycle_us)
-            for number, detents in step.detents:
-                target.turn_handwheel(number, detents, cycles)
-            self.advance(cycles)
-        else:  # pragma: no cover - the loader builds only the kinds above
+        kind = STEPS.get(step.kind)
+        if kind is None:  # pragma: no cover - the loader builds only the table's kinds
             raise TypeError(f"unknown step {step!r}")
-
-    def write_keys(self, keys: Sequence[Quantity], value: int) -> None:
-        for key in keys:
-            assert key.ref is not None
-            self.target.write(key.ref, value)
-        self.after_writes(keys)
-
-    def wait_until(self, step: WaitUntil) -> None:
-        condition = step.condition.compile(self.probe)
-        if self.evaluate(condition, step.condition):
-            return
-        limit = step.timeout.cycles(self.ipo_cycle_us) if step.timeout is not None else None
-        if not self.advance(limit, condition, step.condition):
-            raise self.fail(step, f"waited {step.timeout} for \"{step.condition}\"; it did not become true"
-                            f"{self.now(step.quantities, '. Now: ')}")
-
-    def expect_values(self, step: ExpectValues) -> None:
-        wrong = []
-        for quantity, expected in step.checks:
-            actual = self.read(quantity)
-            if not expected.matches(actual):
-                shown = str(expected)
-                relation = shown if shown[0] in "<>!=" else f"= {shown}"
-                wrong.append(f"expected {quantity.name} {relation}, found {format_value(actual)}")
-        if wrong:
-            raise self.fail(step, "; ".join(wrong))
-
-    def expect_alarm(self, step: ExpectAlarm) -> None:
-        place = f" ({step.place})" if step.place else ""
-        place += f" showing '{step.text}'" if step.text else ""
-        alarms = list(self.target.alarms())
-        present = ", ".join(_alarm_text(alarm.number, alarm.axis or alarm.channel, alarm.text)
-                            for alarm in alarms) or "none"
-        if step.present:
-            if not self.probe.alarm_present(step.number, step.place, step.text):
-                raise self.fail(step, f"expected alarm {step.number}{place} to be present;"
-                                f" present alarms: {present}")
-            return
-        if step.number == 0:
-            if alarms:
-                raise self.fail(step, f"expected no alarm; present alarms: {present}")
-            return
-        if self.probe.alarm_present(step.number, step.place, step.text):
-            raise self.fail(step, f"expected no alarm {step.number}{place}; present alarms: {present}")
+        kind.run(self, step)
 
     def occurrences(self, event: Event) -> list[int]:
         if event.kind is EdgeKind.WHEN:
@@ -414,57 +286,8 @@ class _Run:
         assert event.quantity is not None
         return self.recorder.occurrences(event.quantity, event.kind)
 
-    def expect_order(self, step: ExpectOrder) -> None:
-        found: list[str] = []
-        after = 0
-        for event in step.events:
-            cycles = self.occurrences(event)
-            later = [cycle for cycle in cycles if cycle >= after]
-            if not later:
-                expected = "expected " + ", then ".join(f"'{e}'" for e in step.events)
-                so_far = "; " + ", ".join(found) if found else ""
-                if not cycles:
-                    missing = f"'{event}' did not occur"
-                else:
-                    missing = (f"'{event}' did not occur after that (only at"
-                               f" {', '.join(self.at(c) for c in cycles[:3])})")
-                raise self.fail(step, f"{expected}{so_far}; {missing}")
-            after = later[0]
-            found.append(f"'{event}' at {self.at(after)}")
-
-    def expect_timing(self, step: ExpectTiming) -> None:
-        window = _window(step.minimum, step.maximum)
-        head = f"expected '{step.start}' to '{step.end}' to take {window}"
-        starts = self.occurrences(step.start)
-        if not starts:
-            raise self.fail(step, f"{head}; '{step.start}' did not occur")
-        start = starts[0]
-        ends = [cycle for cycle in self.occurrences(step.end) if cycle >= start]
-        if not ends:
-            raise self.fail(step, f"{head}; '{step.end}' did not occur after '{step.start}'"
-                            f" (at {self.at(start)})")
-        end = ends[0]
-        took_us = (end - start) * self.ipo_cycle_us
-        too_short = step.minimum is not None and took_us < step.minimum.microseconds
-        too_long = step.maximum is not None and took_us > step.maximum.microseconds
-        if too_short or too_long:
-            raise self.fail(step, f"{head}; it took {format_seconds(took_us / 1e6)}"
-                            f" ('{step.start}' at {self.at(start)}, '{step.end}' at {self.at(end)})")
-
     def at(self, cycle: int) -> str:
         return format_seconds(self.seconds(cycle))
-
-
-def _window(minimum: Duration | None, maximum: Duration | None) -> str:
-    if minimum is not None and maximum is not None:
-        return f"{minimum} .. {maximum}"
-    if minimum is not None:
-        return f"at least {minimum}"
-    return f"at most {maximum}"
-
-
-def _alarm_text(number: int, place: str, text: str) -> str:
-    return f"{number} {text}" if not place or place in text else f"{number} {text} ({place})"
 
 
 # ---------------------------------------------------------------------------------- public
