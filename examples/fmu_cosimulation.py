@@ -69,7 +69,7 @@ from fmu.unit import PLC_SIGN_OF_LIFE
 from interfaces.catalog import load_catalog
 from interfaces.image import ProcessImage
 from interfaces.links.inprocess import InProcessConnector
-from interfaces.plant_io import Owner
+from interfaces.plant_io import PointOwner
 from interfaces.plc import PlcEnvironment
 from interfaces.signals import Direction, SignalRef, expand
 from vc.config.loader import load_machine
@@ -193,12 +193,12 @@ class BuiltInPlc:
             points = self.to_fmu if signal.direction is Direction.PLC_TO_NC else self.from_fmu
             points.append(_Point(signal.symbol, self.interface, signal.ref()))
         for point in machine.plant_io.points:
-            if point.owner is Owner.PLANT:
+            if point.owner is PointOwner.PLANT:
                 self.from_fmu.append(_Point(point.name, self.plant, point.ref()))
-            elif point.owner is Owner.PLC:
+            elif point.owner is PointOwner.PLC:
                 self.to_fmu.append(_Point(point.name, self.plant, point.ref()))
         self.operator_points = {point.name: point.ref() for point in machine.plant_io.points
-                                if point.owner is Owner.OPERATOR}
+                                if point.owner is PointOwner.OPERATOR}
 
     def take_inputs(self, fmu_outputs: Mapping[str, Value], from_surroundings: Mapping[str, int]) -> None:
         """The inputs of the coming scan: what the FMU shows, and what the surroundings set."""
@@ -363,7 +363,7 @@ class Surroundings:
     def __init__(self, machine: MachineConfig, read_at_power_on: Read):
         channel = machine.channels[0].name
         panel = {point.name: int(read_at_power_on(point.name)) for point in machine.plant_io.points
-                 if point.owner is Owner.OPERATOR}
+                 if point.owner is PointOwner.OPERATOR}
         self.operator = Operator(panel, reference_then_approach_the_chuck(channel))
         self.chuck_protection = ChuckProtection()
         self.timeline = Timeline()

@@ -43,7 +43,7 @@ from typing import NoReturn
 
 from interfaces.errors import VcError
 from interfaces.image import ProcessImage, Value, ValueRangeError, decode
-from interfaces.plant_io import Owner
+from interfaces.plant_io import PointOwner
 from interfaces.signals import NCK_INSTANCE, Direction, SignalRef, SignalType
 from vc.config.loader import load_machine
 from vc.config.md_dictionary import IPO_SYSCLOCK_TIME_RATIO
@@ -124,7 +124,7 @@ class NcUnit:
         for point in self.machine.plant_io.points:
             ref = point.ref()
             text = f"{point.address} {point.meaning}"
-            if point.owner is Owner.OPERATOR:
+            if point.owner is PointOwner.OPERATOR:
                 text += " (the operator's: its power-on position; the operator acts at the PLC)"
             if point.direction is Direction.PLC_TO_PLANT:
                 self._declare_input(ref, text)

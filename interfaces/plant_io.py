@@ -35,7 +35,7 @@ from interfaces.errors import VcError
 from interfaces.signals import Direction, SignalRef, SignalType, UnknownSignalError
 
 
-class Owner(StrEnum):
+class PointOwner(StrEnum):
     """Who drives a plant I/O point."""
 
     OPERATOR = "operator"  # keys, switches and the emergency-stop button: set by a person (a scenario)
@@ -48,58 +48,59 @@ class PlantFunction:
     pattern: str  # regular expression over the name; (?P<axis>...) captures an axis name
     type: SignalType
     direction: Direction
-    owner: Owner
+    owner: PointOwner
     meaning: str
 
 
 _AXIS = r"(?P<axis>[A-Za-z][A-Za-z0-9_]*)"
 
 PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
-    PlantFunction(r"MCP\.(auto|mda|jog|ref)", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR,
+    PlantFunction(r"MCP\.(auto|mda|jog|ref)", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "operating mode / machine function key on the machine control panel"),
     PlantFunction(r"MCP\.(ncStart|ncStop|reset|feedStop|feedStart|spindleStop|spindleStart|rapid)",
-                  SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR, "machine control panel key"),
-    PlantFunction(rf"MCP\.(plus|minus)\.{_AXIS}", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR,
+                  SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR, "machine control panel key"),
+    PlantFunction(rf"MCP\.(plus|minus)\.{_AXIS}", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "traverse key of one axis on the machine control panel"),
-    PlantFunction(r"MCP\.noOrthogonalCompensation", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR,
+    PlantFunction(r"MCP\.noOrthogonalCompensation", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "switch on the machine control panel: move the inclined axis without compensating the "
                   "orthogonal one (NOZAGC of the inclined-axis control)"),
     PlantFunction(r"MCP\.(feedOverride|spindleOverride|rapidOverride)", SignalType.BYTE,
-                  Direction.PLANT_TO_PLC, Owner.OPERATOR, "override switch, binary coded percent (0..200)"),
-    PlantFunction(r"MCP\.handwheel[1-3]", SignalType.BYTE, Direction.PLANT_TO_PLC, Owner.OPERATOR,
+                  Direction.PLANT_TO_PLC, PointOwner.OPERATOR, "override switch, binary coded percent (0..200)"),
+    PlantFunction(r"MCP\.handwheel[1-3]", SignalType.BYTE, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "axis selector of handwheel n on the machine control panel, coded as the HMI's handwheel"
                   " byte DB10.DBB100: bits 0..4 the axis number, bit 7 = 1 machine axis, 0 geometry axis of"
                   " channel 1; 0 = no axis"),
     PlantFunction(r"MCP\.(inc1|inc10|inc100|inc1000|inc10000)", SignalType.BOOL, Direction.PLANT_TO_PLC,
-                  Owner.OPERATOR, "increment key on the machine control panel (machine function INC1 .. INC10000)"),
-    PlantFunction(r"EStop\.chainOk", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR,
+                  PointOwner.OPERATOR,
+                  "increment key on the machine control panel (machine function INC1 .. INC10000)"),
+    PlantFunction(r"EStop\.chainOk", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "emergency-stop chain, normally closed: 1 = healthy, 0 = pressed or broken"),
-    PlantFunction(r"Drives\.ready", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+    PlantFunction(r"Drives\.ready", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "drive line-up ready (infeed on, no drive fault)"),
-    PlantFunction(rf"{_AXIS}\.refCam", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+    PlantFunction(rf"{_AXIS}\.refCam", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "reference cam switch of the axis: 1 while the axis stands on the cam"),
-    PlantFunction(rf"{_AXIS}\.(hwLimitMinus|hwLimitPlus)", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+    PlantFunction(rf"{_AXIS}\.(hwLimitMinus|hwLimitPlus)", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "hardware limit switch, normally closed: 1 = free, 0 = actuated"),
-    PlantFunction(rf"{_AXIS}\.gearEngaged[1-5]", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+    PlantFunction(rf"{_AXIS}\.gearEngaged[1-5]", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "gear stage n engaged sensor of the spindle's gearbox: 1 while gear stage n is in mesh"),
-    PlantFunction(rf"{_AXIS}\.gearNeutral", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+    PlantFunction(rf"{_AXIS}\.gearNeutral", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "neutral sensor of the spindle's gearbox: 1 while no gear stage is engaged"),
-    PlantFunction(rf"{_AXIS}\.chuckClosed", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+    PlantFunction(rf"{_AXIS}\.chuckClosed", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "end-position sensor of the spindle's chuck: 1 while the chuck is clamped"),
-    PlantFunction(rf"{_AXIS}\.chuckOpen", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.PLANT,
+    PlantFunction(rf"{_AXIS}\.chuckOpen", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "end-position sensor of the spindle's chuck: 1 while the chuck is fully open"),
-    PlantFunction(r"Door\.closed", SignalType.BOOL, Direction.PLANT_TO_PLC, Owner.OPERATOR,
+    PlantFunction(r"Door\.closed", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "guard door switch of the machining area: 1 = closed, 0 = open"),
-    PlantFunction(r"Drives\.on", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
+    PlantFunction(r"Drives\.on", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
                   "main contactor / infeed on command"),
-    PlantFunction(r"Lamp\.[A-Za-z0-9_.]+", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
+    PlantFunction(r"Lamp\.[A-Za-z0-9_.]+", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
                   "indicator lamp on the machine control panel"),
-    PlantFunction(rf"{_AXIS}\.gearShift[1-5]", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
+    PlantFunction(rf"{_AXIS}\.gearShift[1-5]", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
                   "gear-stage shift actuator (valve) of the spindle's gearbox: 1 = move the gearbox into gear"
                   " stage n; the PLC holds it on until the stage is engaged"),
-    PlantFunction(rf"{_AXIS}\.chuckClose", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
+    PlantFunction(rf"{_AXIS}\.chuckClose", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
                   "clamp solenoid of the chuck valve: 1 = the chuck clamps (the PLC holds it on)"),
-    PlantFunction(rf"{_AXIS}\.chuckRelease", SignalType.BOOL, Direction.PLC_TO_PLANT, Owner.PLC,
+    PlantFunction(rf"{_AXIS}\.chuckRelease", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
                   "unclamp solenoid of the chuck valve: 1 = the chuck opens; neither solenoid on: it holds"),
 )
 
@@ -187,7 +188,7 @@ class PlantIoPoint:
     name: str
     type: SignalType
     direction: Direction
-    owner: Owner
+    owner: PointOwner
     meaning: str
 
     def ref(self) -> SignalRef:

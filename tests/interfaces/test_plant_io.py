@@ -7,9 +7,9 @@ import pytest
 
 from interfaces.plant_io import (
     GearboxPoint,
-    Owner,
     PlantIoError,
     PlantIoMap,
+    PointOwner,
     chuck_axis,
     chuck_close,
     chuck_closed,
@@ -25,17 +25,18 @@ from interfaces.signals import Direction
 
 
 @pytest.mark.parametrize(("name", "direction", "owner"), [
-    ("SP1.gearShift1", Direction.PLC_TO_PLANT, Owner.PLC),
-    ("SP1.gearShift5", Direction.PLC_TO_PLANT, Owner.PLC),
-    ("SP1.gearEngaged3", Direction.PLANT_TO_PLC, Owner.PLANT),
-    ("SP1.gearNeutral", Direction.PLANT_TO_PLC, Owner.PLANT),
-    ("SP1.chuckClose", Direction.PLC_TO_PLANT, Owner.PLC),
-    ("SP1.chuckRelease", Direction.PLC_TO_PLANT, Owner.PLC),
-    ("SP2.chuckClosed", Direction.PLANT_TO_PLC, Owner.PLANT),
-    ("SP2.chuckOpen", Direction.PLANT_TO_PLC, Owner.PLANT),
-    ("Door.closed", Direction.PLANT_TO_PLC, Owner.OPERATOR),
+    ("SP1.gearShift1", Direction.PLC_TO_PLANT, PointOwner.PLC),
+    ("SP1.gearShift5", Direction.PLC_TO_PLANT, PointOwner.PLC),
+    ("SP1.gearEngaged3", Direction.PLANT_TO_PLC, PointOwner.PLANT),
+    ("SP1.gearNeutral", Direction.PLANT_TO_PLC, PointOwner.PLANT),
+    ("SP1.chuckClose", Direction.PLC_TO_PLANT, PointOwner.PLC),
+    ("SP1.chuckRelease", Direction.PLC_TO_PLANT, PointOwner.PLC),
+    ("SP2.chuckClosed", Direction.PLANT_TO_PLC, PointOwner.PLANT),
+    ("SP2.chuckOpen", Direction.PLANT_TO_PLC, PointOwner.PLANT),
+    ("Door.closed", Direction.PLANT_TO_PLC, PointOwner.OPERATOR),
 ])
-def test_gearbox_chuck_and_door_points_are_in_the_vocabulary(name: str, direction: Direction, owner: Owner) -> None:
+def test_gearbox_chuck_and_door_points_are_in_the_vocabulary(name: str, direction: Direction,
+                                                             owner: PointOwner) -> None:
     function = plant_function(name)
     assert function is not None
     assert (function.direction, function.owner) == (direction, owner)

@@ -21,7 +21,7 @@ from enum import Enum
 from vc.core.channel.program_run import ChannelState, ProgramState
 from vc.core.referencing.referencing import State as ReferencingState
 from vc.core.retraction.drive_esr import DriveEsrReaction as DriveReaction
-from vc.core.spindle.coupling_state import Phase as CouplingPhase
+from vc.core.spindle.coupling_state import SyncPhase as CouplingPhase
 from vc.core.spindle.gear_change import GearState
 from vc.core.spindle.spindle import SpindleMode
 

@@ -109,7 +109,9 @@ class ConsoleReport:
 
     def _tick(self, detail: str) -> None:
         if self.progress is None:
-            if self.clock() - self.began < self.delay_s:
+            # only on a terminal: into a file or a pipe the bar's transient line would leave a blank
+            # line at its end, and a report of the same run would depend on how long it took
+            if not self.console.is_terminal or self.clock() - self.began < self.delay_s:
                 return
             self.progress = Progress(TextColumn("{task.description}", markup=False), BarColumn(),
                                      TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),

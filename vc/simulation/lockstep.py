@@ -21,7 +21,7 @@ from interfaces.catalog import load_catalog
 from interfaces.image import ProcessImage, Value
 from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import InProcessConnector
-from interfaces.plant_io import Owner
+from interfaces.plant_io import PointOwner
 from interfaces.plc import CyclicPlc, PlcConnector, PlcEnvironment, SoftPlc
 from interfaces.signals import NCK_INSTANCE, Direction, SignalRef
 from vc.config.machine_data import MachineData
@@ -232,7 +232,7 @@ class Simulation:
         self._observed_cycle = -1
         underlying = self._underlying.pop(ref, None)
         point = self.plant_io.by_name(ref.name) if ref.direction is Direction.PLANT_TO_PLC else None
-        if point is not None and point.owner is Owner.PLANT:
+        if point is not None and point.owner is PointOwner.PLANT:
             self.plant.refresh(self.plant_image)
         elif underlying is not None:
             self._image_of(ref).write(ref, underlying)

@@ -72,7 +72,7 @@ def test_failure_text(tmp_path: Path) -> None:
 
 def test_progress_appears_only_after_a_second(tmp_path: Path) -> None:
     now = [0.0]
-    shown, _ = console()
+    shown = Console(file=io.StringIO(), width=200, force_terminal=True)  # a terminal: the bar is for people
     report = ConsoleReport(shown, clock=lambda: now[0])
     loaded = scenario(tmp_path, PASSING)
     report.scenario_started(loaded, 0, 2)
@@ -84,6 +84,18 @@ def test_progress_appears_only_after_a_second(tmp_path: Path) -> None:
     task = report.progress.tasks[0]
     assert task.total == 2 and "moves to 10" in task.description and "1 s simulated" in task.description
     report.close()
+    assert report.progress is None
+
+
+def test_no_progress_bar_into_a_file_or_pipe(tmp_path: Path) -> None:
+    """Off a terminal the report is the same however long the run takes (no transient bar line)."""
+    now = [0.0]
+    shown, _ = console()
+    report = ConsoleReport(shown, clock=lambda: now[0])
+    loaded = scenario(tmp_path, PASSING)
+    report.scenario_started(loaded, 0, 1)
+    now[0] = 5.0
+    report.scenario_progress(loaded, 1.0)
     assert report.progress is None
 
 

@@ -4,7 +4,7 @@
 ``channel``              the Channel: its commands (NC start, NC stop, reset, mode change) and its
                          IPO cycle; it owns the parts below and delegates to them
 ``program_run``          the channel and program state, the program and the block in progress: what
-                         the parts share (ChannelState, ProgramState, Phase, Mode)
+                         the parts share (ChannelState, ProgramState, BlockPhase, Mode)
 ``interface``            the DB21 signals: the PLC's requests and their edges, the states written back
 ``block_execution``      a block plan turned into motion, dwell, G74, the block change, program end
 ``spindle_functions``    the blocks' spindle, coupling and polygon commands and their interlocks

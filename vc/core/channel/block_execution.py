@@ -28,7 +28,7 @@ from vc.core.axis.axis import MachineAxis
 from vc.core.axis.owner import Owner
 from vc.core.axis.stroke_limits import BOUNDARY, StrokeStop
 from vc.core.channel.interface import ChannelInputs
-from vc.core.channel.program_run import ChannelState, Phase, ProgramRun, ProgramState, raise_block_alarm
+from vc.core.channel.program_run import BlockPhase, ChannelState, ProgramRun, ProgramState, raise_block_alarm
 from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.channel.spindle_functions import SpindleFunctions
 from vc.core.channel.stroke_limit_path import ChannelStrokeLimits
@@ -79,20 +79,20 @@ class BlockExecution:
     def cycle(self, hold: bool, cycle: int) -> None:
         """Interpolation and block change for one IPO cycle; ``hold``: the path may not move."""
         run = self.run
-        if run.phase is Phase.INTERPOLATE:
+        if run.phase is BlockPhase.INTERPOLATE:
             self._interpolate(hold, cycle)
-        elif run.phase is Phase.REFERENCE:
+        elif run.phase is BlockPhase.REFERENCE:
             self._g74(cycle)
-        elif run.phase is Phase.SPINDLE and not hold:
+        elif run.phase is BlockPhase.SPINDLE and not hold:
             plan = run.plan
             assert plan is not None
             if self._spindles.spindles_ready(plan):
                 self._start_block_body(cycle)
-        elif run.phase is Phase.DWELL and not hold:
+        elif run.phase is BlockPhase.DWELL and not hold:
             self._dwell_cycle()
-        elif run.phase is Phase.BLOCK_END:
+        elif run.phase is BlockPhase.BLOCK_END:
             self._block_end()
-        if run.phase is Phase.DECODE and run.state is ChannelState.ACTIVE and not hold:
+        if run.phase is BlockPhase.DECODE and run.state is ChannelState.ACTIVE and not hold:
             self._decode_next(cycle)
 
     def _dwell_cycle(self) -> None:
@@ -110,7 +110,7 @@ class BlockExecution:
 
     def _end_dwell(self) -> None:
         # The dwell block ends like any other: read-in disable and WAITC still hold it.
-        self.run.phase = Phase.BLOCK_END
+        self.run.phase = BlockPhase.BLOCK_END
         self._block_end()
 
     @staticmethod
@@ -154,7 +154,7 @@ class BlockExecution:
                 # A reaction (rapid stop, limit switch) braked an axis off the path: the contour is
                 # lost, the block cannot be finished; the program stops and only RESET ends it.
                 self._release_segment()
-                run.phase = Phase.CONTOUR_LOST
+                run.phase = BlockPhase.CONTOUR_LOST
                 self._stop()
                 return
             # Feed disable, an axis feed stop or a missing enable hold the path; the program
@@ -171,12 +171,12 @@ class BlockExecution:
         if segment.finished:
             self._release_segment()
             if self.stroke_stop is not None:
-                run.phase = Phase.CONTOUR_LOST  # the block cannot go on; RESET ends it
+                run.phase = BlockPhase.CONTOUR_LOST  # the block cannot go on; RESET ends it
                 self._raise_stroke_alarm(self.stroke_stop, cycle)
                 return
             if self._leg_finished():
                 return
-            run.phase = Phase.BLOCK_END
+            run.phase = BlockPhase.BLOCK_END
             self._block_end()
 
     def _leg_finished(self) -> bool:
@@ -214,7 +214,7 @@ class BlockExecution:
 
     def _next_block(self) -> None:
         plan = self.run.plan
-        self.run.phase = Phase.DECODE
+        self.run.phase = BlockPhase.DECODE
         self.run.plan = None
         self.run.block_index += 1
         if plan is not None and plan.program_end:
@@ -269,7 +269,7 @@ class BlockExecution:
                 axis.delete_drf_offset()
         catching_up = self._spindles.program_spindles(plan, cycle, block)
         if plan.spindles or plan.targets or catching_up or self._spindles.waits:
-            self.run.phase = Phase.SPINDLE
+            self.run.phase = BlockPhase.SPINDLE
             if not self._spindles.spindles_ready(plan):
                 return
         self._start_block_body(cycle)
@@ -307,7 +307,7 @@ class BlockExecution:
         assert plan is not None
         if plan.reference_axes:
             self._g74_axes = list(plan.reference_axes)
-            self.run.phase = Phase.REFERENCE
+            self.run.phase = BlockPhase.REFERENCE
             for name in self._g74_axes:
                 if not self._referencing.start(name, Source.G74, 0, cycle):
                     self._alarms.raise_alarm(20005, cycle, self.name, name, channel=self.name, axis=name)
@@ -315,11 +315,11 @@ class BlockExecution:
                     return
             return
         if plan.dwell > 0.0:
-            self.run.phase = Phase.DWELL
+            self.run.phase = BlockPhase.DWELL
             self._dwell_cycles = max(1, math.ceil(plan.dwell / self._dt - 1e-9))
             return
         if plan.dwell_revolutions > 0.0:
-            self.run.phase = Phase.DWELL
+            self.run.phase = BlockPhase.DWELL
             self._dwell_degrees = plan.dwell_revolutions * 360.0
             self._dwell_spindle = plan.dwell_spindle
             return
@@ -332,7 +332,7 @@ class BlockExecution:
             self._stop()
             return
         if not plan.targets:
-            self.run.phase = Phase.BLOCK_END
+            self.run.phase = BlockPhase.BLOCK_END
             self._block_end()
             return
         if plan.thread is not None:
@@ -376,7 +376,7 @@ class BlockExecution:
         self._feed_per_revolution = (plan.feed / 60.0, segment.command_velocity) if per_revolution else None
         for axis in axes:
             axis.take(Owner.PATH)
-        self.run.phase = Phase.INTERPOLATE
+        self.run.phase = BlockPhase.INTERPOLATE
         self._interpolate(False, cycle)
 
     def _arc_path(self, plan: BlockPlan, axes: list[MachineAxis]) -> ToolPathSegment | DecodeAlarm:
@@ -419,8 +419,8 @@ class BlockExecution:
         procedures = [self._referencing.of[name] for name in self._g74_axes]
         if any(procedure.state is State.IDLE for procedure in procedures):
             self._stop()  # aborted with an alarm: the program stops
-            self.run.phase = Phase.CONTOUR_LOST
+            self.run.phase = BlockPhase.CONTOUR_LOST
             return
         if all(procedure.state is State.DONE for procedure in procedures):
-            self.run.phase = Phase.BLOCK_END
+            self.run.phase = BlockPhase.BLOCK_END
             self._block_end()

@@ -33,7 +33,7 @@ from vc.core.axis.stroke_limits import StrokeLimitControl
 from vc.core.channel.block_execution import BlockExecution
 from vc.core.channel.channel_referencing import ChannelReferencing
 from vc.core.channel.interface import ChannelInterface, ChannelSignals
-from vc.core.channel.program_run import ChannelState, Mode, Phase, ProgramRun, ProgramState
+from vc.core.channel.program_run import BlockPhase, ChannelState, Mode, ProgramRun, ProgramState
 from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.channel.spindle_functions import SpindleFunctions
 from vc.core.channel.stroke_limit_path import ChannelStrokeLimits
@@ -215,7 +215,7 @@ class Channel:
         if mode is Mode.JOG or reference_function:
             return
         if run.state is ChannelState.INTERRUPTED:
-            if run.started_in is mode and run.phase is not Phase.CONTOUR_LOST:
+            if run.started_in is mode and run.phase is not BlockPhase.CONTOUR_LOST:
                 run.state = ChannelState.ACTIVE
                 run.program_state = ProgramState.RUNNING
                 run.stopping = False
@@ -228,7 +228,7 @@ class Channel:
         run.blocks = parse_program(text)
         run.block_index = 0
         run.leaving_thread_chain = False
-        run.phase = Phase.DECODE
+        run.phase = BlockPhase.DECODE
         run.modal.reset()
         self._spindles.program_start(run.modal)
         run.started_in = mode

@@ -38,7 +38,7 @@ class ProgramState(Enum):
     INTERRUPTED = "interrupted"
 
 
-class Phase(Enum):
+class BlockPhase(Enum):
     DECODE = "decode"
     INTERPOLATE = "interpolate"
     BLOCK_END = "block_end"
@@ -66,7 +66,7 @@ class ProgramRun:
         self.block_index = 0
         self.leaving_thread_chain = False  # after a fast retraction: skip the chain's other G33 blocks
         self.current_block: Block | None = None
-        self.phase = Phase.DECODE
+        self.phase = BlockPhase.DECODE
         self.plan: BlockPlan | None = None
         self.segment: PathSegment | ToolPathSegment | None = None  # the path of the running block
         self.stop_after_block = False
@@ -89,7 +89,7 @@ class ProgramRun:
         self.block_index = 0
         self.leaving_thread_chain = False
         self.current_block = None
-        self.phase = Phase.DECODE
+        self.phase = BlockPhase.DECODE
         self.plan = None
         self.stop_after_block = False
         self.stopping = False

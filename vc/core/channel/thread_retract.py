@@ -22,7 +22,7 @@ from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.owner import Owner
-from vc.core.channel.program_run import ChannelState, Phase, ProgramRun, ProgramState, raise_block_alarm
+from vc.core.channel.program_run import BlockPhase, ChannelState, ProgramRun, ProgramState, raise_block_alarm
 from vc.core.channel.spindle_functions import SpindleFunctions
 from vc.core.interpolation.thread_cutting import THREAD_SPINDLE_STANDS, ThreadSegment
 from vc.core.program.block_plan import BlockPlan
@@ -100,7 +100,7 @@ class ThreadRetract:
         if self.thread_segment is not None and self.run.modal.retract.enabled and not self._thread_interrupted:
             self.lift_fast(cycle)
             return
-        interpolation = (self.thread_segment or self.run.segment) if self.run.phase is Phase.INTERPOLATE else None
+        interpolation = (self.thread_segment or self.run.segment) if self.run.phase is BlockPhase.INTERPOLATE else None
         esr.start_channel_reaction(cycle, [axis.name for axis in self._axes], interpolation, self.run.modal.retract,
                                    self._esr_delays(), self.inclined)
         if self.thread_segment is not None:
@@ -137,7 +137,7 @@ class ThreadRetract:
         self._thread_chain = None
         self._thread_interrupted = False
         self.run.plan = None
-        self.run.phase = Phase.DECODE
+        self.run.phase = BlockPhase.DECODE
         self.run.block_index += 1
         self.run.leaving_thread_chain = True
 
@@ -158,7 +158,7 @@ class ThreadRetract:
             else 0.0
         self.thread_segment = ThreadSegment.plan(axes, [plan.targets[axis.name] for axis in axes], lead_delta,
                                                  plan.thread, master.axis, self._thread_chain)
-        self.run.phase = Phase.INTERPOLATE
+        self.run.phase = BlockPhase.INTERPOLATE
         return self.thread_cycle()
 
     def thread_cycle(self) -> bool:
@@ -173,7 +173,7 @@ class ThreadRetract:
                 if axis.owner is Owner.PATH:
                     axis.brake()  # braked off the thread (rapid stop): the others stop too, the contour is lost
             self.thread_segment = None
-            self.run.phase = Phase.CONTOUR_LOST
+            self.run.phase = BlockPhase.CONTOUR_LOST
             self._stop()
             return False
         thread.cycle(self._dt)
@@ -186,6 +186,6 @@ class ThreadRetract:
             self.thread_segment = None
             self._thread_interrupted = False
             self._thread_chain = thread.end_position
-            self.run.phase = Phase.BLOCK_END
+            self.run.phase = BlockPhase.BLOCK_END
             return True
         return False

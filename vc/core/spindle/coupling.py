@@ -26,7 +26,7 @@ from vc.core.spindle.coupling_monitor import ALARM_NOT_SYNCHRONISED, Synchronism
 from vc.core.spindle.coupling_motion import CouplingMotion
 from vc.core.spindle.coupling_signals import ALARM_OVERLAY_NOT_ENABLED, CouplingInputs, CouplingInterface
 from vc.core.spindle.coupling_signals import CouplingSignals as CouplingSignals  # the NCK builds them
-from vc.core.spindle.coupling_state import Coupling, PairDefinition, Phase, wrap180
+from vc.core.spindle.coupling_state import Coupling, PairDefinition, SyncPhase, wrap180
 from vc.core.spindle.spindle import RPM, Spindle, SpindleMode
 
 ALARM_COUPLING_NOT_DEFINED = 16796  # [control] COUPON / COUPOF of a pair nobody defined
@@ -205,7 +205,7 @@ class Couplings:
         (L22285-22297): 0 moves to the offset as overlaid motion (COUPON's block change criterion
         decides the wait), 1 keeps the relation and only records the offset, which DBX31.4 or a
         COUPON with 31.5 = 0 restores later (L22361-22380)."""
-        if coupling.phase is Phase.SYNCHRONISING:
+        if coupling.phase is SyncPhase.SYNCHRONISING:
             # $P_COUP_OFFS counts the SPOS increments queued behind COUPON's offset (see _synchronous)
             coupling.programmed = (offset + sum(distance for distance, _, _ in coupling.queued)) % 360.0
             coupling.offset_pending = True

@@ -28,7 +28,7 @@ from vc.core.spindle.coupling_state import (
     ALARM_COARSE_2_EXCEEDED,
     ALARM_FINE_2_EXCEEDED,
     Coupling,
-    Phase,
+    SyncPhase,
     actual_relation,
     leading_position,
     threshold,
@@ -166,7 +166,7 @@ class SynchronismMonitor:
         of both spindles and whatever disturbs the FS.  Unlike the deviation the monitoring judges
         it does not count an overlaid motion still to go; before setpoint synchronism the
         relation is not defined and it reads 0."""
-        if coupling.phase is not Phase.SYNCHRONOUS:
+        if coupling.phase is not SyncPhase.SYNCHRONOUS:
             return 0.0
         return wrap180(actual_relation(coupling, self._spindles) - coupling.relation - coupling.correction_applied)
 
@@ -206,7 +206,7 @@ class SynchronismMonitor:
         Before setpoint synchronism it is measured against COUPON's offset, 0 without one [control]."""
         fs = self._spindles[coupling.definition.following].axis
         position, _ = leading_position(coupling, self._spindles)
-        if coupling.phase is Phase.SYNCHRONOUS:
+        if coupling.phase is SyncPhase.SYNCHRONOUS:
             goal = coupling.target + coupling.correction
         elif coupling.offset_pending and coupling.programmed is not None:
             goal = coupling.programmed

@@ -28,7 +28,7 @@ from vc.core.axis.motion import ramp, stopping_distance, stopping_velocity
 from vc.core.axis.owner import Owner
 from vc.core.program.commands import Kind
 from vc.core.spindle.coupling_signals import ALARM_OVERLAY_NOT_ENABLED, CouplingInputs
-from vc.core.spindle.coupling_state import Coupling, Overlay, Phase, actual_relation, leading_position, wrap180
+from vc.core.spindle.coupling_state import Coupling, Overlay, SyncPhase, actual_relation, leading_position, wrap180
 from vc.core.spindle.spindle import RPM, Spindle
 
 ALARM_NO_SPEED_PROGRAMMED = 16111  # M3/M4 on the FS without S (L23485-23488)
@@ -97,7 +97,7 @@ class CouplingMotion:
         inputs = self.inputs[following]
         edges, inputs.edges = inputs.edges, set()
         fs = self._spindles[following]
-        if "resync" in edges and coupling.programmed is not None and coupling.phase is Phase.SYNCHRONOUS:
+        if "resync" in edges and coupling.programmed is not None and coupling.phase is SyncPhase.SYNCHRONOUS:
             # DBX31.4: restore the programmed offset (L23098-23145); the relation restarts from where
             # the FS stands now
             coupling.target = coupling.relation
@@ -154,7 +154,7 @@ class CouplingMotion:
                 axis.take(Owner.COUPLING)
             return
         if not axis.servo_on and (axis.follow_up or not axis.drive_ready):
-            if coupling.phase is Phase.SYNCHRONISING:
+            if coupling.phase is SyncPhase.SYNCHRONISING:
                 axis.command_velocity = 0.0
                 if velocity != 0.0:
                     return  # the FS stands until both spindles have their enables (L23240-23243)
@@ -166,7 +166,7 @@ class CouplingMotion:
             axis.setpoint = k * position + coupling.relation + coupling.correction_applied
             axis.command_velocity = 0.0
             return
-        if coupling.phase is Phase.SYNCHRONISING:
+        if coupling.phase is SyncPhase.SYNCHRONISING:
             coupled_velocity = k * velocity + coupling.differential_velocity
             # the FS's own kinked characteristic counts only while it synchronises (L23806-23809)
             new_velocity = ramp(axis.command_velocity, coupled_velocity,
@@ -214,7 +214,7 @@ class CouplingMotion:
         """Setpoint synchronism: the relation is fixed; a programmed offset follows as overlay
         unless DBX31.5 forbids it (L22277-22319)."""
         fs = self._spindles[following].axis
-        coupling.phase = Phase.SYNCHRONOUS
+        coupling.phase = SyncPhase.SYNCHRONOUS
         coupling.relation = coupling.target = fs.setpoint - leading_part
         if coupling.pending_shift:
             self.move_relation(coupling, coupling.pending_shift, waits=False)
@@ -326,7 +326,7 @@ class CouplingMotion:
         fs = self._spindles[following]
         # FA[Sn] (DBX17.0 scales it: _overlay_step), else MD35300
         limit = feed * RPM / 360.0 if feed > 0.0 else fs.speed_control.positioning_speed() * RPM
-        if coupling.phase is Phase.SYNCHRONISING:
+        if coupling.phase is SyncPhase.SYNCHRONISING:
             # no relation yet: the motion follows COUPON's pending offset once setpoint synchronism
             # is reached; an absolute position replaces that offset [control]
             if mode == "IC":
@@ -377,7 +377,7 @@ class CouplingMotion:
         stop, feed disable) brakes it as an axis's JOG.  Ignored until setpoint synchronism and on a
         polygon slave (seed 002 L63-65: the relation holds in manual operation too)."""
         coupling = self._active.get(following)
-        if coupling is None or coupling.phase is not Phase.SYNCHRONOUS:
+        if coupling is None or coupling.phase is not SyncPhase.SYNCHRONOUS:
             return
         fs = self._spindles[following]
         axis = fs.axis
@@ -398,7 +398,7 @@ class CouplingMotion:
         it.  Refused where the JOG keys are: before setpoint synchronism, on a polygon slave (seed 002
         L63-65)."""
         coupling = self._active.get(following)
-        if coupling is not None and coupling.phase is Phase.SYNCHRONOUS and coupling.jog_allowed:
+        if coupling is not None and coupling.phase is SyncPhase.SYNCHRONOUS and coupling.jog_allowed:
             coupling.drf_rest += distance
 
     def _drf_step(self, coupling: Coupling, axis: MachineAxis, accel: float, stopped: bool) -> None:

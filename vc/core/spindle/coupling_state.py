@@ -64,7 +64,7 @@ class PairDefinition:
         return self.numerator / self.denominator
 
 
-class Phase(Enum):
+class SyncPhase(Enum):
     SYNCHRONISING = "synchronising"
     SYNCHRONOUS = "synchronous"
 
@@ -88,7 +88,7 @@ class Coupling:
     definition: PairDefinition
     channel: str
     block: str = ""  # the COUPON block, shown by the stage-2 alarms
-    phase: Phase = Phase.SYNCHRONISING
+    phase: SyncPhase = SyncPhase.SYNCHRONISING
     relation: float = 0.0  # $AA_COUP_OFFS: FS setpoint - k x LS position (without the correction)
     target: float = 0.0  # the relation the coupling heads for
     programmed: float | None = None  # $P_COUP_OFFS
@@ -128,7 +128,7 @@ class Coupling:
 
     @property
     def setpoint_synchronous(self) -> bool:
-        return (self.phase is Phase.SYNCHRONOUS and self.overlay is None and not self.offset_pending
+        return (self.phase is SyncPhase.SYNCHRONOUS and self.overlay is None and not self.offset_pending
                 and not self.queued)
 
     def stage_2_monitors(self, number: int, tolerance: float) -> bool:

@@ -19,7 +19,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol, TypeVar
 
-from interfaces.plant_io import Owner
+from interfaces.plant_io import PointOwner
 from interfaces.signals import HMI_INSTANCE, Direction, SignalType, UnknownSignalError
 from vc.config.model import MachineConfig
 from vc.input_limits import MAX_MAGNITUDE
@@ -201,7 +201,7 @@ class StepChecker:
             inside = point.address.area == address.area and \
                 point.address.byte <= address.byte < point.address.byte + point.address.size
             if point.address == address or (address.is_bit and not point.address.is_bit and inside):
-                return point.owner is Owner.OPERATOR
+                return point.owner is PointOwner.OPERATOR
         return False
 
     def number(self, value: Any, mark: Mark, what: str) -> float | None:
