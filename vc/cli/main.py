@@ -44,6 +44,7 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import os
 import platform
 import sys
 from collections.abc import Callable, Mapping, Sequence
@@ -637,5 +638,20 @@ def main(argv: Sequence[str] | None = None) -> int:
     return code
 
 
+def entry() -> None:
+    """The ``vc`` command.  A run interrupted with Ctrl-C ends here at once: its worker processes
+    were terminated, and one of them may have died in the middle of sending a result, which leaves
+    the process pool's manager thread waiting for the rest of it; the interpreter's exit would
+    join that thread for ever.  Everything to say has been said (and flushed) by then."""
+    code = main()
+    from vc.scenario.command import EXIT_INTERRUPTED
+
+    if code == EXIT_INTERRUPTED:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+    sys.exit(code)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    entry()
