@@ -171,14 +171,20 @@ def as_number(raw: object) -> int | float | None:
     return number if math.isfinite(number) and abs(number) <= MAX_MAGNITUDE else None
 
 
+_INDEX_SHIFT = 20  # a float's cache key: the MD number (below 2^20) with its array index + 1 above it
+
+
 class MachineData:
     """Values of one level instance (NCK, a channel or an axis), defaults filled in."""
 
-    __slots__ = ("_values", "owner")
+    __slots__ = ("_floats", "_values", "owner")
 
     def __init__(self, owner: str, values: Mapping[int, MdValue]):
         self.owner = owner
         self._values = dict(values)
+        # the values are fixed once loaded (a change makes a new instance: with_values), so a float
+        # asked for once is kept: the IPO cycle asks for the same gear-stage data every cycle
+        self._floats: dict[builtins.int, builtins.float] = {}
 
     def value(self, md: MdDef) -> MdValue:
         try:
@@ -187,9 +193,16 @@ class MachineData:
             return md.default
 
     def float(self, md: MdDef, index: int | None = None) -> builtins.float:
+        key = md.number if index is None else md.number | (index + 1) << _INDEX_SHIFT if index >= 0 else -1
+        known = self._floats.get(key)
+        if known is not None:
+            return known
         value = self._indexed(md, index)
         assert isinstance(value, (int, float)) and not isinstance(value, str)
-        return float(value)
+        number = float(value)
+        if key >= 0:
+            self._floats[key] = number
+        return number
 
     def int(self, md: MdDef, index: builtins.int | None = None) -> builtins.int:
         value = self._indexed(md, index)
