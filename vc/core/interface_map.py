@@ -1,16 +1,22 @@
 """Where the NC core finds its interface signals, resolved from the catalogue once.
 
-The core never writes an address: it names signals by their catalogue symbol without
-the instance (``basic.out.traversKeyPlus``) and gets a :class:`Bit` or :class:`Field`
-with the byte offset and mask inside the instance's data block (:mod:`interfaces.bit_access`,
-shared with the PLC runtime).  The cycle then works on the bytes directly, which keeps an IPO
-cycle cheap.
+The core never writes an address: it declares each group of signals it reads or writes once, by
+their catalogue symbols without the instance (``basic.out.traversKeyPlus``), and gets the group's
+decoder and encoder (:mod:`interfaces.signal_group`); a lone signal comes as a :class:`Bit` or
+:class:`Field` with the byte offset and mask inside the instance's data block
+(:mod:`interfaces.bit_access`, shared with the PLC runtime).  The cycle then works on the bytes
+directly, which keeps an IPO cycle cheap.
 """
 
 from __future__ import annotations
 
+from typing import Any, TypeVar
+
 from interfaces.bit_access import Bit, Field
+from interfaces.signal_group import GroupCodec
 from interfaces.signals import PLACEHOLDER, Catalog, InstanceKind, SignalDef, SignalType
+
+T = TypeVar("T")
 
 
 class SignalTable:
@@ -25,6 +31,7 @@ class SignalTable:
         self._signals: dict[str, SignalDef] = {s.symbol[len(prefix):]: s for s in section.signals}
         self.size = section.size
         self.used: set[str] = used if used is not None else set()
+        self._codecs: dict[tuple[type, str], Any] = {}  # compiled once per table
 
     def definition(self, name: str) -> SignalDef:
         try:
@@ -33,6 +40,15 @@ class SignalTable:
             raise KeyError(f"the signal catalogue has no '{name}'") from None
         self.used.add(definition.symbol)
         return definition
+
+    def codec(self, group: type[T], prefix: str = "") -> GroupCodec[T]:
+        """The declared signal group ``group`` (:mod:`interfaces.signal_group`) compiled for this
+        kind of data block; ``prefix`` goes before its symbols (``geoAxis2.out.``)."""
+        key = (group, prefix)
+        codec: GroupCodec[T] | None = self._codecs.get(key)  # keyed by its group: a GroupCodec[T]
+        if codec is None:
+            codec = self._codecs[key] = GroupCodec(group, self.definition, prefix)
+        return codec
 
     def bit(self, name: str) -> Bit:
         definition = self.definition(name)

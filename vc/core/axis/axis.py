@@ -16,7 +16,7 @@ With neither selected the axis is "parked": no actual value, no position control
 The axis owns its functions' pieces: ``PositionLoop`` (Kv, feedforward, symmetrising and the
 drive's lag: ``position_loop``), ``AxisJog`` (JOG with the traverse keys and the handwheel, the
 software limit switches in JOG: ``jog``), ``DrfOffset`` (the DRF offset in AUTO / MDA: ``drf``);
-its DB31 signals are decoded and written by ``AxisSignals`` (``signals``).  The cycle itself
+its DB31 signals are the groups ``AxisInputs`` and ``AxisStatus`` (``signals``).  The cycle itself
 (the slide, the encoder, enables, exact stop and standstill monitoring, the status bits) stays
 here, on the axis's own attributes: ``control_cycle`` runs every IPO cycle for every moving axis.
 """
@@ -35,7 +35,8 @@ from vc.core.axis.jog import FREE_JOG, AxisJog, JogLimits
 from vc.core.axis.motion import ramp
 from vc.core.axis.owner import Owner
 from vc.core.axis.position_loop import PositionLoop
-from vc.core.axis.signals import AxisInputs, AxisSignals
+from vc.core.axis.signals import AxisInputs, AxisStatus
+from vc.core.interface_map import SignalTable
 
 _TINY = 1e-9
 
@@ -43,7 +44,7 @@ _TINY = 1e-9
 class MachineAxis:
     """One machine axis or spindle of the simulated control."""
 
-    def __init__(self, config: AxisConfig, signals: AxisSignals, area: bytearray, dt: float, channel: str,
+    def __init__(self, config: AxisConfig, table: SignalTable, area: bytearray, dt: float, channel: str,
                  physical: float | None = None):
         self.config = config
         self.name = config.name
@@ -53,7 +54,8 @@ class MachineAxis:
         md = config.md
         self.modulo_range = ((md.float(MD.MODULO_RANGE_START), md.float(MD.MODULO_RANGE))
                              if config.is_rotary and md.bool(MD.ROT_IS_MODULO) else None)
-        self._signals = signals
+        self._decode = table.codec(AxisInputs).decode
+        self._encode = table.codec(AxisStatus).encode
         self._area = area
         self._dt = dt
         self.inputs = AxisInputs()
@@ -107,7 +109,8 @@ class MachineAxis:
     def decode_inputs(self) -> None:
         """The PLC changed its outputs: read this axis's DB31 signals."""
         inp = self.inputs
-        self._signals.read_inputs(self._area, inp, len(self.encoders))
+        self._decode(self._area, inp)
+        inp.select_encoder(len(self.encoders))
         self.resting = False
         if inp.encoder_selected != self.active_encoder:
             self._select_encoder(inp.encoder_selected)
@@ -501,4 +504,4 @@ class MachineAxis:
         if status == self._status:
             return
         self._status = status
-        self._signals.write_status(self._area, status)
+        self._encode(self._area, AxisStatus(*status))

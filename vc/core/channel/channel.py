@@ -32,12 +32,13 @@ from vc.core.axis.owner import Owner
 from vc.core.axis.stroke_limits import StrokeLimitControl
 from vc.core.channel.block_execution import BlockExecution
 from vc.core.channel.channel_referencing import ChannelReferencing
-from vc.core.channel.interface import ChannelInterface, ChannelSignals
+from vc.core.channel.interface import ChannelInterface
 from vc.core.channel.program_run import BlockPhase, ChannelState, Mode, ProgramRun, ProgramState
 from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.channel.spindle_functions import SpindleFunctions
 from vc.core.channel.stroke_limit_path import ChannelStrokeLimits
 from vc.core.channel.thread_retract import ThreadRetract
+from vc.core.interface_map import SignalTable
 from vc.core.interpolation.thread_cutting import ThreadSegment
 from vc.core.overrides import OverrideCoding
 from vc.core.program.block_plan import BlockPlan, ModalState
@@ -55,7 +56,7 @@ class Channel:
     def __init__(
         self,
         config: ChannelConfig,
-        signals: ChannelSignals,
+        table: SignalTable,
         area: bytearray,
         axes: list[MachineAxis],
         alarms: AlarmList,
@@ -73,7 +74,7 @@ class Channel:
         self.stroke_limits = StrokeLimitControl(self.axes_by_name,  # G22 / G23, stroke limit 3 (seed 000)
                                                 not config.md.bool(MD.STROKE2_OUTSIDE_FORBIDDEN))
         self._alarms = alarms
-        self._interface = ChannelInterface(signals, area, feed_coding, rapid_coding)
+        self._interface = ChannelInterface(table, area, feed_coding, rapid_coding)
         self.inputs = self._interface.inputs
         self.edges = self._interface.edges
         self.run = ProgramRun()

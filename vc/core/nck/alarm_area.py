@@ -4,24 +4,32 @@ changes; the layout and the codes are those of :mod:`interfaces.alarm_block`."""
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 
 from interfaces.alarm_block import ENTRY_BYTES, FIRST_ENTRY_BYTE, cleared_by_code
-from interfaces.bit_access import Field
+from interfaces.signal_group import signal
 from vc.core.alarms import AlarmList
 from vc.core.interface_map import SignalTable
 
 
-class _EntrySignals:
-    def __init__(self, table: SignalTable, number: int):
-        prefix = f"entry[{number}].in."
-        self.number = table.field(f"{prefix}number")
-        self.channel = table.field(f"{prefix}channel")
-        self.axis = table.field(f"{prefix}axis")
-        self.reaction = table.field(f"{prefix}reaction")
-        self.cleared_by = table.field(f"{prefix}clearedBy")
+@dataclass(frozen=True, slots=True)
+class AlarmListHeader:
+    count: int = signal("list.in.count", 0)
+    changes: int = signal("list.in.changes", 0)  # the alarm list's version, modulo 2^16
 
-    def fields(self) -> tuple[Field, ...]:
-        return (self.number, self.channel, self.axis, self.reaction, self.cleared_by)
+
+@dataclass(frozen=True, slots=True)
+class AlarmEntry:
+    """One entry of the list (symbols after the entry's prefix ``entry[n].in.``); all 0: none."""
+
+    number: int = signal("number", 0)
+    channel: int = signal("channel", 0)
+    axis: int = signal("axis", 0)
+    reaction: int = signal("reaction", 0)
+    cleared_by: int = signal("clearedBy", 0)
+
+
+NO_ENTRY = AlarmEntry()
 
 
 class AlarmArea:
@@ -30,26 +38,19 @@ class AlarmArea:
     def __init__(self, table: SignalTable, area: bytearray, channels: Mapping[str, int], axes: Mapping[str, int]):
         """``channels`` and ``axes``: the number n of each channel's DB(20+n) and axis's DB(30+n)."""
         self._area = area
-        self._count = table.field("list.in.count")
-        self._changes = table.field("list.in.changes")
+        self._encode_header = table.codec(AlarmListHeader).encode
         entries = (table.size - FIRST_ENTRY_BYTE) // ENTRY_BYTES
-        self._entries = [_EntrySignals(table, number) for number in range(1, entries + 1)]
+        self._entries = [table.codec(AlarmEntry, f"entry[{number}].in.").encode for number in range(1, entries + 1)]
         self._channels = dict(channels)
         self._axes = dict(axes)
 
     def write(self, alarms: AlarmList) -> None:
         area, present = self._area, alarms.present
-        self._count.put(area, min(len(present), 0xFFFF))
-        self._changes.put(area, alarms.version & 0xFFFF)
-        for index, entry in enumerate(self._entries):
+        self._encode_header(area, AlarmListHeader(min(len(present), 0xFFFF), alarms.version & 0xFFFF))
+        for index, encode in enumerate(self._entries):
             if index >= len(present):
-                for field in entry.fields():
-                    field.put(area, 0)
+                encode(area, NO_ENTRY)
                 continue
             alarm = present[index]
-            entry.number.put(area, alarm.number)
-            entry.channel.put(area, self._channels.get(alarm.channel, 0))
-            entry.axis.put(area, self._axes.get(alarm.axis, 0))
-            entry.reaction.put(area, alarm.reaction.value)
-            entry.cleared_by.put(area, cleared_by_code(alarm.clear.value))
-
+            encode(area, AlarmEntry(alarm.number, self._channels.get(alarm.channel, 0), self._axes.get(alarm.axis, 0),
+                                    alarm.reaction.value, cleared_by_code(alarm.clear.value)))

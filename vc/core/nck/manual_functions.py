@@ -10,11 +10,12 @@ the routing lives here, over every channel.
 
 from __future__ import annotations
 
+from collections.abc import Set as AbstractSet
+
 from interfaces.image import ProcessImage
-from interfaces.signals import Catalog, InstanceKind
 from vc.core.alarms import STOP_AXES, AlarmList
 from vc.core.axis.axis import MachineAxis
-from vc.core.axis.handwheel import GEOMETRY_AXES, Handwheels, HandwheelSignals
+from vc.core.axis.handwheel import GEOMETRY_AXES, GEOMETRY_AXIS, MACHINE_AXIS, Handwheels, HandwheelSelection
 from vc.core.axis.owner import Owner
 from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
@@ -26,7 +27,7 @@ from vc.core.spindle.coupling import Couplings
 
 
 class ManualFunctions:
-    def __init__(self, catalog: Catalog, image: ProcessImage, used: set[str], mode_group: ModeGroup,
+    def __init__(self, axis_table: SignalTable, channel_table: SignalTable, image: ProcessImage, mode_group: ModeGroup,
                  channels: list[Channel], alarms: AlarmList, referencing: ReferencingControl,
                  retractions: dict[str, ManualRetraction], couplings: Couplings):
         self.image = image
@@ -37,37 +38,36 @@ class ManualFunctions:
         self.retractions = retractions
         self.couplings = couplings
         self.handwheels = Handwheels()
-        self._handwheel_signals = HandwheelSignals(SignalTable(catalog, InstanceKind.AXIS, used))
-        geometry_table = SignalTable(catalog, InstanceKind.CHANNEL, used)
-        self._geometry_handwheel_signals = tuple(HandwheelSignals(geometry_table, f"geoAxis{number}.out.")
-                                                 for number in range(1, GEOMETRY_AXES + 1))
-        self._geometry_handwheel_shown = geometry_table.field("geoAxis1.in.handwheelAssignedNumber")
-        self._drf_requested = geometry_table.bit("basic.out.handwheelOffsetDrf")  # DB21.DBX0.3
-        self._drf_shown = geometry_table.bit("basic.in.handwheelOvrActive")  # DB21.DBX33.3
-        # what the handwheel outputs depend on (mode, PLC data): they are written only when it changed
+        self._handwheel = axis_table.codec(HandwheelSelection, MACHINE_AXIS)
+        self._geometry_handwheels = tuple(channel_table.codec(HandwheelSelection, GEOMETRY_AXIS.format(number=number))
+                                          for number in range(1, GEOMETRY_AXES + 1))
+        self._geometry_handwheel_shown = channel_table.field("geoAxis1.in.handwheelAssignedNumber")
+        self._drf_requested = channel_table.bit("basic.out.handwheelOffsetDrf")  # DB21.DBX0.3
+        self._drf_shown = channel_table.bit("basic.in.handwheelOvrActive")  # DB21.DBX33.3
+        # the mode the handwheel outputs were written for: written again in a new mode or when DB21 changed
         self._handwheel_outputs_for: object = None
         self._drf_active: dict[str, bool] = {}
         self._drf_travelling: set[str] = set()  # axes with DRF travel to go (most cycles: none)
 
-    def cycle(self, cycle: int, emergency_stop: bool, plc_data_version: int) -> None:
+    def cycle(self, cycle: int, emergency_stop: bool, latched: AbstractSet[str]) -> None:
         """JOG with the traverse keys, or in JOG-REF / MDA-REF referencing with them; handwheels
-        and DRF; then manual retraction follows what moved.  ``plc_data_version``: the version of
-        the PLC's data the NCK latched last (the handwheel outputs depend on it)."""
+        and DRF; then manual retraction follows what moved.  ``latched``: the data blocks whose PLC
+        signals changed this cycle (a channel's handwheel outputs depend on its DB21)."""
         mode_group = self.mode_group
         reference_keys = mode_group.reference_function and mode_group.mode in (Mode.JOG, Mode.MDA)
         jog_mode = mode_group.mode is Mode.JOG and not mode_group.reference_function
         keys_followed = reference_keys or jog_mode
         pulses = self.handwheels.pulses() if self.handwheels.any_turning else {}
         drf_mode = mode_group.mode in (Mode.AUTO, Mode.MDA) and not mode_group.reference_function
-        outputs_for = (mode_group.mode, mode_group.reference_function, plc_data_version)
-        refresh_outputs = outputs_for != self._handwheel_outputs_for
+        outputs_for = (mode_group.mode, mode_group.reference_function)
+        refresh_all = outputs_for != self._handwheel_outputs_for
         self._handwheel_outputs_for = outputs_for
         for channel in self.channels:
             axes_stopped = emergency_stop or bool(self.alarms.reactions(channel.name) & STOP_AXES)
             allowed = keys_followed and not channel.is_active and not axes_stopped
             if pulses and allowed and jog_mode:
                 self._handwheel_pulses(channel, pulses)
-            if refresh_outputs:
+            if refresh_all or channel.area_key in latched:
                 self._show_geometry_handwheel(channel)
                 self._show_drf(channel, drf_mode)
             self._drf(channel, pulses, axes_stopped)
@@ -121,10 +121,9 @@ class ManualFunctions:
         coupled following spindle they move the relation as overlaid motion (L22011-22015); an
         uncoupled spindle takes none [control]."""
         if pulses and self._drf_active[channel.name] and not axes_stopped:
-            signals = self._handwheel_signals
             for axis in channel.axes:
-                axis_area = self.image.area(axis.area_key)
-                assigned, per_detent = signals.assigned(axis_area), signals.increment(axis_area)
+                selection = self._handwheel.read(self.image.area(axis.area_key))
+                assigned, per_detent = selection.assigned, selection.increment()
                 detents = sum(count for number, count in pulses.items() if assigned & (1 << (number - 1)))
                 if not (detents and per_detent):
                     continue
@@ -146,26 +145,25 @@ class ManualFunctions:
         """DB21.DBX40.0..2: the handwheel assigned to geometry axis 1, as the PLC selects it (L34189-34193);
         the seed prints no such bits for geometry axes 2 and 3."""
         area = self.image.area(channel.area_key)
-        assigned = self._geometry_handwheel_signals[0].assigned(area) if channel.config.geometry_axes[0] else 0
+        assigned = self._geometry_handwheels[0].read(area).assigned if channel.config.geometry_axes[0] else 0
         if self._geometry_handwheel_shown.get(area) != assigned:
             self._geometry_handwheel_shown.put(area, assigned)
 
     def _handwheel_receivers(self, channel: Channel, pulses: dict[int, int]) -> list[tuple[int, MachineAxis, float]]:
         """(handwheel, machine axis, its travel per detent) of every assignment of a turning handwheel."""
         receivers: list[tuple[int, MachineAxis, float]] = []
-        signals = self._handwheel_signals
         for axis in channel.axes:
-            area = self.image.area(axis.area_key)
-            assigned = signals.assigned(area)
-            if assigned:
-                receivers += [(number, axis, signals.increment(area)) for number in pulses
-                              if assigned & (1 << (number - 1))]
+            axis_selection = self._handwheel.read(self.image.area(axis.area_key))
+            if axis_selection.assigned:
+                receivers += [(number, axis, axis_selection.increment()) for number in pulses
+                              if axis_selection.assigned & (1 << (number - 1))]
         area = self.image.area(channel.area_key)
         inclined = channel.inclined
-        for geometry, name in zip(self._geometry_handwheel_signals, channel.config.geometry_axes, strict=False):
-            assigned = geometry.assigned(area) if name else 0
-            if assigned:
+        for geometry, name in zip(self._geometry_handwheels, channel.config.geometry_axes, strict=False):
+            selection = geometry.read(area) if name else None
+            if selection is not None and selection.assigned:
+                assigned = selection.assigned
                 axis = channel.axes_by_name[name]
-                per_detent = geometry.increment(area) * (inclined.geometry_travel(axis) if inclined else 1.0)
+                per_detent = selection.increment() * (inclined.geometry_travel(axis) if inclined else 1.0)
                 receivers += [(number, axis, per_detent) for number in pulses if assigned & (1 << (number - 1))]
         return receivers

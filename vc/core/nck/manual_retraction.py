@@ -36,6 +36,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from interfaces.signal_group import signal
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.jog import FREE_JOG, JogLimits
 from vc.core.axis.owner import Owner
@@ -49,13 +50,15 @@ THREAD_FUNCTIONS = ("G33", "G331", "G332")
 STANDING = JogLimits(plus=False, minus=False)
 
 
-class RetractionSignals:
-    def __init__(self, table: SignalTable):
-        self.data_available = table.bit("basic.in.jogRetractDataAvailable")
-        self.active = table.bit("basic.in.jogRetractActive")
-        self.request = table.bit("piService.out.retracRequest")
-        self.done = table.bit("piService.in.retracDone")
-        self.error = table.bit("piService.in.retracError")
+REQUEST_SIGNAL = "piService.out.retracRequest"  # DB21.DBX377.0: PI service RETRAC, read every IPO cycle
+
+
+@dataclass(frozen=True, slots=True)
+class RetractionStatus:
+    data_available: bool = signal("basic.in.jogRetractDataAvailable")
+    active: bool = signal("basic.in.jogRetractActive")
+    done: bool = signal("piService.in.retracDone")
+    error: bool = signal("piService.in.retracError")
 
 
 @dataclass(slots=True)
@@ -74,11 +77,12 @@ class _Following:
 class ManualRetraction:
     """Manual retraction of one channel (see the module docstring)."""
 
-    def __init__(self, channel: Channel, memory: NcMemory, signals: RetractionSignals, area: bytearray,
+    def __init__(self, channel: Channel, memory: NcMemory, table: SignalTable, area: bytearray,
                  jog_mode_mask: int):
         self.channel = channel
         self._memory = memory
-        self._signals = signals
+        self._request_signal = table.bit(REQUEST_SIGNAL)
+        self._encode = table.codec(RetractionStatus).encode
         self._area = area
         self.both_directions = bool(jog_mode_mask & BOTH_DIRECTIONS)
         self.active = False
@@ -126,7 +130,7 @@ class ManualRetraction:
     # ------------------------------------------------------------------ commands
     def commands(self, mode: Mode, reference_function: bool, reset: bool) -> None:
         """Cancel, select (PI service RETRAC), pause and continue; one IPO cycle."""
-        request = self._signals.request.get(self._area)
+        request = self._request_signal.get(self._area)
         if not (request or self._request or reset or self.active):
             return  # no selection asked for, none running: the usual IPO cycle
         request_edge = request and not self._request
@@ -238,8 +242,4 @@ class ManualRetraction:
         if status == self._written:
             return
         self._written = status
-        area, sig = self._area, self._signals
-        sig.data_available.put(area, status[0])
-        sig.active.put(area, status[1])
-        sig.done.put(area, status[2])
-        sig.error.put(area, status[3])
+        self._encode(self._area, RetractionStatus(*status))

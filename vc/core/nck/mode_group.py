@@ -9,27 +9,36 @@ machine function inside JOG or MDA.  DB11.DBX0.7 resets every channel of the gro
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
+from interfaces.signal_group import signal
 from vc.core.channel.program_run import Mode
 from vc.core.interface_map import SignalTable
 
 
-class ModeGroupSignals:
-    def __init__(self, table: SignalTable):
-        self.auto = table.bit("basic.out.autoMode")
-        self.mda = table.bit("basic.out.mdaMode")
-        self.jog = table.bit("basic.out.jogMode")
-        self.reset = table.bit("basic.out.reset")
-        self.ref = table.bit("basic.out.refPoint")
-        self.auto_active = table.bit("basic.in.autoModeActive")
-        self.mda_active = table.bit("basic.in.mdaModeActive")
-        self.jog_active = table.bit("basic.in.jogModeActive")
-        self.ready = table.bit("basic.in.ready")
-        self.ref_active = table.bit("basic.in.refPointActive")
+@dataclass(slots=True)
+class ModeGroupInputs:
+    auto: bool = signal("basic.out.autoMode")
+    mda: bool = signal("basic.out.mdaMode")
+    jog: bool = signal("basic.out.jogMode")
+    reset: bool = signal("basic.out.reset")
+    ref: bool = signal("basic.out.refPoint")
+
+
+@dataclass(frozen=True, slots=True)
+class ModeGroupStatus:
+    auto_active: bool = signal("basic.in.autoModeActive")
+    mda_active: bool = signal("basic.in.mdaModeActive")
+    jog_active: bool = signal("basic.in.jogModeActive")
+    ready: bool = signal("basic.in.ready")
+    ref_active: bool = signal("basic.in.refPointActive")
 
 
 class ModeGroup:
-    def __init__(self, signals: ModeGroupSignals, area: bytearray):
-        self._signals = signals
+    def __init__(self, table: SignalTable, area: bytearray):
+        self._decode = table.codec(ModeGroupInputs).decode
+        self._encode = table.codec(ModeGroupStatus).encode
+        self._inputs = ModeGroupInputs()
         self._area = area
         self.mode = Mode.JOG  # power-on default mode (MD10720, see power_on)
         self.reference_function = False
@@ -43,17 +52,17 @@ class ModeGroup:
         self.mode = self.requested = mode
 
     def decode_inputs(self) -> None:
-        area, sig = self._area, self._signals
-        if sig.jog.get(area):
+        inp = self._inputs
+        self._decode(self._area, inp)
+        if inp.jog:
             self.requested = Mode.JOG
-        elif sig.mda.get(area):
+        elif inp.mda:
             self.requested = Mode.MDA
-        elif sig.auto.get(area):
+        elif inp.auto:
             self.requested = Mode.AUTO
-        reset = sig.reset.get(area)
-        self.reset_edge = reset and not self._reset_level
-        self._reset_level = reset
-        self._ref_requested = sig.ref.get(area)
+        self.reset_edge = inp.reset and not self._reset_level
+        self._reset_level = inp.reset
+        self._ref_requested = inp.ref
 
     def update(self, any_channel_active: bool) -> bool:
         """Apply the selection; returns True if the mode changed this cycle."""
@@ -65,9 +74,6 @@ class ModeGroup:
         return changed
 
     def write_outputs(self, ready: bool) -> None:
-        area, sig, mode = self._area, self._signals, self.mode
-        sig.auto_active.put(area, mode is Mode.AUTO)
-        sig.mda_active.put(area, mode is Mode.MDA)
-        sig.jog_active.put(area, mode is Mode.JOG)
-        sig.ready.put(area, ready)
-        sig.ref_active.put(area, self.reference_function)
+        mode = self.mode
+        self._encode(self._area, ModeGroupStatus(mode is Mode.AUTO, mode is Mode.MDA, mode is Mode.JOG, ready,
+                                                 self.reference_function))

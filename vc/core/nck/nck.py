@@ -56,11 +56,13 @@ from vc.core.channel.program_run import ChannelState, Mode
 from vc.core.nc_memory import NcMemory
 from vc.core.nck.alarm_reactions import EMERGENCY_STOP_ALARM, AlarmReactions
 from vc.core.nck.power_on import power_on
+from vc.core.nck.signals import NckInputs, NckStatus
 from vc.core.referencing.buffered_positions import buffer_at_power_off, encoder_slip
 from vc.core.retraction.dc_link import DcLink
 
 PLC_SIGN_OF_LIFE_ALARM = 2000
 PLC_NOT_STARTED_ALARM = 2001
+_NOTHING: frozenset[str] = frozenset()
 
 
 class Nck:
@@ -79,13 +81,16 @@ class Nck:
         self.plc_to_nc_ranges = expanded.byte_ranges(Direction.PLC_TO_NC)
         self.nc_to_plc_ranges = expanded.byte_ranges(Direction.NC_TO_PLC)
         self._seen_version = -1
+        self._latched: frozenset[str] | set[str] = _NOTHING  # the data blocks the PLC changed this cycle
         self.alarms = AlarmList()
         # every catalogue signal the NC reads or writes, by its catalogue symbol: the signals it models
         self.signals_used: set[str] = set()
         parts = power_on(machine, catalog, self.image, self.memory, self.alarms, self.dt, physical, self.signals_used)
-        self._nck_signals = parts.nck_signals
+        self._decode_nck = parts.nck_inputs.decode
+        self._encode_nck = parts.nck_status.encode
+        self._nck_inputs = NckInputs()
         self._nck_area = self.image.area("DB10")
-        self._hmi_signals = parts.hmi_signals
+        self._display_wcs = parts.display_wcs
         self._alarm_area = parts.alarm_area
         self._alarm_area_version = -1
         self.mode_group = parts.mode_group
@@ -132,7 +137,7 @@ class Nck:
         self._nck_functions()
         self._mode_group_and_channel_commands()
         self._programs()
-        self.manual.cycle(self.cycle, self.emergency_stop, self._seen_version)
+        self.manual.cycle(self.cycle, self.emergency_stop, self._latched)
         self._spindles_and_couplings()
         self._referencing()
         moved = self._position_control()
@@ -141,10 +146,12 @@ class Nck:
         self._outputs(moved)
 
     def _latch_inputs(self, plc_side: ProcessImage) -> None:
+        self._latched = _NOTHING
         if plc_side.version != self._seen_version:
             self._seen_version = plc_side.version
             changed = self._latch(plc_side)
             if changed:
+                self._latched = changed
                 self._decode_inputs(changed)
 
     def _nck_functions(self) -> None:
@@ -216,14 +223,15 @@ class Nck:
 
     def _decode_inputs(self, changed: set[str]) -> None:
         if "DB10" in changed:
-            sig, area = self._nck_signals, self._nck_area
-            self._emergency_stop_level = sig.emergency_stop.get(area)
-            self._emergency_stop_ack = sig.emergency_stop_ack.get(area)
-            self.esr.inputs = sig.digital_inputs.get(area)
+            inputs = self._nck_inputs
+            self._decode_nck(self._nck_area, inputs)
+            self._emergency_stop_level = inputs.emergency_stop
+            self._emergency_stop_ack = inputs.emergency_stop_ack
+            self.esr.inputs = inputs.digital_inputs
         if "DB11" in changed:
             self.mode_group.decode_inputs()
         if "DB19" in changed:
-            wcs = self._hmi_signals.display_wcs.get(self.image.area("DB19"))
+            wcs = self._display_wcs.get(self.image.area("DB19"))
             for retraction in self.retractions.values():
                 retraction.wcs_shown = wcs
         for channel in self.channels:
@@ -364,10 +372,7 @@ class Nck:
         if self.alarms.version != self._alarm_area_version:
             self._alarm_area_version = self.alarms.version
             self._alarm_area.write(self.alarms)
-        sig, area = self._nck_signals, self._nck_area
-        sig.emergency_stop_active.put(area, self.emergency_stop)
-        sig.nc_ready.put(area, True)
-        sig.alarm_active.put(area, bool(present))
+        self._encode_nck(self._nck_area, NckStatus(self.emergency_stop, True, bool(present)))
         self.mode_group.write_outputs(ready=True)
         for channel in self.channels:
             channel_alarms = [a for a in present if a.channel in ("", channel.name)] if present else []

@@ -9,7 +9,8 @@ inclined-axis control, its ESR, its couplings and its polygon turning afterwards
 nowhere else: those parts need the channel's axes, and the channel needs them.
 
 Every part reads and writes its signals in the NCK's own process image (``image``), looked up by
-catalogue symbol once (``signals_used`` collects what the NC models).
+declared signal groups compiled once per kind of data block (one :class:`SignalTable` each, shared
+by every part; ``signals_used`` collects what the NC models).
 """
 
 from __future__ import annotations
@@ -17,57 +18,42 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from interfaces.bit_access import Bit
 from interfaces.image import ProcessImage
+from interfaces.signal_group import GroupCodec
 from interfaces.signals import Catalog, InstanceKind
 from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
-from vc.core.axis.signals import AxisSignals
 from vc.core.channel.channel import Channel
-from vc.core.channel.interface import ChannelSignals
 from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.interface_map import SignalTable
 from vc.core.nc_memory import NcMemory
 from vc.core.nck.alarm_area import AlarmArea
 from vc.core.nck.manual_functions import ManualFunctions
-from vc.core.nck.manual_retraction import ManualRetraction, RetractionSignals
-from vc.core.nck.mode_group import ModeGroup, ModeGroupSignals
+from vc.core.nck.manual_retraction import ManualRetraction
+from vc.core.nck.mode_group import ModeGroup
+from vc.core.nck.signals import DISPLAY_WCS, NckInputs, NckStatus
 from vc.core.overrides import OverrideCoding
 from vc.core.referencing.buffered_positions import restore_at_power_on
 from vc.core.retraction.dc_link import DcLink
-from vc.core.retraction.drive_esr import DriveEsr, DriveEsrSignals
+from vc.core.retraction.drive_esr import DriveEsr
 from vc.core.retraction.esr import ChannelEsr, NckEsr
-from vc.core.spindle.coupling import Couplings, CouplingSignals
+from vc.core.spindle.coupling import Couplings
 from vc.core.spindle.polygon import PolygonTurning
-from vc.core.spindle.spindle import Spindle, SpindleSignals
+from vc.core.spindle.spindle import Spindle
 from vc.core.transforms.inclined_axis_control import InclinedAxisControl, inclined_axis_control
-
-
-class NckSignals:
-    def __init__(self, table: SignalTable):
-        self.emergency_stop = table.bit("basic.out.emergencyStop")
-        self.emergency_stop_ack = table.bit("basic.out.emergencyStopAck")
-        self.emergency_stop_active = table.bit("basic.in.emergencyStopActive")
-        self.nc_ready = table.bit("basic.in.ncReady")
-        self.alarm_active = table.bit("basic.in.alarmActive")
-        self.digital_inputs = table.field("basic.out.setDigitalInputs")  # $A_IN[1..8]
-
-
-class HmiSignals:
-    """The operator panel's DB19, as far as the NC's functions depend on it."""
-
-    def __init__(self, table: SignalTable):
-        self.display_wcs = table.bit("basic.out.displayWcsValues")  # DB19.DBX0.7: 1 WCS, 0 MCS
 
 
 @dataclass(slots=True)
 class NckParts:
     """Everything the NCK is made of, complete and wired."""
 
-    nck_signals: NckSignals
-    hmi_signals: HmiSignals
+    nck_inputs: GroupCodec[NckInputs]
+    nck_status: GroupCodec[NckStatus]
+    display_wcs: Bit  # of the operator panel's DB19
     alarm_area: AlarmArea
     mode_group: ModeGroup
     axes: list[MachineAxis]
@@ -92,14 +78,16 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     """Build the NCK's parts for ``machine``; ``physical``: where the slides stand now (default:
     the start positions of the machine file); ``used`` collects every catalogue signal looked up."""
     nck = machine.nck
-    nck_signals = NckSignals(SignalTable(catalog, InstanceKind.NCK, used))
+    nck_table = SignalTable(catalog, InstanceKind.NCK, used)
+    axis_table = SignalTable(catalog, InstanceKind.AXIS, used)
+    channel_table = SignalTable(catalog, InstanceKind.CHANNEL, used)
     alarm_area = AlarmArea(SignalTable(catalog, InstanceKind.ALARMS, used), image.area("DB100"),
                            {channel.name: channel.number for channel in machine.channels},
                            {axis.name: axis.number for axis in machine.axes})
-    hmi_signals = HmiSignals(SignalTable(catalog, InstanceKind.HMI, used))
-    mode_group = ModeGroup(ModeGroupSignals(SignalTable(catalog, InstanceKind.MODE_GROUP, used)), image.area("DB11"))
+    display_wcs = SignalTable(catalog, InstanceKind.HMI, used).bit(DISPLAY_WCS)
+    mode_group = ModeGroup(SignalTable(catalog, InstanceKind.MODE_GROUP, used), image.area("DB11"))
 
-    axes = _axes(machine, catalog, image, memory, alarms, dt, physical, used)
+    axes = _axes(machine, axis_table, image, memory, alarms, dt, physical)
     axes_by_name = {axis.name: axis for axis in axes}
     referencing = ReferencingControl(machine, axes, memory, dt, alarms)
     feed_coding = OverrideCoding(nck.bool(MD.OVR_FEED_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_FEEDRATE),
@@ -109,10 +97,8 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     axis_coding = OverrideCoding(nck.bool(MD.OVR_AX_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_AX_SPEED),
                                  nck.float(MD.OVR_FACTOR_LIMIT_BIN))
 
-    channel_table = SignalTable(catalog, InstanceKind.CHANNEL, used)
-    channel_signals = ChannelSignals(channel_table)
     channels = [
-        Channel(channel, channel_signals, image.area(f"DB{channel.db}"),
+        Channel(channel, channel_table, image.area(f"DB{channel.db}"),
                 [axes_by_name[name] for name in channel.axes], alarms, feed_coding, rapid_coding, dt, referencing)
         for channel in machine.channels
     ]
@@ -124,19 +110,16 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
             channel.inclined = inclined
             inclined_axes.append(inclined)
     referencing.order_inclined_pairs(inclined_axes)
-    retraction_signals = RetractionSignals(SignalTable(catalog, InstanceKind.CHANNEL, used))
-    retractions = {channel.name: ManualRetraction(channel, memory, retraction_signals,
+    retractions = {channel.name: ManualRetraction(channel, memory, channel_table,
                                                   image.area(f"DB{channel.config.db}"), nck.int(MD.JOG_MODE_MASK))
                    for channel in channels}
     mode_group.power_on(power_on_mode(machine, retractions))
 
-    spindles = _spindles(machine, catalog, image, memory, alarms, dt, channels, axis_coding, used)
+    spindles = _spindles(machine, axis_table, image, memory, alarms, dt, channels, axis_coding)
     spindle_of = {spindle.name: spindle for spindle in spindles}
-    coupling_signals = CouplingSignals(SignalTable(catalog, InstanceKind.AXIS, used))
-    couplings = Couplings(list(machine.channels), spindle_of, coupling_signals,
+    couplings = Couplings(list(machine.channels), spindle_of, axis_table,
                           {spindle.name: image.area(f"DB{spindle.axis.config.db}") for spindle in spindles}, dt, alarms)
-    drive_signals = DriveEsrSignals(SignalTable(catalog, InstanceKind.AXIS, used))
-    esr = NckEsr({axis.name: DriveEsr(axis, drive_signals, image.area(f"DB{axis.config.db}"), dt,
+    esr = NckEsr({axis.name: DriveEsr(axis, axis_table, image.area(f"DB{axis.config.db}"), dt,
                                       _parameter_set_of(axis.name, spindle_of))
                   for axis in axes})
     dc_link = DcLink(machine.dc_link, dt) if machine.dc_link is not None else None
@@ -155,20 +138,21 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
             polygons.append(polygon)
     for spindle in spindles:
         spindle.write_outputs()  # the power-on state
-    manual = ManualFunctions(catalog, image, used, mode_group, channels, alarms, referencing, retractions, couplings)
-    return NckParts(nck_signals, hmi_signals, alarm_area, mode_group, axes, axes_by_name, axis_coding, referencing,
+    manual = ManualFunctions(axis_table, channel_table, image, mode_group, channels, alarms, referencing, retractions,
+                             couplings)
+    return NckParts(nck_table.codec(NckInputs), nck_table.codec(NckStatus), display_wcs, alarm_area,
+                    mode_group, axes, axes_by_name, axis_coding, referencing,
                     channels, {channel.name: channel for channel in channels}, inclined_axes, retractions, spindles,
                     spindle_of, couplings, esr, dc_link, polygons, manual)
 
 
-def _axes(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memory: NcMemory, alarms: AlarmList,
-          dt: float, physical: dict[str, float] | None, used: set[str]) -> list[MachineAxis]:
+def _axes(machine: MachineConfig, table: SignalTable, image: ProcessImage, memory: NcMemory, alarms: AlarmList,
+          dt: float, physical: dict[str, float] | None) -> list[MachineAxis]:
     """Every machine axis, with what the NC memory kept of its position and calibration."""
-    axis_signals = AxisSignals(SignalTable(catalog, InstanceKind.AXIS, used))
     channel_of_axis = {axis: channel.name for channel in machine.channels for axis in channel.axes}
     positions = physical or {}
     axes = [
-        MachineAxis(axis, axis_signals, image.area(f"DB{axis.db}"), dt,
+        MachineAxis(axis, table, image.area(f"DB{axis.db}"), dt,
                     channel_of_axis.get(axis.name, ""), positions.get(axis.name))
         for axis in machine.axes
     ]
@@ -177,18 +161,17 @@ def _axes(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memory:
     return axes
 
 
-def _spindles(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memory: NcMemory, alarms: AlarmList,
-              dt: float, channels: list[Channel], axis_coding: OverrideCoding, used: set[str]) -> list[Spindle]:
+def _spindles(machine: MachineConfig, table: SignalTable, image: ProcessImage, memory: NcMemory, alarms: AlarmList,
+              dt: float, channels: list[Channel], axis_coding: OverrideCoding) -> list[Spindle]:
     """The spindles of every channel, each given to its channel."""
     nck = machine.nck
-    spindle_signals = SpindleSignals(SignalTable(catalog, InstanceKind.AXIS, used))
     spindle_coding = OverrideCoding(nck.bool(MD.OVR_SPIND_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_SPIND_SPEED),
                                     nck.float(MD.OVR_FACTOR_LIMIT_BIN))
     spindles: list[Spindle] = []
     for channel in channels:
         for axis in channel.axes:
             if axis.is_spindle:
-                spindle = Spindle(axis, spindle_signals, image.area(f"DB{axis.config.db}"), channel.name,
+                spindle = Spindle(axis, table, image.area(f"DB{axis.config.db}"), channel.name,
                                   spindle_coding, axis_coding, dt, nck.int(MD.SUPPRESS_ALARM_MASK),
                                   nck.float(MD.GEAR_CHANGE_WAIT_TIME), memory, alarms)
                 channel.spindles[axis.name] = spindle

@@ -33,8 +33,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 from enum import Enum
 
+from interfaces.signal_group import signal
 from vc.config import md_dictionary as MD
 from vc.config.model import EXTENDED_RETRACT, EXTENDED_STOP, GENERATOR_OPERATION, SPEED_HYSTERESIS
 from vc.core.axis.axis import MachineAxis
@@ -56,21 +58,23 @@ class DriveEsrReaction(Enum):
     DONE = "done"
 
 
-class DriveEsrSignals:
-    def __init__(self, table: SignalTable):
-        self.response_initiated = table.bit("drive.in.esrResponseInitiated")
-        self.dc_link_undervoltage = table.bit("drive.in.esrDcVoltageAlarmActive")
-        self.below_minimum_speed = table.bit("drive.in.esrSpeedBelowMin")
+@dataclass(frozen=True, slots=True)
+class DriveEsrStatus:
+    """The drive's ESR feedback to the PLC (DB31.DBX95.2..95.4), written whole when one changes."""
+
+    response_initiated: bool = signal("drive.in.esrResponseInitiated")  # r0887.12
+    dc_link_undervoltage: bool = signal("drive.in.esrDcVoltageAlarmActive")  # r0056.15
+    below_minimum_speed: bool = signal("drive.in.esrSpeedBelowMin")  # r2199.0
 
 
 class DriveEsr:
     """The drive-autonomous ESR of one axis: its drive parameters, enable, reaction and feedback."""
 
-    def __init__(self, axis: MachineAxis, signals: DriveEsrSignals, area: bytearray, dt: float,
+    def __init__(self, axis: MachineAxis, table: SignalTable, area: bytearray, dt: float,
                  parameter_set: Callable[[], int] = lambda: 0):
         self.axis = axis
         self._parameter_set = parameter_set  # the active gear stage's parameter set (a spindle's gear)
-        self._signals = signals
+        self._encode = table.codec(DriveEsrStatus).encode
         self._area = area
         self._dt = dt
         self.p0888 = 0  # configuration: 0 = none
@@ -132,7 +136,7 @@ class DriveEsr:
     def triggered(self, value: bool) -> None:
         # DB31.DBX95.2 follows r0887.12 where it changes, not every IPO cycle
         self._triggered = value
-        self._signals.response_initiated.put(self._area, value)
+        self._write_status()
 
     @property
     def reacting(self) -> bool:
@@ -182,12 +186,15 @@ class DriveEsr:
         below = velocity is not None and abs(self._motor_speed(velocity * 60.0)) < self._minimum_speed
         if below != self._below_minimum_speed:
             self._below_minimum_speed = below
-            self._signals.below_minimum_speed.put(self._area, below)
+            self._write_status()
 
     def _set_vdc_min_active(self, active: bool) -> None:
         if active != self._vdc_min_active:
             self._vdc_min_active = active
-            self._signals.dc_link_undervoltage.put(self._area, active)
+            self._write_status()
+
+    def _write_status(self) -> None:
+        self._encode(self._area, DriveEsrStatus(self._triggered, self._vdc_min_active, self._below_minimum_speed))
 
     # ------------------------------------------------------------------ IPO cycle
     def cycle(self, trigger_cycles: int) -> None:

@@ -21,11 +21,11 @@ from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.owner import Owner
+from vc.core.interface_map import SignalTable
 from vc.core.program.commands import BlockChange, Kind
 from vc.core.spindle.coupling_monitor import ALARM_NOT_SYNCHRONISED, SynchronismMonitor
 from vc.core.spindle.coupling_motion import CouplingMotion
 from vc.core.spindle.coupling_signals import ALARM_OVERLAY_NOT_ENABLED, CouplingInputs, CouplingInterface
-from vc.core.spindle.coupling_signals import CouplingSignals as CouplingSignals  # the NCK builds them
 from vc.core.spindle.coupling_state import Coupling, PairDefinition, SyncPhase, wrap180
 from vc.core.spindle.spindle import RPM, Spindle, SpindleMode
 
@@ -44,7 +44,7 @@ CANCEL_PROGRAMMED_AT_START = 1 << 10  # MD20112
 class Couplings:
     """The synchronous spindle pairs of all channels (see the module docstring)."""
 
-    def __init__(self, channels: list[ChannelConfig], spindles: dict[str, Spindle], signals: CouplingSignals,
+    def __init__(self, channels: list[ChannelConfig], spindles: dict[str, Spindle], table: SignalTable,
                  areas: dict[str, bytearray], dt: float, alarms: AlarmList):
         self._spindles = spindles
         self._alarms = alarms
@@ -54,7 +54,7 @@ class Couplings:
         self.active: dict[str, Coupling] = {}
         self._motion = CouplingMotion(spindles, self.active, self.inputs, dt, alarms)
         self._monitor = SynchronismMonitor(spindles, self.active, self.inputs, dt, alarms)
-        self._interface = CouplingInterface(spindles, signals, areas, self.active, self.inputs, alarms)
+        self._interface = CouplingInterface(spindles, table, areas, self.active, self.inputs, alarms)
         self._idle_written = False  # the outputs were written with no pair coupled
         # CPSYNCOP[FS].. programmed, waiting for the FS's next COUPON / COUPONC (L29849)
         self._programmed_thresholds: dict[str, dict[int, float]] = {}

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from interfaces.signal_group import signal
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList
 from vc.core.interface_map import SignalTable
@@ -22,48 +23,50 @@ from vc.core.spindle.spindle import Spindle
 ALARM_OVERLAY_NOT_ENABLED = 16771  # differential speed without DB31.DBX26.4 (L23450-23456)
 
 
-class CouplingSignals:
-    """The DB31 coupling signals (catalogue symbols without the instance)."""
-
-    def __init__(self, table: SignalTable):
-        self.overlay_enable = table.bit("coupling.out.enableFollowOverlay")
-        self.resync = table.bit("coupling.out.syncSpindleResync")
-        self.sync_disable = table.bit("coupling.out.syncSpindleSyncDisable")
-        self.correction = table.bit("coupling.out.syncCorrection")
-        self.delete_correction = table.bit("coupling.out.syncResetCorrection")
-        self.sync_mode = table.bit("spindle.in.syncModeActive")
-        self.fine = table.bit("coupling.in.syncFineReached")
-        self.coarse = table.bit("coupling.in.syncCoarseReached")
-        self.overlaid = table.bit("coupling.in.MotionOverlaid")
-        self.speed_warning = table.bit("coupling.in.egSpeedThresholdReached")
-        self.accel_warning = table.bit("coupling.in.egAccelThresholdReached")
-        self.leading_active = table.bit("coupling.in.leadingSpindleActive")
-        self.following_active = table.bit("coupling.in.followingSpindleActive")
-        self.correction_done = table.bit("coupling.in.CorrectionDone")
-        self.accelerating = table.bit("coupling.in.egAccelReached")
-        self.process_active = table.bit("coupling.in.ProcessActive")
-        self.correction_active = table.bit("coupling.in.CorrectionActive")
-        self.fine_2 = table.bit("coupling.in.syncFine2Reached")
-        self.coarse_2 = table.bit("coupling.in.syncCoarse2Reached")
-
-
 @dataclass(slots=True)
 class CouplingInputs:
-    overlay_enable: bool = False
-    resync: bool = False
-    sync_disable: bool = False
-    correction: bool = False
-    delete_correction: bool = False
+    """The PLC -> NC coupling signals of one spindle and their rising edges not yet acted on."""
+
+    overlay_enable: bool = signal("coupling.out.enableFollowOverlay")
+    resync: bool = signal("coupling.out.syncSpindleResync")
+    sync_disable: bool = signal("coupling.out.syncSpindleSyncDisable")
+    correction: bool = signal("coupling.out.syncCorrection")
+    delete_correction: bool = signal("coupling.out.syncResetCorrection")
     edges: set[str] = field(default_factory=set)
+
+
+@dataclass(frozen=True, slots=True)
+class CouplingStatus:
+    """The NC -> PLC coupling signals of one spindle; every bit but the first is the following
+    spindle's (all off for a spindle that does not follow)."""
+
+    leading_active: bool = signal("coupling.in.leadingSpindleActive")
+    fine: bool = signal("coupling.in.syncFineReached")
+    coarse: bool = signal("coupling.in.syncCoarseReached")
+    overlaid: bool = signal("coupling.in.MotionOverlaid")
+    speed_warning: bool = signal("coupling.in.egSpeedThresholdReached")
+    accel_warning: bool = signal("coupling.in.egAccelThresholdReached")
+    correction_done: bool = signal("coupling.in.CorrectionDone")
+    accelerating: bool = signal("coupling.in.egAccelReached")
+    process_active: bool = signal("coupling.in.ProcessActive")
+    correction_active: bool = signal("coupling.in.CorrectionActive")
+    fine_2: bool = signal("coupling.in.syncFine2Reached")
+    coarse_2: bool = signal("coupling.in.syncCoarse2Reached")
+    following_active: bool = signal("coupling.in.followingSpindleActive")
+    sync_mode: bool = signal("spindle.in.syncModeActive")
+
+
+_EDGE_EVALUATED = ("overlay_enable", "resync", "sync_disable", "correction", "delete_correction")
 
 
 class CouplingInterface:
     """Reads and writes the coupling signals of every spindle (see the module docstring)."""
 
-    def __init__(self, spindles: dict[str, Spindle], signals: CouplingSignals, areas: dict[str, bytearray],
+    def __init__(self, spindles: dict[str, Spindle], table: SignalTable, areas: dict[str, bytearray],
                  active: dict[str, Coupling], inputs: dict[str, CouplingInputs], alarms: AlarmList):
         self._spindles = spindles
-        self._signals = signals
+        self._decode = table.codec(CouplingInputs).decode
+        self._encode = table.codec(CouplingStatus).encode
         self._areas = areas  # machine axis -> its DB31.. area
         self._active = active  # the coupled pairs by FS (shared with Couplings)
         self.inputs = inputs
@@ -72,17 +75,14 @@ class CouplingInterface:
 
     def decode_inputs(self, name: str) -> None:
         """The PLC -> NC coupling signals of spindle ``name`` and their rising edges."""
-        area, sig = self._areas[name], self._signals
         inputs = self.inputs[name]
-        now = {
-            "overlay_enable": sig.overlay_enable.get(area), "resync": sig.resync.get(area),
-            "sync_disable": sig.sync_disable.get(area), "correction": sig.correction.get(area),
-            "delete_correction": sig.delete_correction.get(area),
-        }
-        for key, value in now.items():
-            if value and not getattr(inputs, key):
+        before = (inputs.overlay_enable, inputs.resync, inputs.sync_disable, inputs.correction,
+                  inputs.delete_correction)
+        self._decode(self._areas[name], inputs)
+        now = (inputs.overlay_enable, inputs.resync, inputs.sync_disable, inputs.correction, inputs.delete_correction)
+        for key, was, value in zip(_EDGE_EVALUATED, before, now, strict=True):
+            if value and not was:
                 inputs.edges.add(key)
-            setattr(inputs, key, value)
         if inputs.overlay_enable:
             self._alarms.clear(ALARM_OVERLAY_NOT_ENABLED, axis=name)
 
@@ -118,12 +118,6 @@ class CouplingInterface:
             self._put(name, status, coupling is not None)
 
     def _put(self, name: str, status: tuple[object, ...], following: bool) -> None:
-        area, sig = self._areas[name], self._signals
-        sig.leading_active.put(area, bool(status[0]))
         values = status[1:] if following else (False,) * 11
-        bits = (sig.fine, sig.coarse, sig.overlaid, sig.speed_warning, sig.accel_warning, sig.correction_done,
-                sig.accelerating, sig.process_active, sig.correction_active, sig.fine_2, sig.coarse_2)
-        for bit, value in zip(bits, values, strict=True):
-            bit.put(area, bool(value))
-        sig.following_active.put(area, following)
-        sig.sync_mode.put(area, following)
+        bits = (bool(status[0]), *(bool(value) for value in values), following, following)
+        self._encode(self._areas[name], CouplingStatus(*bits))

@@ -34,6 +34,7 @@ from vc.config.machine_data import MachineData
 from vc.core.alarms import STOP_AXES, AlarmList
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.owner import Owner
+from vc.core.interface_map import SignalTable
 from vc.core.nc_memory import NcMemory
 from vc.core.overrides import OverrideCoding
 from vc.core.program.commands import SpindleCommand
@@ -44,8 +45,7 @@ from vc.core.spindle.gear_change import (
     GearOutcome,
 )
 from vc.core.spindle.positioning import Positioning, PositioningDrive
-from vc.core.spindle.signals import SpindleInputs, SpindleStatus
-from vc.core.spindle.signals import SpindleSignals as SpindleSignals  # the NCK builds them with the spindles
+from vc.core.spindle.signals import SpindleInputs, SpindleRequests, SpindleSpeed, SpindleStatus
 from vc.core.spindle.speed_control import RPM as RPM  # rev/min -> deg/s, for the spindle's callers
 from vc.core.spindle.speed_control import SpeedControl
 from vc.core.spindle.zero_mark import ZeroMarkSynchronisation
@@ -66,7 +66,7 @@ class SpindleMode(Enum):
 class Spindle:
     """One spindle of a channel (see the module docstring)."""
 
-    def __init__(self, axis: MachineAxis, signals: SpindleSignals, area: bytearray, channel: str,
+    def __init__(self, axis: MachineAxis, table: SignalTable, area: bytearray, channel: str,
                  override_coding: OverrideCoding, feed_coding: OverrideCoding, dt: float,
                  suppress_alarm_mask: int, gear_wait_s: float, memory: NcMemory, alarms: AlarmList):
         """``memory`` and ``alarms``: where a gear stage change that recalibrates an absolute
@@ -76,7 +76,11 @@ class Spindle:
         self.number = axis.config.spindle_number
         self.channel = channel
         self.md: MachineData = axis.config.md
-        self._signals = signals
+        self._decode_levels = table.codec(SpindleInputs).decode
+        self._decode_requests = table.codec(SpindleRequests).decode
+        self._encode_status = table.codec(SpindleStatus).encode
+        self._encode_speed = table.codec(SpindleSpeed).encode
+        self._requests = SpindleRequests()
         self._area = area
         self._dt = dt
         self.inputs = SpindleInputs()
@@ -131,16 +135,17 @@ class Spindle:
         """Take the PLC's DB31 spindle signals; True on the rising edge of DBX2.2, delete distance
         to go / spindle reset, which the spindle carries out here (the coupling has its part)."""
         self.quiet = False
-        area, sig, inp = self._area, self._signals, self.inputs
-        self.gear_change.take_report(sig.gear_reported.get(area))
-        sig.read_levels(area, inp)
-        resync = (sig.resync[0].get(area), sig.resync[1].get(area))
-        for index, (now, before) in enumerate(zip(resync, inp.resync, strict=True)):
-            if now and not before and index < len(self.axis.encoders) and self.mode is SpindleMode.CONTROL:
+        area, inp, now = self._area, self.inputs, self._requests
+        self._decode_requests(area, now)
+        self.gear_change.take_report(now.gear_reported)
+        self._decode_levels(area, inp)
+        resync = (now.resync_1, now.resync_2)
+        for index, (level, before) in enumerate(zip(resync, inp.resync, strict=True)):
+            if level and not before and index < len(self.axis.encoders) and self.mode is SpindleMode.CONTROL:
                 # 16.4 / 16.5 rising: synchronise again at the next zero mark (L18125-18146)
                 self.axis.encoders[index].referenced = False
         inp.resync = resync
-        self._plc_spindle_keys(sig.plc_stop.get(area), sig.plc_start_cw.get(area), sig.plc_start_ccw.get(area))
+        self._plc_spindle_keys(now.plc_stop, now.plc_start_cw, now.plc_start_ccw)
         reset = self.axis.inputs.reset_movement
         reset_edge = reset and not inp.reset_movement
         inp.reset_movement = reset
@@ -280,7 +285,7 @@ class Spindle:
             self.set_position_control(on or self.mode is SpindleMode.SYNCHRONOUS)
 
     def show_speed(self, speed: float) -> None:
-        self._signals.write_s_value(self._area, speed)
+        self._encode_speed(self._area, SpindleSpeed(speed))
 
     # ------------------------------------------------------------------ modes
     def _enter_control_mode(self) -> None:
@@ -436,7 +441,8 @@ class Spindle:
     # ------------------------------------------------------------------ positioning (positioning.py)
     def _start_positioning(self, positioning: Positioning, for_change: bool = False) -> None:
         index = self.axis.encoder.index
-        if self.inputs.resync_for_positioning[index]:
+        inp = self.inputs
+        if (inp.resync_for_positioning_1, inp.resync_for_positioning_2)[index]:
             self.axis.encoder.referenced = False  # 17.4 / 17.5: synchronise again while positioning (L18035)
         self.positioning = positioning
         if not for_change:
@@ -551,7 +557,7 @@ class Spindle:
         before = self._status
         status = SpindleStatus(*shown)
         self._status = status
-        self._signals.write(self._area, status)
+        self._encode_status(self._area, status)
         if before is None or before.position_control != status.position_control:
             self.axis.position_control = self.position_control
             self.axis.resting = False

@@ -1,12 +1,12 @@
-"""The DB31 codec of an axis (vc/core/axis/signals.py): the PLC's outputs decoded into AxisInputs,
-the status bits written where the signal catalogue puts them."""
+"""The DB31 signal groups of an axis (vc/core/axis/signals.py) compiled against the catalogue: the
+PLC's outputs decoded into AxisInputs, the AxisStatus bits written where the catalogue puts them."""
 
 from __future__ import annotations
 
 import pytest
 
 from interfaces.signals import InstanceKind
-from vc.core.axis.signals import AxisInputs, AxisSignals
+from vc.core.axis.signals import AxisInputs, AxisStatus
 from vc.core.interface_map import SignalTable
 from vc.scenario.loader import default_catalog
 
@@ -25,17 +25,16 @@ def area_with(table: SignalTable, *bits: str) -> bytearray:
 
 def test_an_empty_area_reads_as_no_enable_and_parked(table: SignalTable) -> None:
     inputs = AxisInputs(controller_enable=True, encoder_selected=0)
-    AxisSignals(table).read_inputs(bytearray(table.size), inputs, 2)
+    table.codec(AxisInputs).decode(bytearray(table.size), inputs)
+    inputs.select_encoder(2)
     assert inputs == AxisInputs()  # every signal 0: nothing enabled, no measuring system selected
 
 
 def test_each_bit_reaches_its_input(table: SignalTable) -> None:
-    signals = AxisSignals(table)
     area = area_with(table, "basic.out.enableCtrl", "drive.out.enablePulses", "basic.out.traversKeyMinus",
                      "basic.out.hwLimitSwitchPlus", "basic.out.refPointApproachCam")
-    signals.feed_override.put(area, 37)
-    inputs = AxisInputs()
-    signals.read_inputs(area, inputs, 1)
+    table.field("basic.out.feedrateOvrFactor").put(area, 37)
+    inputs = table.codec(AxisInputs).read(area)
     assert (inputs.controller_enable, inputs.pulse_enable, inputs.key_minus, inputs.hw_limit_plus,
             inputs.ref_cam) == (True, True, True, True, True)
     assert (inputs.key_plus, inputs.hw_limit_minus, inputs.disable, inputs.feed_stop) == (False, False, False, False)
@@ -51,8 +50,8 @@ def test_each_bit_reaches_its_input(table: SignalTable) -> None:
 ])
 def test_the_measuring_system_selection(table: SignalTable, selected: tuple[str, ...], encoders: int,
                                         expected: int | None) -> None:
-    inputs = AxisInputs()
-    AxisSignals(table).read_inputs(area_with(table, *selected), inputs, encoders)
+    inputs = table.codec(AxisInputs).read(area_with(table, *selected))
+    inputs.select_encoder(encoders)
     assert inputs.encoder_selected == expected
 
 
@@ -67,14 +66,14 @@ STATUS_ORDER = ("basic.in.posCoarseReached", "basic.in.posFineReached", "basic.i
 def test_each_status_bit_is_written_to_its_signal_alone(table: SignalTable, position: int) -> None:
     area = bytearray(table.size)
     status = tuple(index == position for index in range(len(STATUS_ORDER)))
-    AxisSignals(table).write_status(area, status)
+    table.codec(AxisStatus).encode(area, AxisStatus(*status))
     assert [table.bit(name).get(area) for name in STATUS_ORDER] == list(status)
     assert sum(bin(byte).count("1") for byte in area) == 1
 
 
 def test_status_bits_are_cleared_again(table: SignalTable) -> None:
-    signals = AxisSignals(table)
+    encode = table.codec(AxisStatus).encode
     area = bytearray(table.size)
-    signals.write_status(area, (True,) * len(STATUS_ORDER))
-    signals.write_status(area, (False,) * len(STATUS_ORDER))
+    encode(area, AxisStatus(*(True,) * len(STATUS_ORDER)))
+    encode(area, AxisStatus())
     assert not any(area)

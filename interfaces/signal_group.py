@@ -1,0 +1,186 @@
+"""Groups of interface signals, declared once and compiled at power-on into a decoder and an encoder.
+
+A group is a dataclass whose signal fields name their catalogue symbol with :func:`signal`::
+
+    @dataclass(slots=True)
+    class AxisInputs:
+        controller_enable: bool = signal("basic.out.enableCtrl")   # DB31.DBX2.1
+        override_raw: int = signal("basic.out.feedrateOvrFactor", 0)
+        encoder_selected: int | None = None                        # derived: not a signal
+
+The attribute is the one name the code uses, the symbol the one the catalogue (and the manual)
+uses; nothing else names the signal.  Fields without a symbol are values the owner derives from
+the signals (an override factor from its switch position) and the codec leaves them alone.
+
+:class:`GroupCodec` resolves every symbol once against a catalogue section (symbols without the
+instance: a group serves every axis, channel, ...; an optional prefix serves the repeated blocks
+of one data block, ``geoAxis2.out.`` or ``entry[3].in.``) into :class:`Accessor` rows (attribute,
+byte, shift, width, type) and generates plain functions from them: ``decode(area, into)`` sets
+the attributes of ``into`` from the bytes, ``read(area)`` returns a new instance of the group
+decoded from them, ``encode(area, values)`` writes the attributes of ``values`` into the bytes,
+the bits of one byte in one store.  The functions hold the offsets
+as constants, which makes them as fast as the hand-written twins they replace (namedtuple and
+dataclasses generate their methods the same way).  The bit convention is
+:mod:`interfaces.bit_access`'s: S7's, stated there once.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import struct
+from collections import defaultdict
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, Generic, TypeVar
+
+from interfaces.errors import VcError
+from interfaces.signals import Direction, SignalDef, SignalType
+
+SYMBOL = "catalogue symbol"  # the field metadata key :func:`signal` sets
+
+T = TypeVar("T")
+Decoder = Callable[[Any, Any], None]  # (area, into): the attributes of ``into`` from the bytes of ``area``
+Encoder = Callable[[bytearray, Any], None]  # (area, values): the attributes of ``values`` into ``area``
+
+
+class SignalGroupError(VcError, TypeError):
+    """A signal group that does not fit the catalogue: mixed directions, overlapping signals, a
+    field type that is not the signal's."""
+
+
+def signal(symbol: str, default: Any = False) -> Any:
+    """A dataclass field carrying the value of the catalogue signal ``symbol`` (without the
+    instance, ``basic.out.enableCtrl``); ``default`` is its value before the first decode."""
+    return dataclasses.field(default=default, metadata={SYMBOL: symbol})
+
+
+def declared_signals(group: type) -> tuple[tuple[str, str], ...]:
+    """(attribute, symbol) of every signal field of ``group``, in declaration order."""
+    return tuple((f.name, f.metadata[SYMBOL]) for f in dataclasses.fields(group) if SYMBOL in f.metadata)
+
+
+@dataclass(frozen=True, slots=True)
+class Accessor:
+    """Where one attribute of a group lies in its data block."""
+
+    attribute: str
+    symbol: str  # the full catalogue symbol, instance placeholder included
+    byte: int
+    shift: int  # the lowest bit of a bool or a bits field; 0 for byte, word, double word and real
+    width_bits: int
+    type: SignalType
+
+    @classmethod
+    def of(cls, attribute: str, definition: SignalDef) -> Accessor:
+        address = definition.address
+        shift = address.bit if address.is_bit else 0
+        return cls(attribute, definition.symbol, address.byte, shift, definition.bits, definition.type)
+
+    @property
+    def mask(self) -> int:
+        """The bits a bool or a field of at most 8 bits occupies in its byte."""
+        return ((1 << self.width_bits) - 1) << self.shift
+
+    @property
+    def in_one_byte(self) -> bool:
+        return self.type in (SignalType.BOOL, SignalType.BITS, SignalType.BYTE)
+
+
+class GroupCodec(Generic[T]):
+    """One signal group resolved against a catalogue section (see the module docstring)."""
+
+    def __init__(self, group: type[T], resolve: Callable[[str], SignalDef], prefix: str = ""):
+        """``resolve`` maps a symbol without the instance to its definition (it may record the
+        signal as used); ``prefix`` is put before every declared symbol."""
+        self.group = group
+        rows = [(attribute, resolve(prefix + symbol)) for attribute, symbol in declared_signals(group)]
+        if not rows:
+            raise SignalGroupError(f"{group.__name__} declares no signal")
+        directions = {definition.direction for _, definition in rows}
+        if len(directions) != 1:
+            raise SignalGroupError(f"{group.__name__} mixes directions: "
+                                   + ", ".join(f"{d.symbol} {d.direction.value}" for _, d in rows))
+        self.direction: Direction = directions.pop()
+        self.accessors = tuple(Accessor.of(attribute, definition) for attribute, definition in rows)
+        _check_overlaps(group.__name__, self.accessors)
+        name = group.__name__
+        values = _values(self.accessors)
+        self.decode: Decoder = _generate(f"decode_{name}", "area, into",
+                                         [f"into.{attribute} = {value}" for attribute, value in values])
+        self.encode: Encoder = _generate(f"encode_{name}", "area, values", _encoder_lines(self.accessors))
+        # a fresh instance of the group decoded from the area (fields without a symbol at their defaults);
+        # built by keyword, so a frozen group reads too
+        self.read: Callable[[bytes | bytearray], T] = _generate(
+            f"read_{name}", "area", ["return _group(" + ", ".join(f"{a}={value}" for a, value in values) + ")"],
+            group)
+
+
+def _check_overlaps(group: str, accessors: tuple[Accessor, ...]) -> None:
+    taken: dict[tuple[int, int], str] = {}
+    for accessor in accessors:
+        if accessor.in_one_byte:
+            bits = [(accessor.byte, bit) for bit in range(8) if accessor.mask >> bit & 1]
+        else:
+            bits = [(accessor.byte + offset, bit) for offset in range(accessor.width_bits // 8) for bit in range(8)]
+        for place in bits:
+            if place in taken:
+                raise SignalGroupError(f"{group}: {accessor.attribute} and {taken[place]} share byte {place[0]}")
+            taken[place] = accessor.attribute
+
+
+def _values(accessors: tuple[Accessor, ...]) -> list[tuple[str, str]]:
+    """(attribute, the expression of its value in ``area``) of every accessor."""
+    values = []
+    for a in accessors:
+        if a.type is SignalType.BOOL:
+            value = f"(area[{a.byte}] & {a.mask}) != 0"
+        elif a.type is SignalType.BITS:
+            value = f"(area[{a.byte}] >> {a.shift}) & {(1 << a.width_bits) - 1}"
+        elif a.type is SignalType.BYTE:
+            value = f"area[{a.byte}]"
+        elif a.type is SignalType.REAL:
+            value = f"_unpack_real(area, {a.byte})[0]"
+        else:
+            value = f"int.from_bytes(area[{a.byte}:{a.byte + a.width_bits // 8}], 'big')"
+        values.append((a.attribute, value))
+    return values
+
+
+def _encoder_lines(accessors: tuple[Accessor, ...]) -> list[str]:
+    """The bits and fields of one byte are put in one store, in the order of the bytes; words,
+    double words and reals are stored whole."""
+    by_byte: defaultdict[int, list[Accessor]] = defaultdict(list)
+    lines = []
+    for a in accessors:
+        if a.in_one_byte:
+            by_byte[a.byte].append(a)
+        elif a.type is SignalType.REAL:
+            lines.append(f"_pack_real(area, {a.byte}, values.{a.attribute})")
+        else:
+            size = a.width_bits // 8
+            lines.append(f"area[{a.byte}:{a.byte + size}] = (values.{a.attribute} & {(1 << a.width_bits) - 1})"
+                         f".to_bytes({size}, 'big')")
+    for byte, members in sorted(by_byte.items()):
+        keep = 0xFF
+        terms = []
+        for a in members:
+            keep &= ~a.mask & 0xFF
+            if a.type is SignalType.BOOL:
+                terms.append(f"({a.mask} if values.{a.attribute} else 0)")
+            else:
+                terms.append(f"((values.{a.attribute} << {a.shift}) & {a.mask})")
+        kept = [f"(area[{byte}] & {keep})"] if keep else []
+        lines.append(f"area[{byte}] = " + " | ".join(kept + terms))
+    return lines
+
+
+_NAMESPACE = {"_unpack_real": struct.Struct(">f").unpack_from, "_pack_real": struct.Struct(">f").pack_into}
+
+
+def _generate(name: str, parameters: str, lines: list[str], group: type | None = None) -> Any:
+    source = f"def {name}({parameters}):\n" + "".join(f"    {line}\n" for line in lines)
+    namespace: dict[str, Any] = dict(_NAMESPACE, _group=group)
+    exec(compile(source, f"<signal group {name}>", "exec"), namespace)
+    function = namespace[name]
+    function.__doc__ = source  # what was generated, for a reader at the prompt
+    return function
