@@ -3,17 +3,24 @@
 A program asks for its inputs and outputs by name at construction, interface signals by
 symbol (``X1.basic.out.traversKeyPlus``) and plant I/O by function (``MCP.plus.X1``),
 and then reads and writes ``.value`` in every scan (through the accessors of
-:mod:`interfaces.bit_access`, which the NC uses too).  Asking for an input as an output
-(or the other way round) is a programming error and fails when the program is built.
+:mod:`interfaces.bit_access`, which the NC uses too).  A group of the NC's outputs
+(:mod:`interfaces.signal_groups`, the groups the NC writes) is read whole, like a structure
+copied from a data block: ``io.input_group(RetractionStatus, "CHAN1").read()``, decoded by the
+same generated code as on the NC's side (:mod:`interfaces.group_codec`).  Asking for an input
+as an output (or the other way round) is a programming error and fails when the program is built.
 """
 
 from __future__ import annotations
 
+from typing import Generic, TypeVar
+
 from interfaces.bit_access import Bit, Field
+from interfaces.group_codec import GroupCodec
 from interfaces.image import ProcessImage
 from interfaces.plc import PlcEnvironment
 from interfaces.signals import Direction, SignalRef, SignalType, UnknownSignalError
 
+T = TypeVar("T")
 _INPUTS = (Direction.NC_TO_PLC, Direction.PLANT_TO_PLC)
 _OUTPUTS = (Direction.PLC_TO_NC, Direction.PLC_TO_PLANT)
 
@@ -75,6 +82,20 @@ class BitField:
         self._field.put(self._area, number)
 
 
+class GroupInput(Generic[T]):
+    """A group of one instance's NC -> PLC signals, read whole."""
+
+    __slots__ = ("_area", "_read", "name")
+
+    def __init__(self, area: bytearray, codec: GroupCodec[T], name: str):
+        self._area = area
+        self._read = codec.read
+        self.name = name
+
+    def read(self) -> T:
+        return self._read(self._area)
+
+
 class PlcIo:
     def __init__(self, environment: PlcEnvironment):
         self.environment = environment
@@ -115,6 +136,22 @@ class PlcIo:
     def output_field(self, name: str) -> BitField:
         ref = self._checked(name, _OUTPUTS, SignalType.BITS)
         return BitField(self.image.area(ref.area_key), ref)
+
+    def input_group(self, group: type[T], instance: str) -> GroupInput[T]:
+        """The NC's outputs of ``group`` for ``instance`` (a channel, an axis, ``NC``...)."""
+        refs: list[SignalRef] = []
+
+        def resolve(symbol: str) -> SignalRef:
+            refs.append(self.environment.catalog.resolve(f"{instance}.{symbol}"))
+            return refs[-1]
+
+        codec = GroupCodec(group, resolve)
+        if codec.direction is not Direction.NC_TO_PLC:
+            raise TypeError(f"{group.__name__} is an output of the PLC")
+        areas = {ref.area_key for ref in refs}
+        if len(areas) != 1:
+            raise TypeError(f"{group.__name__} of {instance} spans {', '.join(sorted(areas))}")
+        return GroupInput(self.image.area(areas.pop()), codec, f"{instance} {group.__name__}")
 
     def _checked(self, name: str, directions: tuple[Direction, ...], signal_type: SignalType) -> SignalRef:
         ref = self._resolve(name)

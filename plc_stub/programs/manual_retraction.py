@@ -40,8 +40,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from interfaces.signal_groups import RetractionStatus
 from plc_stub.blocks import R_TRIG
-from plc_stub.io import Bool, PlcIo
+from plc_stub.io import Bool, GroupInput, PlcIo
 from plc_stub.programs.basic_machine import BasicMachine, pressed
 from plc_stub.programs.handwheel_selection import HandwheelSelection
 from plc_stub.programs.spindle import Spindle
@@ -52,12 +53,9 @@ _ACTIVE_MODE_SIGNALS = (("auto", "MODEGROUP.basic.in.autoModeActive"), ("mda", "
 
 @dataclass(slots=True)
 class _RetractionChannel:
-    data_available: Bool  # DB21.DBX377.5
-    active: Bool  # DB21.DBX377.4
+    status: GroupInput[RetractionStatus]  # DB21.DBX377.5 data available, 377.4 active, 397.0 done, 397.1 refused
     in_reset: Bool  # DB21.DBX35.7
     request: Bool  # DB21.DBX396.0: PI service RETRAC
-    done: Bool  # DB21.DBX397.0
-    refused: Bool  # DB21.DBX397.1
     data_edge: R_TRIG
     active_edge: R_TRIG
     first_chance: bool = False  # 377.5 rose and no selection was tried since
@@ -77,12 +75,9 @@ class ManualRetractionNetworks:
         self.handwheels = HandwheelSelection(io)
         self.channels = [
             _RetractionChannel(
-                data_available=io.input(f"{name}.basic.in.jogRetractDataAvailable"),
-                active=io.input(f"{name}.basic.in.jogRetractActive"),
+                status=io.input_group(RetractionStatus, name),
                 in_reset=io.input(f"{name}.basic.in.stateReset"),
                 request=io.output(f"{name}.piService.out.retracRequest"),
-                done=io.input(f"{name}.piService.in.retracDone"),
-                refused=io.input(f"{name}.piService.in.retracError"),
                 data_edge=R_TRIG(),
                 active_edge=R_TRIG(),
             )
@@ -97,7 +92,7 @@ class ManualRetractionNetworks:
                 if active.value:
                     program.selected_mode = mode
         for channel in self.channels:
-            if channel.data_edge(channel.data_available.value):
+            if channel.data_edge(channel.status.read().data_available):
                 program.selected_mode = "jog"
                 program.reference_function = False
                 channel.first_chance = True
@@ -107,11 +102,11 @@ class ManualRetractionNetworks:
         start = self.start_key_edge(pressed(program.key_nc_start))
         jog = self.active_modes["jog"].value and not program.reference_function
         for channel in self.channels:
-            data = channel.data_available.value
+            status = channel.status.read()
             if channel.request.value:
-                channel.request.value = not (channel.done.value or channel.refused.value)
+                channel.request.value = not (status.done or status.error)
                 continue
-            selectable = data and jog and channel.in_reset.value and not channel.active.value
+            selectable = status.data_available and jog and channel.in_reset.value and not status.active
             if selectable and (channel.first_chance or start):
                 channel.first_chance = False
                 channel.request.value = True
@@ -123,7 +118,7 @@ class ManualRetractionNetworks:
         if self.softkey_edge(self.mcs_wcs_softkey.value):
             self.show_wcs.value = not self.show_wcs.value
         for channel in self.channels:
-            if channel.active_edge(channel.active.value):
+            if channel.active_edge(channel.status.read().active):
                 self.show_wcs.value = True
 
 

@@ -2,7 +2,7 @@
 
 The core never writes an address: it declares each group of signals it reads or writes once, by
 their catalogue symbols without the instance (``basic.out.traversKeyPlus``), and gets the group's
-decoder and encoder (:mod:`interfaces.signal_group`); a lone signal comes as a :class:`Bit` or
+decoder and encoder (:mod:`interfaces.group_codec`); a lone signal comes as a :class:`Bit` or
 :class:`Field` with the byte offset and mask inside the instance's data block
 (:mod:`interfaces.bit_access`, shared with the PLC runtime).  The cycle then works on the bytes
 directly, which keeps an IPO cycle cheap.
@@ -13,7 +13,7 @@ from __future__ import annotations
 from typing import Any, TypeVar
 
 from interfaces.bit_access import Bit, Field
-from interfaces.signal_group import GroupCodec
+from interfaces.group_codec import GroupCodec
 from interfaces.signals import PLACEHOLDER, Catalog, InstanceKind, SignalDef, SignalType
 
 T = TypeVar("T")
@@ -42,7 +42,7 @@ class SignalTable:
         return definition
 
     def codec(self, group: type[T], prefix: str = "") -> GroupCodec[T]:
-        """The declared signal group ``group`` (:mod:`interfaces.signal_group`) compiled for this
+        """The declared signal group ``group`` (:mod:`interfaces.group_codec`) compiled for this
         kind of data block; ``prefix`` goes before its symbols (``geoAxis2.out.``)."""
         key = (group, prefix)
         codec: GroupCodec[T] | None = self._codecs.get(key)  # keyed by its group: a GroupCodec[T]

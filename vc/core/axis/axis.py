@@ -16,15 +16,17 @@ With neither selected the axis is "parked": no actual value, no position control
 The axis owns its functions' pieces: ``PositionLoop`` (Kv, feedforward, symmetrising and the
 drive's lag: ``position_loop``), ``AxisJog`` (JOG with the traverse keys and the handwheel, the
 software limit switches in JOG: ``jog``), ``DrfOffset`` (the DRF offset in AUTO / MDA: ``drf``);
-its DB31 signals are the groups ``AxisInputs`` and ``AxisStatus`` (``signals``).  The cycle itself
-(the slide, the encoder, enables, exact stop and standstill monitoring, the status bits) stays
-here, on the axis's own attributes: ``control_cycle`` runs every IPO cycle for every moving axis.
+its DB31 signals are the groups ``AxisInputs`` (``signals``) and ``AxisStatus``
+(``interfaces.signal_groups``).  The cycle itself (the slide, the encoder, enables, exact stop and
+standstill monitoring, the status bits) stays here, on the axis's own attributes:
+``control_cycle`` runs every IPO cycle for every moving axis.
 """
 
 from __future__ import annotations
 
 import dataclasses
 
+from interfaces.signal_groups import AxisStatus
 from vc.config import md_dictionary as MD
 from vc.config.model import AxisConfig
 from vc.core.alarms import AlarmList
@@ -35,7 +37,7 @@ from vc.core.axis.jog import FREE_JOG, AxisJog, JogLimits
 from vc.core.axis.motion import ramp
 from vc.core.axis.owner import Owner
 from vc.core.axis.position_loop import PositionLoop
-from vc.core.axis.signals import AxisInputs, AxisStatus
+from vc.core.axis.signals import AxisInputs
 from vc.core.interface_map import SignalTable
 
 _TINY = 1e-9

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from interfaces.signal_group import signal
+from interfaces.signal_groups import HandwheelSelection
 
 HANDWHEELS = 3
 GEOMETRY_AXES = 3  # geometry axes 1..3 of a channel: DB21 bytes 12, 16, 20
@@ -37,29 +37,13 @@ INCREMENT_WEIGHT = 0.001  # mm per increment: MD31090 JOG_INCR_WEIGHT[0] as the 
 INCREMENTS = (1, 10, 100, 1000, 10000)  # INC1 .. INC10000: MD11330 JOG_INCR_SIZE_TAB defaults [control]
 
 
-MACHINE_AXIS = "basic.out."  # the symbols' prefix in DB31
-GEOMETRY_AXIS = "geoAxis{number}.out."  # the symbols' prefix in DB21, geometry axis 1..3
-
-
-@dataclass(slots=True)
-class HandwheelSelection:
-    """The handwheel signals of a machine axis (DB31, prefix :data:`MACHINE_AXIS`) or of a channel's
-    geometry axis (DB21, :data:`GEOMETRY_AXIS`): its assignment and the selected increment."""
-
-    assigned: int = signal("handwheelSelection", 0)  # bit mask: bit 0 = handwheel 1
-    inc1: bool = signal("inc1")
-    inc10: bool = signal("inc10")
-    inc100: bool = signal("inc100")
-    inc1000: bool = signal("inc1000")
-    inc10000: bool = signal("inc10000")
-
-    def increment(self) -> float:
-        """mm per detent: the lowest increment the PLC selects, 0 without one."""
-        selected = (self.inc1, self.inc10, self.inc100, self.inc1000, self.inc10000)
-        for size, on in zip(INCREMENTS, selected, strict=True):
-            if on:
-                return size * INCREMENT_WEIGHT
-        return 0.0
+def increment_of(selection: HandwheelSelection) -> float:
+    """mm per detent: the lowest increment the PLC selects, 0 without one."""
+    selected = (selection.inc1, selection.inc10, selection.inc100, selection.inc1000, selection.inc10000)
+    for size, on in zip(INCREMENTS, selected, strict=True):
+        if on:
+            return size * INCREMENT_WEIGHT
+    return 0.0
 
 
 @dataclass(slots=True)

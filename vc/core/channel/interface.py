@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from interfaces.signal_group import signal
+from interfaces.signal_groups import AxisSummary, ChannelRequests, ChannelStatus
 from vc.core.axis.axis import MachineAxis
 from vc.core.channel.program_run import ChannelState, ProgramRun, ProgramState
 from vc.core.interface_map import SignalTable
@@ -19,49 +19,11 @@ from vc.core.overrides import OverrideCoding
 
 
 @dataclass(slots=True)
-class ChannelInputs:
+class ChannelInputs(ChannelRequests):
     """The PLC-to-NC signals of a channel, and the override factors they give."""
 
-    nc_start_disable: bool = signal("basic.out.disableNcStart")
-    nc_start: bool = signal("basic.out.ncStart")
-    nc_stop: bool = signal("basic.out.ncStop")
-    nc_stop_all: bool = signal("basic.out.ncStopAxesAndSpindles")
-    reset: bool = signal("basic.out.reset")
-    reference_start: bool = signal("basic.out.refPointApproach")
-    feed_disable: bool = signal("basic.out.disableFeed")
-    read_in_disable: bool = signal("basic.out.disableReadIn")
-    delete_distance_to_go: bool = signal("basic.out.deleteDistanceToGo")
-    feed_override_raw: int = signal("basic.out.pathFeedrateOvrFactor", 0)
-    feed_override_active: bool = signal("basic.out.pathFeedrateOvr")
-    rapid_override_raw: int = signal("basic.out.pathRapidTraversOvrFactor", 0)
-    rapid_override_active: bool = signal("basic.out.pathRapidTraversOvr")
-    dry_run: bool = signal("basic.out.dryRunFeedrate")
-    program_test: bool = signal("basic.out.progTest")
     feed_override: float = 1.0  # the factors of the override switches, through their coding
     rapid_override: float = 1.0
-
-
-@dataclass(frozen=True, slots=True)
-class ChannelStatus:
-    """The channel and program state and the alarm bits (DB21.DBX35.x, 36.x, 33.x)."""
-
-    running: bool = signal("basic.in.progStateRunning")
-    waiting: bool = signal("basic.in.progStateWaiting")
-    stopped: bool = signal("basic.in.progStateStopped")
-    interrupted: bool = signal("basic.in.progStateInterrupted")
-    aborted: bool = signal("basic.in.progStateAborted")
-    state_active: bool = signal("basic.in.stateActive")
-    state_interrupted: bool = signal("basic.in.stateInterrupted")
-    state_reset: bool = signal("basic.in.stateReset")
-    alarm_active: bool = signal("basic.in.alarmActive")
-    alarm_with_stop: bool = signal("basic.in.alarmWithStopActive")
-    reference_active: bool = signal("basic.in.refActive")
-
-
-@dataclass(frozen=True, slots=True)
-class AxisSummary:
-    all_referenced: bool = signal("basic.in.allAxesReferenced")
-    all_stationary: bool = signal("basic.in.allAxesStationary")
 
 
 @dataclass(slots=True)

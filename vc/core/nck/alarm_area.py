@@ -4,30 +4,11 @@ changes; the layout and the codes are those of :mod:`interfaces.alarm_block`."""
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
 
 from interfaces.alarm_block import ENTRY_BYTES, FIRST_ENTRY_BYTE, cleared_by_code
-from interfaces.signal_group import signal
+from interfaces.signal_groups import ALARM_ENTRY, AlarmEntry, AlarmListHeader
 from vc.core.alarms import AlarmList
 from vc.core.interface_map import SignalTable
-
-
-@dataclass(frozen=True, slots=True)
-class AlarmListHeader:
-    count: int = signal("list.in.count", 0)
-    changes: int = signal("list.in.changes", 0)  # the alarm list's version, modulo 2^16
-
-
-@dataclass(frozen=True, slots=True)
-class AlarmEntry:
-    """One entry of the list (symbols after the entry's prefix ``entry[n].in.``); all 0: none."""
-
-    number: int = signal("number", 0)
-    channel: int = signal("channel", 0)
-    axis: int = signal("axis", 0)
-    reaction: int = signal("reaction", 0)
-    cleared_by: int = signal("clearedBy", 0)
-
 
 NO_ENTRY = AlarmEntry()
 
@@ -40,7 +21,8 @@ class AlarmArea:
         self._area = area
         self._encode_header = table.codec(AlarmListHeader).encode
         entries = (table.size - FIRST_ENTRY_BYTE) // ENTRY_BYTES
-        self._entries = [table.codec(AlarmEntry, f"entry[{number}].in.").encode for number in range(1, entries + 1)]
+        self._entries = [table.codec(AlarmEntry, ALARM_ENTRY.format(number=number)).encode
+                         for number in range(1, entries + 1)]
         self._channels = dict(channels)
         self._axes = dict(axes)
 

@@ -13,9 +13,10 @@ from __future__ import annotations
 from collections.abc import Set as AbstractSet
 
 from interfaces.image import ProcessImage
+from interfaces.signal_groups import HANDWHEEL_OF_GEOMETRY_AXIS, HANDWHEEL_OF_MACHINE_AXIS, HandwheelSelection
 from vc.core.alarms import STOP_AXES, AlarmList
 from vc.core.axis.axis import MachineAxis
-from vc.core.axis.handwheel import GEOMETRY_AXES, GEOMETRY_AXIS, MACHINE_AXIS, Handwheels, HandwheelSelection
+from vc.core.axis.handwheel import GEOMETRY_AXES, Handwheels, increment_of
 from vc.core.axis.owner import Owner
 from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
@@ -38,9 +39,10 @@ class ManualFunctions:
         self.retractions = retractions
         self.couplings = couplings
         self.handwheels = Handwheels()
-        self._handwheel = axis_table.codec(HandwheelSelection, MACHINE_AXIS)
-        self._geometry_handwheels = tuple(channel_table.codec(HandwheelSelection, GEOMETRY_AXIS.format(number=number))
-                                          for number in range(1, GEOMETRY_AXES + 1))
+        self._handwheel = axis_table.codec(HandwheelSelection, HANDWHEEL_OF_MACHINE_AXIS)
+        self._geometry_handwheels = tuple(
+            channel_table.codec(HandwheelSelection, HANDWHEEL_OF_GEOMETRY_AXIS.format(number=number))
+            for number in range(1, GEOMETRY_AXES + 1))
         self._geometry_handwheel_shown = channel_table.field("geoAxis1.in.handwheelAssignedNumber")
         self._drf_requested = channel_table.bit("basic.out.handwheelOffsetDrf")  # DB21.DBX0.3
         self._drf_shown = channel_table.bit("basic.in.handwheelOvrActive")  # DB21.DBX33.3
@@ -123,7 +125,7 @@ class ManualFunctions:
         if pulses and self._drf_active[channel.name] and not axes_stopped:
             for axis in channel.axes:
                 selection = self._handwheel.read(self.image.area(axis.area_key))
-                assigned, per_detent = selection.assigned, selection.increment()
+                assigned, per_detent = selection.assigned, increment_of(selection)
                 detents = sum(count for number, count in pulses.items() if assigned & (1 << (number - 1)))
                 if not (detents and per_detent):
                     continue
@@ -155,7 +157,7 @@ class ManualFunctions:
         for axis in channel.axes:
             axis_selection = self._handwheel.read(self.image.area(axis.area_key))
             if axis_selection.assigned:
-                receivers += [(number, axis, axis_selection.increment()) for number in pulses
+                receivers += [(number, axis, increment_of(axis_selection)) for number in pulses
                               if axis_selection.assigned & (1 << (number - 1))]
         area = self.image.area(channel.area_key)
         inclined = channel.inclined
@@ -164,6 +166,6 @@ class ManualFunctions:
             if selection is not None and selection.assigned:
                 assigned = selection.assigned
                 axis = channel.axes_by_name[name]
-                per_detent = selection.increment() * (inclined.geometry_travel(axis) if inclined else 1.0)
+                per_detent = increment_of(selection) * (inclined.geometry_travel(axis) if inclined else 1.0)
                 receivers += [(number, axis, per_detent) for number in pulses if assigned & (1 << (number - 1))]
         return receivers

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from interfaces.signal_group import signal
+from interfaces.signal_groups import RETRACTION_REQUEST, RetractionStatus
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.jog import FREE_JOG, JogLimits
 from vc.core.axis.owner import Owner
@@ -48,17 +48,6 @@ from vc.core.nc_memory import NcMemory, RetractData
 BOTH_DIRECTIONS = 1 << 8  # MD10735 bit 8: retraction in plus and minus direction (L35396-35400)
 THREAD_FUNCTIONS = ("G33", "G331", "G332")
 STANDING = JogLimits(plus=False, minus=False)
-
-
-REQUEST_SIGNAL = "piService.out.retracRequest"  # DB21.DBX377.0: PI service RETRAC, read every IPO cycle
-
-
-@dataclass(frozen=True, slots=True)
-class RetractionStatus:
-    data_available: bool = signal("basic.in.jogRetractDataAvailable")
-    active: bool = signal("basic.in.jogRetractActive")
-    done: bool = signal("piService.in.retracDone")
-    error: bool = signal("piService.in.retracError")
 
 
 @dataclass(slots=True)
@@ -81,7 +70,7 @@ class ManualRetraction:
                  jog_mode_mask: int):
         self.channel = channel
         self._memory = memory
-        self._request_signal = table.bit(REQUEST_SIGNAL)
+        self._request_signal = table.bit(RETRACTION_REQUEST)
         self._encode = table.codec(RetractionStatus).encode
         self._area = area
         self.both_directions = bool(jog_mode_mask & BOTH_DIRECTIONS)

@@ -9,36 +9,16 @@ machine function inside JOG or MDA.  DB11.DBX0.7 resets every channel of the gro
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
-from interfaces.signal_group import signal
+from interfaces.signal_groups import ModeGroupRequests, ModeGroupStatus
 from vc.core.channel.program_run import Mode
 from vc.core.interface_map import SignalTable
 
 
-@dataclass(slots=True)
-class ModeGroupInputs:
-    auto: bool = signal("basic.out.autoMode")
-    mda: bool = signal("basic.out.mdaMode")
-    jog: bool = signal("basic.out.jogMode")
-    reset: bool = signal("basic.out.reset")
-    ref: bool = signal("basic.out.refPoint")
-
-
-@dataclass(frozen=True, slots=True)
-class ModeGroupStatus:
-    auto_active: bool = signal("basic.in.autoModeActive")
-    mda_active: bool = signal("basic.in.mdaModeActive")
-    jog_active: bool = signal("basic.in.jogModeActive")
-    ready: bool = signal("basic.in.ready")
-    ref_active: bool = signal("basic.in.refPointActive")
-
-
 class ModeGroup:
     def __init__(self, table: SignalTable, area: bytearray):
-        self._decode = table.codec(ModeGroupInputs).decode
+        self._decode = table.codec(ModeGroupRequests).decode
         self._encode = table.codec(ModeGroupStatus).encode
-        self._inputs = ModeGroupInputs()
+        self._inputs = ModeGroupRequests()
         self._area = area
         self.mode = Mode.JOG  # power-on default mode (MD10720, see power_on)
         self.reference_function = False

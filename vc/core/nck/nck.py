@@ -46,6 +46,7 @@ from __future__ import annotations
 import math
 
 from interfaces.image import ProcessImage
+from interfaces.signal_groups import NckRequests, NckStatus
 from interfaces.signals import Catalog, Direction, expand
 from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
@@ -56,7 +57,6 @@ from vc.core.channel.program_run import ChannelState, Mode
 from vc.core.nc_memory import NcMemory
 from vc.core.nck.alarm_reactions import EMERGENCY_STOP_ALARM, AlarmReactions
 from vc.core.nck.power_on import power_on
-from vc.core.nck.signals import NckInputs, NckStatus
 from vc.core.referencing.buffered_positions import buffer_at_power_off, encoder_slip
 from vc.core.retraction.dc_link import DcLink
 
@@ -88,7 +88,7 @@ class Nck:
         parts = power_on(machine, catalog, self.image, self.memory, self.alarms, self.dt, physical, self.signals_used)
         self._decode_nck = parts.nck_inputs.decode
         self._encode_nck = parts.nck_status.encode
-        self._nck_inputs = NckInputs()
+        self._nck_inputs = NckRequests()
         self._nck_area = self.image.area("DB10")
         self._display_wcs = parts.display_wcs
         self._alarm_area = parts.alarm_area

@@ -19,8 +19,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from interfaces.bit_access import Bit
+from interfaces.group_codec import GroupCodec
 from interfaces.image import ProcessImage
-from interfaces.signal_group import GroupCodec
+from interfaces.signal_groups import DISPLAY_WCS, NckRequests, NckStatus
 from interfaces.signals import Catalog, InstanceKind
 from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig
@@ -35,7 +36,6 @@ from vc.core.nck.alarm_area import AlarmArea
 from vc.core.nck.manual_functions import ManualFunctions
 from vc.core.nck.manual_retraction import ManualRetraction
 from vc.core.nck.mode_group import ModeGroup
-from vc.core.nck.signals import DISPLAY_WCS, NckInputs, NckStatus
 from vc.core.overrides import OverrideCoding
 from vc.core.referencing.buffered_positions import restore_at_power_on
 from vc.core.retraction.dc_link import DcLink
@@ -51,7 +51,7 @@ from vc.core.transforms.inclined_axis_control import InclinedAxisControl, inclin
 class NckParts:
     """Everything the NCK is made of, complete and wired."""
 
-    nck_inputs: GroupCodec[NckInputs]
+    nck_inputs: GroupCodec[NckRequests]
     nck_status: GroupCodec[NckStatus]
     display_wcs: Bit  # of the operator panel's DB19
     alarm_area: AlarmArea
@@ -140,7 +140,7 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
         spindle.write_outputs()  # the power-on state
     manual = ManualFunctions(axis_table, channel_table, image, mode_group, channels, alarms, referencing, retractions,
                              couplings)
-    return NckParts(nck_table.codec(NckInputs), nck_table.codec(NckStatus), display_wcs, alarm_area,
+    return NckParts(nck_table.codec(NckRequests), nck_table.codec(NckStatus), display_wcs, alarm_area,
                     mode_group, axes, axes_by_name, axis_coding, referencing,
                     channels, {channel.name: channel for channel in channels}, inclined_axes, retractions, spindles,
                     spindle_of, couplings, esr, dc_link, polygons, manual)

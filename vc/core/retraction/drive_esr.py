@@ -33,10 +33,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from enum import Enum
 
-from interfaces.signal_group import signal
+from interfaces.signal_groups import DriveEsrStatus
 from vc.config import md_dictionary as MD
 from vc.config.model import EXTENDED_RETRACT, EXTENDED_STOP, GENERATOR_OPERATION, SPEED_HYSTERESIS
 from vc.core.axis.axis import MachineAxis
@@ -56,15 +55,6 @@ class DriveEsrReaction(Enum):
     ARMED = "armed"
     REACTING = "reacting"
     DONE = "done"
-
-
-@dataclass(frozen=True, slots=True)
-class DriveEsrStatus:
-    """The drive's ESR feedback to the PLC (DB31.DBX95.2..95.4), written whole when one changes."""
-
-    response_initiated: bool = signal("drive.in.esrResponseInitiated")  # r0887.12
-    dc_link_undervoltage: bool = signal("drive.in.esrDcVoltageAlarmActive")  # r0056.15
-    below_minimum_speed: bool = signal("drive.in.esrSpeedBelowMin")  # r2199.0
 
 
 class DriveEsr:

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from interfaces.signal_group import signal
+from interfaces.signal_groups import CouplingRequests, CouplingStatus
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList
 from vc.core.interface_map import SignalTable
@@ -24,36 +24,10 @@ ALARM_OVERLAY_NOT_ENABLED = 16771  # differential speed without DB31.DBX26.4 (L2
 
 
 @dataclass(slots=True)
-class CouplingInputs:
+class CouplingInputs(CouplingRequests):
     """The PLC -> NC coupling signals of one spindle and their rising edges not yet acted on."""
 
-    overlay_enable: bool = signal("coupling.out.enableFollowOverlay")
-    resync: bool = signal("coupling.out.syncSpindleResync")
-    sync_disable: bool = signal("coupling.out.syncSpindleSyncDisable")
-    correction: bool = signal("coupling.out.syncCorrection")
-    delete_correction: bool = signal("coupling.out.syncResetCorrection")
     edges: set[str] = field(default_factory=set)
-
-
-@dataclass(frozen=True, slots=True)
-class CouplingStatus:
-    """The NC -> PLC coupling signals of one spindle; every bit but the first is the following
-    spindle's (all off for a spindle that does not follow)."""
-
-    leading_active: bool = signal("coupling.in.leadingSpindleActive")
-    fine: bool = signal("coupling.in.syncFineReached")
-    coarse: bool = signal("coupling.in.syncCoarseReached")
-    overlaid: bool = signal("coupling.in.MotionOverlaid")
-    speed_warning: bool = signal("coupling.in.egSpeedThresholdReached")
-    accel_warning: bool = signal("coupling.in.egAccelThresholdReached")
-    correction_done: bool = signal("coupling.in.CorrectionDone")
-    accelerating: bool = signal("coupling.in.egAccelReached")
-    process_active: bool = signal("coupling.in.ProcessActive")
-    correction_active: bool = signal("coupling.in.CorrectionActive")
-    fine_2: bool = signal("coupling.in.syncFine2Reached")
-    coarse_2: bool = signal("coupling.in.syncCoarse2Reached")
-    following_active: bool = signal("coupling.in.followingSpindleActive")
-    sync_mode: bool = signal("spindle.in.syncModeActive")
 
 
 _EDGE_EVALUATED = ("overlay_enable", "resync", "sync_disable", "correction", "delete_correction")

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 from enum import Enum
 
+from interfaces.signal_groups import SpindleEdgeRequests, SpindleSpeed, SpindleStatus
 from vc.config import md_dictionary as MD
 from vc.config.machine_data import MachineData
 from vc.core.alarms import STOP_AXES, AlarmList
@@ -45,7 +46,7 @@ from vc.core.spindle.gear_change import (
     GearOutcome,
 )
 from vc.core.spindle.positioning import Positioning, PositioningDrive
-from vc.core.spindle.signals import SpindleInputs, SpindleRequests, SpindleSpeed, SpindleStatus
+from vc.core.spindle.signals import SpindleInputs
 from vc.core.spindle.speed_control import RPM as RPM  # rev/min -> deg/s, for the spindle's callers
 from vc.core.spindle.speed_control import SpeedControl
 from vc.core.spindle.zero_mark import ZeroMarkSynchronisation
@@ -77,10 +78,10 @@ class Spindle:
         self.channel = channel
         self.md: MachineData = axis.config.md
         self._decode_levels = table.codec(SpindleInputs).decode
-        self._decode_requests = table.codec(SpindleRequests).decode
+        self._decode_requests = table.codec(SpindleEdgeRequests).decode
         self._encode_status = table.codec(SpindleStatus).encode
         self._encode_speed = table.codec(SpindleSpeed).encode
-        self._requests = SpindleRequests()
+        self._requests = SpindleEdgeRequests()
         self._area = area
         self._dt = dt
         self.inputs = SpindleInputs()
@@ -98,8 +99,8 @@ class Spindle:
         self.braking_for_axis_mode = False  # M70 from rotation: braking like M5 before axis mode
         self.m_function = 0
         self.limits_unreported = False  # a suppressed change's clamping shows no 83.1 / 83.2 (L19996-20001)
-        self._status: SpindleStatus | None = None  # as last written
-        self._shown: tuple[object, ...] = ()  # the same, as the tuple write_outputs compares
+        self._shown: tuple[object, ...] = ()  # the status last written, as the tuple write_outputs compares
+        self._position_control_shown: bool | None = None  # what the axis was last told
         self.quiet = False  # nothing to do until an input, a command, a reset or an alarm changes
         self.held = False  # NC stop axes and spindles (DB21.DBX7.4) until NC start
         self.stopped_by_alarm = False  # an alarm's interpolation stop brakes the spindle
@@ -550,14 +551,11 @@ class Spindle:
                  speed.limited and limits_shown, speed.raised and limits_shown, self.speed_reached(),
                  self.axis.velocity > self.axis.dyn.standstill_velocity, mode is SpindleMode.CONTROL,
                  mode is SpindleMode.OSCILLATION, mode is SpindleMode.POSITIONING, mode is not SpindleMode.AXIS,
-                 self.in_position(), self.m_function, self.parameter_set, self.position_control)
-        if shown == self._shown:
-            return
-        self._shown = shown
-        before = self._status
-        status = SpindleStatus(*shown)
-        self._status = status
-        self._encode_status(self._area, status)
-        if before is None or before.position_control != status.position_control:
+                 self.in_position(), self.m_function, self.parameter_set)
+        if shown != self._shown:
+            self._shown = shown
+            self._encode_status(self._area, SpindleStatus(*shown))
+        if self.position_control != self._position_control_shown:
+            self._position_control_shown = self.position_control
             self.axis.position_control = self.position_control
             self.axis.resting = False

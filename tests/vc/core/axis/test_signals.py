@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import pytest
 
+from interfaces.signal_groups import AxisStatus
 from interfaces.signals import InstanceKind
-from vc.core.axis.signals import AxisInputs, AxisStatus
+from vc.core.axis.signals import AxisInputs
 from vc.core.interface_map import SignalTable
 from vc.scenario.loader import default_catalog
 

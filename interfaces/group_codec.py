@@ -1,27 +1,28 @@
 """Groups of interface signals, declared once and compiled at power-on into a decoder and an encoder.
 
-A group is a dataclass whose signal fields name their catalogue symbol with :func:`signal`::
+A group is a dataclass whose signal fields name their catalogue symbol with :func:`signal` (the
+groups of the NC/PLC interface are in :mod:`interfaces.signal_groups`)::
 
     @dataclass(slots=True)
-    class AxisInputs:
+    class AxisRequests:
         controller_enable: bool = signal("basic.out.enableCtrl")   # DB31.DBX2.1
         override_raw: int = signal("basic.out.feedrateOvrFactor", 0)
-        encoder_selected: int | None = None                        # derived: not a signal
 
 The attribute is the one name the code uses, the symbol the one the catalogue (and the manual)
-uses; nothing else names the signal.  Fields without a symbol are values the owner derives from
-the signals (an override factor from its switch position) and the codec leaves them alone.
+uses; nothing else names the signal.  A user may subclass a group to keep what it derives from
+the signals beside them (the NC's axis adds the measuring system the two selection bits give);
+fields without a symbol are left alone by the codec.
 
-:class:`GroupCodec` resolves every symbol once against a catalogue section (symbols without the
-instance: a group serves every axis, channel, ...; an optional prefix serves the repeated blocks
-of one data block, ``geoAxis2.out.`` or ``entry[3].in.``) into :class:`Accessor` rows (attribute,
-byte, shift, width, type) and generates plain functions from them: ``decode(area, into)`` sets
-the attributes of ``into`` from the bytes, ``read(area)`` returns a new instance of the group
-decoded from them, ``encode(area, values)`` writes the attributes of ``values`` into the bytes,
-the bits of one byte in one store.  The functions hold the offsets
-as constants, which makes them as fast as the hand-written twins they replace (namedtuple and
-dataclasses generate their methods the same way).  The bit convention is
-:mod:`interfaces.bit_access`'s: S7's, stated there once.
+:class:`GroupCodec` resolves every symbol once, through the caller's ``resolve``: the NC resolves
+symbols without the instance in its catalogue section (one codec serves every axis, channel,
+...), the PLC runtime the signals of one instance.  An optional prefix serves the repeated blocks
+of one data block (``geoAxis2.out.``, ``entry[3].in.``).  The result is one :class:`Accessor` row
+per attribute (byte, shift, width, type), from which the codec generates plain functions:
+``decode(area, into)`` sets the attributes of ``into`` from the bytes, ``read(area)`` returns a
+new instance of the group decoded from them, ``encode(area, values)`` writes the attributes of
+``values`` into the bytes, the bits of one byte in one store.  The functions hold the offsets as
+constants, as fast as hand-written code (namedtuple and dataclasses generate their methods the
+same way).  The bit convention is :mod:`interfaces.bit_access`'s: S7's, stated there once.
 """
 
 from __future__ import annotations
@@ -31,16 +32,31 @@ import struct
 from collections import defaultdict
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Generic, TypeVar
+from typing import Any, Generic, Protocol, TypeVar
 
+from interfaces.address import Address
 from interfaces.errors import VcError
-from interfaces.signals import Direction, SignalDef, SignalType
+from interfaces.signals import Direction, SignalType
 
 SYMBOL = "catalogue symbol"  # the field metadata key :func:`signal` sets
 
 T = TypeVar("T")
 Decoder = Callable[[Any, Any], None]  # (area, into): the attributes of ``into`` from the bytes of ``area``
 Encoder = Callable[[bytearray, Any], None]  # (area, values): the attributes of ``values`` into ``area``
+
+
+class SignalLocation(Protocol):
+    """Where a resolved signal lies: a catalogue entry (the NC resolves symbols without the
+    instance) or a signal of one instance (the PLC runtime resolves ``X1.basic.in.inPos``)."""
+
+    @property
+    def address(self) -> Address: ...
+    @property
+    def type(self) -> SignalType: ...
+    @property
+    def bits(self) -> int: ...
+    @property
+    def direction(self) -> Direction: ...
 
 
 class SignalGroupError(VcError, TypeError):
@@ -64,17 +80,17 @@ class Accessor:
     """Where one attribute of a group lies in its data block."""
 
     attribute: str
-    symbol: str  # the full catalogue symbol, instance placeholder included
+    symbol: str  # as resolved: with the prefix, without the instance
     byte: int
     shift: int  # the lowest bit of a bool or a bits field; 0 for byte, word, double word and real
     width_bits: int
     type: SignalType
 
     @classmethod
-    def of(cls, attribute: str, definition: SignalDef) -> Accessor:
-        address = definition.address
+    def of(cls, attribute: str, symbol: str, location: SignalLocation) -> Accessor:
+        address = location.address
         shift = address.bit if address.is_bit else 0
-        return cls(attribute, definition.symbol, address.byte, shift, definition.bits, definition.type)
+        return cls(attribute, symbol, address.byte, shift, location.bits, location.type)
 
     @property
     def mask(self) -> int:
@@ -89,19 +105,19 @@ class Accessor:
 class GroupCodec(Generic[T]):
     """One signal group resolved against a catalogue section (see the module docstring)."""
 
-    def __init__(self, group: type[T], resolve: Callable[[str], SignalDef], prefix: str = ""):
-        """``resolve`` maps a symbol without the instance to its definition (it may record the
-        signal as used); ``prefix`` is put before every declared symbol."""
+    def __init__(self, group: type[T], resolve: Callable[[str], SignalLocation], prefix: str = ""):
+        """``resolve`` maps a symbol to where it lies (it may record the signal as used);
+        ``prefix`` is put before every declared symbol."""
         self.group = group
-        rows = [(attribute, resolve(prefix + symbol)) for attribute, symbol in declared_signals(group)]
+        rows = [(attribute, prefix + symbol, resolve(prefix + symbol)) for attribute, symbol in declared_signals(group)]
         if not rows:
             raise SignalGroupError(f"{group.__name__} declares no signal")
-        directions = {definition.direction for _, definition in rows}
+        directions = {location.direction for _, _, location in rows}
         if len(directions) != 1:
             raise SignalGroupError(f"{group.__name__} mixes directions: "
-                                   + ", ".join(f"{d.symbol} {d.direction.value}" for _, d in rows))
+                                   + ", ".join(f"{symbol} {location.direction.value}" for _, symbol, location in rows))
         self.direction: Direction = directions.pop()
-        self.accessors = tuple(Accessor.of(attribute, definition) for attribute, definition in rows)
+        self.accessors = tuple(Accessor.of(attribute, symbol, location) for attribute, symbol, location in rows)
         _check_overlaps(group.__name__, self.accessors)
         name = group.__name__
         values = _values(self.accessors)

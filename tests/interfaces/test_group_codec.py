@@ -1,4 +1,4 @@
-"""A declared signal group compiled into a generated decoder and encoder (interfaces/signal_group.py):
+"""A declared signal group compiled into a generated decoder and encoder (interfaces/group_codec.py):
 the generated code reads and writes exactly what the shared bit access reads and writes."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import pytest
 
 from interfaces.address import Address
 from interfaces.bit_access import read_field
-from interfaces.signal_group import GroupCodec, SignalGroupError, declared_signals, signal
+from interfaces.group_codec import GroupCodec, SignalGroupError, declared_signals, signal
 from interfaces.signals import Direction, Origin, SignalDef, SignalType, Trigger
 
 _WIDTH = {SignalType.BOOL: "X", SignalType.BITS: "X", SignalType.BYTE: "B", SignalType.WORD: "W",

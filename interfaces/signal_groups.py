@@ -1,0 +1,298 @@
+"""The groups of the NC/PLC interface: which signals the NC reads and writes together, declared once.
+
+Each group is a dataclass of :mod:`interfaces.group_codec`: one attribute per signal, named after
+what it means, carrying its catalogue symbol without the instance (the catalogue holds address,
+type and meaning).  The NC compiles every group once at power-on for all instances of its data
+block (``vc/core/interface_map.py``); the soft PLC reads a group of one instance whole
+(``plc_stub/io.py``).  A group is one direction: ``...Requests`` are the PLC's outputs to the NC,
+``...Status`` (and the others named by content) the NC's outputs to the PLC.
+
+The NC keeps what it derives from a group in a subclass beside the function that owns it (the
+axis's measuring system from two bits, the channel's override factors from the switch positions,
+the edges of edge-evaluated signals).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from interfaces.group_codec import signal
+
+# ---------------------------------------------------------------------------------------- DB10 NCK
+
+
+@dataclass(slots=True)
+class NckRequests:
+    emergency_stop: bool = signal("basic.out.emergencyStop")  # DB10.DBX56.1
+    emergency_stop_ack: bool = signal("basic.out.emergencyStopAck")  # DB10.DBX56.2
+    digital_inputs: int = signal("basic.out.setDigitalInputs", 0)  # $A_IN[1..8]
+
+
+@dataclass(frozen=True, slots=True)
+class NckStatus:
+    emergency_stop_active: bool = signal("basic.in.emergencyStopActive")
+    nc_ready: bool = signal("basic.in.ncReady")
+    alarm_active: bool = signal("basic.in.alarmActive")
+
+
+DISPLAY_WCS = "basic.out.displayWcsValues"  # DB19.DBX0.7: 1 WCS, 0 MCS; the one operator panel bit the NC reads
+
+# --------------------------------------------------------------------------------- DB11 mode group
+
+
+@dataclass(slots=True)
+class ModeGroupRequests:
+    auto: bool = signal("basic.out.autoMode")
+    mda: bool = signal("basic.out.mdaMode")
+    jog: bool = signal("basic.out.jogMode")
+    reset: bool = signal("basic.out.reset")
+    ref: bool = signal("basic.out.refPoint")
+
+
+@dataclass(frozen=True, slots=True)
+class ModeGroupStatus:
+    auto_active: bool = signal("basic.in.autoModeActive")
+    mda_active: bool = signal("basic.in.mdaModeActive")
+    jog_active: bool = signal("basic.in.jogModeActive")
+    ready: bool = signal("basic.in.ready")
+    ref_active: bool = signal("basic.in.refPointActive")
+
+
+# ------------------------------------------------------------------------------------ DB21 channel
+
+
+@dataclass(slots=True)
+class ChannelRequests:
+    nc_start_disable: bool = signal("basic.out.disableNcStart")
+    nc_start: bool = signal("basic.out.ncStart")
+    nc_stop: bool = signal("basic.out.ncStop")
+    nc_stop_all: bool = signal("basic.out.ncStopAxesAndSpindles")
+    reset: bool = signal("basic.out.reset")
+    reference_start: bool = signal("basic.out.refPointApproach")
+    feed_disable: bool = signal("basic.out.disableFeed")
+    read_in_disable: bool = signal("basic.out.disableReadIn")
+    delete_distance_to_go: bool = signal("basic.out.deleteDistanceToGo")
+    feed_override_raw: int = signal("basic.out.pathFeedrateOvrFactor", 0)
+    feed_override_active: bool = signal("basic.out.pathFeedrateOvr")
+    rapid_override_raw: int = signal("basic.out.pathRapidTraversOvrFactor", 0)
+    rapid_override_active: bool = signal("basic.out.pathRapidTraversOvr")
+    dry_run: bool = signal("basic.out.dryRunFeedrate")
+    program_test: bool = signal("basic.out.progTest")
+
+
+@dataclass(frozen=True, slots=True)
+class ChannelStatus:
+    """The channel and program state and the alarm bits (DB21.DBX35.x, 36.x, 33.x)."""
+
+    running: bool = signal("basic.in.progStateRunning")
+    waiting: bool = signal("basic.in.progStateWaiting")
+    stopped: bool = signal("basic.in.progStateStopped")
+    interrupted: bool = signal("basic.in.progStateInterrupted")
+    aborted: bool = signal("basic.in.progStateAborted")
+    state_active: bool = signal("basic.in.stateActive")
+    state_interrupted: bool = signal("basic.in.stateInterrupted")
+    state_reset: bool = signal("basic.in.stateReset")
+    alarm_active: bool = signal("basic.in.alarmActive")
+    alarm_with_stop: bool = signal("basic.in.alarmWithStopActive")
+    reference_active: bool = signal("basic.in.refActive")
+
+
+@dataclass(frozen=True, slots=True)
+class AxisSummary:
+    all_referenced: bool = signal("basic.in.allAxesReferenced")
+    all_stationary: bool = signal("basic.in.allAxesStationary")
+
+
+RETRACTION_REQUEST = "piService.out.retracRequest"  # DB21.DBX396.0: PI service RETRAC, read every IPO cycle
+
+
+@dataclass(frozen=True, slots=True)
+class RetractionStatus:
+    """Manual retraction (DB21.DBX377.4 / 377.5) and the answer to the PI service RETRAC (397.0 / 397.1)."""
+
+    data_available: bool = signal("basic.in.jogRetractDataAvailable")
+    active: bool = signal("basic.in.jogRetractActive")
+    done: bool = signal("piService.in.retracDone")
+    error: bool = signal("piService.in.retracError")
+
+
+# ------------------------------------------------------------------------- DB31 / DB21 handwheels
+
+HANDWHEEL_OF_MACHINE_AXIS = "basic.out."  # the prefix of HandwheelSelection in DB31
+HANDWHEEL_OF_GEOMETRY_AXIS = "geoAxis{number}.out."  # the prefix in DB21, geometry axis 1..3
+
+
+@dataclass(slots=True)
+class HandwheelSelection:
+    """A machine axis's (DB31.DBX4.0..4.2, 5.0..5.4) or a geometry axis's handwheel assignment and
+    its increment INC1 .. INC10000 (symbols after the prefix)."""
+
+    assigned: int = signal("handwheelSelection", 0)  # bit mask: bit 0 = handwheel 1
+    inc1: bool = signal("inc1")
+    inc10: bool = signal("inc10")
+    inc100: bool = signal("inc100")
+    inc1000: bool = signal("inc1000")
+    inc10000: bool = signal("inc10000")
+
+
+# --------------------------------------------------------------------------------------- DB31 axis
+
+
+@dataclass(slots=True)
+class AxisRequests:
+    controller_enable: bool = signal("basic.out.enableCtrl")
+    pulse_enable: bool = signal("drive.out.enablePulses")
+    disable: bool = signal("basic.out.disable")
+    follow_up_mode: bool = signal("basic.out.followUpMode")
+    override_active: bool = signal("basic.out.enableOvr")
+    override_raw: int = signal("basic.out.feedrateOvrFactor", 0)
+    feed_stop: bool = signal("basic.out.feedStopSpindleStop")
+    rapid_key: bool = signal("basic.out.enableRapidTravers")
+    key_minus: bool = signal("basic.out.traversKeyMinus")
+    key_plus: bool = signal("basic.out.traversKeyPlus")
+    hw_limit_minus: bool = signal("basic.out.hwLimitSwitchMinus")
+    hw_limit_plus: bool = signal("basic.out.hwLimitSwitchPlus")
+    reset_movement: bool = signal("basic.out.resetMovement")
+    ref_cam: bool = signal("basic.out.refPointApproachCam")  # DB31.DBX12.7: the cam as the PLC copied it
+    ref_point_selection: int = signal("basic.out.refPointSelection", 0)  # DBX2.4..2.7: reference point 1..4
+    encoder_1_activation: bool = signal("basic.out.enc1Activation")  # DBX1.5
+    encoder_2_activation: bool = signal("basic.out.enc2Activation")  # DBX1.6
+
+
+@dataclass(frozen=True, slots=True)
+class AxisStatus:
+    exact_coarse: bool = signal("basic.in.posCoarseReached")
+    exact_fine: bool = signal("basic.in.posFineReached")
+    stationary: bool = signal("basic.in.isStationary")
+    position_control: bool = signal("basic.in.posCtrlActive")
+    follow_up_active: bool = signal("basic.in.followUpModeActive")
+    referenced_1: bool = signal("basic.in.enc1Synchronized")
+    referenced_2: bool = signal("basic.in.enc2Synchronized")
+    restored_1: bool = signal("basic.in.enc1Restored")
+    restored_2: bool = signal("basic.in.enc2Restored")
+    frequency_exceeded_1: bool = signal("basic.in.enc1FreqLimitExceeded")
+    frequency_exceeded_2: bool = signal("basic.in.enc2FreqLimitExceeded")
+    disabled: bool = signal("basic.in.disabled")
+    command_plus: bool = signal("basic.in.traversPlusCommandActive")
+    command_minus: bool = signal("basic.in.traversMinusCommandActive")
+    drive_enabled: bool = signal("drive.in.enabled")
+
+
+@dataclass(frozen=True, slots=True)
+class DriveEsrStatus:
+    """The drive's ESR feedback (DB31.DBX95.2..95.4)."""
+
+    response_initiated: bool = signal("drive.in.esrResponseInitiated")  # r0887.12
+    dc_link_undervoltage: bool = signal("drive.in.esrDcVoltageAlarmActive")  # r0056.15
+    below_minimum_speed: bool = signal("drive.in.esrSpeedBelowMin")  # r2199.0
+
+
+# ------------------------------------------------------------------------------------ DB31 spindle
+
+
+@dataclass(slots=True)
+class SpindleRequests:
+    """The spindle signals the NC takes as they stand."""
+
+    gear_done: bool = signal("spindle.out.gearChangeoverDone")
+    delete_s: bool = signal("spindle.out.deleteSValue")
+    use_feed_override: bool = signal("spindle.out.useFeedrateOvr")
+    invert_m3_m4: bool = signal("spindle.out.invertM3M4")
+    oscillation_by_plc: bool = signal("spindle.out.oscillRequest")
+    oscillation_enable: bool = signal("spindle.out.oscillEnable")
+    oscillation_cw: bool = signal("spindle.out.oscillSetDirCw")
+    oscillation_ccw: bool = signal("spindle.out.oscillSetDirCcw")
+    override_raw: int = signal("spindle.out.ovrFactor", 0)
+    rapid_stop: bool = signal("drive.out.rapidStop")
+    resync_for_positioning_1: bool = signal("spindle.out.resyncEnc1ForPos")  # DBX17.4
+    resync_for_positioning_2: bool = signal("spindle.out.resyncEnc2ForPos")  # DBX17.5
+
+
+@dataclass(slots=True)
+class SpindleEdgeRequests:
+    """The spindle signals the NC evaluates against their last value."""
+
+    gear_reported: int = signal("spindle.out.gearStageSelection", 0)  # DBX16.0-16.2, taken when it stands still
+    resync_1: bool = signal("spindle.out.resyncEnc1")  # DBX16.4
+    resync_2: bool = signal("spindle.out.resyncEnc2")  # DBX16.5
+    plc_stop: bool = signal("spindle.out.stop")  # DBB30: the simple spindle interface
+    plc_start_cw: bool = signal("spindle.out.startCw")
+    plc_start_ccw: bool = signal("spindle.out.startCcw")
+
+
+@dataclass(frozen=True, slots=True)
+class SpindleStatus:
+    requested_gear: int = signal("spindle.in.requestedGearStageNumber", 0)  # the set gear in a change, else the active
+    change_gear: bool = signal("spindle.in.gearChangeoverRequested")
+    speed_limit_exceeded: bool = signal("spindle.in.speedLimitationExceeded")
+    setpoint_limited: bool = signal("spindle.in.speedSetpointAboveMax")
+    setpoint_raised: bool = signal("spindle.in.speedSetpointBelowMin")
+    speed_reached: bool = signal("spindle.in.speedSetpointReached")
+    clockwise: bool = signal("spindle.in.cwRotActive")
+    control_mode: bool = signal("spindle.in.ctrlModeActive")
+    oscillation_mode: bool = signal("spindle.in.oscillModeActive")
+    positioning_mode: bool = signal("spindle.in.posModeActive")
+    spindle_mode: bool = signal("basic.in.spindleModeActive")  # not in axis mode
+    in_position: bool = signal("spindle.in.inPos")
+    m_function: int = signal("spindle.in.mFuncNumber", 0)
+    parameter_set: int = signal("drive.in.posCtrlParameterSetNumber", 0)
+
+
+@dataclass(frozen=True, slots=True)
+class SpindleSpeed:
+    s_value: float = signal("spindle.in.sFuncValue", 0.0)  # DBD88 (L17367)
+
+
+# ----------------------------------------------------------------------- DB31 synchronous spindle
+
+
+@dataclass(slots=True)
+class CouplingRequests:
+    overlay_enable: bool = signal("coupling.out.enableFollowOverlay")  # DBX26.4
+    resync: bool = signal("coupling.out.syncSpindleResync")  # DBX31.4
+    sync_disable: bool = signal("coupling.out.syncSpindleSyncDisable")  # DBX31.5
+    correction: bool = signal("coupling.out.syncCorrection")  # DBX31.6
+    delete_correction: bool = signal("coupling.out.syncResetCorrection")  # DBX31.7
+
+
+@dataclass(frozen=True, slots=True)
+class CouplingStatus:
+    """Every bit but the first is the following spindle's (all off for a spindle that does not follow)."""
+
+    leading_active: bool = signal("coupling.in.leadingSpindleActive")
+    fine: bool = signal("coupling.in.syncFineReached")
+    coarse: bool = signal("coupling.in.syncCoarseReached")
+    overlaid: bool = signal("coupling.in.MotionOverlaid")
+    speed_warning: bool = signal("coupling.in.egSpeedThresholdReached")
+    accel_warning: bool = signal("coupling.in.egAccelThresholdReached")
+    correction_done: bool = signal("coupling.in.CorrectionDone")
+    accelerating: bool = signal("coupling.in.egAccelReached")
+    process_active: bool = signal("coupling.in.ProcessActive")
+    correction_active: bool = signal("coupling.in.CorrectionActive")
+    fine_2: bool = signal("coupling.in.syncFine2Reached")
+    coarse_2: bool = signal("coupling.in.syncCoarse2Reached")
+    following_active: bool = signal("coupling.in.followingSpindleActive")
+    sync_mode: bool = signal("spindle.in.syncModeActive")
+
+
+# ----------------------------------------------------------------------------- DB100 alarm list
+
+
+@dataclass(frozen=True, slots=True)
+class AlarmListHeader:
+    count: int = signal("list.in.count", 0)
+    changes: int = signal("list.in.changes", 0)  # the alarm list's version, modulo 2^16
+
+
+ALARM_ENTRY = "entry[{number}].in."  # the prefix of AlarmEntry, entry 1..n
+
+
+@dataclass(frozen=True, slots=True)
+class AlarmEntry:
+    """One entry of the list; all 0: no alarm."""
+
+    number: int = signal("number", 0)
+    channel: int = signal("channel", 0)
+    axis: int = signal("axis", 0)
+    reaction: int = signal("reaction", 0)
+    cleared_by: int = signal("clearedBy", 0)
