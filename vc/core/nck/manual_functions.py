@@ -10,8 +10,6 @@ the routing lives here, over every channel.
 
 from __future__ import annotations
 
-from collections.abc import Set as AbstractSet
-
 from interfaces.image import ProcessImage
 from interfaces.signal_groups import HANDWHEEL_OF_GEOMETRY_AXIS, HANDWHEEL_OF_MACHINE_AXIS, HandwheelSelection
 from vc.core.alarms import STOP_AXES, AlarmList
@@ -51,10 +49,10 @@ class ManualFunctions:
         self._drf_active: dict[str, bool] = {}
         self._drf_travelling: set[str] = set()  # axes with DRF travel to go (most cycles: none)
 
-    def cycle(self, cycle: int, emergency_stop: bool, latched: AbstractSet[str]) -> None:
+    def cycle(self, cycle: int, emergency_stop: bool, latched: set[str] | None) -> None:
         """JOG with the traverse keys, or in JOG-REF / MDA-REF referencing with them; handwheels
         and DRF; then manual retraction follows what moved.  ``latched``: the data blocks whose PLC
-        signals changed this cycle (a channel's handwheel outputs depend on its DB21)."""
+        signals changed this cycle, None for none (a channel's handwheel outputs depend on its DB21)."""
         mode_group = self.mode_group
         reference_keys = mode_group.reference_function and mode_group.mode in (Mode.JOG, Mode.MDA)
         jog_mode = mode_group.mode is Mode.JOG and not mode_group.reference_function
@@ -69,7 +67,7 @@ class ManualFunctions:
             allowed = keys_followed and not channel.is_active and not axes_stopped
             if pulses and allowed and jog_mode:
                 self._handwheel_pulses(channel, pulses)
-            if refresh_all or channel.area_key in latched:
+            if refresh_all or (latched is not None and channel.area_key in latched):
                 self._show_geometry_handwheel(channel)
                 self._show_drf(channel, drf_mode)
             self._drf(channel, pulses, axes_stopped)

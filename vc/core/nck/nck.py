@@ -62,7 +62,6 @@ from vc.core.retraction.dc_link import DcLink
 
 PLC_SIGN_OF_LIFE_ALARM = 2000
 PLC_NOT_STARTED_ALARM = 2001
-_NOTHING: frozenset[str] = frozenset()
 
 
 class Nck:
@@ -81,7 +80,7 @@ class Nck:
         self.plc_to_nc_ranges = expanded.byte_ranges(Direction.PLC_TO_NC)
         self.nc_to_plc_ranges = expanded.byte_ranges(Direction.NC_TO_PLC)
         self._seen_version = -1
-        self._latched: frozenset[str] | set[str] = _NOTHING  # the data blocks the PLC changed this cycle
+        self._latched: set[str] | None = None  # the data blocks the PLC changed this cycle; None: none
         self.alarms = AlarmList()
         # every catalogue signal the NC reads or writes, by its catalogue symbol: the signals it models
         self.signals_used: set[str] = set()
@@ -146,7 +145,7 @@ class Nck:
         self._outputs(moved)
 
     def _latch_inputs(self, plc_side: ProcessImage) -> None:
-        self._latched = _NOTHING
+        self._latched = None
         if plc_side.version != self._seen_version:
             self._seen_version = plc_side.version
             changed = self._latch(plc_side)
