@@ -119,6 +119,7 @@ class GroupCodec(Generic[T]):
         self.direction: Direction = directions.pop()
         self.accessors = tuple(Accessor.of(attribute, symbol, location) for attribute, symbol, location in rows)
         _check_overlaps(group.__name__, self.accessors)
+        _check_types(group, self.accessors)
         name = group.__name__
         values = _values(self.accessors)
         self.decode: Decoder = _generate(f"decode_{name}", "area, into",
@@ -129,6 +130,22 @@ class GroupCodec(Generic[T]):
         self.read: Callable[[bytes | bytearray], T] = _generate(
             f"read_{name}", "area", ["return _group(" + ", ".join(f"{a}={value}" for a, value in values) + ")"],
             group)
+
+
+_PYTHON_TYPE = {SignalType.BOOL: "bool", SignalType.BITS: "int", SignalType.BYTE: "int", SignalType.WORD: "int",
+                SignalType.DWORD: "int", SignalType.REAL: "float"}
+
+
+def _check_types(group: type, accessors: tuple[Accessor, ...]) -> None:
+    """Each field is declared with the Python type its signal decodes to (bool, int or float)."""
+    declared = {f.name: f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type))
+                for f in dataclasses.fields(group)}
+    for accessor in accessors:
+        expected = _PYTHON_TYPE[accessor.type]
+        if declared[accessor.attribute] != expected:
+            raise SignalGroupError(f"{group.__name__}.{accessor.attribute} is declared "
+                                   f"{declared[accessor.attribute]}, but {accessor.symbol} is a "
+                                   f"{accessor.type.value}: {expected}")
 
 
 def _check_overlaps(group: str, accessors: tuple[Accessor, ...]) -> None:

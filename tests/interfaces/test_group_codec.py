@@ -142,6 +142,15 @@ def test_two_signals_on_one_bit_are_refused() -> None:
         GroupCodec(Overlapping, resolve)
 
 
+def test_a_field_of_another_type_than_its_signal_is_refused() -> None:
+    @dataclass
+    class Mistyped:
+        override: bool = signal("out.override")
+
+    with pytest.raises(SignalGroupError, match=r"Mistyped.override is declared bool, but out.override is a byte: int"):
+        GroupCodec(Mistyped, resolve)
+
+
 def test_a_group_without_signals_is_refused() -> None:
     @dataclass
     class Empty:
