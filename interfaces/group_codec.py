@@ -28,6 +28,7 @@ same way).  The bit convention is :mod:`interfaces.bit_access`'s: S7's, stated t
 from __future__ import annotations
 
 import dataclasses
+import functools
 import struct
 from collections import defaultdict
 from collections.abc import Callable
@@ -70,6 +71,7 @@ def signal(symbol: str, default: Any = False) -> Any:
     return dataclasses.field(default=default, metadata={SYMBOL: symbol})
 
 
+@functools.cache
 def declared_signals(group: type) -> tuple[tuple[str, str], ...]:
     """(attribute, symbol) of every signal field of ``group``, in declaration order."""
     return tuple((f.name, f.metadata[SYMBOL]) for f in dataclasses.fields(group) if SYMBOL in f.metadata)
@@ -109,7 +111,9 @@ class GroupCodec(Generic[T]):
         """``resolve`` maps a symbol to where it lies (it may record the signal as used);
         ``prefix`` is put before every declared symbol."""
         self.group = group
-        rows = [(attribute, prefix + symbol, resolve(prefix + symbol)) for attribute, symbol in declared_signals(group)]
+        group_class: type = group  # a class: hashable, the key of what is kept per group
+        rows = [(attribute, prefix + symbol, resolve(prefix + symbol))
+                for attribute, symbol in declared_signals(group_class)]
         if not rows:
             raise SignalGroupError(f"{group.__name__} declares no signal")
         directions = {location.direction for _, _, location in rows}
@@ -118,22 +122,33 @@ class GroupCodec(Generic[T]):
                                    + ", ".join(f"{symbol} {location.direction.value}" for _, symbol, location in rows))
         self.direction: Direction = directions.pop()
         self.accessors = tuple(Accessor.of(attribute, symbol, location) for attribute, symbol, location in rows)
-        _check_overlaps(group.__name__, self.accessors)
-        _check_types(group, self.accessors)
-        name = group.__name__
-        values = _values(self.accessors)
-        self.decode: Decoder = _generate(f"decode_{name}", "area, into",
-                                         [f"into.{attribute} = {value}" for attribute, value in values])
-        self.encode: Encoder = _generate(f"encode_{name}", "area, values", _encoder_lines(self.accessors))
-        # a fresh instance of the group decoded from the area (fields without a symbol at their defaults);
-        # built by keyword, so a frozen group reads too
-        self.read: Callable[[bytes | bytearray], T] = _generate(
-            f"read_{name}", "area", ["return _group(" + ", ".join(f"{a}={value}" for a, value in values) + ")"],
-            group)
+        self.decode: Decoder
+        self.encode: Encoder
+        # read: a fresh instance of the group decoded from the area (fields without a symbol at their defaults)
+        self.read: Callable[[bytes | bytearray], T]
+        self.decode, self.encode, self.read = _functions(group_class, self.accessors)
 
 
 _PYTHON_TYPE = {SignalType.BOOL: "bool", SignalType.BITS: "int", SignalType.BYTE: "int", SignalType.WORD: "int",
                 SignalType.DWORD: "int", SignalType.REAL: "float"}
+
+
+@functools.cache
+def _functions(group: type, accessors: tuple[Accessor, ...]) -> tuple[Decoder, Encoder, Any]:
+    """The generated functions of ``group`` laid out as ``accessors``, after checking the layout
+    (SignalGroupError).  Kept per layout: every
+    power-on of an NCK (a scenario, a campaign's run) compiles the same groups against the same
+    catalogue, and the functions depend on nothing else."""
+    name = group.__name__
+    _check_overlaps(name, accessors)
+    _check_types(group, accessors)
+    values = _values(accessors)
+    decode = _generate(f"decode_{name}", "area, into", [f"into.{attribute} = {value}" for attribute, value in values])
+    encode = _generate(f"encode_{name}", "area, values", _encoder_lines(accessors))
+    # built by keyword, so a frozen group reads too
+    keywords = ", ".join(f"{attribute}={value}" for attribute, value in values)
+    read = _generate(f"read_{name}", "area", [f"return _group({keywords})"], group)
+    return decode, encode, read
 
 
 def _check_types(group: type, accessors: tuple[Accessor, ...]) -> None:
