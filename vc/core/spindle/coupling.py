@@ -25,8 +25,8 @@ from vc.core.interface_map import SignalTable
 from vc.core.program.commands import BlockChange, Kind
 from vc.core.spindle.coupling_monitor import ALARM_NOT_SYNCHRONISED, SynchronismMonitor
 from vc.core.spindle.coupling_motion import CouplingMotion
-from vc.core.spindle.coupling_signals import ALARM_OVERLAY_NOT_ENABLED, CouplingInputs, CouplingInterface
-from vc.core.spindle.coupling_state import Coupling, PairDefinition, SyncPhase, wrap180
+from vc.core.spindle.coupling_signals import ALARM_OVERLAY_NOT_ENABLED, CouplingInterface
+from vc.core.spindle.coupling_state import Coupling, CouplingInputs, PairDefinition, SyncPhase, wrap180
 from vc.core.spindle.spindle import RPM, Spindle, SpindleMode
 
 ALARM_COUPLING_NOT_DEFINED = 16796  # [control] COUPON / COUPOF of a pair nobody defined

@@ -20,21 +20,20 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from vc.config import md_dictionary as MD
-from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
 from vc.core.program.commands import Kind
-from vc.core.spindle.coupling_signals import CouplingInputs
 from vc.core.spindle.coupling_state import (
     ALARM_COARSE_2_EXCEEDED,
     ALARM_FINE_2_EXCEEDED,
     Coupling,
+    CouplingPart,
     SyncPhase,
     actual_relation,
     leading_position,
     threshold,
     wrap180,
 )
-from vc.core.spindle.spindle import RPM, Spindle
+from vc.core.spindle.spindle import RPM
 
 ALARM_NOT_SYNCHRONISED = 22040  # [control] coupled while a spindle is not synchronised with its zero mark (L22214)
 COUP_ACT_SYNCHRONOUS_SPINDLE = 4  # $AA_COUP_ACT bit 2 (L22765-22770)
@@ -50,16 +49,8 @@ def _degrees(angle: float) -> float:
     return 0.0 if value > 360.0 - 1e-9 else value
 
 
-class SynchronismMonitor:
+class SynchronismMonitor(CouplingPart):
     """Fine / coarse synchronism and the stage-2 monitoring of every coupled pair (see the module docstring)."""
-
-    def __init__(self, spindles: dict[str, Spindle], active: dict[str, Coupling], inputs: dict[str, CouplingInputs],
-                 dt: float, alarms: AlarmList):
-        self._spindles = spindles
-        self._active = active  # the coupled pairs by FS (shared with Couplings)
-        self.inputs = inputs
-        self._dt = dt
-        self._alarms = alarms
 
     def cycle(self, cycle: int) -> None:
         """Judge every coupled pair (after the axes moved)."""

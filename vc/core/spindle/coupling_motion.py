@@ -21,14 +21,21 @@ from __future__ import annotations
 import math
 
 from vc.config import md_dictionary as MD
-from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.dynamics import CoupledLoop
 from vc.core.axis.motion import ramp, stopping_distance, stopping_velocity
 from vc.core.axis.owner import Owner
 from vc.core.program.commands import Kind
-from vc.core.spindle.coupling_signals import ALARM_OVERLAY_NOT_ENABLED, CouplingInputs
-from vc.core.spindle.coupling_state import Coupling, Overlay, SyncPhase, actual_relation, leading_position, wrap180
+from vc.core.spindle.coupling_signals import ALARM_OVERLAY_NOT_ENABLED
+from vc.core.spindle.coupling_state import (
+    Coupling,
+    CouplingPart,
+    Overlay,
+    SyncPhase,
+    actual_relation,
+    leading_position,
+    wrap180,
+)
 from vc.core.spindle.spindle import RPM, Spindle
 
 ALARM_NO_SPEED_PROGRAMMED = 16111  # M3/M4 on the FS without S (L23485-23488)
@@ -46,16 +53,8 @@ def _loop_of(spindle: Spindle, feedforward: bool) -> CoupledLoop:
     return CoupledLoop(dyn.kv, weight, dyn.drive_time_constant)
 
 
-class CouplingMotion:
+class CouplingMotion(CouplingPart):
     """Drives the coupled FSs and moves their relations (see the module docstring)."""
-
-    def __init__(self, spindles: dict[str, Spindle], active: dict[str, Coupling], inputs: dict[str, CouplingInputs],
-                 dt: float, alarms: AlarmList):
-        self._spindles = spindles
-        self._active = active  # the coupled pairs by FS (shared with Couplings)
-        self.inputs = inputs
-        self._dt = dt
-        self._alarms = alarms
 
     # ------------------------------------------------------------------ the cycle
     def cycle(self, cycle: int) -> None:

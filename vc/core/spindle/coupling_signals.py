@@ -11,23 +11,20 @@ correction active, 103.4 / 103.5 within the stage-2 tolerances; written when the
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
-from interfaces.signal_groups import CouplingRequests, CouplingStatus
+from interfaces.signal_groups import CouplingStatus
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList
 from vc.core.interface_map import SignalTable
-from vc.core.spindle.coupling_state import ALARM_COARSE_2_EXCEEDED, ALARM_FINE_2_EXCEEDED, Coupling, threshold
+from vc.core.spindle.coupling_state import (
+    ALARM_COARSE_2_EXCEEDED,
+    ALARM_FINE_2_EXCEEDED,
+    Coupling,
+    CouplingInputs,
+    threshold,
+)
 from vc.core.spindle.spindle import Spindle
 
 ALARM_OVERLAY_NOT_ENABLED = 16771  # differential speed without DB31.DBX26.4 (L23450-23456)
-
-
-@dataclass(slots=True)
-class CouplingInputs(CouplingRequests):
-    """The PLC -> NC coupling signals of one spindle and their rising edges not yet acted on."""
-
-    edges: set[str] = field(default_factory=set)
 
 
 _EDGE_EVALUATED = ("overlay_enable", "resync", "sync_disable", "correction", "delete_correction")

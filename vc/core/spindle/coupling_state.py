@@ -24,7 +24,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from enum import Enum
 
+from interfaces.signal_groups import CouplingRequests
 from vc.config.machine_data import MachineData, MdDef
+from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
 from vc.core.program.commands import BlockChange, Kind
 from vc.core.spindle.spindle import Spindle
@@ -165,3 +167,23 @@ def actual_relation(coupling: Coupling, spindles: dict[str, Spindle]) -> float:
     fs = spindles[coupling.definition.following].axis
     ls = spindles[coupling.definition.leading].axis
     return fs.actual - coupling.ratio * ls.actual
+
+
+@dataclass(slots=True)
+class CouplingInputs(CouplingRequests):
+    """The PLC -> NC coupling signals of one spindle and their rising edges not yet acted on."""
+
+    edges: set[str] = field(default_factory=set)
+
+
+class CouplingPart:
+    """What the coupling's motion and its synchronism monitor share with :class:`Couplings`: the
+    spindles, the coupled pairs by FS, the PLC's coupling inputs, the IPO cycle and the alarms."""
+
+    def __init__(self, spindles: dict[str, Spindle], active: dict[str, Coupling], inputs: dict[str, CouplingInputs],
+                 dt: float, alarms: AlarmList):
+        self._spindles = spindles
+        self._active = active  # the coupled pairs by FS (shared with Couplings)
+        self.inputs = inputs
+        self._dt = dt
+        self._alarms = alarms
