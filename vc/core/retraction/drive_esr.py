@@ -43,6 +43,7 @@ from vc.core.axis.motion import ramp
 from vc.core.axis.owner import Owner
 from vc.core.interface_map import SignalTable
 from vc.core.program.commands import DriveEsrCommand
+from vc.core.state_machine import Instance, StateMachine, states, transitions
 
 TRIGGER_CYCLES = 2  # $AN_ESR_TRIGGER must stand this many IPO cycles to reach the drive (L41806-41809)
 STAT_REACTION = 1 << 2  # $AA_ESR_STAT bit 2 = r0887.12 = DB31.DBX95.2
@@ -55,6 +56,15 @@ class DriveEsrReaction(Enum):
     ARMED = "armed"
     REACTING = "reacting"
     DONE = "done"
+
+
+DRIVE_ESR_STATES: StateMachine[DriveEsr] = StateMachine(
+    __name__, "esr.drive", "Drive-autonomous ESR of an axis (DB31.DBX95.2)", Instance.AXIS,
+    states(*DriveEsrReaction),
+    transitions(("ARMED", "REACTING", "$AN_ESR_TRIGGER with $AA_ESR_ENABLE = 1"),
+                ("REACTING", "DONE", "the reaction ended"),
+                ("DONE", "ARMED", "$AA_ESR_ENABLE 1 -> 0 -> 1 (acknowledged)")),
+    read=lambda drive: drive.reaction)
 
 
 class DriveEsr:
@@ -74,7 +84,7 @@ class DriveEsr:
         self.retract_velocity = 0.0  # the same on the load side, per second (mm/s, deg/s)
         self.enabled = False  # $AA_ESR_ENABLE
         self._acknowledge_pending = False
-        self.reaction = DriveEsrReaction.ARMED
+        self.reaction: DriveEsrReaction = DriveEsrReaction.ARMED
         self._triggered = False  # r0887.12: reaction triggered (until acknowledged)
         self._elapsed = 0
         self._hold_velocity = 0.0  # stop: the speed setpoint of the trigger moment

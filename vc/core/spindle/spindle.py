@@ -50,6 +50,7 @@ from vc.core.spindle.signals import SpindleInputs
 from vc.core.spindle.speed_control import RPM as RPM  # rev/min -> deg/s, for the spindle's callers
 from vc.core.spindle.speed_control import SpeedControl
 from vc.core.spindle.zero_mark import ZeroMarkSynchronisation
+from vc.core.state_machine import Instance, StateMachine, states, transitions
 
 ALARM_ZERO_MARK_MISSING = 20002  # the positioning's zero-mark search (MD34060) [control: the referencing alarm]
 SUPPRESS_IN_DRY_RUN = 1 << 0  # MD35035 bit 0: no gear change in dry run
@@ -62,6 +63,20 @@ class SpindleMode(Enum):
     POSITIONING = "positioning"
     AXIS = "axis"
     SYNCHRONOUS = "synchronous"  # following spindle of a coupling (84.4): vc/core/spindle/coupling.py drives it
+
+
+SPINDLE_MODES: StateMachine[Spindle] = StateMachine(
+    __name__, "spindle_mode", "Spindle modes (DB31.DBX84.3-84.7)", Instance.SPINDLE,
+    states(*SpindleMode),
+    transitions(("CONTROL", "OSCILLATION", "gear change"), ("POSITIONING", "OSCILLATION", "gear change"),
+                ("OSCILLATION", "CONTROL", "gear changed (16.3)"),
+                ("CONTROL", "POSITIONING", "SPOS / SPOSA / M19"), ("POSITIONING", "CONTROL", "M3 / M4 / M5"),
+                ("CONTROL", "AXIS", "M70"), ("POSITIONING", "AXIS", "M70"), ("AXIS", "CONTROL", "M3 / M4 / M5"),
+                ("AXIS", "POSITIONING", "SPOS in axis mode"),
+                ("CONTROL", "SYNCHRONOUS", "COUPON: following spindle"),
+                ("POSITIONING", "SYNCHRONOUS", "COUPON on a positioned spindle"),
+                ("SYNCHRONOUS", "CONTROL", "COUPOF")),
+    read=lambda spindle: spindle.mode)
 
 
 class Spindle:
@@ -91,7 +106,7 @@ class Spindle:
                                           channel, dt)
         self._positioning_drive = PositioningDrive(axis, dt)
         self._zero_mark = ZeroMarkSynchronisation(axis)
-        self.mode = SpindleMode.CONTROL
+        self.mode: SpindleMode = SpindleMode.CONTROL
         self.speed = 0.0  # programmed S, rev/min
         self.direction = 0  # +1 M3, -1 M4, 0 M5 (before M3/M4 inversion by DBX17.6)
         self.positioning: Positioning | None = None
