@@ -251,8 +251,11 @@ class ManualRetraction:
 
     # ------------------------------------------------------------------ outputs
     def write_outputs(self) -> None:
-        status = (self.channel.name in self._memory.retract, self.active, self._answer is True, self._answer is False)
+        data_available = self.channel.name in self._memory.retract
+        done, error = self._answer is True, self._answer is False
+        status = (data_available, self.active, done, error)
         if status == self._written:
             return
         self._written = status
-        self._encode(self._area, RetractionStatus(*status))
+        self._encode(self._area, RetractionStatus(data_available=data_available, active=self.active, done=done,
+                                                  error=error))

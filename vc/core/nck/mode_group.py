@@ -63,8 +63,9 @@ class ModeGroup:
 
     def write_outputs(self, ready: bool) -> None:
         mode = self.mode
-        self._encode(self._area, ModeGroupStatus(mode is Mode.AUTO, mode is Mode.MDA, mode is Mode.JOG, ready,
-                                                 self.reference_function))
+        self._encode(self._area, ModeGroupStatus(auto_active=mode is Mode.AUTO, mda_active=mode is Mode.MDA,
+                                                 jog_active=mode is Mode.JOG, ready=ready,
+                                                 ref_active=self.reference_function))
 
 
 # the state of the mode group for observers: JOG, MDA, AUTO; JOG REF and MDA REF with the machine function REF

@@ -375,7 +375,8 @@ class Nck:
         if self.alarms.version != self._alarm_area_version:
             self._alarm_area_version = self.alarms.version
             self._alarm_area.write(self.alarms)
-        self._encode_nck(self._nck_area, NckStatus(self.emergency_stop, True, bool(present)))
+        self._encode_nck(self._nck_area, NckStatus(emergency_stop_active=self.emergency_stop, nc_ready=True,
+                                                   alarm_active=bool(present)))
         self.mode_group.write_outputs(ready=True)
         for channel in self.channels:
             channel_alarms = [a for a in present if a.channel in ("", channel.name)] if present else []

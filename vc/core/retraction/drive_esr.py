@@ -194,7 +194,9 @@ class DriveEsr:
             self._write_status()
 
     def _write_status(self) -> None:
-        self._encode(self._area, DriveEsrStatus(self._triggered, self._vdc_min_active, self._below_minimum_speed))
+        self._encode(self._area, DriveEsrStatus(response_initiated=self._triggered,
+                                                dc_link_undervoltage=self._vdc_min_active,
+                                                below_minimum_speed=self._below_minimum_speed))
 
     # ------------------------------------------------------------------ IPO cycle
     def cycle(self, trigger_cycles: int) -> None:

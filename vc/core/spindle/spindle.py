@@ -301,7 +301,7 @@ class Spindle:
             self.set_position_control(on or self.mode is SpindleMode.SYNCHRONOUS)
 
     def show_speed(self, speed: float) -> None:
-        self._encode_speed(self._area, SpindleSpeed(speed))
+        self._encode_speed(self._area, SpindleSpeed(s_value=speed))
 
     # ------------------------------------------------------------------ modes
     def _enter_control_mode(self) -> None:
@@ -561,15 +561,22 @@ class Spindle:
         change, speed, mode = self.gear_change, self.speed_control, self.mode
         dialog = change.dialog_open
         limits_shown = mode is SpindleMode.CONTROL and not self.limits_unreported
-        # a plain tuple first: compared every cycle, the status is built only when it changed
-        shown = (change.target if dialog else change.acknowledged_gear, dialog, speed.at_chuck_limit,
-                 speed.limited and limits_shown, speed.raised and limits_shown, self.speed_reached(),
-                 self.axis.velocity > self.axis.dyn.standstill_velocity, mode is SpindleMode.CONTROL,
-                 mode is SpindleMode.OSCILLATION, mode is SpindleMode.POSITIONING, mode is not SpindleMode.AXIS,
-                 self.in_position(), self.m_function, self.parameter_set)
+        requested_gear = change.target if dialog else change.acknowledged_gear
+        setpoint_limited, setpoint_raised = speed.limited and limits_shown, speed.raised and limits_shown
+        speed_reached, in_position = self.speed_reached(), self.in_position()
+        clockwise = self.axis.velocity > self.axis.dyn.standstill_velocity
+        # a plain tuple first: compared every cycle, the status is built (by keyword) only when it changed
+        shown = (requested_gear, dialog, speed.at_chuck_limit, setpoint_limited, setpoint_raised, speed_reached,
+                 clockwise, mode, in_position, self.m_function, self.parameter_set)
         if shown != self._shown:
             self._shown = shown
-            self._encode_status(self._area, SpindleStatus(*shown))
+            self._encode_status(self._area, SpindleStatus(
+                requested_gear=requested_gear, change_gear=dialog, speed_limit_exceeded=speed.at_chuck_limit,
+                setpoint_limited=setpoint_limited, setpoint_raised=setpoint_raised, speed_reached=speed_reached,
+                clockwise=clockwise, control_mode=mode is SpindleMode.CONTROL,
+                oscillation_mode=mode is SpindleMode.OSCILLATION, positioning_mode=mode is SpindleMode.POSITIONING,
+                spindle_mode=mode is not SpindleMode.AXIS, in_position=in_position, m_function=self.m_function,
+                parameter_set=self.parameter_set))
         if self.position_control != self._position_control_shown:
             self._position_control_shown = self.position_control
             self.axis.position_control = self.position_control
