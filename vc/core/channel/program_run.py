@@ -8,6 +8,8 @@ Channel and program states (DB21.DBX35.x)::
     INTERRUPTED ──NC start (in the mode the program was started in)──▶ ACTIVE / running
     any ──reset, M2, M30──▶ RESET / aborted
 
+Observers see them as two state machines, ``CHANNEL_STATES`` and ``PROGRAM_STATES``.
+
 The :class:`~vc.core.channel.channel.Channel` makes these transitions on its commands; its parts
 (block execution, the spindle functions, thread cutting and the ESR) read and change the one
 :class:`ProgramRun` it owns, so each sees the block, the phase and the state the others left.

@@ -20,6 +20,9 @@ second cycle.  Timeline of one axis (figures 22-1, 22-2, 22-4)::
     REACTING ──enable 1 -> 0──▶ ack pending: 95.2 falls when the reaction ends (red path of fig. 22-4)
     ACKNOWLEDGED ──enable 0 -> 1 and $AN_ESR_TRIGGER = 0──▶ ARMED
 
+Observers see the reaction as ``DRIVE_ESR_STATES`` (ARMED, REACTING, DONE: the acknowledgement
+arms the drive again).
+
 Generator operation (p0888 = 3, set up in the drive: the axis's ``drive:`` parameters) turns the
 motor's kinetic energy into the DC link's when the supply fails (L41700-41769, vc/core/retraction/dc_link.py):
 from the trigger T1 until T2 = T1 + p0892 the drive holds its speed setpoint, and its Vdc_min

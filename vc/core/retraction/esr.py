@@ -44,6 +44,9 @@ are the project's reading of the control's alarm reactions [control])::
     bit 13 'H2000'  an alarm takes the controller enable (rapid stop, follow-up mode)
     bit  6 'H0040'  an alarm stops the axes of the channel (interpolation stop)
     bit  4 'H0010'  an alarm refuses NC start
+
+Observers see two state machines per channel: the retract motion (``RetractPhase``: IDLE,
+RETRACTING) and the stop axes (``StopPhase``: IDLE, RUNNING_ON for MD21380, BRAKING within MD21381).
 """
 
 from __future__ import annotations

@@ -17,6 +17,9 @@ offset`` (L21727).  :class:`PairDefinition` is the pair of the table (MD21300.. 
 
 The LS position is its setpoint for DV and VV and its actual value for AV (and for DV while
 the LS has no controller enable, which the control does internally, L23232-23246).
+
+Observers see each spindle as a following spindle (``COUPLING_STATES``): UNCOUPLED while it
+follows no leading spindle (its pair defined or not), else the phase of its coupling.
 """
 
 from __future__ import annotations

@@ -26,6 +26,8 @@ spindle reset DB31.DBX2.2 ends it without alarm and takes the gear the PLC repor
 MD35010 bit 3 the NC simulates the dialog: nothing is output, the set gear becomes active at
 standstill.  In reset state the PLC may set the gear without a request (L18597-18625).
 
+Observers see the dialog as ``GEAR_CHANGE_STATES``, with NONE while no change runs.
+
 The spindle owns its modes: :class:`GearChange` tells it through ``outcome`` when the dialog
 opens (oscillation mode), when the change position was not reached and when the change ended
 (control mode with the new gear's data), and it owns the positioning to the change position.

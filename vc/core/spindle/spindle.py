@@ -13,6 +13,7 @@ Modes and their status bits (spec B.3, L16008-16100)::
     (a turning spindle first brakes like M5, then position control and parameter set 0)
 
 (A SYNCHRONOUS spindle follows a coupling's leading spindle: vc/core/spindle/coupling.py.)
+Observers see the modes as ``SPINDLE_MODES``.
 
 :class:`Spindle` keeps the modes: it takes the program's commands and the PLC's, switches the mode
 and chooses the velocity command of the mode each cycle.  It owns by composition what the modes
@@ -561,22 +562,20 @@ class Spindle:
         change, speed, mode = self.gear_change, self.speed_control, self.mode
         dialog = change.dialog_open
         limits_shown = mode is SpindleMode.CONTROL and not self.limits_unreported
-        requested_gear = change.target if dialog else change.acknowledged_gear
-        setpoint_limited, setpoint_raised = speed.limited and limits_shown, speed.raised and limits_shown
-        speed_reached, in_position = self.speed_reached(), self.in_position()
-        clockwise = self.axis.velocity > self.axis.dyn.standstill_velocity
+        gear = change.target if dialog else change.acknowledged_gear
+        limited, raised, reached = speed.limited and limits_shown, speed.raised and limits_shown, self.speed_reached()
+        clockwise, in_position = self.axis.velocity > self.axis.dyn.standstill_velocity, self.in_position()
         # a plain tuple first: compared every cycle, the status is built (by keyword) only when it changed
-        shown = (requested_gear, dialog, speed.at_chuck_limit, setpoint_limited, setpoint_raised, speed_reached,
-                 clockwise, mode, in_position, self.m_function, self.parameter_set)
+        shown = (gear, dialog, speed.at_chuck_limit, limited, raised, reached, clockwise, mode, in_position,
+                 self.m_function, self.parameter_set)
         if shown != self._shown:
             self._shown = shown
             self._encode_status(self._area, SpindleStatus(
-                requested_gear=requested_gear, change_gear=dialog, speed_limit_exceeded=speed.at_chuck_limit,
-                setpoint_limited=setpoint_limited, setpoint_raised=setpoint_raised, speed_reached=speed_reached,
-                clockwise=clockwise, control_mode=mode is SpindleMode.CONTROL,
-                oscillation_mode=mode is SpindleMode.OSCILLATION, positioning_mode=mode is SpindleMode.POSITIONING,
-                spindle_mode=mode is not SpindleMode.AXIS, in_position=in_position, m_function=self.m_function,
-                parameter_set=self.parameter_set))
+                requested_gear=gear, change_gear=dialog, speed_limit_exceeded=speed.at_chuck_limit,
+                setpoint_limited=limited, setpoint_raised=raised, speed_reached=reached, clockwise=clockwise,
+                control_mode=mode is SpindleMode.CONTROL, oscillation_mode=mode is SpindleMode.OSCILLATION,
+                positioning_mode=mode is SpindleMode.POSITIONING, spindle_mode=mode is not SpindleMode.AXIS,
+                in_position=in_position, m_function=self.m_function, parameter_set=self.parameter_set))
         if self.position_control != self._position_control_shown:
             self._position_control_shown = self.position_control
             self.axis.position_control = self.position_control
