@@ -71,17 +71,22 @@ def transitions(*items: tuple[str, str, str]) -> tuple[Transition, ...]:
     return tuple(Transition(*item) for item in items)
 
 
-@dataclass(frozen=True, slots=True)
 class StateMachine(Generic[P]):
-    """One state machine of the NC (see the module docstring)."""
+    """One state machine of the NC (see the module docstring); its fields are not changed after the
+    declaration.  (A plain class: a generic dataclass does not compile with mypyc.)"""
 
-    module: str  # the module that declares and runs it: ``__name__``
-    name: str  # "gear_change", "referencing.distance_coded": what the coverage and its thresholds name
-    title: str
-    instance: Instance
-    states: tuple[StateInfo, ...]
-    transitions: tuple[Transition, ...]
-    read: Callable[[P], StateValue]  # the state of one instance, from the part that keeps it
+    def __init__(self, module: str, name: str, title: str, instance: Instance, states: tuple[StateInfo, ...],
+                 transitions: tuple[Transition, ...], *, read: Callable[[P], StateValue]):
+        self.module = module  # the module that declares and runs it: ``__name__``
+        self.name = name  # "gear_change", "referencing.distance_coded": what the coverage and its thresholds name
+        self.title = title
+        self.instance = instance
+        self.states = states
+        self.transitions = transitions
+        self.read = read  # the state of one instance, from the part that keeps it
+
+    def __repr__(self) -> str:
+        return f"StateMachine({self.name!r})"
 
     @property
     def path(self) -> str:
@@ -95,14 +100,17 @@ class StateMachine(Generic[P]):
         return None
 
 
-@dataclass(frozen=True, slots=True)
 class Variants(Generic[P]):
     """A state machine that runs differently by configuration: a :class:`StateMachine` per variant
     (all read alike) and which of them an instance is in now."""
 
-    name: str  # the name the variants share before the dot: "referencing"
-    machines: tuple[StateMachine[P], ...]
-    variant: Callable[[P], StateMachine[P]]
+    def __init__(self, name: str, machines: tuple[StateMachine[P], ...], variant: Callable[[P], StateMachine[P]]):
+        self.name = name  # the name the variants share before the dot: "referencing"
+        self.machines = machines
+        self.variant = variant
+
+    def __repr__(self) -> str:
+        return f"Variants({self.name!r})"
 
 
 @dataclass(frozen=True, slots=True)

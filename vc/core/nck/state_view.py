@@ -10,7 +10,6 @@ NC running (the coverage report).  The order of the rows is the order of the rep
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from typing import Any, Generic, TypeVar
 
 from interfaces.signals import MODE_GROUP_INSTANCE
@@ -29,12 +28,13 @@ from vc.core.state_machine import InstanceState, StateMachine, StateView, Varian
 P = TypeVar("P")
 
 
-@dataclass(frozen=True, slots=True)
 class Published(Generic[P]):
     """A state machine and the parts that keep its instances: ``(instance name, part)``."""
 
-    declaration: StateMachine[P] | Variants[P]
-    instances: Callable[[NckParts], Sequence[tuple[str, P]]]
+    def __init__(self, declaration: StateMachine[P] | Variants[P],
+                 instances: Callable[[NckParts], Sequence[tuple[str, P]]]):
+        self.declaration = declaration
+        self.instances = instances
 
     def publish(self, parts: NckParts) -> list[InstanceState]:
         return [publish(self.declaration, name, part) for name, part in self.instances(parts)]
