@@ -11,7 +11,7 @@ import pytest
 from vc.bench.robustness.campaign import CampaignSettings, Row, table
 from vc.bench.robustness.can_noise import run_can_noise
 from vc.bench.robustness.flood import run_flood
-from vc.bench.robustness.modbus_fuzz import run_modbus_fuzz
+from vc.bench.robustness.modbus_fuzz import _Tally, run_modbus_fuzz
 from vc.bench.robustness.s7_probe import run_s7_probe
 from vc.bench.robustness.soak import run_soak
 
@@ -31,6 +31,13 @@ def test_modbus_fuzz() -> None:
     _clean(row)
     assert row.inputs >= SHORT.modbus_frames + 300  # and the 200 connections and 100 half-open ones
     assert any("pipelining" in line for line in said) and any("half-open" in line for line in said)
+    assert not any("_Tally(" in line for line in said), said
+
+
+def test_the_modbus_progress_reads_as_figures() -> None:
+    tally = _Tally(frames=120, lost=1, hangs=0, violations=2, refused_connections=3)
+    assert str(tally) == ("so far 120 frames, 1 lost, 0 hangs, 2 rule violations, 3 connections closed by the"
+                          " server when full")
 
 
 def test_modbus_flood() -> None:
