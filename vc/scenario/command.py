@@ -78,6 +78,8 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
     def say(text: str) -> None:  # plain text: a path or a message is never read as markup or emoji
         report.console.print(text, highlight=False, soft_wrap=True, markup=False, emoji=False)
 
+    if report_dir is not None and not _can_draw(say, "--report"):
+        return EXIT_PROBLEMS
     try:
         scenarios = load_scenarios(paths, known_programs, catalog=catalog, machine_loader=machine_loader,
                                    default_plc=default_plc)
@@ -158,6 +160,8 @@ def plot_command(spec: str, make_target: Callable[[Scenario], ScenarioTarget], k
     def say(text: str) -> None:
         report.console.print(text, highlight=False, soft_wrap=True, markup=False, emoji=False)
 
+    if not _can_draw(say, "--plot"):
+        return EXIT_PROBLEMS
     path, wanted = spec, None
     match = _VARIANT.match(spec)
     if match is not None and not os.path.isfile(spec):
@@ -189,6 +193,18 @@ def plot_command(spec: str, make_target: Callable[[Scenario], ScenarioTarget], k
         say(f"vc run --plot: {error}")
         return EXIT_PROBLEMS
     return EXIT_PASSED if result.passed else EXIT_FAILED
+
+
+def _can_draw(say: Callable[[str], None], option: str) -> bool:
+    """Whether the diagrams of ``option`` can be drawn here; if not, says why (before anything runs)."""
+    from vc.scenario.diagram import DiagramError, require_matplotlib
+
+    try:
+        require_matplotlib()
+    except DiagramError as error:
+        say(f"vc run {option}: {error}")
+        return False
+    return True
 
 
 def _has_display() -> bool:

@@ -40,6 +40,18 @@ class DiagramError(VcError):
     """matplotlib is missing."""
 
 
+MISSING = "timing diagrams need matplotlib: pip install 'vc-harness[report]'"
+
+
+def require_matplotlib() -> None:
+    """Raise :class:`DiagramError` unless matplotlib can be imported: a run that is to draw diagrams
+    checks this before it starts, not after every scenario has run."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise DiagramError(MISSING) from None
+
+
 def figure_size(diagram: TimingDiagram) -> tuple[float, float]:
     lanes = sum(HEIGHT_IN[lane.kind] for lane in diagram.lanes) or HEIGHT_IN[DIGITAL]
     return WIDTH_IN, HEADER_IN + lanes + FOOTER_IN + (0.25 if diagram.failure else 0.0)
@@ -51,7 +63,7 @@ def save(diagram: TimingDiagram, path: str | Path) -> tuple[int, int]:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
     except ImportError:
-        raise DiagramError("timing diagrams need matplotlib: pip install 'vc-harness[report]'") from None
+        raise DiagramError(MISSING) from None
     width, height = figure_size(diagram)
     figure = Figure(figsize=(width, height), dpi=DPI)
     FigureCanvasAgg(figure)
@@ -69,7 +81,7 @@ def show(diagram: TimingDiagram) -> None:
     try:
         import matplotlib.pyplot as pyplot
     except ImportError:
-        raise DiagramError("timing diagrams need matplotlib: pip install 'vc-harness[report]'") from None
+        raise DiagramError(MISSING) from None
     figure = pyplot.figure(figsize=figure_size(diagram))
     draw(diagram, figure)
     pyplot.show()
