@@ -89,6 +89,11 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
     if not scenarios:
         report.say("no scenario files found in " + ", ".join(paths))
         return EXIT_PROBLEMS
+    check = GoldenCheck(Path(golden), update_golden) if golden is not None else None
+    if check is not None and (shared := check.shared(scenarios)):
+        for sentence in shared:
+            say(f"vc run --golden: {sentence}")
+        return EXIT_PROBLEMS
     if catalog is not None or machine_loader is not None:
         jobs, cluster = 1, None
     if any(scenario.external_plc is not None for scenario in scenarios):
@@ -105,7 +110,6 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
         if cluster is not None:
             across = f"on the Dask cluster {cluster.address}"
         say(f"{len(scenarios)} scenarios, {across}, {build}")
-    check = GoldenCheck(Path(golden), update_golden) if golden is not None else None
     settings = RunSettings(tuple(known_programs), make_target, None if trace_dir is None else str(trace_dir),
                            None if golden is None else str(golden), update_golden,
                            SEND_DIAGRAM if html is not None else SEND_NOTHING)
