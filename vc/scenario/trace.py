@@ -455,6 +455,18 @@ def _vcd_width(ref: SignalRef) -> int:
     return ref.bits if ref.type in (SignalType.BOOL, SignalType.BITS) else 8 * ref.address.size
 
 
+def gtkwave_name(quantity: Quantity) -> str:
+    """The name GTKWave gives a quantity of our VCD files: ``X1.\\basic.in.enc1Synchronized``.  GTKWave
+    reads a dot as the step into a scope, so a VCD name that holds dots is an escaped identifier to it
+    (a backslash before it); a signal of several bits carries its range, ``NC.\\basic.out.x[7:0]``.
+    A save file must name them so, or it shows nothing."""
+    scope, name = vcd_scope_and_name(quantity)
+    escaped = "\\" + name if "." in name else name
+    ref = quantity.ref
+    width = _vcd_width(ref) if ref is not None and ref.type is not SignalType.REAL else 1
+    return f"{scope}.{escaped}" + (f"[{width - 1}:0]" if width > 1 else "")
+
+
 def write_gtkw(recording: Recording, shown: Sequence[Quantity], path: str | Path, vcd_name: str,
                title: str = "") -> None:
     """A GTKWave save file for the VCD ``vcd_name`` beside it that opens with ``shown`` in view
@@ -476,15 +488,13 @@ def write_gtkw(recording: Recording, shown: Sequence[Quantity], path: str | Path
             history = recording.history(quantity)
             if history is None or not len(history):
                 continue
-            scope, name = vcd_scope_and_name(quantity)
-            full_name = f"{scope}.{name}"
             ref = quantity.ref
             if ref is None or ref.type is SignalType.REAL:
-                save.trace(full_name, datafmt="real", extraflags=GTKWFlag.analog_step)
+                save.trace(gtkwave_name(quantity), datafmt="real", extraflags=GTKWFlag.analog_step)
                 save.blank(analog_extend=True)
                 save.blank(analog_extend=True)
             else:
-                save.trace(full_name, datafmt="hex" if _vcd_width(ref) == 1 else "dec")
+                save.trace(gtkwave_name(quantity), datafmt="hex" if _vcd_width(ref) == 1 else "dec")
 
 
 def write_traces(recording: Recording, shown: Sequence[Quantity], directory: Path, name: str,
