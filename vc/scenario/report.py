@@ -56,7 +56,7 @@ def history_table(failure: Failure) -> Table | None:
         for position, (seconds, value) in enumerate(trail.entries):
             first = position == 0
             table.add_row(Text(trail.name if first else ""), Text(trail.address if first else ""),
-                          f"{seconds:.3f} s", format_value(value))
+                          f"{seconds:.3f} s", format_value(value, trail.unit))
     return table
 
 
@@ -71,7 +71,8 @@ def failure_text(result: ScenarioResult) -> str:
     if failure.history:
         lines.append(f"history before the failure at {failure.time_s:.3f} s:")
         for trail in failure.history:
-            shown = ", ".join(f"{seconds:.3f} s = {format_value(value)}" for seconds, value in trail.entries)
+            shown = ", ".join(f"{seconds:.3f} s = {format_value(value, trail.unit)}"
+                              for seconds, value in trail.entries)
             address = f" [{trail.address}]" if trail.address and trail.address != trail.name else ""
             lines.append(f"  {trail.name}{address}: {shown or 'not recorded'}")
     return "\n".join(lines)

@@ -28,7 +28,7 @@ from vc.located_yaml import Mark
 from vc.scenario.durations import format_seconds
 from vc.scenario.expressions import EvaluationError, Evaluator, Expression
 from vc.scenario.model import EdgeKind, Event, Scenario, Step, WaitUntil
-from vc.scenario.quantities import Quantity, QuantityKind
+from vc.scenario.quantities import Quantity, QuantityKind, unit_of
 from vc.scenario.steps.table import STEPS
 from vc.scenario.target import ScenarioTarget
 from vc.scenario.trace import Recorder, Recording, write_traces
@@ -47,6 +47,7 @@ class SignalTrail:
     name: str
     address: str
     entries: tuple[tuple[float, float], ...]
+    unit: str = ""  # of the values (SP1.velocity: rev/min)
 
 
 @dataclass(frozen=True, slots=True)
@@ -251,7 +252,8 @@ class _Run:
                 continue
             entries = self.recorder.recent(quantity, HISTORY_CHANGES, HISTORY_WINDOW_S)
             trails.append(SignalTrail(quantity.name, quantity.address,
-                                      tuple((self.seconds(cycle), value) for cycle, value in entries)))
+                                      tuple((self.seconds(cycle), value) for cycle, value in entries),
+                                      unit_of(quantity, self.scenario.machine)))
         return Failure(kind, self.step, mark, message, self.cycle, self.seconds(), tuple(trails))
 
     def fail(self, step: Step, message: str, names: Sequence[Quantity] | None = None) -> _Stop:
@@ -260,8 +262,11 @@ class _Run:
     def read(self, quantity: Quantity) -> float:
         return self.probe.reader(quantity)()
 
+    def shown(self, quantity: Quantity, value: float) -> str:
+        return format_value(value, unit_of(quantity, self.scenario.machine))
+
     def now(self, names: Sequence[Quantity], lead: str) -> str:
-        shown = [f"{q.name} = {format_value(self.read(q))}" for q in names if q.kind is not QuantityKind.TIME]
+        shown = [f"{q.name} = {self.shown(q, self.read(q))}" for q in names if q.kind is not QuantityKind.TIME]
         return lead + ", ".join(shown) if shown else ""
 
     # -- steps -----------------------------------------------------------------------------
@@ -363,8 +368,9 @@ def finish(result: ScenarioResult, trace_dir: Path | None, trace_name: str,
     file with the scenario's own names), then ``check`` (the golden comparison).  Where the run
     happened, or where its recording was sent back to."""
     if trace_dir is not None and result.recorder is not None:
+        machine = result.scenario.machine
         result.trace_files = write_traces(result.recorder, result.scenario.quantities, trace_dir, trace_name,
-                                          result.scenario.name)
+                                          result.scenario.name, lambda quantity: unit_of(quantity, machine))
     if check is not None:
         check(result)
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from interfaces.signals import SignalType
+from vc.config.model import MachineConfig
 from vc.scenario.model import (
     EdgeKind,
     ExpectCondition,
@@ -33,7 +34,7 @@ from vc.scenario.model import (
     Step,
     WaitUntil,
 )
-from vc.scenario.quantities import Quantity, QuantityKind, axis_quantity
+from vc.scenario.quantities import Quantity, QuantityKind, axis_quantity, unit_of
 from vc.scenario.runner import ScenarioResult
 from vc.scenario.trace import Recording
 
@@ -141,7 +142,7 @@ def timing_diagram(result: ScenarioResult) -> TimingDiagram | None:
     digital, analog = _lanes_wanted(scenario, recording)
     left_out = max(0, len(digital) - MAX_DIGITAL_LANES) + max(0, len(analog) - MAX_ANALOG_LANES)
     end_s = max(result.simulated_s, recording.time_of(max(result.step_cycles, default=0)))
-    lanes = [_lane(recording, q) for q in digital[:MAX_DIGITAL_LANES] + analog[:MAX_ANALOG_LANES]]
+    lanes = [_lane(recording, q, scenario.machine) for q in digital[:MAX_DIGITAL_LANES] + analog[:MAX_ANALOG_LANES]]
     failure = result.failure
     failed_step = failure.step if failure is not None else None
     steps = tuple(StepMark(step.index, step.kind, recording.time_of(cycle), step is failed_step)
@@ -156,7 +157,7 @@ def timing_diagram(result: ScenarioResult) -> TimingDiagram | None:
                          failure.time_s if failure is not None else None, where, left_out)
 
 
-def _lane(recording: Recording, quantity: Quantity) -> Lane:
+def _lane(recording: Recording, quantity: Quantity, machine: MachineConfig) -> Lane:
     history = recording.history(quantity)
     assert history is not None
     times = tuple(recording.time_of(cycle) for cycle in history.cycles)
@@ -165,9 +166,7 @@ def _lane(recording: Recording, quantity: Quantity) -> Lane:
     kind = ANALOG
     if ref is not None and ref.type is not SignalType.REAL:
         kind = DIGITAL if ref.bits == 1 else BUS
-    unit = {"position": "mm", "velocity": "mm/min", "setpoint": "mm", "followingError": "mm",
-            "physical": "mm"}.get(quantity.quantity, "") if quantity.kind is QuantityKind.AXIS else ""
-    return Lane(quantity.name, kind, times, values, unit)
+    return Lane(quantity.name, kind, times, values, unit_of(quantity, machine))
 
 
 def _windows(scenario: Scenario, result: ScenarioResult, recording: Recording, shown: set[str],

@@ -29,7 +29,7 @@ import csv
 import heapq
 import time as wallclock
 from array import array
-from collections.abc import Collection, Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol, runtime_checkable
@@ -38,6 +38,7 @@ from interfaces.address import Address
 from interfaces.image import Value, decode
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import ExpandedCatalog, SignalRef, SignalType
+from vc.escaping import csv_field, vcd
 from vc.scenario.model import EdgeKind
 from vc.scenario.quantities import Quantity, QuantityKind, axis_quantity, signal_quantity
 from vc.scenario.target import ScenarioTarget
@@ -394,17 +395,23 @@ def _numbered(position: int, history: History) -> Iterator[tuple[int, int, Histo
 
 # ---------------------------------------------------------------------------------- writers
 
-CSV_HEADER = ("cycle", "time_s", "name", "value", "address")
+CSV_HEADER = ("cycle", "time_s", "name", "value", "address", "unit")
+Units = Callable[[Quantity], str]  # the unit of a quantity's values (vc.scenario.quantities.unit_of)
 
 
-def write_csv(recorder: Recording, path: str | Path) -> None:
-    """Long format, one row per change: ``cycle,time_s,name,value,address`` sorted by cycle and name."""
+def write_csv(recorder: Recording, path: str | Path, units: Units | None = None) -> None:
+    """Long format, one row per change: ``cycle,time_s,name,value,address,unit`` sorted by cycle and name."""
+    columns: dict[str, tuple[str, str, str]] = {}  # name -> its name, address and unit as written
+    for history in recorder.histories:
+        quantity = history.quantity
+        columns[quantity.name] = (csv_field(quantity.name), csv_field(quantity.address),
+                                  csv_field(units(quantity)) if units is not None else "")
     with open(path, "w", encoding="utf-8", newline="") as handle:
         writer = csv.writer(handle)
         writer.writerow(CSV_HEADER)
         for cycle, history, value in recorder.changes():
-            writer.writerow((cycle, f"{recorder.time_of(cycle):.6f}", history.quantity.name,
-                             _csv_value(value), history.quantity.address))
+            name, address, unit = columns[history.quantity.name]
+            writer.writerow((cycle, f"{recorder.time_of(cycle):.6f}", name, _csv_value(value), address, unit))
 
 
 def _csv_value(value: Value) -> str:
@@ -478,7 +485,7 @@ def write_gtkw(recording: Recording, shown: Sequence[Quantity], path: str | Path
     save_name = Path(path).name
     with open(path, "w", encoding="utf-8") as handle:
         save = GTKWSave(handle)
-        save.comment(f"vc-harness: {title}" if title else "vc-harness")
+        save.comment(vcd(f"vc-harness: {title}") if title else "vc-harness")
         save.dumpfile(vcd_name, abspath=False)
         save.savefile(save_name, abspath=False)
         save.timestart(0)
@@ -498,11 +505,11 @@ def write_gtkw(recording: Recording, shown: Sequence[Quantity], path: str | Path
 
 
 def write_traces(recording: Recording, shown: Sequence[Quantity], directory: Path, name: str,
-                 title: str = "") -> list[str]:
+                 title: str = "", units: Units | None = None) -> list[str]:
     """``directory/name.csv``, ``.vcd`` and the GTKWave save file ``.gtkw``; the files written."""
     directory.mkdir(parents=True, exist_ok=True)
     csv_path, vcd_path, gtkw_path = (directory / f"{name}{suffix}" for suffix in (".csv", ".vcd", ".gtkw"))
-    write_csv(recording, csv_path)
+    write_csv(recording, csv_path, units)
     write_vcd(recording, vcd_path)
     write_gtkw(recording, shown, gtkw_path, vcd_path.name, title)
     return [str(csv_path), str(vcd_path), str(gtkw_path)]

@@ -52,15 +52,15 @@ def test_csv_round_trip(tmp_path: Path) -> None:
     write_csv(recorder, path)
     with open(path, encoding="utf-8", newline="") as handle:
         rows = list(csv.reader(handle))
-    assert rows[0] == ["cycle", "time_s", "name", "value", "address"]
+    assert rows[0] == ["cycle", "time_s", "name", "value", "address", "unit"]
     body = rows[1:]
     assert body == sorted(body, key=lambda row: (int(row[0]), row[2]))
     changes = [row for row in body if row[0] != "0"]
     # 0.1 mm per cycle: X1 arrives after 10 cycles and reports standstill one cycle later
-    assert ["0", "0.000000", "CHAN1.basic.out.ncStart", "1", "DB21.DBX7.1"] in body
-    assert ["10", "0.020000", "CHAN1.basic.out.ncStart", "0", "DB21.DBX7.1"] in changes
-    assert ["11", "0.022000", "X1.basic.in.posFineReached", "1", "DB31.DBX60.7"] in changes
-    assert ["0", "0.000000", "MCP.feedOverride", "80", "IB4"] in body
+    assert ["0", "0.000000", "CHAN1.basic.out.ncStart", "1", "DB21.DBX7.1", ""] in body
+    assert ["10", "0.020000", "CHAN1.basic.out.ncStart", "0", "DB21.DBX7.1", ""] in changes
+    assert ["11", "0.022000", "X1.basic.in.posFineReached", "1", "DB31.DBX60.7", ""] in changes
+    assert ["0", "0.000000", "MCP.feedOverride", "80", "IB4", ""] in body
     positions = [float(row[3]) for row in body if row[2] == "X1.position"]
     assert positions[0] == 0.0 and positions[-1] == 1.0 and len(positions) == 11
     # the setpoint is recorded because the scenario names it; the physical position is not

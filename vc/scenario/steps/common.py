@@ -326,6 +326,9 @@ class StepRun(Protocol):
     def now(self, names: Sequence[Quantity], lead: str) -> str:
         """``lead`` and the current values of ``names``, or "" without any."""
 
+    def shown(self, quantity: Quantity, value: float) -> str:
+        """A value of ``quantity`` for a message, with its unit (``600.0 rev/min``)."""
+
     def occurrences(self, event: Event) -> list[int]:
         """The cycles (since the start) ``event`` occurred at."""
 

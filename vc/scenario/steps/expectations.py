@@ -33,7 +33,7 @@ from vc.scenario.model import (
 )
 from vc.scenario.quantities import Quantity, QuantityKind
 from vc.scenario.steps.common import StepChecker, StepKind, StepRun, built, kind_of_value
-from vc.scenario.values import ExpectedValue, ExpectedValueError, format_value, parse_expected
+from vc.scenario.values import ExpectedValue, ExpectedValueError, parse_expected
 
 # -- checking ------------------------------------------------------------------------------
 
@@ -233,7 +233,7 @@ def run_expect(run: StepRun, step: Step) -> None:
     for quantity, expected in values.checks:
         actual = run.read(quantity)
         if not expected.matches(actual):
-            wrong.append(f"expected {quantity.name} {relation(expected)}, found {format_value(actual)}")
+            wrong.append(f"expected {quantity.name} {relation(expected)}, found {run.shown(quantity, actual)}")
     if wrong:
         raise run.fail(values, "; ".join(wrong))
 
