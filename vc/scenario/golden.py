@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -35,7 +35,7 @@ from typing import Any
 from vc.scenario.model import Scenario
 from vc.scenario.quantities import QuantityKind
 from vc.scenario.runner import Failure, ScenarioResult, file_stem
-from vc.scenario.trace import Recording
+from vc.scenario.trace import Recording, is_alarm_number
 
 POSITION_TOLERANCE = 1e-3  # mm or degrees
 GOLDEN_QUANTITIES = ("couplingRelationError",)  # axis quantities kept when a scenario names them
@@ -73,7 +73,8 @@ class GoldenSummary:
         )
 
 
-def summarize(recorder: Recording, alarm_numbers: Sequence[int]) -> GoldenSummary:
+def summarize(recorder: Recording, alarm_numbers: Sequence[int], named: Collection[str] = ()) -> GoldenSummary:
+    """What a golden trace keeps of a run; ``named``: the names the scenario itself uses."""
     digital: dict[str, list[tuple[float, int]]] = {}
     positions: dict[str, tuple[float, float, float]] = {}
     quantities: dict[str, tuple[float, float, float]] = {}
@@ -89,6 +90,8 @@ def summarize(recorder: Recording, alarm_numbers: Sequence[int]) -> GoldenSummar
             continue
         if not quantity.is_integer or len(history) < 2:
             continue  # a signal that never changed says nothing about behaviour
+        if is_alarm_number(quantity) and quantity.name not in named:
+            continue  # compared as the alarms raised, in order
         digital[quantity.name] = [(recorder.time_of(cycle), int(value)) for cycle, value in history.entries()]
     return GoldenSummary(digital, list(alarm_numbers), positions, quantities)
 
@@ -204,7 +207,7 @@ class GoldenCheck:
         if not result.passed or recorder is None:
             return
         scenario = result.scenario
-        summary = summarize(recorder, recorder.alarm_numbers())
+        summary = summarize(recorder, recorder.alarm_numbers(), {quantity.name for quantity in scenario.quantities})
         path = golden_file(self.directory, scenario)
         if not _inside(path, self.directory):  # cannot be by construction; the check keeps it so
             self._fail(result, f"the golden trace {path} would lie outside {self.directory}")

@@ -27,8 +27,9 @@ from interfaces.errors import VcError
 from vc.located_yaml import Mark
 from vc.scenario.durations import format_seconds
 from vc.scenario.expressions import EvaluationError, Evaluator, Expression
-from vc.scenario.model import EdgeKind, Event, Scenario, Step, WaitUntil
+from vc.scenario.model import EdgeKind, Event, ExpectAlarm, Scenario, Step, WaitUntil
 from vc.scenario.quantities import Quantity, QuantityKind, unit_of
+from vc.scenario.steps.common import alarms_text
 from vc.scenario.steps.table import STEPS
 from vc.scenario.target import ScenarioTarget
 from vc.scenario.trace import Recorder, Recording, write_traces
@@ -246,6 +247,11 @@ class _Run:
     # -- reporting -------------------------------------------------------------------------
 
     def failure(self, kind: str, message: str, mark: Mark, names: Sequence[Quantity]) -> Failure:
+        """The failure, its message followed by the alarms present (a cause the message may not name:
+        a wait for a signal the NC never set because an alarm stopped it); the recent history of ``names``."""
+        alarms = self.target.alarms()
+        if alarms and not isinstance(self.step, ExpectAlarm):  # those list the alarms themselves
+            message = f"{message}; alarms present: {alarms_text(alarms)}"
         trails = []
         for quantity in names:
             if quantity.kind is QuantityKind.TIME:

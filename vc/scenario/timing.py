@@ -6,7 +6,8 @@
 * Analog lanes: the axis and spindle quantities the scenario names, and position and velocity
   of every axis it names (or, naming none, of the axes that moved), machine data and link
   quantities it reads.
-* On the time axis: where each step began, the failing step and the moment of the failure; an
+* On the time axis: where each step began, the failing step and the moment of the failure, the
+  moments alarms were raised (from DB100's alarm list, with their numbers); an
   ``expect_timing`` window shaded on its ``to`` lane (from its ``from`` event plus ``min`` to
   plus ``max``), and the time a ``wait until`` may take shaded lightly on the lanes it watches.
 
@@ -36,7 +37,7 @@ from vc.scenario.model import (
 )
 from vc.scenario.quantities import Quantity, QuantityKind, axis_quantity, unit_of
 from vc.scenario.runner import ScenarioResult
-from vc.scenario.trace import Recording
+from vc.scenario.trace import Recording, is_alarm_number
 
 MAX_DIGITAL_LANES = 24
 MAX_ANALOG_LANES = 6
@@ -74,6 +75,14 @@ class Window:
 
 
 @dataclass(frozen=True, slots=True)
+class AlarmMark:
+    """An alarm raised: the moment it entered DB100's alarm list."""
+
+    time_s: float
+    number: int
+
+
+@dataclass(frozen=True, slots=True)
 class TimingDiagram:
     title: str
     status: str  # PASS, FAIL, ERROR
@@ -84,6 +93,7 @@ class TimingDiagram:
     failure_s: float | None = None
     failure: str = ""  # where and what, one line
     left_out: int = 0  # lanes beyond the limits, not drawn
+    alarms: tuple[AlarmMark, ...] = ()
 
 
 def named_quantities(scenario: Scenario) -> list[Quantity]:
@@ -100,7 +110,8 @@ def named_quantities(scenario: Scenario) -> list[Quantity]:
 def diagram_quantities(scenario: Scenario, recording: Recording) -> list[Quantity]:
     """The recorded names a diagram of ``scenario`` shows (digital lanes first), within the limits."""
     digital, analog = _lanes_wanted(scenario, recording)
-    return digital[:MAX_DIGITAL_LANES] + analog[:MAX_ANALOG_LANES]
+    alarms = [history.quantity for history in recording.histories if is_alarm_number(history.quantity)]
+    return digital[:MAX_DIGITAL_LANES] + analog[:MAX_ANALOG_LANES] + alarms
 
 
 def _lanes_wanted(scenario: Scenario, recording: Recording) -> tuple[list[Quantity], list[Quantity]]:
@@ -154,7 +165,29 @@ def timing_diagram(result: ScenarioResult) -> TimingDiagram | None:
     elif result.error:
         where = result.error.strip().splitlines()[-1] if result.error.strip() else "error"
     return TimingDiagram(scenario.name, result.status, tuple(lanes), steps, windows, end_s,
-                         failure.time_s if failure is not None else None, where, left_out)
+                         failure.time_s if failure is not None else None, where, left_out, alarm_marks(recording))
+
+
+def alarm_marks(recording: Recording) -> tuple[AlarmMark, ...]:
+    """When each alarm was raised: the moments a number appeared in DB100's alarm list (its first
+    eight entries; an alarm that moves up the list as others go is not raised again)."""
+    histories = [history for history in recording.histories if is_alarm_number(history.quantity)]
+    changes = sorted((cycle, position, int(value)) for position, history in enumerate(histories)
+                     for cycle, value in history.entries())
+    entries = [0] * len(histories)
+    marks: list[AlarmMark] = []
+    present: set[int] = set()
+    index = 0
+    while index < len(changes):
+        cycle = changes[index][0]
+        while index < len(changes) and changes[index][0] == cycle:
+            _, position, number = changes[index]
+            entries[position] = number
+            index += 1
+        now = {number for number in entries if number}
+        marks += [AlarmMark(recording.time_of(cycle), number) for number in sorted(now - present)]
+        present = now
+    return tuple(marks)
 
 
 def _lane(recording: Recording, quantity: Quantity, machine: MachineConfig) -> Lane:

@@ -3,7 +3,9 @@
 What is recorded, after every IPO cycle, when it changes:
 
 * every catalogue signal of type bool, bits, byte or word of every DB instance (double words
-  and reals, which often change every cycle, only when a scenario names them),
+  and reals, which often change every cycle, only when a scenario names them), and the numbers
+  of the alarms present in the alarm list of DB100 (``ALARMS.entry[1].in.number`` ..., double
+  words that change only with the list),
 * every plant I/O point,
 * position and velocity of every machine axis (when they move by more than 1e-6),
 * whatever else the scenario names (other axis quantities, raw addresses, double words, reals).
@@ -37,7 +39,7 @@ from typing import Protocol, runtime_checkable
 from interfaces.address import Address
 from interfaces.image import Value, decode
 from interfaces.plant_io import PlantIoMap
-from interfaces.signals import ExpandedCatalog, SignalRef, SignalType
+from interfaces.signals import ALARMS_INSTANCE, ExpandedCatalog, SignalRef, SignalType
 from vc.escaping import csv_field, vcd
 from vc.scenario.model import EdgeKind
 from vc.scenario.quantities import Quantity, QuantityKind, axis_quantity, signal_quantity
@@ -179,12 +181,21 @@ class Recording:
             yield cycle, history, value
 
 
+def is_alarm_number(quantity: Quantity) -> bool:
+    """A number of DB100's alarm list (``ALARMS.entry[3].in.number``), recorded for the traces and the
+    diagrams' alarm marks; the golden traces compare the alarms as the list of those raised."""
+    ref = quantity.ref
+    return (ref is not None and ref.type is SignalType.DWORD and ref.signal is not None
+            and ref.signal.instance == ALARMS_INSTANCE)
+
+
 def recorded_quantities(catalog: ExpandedCatalog, plant_io: PlantIoMap, axes: Iterable[str],
                         watched: Iterable[Quantity] = ()) -> dict[str, Quantity]:
     """What a :class:`Recorder` records on a machine by default, and ``watched`` (by name): every
     bool, bits, byte and word signal, every plant I/O point, position and velocity of every axis."""
     found: dict[str, Quantity] = {}
-    chosen = [signal_quantity(item.ref()) for item in catalog.signals if item.type in RECORDED_TYPES]
+    chosen = [signal_quantity(item.ref()) for item in catalog.signals
+              if item.type in RECORDED_TYPES or (item.instance == ALARMS_INSTANCE and item.type is SignalType.DWORD)]
     chosen += [signal_quantity(point.ref()) for point in plant_io.points]
     chosen += [axis_quantity(axis, name) for axis in axes for name in RECORDED_AXIS_QUANTITIES]
     for quantity in (*chosen, *watched):

@@ -32,7 +32,7 @@ from vc.scenario.model import (
     Step,
 )
 from vc.scenario.quantities import Quantity, QuantityKind
-from vc.scenario.steps.common import StepChecker, StepKind, StepRun, built, kind_of_value
+from vc.scenario.steps.common import StepChecker, StepKind, StepRun, alarms_text, built, kind_of_value
 from vc.scenario.values import ExpectedValue, ExpectedValueError, parse_expected
 
 # -- checking ------------------------------------------------------------------------------
@@ -244,8 +244,7 @@ def run_expect_alarm(run: StepRun, step: Step) -> None:
     place = f" ({alarm.place})" if alarm.place else ""
     place += f" showing '{alarm.text}'" if alarm.text else ""
     alarms = list(run.target.alarms())
-    present = ", ".join(_alarm_text(shown.number, shown.axis or shown.channel, shown.text)
-                        for shown in alarms) or "none"
+    present = alarms_text(alarms)
     if alarm.present:
         if not run.probe.alarm_present(alarm.number, alarm.place, alarm.text):
             raise run.fail(alarm, f"expected alarm {alarm.number}{place} to be present;"
@@ -306,10 +305,6 @@ def _window(minimum: Duration | None, maximum: Duration | None) -> str:
     if minimum is not None:
         return f"at least {minimum}"
     return f"at most {maximum}"
-
-
-def _alarm_text(number: int, place: str, text: str) -> str:
-    return f"{number} {text}" if not place or place in text else f"{number} {text} ({place})"
 
 
 # -- the kinds -----------------------------------------------------------------------------
