@@ -18,6 +18,7 @@ CSV            :func:`csv_field`      nothing (the csv module quotes the field)
 VCD, GTKWave   :func:`vcd`            nothing: a name or a comment is one line
 HTML           :func:`html_text`      line breaks (inside ``<pre>``), with ``<``, ``&``, quotes
                                       escaped as entities
+diagrams       :func:`image_text`     nothing: one line drawn (a font has no glyph for ``\x1b``)
 =============  =====================  ============================================================
 
 A character taken out is written as its Python escape (``\\x1b``, ``\\n``, ``\\u202e``), so what was
@@ -70,3 +71,8 @@ def vcd(text: str) -> str:
 def html_text(text: str) -> str:
     """For an HTML page's text and attribute values (quoted): entities for markup, escapes for controls."""
     return html.escape(_BUT_LINE_BREAKS.sub(_shown, text), quote=True)
+
+
+def image_text(text: str) -> str:
+    """For text drawn into a timing diagram: one line, every character one a font can draw."""
+    return _ANY.sub(_shown, text)

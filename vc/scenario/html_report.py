@@ -21,7 +21,6 @@ reported (the diagram's data, not the recording) and draws and writes everything
 from __future__ import annotations
 
 import datetime
-import html
 import os
 import urllib.parse
 from collections.abc import Sequence
@@ -29,6 +28,7 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from vc.escaping import html_text
 from vc.scenario.durations import format_seconds
 from vc.scenario.model import Scenario, Variant
 from vc.scenario.report import failure_location, failure_text
@@ -66,6 +66,7 @@ class _Entry:
     diagram: TimingDiagram | None = None
     image: str = ""  # relative to the page, once drawn
     size: tuple[int, int] = (0, 0)
+    drawing_error: str = ""  # why the diagram could not be drawn
 
     @property
     def anchor(self) -> str:
@@ -135,7 +136,10 @@ class HtmlReport:
                 sizes = list(pool.map(_save, [entry.diagram for entry in drawn], targets))
         else:
             sizes = [_save(entry.diagram, target) for entry, target in zip(drawn, targets, strict=True)]
-        for entry, target, size in zip(drawn, targets, sizes, strict=True):
+        for entry, target, (size, error) in zip(drawn, targets, sizes, strict=True):
+            if error:
+                entry.drawing_error = error
+                continue
             entry.image = f"{DIAGRAMS}/{urllib.parse.quote(target.name)}"
             entry.size = size
 
@@ -228,6 +232,8 @@ class HtmlReport:
                 width, height = entry.size
                 out.append(f'<p><img src="{_e(entry.image)}" width="{width}" height="{height}"'
                            f' alt="timing diagram of {_e(entry.scenario.name)}"></p>')
+            elif entry.drawing_error:
+                out.append(f'<p class="fail">the timing diagram could not be drawn: {_e(entry.drawing_error)}</p>')
             traces = [os.path.relpath(file, self.directory) for file in entry.trace_files]
             if traces:
                 out.append('<p class="muted">traces: ' + " &middot; ".join(
@@ -256,11 +262,16 @@ class HtmlReport:
         return f'<a href="#{entry.anchor}">{_e(text)}</a>' if entry.diagram is not None else _e(text)
 
 
-def _save(diagram: TimingDiagram | None, target: Path) -> tuple[int, int]:
+def _save(diagram: TimingDiagram | None, target: Path) -> tuple[tuple[int, int], str]:
+    """The diagram drawn to ``target``: its size, and "" or why it could not be drawn (the page is
+    written whatever a diagram holds)."""
     from vc.scenario.diagram import save
 
     assert diagram is not None
-    return save(diagram, target)
+    try:
+        return save(diagram, target), ""
+    except Exception as error:  # matplotlib's, on whatever text or values a scenario brought along
+        return (0, 0), f"{type(error).__name__}: {error}"
 
 
 def _matrices_of(entries: Sequence[_Entry]) -> list[_Matrix]:
@@ -304,4 +315,4 @@ def _count(count: int, css: str) -> str:
 
 
 def _e(text: str) -> str:
-    return html.escape(text, quote=True)
+    return html_text(text)

@@ -174,3 +174,38 @@ def test_vc_run_plot_writes_one_variants_diagram(tmp_path: Path, monkeypatch: py
     assert main(["run", "--plot", str(ROOT / PLAIN)]) == EXIT_PASSED  # no display: written here
     assert (tmp_path / "jog_traverse.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert main(["run", "--plot", f"{ROOT / CAMPAIGN}[X1.MD32020=7]"]) == 2
+
+
+def _short_failing(tmp_path: Path, name: str) -> str:
+    path = tmp_path / "named.yaml"
+    path.write_text(f'name: "{name}"\nmachine: turn_mill\nplc: basic_machine\nsteps:\n  - wait: 20ms\n'
+                    "  - expect: {X1.position: 5}\n")
+    return str(path)
+
+
+def test_a_name_that_looks_like_mathtext_is_drawn_as_written(tmp_path: Path) -> None:
+    """matplotlib's mathtext parser raised on ``$x^{$`` after the run, and no page was written."""
+    output = io.StringIO()
+    code = run_command([_short_failing(tmp_path, "$x^{$ and $\\\\alpha$")], simulation_for, plc_programs().keys(),
+                       console=Console(file=output, width=300), report_dir=tmp_path / "report")
+    assert code == EXIT_FAILED, output.getvalue()
+    text = (tmp_path / "report" / "index.html").read_text(encoding="utf-8")
+    page = _Page()
+    page.feed(text)
+    assert len(page.images) == 1 and "could not be drawn" not in text
+    assert "$x^{$ and $\\alpha$" in text
+
+
+def test_a_diagram_that_cannot_be_drawn_leaves_the_page(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from vc.scenario import diagram
+
+    def broken(*arguments: object) -> tuple[int, int]:
+        raise ValueError("no room for the lanes")
+
+    monkeypatch.setattr(diagram, "save", broken)
+    output = io.StringIO()
+    code = run_command([_short_failing(tmp_path, "plain")], simulation_for, plc_programs().keys(),
+                       console=Console(file=output, width=300), report_dir=tmp_path / "report")
+    assert code == EXIT_FAILED
+    text = (tmp_path / "report" / "index.html").read_text(encoding="utf-8")
+    assert "the timing diagram could not be drawn: ValueError: no room for the lanes" in text
