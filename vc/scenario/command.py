@@ -76,7 +76,7 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
     began = wallclock.perf_counter()
 
     def say(text: str) -> None:  # plain text: a path or a message is never read as markup or emoji
-        report.console.print(text, highlight=False, soft_wrap=True, markup=False, emoji=False)
+        report.say(text)
 
     if report_dir is not None and not _can_draw(say, "--report"):
         return EXIT_PROBLEMS
@@ -130,7 +130,7 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
         return EXIT_PROBLEMS
     except KeyboardInterrupt:
         report.close()
-        report.console.print(f"interrupted after {report.done} of {len(scenarios)} scenarios", highlight=False)
+        say(f"interrupted after {report.done} of {len(scenarios)} scenarios")
         return EXIT_INTERRUPTED
     finally:
         report.close()
@@ -162,7 +162,7 @@ def plot_command(spec: str, make_target: Callable[[Scenario], ScenarioTarget], k
     report = ConsoleReport(console)
 
     def say(text: str) -> None:
-        report.console.print(text, highlight=False, soft_wrap=True, markup=False, emoji=False)
+        report.say(text)
 
     if not _can_draw(say, "--plot"):
         return EXIT_PROBLEMS

@@ -6,11 +6,13 @@ history of the signals involved.  The progress bar appears only once the run has
 second of wall time, so quick runs print nothing but their result lines.  Text from files and
 from the simulation (names, paths, messages) is printed as :class:`~rich.text.Text`, never as
 markup: rich would read ``[dim]`` in a name as a style and ``:100:`` in ``file:100:12`` as an
-emoji.
+emoji; and through :func:`vc.escaping.terminal`, so that no control character of a name reaches
+the terminal (``\x1b[2K\x1b[1G`` would repaint a FAIL line as PASS).
 
 JUnit XML (stdlib ElementTree): one ``testsuite`` per run, one ``testcase`` per scenario with
 ``classname`` = the scenario file, ``<failure>`` for a failed scenario and ``<error>`` for a
-scenario the harness could not run.
+scenario the harness could not run; every text through :func:`vc.escaping.junit` (XML 1.0 has no
+control characters, not even as references).
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from rich.progress import BarColumn, Progress, TaskID, TextColumn, TimeElapsedCo
 from rich.table import Table
 from rich.text import Text
 
+from vc.escaping import junit, terminal
 from vc.located_yaml import SourceError
 from vc.scenario.durations import format_seconds
 from vc.scenario.model import Scenario
@@ -55,7 +58,7 @@ def history_table(failure: Failure) -> Table | None:
     for trail in failure.history:
         for position, (seconds, value) in enumerate(trail.entries):
             first = position == 0
-            table.add_row(Text(trail.name if first else ""), Text(trail.address if first else ""),
+            table.add_row(Text(terminal(trail.name) if first else ""), Text(trail.address if first else ""),
                           f"{seconds:.3f} s", format_value(value, trail.unit))
     return table
 
@@ -120,7 +123,7 @@ class ConsoleReport:
             self.progress.start()
             self.task = self.progress.add_task("", total=self.total)
         assert self.task is not None
-        text = self.current + (f" ({detail})" if detail else "")
+        text = terminal(self.current) + (f" ({detail})" if detail else "")
         self.progress.update(self.task, completed=self.done, total=self.total, description=text)
 
     def close(self) -> None:
@@ -131,15 +134,20 @@ class ConsoleReport:
     # printing
 
     def say(self, *parts: str | tuple[str, str]) -> None:
-        """One line of plain text: ``(text, style)`` parts are styled, nothing is read as markup."""
-        self.console.print(Text.assemble(*parts), soft_wrap=True)
+        """One line of plain text: ``(text, style)`` parts are styled, nothing is read as markup, and no
+        control character (a line break neither) of a name or a message gets through."""
+        self.console.print(Text.assemble(*(terminal(part) if isinstance(part, str) else (terminal(part[0]), part[1])
+                                           for part in parts)), soft_wrap=True)
 
     def print_result(self, result: ScenarioResult) -> None:
         status = result.status
         self.say((f"{status:5}", _STYLE[status]), " ", result.scenario.name,
                  (f"  {result.scenario.path}  {_times(result)}", "dim"))
         if result.error:
-            self.say("      ", ("the simulation failed:", "magenta"), " ", result.error.rstrip())
+            first, *rest = result.error.rstrip().splitlines() or [""]
+            self.say("      ", ("the simulation failed:", "magenta"), " ", first)
+            for line in rest:  # a traceback: each of its lines a line of the report
+                self.say("      " + line)
             return
         failure = result.failure
         if failure is None:
@@ -182,20 +190,20 @@ def write_junit(results: Sequence[ScenarioResult], path: str | Path, suite_name:
                                    failures=str(failures), errors=str(errors), skipped="0",
                                    time=f"{wall:.3f}")
     for result in results:
-        case = ElementTree.SubElement(suite, "testcase", classname=result.scenario.path,
-                                      name=result.scenario.name, time=f"{result.wall_s:.3f}")
+        case = ElementTree.SubElement(suite, "testcase", classname=junit(result.scenario.path),
+                                      name=junit(result.scenario.name), time=f"{result.wall_s:.3f}")
         if result.error:
             last_line = result.error.strip().splitlines()[-1] if result.error.strip() else "error"
-            element = ElementTree.SubElement(case, "error", message=last_line, type="harness")
-            element.text = result.error
+            element = ElementTree.SubElement(case, "error", message=junit(last_line), type="harness")
+            element.text = junit(result.error)
         elif result.failure is not None:
             failure = result.failure
             element = ElementTree.SubElement(case, "failure", type=failure.kind,
-                                             message=f"{failure_location(result)}: {failure.message}")
-            element.text = failure_text(result)
+                                             message=junit(f"{failure_location(result)}: {failure.message}"))
+            element.text = junit(failure_text(result))
         out = [f"simulated {format_seconds(result.simulated_s)} ({result.cycles} IPO cycles)"]
         out += [f"trace: {file}" for file in result.trace_files]
-        ElementTree.SubElement(case, "system-out").text = "\n".join(out)
+        ElementTree.SubElement(case, "system-out").text = junit("\n".join(out))
     tree = ElementTree.ElementTree(suites)
     ElementTree.indent(tree)
     Path(path).parent.mkdir(parents=True, exist_ok=True)

@@ -436,7 +436,7 @@ def vcd_scope_and_name(quantity: Quantity) -> tuple[str, str]:
     name = quantity.name
     if quantity.kind is QuantityKind.SIGNAL and scope != "PLANT" and name.startswith(prefix):
         name = name[len(prefix):]
-    return scope, name
+    return vcd(scope), vcd(name)
 
 
 def write_vcd(recorder: Recording, path: str | Path, date: str | None = None) -> None:

@@ -10,6 +10,7 @@ import pytest
 
 from vc.bench.robustness.campaign import CampaignSettings, Row, table
 from vc.bench.robustness.can_noise import run_can_noise
+from vc.bench.robustness.control_characters import run_control_characters
 from vc.bench.robustness.flood import run_flood
 from vc.bench.robustness.modbus_fuzz import _Tally, run_modbus_fuzz
 from vc.bench.robustness.s7_probe import run_s7_probe
@@ -64,3 +65,12 @@ def test_soak() -> None:
     row = run_soak(SHORT, lambda text: None)
     _clean(row)
     assert row.rss_growth_pct is not None and "RSS server" in row.notes
+
+
+def test_control_characters() -> None:
+    """Names with control characters through vc run's console, JUnit, CSV, VCD, GTKWave and HTML outputs:
+    nothing of them gets through (before the escaping: 77 findings)."""
+    row = run_control_characters(SHORT, lambda text: None)
+    _clean(row)
+    assert row.inputs == 13
+    assert row.notes.startswith("findings: terminal 0, JUnit 0, CSV 0, VCD 0, GTKWave 0, HTML 0; exit code 1")
