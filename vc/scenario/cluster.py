@@ -47,7 +47,7 @@ from typing import Any
 
 from interfaces.errors import VcError
 from vc.scenario.model import Scenario
-from vc.scenario.runner import RunObserver, ScenarioResult, finish, trace_names
+from vc.scenario.runner import RunInterrupted, RunObserver, ScenarioResult, finish, trace_names
 from vc.scenario.tasks import (
     SEND_ALL,
     SEND_DIAGRAM,
@@ -59,6 +59,7 @@ from vc.scenario.tasks import (
     ScenarioTask,
     ScenarioWorker,
     identity_of,
+    rerun_lines,
 )
 
 LOCAL = "local:"
@@ -66,6 +67,7 @@ FILES_SEND = "send"
 FILES_SHARED = "shared"
 WORKER_WAIT_S = 60.0  # for the first worker to join the scheduler
 CONNECT_TIMEOUT = "20s"
+STARTED_TOPIC = "vc-task-started"  # the event a task logs when a worker starts it
 
 
 class ClusterError(VcError):
@@ -173,14 +175,29 @@ _workers_lock = threading.Lock()
 def run_task(task: ScenarioTask, settings: RunSettings, files: Bundle | SharedFiles,
              identity: Identity) -> ScenarioOutcome:
     """The cluster's task: one scenario variant, on whatever worker the scheduler chose."""
+    address = _started()
     different = identity_of(name for name, _ in identity.programs).difference(identity)
     if different:
-        return ScenarioOutcome(task.position, False, error=different)
+        return ScenarioOutcome(task.position, False, error=different, worker=address)
     with _workers_lock:
         worker = _workers.get(settings)
         if worker is None:
             worker = _workers[settings] = ScenarioWorker(settings)
-    return worker.run(task, _locator(files))
+    outcome = worker.run(task, _locator(files))
+    return replace(outcome, worker=address) if address else outcome
+
+
+def _started() -> str:
+    """In a Dask worker: tell the client this worker holds the task now (so a worker that dies is
+    charged only with what it held, not with the tasks queued for it); the worker's address."""
+    try:
+        from distributed import get_worker
+
+        worker = get_worker()
+    except (ImportError, ValueError):  # not on a Dask worker (a test calls the task itself)
+        return ""
+    worker.log_event(STARTED_TOPIC, {"key": str(worker.get_current_task()), "worker": worker.address})
+    return str(worker.address)
 
 
 # ---------------------------------------------------------------------------------- client
@@ -201,9 +218,7 @@ class ClusterRun:
 
     def rerun_lines(self, scenarios: Sequence[Scenario]) -> list[str]:
         """A sentence per re-run: which variant, which worker died, where it ran then."""
-        return [f"{scenarios[position].name}: the worker {', '.join(lost)} died while it had this task;"
-                f" it ran again on {self.ran_on.get(position, 'another worker')}"
-                for position, lost in sorted(self.reruns.items())]
+        return rerun_lines(scenarios, self.reruns, self.ran_on)
 
 
 def worker_settings(settings: RunSettings, files: str, report: bool) -> RunSettings:
@@ -222,7 +237,8 @@ def run_on_cluster(scenarios: Sequence[Scenario], settings: RunSettings, cluster
                    observer: RunObserver | None = None, say: Callable[[str], None] = lambda _: None) -> ClusterRun:
     """Run ``scenarios`` on the cluster; results in their order.  ``settings`` are the client's
     (its trace directory), ``check`` its golden comparison.  Raises :class:`ClusterError` when the
-    cluster cannot be used, KeyboardInterrupt after cancelling the tasks on Ctrl-C."""
+    cluster cannot be used, :class:`~vc.scenario.runner.RunInterrupted` with what finished after
+    cancelling the tasks on Ctrl-C."""
     if cluster.files not in (FILES_SEND, FILES_SHARED):
         raise ClusterError(f"--cluster-files {cluster.files}: {FILES_SEND} or {FILES_SHARED}")
     began = wallclock.perf_counter()
@@ -240,20 +256,21 @@ def run_on_cluster(scenarios: Sequence[Scenario], settings: RunSettings, cluster
         identity = identity_of({scenario.plc for scenario in scenarios if scenario.plc_program is not None})
         lost = _Losses()
         client.subscribe_topic("all", lost.event)
+        client.subscribe_topic(STARTED_TOPIC, lost.started)
         token = uuid.uuid4().hex[:12]
+        in_order = InOrder(scenarios, observer)
+        futures: dict[Any, int] = {}
         try:
             # the bundle as a task of its own, not scattered: a worker that fetched it and died is no
             # loss, the scheduler has the bundle in the task and computes it again
             shipped: Any = files
             if isinstance(files, Bundle):
                 shipped = client.submit(_the_files, files, key=f"vc-files-{token}", pure=False)
-            futures = {}
             for position, scenario in enumerate(scenarios):
                 task = ScenarioTask.of(position, scenario, names[position])
                 key = f"vc-scenario-{token}-{position}"
                 futures[client.submit(run_task, task, on_worker, shipped, identity, key=key, pure=False)] = position
             run.submit_s = wallclock.perf_counter() - began
-            in_order = InOrder(scenarios, observer)
             trace_dir = Path(settings.trace_dir) if settings.trace_dir is not None else None
             # the results are fetched by the client's event loop as they come, not one call per future
             for future, value in as_completed(futures, with_results=True, raise_errors=False):
@@ -272,16 +289,19 @@ def run_on_cluster(scenarios: Sequence[Scenario], settings: RunSettings, cluster
                     if written and trace_dir is not None:
                         result.trace_files = [str(trace_dir / Path(path).name) for path in written]
                 result.recorder = result.recorder if report else None
-                run.ran_on[position] = outcome.worker
+                if outcome.worker:
+                    run.ran_on[position] = outcome.worker
                 run.task_s.append(outcome.task_s)
                 run.run_s.append(outcome.wall_s)
                 in_order.put(position, result)
                 run.client_s += wallclock.perf_counter() - handling
         except KeyboardInterrupt:
             client.cancel(list(futures), force=True)
-            raise
+            in_order.report_rest()
+            raise RunInterrupted(in_order.finished()) from None
         finally:
             client.unsubscribe_topic("all")
+            client.unsubscribe_topic(STARTED_TOPIC)
         run.results = in_order.finished()
         run.reruns = lost.reruns(token)
     return run
@@ -303,10 +323,13 @@ def _outcome_of(value: Any, position: int) -> ScenarioOutcome:
 
 
 class _Losses:
-    """The scheduler's "remove-worker" events: which tasks each lost worker had."""
+    """The scheduler's "remove-worker" events and the tasks' own "started" events: which task each
+    lost worker held.  The scheduler counts every task it had assigned to the worker (a worker of
+    one thread is given the next one before the first ends); only the one it ran is a re-run."""
 
     def __init__(self) -> None:
         self.lost: list[tuple[str, tuple[str, ...]]] = []  # (worker, keys it was processing)
+        self.started_on: dict[str, set[str]] = {}  # key -> the workers that started it
 
     def event(self, event: tuple[float, Any]) -> None:
         _, message = event
@@ -315,13 +338,21 @@ class _Losses:
             self.lost.append((str(message.get("worker", "?")), tuple(str(key) for key in
                                                                      message.get("processing-tasks", ()))))
 
+    def started(self, event: tuple[float, Any]) -> None:
+        _, message = event
+        if isinstance(message, dict):
+            self.started_on.setdefault(str(message.get("key")), set()).add(str(message.get("worker")))
+
     def reruns(self, token: str) -> dict[int, list[str]]:
         prefix = f"vc-scenario-{token}-"
         found: dict[int, list[str]] = {}
         for worker, keys in self.lost:
-            for key in keys:
-                if key.startswith(prefix):
-                    found.setdefault(int(key[len(prefix):]), []).append(worker)
+            ours = [key for key in keys if key.startswith(prefix)]
+            held = [key for key in ours if worker in self.started_on.get(key, ())]
+            if not held and len(ours) == 1:  # it died before its "started" reached us; it held only that one
+                held = ours
+            for key in held:
+                found.setdefault(int(key[len(prefix):]), []).append(worker)
         return found
 
 

@@ -3,7 +3,8 @@
 
 Exit codes: 0 every scenario passed, 1 a scenario failed (or the harness could not run it),
 2 a file has problems and nothing ran (or the cluster cannot be used), 130 the user stopped the
-run (Ctrl-C).
+run (Ctrl-C): the JUnit file and the HTML report are still written, with the scenarios that
+finished and the others marked as not run.
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ from vc.scenario.loader import MachineLoader, Programs, load_scenarios
 from vc.scenario.model import Scenario
 from vc.scenario.parallel import RunSettings, jobs_for, run_parallel
 from vc.scenario.report import ConsoleReport, write_junit
-from vc.scenario.runner import RunObserver, ScenarioResult, file_stem, run_one, run_scenarios
+from vc.scenario.runner import RunInterrupted, RunObserver, ScenarioResult, file_stem, run_one, run_scenarios
 from vc.scenario.target import ScenarioTarget
 from vc.scenario.tasks import SEND_DIAGRAM, SEND_NOTHING
 
@@ -114,34 +115,46 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
                            None if golden is None else str(golden), update_golden,
                            SEND_DIAGRAM if html is not None else SEND_NOTHING)
     notes: list[str] = []
+    interrupted = False
     try:
         if cluster is not None:
             run = run_on_cluster(scenarios, settings, cluster, check=check, report=html is not None,
                                  observer=observer, say=say)
-            results = run.results
-            notes = run.rerun_lines(scenarios)
+            results, notes = run.results, run.rerun_lines(scenarios)
         elif workers > 1:
-            results = run_parallel(scenarios, settings, workers, observer=observer)
+            parallel = run_parallel(scenarios, settings, workers, observer=observer)
+            results, notes = parallel.results, parallel.rerun_lines(scenarios)
         else:
             results = run_scenarios(scenarios, make_target, observer=observer, trace_dir=trace_dir, check=check)
     except ClusterError as error:
         report.close()
         say(f"vc run: {error}")
         return EXIT_PROBLEMS
-    except KeyboardInterrupt:
-        report.close()
-        say(f"interrupted after {report.done} of {len(scenarios)} scenarios")
-        return EXIT_INTERRUPTED
+    except KeyboardInterrupt as interruption:  # what finished is still reported, marked as interrupted
+        results = interruption.results if isinstance(interruption, RunInterrupted) else []
+        interrupted = True
     finally:
         report.close()
-    report.print_summary(results)
-    for note in notes:
-        say(f"re-run: {note}")
-    if junit is not None:
-        write_junit(results, junit)
-    if html is not None:
-        page = html.write(notes=notes, wall_s=wallclock.perf_counter() - began, build=build, jobs=workers)
-        say(f"report: {page}")
+    finished = {id(result.scenario) for result in results}
+    not_run = [scenario for scenario in scenarios if id(scenario) not in finished]
+    try:
+        if interrupted:
+            say(f"interrupted after {len(results)} of {len(scenarios)} scenarios")
+        else:
+            report.print_summary(results)
+        for note in notes:
+            say(f"re-run: {note}")
+        if junit is not None:
+            write_junit(results, junit, not_run=not_run)
+        if html is not None:
+            html.include(results)
+            page = html.write(notes=notes, wall_s=wallclock.perf_counter() - began, build=build, jobs=workers,
+                              not_run=len(not_run))
+            say(f"report: {page}")
+    except KeyboardInterrupt:  # pressed again while the reports are written
+        return EXIT_INTERRUPTED
+    if interrupted:
+        return EXIT_INTERRUPTED
     return EXIT_PASSED if all(result.passed for result in results) else EXIT_FAILED
 
 

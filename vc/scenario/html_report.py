@@ -113,15 +113,27 @@ class HtmlReport:
                                    result.simulated_s, result.wall_s, list(result.trace_files),
                                    timing_diagram(result) if wanted else None))
 
+    def include(self, results: Sequence[ScenarioResult]) -> None:
+        """Take the results it was not told about (a run interrupted while it reported one)."""
+        seen = {id(entry.scenario) for entry in self.entries}
+        for result in results:
+            if id(result.scenario) not in seen:
+                self.scenario_finished(result)
+
     # writing
 
     def write(self, *, title: str = "vc run", notes: Sequence[str] = (), wall_s: float | None = None,
-              build: str = "", jobs: int = 1) -> Path:
-        """Draw the diagrams, write the page; the page's path."""
+              build: str = "", jobs: int = 1, not_run: int = 0) -> Path:
+        """Draw the diagrams, write the page; the page's path.  ``not_run``: the scenarios of an
+        interrupted run that did not finish (the page says so first)."""
         self.directory.mkdir(parents=True, exist_ok=True)
         self._draw(jobs)
+        if not_run:
+            total = len(self.entries) + not_run
+            notes = [f"The run was interrupted (Ctrl-C) after {len(self.entries)} of {total} scenarios: the other"
+                     f" {not_run} did not finish and are not on this page.", *notes]
         page = self.directory / PAGE
-        page.write_text(self._page(title, notes, wall_s, build), encoding="utf-8")
+        page.write_text(self._page(title, notes, wall_s, build, not_run), encoding="utf-8")
         return page
 
     def _draw(self, jobs: int) -> None:
@@ -145,12 +157,14 @@ class HtmlReport:
 
     # -- the page --------------------------------------------------------------------------
 
-    def _page(self, title: str, notes: Sequence[str], wall_s: float | None, build: str) -> str:
+    def _page(self, title: str, notes: Sequence[str], wall_s: float | None, build: str, not_run: int) -> str:
         entries = self.entries
         passed = sum(entry.status == "PASS" for entry in entries)
         errors = sum(entry.status == "ERROR" for entry in entries)
         failed = len(entries) - passed - errors
         headline = f"{failed + errors} of {len(entries)} failed" if failed + errors else f"all {len(entries)} passed"
+        if not_run:
+            headline = f"interrupted, {headline} of those that finished"
         generated = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
         out = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
                f"<title>{_e(title)}: {_e(headline)}</title>", f"<style>{_STYLE}</style></head><body>",

@@ -179,16 +179,28 @@ class ConsoleReport:
         self.say((f"{count} problem{plural} in {files} file{files_plural}; nothing ran.", "bold red"))
 
 
-def write_junit(results: Sequence[ScenarioResult], path: str | Path, suite_name: str = "vc run") -> None:
-    """JUnit XML: a testsuite for the run, a testcase per scenario (classname = scenario file)."""
+NOT_RUN = "not run: the run was interrupted (Ctrl-C) before this scenario finished"
+
+
+def write_junit(results: Sequence[ScenarioResult], path: str | Path, suite_name: str = "vc run",
+                not_run: Sequence[Scenario] = ()) -> None:
+    """JUnit XML: a testsuite for the run, a testcase per scenario (classname = scenario file).
+    ``not_run``: the scenarios of an interrupted run that did not finish, each a skipped testcase;
+    the suite then carries the property ``interrupted``."""
     failures = sum(1 for result in results if not result.passed and not result.error)
     errors = sum(1 for result in results if result.error)
     wall = sum(result.wall_s for result in results)
-    suites = ElementTree.Element("testsuites", name=suite_name, tests=str(len(results)),
+    tests = str(len(results) + len(not_run))
+    suites = ElementTree.Element("testsuites", name=suite_name, tests=tests,
                                  failures=str(failures), errors=str(errors), time=f"{wall:.3f}")
-    suite = ElementTree.SubElement(suites, "testsuite", name=suite_name, tests=str(len(results)),
-                                   failures=str(failures), errors=str(errors), skipped="0",
+    suite = ElementTree.SubElement(suites, "testsuite", name=suite_name, tests=tests,
+                                   failures=str(failures), errors=str(errors), skipped=str(len(not_run)),
                                    time=f"{wall:.3f}")
+    if not_run:
+        properties = ElementTree.SubElement(suite, "properties")
+        ElementTree.SubElement(properties, "property", name="interrupted",
+                               value=f"the run was interrupted (Ctrl-C) after {len(results)} of"
+                                     f" {len(results) + len(not_run)} scenarios")
     for result in results:
         case = ElementTree.SubElement(suite, "testcase", classname=junit(result.scenario.path),
                                       name=junit(result.scenario.name), time=f"{result.wall_s:.3f}")
@@ -204,6 +216,10 @@ def write_junit(results: Sequence[ScenarioResult], path: str | Path, suite_name:
         out = [f"simulated {format_seconds(result.simulated_s)} ({result.cycles} IPO cycles)"]
         out += [f"trace: {file}" for file in result.trace_files]
         ElementTree.SubElement(case, "system-out").text = junit("\n".join(out))
+    for scenario in not_run:
+        case = ElementTree.SubElement(suite, "testcase", classname=junit(scenario.path), name=junit(scenario.name),
+                                      time="0.000")
+        ElementTree.SubElement(case, "skipped", message=NOT_RUN)
     tree = ElementTree.ElementTree(suites)
     ElementTree.indent(tree)
     Path(path).parent.mkdir(parents=True, exist_ok=True)

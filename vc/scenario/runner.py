@@ -103,6 +103,15 @@ class RunObserver(Protocol):
     def scenario_finished(self, result: ScenarioResult) -> None: ...
 
 
+class RunInterrupted(KeyboardInterrupt):
+    """The user pressed Ctrl-C: the run stopped, with the results of the scenarios that finished
+    (in the scenarios' order), so that their report and JUnit file can still be written."""
+
+    def __init__(self, results: list[ScenarioResult]):
+        super().__init__()
+        self.results = results
+
+
 class _Stop(VcError):
     def __init__(self, failure: Failure):
         super().__init__(failure.message)
@@ -337,19 +346,22 @@ def run_scenarios(scenarios: Sequence[Scenario], make_target: Callable[[Scenario
     ``check`` looks at each result before it is reported and may turn a pass into a failure
     (the golden-trace comparison does).  An exception while building or running a target (a
     harness error, not a scenario failure) is reported as that scenario's ``error`` and the
-    next scenario runs.
+    next scenario runs.  Ctrl-C raises :class:`RunInterrupted` with the results so far.
     """
-    results = []
+    results: list[ScenarioResult] = []
     names = trace_names(scenarios)
     directory = Path(trace_dir) if trace_dir is not None else None
-    for position, scenario in enumerate(scenarios):
-        if observer is not None:
-            observer.scenario_started(scenario, position, len(scenarios))
-        result = run_one(scenario, make_target, observer=observer, trace_dir=directory, trace_name=names[position],
-                         check=check)
-        if observer is not None:
-            observer.scenario_finished(result)
-        results.append(result)
+    try:
+        for position, scenario in enumerate(scenarios):
+            if observer is not None:
+                observer.scenario_started(scenario, position, len(scenarios))
+            result = run_one(scenario, make_target, observer=observer, trace_dir=directory,
+                             trace_name=names[position], check=check)
+            results.append(result)  # finished, even if Ctrl-C comes while it is reported
+            if observer is not None:
+                observer.scenario_finished(result)
+    except KeyboardInterrupt:
+        raise RunInterrupted(results) from None
     return results
 
 
