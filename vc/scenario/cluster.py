@@ -34,10 +34,13 @@ import hashlib
 import logging
 import os
 import shutil
+import socket
+import struct
 import tempfile
 import threading
 import time as wallclock
 import traceback
+import urllib.parse
 import uuid
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
@@ -47,6 +50,7 @@ from typing import Any
 
 from interfaces.errors import VcError
 from vc.scenario.model import Scenario
+from vc.scenario.parallel import MAX_WORKERS_PER_CORE, max_workers
 from vc.scenario.runner import RunInterrupted, RunObserver, ScenarioResult, finish, trace_names
 from vc.scenario.tasks import (
     SEND_ALL,
@@ -67,6 +71,9 @@ FILES_SEND = "send"
 FILES_SHARED = "shared"
 WORKER_WAIT_S = 60.0  # for the first worker to join the scheduler
 CONNECT_TIMEOUT = "20s"
+DEFAULT_SCHEDULER_PORT = 8786  # dask scheduler's
+PROBE_TIMEOUT_S = 10.0  # for the scheduler to accept the connection and greet
+MAX_GREETING_BYTES = 64 * 1024  # a scheduler's handshake has some 60 bytes
 STARTED_TOPIC = "vc-task-started"  # the event a task logs when a worker starts it
 
 
@@ -84,9 +91,42 @@ class ClusterSettings:
         if not self.address.startswith(LOCAL):
             return None
         count = self.address[len(LOCAL):]
-        if not count.isdigit() or int(count) < 1:
-            raise ClusterError(f"--cluster {self.address}: local:N needs a number of workers from 1, e.g. local:2")
+        most = max_workers()
+        if not count.isdigit() or not 1 <= int(count) <= most:
+            raise ClusterError(f"--cluster {self.address}: local:N starts N worker processes on this machine, from 1"
+                               f" to {most} ({MAX_WORKERS_PER_CORE} per core), e.g. local:2")
         return int(count)
+
+    def check(self) -> None:
+        """Raise :class:`ClusterError` unless the address is local:N or a scheduler address (nothing connects)."""
+        if self.local_workers is None:
+            self.endpoint()
+
+    def endpoint(self) -> tuple[str, int]:
+        """The scheduler's host and port, from ``tcp://HOST:PORT`` or ``HOST:PORT`` (port 8786 when left
+        out), checked before anything connects; raises :class:`ClusterError` for anything else."""
+        address = self.address.strip()
+        scheme, separator, rest = address.partition("://")
+        if not separator:
+            scheme, rest = "tcp", address
+        scheme = scheme.lower()
+        if scheme in ("http", "https"):
+            raise ClusterError(f"--cluster {self.address}: a web address; the scheduler's address is"
+                               f" tcp://HOST:{DEFAULT_SCHEDULER_PORT} ('Scheduler at:' when dask scheduler starts), the"
+                               " dashboard's is http://HOST:8787")
+        if scheme != "tcp":
+            raise ClusterError(f"--cluster {self.address}: vc run reaches a scheduler over tcp:// only, not"
+                               f" {scheme}://; give tcp://HOST:PORT, or local:N for a cluster on this machine")
+        example = f"e.g. tcp://10.0.0.5:{DEFAULT_SCHEDULER_PORT}"
+        try:
+            parts = urllib.parse.urlsplit(f"tcp://{rest}")
+            host, port = parts.hostname, parts.port
+        except ValueError:
+            raise ClusterError(f"--cluster {self.address}: the port is a number from 1 to 65535 ({example})") from None
+        if not host or parts.path or parts.query or parts.fragment or parts.username is not None or port == 0:
+            raise ClusterError(f"--cluster {self.address}: not a scheduler address: tcp://HOST:PORT ({example}),"
+                               " or local:N")
+        return host, port or DEFAULT_SCHEDULER_PORT
 
 
 # ---------------------------------------------------------------------------------- files
@@ -356,6 +396,53 @@ class _Losses:
         return found
 
 
+def check_scheduler(cluster: ClusterSettings) -> None:
+    """Whether a Dask scheduler answers at the address, before Dask itself connects: Dask's client
+    writes first and then takes the first 8 bytes it reads as the length of the answer, so an HTTP
+    server's "HTTP/1.1" made it allocate exabytes, and a listener that says nothing kept it waiting
+    for minutes.  A scheduler greets first: 8 bytes of length (little-endian) and its handshake of a
+    few dozen bytes.  The check reads that within :data:`PROBE_TIMEOUT_S` and answers with the
+    scheduler's own greeting, so the scheduler sees a complete handshake; anything else is a
+    :class:`ClusterError` that says what answered."""
+    host, port = cluster.endpoint()
+    where = f"--cluster {cluster.address}"
+    try:
+        connection = socket.create_connection((host, port), timeout=PROBE_TIMEOUT_S)
+    except socket.gaierror as error:
+        raise ClusterError(f"{where}: no host {host} ({error.strerror})") from None
+    except ConnectionRefusedError:
+        raise ClusterError(f"{where}: nothing listens at {host}:{port} (start the scheduler there: dask scheduler)"
+                           ) from None
+    except OSError as error:  # a time-out, a network that cannot be reached
+        reason = error.strerror or f"no answer within {PROBE_TIMEOUT_S:g} s"
+        raise ClusterError(f"{where}: {host}:{port} cannot be reached ({reason})") from None
+    with connection:
+        try:
+            head = _received(connection, 8)
+            (length,) = struct.unpack("<Q", head)
+            if not 0 < length <= MAX_GREETING_BYTES:
+                raise ClusterError(f"{where}: something answers at {host}:{port}, but not a Dask scheduler (its"
+                                   f" first bytes are {head!r})")
+            connection.sendall(head + _received(connection, length))
+        except TimeoutError:
+            raise ClusterError(f"{where}: {host}:{port} accepts connections but sends no Dask greeting within"
+                               f" {PROBE_TIMEOUT_S:g} s: not a Dask scheduler (a web server, the dashboard's port?)"
+                               ) from None
+        except (EOFError, OSError):
+            raise ClusterError(f"{where}: {host}:{port} closed the connection without a Dask greeting: not a Dask"
+                               " scheduler") from None
+
+
+def _received(connection: socket.socket, count: int) -> bytes:
+    data = b""
+    while len(data) < count:
+        chunk = connection.recv(count - len(data))
+        if not chunk:
+            raise EOFError
+        data += chunk
+    return data
+
+
 @contextmanager
 def _client(cluster: ClusterSettings, say: Callable[[str], None]) -> Iterator[Any]:
     try:
@@ -372,10 +459,11 @@ def _client(cluster: ClusterSettings, say: Callable[[str], None]) -> Iterator[An
                           worker_dashboard_address="127.0.0.1:0") as local, Client(local) as client:
             yield client
         return
+    check_scheduler(cluster)
     try:
         client = Client(cluster.address, timeout=CONNECT_TIMEOUT)
-    except OSError as error:
-        raise ClusterError(f"--cluster {cluster.address}: no Dask scheduler answers there ({error})") from None
+    except (OSError, ValueError) as error:  # gone since the check; a scheduler of another Dask version
+        raise ClusterError(f"--cluster {cluster.address}: the Dask scheduler there cannot be used ({error})") from None
     with client:
         try:
             client.wait_for_workers(1, timeout=WORKER_WAIT_S)

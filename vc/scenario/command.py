@@ -95,6 +95,12 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
         for sentence in shared:
             say(f"vc run --golden: {sentence}")
         return EXIT_PROBLEMS
+    if cluster is not None:
+        try:
+            cluster.check()
+        except ClusterError as error:
+            say(f"vc run: {error}")
+            return EXIT_PROBLEMS
     if catalog is not None or machine_loader is not None:
         jobs, cluster = 1, None
     if any(scenario.external_plc is not None for scenario in scenarios):

@@ -36,9 +36,11 @@ from vc.scenario.model import Scenario
 from vc.scenario.runner import RunInterrupted, RunObserver, ScenarioResult, trace_names
 from vc.scenario.tasks import InOrder, RunSettings, ScenarioOutcome, ScenarioTask, ScenarioWorker, rerun_lines
 
-__all__ = ["MAX_ATTEMPTS", "ParallelRun", "RunSettings", "default_jobs", "jobs_for", "run_parallel"]
+__all__ = ["MAX_ATTEMPTS", "MAX_WORKERS_PER_CORE", "ParallelRun", "RunSettings", "default_jobs", "jobs_for",
+           "max_workers", "run_parallel"]
 
 MAX_ATTEMPTS = 2  # a scenario whose worker died twice is reported, not tried a third time
+MAX_WORKERS_PER_CORE = 4  # -j N and local:N: more processes than this only share the same cores
 STOP_TIMEOUT_S = 10.0  # for a worker to end after it was told to
 
 
@@ -48,6 +50,11 @@ def default_jobs() -> int:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # not on Linux
         return max(1, os.cpu_count() or 1)
+
+
+def max_workers() -> int:
+    """The most worker processes a run starts on this machine (``-j N``, ``--cluster local:N``)."""
+    return MAX_WORKERS_PER_CORE * (os.cpu_count() or 1)
 
 
 def process_context() -> multiprocessing.context.BaseContext:
