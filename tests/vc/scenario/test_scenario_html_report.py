@@ -126,19 +126,41 @@ def test_the_page_loads_in_headless_chromium_with_every_image(report: tuple[Path
     check.write_text((directory / "index.html").read_text(encoding="utf-8").replace("</body>", script + "</body>"),
                      encoding="utf-8")
     try:
-        done = subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu",
-                               "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                               "--no-first-run", f"--user-data-dir={tmp_path / 'profile'}",
-                               "--virtual-time-budget=10000", "--dump-dom", check.as_uri()],
-                              capture_output=True, text=True, timeout=180, check=False)
+        dom = _dom_in_chromium(check, tmp_path)
     finally:
         check.unlink()
-    found = re.search(r'<pre id="image-check">(.*?)</pre>', done.stdout)
-    assert found is not None, done.stdout[-2000:] + done.stderr[-2000:]
+    found = re.search(r'<pre id="image-check">(.*?)</pre>', dom)
+    assert found is not None, dom[-2000:]
     images = json.loads(found.group(1).replace("&quot;", '"').replace("&amp;", "&"))
     assert len(images) == 7
     for source, complete, width, height in images:
         assert complete and width == 1200 and height > 300, source
+
+
+def _dom_in_chromium(page: Path, tmp_path: Path) -> str:
+    """The page's DOM after Debian's headless Chromium loaded it (and its scripts ran)."""
+    assert CHROMIUM is not None, "chromium is required here (VC_REQUIRE_CHROMIUM is set)"
+    done = subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu",
+                           "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                           "--no-first-run", f"--user-data-dir={tmp_path / 'profile'}",
+                           "--virtual-time-budget=10000", "--dump-dom", page.as_uri()],
+                          capture_output=True, text=True, timeout=180, check=False)
+    assert done.returncode == 0 and "</html>" in done.stdout, done.stdout[-2000:] + done.stderr[-2000:]
+    return done.stdout
+
+
+@needs_chromium
+def test_a_name_with_control_characters_shows_them_as_escapes_in_chromium(tmp_path: Path) -> None:
+    """The page's title and headings show the name's escape sequence as text: nothing of it reaches the DOM."""
+    output = io.StringIO()
+    name = "a\\e[2K\\e[1GPASS\\u202e <b>bold</b>"  # YAML escapes: ESC, a right-to-left override, markup
+    code = run_command([_short_failing(tmp_path, name)], simulation_for, plc_programs().keys(),
+                       console=Console(file=output, width=300), report_dir=tmp_path / "report")
+    assert code == EXIT_FAILED
+    dom = _dom_in_chromium(tmp_path / "report" / "index.html", tmp_path)
+    assert "a\\x1b[2K\\x1b[1GPASS\\u202e &lt;b&gt;bold&lt;/b&gt;" in dom
+    assert not re.search("[\x00-\x08\x0b-\x1f\x7f-\x9f\u202a-\u202e]", dom)
+    assert "<b>bold</b>" not in dom
 
 
 def test_a_timing_diagram_has_lanes_steps_the_failure_and_the_expected_window() -> None:
