@@ -168,7 +168,7 @@ def run_mode(mode: str, scenarios: Sequence[Scenario], directory: Path, address:
     if mode == "j1":
         results = run_scenarios(scenarios, simulation_for, observer=_Forget())
     elif mode == "j2":
-        results = run_parallel(scenarios, settings, workers, observer=_Forget())
+        results = run_parallel(scenarios, settings, workers, observer=_Forget()).results
     else:
         cluster = ClusterSettings(f"local:{workers}" if mode.startswith("local") else str(address))
         run = run_on_cluster(scenarios, settings, cluster)

@@ -21,6 +21,7 @@ from collections.abc import Sequence
 
 from vc.bench.robustness.campaign import CampaignSettings, Part, Row, Say, failed_row, table
 from vc.bench.robustness.can_noise import run_can_noise
+from vc.bench.robustness.control_characters import run_control_characters
 from vc.bench.robustness.files import run_file_mutations
 from vc.bench.robustness.flood import run_flood
 from vc.bench.robustness.modbus_fuzz import run_modbus_fuzz
@@ -45,6 +46,7 @@ PARTS: list[Part] = [
     Part("s7", run_s7_probe),
     Part("can", run_can_noise),
     Part("files", _file_part),  # the scenario and machine files (vc/bench/robustness/files.py)
+    Part("control", run_control_characters),  # control characters in names through vc run's outputs
     Part("soak", run_soak),  # only with --soak
 ]
 

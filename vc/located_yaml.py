@@ -27,6 +27,7 @@ from typing import Any
 import yaml
 
 from interfaces.errors import VcError
+from vc.escaping import terminal
 from vc.input_limits import MAX_FILE_BYTES, MAX_INTEGER_DIGITS, MAX_NESTING, MAX_VALUES
 
 
@@ -46,7 +47,9 @@ class Problem:
     message: str
 
     def __str__(self) -> str:
-        return f"{self.mark}: {self.message}"
+        """``file:line:column: message`` on one line, whatever the file's name and the value the
+        message echoes hold (a line break of a value would put the rest on a line of its own)."""
+        return terminal(f"{self.mark}: {self.message}")
 
 
 class SourceError(VcError):
@@ -319,8 +322,10 @@ def load_text(text: str, file: str) -> tuple[Any, list[Problem]]:
         return None, [Problem(Mark(file, error.line + 1, error.column + 1), error.message)]
     except yaml.MarkedYAMLError as error:
         mark = error.problem_mark or error.context_mark
-        where = Mark(file, mark.line + 1, mark.column + 1) if mark else Mark(file, 1, 1)
+        where = _within(text, Mark(file, mark.line + 1, mark.column + 1)) if mark else Mark(file, 1, 1)
         detail = error.problem or error.context or "not valid YAML"
+        if _character_at(text, where) == "\t":
+            detail = "a tab character here: YAML indents with spaces, never with tabs"
         return None, [Problem(where, f"YAML syntax error: {detail}")]
     except yaml.YAMLError as error:
         return None, [Problem(Mark(file, 1, 1), f"YAML error: {error}")]
@@ -342,6 +347,23 @@ def load_text(text: str, file: str) -> tuple[Any, list[Problem]]:
             return None, [Problem(_mark(file, node), f"the document is empty (it holds only '{node.value}')")]
         return None, [Problem(Mark(file, 1, 1), "the document is empty")]
     return document, problems.items
+
+
+def _within(text: str, mark: Mark) -> Mark:
+    """``mark``, or where the text ends when the mark lies beyond it: the parser marks the end of a
+    file that ends with a line break at the start of a line that is not there."""
+    lines = text.split("\n")
+    if text.endswith("\n"):
+        lines.pop()
+    if mark.line <= max(len(lines), 1):
+        return mark
+    return Mark(mark.file, len(lines), len(lines[-1]) + 1)
+
+
+def _character_at(text: str, mark: Mark) -> str:
+    lines = text.split("\n")
+    line = lines[mark.line - 1] if mark.line <= len(lines) else ""
+    return line[mark.column - 1:mark.column]
 
 
 def _printable(text: str, file: str, problems: Problems) -> bool:

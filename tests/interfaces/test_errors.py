@@ -12,9 +12,10 @@ from interfaces.errors import VcError
 
 PACKAGES = ("interfaces", "vc", "plc_stub", "fmu", "vc_build", "plc_awlsim", "awlsimhw_vcmodbus")
 NOT_PYTHON = {"fmu._vc_fmi"}  # the FMU's C binary: it travels with the package and is never imported
-# A BaseException on purpose: the wall-clock bound of the file campaign must pass every
-# ``except Exception`` of the code under test.
-NOT_AN_ERROR = {"vc.bench.robustness.files._Hang"}
+# BaseExceptions on purpose: the wall-clock bound of the file campaign must pass every
+# ``except Exception`` of the code under test, and so must Ctrl-C (a KeyboardInterrupt that carries
+# the results of the scenarios that finished).
+NOT_AN_ERROR = {"vc.bench.robustness.files._Hang", "vc.scenario.runner.RunInterrupted"}
 
 
 def _modules() -> list[str]:

@@ -189,3 +189,29 @@ def test_line_ends_of_every_kind_read_alike(tmp_path: Path) -> None:
     assert found == []
     assert document == {"a": "one\ntwo\n", "b": [1, 2]}
     assert isinstance(document["b"], LocatedList) and document.mark_of("b") == Mark(str(path), 4, 4)
+
+
+@pytest.mark.parametrize("text, where", [
+    ("steps:\n\t- wait: 1s\n", "f.yaml:2:1"),
+    ("a:\n  b: 1\n\tc: 2\n", "f.yaml:3:1"),
+], ids=["list", "mapping"])
+def test_a_tab_that_indents_is_named_at_its_place(text: str, where: str) -> None:
+    assert problems(text) == [f"{where}: YAML syntax error: a tab character here: YAML indents with spaces,"
+                              " never with tabs"]
+
+
+@pytest.mark.parametrize("text, where", [
+    ("name: x\nsteps:\n  - wait: [1s\n", "f.yaml:3:14"),  # the file ends with its line break
+    ("name: x\nsteps: {wait: 1s,\n", "f.yaml:2:18"),
+    ("name: x\nsteps:\n  - wait: [1s", "f.yaml:3:14"),  # ... and without one
+], ids=["list", "mapping", "no-line-break"])
+def test_the_end_of_a_file_is_marked_on_its_last_line(text: str, where: str) -> None:
+    (problem,) = problems(text)
+    assert problem.startswith(f"{where}: YAML syntax error: ")
+
+
+def test_a_problem_is_one_line_whatever_the_value_it_echoes_holds() -> None:
+    from vc.located_yaml import Problem
+
+    problem = Problem(Mark("a\nb.yaml", 2, 10), "no machine file 'turn\nmill' (\x1b[2K\rPASS)")
+    assert str(problem) == "a\\nb.yaml:2:10: no machine file 'turn\\nmill' (\\x1b[2K\\rPASS)"

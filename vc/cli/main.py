@@ -282,12 +282,15 @@ def _positive(text: str) -> float:
 
 
 def _jobs(text: str) -> int:
+    from vc.scenario.parallel import MAX_WORKERS_PER_CORE, max_workers
+
     try:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{text}: at least 1")
+    if not 1 <= value <= max_workers():
+        raise argparse.ArgumentTypeError(f"{text}: from 1 to {max_workers()} ({MAX_WORKERS_PER_CORE} worker"
+                                         " processes per core)")
     return value
 
 

@@ -117,6 +117,16 @@ class AxisConfig:
         return self.spindle_number > 0
 
     @property
+    def position_unit(self) -> str:
+        """The unit of the axis's positions: degrees on a rotary axis or spindle (MD30300), else mm."""
+        return "deg" if self.is_rotary else "mm"
+
+    @property
+    def velocity_unit(self) -> str:
+        """The unit of its velocities as the NC shows them: rev/min on a rotary axis or spindle, else mm/min."""
+        return "rev/min" if self.is_rotary else "mm/min"
+
+    @property
     def db(self) -> int:
         return 30 + self.number
 

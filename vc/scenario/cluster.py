@@ -34,10 +34,13 @@ import hashlib
 import logging
 import os
 import shutil
+import socket
+import struct
 import tempfile
 import threading
 import time as wallclock
 import traceback
+import urllib.parse
 import uuid
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
@@ -47,7 +50,8 @@ from typing import Any
 
 from interfaces.errors import VcError
 from vc.scenario.model import Scenario
-from vc.scenario.runner import RunObserver, ScenarioResult, finish, trace_names
+from vc.scenario.parallel import MAX_WORKERS_PER_CORE, max_workers
+from vc.scenario.runner import RunInterrupted, RunObserver, ScenarioResult, finish, trace_names
 from vc.scenario.tasks import (
     SEND_ALL,
     SEND_DIAGRAM,
@@ -59,6 +63,7 @@ from vc.scenario.tasks import (
     ScenarioTask,
     ScenarioWorker,
     identity_of,
+    rerun_lines,
 )
 
 LOCAL = "local:"
@@ -66,6 +71,10 @@ FILES_SEND = "send"
 FILES_SHARED = "shared"
 WORKER_WAIT_S = 60.0  # for the first worker to join the scheduler
 CONNECT_TIMEOUT = "20s"
+DEFAULT_SCHEDULER_PORT = 8786  # dask scheduler's
+PROBE_TIMEOUT_S = 10.0  # for the scheduler to accept the connection and greet
+MAX_GREETING_BYTES = 64 * 1024  # a scheduler's handshake has some 60 bytes
+STARTED_TOPIC = "vc-task-started"  # the event a task logs when a worker starts it
 
 
 class ClusterError(VcError):
@@ -82,9 +91,42 @@ class ClusterSettings:
         if not self.address.startswith(LOCAL):
             return None
         count = self.address[len(LOCAL):]
-        if not count.isdigit() or int(count) < 1:
-            raise ClusterError(f"--cluster {self.address}: local:N needs a number of workers from 1, e.g. local:2")
+        most = max_workers()
+        if not count.isdigit() or not 1 <= int(count) <= most:
+            raise ClusterError(f"--cluster {self.address}: local:N starts N worker processes on this machine, from 1"
+                               f" to {most} ({MAX_WORKERS_PER_CORE} per core), e.g. local:2")
         return int(count)
+
+    def check(self) -> None:
+        """Raise :class:`ClusterError` unless the address is local:N or a scheduler address (nothing connects)."""
+        if self.local_workers is None:
+            self.endpoint()
+
+    def endpoint(self) -> tuple[str, int]:
+        """The scheduler's host and port, from ``tcp://HOST:PORT`` or ``HOST:PORT`` (port 8786 when left
+        out), checked before anything connects; raises :class:`ClusterError` for anything else."""
+        address = self.address.strip()
+        scheme, separator, rest = address.partition("://")
+        if not separator:
+            scheme, rest = "tcp", address
+        scheme = scheme.lower()
+        if scheme in ("http", "https"):
+            raise ClusterError(f"--cluster {self.address}: a web address; the scheduler's address is"
+                               f" tcp://HOST:{DEFAULT_SCHEDULER_PORT} ('Scheduler at:' when dask scheduler starts), the"
+                               " dashboard's is http://HOST:8787")
+        if scheme != "tcp":
+            raise ClusterError(f"--cluster {self.address}: vc run reaches a scheduler over tcp:// only, not"
+                               f" {scheme}://; give tcp://HOST:PORT, or local:N for a cluster on this machine")
+        example = f"e.g. tcp://10.0.0.5:{DEFAULT_SCHEDULER_PORT}"
+        try:
+            parts = urllib.parse.urlsplit(f"tcp://{rest}")
+            host, port = parts.hostname, parts.port
+        except ValueError:
+            raise ClusterError(f"--cluster {self.address}: the port is a number from 1 to 65535 ({example})") from None
+        if not host or parts.path or parts.query or parts.fragment or parts.username is not None or port == 0:
+            raise ClusterError(f"--cluster {self.address}: not a scheduler address: tcp://HOST:PORT ({example}),"
+                               " or local:N")
+        return host, port or DEFAULT_SCHEDULER_PORT
 
 
 # ---------------------------------------------------------------------------------- files
@@ -173,14 +215,29 @@ _workers_lock = threading.Lock()
 def run_task(task: ScenarioTask, settings: RunSettings, files: Bundle | SharedFiles,
              identity: Identity) -> ScenarioOutcome:
     """The cluster's task: one scenario variant, on whatever worker the scheduler chose."""
+    address = _started()
     different = identity_of(name for name, _ in identity.programs).difference(identity)
     if different:
-        return ScenarioOutcome(task.position, False, error=different)
+        return ScenarioOutcome(task.position, False, error=different, worker=address)
     with _workers_lock:
         worker = _workers.get(settings)
         if worker is None:
             worker = _workers[settings] = ScenarioWorker(settings)
-    return worker.run(task, _locator(files))
+    outcome = worker.run(task, _locator(files))
+    return replace(outcome, worker=address) if address else outcome
+
+
+def _started() -> str:
+    """In a Dask worker: tell the client this worker holds the task now (so a worker that dies is
+    charged only with what it held, not with the tasks queued for it); the worker's address."""
+    try:
+        from distributed import get_worker
+
+        worker = get_worker()
+    except (ImportError, ValueError):  # not on a Dask worker (a test calls the task itself)
+        return ""
+    worker.log_event(STARTED_TOPIC, {"key": str(worker.get_current_task()), "worker": worker.address})
+    return str(worker.address)
 
 
 # ---------------------------------------------------------------------------------- client
@@ -201,9 +258,7 @@ class ClusterRun:
 
     def rerun_lines(self, scenarios: Sequence[Scenario]) -> list[str]:
         """A sentence per re-run: which variant, which worker died, where it ran then."""
-        return [f"{scenarios[position].name}: the worker {', '.join(lost)} died while it had this task;"
-                f" it ran again on {self.ran_on.get(position, 'another worker')}"
-                for position, lost in sorted(self.reruns.items())]
+        return rerun_lines(scenarios, self.reruns, self.ran_on)
 
 
 def worker_settings(settings: RunSettings, files: str, report: bool) -> RunSettings:
@@ -222,7 +277,8 @@ def run_on_cluster(scenarios: Sequence[Scenario], settings: RunSettings, cluster
                    observer: RunObserver | None = None, say: Callable[[str], None] = lambda _: None) -> ClusterRun:
     """Run ``scenarios`` on the cluster; results in their order.  ``settings`` are the client's
     (its trace directory), ``check`` its golden comparison.  Raises :class:`ClusterError` when the
-    cluster cannot be used, KeyboardInterrupt after cancelling the tasks on Ctrl-C."""
+    cluster cannot be used, :class:`~vc.scenario.runner.RunInterrupted` with what finished after
+    cancelling the tasks on Ctrl-C."""
     if cluster.files not in (FILES_SEND, FILES_SHARED):
         raise ClusterError(f"--cluster-files {cluster.files}: {FILES_SEND} or {FILES_SHARED}")
     began = wallclock.perf_counter()
@@ -240,20 +296,21 @@ def run_on_cluster(scenarios: Sequence[Scenario], settings: RunSettings, cluster
         identity = identity_of({scenario.plc for scenario in scenarios if scenario.plc_program is not None})
         lost = _Losses()
         client.subscribe_topic("all", lost.event)
+        client.subscribe_topic(STARTED_TOPIC, lost.started)
         token = uuid.uuid4().hex[:12]
+        in_order = InOrder(scenarios, observer)
+        futures: dict[Any, int] = {}
         try:
             # the bundle as a task of its own, not scattered: a worker that fetched it and died is no
             # loss, the scheduler has the bundle in the task and computes it again
             shipped: Any = files
             if isinstance(files, Bundle):
                 shipped = client.submit(_the_files, files, key=f"vc-files-{token}", pure=False)
-            futures = {}
             for position, scenario in enumerate(scenarios):
                 task = ScenarioTask.of(position, scenario, names[position])
                 key = f"vc-scenario-{token}-{position}"
                 futures[client.submit(run_task, task, on_worker, shipped, identity, key=key, pure=False)] = position
             run.submit_s = wallclock.perf_counter() - began
-            in_order = InOrder(scenarios, observer)
             trace_dir = Path(settings.trace_dir) if settings.trace_dir is not None else None
             # the results are fetched by the client's event loop as they come, not one call per future
             for future, value in as_completed(futures, with_results=True, raise_errors=False):
@@ -272,16 +329,19 @@ def run_on_cluster(scenarios: Sequence[Scenario], settings: RunSettings, cluster
                     if written and trace_dir is not None:
                         result.trace_files = [str(trace_dir / Path(path).name) for path in written]
                 result.recorder = result.recorder if report else None
-                run.ran_on[position] = outcome.worker
+                if outcome.worker:
+                    run.ran_on[position] = outcome.worker
                 run.task_s.append(outcome.task_s)
                 run.run_s.append(outcome.wall_s)
                 in_order.put(position, result)
                 run.client_s += wallclock.perf_counter() - handling
         except KeyboardInterrupt:
             client.cancel(list(futures), force=True)
-            raise
+            in_order.report_rest()
+            raise RunInterrupted(in_order.finished()) from None
         finally:
             client.unsubscribe_topic("all")
+            client.unsubscribe_topic(STARTED_TOPIC)
         run.results = in_order.finished()
         run.reruns = lost.reruns(token)
     return run
@@ -303,10 +363,13 @@ def _outcome_of(value: Any, position: int) -> ScenarioOutcome:
 
 
 class _Losses:
-    """The scheduler's "remove-worker" events: which tasks each lost worker had."""
+    """The scheduler's "remove-worker" events and the tasks' own "started" events: which task each
+    lost worker held.  The scheduler counts every task it had assigned to the worker (a worker of
+    one thread is given the next one before the first ends); only the one it ran is a re-run."""
 
     def __init__(self) -> None:
         self.lost: list[tuple[str, tuple[str, ...]]] = []  # (worker, keys it was processing)
+        self.started_on: dict[str, set[str]] = {}  # key -> the workers that started it
 
     def event(self, event: tuple[float, Any]) -> None:
         _, message = event
@@ -315,14 +378,69 @@ class _Losses:
             self.lost.append((str(message.get("worker", "?")), tuple(str(key) for key in
                                                                      message.get("processing-tasks", ()))))
 
+    def started(self, event: tuple[float, Any]) -> None:
+        _, message = event
+        if isinstance(message, dict):
+            self.started_on.setdefault(str(message.get("key")), set()).add(str(message.get("worker")))
+
     def reruns(self, token: str) -> dict[int, list[str]]:
         prefix = f"vc-scenario-{token}-"
         found: dict[int, list[str]] = {}
         for worker, keys in self.lost:
-            for key in keys:
-                if key.startswith(prefix):
-                    found.setdefault(int(key[len(prefix):]), []).append(worker)
+            ours = [key for key in keys if key.startswith(prefix)]
+            held = [key for key in ours if worker in self.started_on.get(key, ())]
+            if not held and len(ours) == 1:  # it died before its "started" reached us; it held only that one
+                held = ours
+            for key in held:
+                found.setdefault(int(key[len(prefix):]), []).append(worker)
         return found
+
+
+def check_scheduler(cluster: ClusterSettings) -> None:
+    """Whether a Dask scheduler answers at the address, before Dask itself connects: Dask's client
+    writes first and then takes the first 8 bytes it reads as the length of the answer, so an HTTP
+    server's "HTTP/1.1" made it allocate exabytes, and a listener that says nothing kept it waiting
+    for minutes.  A scheduler greets first: 8 bytes of length (little-endian) and its handshake of a
+    few dozen bytes.  The check reads that within :data:`PROBE_TIMEOUT_S` and answers with the
+    scheduler's own greeting, so the scheduler sees a complete handshake; anything else is a
+    :class:`ClusterError` that says what answered."""
+    host, port = cluster.endpoint()
+    where = f"--cluster {cluster.address}"
+    try:
+        connection = socket.create_connection((host, port), timeout=PROBE_TIMEOUT_S)
+    except socket.gaierror as error:
+        raise ClusterError(f"{where}: no host {host} ({error.strerror})") from None
+    except ConnectionRefusedError:
+        raise ClusterError(f"{where}: nothing listens at {host}:{port} (start the scheduler there: dask scheduler)"
+                           ) from None
+    except OSError as error:  # a time-out, a network that cannot be reached
+        reason = error.strerror or f"no answer within {PROBE_TIMEOUT_S:g} s"
+        raise ClusterError(f"{where}: {host}:{port} cannot be reached ({reason})") from None
+    with connection:
+        try:
+            head = _received(connection, 8)
+            (length,) = struct.unpack("<Q", head)
+            if not 0 < length <= MAX_GREETING_BYTES:
+                raise ClusterError(f"{where}: something answers at {host}:{port}, but not a Dask scheduler (its"
+                                   f" first bytes are {head!r})")
+            connection.sendall(head + _received(connection, length))
+        except TimeoutError:
+            raise ClusterError(f"{where}: {host}:{port} accepts connections but sends no Dask greeting within"
+                               f" {PROBE_TIMEOUT_S:g} s: not a Dask scheduler (a web server, the dashboard's port?)"
+                               ) from None
+        except (EOFError, OSError):
+            raise ClusterError(f"{where}: {host}:{port} closed the connection without a Dask greeting: not a Dask"
+                               " scheduler") from None
+
+
+def _received(connection: socket.socket, count: int) -> bytes:
+    data = b""
+    while len(data) < count:
+        chunk = connection.recv(count - len(data))
+        if not chunk:
+            raise EOFError
+        data += chunk
+    return data
 
 
 @contextmanager
@@ -341,10 +459,11 @@ def _client(cluster: ClusterSettings, say: Callable[[str], None]) -> Iterator[An
                           worker_dashboard_address="127.0.0.1:0") as local, Client(local) as client:
             yield client
         return
+    check_scheduler(cluster)
     try:
         client = Client(cluster.address, timeout=CONNECT_TIMEOUT)
-    except OSError as error:
-        raise ClusterError(f"--cluster {cluster.address}: no Dask scheduler answers there ({error})") from None
+    except (OSError, ValueError) as error:  # gone since the check; a scheduler of another Dask version
+        raise ClusterError(f"--cluster {cluster.address}: the Dask scheduler there cannot be used ({error})") from None
     with client:
         try:
             client.wait_for_workers(1, timeout=WORKER_WAIT_S)

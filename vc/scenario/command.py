@@ -3,7 +3,8 @@
 
 Exit codes: 0 every scenario passed, 1 a scenario failed (or the harness could not run it),
 2 a file has problems and nothing ran (or the cluster cannot be used), 130 the user stopped the
-run (Ctrl-C).
+run (Ctrl-C): the JUnit file and the HTML report are still written, with the scenarios that
+finished and the others marked as not run.
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ from vc.scenario.loader import MachineLoader, Programs, load_scenarios
 from vc.scenario.model import Scenario
 from vc.scenario.parallel import RunSettings, jobs_for, run_parallel
 from vc.scenario.report import ConsoleReport, write_junit
-from vc.scenario.runner import RunObserver, ScenarioResult, file_stem, run_one, run_scenarios
+from vc.scenario.runner import RunInterrupted, RunObserver, ScenarioResult, file_stem, run_one, run_scenarios
 from vc.scenario.target import ScenarioTarget
 from vc.scenario.tasks import SEND_DIAGRAM, SEND_NOTHING
 
@@ -76,8 +77,10 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
     began = wallclock.perf_counter()
 
     def say(text: str) -> None:  # plain text: a path or a message is never read as markup or emoji
-        report.console.print(text, highlight=False, soft_wrap=True, markup=False, emoji=False)
+        report.say(text)
 
+    if report_dir is not None and not _can_draw(say, "--report"):
+        return EXIT_PROBLEMS
     try:
         scenarios = load_scenarios(paths, known_programs, catalog=catalog, machine_loader=machine_loader,
                                    default_plc=default_plc)
@@ -87,6 +90,17 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
     if not scenarios:
         report.say("no scenario files found in " + ", ".join(paths))
         return EXIT_PROBLEMS
+    check = GoldenCheck(Path(golden), update_golden) if golden is not None else None
+    if check is not None and (shared := check.shared(scenarios)):
+        for sentence in shared:
+            say(f"vc run --golden: {sentence}")
+        return EXIT_PROBLEMS
+    if cluster is not None:
+        try:
+            cluster.check()
+        except ClusterError as error:
+            say(f"vc run: {error}")
+            return EXIT_PROBLEMS
     if catalog is not None or machine_loader is not None:
         jobs, cluster = 1, None
     if any(scenario.external_plc is not None for scenario in scenarios):
@@ -103,39 +117,50 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
         if cluster is not None:
             across = f"on the Dask cluster {cluster.address}"
         say(f"{len(scenarios)} scenarios, {across}, {build}")
-    check = GoldenCheck(Path(golden), update_golden) if golden is not None else None
     settings = RunSettings(tuple(known_programs), make_target, None if trace_dir is None else str(trace_dir),
                            None if golden is None else str(golden), update_golden,
                            SEND_DIAGRAM if html is not None else SEND_NOTHING)
     notes: list[str] = []
+    interrupted = False
     try:
         if cluster is not None:
             run = run_on_cluster(scenarios, settings, cluster, check=check, report=html is not None,
                                  observer=observer, say=say)
-            results = run.results
-            notes = run.rerun_lines(scenarios)
+            results, notes = run.results, run.rerun_lines(scenarios)
         elif workers > 1:
-            results = run_parallel(scenarios, settings, workers, observer=observer)
+            parallel = run_parallel(scenarios, settings, workers, observer=observer)
+            results, notes = parallel.results, parallel.rerun_lines(scenarios)
         else:
             results = run_scenarios(scenarios, make_target, observer=observer, trace_dir=trace_dir, check=check)
     except ClusterError as error:
         report.close()
         say(f"vc run: {error}")
         return EXIT_PROBLEMS
-    except KeyboardInterrupt:
-        report.close()
-        report.console.print(f"interrupted after {report.done} of {len(scenarios)} scenarios", highlight=False)
-        return EXIT_INTERRUPTED
+    except KeyboardInterrupt as interruption:  # what finished is still reported, marked as interrupted
+        results = interruption.results if isinstance(interruption, RunInterrupted) else []
+        interrupted = True
     finally:
         report.close()
-    report.print_summary(results)
-    for note in notes:
-        say(f"re-run: {note}")
-    if junit is not None:
-        write_junit(results, junit)
-    if html is not None:
-        page = html.write(notes=notes, wall_s=wallclock.perf_counter() - began, build=build, jobs=workers)
-        say(f"report: {page}")
+    finished = {id(result.scenario) for result in results}
+    not_run = [scenario for scenario in scenarios if id(scenario) not in finished]
+    try:
+        if interrupted:
+            say(f"interrupted after {len(results)} of {len(scenarios)} scenarios")
+        else:
+            report.print_summary(results)
+        for note in notes:
+            say(f"re-run: {note}")
+        if junit is not None:
+            write_junit(results, junit, not_run=not_run)
+        if html is not None:
+            html.include(results)
+            page = html.write(notes=notes, wall_s=wallclock.perf_counter() - began, build=build, jobs=workers,
+                              not_run=len(not_run))
+            say(f"report: {page}")
+    except KeyboardInterrupt:  # pressed again while the reports are written
+        return EXIT_INTERRUPTED
+    if interrupted:
+        return EXIT_INTERRUPTED
     return EXIT_PASSED if all(result.passed for result in results) else EXIT_FAILED
 
 
@@ -156,8 +181,10 @@ def plot_command(spec: str, make_target: Callable[[Scenario], ScenarioTarget], k
     report = ConsoleReport(console)
 
     def say(text: str) -> None:
-        report.console.print(text, highlight=False, soft_wrap=True, markup=False, emoji=False)
+        report.say(text)
 
+    if not _can_draw(say, "--plot"):
+        return EXIT_PROBLEMS
     path, wanted = spec, None
     match = _VARIANT.match(spec)
     if match is not None and not os.path.isfile(spec):
@@ -189,6 +216,18 @@ def plot_command(spec: str, make_target: Callable[[Scenario], ScenarioTarget], k
         say(f"vc run --plot: {error}")
         return EXIT_PROBLEMS
     return EXIT_PASSED if result.passed else EXIT_FAILED
+
+
+def _can_draw(say: Callable[[str], None], option: str) -> bool:
+    """Whether the diagrams of ``option`` can be drawn here; if not, says why (before anything runs)."""
+    from vc.scenario.diagram import DiagramError, require_matplotlib
+
+    try:
+        require_matplotlib()
+    except DiagramError as error:
+        say(f"vc run {option}: {error}")
+        return False
+    return True
 
 
 def _has_display() -> bool:

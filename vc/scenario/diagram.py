@@ -4,7 +4,8 @@ One figure per scenario: a lane per signal, stacked over one time axis as in the
 diagrams.  A bool is a 0/1 trace with its high phases filled; a byte or word a bus whose values
 are written in; axis quantities and other numbers a line with their scale.  Dotted lines mark
 where each step began (numbers along the top), a red line the failing step and the moment of the
-failure; an ``expect_timing`` window is shaded green on its lane, a ``wait``'s time limit lightly.
+failure, an orange dashed line with its number where an alarm was raised; an ``expect_timing``
+window is shaded green on its lane, a ``wait``'s time limit lightly.
 
 The figures are built on :class:`matplotlib.figure.Figure` with the Agg canvas, without pyplot,
 so drawing needs no display and no global state; only :func:`show` (``vc run --plot``) uses
@@ -19,6 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from interfaces.errors import VcError
+from vc.escaping import image_text
 from vc.scenario.timing import ANALOG, BUS, DIGITAL, Lane, TimingDiagram
 
 if TYPE_CHECKING:
@@ -34,10 +36,23 @@ FORMATS = ("png", "svg")
 _HIGH = "#1f5fa8"
 _FAIL = "#c0392b"
 _WINDOW = "#2e8b57"
+_ALARM = "#d35400"
 
 
 class DiagramError(VcError):
     """matplotlib is missing."""
+
+
+MISSING = "timing diagrams need matplotlib: pip install 'vc-harness[report]'"
+
+
+def require_matplotlib() -> None:
+    """Raise :class:`DiagramError` unless matplotlib can be imported: a run that is to draw diagrams
+    checks this before it starts, not after every scenario has run."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise DiagramError(MISSING) from None
 
 
 def figure_size(diagram: TimingDiagram) -> tuple[float, float]:
@@ -51,7 +66,7 @@ def save(diagram: TimingDiagram, path: str | Path) -> tuple[int, int]:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
     except ImportError:
-        raise DiagramError("timing diagrams need matplotlib: pip install 'vc-harness[report]'") from None
+        raise DiagramError(MISSING) from None
     width, height = figure_size(diagram)
     figure = Figure(figsize=(width, height), dpi=DPI)
     FigureCanvasAgg(figure)
@@ -69,22 +84,30 @@ def show(diagram: TimingDiagram) -> None:
     try:
         import matplotlib.pyplot as pyplot
     except ImportError:
-        raise DiagramError("timing diagrams need matplotlib: pip install 'vc-harness[report]'") from None
+        raise DiagramError(MISSING) from None
     figure = pyplot.figure(figsize=figure_size(diagram))
     draw(diagram, figure)
     pyplot.show()
 
 
 def draw(diagram: TimingDiagram, figure: Figure) -> None:
-    """Draw ``diagram`` into an empty ``figure``."""
+    """Draw ``diagram`` into an empty ``figure``.  Every text is drawn as written: a ``$`` in a
+    scenario's name or a message is no mathtext (``$x^{$`` would make matplotlib's parser raise)."""
+    from matplotlib import rc_context
+
+    with rc_context({"text.parse_math": False}):
+        _draw(diagram, figure)
+
+
+def _draw(diagram: TimingDiagram, figure: Figure) -> None:
     height = figure.get_size_inches()[1]
     lanes = diagram.lanes
     end = max(diagram.end_s, 1e-3)
-    title = f"{diagram.status}  {diagram.title}"
+    title = image_text(f"{diagram.status}  {diagram.title}")
     figure.suptitle("\n".join(textwrap.wrap(title, 130)[:2]), x=0.01, ha="left", fontsize=10,
                     color=_FAIL if diagram.status != "PASS" else "black", y=1 - 0.12 / height)
     if diagram.failure:
-        figure.text(0.01, 1 - 0.42 / height, textwrap.shorten(diagram.failure, 210, placeholder=" ..."),
+        figure.text(0.01, 1 - 0.42 / height, textwrap.shorten(image_text(diagram.failure), 210, placeholder=" ..."),
                     fontsize=7.5, color=_FAIL, ha="left", va="top")
     if not lanes:
         figure.text(0.5, 0.5, "the scenario names no recorded signal", ha="center", fontsize=9)
@@ -107,6 +130,7 @@ def draw(diagram: TimingDiagram, figure: Figure) -> None:
                     ax.text(window.end_s, 0.5, f" {window.label}", transform=ax.get_xaxis_transform(), fontsize=6.5,
                             color=_WINDOW, va="center", ha="left", clip_on=True)
     _mark_steps(axes, diagram)
+    _mark_alarms(axes, diagram)
     axes[-1].set_xlim(0, end)
     axes[-1].tick_params(axis="x", length=3)
     axes[-1].set_xlabel("time since the scenario started [s]", fontsize=8)
@@ -186,6 +210,19 @@ def _mark_steps(axes: Sequence[Axes], diagram: TimingDiagram) -> None:
             ax.axvline(diagram.failure_s, color=_FAIL, linewidth=1.3)
         axes[-1].text(diagram.failure_s, 0.0, " failure", transform=axes[-1].get_xaxis_transform(), color=_FAIL,
                       fontsize=7, va="bottom", ha="left")
+
+
+def _mark_alarms(axes: Sequence[Axes], diagram: TimingDiagram) -> None:
+    """A dashed line where each alarm was raised, its number at the top of the first lane."""
+    if not diagram.alarms:
+        return
+    for ax in axes:
+        ax.vlines([mark.time_s for mark in diagram.alarms], 0, 1, transform=ax.get_xaxis_transform(),
+                  colors=_ALARM, linestyles="--", linewidths=1.0)
+    first = axes[0]
+    for mark in diagram.alarms:
+        first.text(mark.time_s, 0.95, f" alarm {mark.number}", transform=first.get_xaxis_transform(), fontsize=6.5,
+                   color=_ALARM, ha="left", va="top", fontweight="bold", clip_on=False)
 
 
 def _locator(count: int) -> Any:

@@ -3,6 +3,13 @@
 ``vc run --golden DIR`` compares each run with ``DIR/<scenario path>.json`` and fails a
 scenario whose behaviour changed; ``--update-golden`` writes the baselines anew.
 
+The name of a golden trace does not depend on how the scenario's path is spelt (from which
+directory, relative or absolute): it is the scenario file's path below its *scenario root*, the
+nearest directory above the file that holds a file named ``.vc-scenario-root`` (the project marks
+``scenarios/``, ``examples/`` and ``campaigns/``), or, without one, the file's own directory.
+``scenarios/referencing/x.yaml`` gives ``DIR/referencing/x.json`` from anywhere; a golden trace
+never lies outside ``DIR``.
+
 Compared by meaning, not byte by byte:
 
 * every digital signal (bool, bits, byte, word of the interface and the plant I/O) must go
@@ -19,7 +26,8 @@ A signal that changes in one trace but not in the other is a difference too.
 from __future__ import annotations
 
 import json
-from collections.abc import Sequence
+import os
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -27,7 +35,7 @@ from typing import Any
 from vc.scenario.model import Scenario
 from vc.scenario.quantities import QuantityKind
 from vc.scenario.runner import Failure, ScenarioResult, file_stem
-from vc.scenario.trace import Recording
+from vc.scenario.trace import Recording, is_alarm_number
 
 POSITION_TOLERANCE = 1e-3  # mm or degrees
 GOLDEN_QUANTITIES = ("couplingRelationError",)  # axis quantities kept when a scenario names them
@@ -65,7 +73,8 @@ class GoldenSummary:
         )
 
 
-def summarize(recorder: Recording, alarm_numbers: Sequence[int]) -> GoldenSummary:
+def summarize(recorder: Recording, alarm_numbers: Sequence[int], named: Collection[str] = ()) -> GoldenSummary:
+    """What a golden trace keeps of a run; ``named``: the names the scenario itself uses."""
     digital: dict[str, list[tuple[float, int]]] = {}
     positions: dict[str, tuple[float, float, float]] = {}
     quantities: dict[str, tuple[float, float, float]] = {}
@@ -81,6 +90,8 @@ def summarize(recorder: Recording, alarm_numbers: Sequence[int]) -> GoldenSummar
             continue
         if not quantity.is_integer or len(history) < 2:
             continue  # a signal that never changed says nothing about behaviour
+        if is_alarm_number(quantity) and quantity.name not in named:
+            continue  # compared as the alarms raised, in order
         digital[quantity.name] = [(recorder.time_of(cycle), int(value)) for cycle, value in history.entries()]
     return GoldenSummary(digital, list(alarm_numbers), positions, quantities)
 
@@ -135,11 +146,26 @@ def _values(changes: list[tuple[float, int]] | None) -> str:
     return " -> ".join(shown[:12]) + (" ..." if len(shown) > 12 else "")
 
 
+ROOT_MARKER = ".vc-scenario-root"  # marks the directory golden traces are named from (module docstring)
+
+
+def _root_of(directory: str) -> str:
+    for candidate in (directory, *(str(parent) for parent in Path(directory).parents)):
+        if os.path.isfile(os.path.join(candidate, ROOT_MARKER)):
+            return candidate
+    return directory
+
+
+def scenario_root(scenario_path: str) -> Path:
+    """The scenario file's scenario root: the nearest directory above it holding :data:`ROOT_MARKER`,
+    else its own directory."""
+    return Path(_root_of(os.path.dirname(os.path.abspath(scenario_path))))
+
+
 def golden_path(golden_dir: str | Path, scenario_path: str) -> Path:
-    """``DIR/<scenario file without its first directory>.json`` (scenarios/a/b.yaml -> DIR/a/b.json)."""
-    parts = Path(scenario_path).with_suffix(".json").parts
-    relative = Path(*parts[1:]) if len(parts) > 1 else Path(parts[0])
-    return Path(golden_dir) / relative
+    """``DIR/<scenario file below its scenario root>.json`` (scenarios/a/b.yaml -> DIR/a/b.json)."""
+    absolute = Path(os.path.abspath(scenario_path))
+    return Path(golden_dir) / absolute.relative_to(scenario_root(scenario_path)).with_suffix(".json")
 
 
 def golden_file(golden_dir: str | Path, scenario: Scenario) -> Path:
@@ -181,15 +207,19 @@ class GoldenCheck:
         if not result.passed or recorder is None:
             return
         scenario = result.scenario
-        summary = summarize(recorder, recorder.alarm_numbers())
+        summary = summarize(recorder, recorder.alarm_numbers(), {quantity.name for quantity in scenario.quantities})
         path = golden_file(self.directory, scenario)
+        if not _inside(path, self.directory):  # cannot be by construction; the check keeps it so
+            self._fail(result, f"the golden trace {path} would lie outside {self.directory}")
+            return
         if self.update:
             store(summary, path)
             return
         golden = load(path)
         if golden is None:
-            self._fail(result, f"no golden trace {path}; write it with vc run ... --golden {self.directory}"
-                               " --update-golden")
+            root = scenario_root(scenario.variant.origin if scenario.variant is not None else scenario.path)
+            self._fail(result, f"no golden trace {path} (named by the scenario's path below its scenario root {root});"
+                               f" write it with vc run ... --golden {self.directory} --update-golden")
             return
         machine = scenario.machine
         tolerance = machine.plc_cycle_ipo * recorder.ipo_cycle_us / 1e6
@@ -198,7 +228,30 @@ class GoldenCheck:
             shown = "; ".join(differences[:6]) + (f"; and {len(differences) - 6} more" if len(differences) > 6 else "")
             self._fail(result, f"the behaviour differs from the golden trace {path}: {shown}")
 
+    def shared(self, scenarios: Sequence[Scenario]) -> list[str]:
+        """A sentence for each golden trace two different scenarios of a run would share (files of
+        one name in different directories without a scenario root above them)."""
+        first: dict[Path, Scenario] = {}
+        found = []
+        for scenario in scenarios:
+            path = golden_file(self.directory, scenario)
+            other = first.setdefault(path, scenario)
+            if other is not scenario and _identity(other) != _identity(scenario):
+                found.append(f"{other.path} and {scenario.path} would share the golden trace {path}: put a file"
+                             f" {ROOT_MARKER} into the directory that holds their tree (docs/scenarios.md)")
+        return found
+
     @staticmethod
     def _fail(result: ScenarioResult, message: str) -> None:
         result.passed = False
         result.failure = Failure("golden", None, result.scenario.mark, message, result.cycles, result.simulated_s)
+
+
+def _identity(scenario: Scenario) -> tuple[str, str, int | None]:
+    variant = scenario.variant
+    return (os.path.abspath(scenario.path), os.path.abspath(variant.origin) if variant is not None else "",
+            variant.index if variant is not None else None)
+
+
+def _inside(path: Path, directory: Path) -> bool:
+    return os.path.commonpath([os.path.abspath(path), os.path.abspath(directory)]) == os.path.abspath(directory)

@@ -21,7 +21,6 @@ reported (the diagram's data, not the recording) and draws and writes everything
 from __future__ import annotations
 
 import datetime
-import html
 import os
 import urllib.parse
 from collections.abc import Sequence
@@ -29,6 +28,7 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from vc.escaping import html_text
 from vc.scenario.durations import format_seconds
 from vc.scenario.model import Scenario, Variant
 from vc.scenario.report import failure_location, failure_text
@@ -66,6 +66,7 @@ class _Entry:
     diagram: TimingDiagram | None = None
     image: str = ""  # relative to the page, once drawn
     size: tuple[int, int] = (0, 0)
+    drawing_error: str = ""  # why the diagram could not be drawn
 
     @property
     def anchor(self) -> str:
@@ -112,15 +113,27 @@ class HtmlReport:
                                    result.simulated_s, result.wall_s, list(result.trace_files),
                                    timing_diagram(result) if wanted else None))
 
+    def include(self, results: Sequence[ScenarioResult]) -> None:
+        """Take the results it was not told about (a run interrupted while it reported one)."""
+        seen = {id(entry.scenario) for entry in self.entries}
+        for result in results:
+            if id(result.scenario) not in seen:
+                self.scenario_finished(result)
+
     # writing
 
     def write(self, *, title: str = "vc run", notes: Sequence[str] = (), wall_s: float | None = None,
-              build: str = "", jobs: int = 1) -> Path:
-        """Draw the diagrams, write the page; the page's path."""
+              build: str = "", jobs: int = 1, not_run: int = 0) -> Path:
+        """Draw the diagrams, write the page; the page's path.  ``not_run``: the scenarios of an
+        interrupted run that did not finish (the page says so first)."""
         self.directory.mkdir(parents=True, exist_ok=True)
         self._draw(jobs)
+        if not_run:
+            total = len(self.entries) + not_run
+            notes = [f"The run was interrupted (Ctrl-C) after {len(self.entries)} of {total} scenarios: the other"
+                     f" {not_run} did not finish and are not on this page.", *notes]
         page = self.directory / PAGE
-        page.write_text(self._page(title, notes, wall_s, build), encoding="utf-8")
+        page.write_text(self._page(title, notes, wall_s, build, not_run), encoding="utf-8")
         return page
 
     def _draw(self, jobs: int) -> None:
@@ -135,18 +148,23 @@ class HtmlReport:
                 sizes = list(pool.map(_save, [entry.diagram for entry in drawn], targets))
         else:
             sizes = [_save(entry.diagram, target) for entry, target in zip(drawn, targets, strict=True)]
-        for entry, target, size in zip(drawn, targets, sizes, strict=True):
+        for entry, target, (size, error) in zip(drawn, targets, sizes, strict=True):
+            if error:
+                entry.drawing_error = error
+                continue
             entry.image = f"{DIAGRAMS}/{urllib.parse.quote(target.name)}"
             entry.size = size
 
     # -- the page --------------------------------------------------------------------------
 
-    def _page(self, title: str, notes: Sequence[str], wall_s: float | None, build: str) -> str:
+    def _page(self, title: str, notes: Sequence[str], wall_s: float | None, build: str, not_run: int) -> str:
         entries = self.entries
         passed = sum(entry.status == "PASS" for entry in entries)
         errors = sum(entry.status == "ERROR" for entry in entries)
         failed = len(entries) - passed - errors
         headline = f"{failed + errors} of {len(entries)} failed" if failed + errors else f"all {len(entries)} passed"
+        if not_run:
+            headline = f"interrupted, {headline} of those that finished"
         generated = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
         out = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
                f"<title>{_e(title)}: {_e(headline)}</title>", f"<style>{_STYLE}</style></head><body>",
@@ -228,6 +246,8 @@ class HtmlReport:
                 width, height = entry.size
                 out.append(f'<p><img src="{_e(entry.image)}" width="{width}" height="{height}"'
                            f' alt="timing diagram of {_e(entry.scenario.name)}"></p>')
+            elif entry.drawing_error:
+                out.append(f'<p class="fail">the timing diagram could not be drawn: {_e(entry.drawing_error)}</p>')
             traces = [os.path.relpath(file, self.directory) for file in entry.trace_files]
             if traces:
                 out.append('<p class="muted">traces: ' + " &middot; ".join(
@@ -256,11 +276,16 @@ class HtmlReport:
         return f'<a href="#{entry.anchor}">{_e(text)}</a>' if entry.diagram is not None else _e(text)
 
 
-def _save(diagram: TimingDiagram | None, target: Path) -> tuple[int, int]:
+def _save(diagram: TimingDiagram | None, target: Path) -> tuple[tuple[int, int], str]:
+    """The diagram drawn to ``target``: its size, and "" or why it could not be drawn (the page is
+    written whatever a diagram holds)."""
     from vc.scenario.diagram import save
 
     assert diagram is not None
-    return save(diagram, target)
+    try:
+        return save(diagram, target), ""
+    except Exception as error:  # matplotlib's, on whatever text or values a scenario brought along
+        return (0, 0), f"{type(error).__name__}: {error}"
 
 
 def _matrices_of(entries: Sequence[_Entry]) -> list[_Matrix]:
@@ -304,4 +329,4 @@ def _count(count: int, css: str) -> str:
 
 
 def _e(text: str) -> str:
-    return html.escape(text, quote=True)
+    return html_text(text)

@@ -22,6 +22,7 @@ checked by its kind's checker in the table of step kinds, :mod:`vc.scenario.step
 
 from __future__ import annotations
 
+import importlib.util
 import os
 from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from dataclasses import replace
@@ -136,6 +137,14 @@ def scenario_files(paths: Iterable[str]) -> tuple[list[str], list[Problem]]:
             problems.append(Problem(Mark(path, 1, 1), "no such scenario file or directory"))
     unique = list(dict.fromkeys(os.path.normpath(f) if os.path.isabs(f) else f for f in files))
     return unique, problems
+
+
+def _installed(package: str) -> bool:
+    """Whether ``package`` can be imported here (found, not imported: it runs in the PLC's own process)."""
+    try:
+        return importlib.util.find_spec(package) is not None
+    except (ImportError, ValueError):  # blocked, or a module in sys.modules without a spec
+        return False
 
 
 # ---------------------------------------------------------------------------------- machine
@@ -255,6 +264,11 @@ class _ScenarioChecker(StepChecker):
         path = os.path.normpath(os.path.join(self.directory, program))
         if not os.path.isfile(path):
             self.add(mark, f"no {kind} program '{program}' (looked for {path})")
+            return NO_PLC
+        package, extra = EXTERNAL_PLCS[kind]
+        if not _installed(package):
+            self.add(mark, f"plc: {kind}: runs the program in {package}, which is not installed here:"
+                           f" pip install 'vc-harness[{extra}]'")
             return NO_PLC
         return f"{kind}:{path}"
 

@@ -22,8 +22,10 @@ from vc.scenario.values import ExpectedValue
 NO_PLC = "none"
 LINK_CAN = "can"  # ``link: can``: the PLC program sits behind the CAN link
 # ``plc: awlsim:PROGRAM.awl``: a PLC of its own process, started with the program and run over a
-# lockstep Modbus TCP link (docs/scenarios.md); the kinds and the command each starts are the harness's
-EXTERNAL_PLCS = ("awlsim",)
+# lockstep Modbus TCP link (docs/scenarios.md); the kinds and the command each starts are the harness's.
+# Each kind with the package that process needs and the extra that installs it, checked when the
+# scenario loads (a missing one is a problem at its plc: line, not a traceback once the run started).
+EXTERNAL_PLCS = {"awlsim": ("awlsim", "awlsim")}  # kind -> (package imported, vc-harness extra)
 
 
 def external_plc(plc: str) -> tuple[str, str] | None:

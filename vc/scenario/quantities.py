@@ -38,12 +38,14 @@ from interfaces.signals import (
 )
 from vc.config.machine_data import MdLevel
 from vc.config.md_dictionary import BY_NUMBER, level_text
+from vc.config.model import MachineConfig
 from vc.simulation.observables import (
     AXIS_QUANTITIES,
     CHANNEL_QUANTITIES,
     LINK_INSTANCE,
     LINK_QUANTITIES,
     NCK_QUANTITIES,
+    quantity_unit,
 )
 
 TIME = "time"
@@ -103,6 +105,14 @@ class Quantity:
 
     def __str__(self) -> str:
         return self.name
+
+
+def unit_of(quantity: Quantity, machine: MachineConfig) -> str:
+    """The unit a quantity is shown in (``SP1.velocity``: rev/min, ``X1.position``: mm, ``time``: s), as
+    declared once in :mod:`vc.simulation.observables`; "" for interface signals, machine data and counts."""
+    if quantity.kind is QuantityKind.AXIS:
+        return quantity_unit(machine, quantity.axis, quantity.quantity)
+    return "s" if quantity.kind is QuantityKind.TIME else ""
 
 
 def signal_quantity(ref: SignalRef) -> Quantity:

@@ -6,11 +6,13 @@ history of the signals involved.  The progress bar appears only once the run has
 second of wall time, so quick runs print nothing but their result lines.  Text from files and
 from the simulation (names, paths, messages) is printed as :class:`~rich.text.Text`, never as
 markup: rich would read ``[dim]`` in a name as a style and ``:100:`` in ``file:100:12`` as an
-emoji.
+emoji; and through :func:`vc.escaping.terminal`, so that no control character of a name reaches
+the terminal (``\x1b[2K\x1b[1G`` would repaint a FAIL line as PASS).
 
 JUnit XML (stdlib ElementTree): one ``testsuite`` per run, one ``testcase`` per scenario with
 ``classname`` = the scenario file, ``<failure>`` for a failed scenario and ``<error>`` for a
-scenario the harness could not run.
+scenario the harness could not run; every text through :func:`vc.escaping.junit` (XML 1.0 has no
+control characters, not even as references).
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from rich.progress import BarColumn, Progress, TaskID, TextColumn, TimeElapsedCo
 from rich.table import Table
 from rich.text import Text
 
+from vc.escaping import junit, terminal
 from vc.located_yaml import SourceError
 from vc.scenario.durations import format_seconds
 from vc.scenario.model import Scenario
@@ -55,8 +58,8 @@ def history_table(failure: Failure) -> Table | None:
     for trail in failure.history:
         for position, (seconds, value) in enumerate(trail.entries):
             first = position == 0
-            table.add_row(Text(trail.name if first else ""), Text(trail.address if first else ""),
-                          f"{seconds:.3f} s", format_value(value))
+            table.add_row(Text(terminal(trail.name) if first else ""), Text(trail.address if first else ""),
+                          f"{seconds:.3f} s", format_value(value, trail.unit))
     return table
 
 
@@ -71,7 +74,8 @@ def failure_text(result: ScenarioResult) -> str:
     if failure.history:
         lines.append(f"history before the failure at {failure.time_s:.3f} s:")
         for trail in failure.history:
-            shown = ", ".join(f"{seconds:.3f} s = {format_value(value)}" for seconds, value in trail.entries)
+            shown = ", ".join(f"{seconds:.3f} s = {format_value(value, trail.unit)}"
+                              for seconds, value in trail.entries)
             address = f" [{trail.address}]" if trail.address and trail.address != trail.name else ""
             lines.append(f"  {trail.name}{address}: {shown or 'not recorded'}")
     return "\n".join(lines)
@@ -119,7 +123,7 @@ class ConsoleReport:
             self.progress.start()
             self.task = self.progress.add_task("", total=self.total)
         assert self.task is not None
-        text = self.current + (f" ({detail})" if detail else "")
+        text = terminal(self.current) + (f" ({detail})" if detail else "")
         self.progress.update(self.task, completed=self.done, total=self.total, description=text)
 
     def close(self) -> None:
@@ -130,15 +134,20 @@ class ConsoleReport:
     # printing
 
     def say(self, *parts: str | tuple[str, str]) -> None:
-        """One line of plain text: ``(text, style)`` parts are styled, nothing is read as markup."""
-        self.console.print(Text.assemble(*parts), soft_wrap=True)
+        """One line of plain text: ``(text, style)`` parts are styled, nothing is read as markup, and no
+        control character (a line break neither) of a name or a message gets through."""
+        self.console.print(Text.assemble(*(terminal(part) if isinstance(part, str) else (terminal(part[0]), part[1])
+                                           for part in parts)), soft_wrap=True)
 
     def print_result(self, result: ScenarioResult) -> None:
         status = result.status
         self.say((f"{status:5}", _STYLE[status]), " ", result.scenario.name,
                  (f"  {result.scenario.path}  {_times(result)}", "dim"))
         if result.error:
-            self.say("      ", ("the simulation failed:", "magenta"), " ", result.error.rstrip())
+            first, *rest = result.error.rstrip().splitlines() or [""]
+            self.say("      ", ("the simulation failed:", "magenta"), " ", first)
+            for line in rest:  # a traceback: each of its lines a line of the report
+                self.say("      " + line)
             return
         failure = result.failure
         if failure is None:
@@ -170,31 +179,47 @@ class ConsoleReport:
         self.say((f"{count} problem{plural} in {files} file{files_plural}; nothing ran.", "bold red"))
 
 
-def write_junit(results: Sequence[ScenarioResult], path: str | Path, suite_name: str = "vc run") -> None:
-    """JUnit XML: a testsuite for the run, a testcase per scenario (classname = scenario file)."""
+NOT_RUN = "not run: the run was interrupted (Ctrl-C) before this scenario finished"
+
+
+def write_junit(results: Sequence[ScenarioResult], path: str | Path, suite_name: str = "vc run",
+                not_run: Sequence[Scenario] = ()) -> None:
+    """JUnit XML: a testsuite for the run, a testcase per scenario (classname = scenario file).
+    ``not_run``: the scenarios of an interrupted run that did not finish, each a skipped testcase;
+    the suite then carries the property ``interrupted``."""
     failures = sum(1 for result in results if not result.passed and not result.error)
     errors = sum(1 for result in results if result.error)
     wall = sum(result.wall_s for result in results)
-    suites = ElementTree.Element("testsuites", name=suite_name, tests=str(len(results)),
+    tests = str(len(results) + len(not_run))
+    suites = ElementTree.Element("testsuites", name=suite_name, tests=tests,
                                  failures=str(failures), errors=str(errors), time=f"{wall:.3f}")
-    suite = ElementTree.SubElement(suites, "testsuite", name=suite_name, tests=str(len(results)),
-                                   failures=str(failures), errors=str(errors), skipped="0",
+    suite = ElementTree.SubElement(suites, "testsuite", name=suite_name, tests=tests,
+                                   failures=str(failures), errors=str(errors), skipped=str(len(not_run)),
                                    time=f"{wall:.3f}")
+    if not_run:
+        properties = ElementTree.SubElement(suite, "properties")
+        ElementTree.SubElement(properties, "property", name="interrupted",
+                               value=f"the run was interrupted (Ctrl-C) after {len(results)} of"
+                                     f" {len(results) + len(not_run)} scenarios")
     for result in results:
-        case = ElementTree.SubElement(suite, "testcase", classname=result.scenario.path,
-                                      name=result.scenario.name, time=f"{result.wall_s:.3f}")
+        case = ElementTree.SubElement(suite, "testcase", classname=junit(result.scenario.path),
+                                      name=junit(result.scenario.name), time=f"{result.wall_s:.3f}")
         if result.error:
             last_line = result.error.strip().splitlines()[-1] if result.error.strip() else "error"
-            element = ElementTree.SubElement(case, "error", message=last_line, type="harness")
-            element.text = result.error
+            element = ElementTree.SubElement(case, "error", message=junit(last_line), type="harness")
+            element.text = junit(result.error)
         elif result.failure is not None:
             failure = result.failure
             element = ElementTree.SubElement(case, "failure", type=failure.kind,
-                                             message=f"{failure_location(result)}: {failure.message}")
-            element.text = failure_text(result)
+                                             message=junit(f"{failure_location(result)}: {failure.message}"))
+            element.text = junit(failure_text(result))
         out = [f"simulated {format_seconds(result.simulated_s)} ({result.cycles} IPO cycles)"]
         out += [f"trace: {file}" for file in result.trace_files]
-        ElementTree.SubElement(case, "system-out").text = "\n".join(out)
+        ElementTree.SubElement(case, "system-out").text = junit("\n".join(out))
+    for scenario in not_run:
+        case = ElementTree.SubElement(suite, "testcase", classname=junit(scenario.path), name=junit(scenario.name),
+                                      time="0.000")
+        ElementTree.SubElement(case, "skipped", message=NOT_RUN)
     tree = ElementTree.ElementTree(suites)
     ElementTree.indent(tree)
     Path(path).parent.mkdir(parents=True, exist_ok=True)

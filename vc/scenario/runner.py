@@ -27,8 +27,9 @@ from interfaces.errors import VcError
 from vc.located_yaml import Mark
 from vc.scenario.durations import format_seconds
 from vc.scenario.expressions import EvaluationError, Evaluator, Expression
-from vc.scenario.model import EdgeKind, Event, Scenario, Step, WaitUntil
-from vc.scenario.quantities import Quantity, QuantityKind
+from vc.scenario.model import EdgeKind, Event, ExpectAlarm, Scenario, Step, WaitUntil
+from vc.scenario.quantities import Quantity, QuantityKind, unit_of
+from vc.scenario.steps.common import alarms_text
 from vc.scenario.steps.table import STEPS
 from vc.scenario.target import ScenarioTarget
 from vc.scenario.trace import Recorder, Recording, write_traces
@@ -47,6 +48,7 @@ class SignalTrail:
     name: str
     address: str
     entries: tuple[tuple[float, float], ...]
+    unit: str = ""  # of the values (SP1.velocity: rev/min)
 
 
 @dataclass(frozen=True, slots=True)
@@ -99,6 +101,15 @@ class RunObserver(Protocol):
     def scenario_progress(self, scenario: Scenario, simulated_s: float) -> None: ...
 
     def scenario_finished(self, result: ScenarioResult) -> None: ...
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """The user pressed Ctrl-C: the run stopped, with the results of the scenarios that finished
+    (in the scenarios' order), so that their report and JUnit file can still be written."""
+
+    def __init__(self, results: list[ScenarioResult]):
+        super().__init__()
+        self.results = results
 
 
 class _Stop(VcError):
@@ -245,13 +256,19 @@ class _Run:
     # -- reporting -------------------------------------------------------------------------
 
     def failure(self, kind: str, message: str, mark: Mark, names: Sequence[Quantity]) -> Failure:
+        """The failure, its message followed by the alarms present (a cause the message may not name:
+        a wait for a signal the NC never set because an alarm stopped it); the recent history of ``names``."""
+        alarms = self.target.alarms()
+        if alarms and not isinstance(self.step, ExpectAlarm):  # those list the alarms themselves
+            message = f"{message}; alarms present: {alarms_text(alarms)}"
         trails = []
         for quantity in names:
             if quantity.kind is QuantityKind.TIME:
                 continue
             entries = self.recorder.recent(quantity, HISTORY_CHANGES, HISTORY_WINDOW_S)
             trails.append(SignalTrail(quantity.name, quantity.address,
-                                      tuple((self.seconds(cycle), value) for cycle, value in entries)))
+                                      tuple((self.seconds(cycle), value) for cycle, value in entries),
+                                      unit_of(quantity, self.scenario.machine)))
         return Failure(kind, self.step, mark, message, self.cycle, self.seconds(), tuple(trails))
 
     def fail(self, step: Step, message: str, names: Sequence[Quantity] | None = None) -> _Stop:
@@ -260,8 +277,11 @@ class _Run:
     def read(self, quantity: Quantity) -> float:
         return self.probe.reader(quantity)()
 
+    def shown(self, quantity: Quantity, value: float) -> str:
+        return format_value(value, unit_of(quantity, self.scenario.machine))
+
     def now(self, names: Sequence[Quantity], lead: str) -> str:
-        shown = [f"{q.name} = {format_value(self.read(q))}" for q in names if q.kind is not QuantityKind.TIME]
+        shown = [f"{q.name} = {self.shown(q, self.read(q))}" for q in names if q.kind is not QuantityKind.TIME]
         return lead + ", ".join(shown) if shown else ""
 
     # -- steps -----------------------------------------------------------------------------
@@ -326,19 +346,22 @@ def run_scenarios(scenarios: Sequence[Scenario], make_target: Callable[[Scenario
     ``check`` looks at each result before it is reported and may turn a pass into a failure
     (the golden-trace comparison does).  An exception while building or running a target (a
     harness error, not a scenario failure) is reported as that scenario's ``error`` and the
-    next scenario runs.
+    next scenario runs.  Ctrl-C raises :class:`RunInterrupted` with the results so far.
     """
-    results = []
+    results: list[ScenarioResult] = []
     names = trace_names(scenarios)
     directory = Path(trace_dir) if trace_dir is not None else None
-    for position, scenario in enumerate(scenarios):
-        if observer is not None:
-            observer.scenario_started(scenario, position, len(scenarios))
-        result = run_one(scenario, make_target, observer=observer, trace_dir=directory, trace_name=names[position],
-                         check=check)
-        if observer is not None:
-            observer.scenario_finished(result)
-        results.append(result)
+    try:
+        for position, scenario in enumerate(scenarios):
+            if observer is not None:
+                observer.scenario_started(scenario, position, len(scenarios))
+            result = run_one(scenario, make_target, observer=observer, trace_dir=directory,
+                             trace_name=names[position], check=check)
+            results.append(result)  # finished, even if Ctrl-C comes while it is reported
+            if observer is not None:
+                observer.scenario_finished(result)
+    except KeyboardInterrupt:
+        raise RunInterrupted(results) from None
     return results
 
 
@@ -363,8 +386,9 @@ def finish(result: ScenarioResult, trace_dir: Path | None, trace_name: str,
     file with the scenario's own names), then ``check`` (the golden comparison).  Where the run
     happened, or where its recording was sent back to."""
     if trace_dir is not None and result.recorder is not None:
+        machine = result.scenario.machine
         result.trace_files = write_traces(result.recorder, result.scenario.quantities, trace_dir, trace_name,
-                                          result.scenario.name)
+                                          result.scenario.name, lambda quantity: unit_of(quantity, machine))
     if check is not None:
         check(result)
 

@@ -231,6 +231,25 @@ class InOrder:
     def finished(self) -> list[ScenarioResult]:
         return [result for result in self.results if result is not None]
 
+    def report_rest(self) -> None:
+        """The run stops early: report the results that finished after a gap, in order (the report
+        names every scenario that finished)."""
+        if self.observer is None:
+            return
+        for result in self.results[self.reported:]:
+            if result is not None:
+                self.observer.scenario_finished(result)
+        self.reported = len(self.results)
+
+
+def rerun_lines(scenarios: Sequence[Scenario], lost: Mapping[int, Sequence[str]],
+                ran_on: Mapping[int, str]) -> list[str]:
+    """A sentence per scenario whose worker died while it held it: which workers, where it ran then
+    (workers named as the run names them: ``host:pid`` for ``-j``, the Dask worker's address)."""
+    return [f"{scenarios[position].name}: the worker {', '.join(workers)} died while it had this task; "
+            + (f"it ran again on {ran_on[position]}" if position in ran_on else "it did not finish on any worker")
+            for position, workers in sorted(lost.items())]
+
 
 # ---------------------------------------------------------------------------------- identity
 

@@ -6,7 +6,8 @@
 * Analog lanes: the axis and spindle quantities the scenario names, and position and velocity
   of every axis it names (or, naming none, of the axes that moved), machine data and link
   quantities it reads.
-* On the time axis: where each step began, the failing step and the moment of the failure; an
+* On the time axis: where each step began, the failing step and the moment of the failure, the
+  moments alarms were raised (from DB100's alarm list, with their numbers); an
   ``expect_timing`` window shaded on its ``to`` lane (from its ``from`` event plus ``min`` to
   plus ``max``), and the time a ``wait until`` may take shaded lightly on the lanes it watches.
 
@@ -20,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from interfaces.signals import SignalType
+from vc.config.model import MachineConfig
 from vc.scenario.model import (
     EdgeKind,
     ExpectCondition,
@@ -33,9 +35,9 @@ from vc.scenario.model import (
     Step,
     WaitUntil,
 )
-from vc.scenario.quantities import Quantity, QuantityKind, axis_quantity
+from vc.scenario.quantities import Quantity, QuantityKind, axis_quantity, unit_of
 from vc.scenario.runner import ScenarioResult
-from vc.scenario.trace import Recording
+from vc.scenario.trace import Recording, is_alarm_number
 
 MAX_DIGITAL_LANES = 24
 MAX_ANALOG_LANES = 6
@@ -73,6 +75,14 @@ class Window:
 
 
 @dataclass(frozen=True, slots=True)
+class AlarmMark:
+    """An alarm raised: the moment it entered DB100's alarm list."""
+
+    time_s: float
+    number: int
+
+
+@dataclass(frozen=True, slots=True)
 class TimingDiagram:
     title: str
     status: str  # PASS, FAIL, ERROR
@@ -83,6 +93,7 @@ class TimingDiagram:
     failure_s: float | None = None
     failure: str = ""  # where and what, one line
     left_out: int = 0  # lanes beyond the limits, not drawn
+    alarms: tuple[AlarmMark, ...] = ()
 
 
 def named_quantities(scenario: Scenario) -> list[Quantity]:
@@ -99,7 +110,8 @@ def named_quantities(scenario: Scenario) -> list[Quantity]:
 def diagram_quantities(scenario: Scenario, recording: Recording) -> list[Quantity]:
     """The recorded names a diagram of ``scenario`` shows (digital lanes first), within the limits."""
     digital, analog = _lanes_wanted(scenario, recording)
-    return digital[:MAX_DIGITAL_LANES] + analog[:MAX_ANALOG_LANES]
+    alarms = [history.quantity for history in recording.histories if is_alarm_number(history.quantity)]
+    return digital[:MAX_DIGITAL_LANES] + analog[:MAX_ANALOG_LANES] + alarms
 
 
 def _lanes_wanted(scenario: Scenario, recording: Recording) -> tuple[list[Quantity], list[Quantity]]:
@@ -141,7 +153,7 @@ def timing_diagram(result: ScenarioResult) -> TimingDiagram | None:
     digital, analog = _lanes_wanted(scenario, recording)
     left_out = max(0, len(digital) - MAX_DIGITAL_LANES) + max(0, len(analog) - MAX_ANALOG_LANES)
     end_s = max(result.simulated_s, recording.time_of(max(result.step_cycles, default=0)))
-    lanes = [_lane(recording, q) for q in digital[:MAX_DIGITAL_LANES] + analog[:MAX_ANALOG_LANES]]
+    lanes = [_lane(recording, q, scenario.machine) for q in digital[:MAX_DIGITAL_LANES] + analog[:MAX_ANALOG_LANES]]
     failure = result.failure
     failed_step = failure.step if failure is not None else None
     steps = tuple(StepMark(step.index, step.kind, recording.time_of(cycle), step is failed_step)
@@ -153,10 +165,32 @@ def timing_diagram(result: ScenarioResult) -> TimingDiagram | None:
     elif result.error:
         where = result.error.strip().splitlines()[-1] if result.error.strip() else "error"
     return TimingDiagram(scenario.name, result.status, tuple(lanes), steps, windows, end_s,
-                         failure.time_s if failure is not None else None, where, left_out)
+                         failure.time_s if failure is not None else None, where, left_out, alarm_marks(recording))
 
 
-def _lane(recording: Recording, quantity: Quantity) -> Lane:
+def alarm_marks(recording: Recording) -> tuple[AlarmMark, ...]:
+    """When each alarm was raised: the moments a number appeared in DB100's alarm list (its first
+    eight entries; an alarm that moves up the list as others go is not raised again)."""
+    histories = [history for history in recording.histories if is_alarm_number(history.quantity)]
+    changes = sorted((cycle, position, int(value)) for position, history in enumerate(histories)
+                     for cycle, value in history.entries())
+    entries = [0] * len(histories)
+    marks: list[AlarmMark] = []
+    present: set[int] = set()
+    index = 0
+    while index < len(changes):
+        cycle = changes[index][0]
+        while index < len(changes) and changes[index][0] == cycle:
+            _, position, number = changes[index]
+            entries[position] = number
+            index += 1
+        now = {number for number in entries if number}
+        marks += [AlarmMark(recording.time_of(cycle), number) for number in sorted(now - present)]
+        present = now
+    return tuple(marks)
+
+
+def _lane(recording: Recording, quantity: Quantity, machine: MachineConfig) -> Lane:
     history = recording.history(quantity)
     assert history is not None
     times = tuple(recording.time_of(cycle) for cycle in history.cycles)
@@ -165,9 +199,7 @@ def _lane(recording: Recording, quantity: Quantity) -> Lane:
     kind = ANALOG
     if ref is not None and ref.type is not SignalType.REAL:
         kind = DIGITAL if ref.bits == 1 else BUS
-    unit = {"position": "mm", "velocity": "mm/min", "setpoint": "mm", "followingError": "mm",
-            "physical": "mm"}.get(quantity.quantity, "") if quantity.kind is QuantityKind.AXIS else ""
-    return Lane(quantity.name, kind, times, values, unit)
+    return Lane(quantity.name, kind, times, values, unit_of(quantity, machine))
 
 
 def _windows(scenario: Scenario, result: ScenarioResult, recording: Recording, shown: set[str],

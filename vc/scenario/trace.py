@@ -3,7 +3,9 @@
 What is recorded, after every IPO cycle, when it changes:
 
 * every catalogue signal of type bool, bits, byte or word of every DB instance (double words
-  and reals, which often change every cycle, only when a scenario names them),
+  and reals, which often change every cycle, only when a scenario names them), and the numbers
+  of the alarms present in the alarm list of DB100 (``ALARMS.entry[1].in.number`` ..., double
+  words that change only with the list),
 * every plant I/O point,
 * position and velocity of every machine axis (when they move by more than 1e-6),
 * whatever else the scenario names (other axis quantities, raw addresses, double words, reals).
@@ -29,7 +31,7 @@ import csv
 import heapq
 import time as wallclock
 from array import array
-from collections.abc import Collection, Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol, runtime_checkable
@@ -37,7 +39,8 @@ from typing import Protocol, runtime_checkable
 from interfaces.address import Address
 from interfaces.image import Value, decode
 from interfaces.plant_io import PlantIoMap
-from interfaces.signals import ExpandedCatalog, SignalRef, SignalType
+from interfaces.signals import ALARMS_INSTANCE, ExpandedCatalog, SignalRef, SignalType
+from vc.escaping import csv_field, vcd
 from vc.scenario.model import EdgeKind
 from vc.scenario.quantities import Quantity, QuantityKind, axis_quantity, signal_quantity
 from vc.scenario.target import ScenarioTarget
@@ -178,12 +181,21 @@ class Recording:
             yield cycle, history, value
 
 
+def is_alarm_number(quantity: Quantity) -> bool:
+    """A number of DB100's alarm list (``ALARMS.entry[3].in.number``), recorded for the traces and the
+    diagrams' alarm marks; the golden traces compare the alarms as the list of those raised."""
+    ref = quantity.ref
+    return (ref is not None and ref.type is SignalType.DWORD and ref.signal is not None
+            and ref.signal.instance == ALARMS_INSTANCE)
+
+
 def recorded_quantities(catalog: ExpandedCatalog, plant_io: PlantIoMap, axes: Iterable[str],
                         watched: Iterable[Quantity] = ()) -> dict[str, Quantity]:
     """What a :class:`Recorder` records on a machine by default, and ``watched`` (by name): every
     bool, bits, byte and word signal, every plant I/O point, position and velocity of every axis."""
     found: dict[str, Quantity] = {}
-    chosen = [signal_quantity(item.ref()) for item in catalog.signals if item.type in RECORDED_TYPES]
+    chosen = [signal_quantity(item.ref()) for item in catalog.signals
+              if item.type in RECORDED_TYPES or (item.instance == ALARMS_INSTANCE and item.type is SignalType.DWORD)]
     chosen += [signal_quantity(point.ref()) for point in plant_io.points]
     chosen += [axis_quantity(axis, name) for axis in axes for name in RECORDED_AXIS_QUANTITIES]
     for quantity in (*chosen, *watched):
@@ -394,17 +406,23 @@ def _numbered(position: int, history: History) -> Iterator[tuple[int, int, Histo
 
 # ---------------------------------------------------------------------------------- writers
 
-CSV_HEADER = ("cycle", "time_s", "name", "value", "address")
+CSV_HEADER = ("cycle", "time_s", "name", "value", "address", "unit")
+Units = Callable[[Quantity], str]  # the unit of a quantity's values (vc.scenario.quantities.unit_of)
 
 
-def write_csv(recorder: Recording, path: str | Path) -> None:
-    """Long format, one row per change: ``cycle,time_s,name,value,address`` sorted by cycle and name."""
+def write_csv(recorder: Recording, path: str | Path, units: Units | None = None) -> None:
+    """Long format, one row per change: ``cycle,time_s,name,value,address,unit`` sorted by cycle and name."""
+    columns: dict[str, tuple[str, str, str]] = {}  # name -> its name, address and unit as written
+    for history in recorder.histories:
+        quantity = history.quantity
+        columns[quantity.name] = (csv_field(quantity.name), csv_field(quantity.address),
+                                  csv_field(units(quantity)) if units is not None else "")
     with open(path, "w", encoding="utf-8", newline="") as handle:
         writer = csv.writer(handle)
         writer.writerow(CSV_HEADER)
         for cycle, history, value in recorder.changes():
-            writer.writerow((cycle, f"{recorder.time_of(cycle):.6f}", history.quantity.name,
-                             _csv_value(value), history.quantity.address))
+            name, address, unit = columns[history.quantity.name]
+            writer.writerow((cycle, f"{recorder.time_of(cycle):.6f}", name, _csv_value(value), address, unit))
 
 
 def _csv_value(value: Value) -> str:
@@ -418,7 +436,7 @@ def vcd_scope_and_name(quantity: Quantity) -> tuple[str, str]:
     name = quantity.name
     if quantity.kind is QuantityKind.SIGNAL and scope != "PLANT" and name.startswith(prefix):
         name = name[len(prefix):]
-    return scope, name
+    return vcd(scope), vcd(name)
 
 
 def write_vcd(recorder: Recording, path: str | Path, date: str | None = None) -> None:
@@ -455,6 +473,18 @@ def _vcd_width(ref: SignalRef) -> int:
     return ref.bits if ref.type in (SignalType.BOOL, SignalType.BITS) else 8 * ref.address.size
 
 
+def gtkwave_name(quantity: Quantity) -> str:
+    """The name GTKWave gives a quantity of our VCD files: ``X1.\\basic.in.enc1Synchronized``.  GTKWave
+    reads a dot as the step into a scope, so a VCD name that holds dots is an escaped identifier to it
+    (a backslash before it); a signal of several bits carries its range, ``NC.\\basic.out.x[7:0]``.
+    A save file must name them so, or it shows nothing."""
+    scope, name = vcd_scope_and_name(quantity)
+    escaped = "\\" + name if "." in name else name
+    ref = quantity.ref
+    width = _vcd_width(ref) if ref is not None and ref.type is not SignalType.REAL else 1
+    return f"{scope}.{escaped}" + (f"[{width - 1}:0]" if width > 1 else "")
+
+
 def write_gtkw(recording: Recording, shown: Sequence[Quantity], path: str | Path, vcd_name: str,
                title: str = "") -> None:
     """A GTKWave save file for the VCD ``vcd_name`` beside it that opens with ``shown`` in view
@@ -466,7 +496,7 @@ def write_gtkw(recording: Recording, shown: Sequence[Quantity], path: str | Path
     save_name = Path(path).name
     with open(path, "w", encoding="utf-8") as handle:
         save = GTKWSave(handle)
-        save.comment(f"vc-harness: {title}" if title else "vc-harness")
+        save.comment(vcd(f"vc-harness: {title}") if title else "vc-harness")
         save.dumpfile(vcd_name, abspath=False)
         save.savefile(save_name, abspath=False)
         save.timestart(0)
@@ -476,23 +506,21 @@ def write_gtkw(recording: Recording, shown: Sequence[Quantity], path: str | Path
             history = recording.history(quantity)
             if history is None or not len(history):
                 continue
-            scope, name = vcd_scope_and_name(quantity)
-            full_name = f"{scope}.{name}"
             ref = quantity.ref
             if ref is None or ref.type is SignalType.REAL:
-                save.trace(full_name, datafmt="real", extraflags=GTKWFlag.analog_step)
+                save.trace(gtkwave_name(quantity), datafmt="real", extraflags=GTKWFlag.analog_step)
                 save.blank(analog_extend=True)
                 save.blank(analog_extend=True)
             else:
-                save.trace(full_name, datafmt="hex" if _vcd_width(ref) == 1 else "dec")
+                save.trace(gtkwave_name(quantity), datafmt="hex" if _vcd_width(ref) == 1 else "dec")
 
 
 def write_traces(recording: Recording, shown: Sequence[Quantity], directory: Path, name: str,
-                 title: str = "") -> list[str]:
+                 title: str = "", units: Units | None = None) -> list[str]:
     """``directory/name.csv``, ``.vcd`` and the GTKWave save file ``.gtkw``; the files written."""
     directory.mkdir(parents=True, exist_ok=True)
     csv_path, vcd_path, gtkw_path = (directory / f"{name}{suffix}" for suffix in (".csv", ".vcd", ".gtkw"))
-    write_csv(recording, csv_path)
+    write_csv(recording, csv_path, units)
     write_vcd(recording, vcd_path)
     write_gtkw(recording, shown, gtkw_path, vcd_path.name, title)
     return [str(csv_path), str(vcd_path), str(gtkw_path)]

@@ -154,10 +154,13 @@ def _number(value: float) -> str:
     return f"{value:.9g}" if abs(value) < 1e15 else repr(value)
 
 
-def format_value(value: float) -> str:
-    """An actual value for messages: whole numbers as such, others with up to 9 significant digits."""
+def format_value(value: float, unit: str = "") -> str:
+    """An actual value for messages: whole numbers as such, others with up to 9 significant digits;
+    followed by its ``unit`` when it has one (``600.0 rev/min``)."""
     if isinstance(value, int):
-        return str(value)
-    if value.is_integer() and abs(value) < 1e15:
-        return f"{value:.1f}"
-    return f"{value:.9g}"
+        shown = str(value)
+    elif value.is_integer() and abs(value) < 1e15:
+        shown = f"{value:.1f}"
+    else:
+        shown = f"{value:.9g}"
+    return f"{shown} {unit}" if unit else shown

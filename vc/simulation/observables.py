@@ -6,6 +6,8 @@ The scenario language, the harness and the FMU share this vocabulary.
 from __future__ import annotations
 
 from interfaces.errors import VcError
+from interfaces.signals import NCK_INSTANCE
+from vc.config.model import MachineConfig
 
 # Quantities of an axis or spindle that can be read besides interface signals
 # (mm and mm/min on a linear axis, degrees and rev/min on a rotary axis or spindle).
@@ -35,6 +37,18 @@ COUPLING_QUANTITY_MEANINGS = {
 }
 AXIS_QUANTITIES = tuple(AXIS_QUANTITY_MEANINGS) + tuple(COUPLING_QUANTITY_MEANINGS)
 
+# The unit of every quantity, declared once: the diagrams, the CSV traces and the reports read it here
+# (quantity_unit).  POSITION and VELOCITY stand for the axis's own units (AxisConfig.position_unit and
+# velocity_unit: mm and mm/min on a linear axis, degrees and rev/min on a rotary axis or spindle).
+# syncDeviation has none: degrees, or rev/min for a VV coupling.
+POSITION, VELOCITY = "<position>", "<velocity>"
+AXIS_QUANTITY_UNITS = {
+    "position": POSITION, "setpoint": POSITION, "velocity": VELOCITY, "followingError": POSITION,
+    "physical": POSITION, "programPosition": POSITION, "drfOffset": POSITION,
+    "couplingOffset": "deg", "couplingOffsetActual": "deg", "couplingOffsetProgrammed": "deg",
+    "couplingCorrection": "deg", "syncDeviation": "", "couplingRelationError": "deg",
+}
+
 # Quantities of a channel (CHAN1.toolTipX): the tool by the five-axis forward kinematics from the
 # actual machine positions, in workpiece coordinates (mm; the direction as a unit vector).
 CHANNEL_QUANTITY_MEANINGS = {
@@ -49,12 +63,25 @@ CHANNEL_QUANTITY_MEANINGS = {
     "liftfast": "$AC_LIFTFAST: 1 after a fast retraction in G33, 0 when the program resets it",
 }
 CHANNEL_QUANTITIES = tuple(CHANNEL_QUANTITY_MEANINGS)
+CHANNEL_QUANTITY_UNITS = {"toolTipX": "mm", "toolTipY": "mm", "toolTipZ": "mm"}  # the others have none
 
 # Quantities of the NCK and the drive line-up (NC.dcLinkVoltage).
 NCK_QUANTITY_MEANINGS = {
     "dcLinkVoltage": "voltage of the drive line-up's DC link, V (only on a machine with dc_link:)",
 }
 NCK_QUANTITIES = tuple(NCK_QUANTITY_MEANINGS)
+NCK_QUANTITY_UNITS = {"dcLinkVoltage": "V"}
+
+
+def quantity_unit(machine: MachineConfig, instance: str, quantity: str) -> str:
+    """The unit of ``instance.quantity`` on ``machine`` (``SP1.velocity``: rev/min); "" for none."""
+    if instance == NCK_INSTANCE:
+        return NCK_QUANTITY_UNITS.get(quantity, "")
+    axis = next((axis for axis in machine.axes if axis.name == instance), None)
+    if axis is None:
+        return CHANNEL_QUANTITY_UNITS.get(quantity, "")
+    unit = AXIS_QUANTITY_UNITS.get(quantity, "")
+    return axis.position_unit if unit == POSITION else axis.velocity_unit if unit == VELOCITY else unit
 
 # Faults of the simulated machine a scenario can inject:
 #   zero_marks_missing       the encoder's zero-mark track is not seen (dirty, broken)

@@ -10,8 +10,9 @@ import pytest
 
 from vc.bench.robustness.campaign import CampaignSettings, Row, table
 from vc.bench.robustness.can_noise import run_can_noise
+from vc.bench.robustness.control_characters import run_control_characters
 from vc.bench.robustness.flood import run_flood
-from vc.bench.robustness.modbus_fuzz import run_modbus_fuzz
+from vc.bench.robustness.modbus_fuzz import _Tally, run_modbus_fuzz
 from vc.bench.robustness.s7_probe import run_s7_probe
 from vc.bench.robustness.soak import run_soak
 
@@ -31,6 +32,13 @@ def test_modbus_fuzz() -> None:
     _clean(row)
     assert row.inputs >= SHORT.modbus_frames + 300  # and the 200 connections and 100 half-open ones
     assert any("pipelining" in line for line in said) and any("half-open" in line for line in said)
+    assert not any("_Tally(" in line for line in said), said
+
+
+def test_the_modbus_progress_reads_as_figures() -> None:
+    tally = _Tally(frames=120, lost=1, hangs=0, violations=2, refused_connections=3)
+    assert str(tally) == ("so far 120 frames, 1 lost, 0 hangs, 2 rule violations, 3 connections closed by the"
+                          " server when full")
 
 
 def test_modbus_flood() -> None:
@@ -57,3 +65,12 @@ def test_soak() -> None:
     row = run_soak(SHORT, lambda text: None)
     _clean(row)
     assert row.rss_growth_pct is not None and "RSS server" in row.notes
+
+
+def test_control_characters() -> None:
+    """Names with control characters through vc run's console, JUnit, CSV, VCD, GTKWave and HTML outputs:
+    nothing of them gets through (before the escaping: 77 findings)."""
+    row = run_control_characters(SHORT, lambda text: None)
+    _clean(row)
+    assert row.inputs == 13
+    assert row.notes.startswith("findings: terminal 0, JUnit 0, CSV 0, VCD 0, GTKWave 0, HTML 0; exit code 1")

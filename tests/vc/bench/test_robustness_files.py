@@ -19,6 +19,7 @@ from vc.bench.robustness.files import (
     run_file_mutations,
     table,
 )
+from vc.located_yaml import Mark, Problem
 
 PROBE_THAT_CAN_FAIL = b"""\
 name: probe
@@ -132,3 +133,23 @@ def test_the_wall_bound_keeps_a_timer_that_runs_already() -> None:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
     assert fired == []
+
+
+def test_a_problem_past_the_end_of_the_file_or_over_two_lines_is_a_wrong_location(tmp_path: Path) -> None:
+    mutant = tmp_path / "m.yaml"
+    mutant.write_text("name: x\nsteps:\n  - wait: [1s\n")  # three lines, the last one ended
+    involved = {str(mutant)}
+
+    def judged(line: int, message: str = "YAML syntax error") -> str:
+        return robustness_files._location_problem(Problem(
+            Mark(str(mutant), line, 1), message), involved, tmp_path)
+
+    assert judged(3) == ""
+    assert judged(4).startswith("line 4 of a file of 3 lines")
+
+    class Raw(Problem):  # a problem printed as it was before problems were kept on one line
+        def __str__(self) -> str:
+            return f"{self.mark}: {self.message}"
+
+    split = Raw(Mark(str(mutant), 1, 1), "unknown signal 'MCP.mda\nN55 M3'")
+    assert robustness_files._location_problem(split, involved, tmp_path).startswith("printed over more than one line")

@@ -121,3 +121,13 @@ def test_commands_find_the_default_machine_by_name_from_any_directory(
     unknown.write_text("name: an unknown machine\nmachine: lathe\nplc: basic_machine\nsteps:\n  - wait: 20ms\n")
     assert main(["run", str(unknown)]) == 2
     assert f"{unknown}:2:10: no machine file 'lathe' and no packaged machine" in capsys.readouterr().out
+
+
+def test_run_takes_at_most_four_worker_processes_per_core(capsys: pytest.CaptureFixture[str]) -> None:
+    from vc.scenario.parallel import max_workers
+
+    assert build_parser().parse_args(["run", "-j", str(max_workers())]).jobs == max_workers()
+    with pytest.raises(SystemExit) as exit_code:
+        build_parser().parse_args(["run", "-j", "100000"])
+    assert exit_code.value.code == 2
+    assert f"100000: from 1 to {max_workers()} (4 worker processes per core)" in capsys.readouterr().err

@@ -4,13 +4,17 @@ the run loses no variant and its re-run is reported."""
 
 from __future__ import annotations
 
+import contextlib
+import http.server
 import io
 import json
 import os
 import re
 import signal
+import socket
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Iterator
 from dataclasses import replace
@@ -21,15 +25,19 @@ from rich.console import Console
 
 from interfaces.links.inprocess import plc_programs
 from vc.harness.targets import simulation_for
+from vc.scenario import cluster as cluster_module
 from vc.scenario.cluster import (
+    STARTED_TOPIC,
     Bundle,
     ClusterError,
     ClusterSettings,
     SharedFiles,
+    check_scheduler,
     run_task,
 )
 from vc.scenario.command import EXIT_FAILED, EXIT_PASSED, EXIT_PROBLEMS, run_command
 from vc.scenario.loader import load_scenarios
+from vc.scenario.parallel import MAX_WORKERS_PER_CORE, max_workers
 from vc.scenario.runner import trace_names
 from vc.scenario.tasks import SEND_ALL, Identity, RunSettings, ScenarioTask, identity_of
 
@@ -95,6 +103,7 @@ def test_a_local_cluster_gives_the_serial_report_junit_and_traces(serial_run: tu
 
 def test_workers_on_a_shared_path_write_the_traces_themselves(serial_run: tuple[Path, str], tmp_path: Path,
                                                               dask_cli_cluster: str) -> None:
+    check_scheduler(ClusterSettings(dask_cli_cluster))  # a real scheduler greets as one, and takes the answer
     serial, serial_report = serial_run
     code, report = _run([CAMPAIGN], tmp_path, golden=str(serial / "golden"),
                         cluster=ClusterSettings(dask_cli_cluster, "shared"))
@@ -170,21 +179,24 @@ def test_a_worker_killed_mid_run_loses_no_variant(dask_cli_cluster: str, tmp_pat
     command = [str(vc), "run", DWELL_CAMPAIGN, "--cluster", dask_cli_cluster, "--junit", str(junit)]
     with Client(dask_cli_cluster, timeout="30s") as client:
         pids = client.run(os.getpid)
+        since = time.time()
         run = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, cwd=ROOT)
         try:
             victim = ""
 
             def running_a_variant() -> bool:
+                """A worker started a variant of this run (the task's own event; the scheduler also
+                counts the next task it queued for the worker as processing)."""
                 nonlocal victim
-                for worker, keys in client.processing().items():
-                    if any(str(key).startswith("vc-scenario-") for key in keys) and worker in pids:
-                        victim = worker
+                for stamp, message in client.get_events(STARTED_TOPIC):
+                    if stamp >= since and str(message["key"]).startswith("vc-scenario-") \
+                            and message["worker"] in pids:
+                        victim = message["worker"]
                         return True
                 return False
 
             _wait_for(running_a_variant, "a worker ran a variant")
-            time.sleep(0.3)  # well inside the variant (each takes about 0.3 s and more)
-            os.kill(pids[victim], signal.SIGKILL)
+            os.kill(pids[victim], signal.SIGKILL)  # inside the variant: each takes 0.3 s and more
             output, _ = run.communicate(timeout=RUN_TIMEOUT_S)
         finally:
             if run.poll() is None:
@@ -193,8 +205,11 @@ def test_a_worker_killed_mid_run_loses_no_variant(dask_cli_cluster: str, tmp_pat
     text = output.decode()
     assert run.returncode == EXIT_FAILED, text
     assert "15 passed, 5 failed, 0 errors of 20 scenarios" in text
-    assert re.search(rf"re-run: JOG of X1 .*\[.*\]: the worker {re.escape(victim)} died while it had this task;"
-                     r" it ran again on \S+", text), text
+    # one line: the variant the killed worker ran, not the one queued for it; both workers named by address
+    reruns = [line for line in text.splitlines() if line.startswith("re-run: ")]
+    assert len(reruns) == 1, text
+    assert re.fullmatch(rf"re-run: JOG of X1 .*\[.*\]: the worker {re.escape(victim)} died while it had this task;"
+                        r" it ran again on tcp://127\.0\.0\.1:\d+", reruns[0]), text
     assert _same(junit.read_text(), junit.parent) == _same((serial / "junit.xml").read_text(), serial)
 
 
@@ -234,8 +249,72 @@ def test_a_worker_with_other_code_refuses_the_task() -> None:
 
 
 def test_a_cluster_that_cannot_be_used_is_a_clear_problem(tmp_path: Path) -> None:
-    with pytest.raises(ClusterError, match="local:N needs a number of workers from 1"):
+    with pytest.raises(ClusterError, match="local:N starts N worker processes on this machine, from 1 to"):
         _ = ClusterSettings("local:0").local_workers
     code, report = _run([CAMPAIGN], tmp_path, cluster=ClusterSettings("local:x"))
-    assert code == EXIT_PROBLEMS and "vc run: --cluster local:x: local:N needs a number of workers" in report
+    assert code == EXIT_PROBLEMS and "vc run: --cluster local:x: local:N starts N worker processes" in report
     assert EXIT_PASSED == 0
+
+
+@pytest.mark.parametrize(("address", "message"), [
+    ("garbage", "no host garbage"),
+    ("http://", "a web address; the scheduler's address is tcp://HOST:8786"),
+    ("https://127.0.0.1:8787/status", "a web address; the scheduler's address is tcp://HOST:8786"),
+    ("tls://127.0.0.1:8786", "vc run reaches a scheduler over tcp:// only, not tls://"),
+    ("ucx://127.0.0.1:8786", "vc run reaches a scheduler over tcp:// only, not ucx://"),
+    ("tcp://", "not a scheduler address: tcp://HOST:PORT"),
+    ("tcp://127.0.0.1:99999", "the port is a number from 1 to 65535"),
+    ("127.0.0.1:1", "nothing listens at 127.0.0.1:1"),
+    ("local:100000", f"from 1 to {max_workers()} ({MAX_WORKERS_PER_CORE} per core)"),
+], ids=["garbage", "http", "https", "tls", "ucx", "no-host", "port", "nothing-listens", "local-100000"])
+def test_an_address_that_names_no_scheduler_is_a_problem_before_the_run(address: str, message: str,
+                                                                         tmp_path: Path) -> None:
+    began = time.monotonic()
+    code, report = _run([CAMPAIGN], tmp_path, traces=False, cluster=ClusterSettings(address))
+    assert code == EXIT_PROBLEMS, report
+    assert report.strip().startswith(f"vc run: --cluster {address}: ") and message in report, report
+    assert "Traceback" not in report and time.monotonic() - began < 30
+
+
+class _Banner(threading.Thread):
+    """A service that greets every connection with a line of its own and closes it (an SSH server)."""
+
+    def __init__(self, listener: socket.socket):
+        super().__init__(daemon=True)
+        self.listener = listener
+
+    def run(self) -> None:
+        with contextlib.suppress(OSError):
+            while True:
+                connection, _ = self.listener.accept()
+                with connection:
+                    connection.sendall(b"SSH-2.0-OpenSSH_9.2p1 Debian-2\r\n")
+
+
+@pytest.mark.parametrize(("service", "message"), [
+    ("http", "accepts connections but sends no Dask greeting within 1 s: not a Dask scheduler"),
+    ("silent", "accepts connections but sends no Dask greeting within 1 s: not a Dask scheduler"),
+    ("banner", "something answers at 127.0.0.1:{port}, but not a Dask scheduler (its first bytes are b'SSH-2.0-'"),
+])
+def test_a_service_that_is_no_dask_scheduler_is_refused_within_the_probe_time(
+        service: str, message: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Dask itself tried to allocate 3.07 EiB on an HTTP server's answer and waited more than 200 s on a silent
+    listener: the address is probed first, for as long as PROBE_TIMEOUT_S (1 s here)."""
+    monkeypatch.setattr(cluster_module, "PROBE_TIMEOUT_S", 1.0)
+    with contextlib.ExitStack() as stack:
+        if service == "http":
+            server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), http.server.SimpleHTTPRequestHandler)
+            stack.callback(server.server_close)
+            threading.Thread(target=server.serve_forever, daemon=True).start()
+            stack.callback(server.shutdown)
+            port = server.server_address[1]
+        else:
+            listener = stack.enter_context(socket.create_server(("127.0.0.1", 0)))
+            port = listener.getsockname()[1]
+            if service == "banner":
+                _Banner(listener).start()
+        began = time.monotonic()
+        code, report = _run([CAMPAIGN], tmp_path, traces=False, cluster=ClusterSettings(f"tcp://127.0.0.1:{port}"))
+    assert code == EXIT_PROBLEMS, report
+    assert message.format(port=port) in report, report
+    assert "Traceback" not in report and time.monotonic() - began < 20

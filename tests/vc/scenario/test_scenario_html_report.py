@@ -126,19 +126,41 @@ def test_the_page_loads_in_headless_chromium_with_every_image(report: tuple[Path
     check.write_text((directory / "index.html").read_text(encoding="utf-8").replace("</body>", script + "</body>"),
                      encoding="utf-8")
     try:
-        done = subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu",
-                               "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                               "--no-first-run", f"--user-data-dir={tmp_path / 'profile'}",
-                               "--virtual-time-budget=10000", "--dump-dom", check.as_uri()],
-                              capture_output=True, text=True, timeout=180, check=False)
+        dom = _dom_in_chromium(check, tmp_path)
     finally:
         check.unlink()
-    found = re.search(r'<pre id="image-check">(.*?)</pre>', done.stdout)
-    assert found is not None, done.stdout[-2000:] + done.stderr[-2000:]
+    found = re.search(r'<pre id="image-check">(.*?)</pre>', dom)
+    assert found is not None, dom[-2000:]
     images = json.loads(found.group(1).replace("&quot;", '"').replace("&amp;", "&"))
     assert len(images) == 7
     for source, complete, width, height in images:
         assert complete and width == 1200 and height > 300, source
+
+
+def _dom_in_chromium(page: Path, tmp_path: Path) -> str:
+    """The page's DOM after Debian's headless Chromium loaded it (and its scripts ran)."""
+    assert CHROMIUM is not None, "chromium is required here (VC_REQUIRE_CHROMIUM is set)"
+    done = subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu",
+                           "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                           "--no-first-run", f"--user-data-dir={tmp_path / 'profile'}",
+                           "--virtual-time-budget=10000", "--dump-dom", page.as_uri()],
+                          capture_output=True, text=True, timeout=180, check=False)
+    assert done.returncode == 0 and "</html>" in done.stdout, done.stdout[-2000:] + done.stderr[-2000:]
+    return done.stdout
+
+
+@needs_chromium
+def test_a_name_with_control_characters_shows_them_as_escapes_in_chromium(tmp_path: Path) -> None:
+    """The page's title and headings show the name's escape sequence as text: nothing of it reaches the DOM."""
+    output = io.StringIO()
+    name = "a\\e[2K\\e[1GPASS\\u202e <b>bold</b>"  # YAML escapes: ESC, a right-to-left override, markup
+    code = run_command([_short_failing(tmp_path, name)], simulation_for, plc_programs().keys(),
+                       console=Console(file=output, width=300), report_dir=tmp_path / "report")
+    assert code == EXIT_FAILED
+    dom = _dom_in_chromium(tmp_path / "report" / "index.html", tmp_path)
+    assert "a\\x1b[2K\\x1b[1GPASS\\u202e &lt;b&gt;bold&lt;/b&gt;" in dom
+    assert not re.search("[\x00-\x08\x0b-\x1f\x7f-\x9f\u202a-\u202e]", dom)
+    assert "<b>bold</b>" not in dom
 
 
 def test_a_timing_diagram_has_lanes_steps_the_failure_and_the_expected_window() -> None:
@@ -174,3 +196,38 @@ def test_vc_run_plot_writes_one_variants_diagram(tmp_path: Path, monkeypatch: py
     assert main(["run", "--plot", str(ROOT / PLAIN)]) == EXIT_PASSED  # no display: written here
     assert (tmp_path / "jog_traverse.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert main(["run", "--plot", f"{ROOT / CAMPAIGN}[X1.MD32020=7]"]) == 2
+
+
+def _short_failing(tmp_path: Path, name: str) -> str:
+    path = tmp_path / "named.yaml"
+    path.write_text(f'name: "{name}"\nmachine: turn_mill\nplc: basic_machine\nsteps:\n  - wait: 20ms\n'
+                    "  - expect: {X1.position: 5}\n")
+    return str(path)
+
+
+def test_a_name_that_looks_like_mathtext_is_drawn_as_written(tmp_path: Path) -> None:
+    """matplotlib's mathtext parser raised on ``$x^{$`` after the run, and no page was written."""
+    output = io.StringIO()
+    code = run_command([_short_failing(tmp_path, "$x^{$ and $\\\\alpha$")], simulation_for, plc_programs().keys(),
+                       console=Console(file=output, width=300), report_dir=tmp_path / "report")
+    assert code == EXIT_FAILED, output.getvalue()
+    text = (tmp_path / "report" / "index.html").read_text(encoding="utf-8")
+    page = _Page()
+    page.feed(text)
+    assert len(page.images) == 1 and "could not be drawn" not in text
+    assert "$x^{$ and $\\alpha$" in text
+
+
+def test_a_diagram_that_cannot_be_drawn_leaves_the_page(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from vc.scenario import diagram
+
+    def broken(*arguments: object) -> tuple[int, int]:
+        raise ValueError("no room for the lanes")
+
+    monkeypatch.setattr(diagram, "save", broken)
+    output = io.StringIO()
+    code = run_command([_short_failing(tmp_path, "plain")], simulation_for, plc_programs().keys(),
+                       console=Console(file=output, width=300), report_dir=tmp_path / "report")
+    assert code == EXIT_FAILED
+    text = (tmp_path / "report" / "index.html").read_text(encoding="utf-8")
+    assert "the timing diagram could not be drawn: ValueError: no room for the lanes" in text

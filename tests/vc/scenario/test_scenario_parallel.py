@@ -8,6 +8,7 @@ import re
 import signal
 import subprocess
 import sys
+import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 
 import pytest
@@ -85,8 +86,56 @@ def test_a_worker_that_dies_costs_no_scenario(tmp_path: Path, monkeypatch: pytes
     assert "feed_stop.yaml" in report
 
 
-def test_ctrl_c_stops_the_workers_and_says_how_far_the_run_got() -> None:
-    process = subprocess.Popen([sys.executable, "-m", "vc.cli.main", "run", "scenarios", "-j", "2"], cwd=ROOT,
+def _dies_once_in_each(scenario: Scenario) -> Simulation:
+    """A target factory whose worker process dies at the first build of each of two scenarios."""
+    for stem in ("feed_stop", "mode_changes"):
+        marker = Path(os.environ["VC_TEST_DIE_MARKER"] + stem)
+        if scenario.path.endswith(f"{stem}.yaml") and not marker.exists():
+            marker.write_text("died")
+            os._exit(9)
+    return simulation_for(scenario)
+
+
+def _always_dies_in_feed_stop(scenario: Scenario) -> Simulation:
+    if scenario.path.endswith("feed_stop.yaml"):
+        os._exit(9)
+    return simulation_for(scenario)
+
+
+WORKER = r"\S+:\d+"  # host:pid, the one way workers are named
+
+
+def test_two_workers_that_die_cost_only_what_they_held_and_are_named(tmp_path: Path,
+                                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    """Before, each death broke the pool and charged every pending scenario an attempt: after two deaths
+    the scenarios that never ran were errors ("died 2 times")."""
+    monkeypatch.setenv("VC_TEST_DIE_MARKER", str(tmp_path / "died-"))
+    code, report = _run([FOUNDATION], 2, tmp_path, _dies_once_in_each)
+    assert code == EXIT_PASSED, report
+    assert "15 passed, 0 failed, 0 errors of 15 scenarios" in report
+    reruns = [line for line in report.splitlines() if line.startswith("re-run: ")]
+    assert len(reruns) == 2, report
+    for line, scenario in zip(reruns, ("Feed stop", "Mode changes"), strict=True):
+        assert re.fullmatch(rf"re-run: {scenario}.*: the worker {WORKER} died while it had this task;"
+                            rf" it ran again on {WORKER}", line), line
+
+
+def test_a_scenario_whose_worker_dies_twice_is_the_only_error(tmp_path: Path) -> None:
+    code, report = _run([FOUNDATION], 2, tmp_path, _always_dies_in_feed_stop)
+    assert code == EXIT_FAILED
+    assert "14 passed, 0 failed, 1 errors of 15 scenarios" in report, report
+    assert "the worker process running this scenario died 2 times (killed or out of memory)" in report
+    (rerun,) = [line for line in report.splitlines() if line.startswith("re-run: ")]
+    assert re.fullmatch(rf"re-run: Feed stop.*: the worker {WORKER}, {WORKER} died while it had this task;"
+                        " it did not finish on any worker", rerun), rerun
+
+
+@pytest.mark.parametrize("jobs", ["2", "1"])
+def test_ctrl_c_stops_the_workers_and_keeps_the_junit_and_the_report_of_what_finished(jobs: str,
+                                                                                       tmp_path: Path) -> None:
+    junit, page = tmp_path / "junit.xml", tmp_path / "report" / "index.html"
+    process = subprocess.Popen([sys.executable, "-m", "vc.cli.main", "run", "scenarios", "-j", jobs, "--junit",
+                                str(junit), "--report", str(tmp_path / "report")], cwd=ROOT,
                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     assert process.stdout is not None
     seen = []
@@ -95,6 +144,17 @@ def test_ctrl_c_stops_the_workers_and_says_how_far_the_run_got() -> None:
         if line.startswith("PASS"):  # the workers are running
             process.send_signal(signal.SIGINT)
             break
-    rest, _ = process.communicate(timeout=60)
+    rest, _ = process.communicate(timeout=120)
     assert process.returncode == EXIT_INTERRUPTED, "".join(seen) + rest
-    assert re.search(r"interrupted after \d+ of \d+ scenarios", rest), rest
+    found = re.search(r"interrupted after (\d+) of (\d+) scenarios", rest)
+    assert found is not None, rest
+    finished, total = int(found.group(1)), int(found.group(2))
+    assert 1 <= finished < total
+    suite = ElementTree.parse(junit).getroot().find("testsuite")
+    assert suite is not None and suite.get("tests") == str(total) and suite.get("skipped") == str(total - finished)
+    interrupted = suite.find("properties/property[@name='interrupted']")
+    assert interrupted is not None and f"after {finished} of {total}" in str(interrupted.get("value"))
+    skipped = suite.findall("testcase/skipped")
+    assert len(skipped) == total - finished and all("interrupted" in str(s.get("message")) for s in skipped)
+    text = page.read_text(encoding="utf-8")
+    assert f"The run was interrupted (Ctrl-C) after {finished} of {total} scenarios" in text

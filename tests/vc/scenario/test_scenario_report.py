@@ -54,11 +54,11 @@ def test_console_lines(tmp_path: Path) -> None:
     assert lines[0].startswith(f"PASS  moves to 10  {tmp_path}/pass.yaml  0.102 s simulated, ")
     assert lines[1].startswith(f"FAIL  expects too much  {tmp_path}/fail.yaml  0.05 s simulated, ")
     assert lines[2] == f"      step 4 (expect) at {tmp_path}/fail.yaml:8:5"
-    assert lines[3] == "      expected X1.position = 10 ± 0.001, found 5"
+    assert lines[3] == "      expected X1.position = 10 ± 0.001, found 5 mm"
     assert lines[4] == "      history before the failure at 0.050 s:"
     assert lines[5].split() == ["signal", "address", "time", "value"]
-    assert lines[6].split() == ["X1.position", "0.032", "s", "3.2"]
-    assert lines[-1].split() == ["0.050", "s", "5"]
+    assert lines[6].split() == ["X1.position", "0.032", "s", "3.2", "mm"]
+    assert lines[-1].split() == ["0.050", "s", "5", "mm"]
     assert lines[-1].startswith("      ") and len(lines) == 16
 
 
@@ -66,8 +66,8 @@ def test_failure_text(tmp_path: Path) -> None:
     failed = results(tmp_path)[1]
     text = failure_text(failed)
     assert text.splitlines()[0] == (f"step 4 (expect) at {tmp_path}/fail.yaml:8:5:"
-                                    " expected X1.position = 10 ± 0.001, found 5")
-    assert text.splitlines()[2].startswith("  X1.position: 0.032 s = 3.2, 0.034 s = 3.4,")
+                                    " expected X1.position = 10 ± 0.001, found 5 mm")
+    assert text.splitlines()[2].startswith("  X1.position: 0.032 s = 3.2 mm, 0.034 s = 3.4 mm,")
 
 
 def test_progress_appears_only_after_a_second(tmp_path: Path) -> None:
@@ -114,7 +114,7 @@ def test_junit(tmp_path: Path) -> None:
     failure = cases[1].find("failure")
     assert failure is not None
     assert failure.get("message") == (f"step 4 (expect) at {tmp_path}/fail.yaml:8:5:"
-                                      " expected X1.position = 10 ± 0.001, found 5")
+                                      " expected X1.position = 10 ± 0.001, found 5 mm")
     assert failure.get("type") == "step"
     assert failure.text is not None and "X1.position: 0.032 s = 3.2" in failure.text
 

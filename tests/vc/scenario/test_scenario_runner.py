@@ -101,7 +101,7 @@ steps:
     failure = result.failure
     assert failure is not None and failure.kind == "timeout"
     assert failure.message == ("the scenario's timeout of 1 s was reached"
-                               ' while waiting for "X1.position > 1". Now: X1.position = 0.0')
+                               ' while waiting for "X1.position > 1". Now: X1.position = 0.0 mm')
     assert failure.where == f"timeout during step 2 (wait) at {tmp_path}/scenario.yaml:7:5"
     assert result.cycles == 500
 
@@ -120,7 +120,7 @@ steps:
     # 50 mm at 0.2 mm per cycle: cycle 250 reaches 50.0 (started in cycle 1)
     assert failure.cycle == 250
     assert failure.message == ('invariant "X1.position < 50" was violated at cycle 250 (t = 0.5 s):'
-                               " X1.position = 50")
+                               " X1.position = 50 mm")
     assert (failure.mark.line, failure.mark.column) == (5, 5)
     assert failure.where == f"invariant at {tmp_path}/scenario.yaml:5:5, during step 4 (wait, line 11)"
     trail = failure.history[0]
@@ -136,7 +136,7 @@ def test_expect_values_report_expected_and_found(tmp_path: Path) -> None:
 """)
     failure = result.failure
     assert failure is not None
-    assert failure.message == ("expected X1.position = 100 ± 0.001, found 52;"
+    assert failure.message == ("expected X1.position = 100 ± 0.001, found 52 mm;"
                                " expected CHAN1.basic.in.stateReset = 1, found 0")
     assert failure.where == f"step 5 (expect) at {tmp_path}/scenario.yaml:9:5"
     assert [trail.name for trail in failure.history] == [
@@ -147,7 +147,7 @@ def test_expect_condition(tmp_path: Path) -> None:
     result = run(tmp_path, 'steps:\n  - expect: "X1.position > 50 and not MCP.jog"\n')
     assert result.failure is not None
     assert result.failure.message == ("expected X1.position > 50 and not MCP.jog;"
-                                      " found X1.position = 0.0, MCP.jog = 0")
+                                      " found X1.position = 0.0 mm, MCP.jog = 0")
 
 
 def test_division_by_zero_fails_the_step(tmp_path: Path) -> None:

@@ -3,8 +3,12 @@
 from __future__ import annotations
 
 import csv
+import os
+import shutil
+import subprocess
 from pathlib import Path
 
+import pytest
 from scenario_fakes import FakeTarget, ImageFakeTarget, SimpleNc, machine, scenario
 from vcd.reader import TokenKind, tokenize
 
@@ -48,15 +52,15 @@ def test_csv_round_trip(tmp_path: Path) -> None:
     write_csv(recorder, path)
     with open(path, encoding="utf-8", newline="") as handle:
         rows = list(csv.reader(handle))
-    assert rows[0] == ["cycle", "time_s", "name", "value", "address"]
+    assert rows[0] == ["cycle", "time_s", "name", "value", "address", "unit"]
     body = rows[1:]
     assert body == sorted(body, key=lambda row: (int(row[0]), row[2]))
     changes = [row for row in body if row[0] != "0"]
     # 0.1 mm per cycle: X1 arrives after 10 cycles and reports standstill one cycle later
-    assert ["0", "0.000000", "CHAN1.basic.out.ncStart", "1", "DB21.DBX7.1"] in body
-    assert ["10", "0.020000", "CHAN1.basic.out.ncStart", "0", "DB21.DBX7.1"] in changes
-    assert ["11", "0.022000", "X1.basic.in.posFineReached", "1", "DB31.DBX60.7"] in changes
-    assert ["0", "0.000000", "MCP.feedOverride", "80", "IB4"] in body
+    assert ["0", "0.000000", "CHAN1.basic.out.ncStart", "1", "DB21.DBX7.1", ""] in body
+    assert ["10", "0.020000", "CHAN1.basic.out.ncStart", "0", "DB21.DBX7.1", ""] in changes
+    assert ["11", "0.022000", "X1.basic.in.posFineReached", "1", "DB31.DBX60.7", ""] in changes
+    assert ["0", "0.000000", "MCP.feedOverride", "80", "IB4", ""] in body
     positions = [float(row[3]) for row in body if row[2] == "X1.position"]
     assert positions[0] == 0.0 and positions[-1] == 1.0 and len(positions) == 11
     # the setpoint is recorded because the scenario names it; the physical position is not
@@ -123,30 +127,54 @@ def _vcd_names(path: Path) -> dict[str, str]:
     return names
 
 
-def test_the_gtkwave_save_file_shows_the_scenarios_own_signals(tmp_path: Path) -> None:
-    """The .gtkw names the VCD beside it and traces exactly the names the scenario uses, each as the VCD
-    has it: digital signals as traces, reals and axis quantities as analog steps (GTKWave's save-file
-    flags: 0x22 hex right-justified, 0x24 dec, 0x48020 real + analog step)."""
+GTKWAVE, XVFB_RUN = shutil.which("gtkwave"), shutil.which("xvfb-run")
+needs_gtkwave = pytest.mark.skipif((GTKWAVE is None or XVFB_RUN is None) and not os.environ.get("VC_REQUIRE_GTKWAVE"),
+                                   reason="Debian's gtkwave and xvfb are not installed (.ci/run installs them)")
+# GTKWave's own Tcl: the traces the save file put in view, by index (a blank row has no name)
+TRACES_IN_VIEW = """
+set count [gtkwave::getTotalNumTraces]
+for {set index 0} {$index < $count} {incr index} { puts "vc-trace [gtkwave::getTraceNameFromIndex $index]" }
+gtkwave::/File/Quit
+"""
+
+
+def gtkwave_traces(save_file: Path) -> list[str]:
+    """The names of the traces GTKWave shows when it opens ``save_file`` (headless, under xvfb-run)."""
+    script = save_file.with_name("traces_in_view.tcl")
+    script.write_text(TRACES_IN_VIEW)
+    done = subprocess.run(["xvfb-run", "-a", "gtkwave", "-S", str(script), str(save_file)], capture_output=True,
+                          text=True, timeout=120, cwd=save_file.parent)
+    assert done.returncode == 0, done.stdout + done.stderr
+    return [line.removeprefix("vc-trace ") for line in done.stdout.splitlines()
+            if line.startswith("vc-trace ") and line.strip() != "vc-trace"]
+
+
+@needs_gtkwave
+def test_gtkwave_opens_the_save_file_with_the_scenarios_own_signals_in_view(tmp_path: Path) -> None:
+    """GTKWave itself opens the .gtkw: the VCD beside it, and exactly the names the scenario uses in view, each
+    as GTKWave names it (a dotted VCD name is an escaped identifier, a byte carries its bit range): digital
+    signals as traces, reals and axis quantities as analog steps (GTKWave's save-file flags: 0x22 hex
+    right-justified, 0x24 dec, 0x48020 real + analog step)."""
     source = scenario(tmp_path, MOVE)
     result = run_scenario(source, FakeTarget(machine(), SimpleNc()))
     assert result.recorder is not None
     files = write_traces(result.recorder, source.quantities, tmp_path / "traces", "move", "a move")
     assert [Path(file).name for file in files] == ["move.csv", "move.vcd", "move.gtkw"]
-    lines = (tmp_path / "traces" / "move.gtkw").read_text().splitlines()
+    save_file = tmp_path / "traces" / "move.gtkw"
+    lines = save_file.read_text().splitlines()
     assert lines[:3] == ["[*] vc-harness: a move", '[dumpfile] "move.vcd"', '[savefile] "move.gtkw"']
+    assert gtkwave_traces(save_file) == ["\\basic.out.mdaMode", "\\MCP.feedOverride[7:0]", "\\basic.out.ncStart",
+                                         "\\basic.in.posFineReached", "\\X1.setpoint"]
     traced = [line for line in lines if line and line[0] not in "[@-*"]
-    names = _vcd_names(tmp_path / "traces" / "move.vcd")
-    assert traced == ["MODEGROUP.basic.out.mdaMode", "PLANT.MCP.feedOverride", "CHAN1.basic.out.ncStart",
-                      "X1.basic.in.posFineReached", "AXES.X1.setpoint"]
-    assert all(name in names for name in traced), set(traced) - set(names)
     flags, current = {}, ""
     for line in lines:  # a flags line holds until the next one
         if line.startswith("@"):
             current = line
         elif line in traced:
             flags[line] = current
-    assert flags["X1.basic.in.posFineReached"] == "@22" and flags["PLANT.MCP.feedOverride"] == "@24"
-    assert flags["AXES.X1.setpoint"] == "@48020" and names["AXES.X1.setpoint"] == "real"
+    assert flags["X1.\\basic.in.posFineReached"] == "@22" and flags["PLANT.\\MCP.feedOverride[7:0]"] == "@24"
+    assert flags["AXES.\\X1.setpoint"] == "@48020"
+    assert _vcd_names(tmp_path / "traces" / "move.vcd")["AXES.X1.setpoint"] == "real"
 
 
 def test_a_recording_crosses_a_process_boundary_as_plain_data(tmp_path: Path) -> None:

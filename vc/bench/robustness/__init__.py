@@ -13,6 +13,8 @@ tracebacks, false passes, lost requests, rule violations, RSS growth, overruns.
 * :mod:`~vc.bench.robustness.s7_probe`: S7 writes, block downloads, idle sessions, garbage;
 * :mod:`~vc.bench.robustness.can_noise`: datagrams that are no frames, error frames and stray
   frames on the CAN bus of a lockstep scenario and of a real-time NC;
+* :mod:`~vc.bench.robustness.control_characters`: scenario names with control characters through
+  ``vc run``'s console, JUnit, CSV, VCD, GTKWave and HTML outputs;
 * :mod:`~vc.bench.robustness.soak`: ``vc serve --realtime`` with the built-in PLC over Modbus for
   minutes, the RSS of both processes sampled.
 

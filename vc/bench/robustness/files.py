@@ -96,6 +96,7 @@ _FIGURE_OF = {"crash": "crashes", "hang": "hangs", "traceback": "tracebacks", "f
               "wrong_location": "wrong_locations", "problems": "problems", "passed": "passed", "failed": "failed"}
 _PRINTABLE_CONTROL = "\x00\x01\x02\x07\x08\x0b\x0c\x0e\x1b\x1f\x7f\x80\x9f"  # none of them YAML allows
 _OFFSET_MESSAGE = re.compile(r"position \d+|<unicode string>|Traceback")
+_LINE_BREAKING = re.compile("[\x00-\x1f\x7f-\x9f\u2028\u2029]")  # a control character or a line break
 
 
 def default_root() -> Path:
@@ -520,14 +521,19 @@ def _location_problem(problem: Problem, involved: set[str], workspace: Path) -> 
     mark = problem.mark
     if _OFFSET_MESSAGE.search(problem.message):
         return f"a character offset or a traceback instead of a location: {problem}"
+    if _LINE_BREAKING.search(str(problem)):  # the rest of the message would stand on a line of its own
+        return f"printed over more than one line: {str(problem)!r}"
     path = os.path.normpath(mark.file)
     inside = path.startswith(str(workspace) + os.sep)
     if path not in involved and not inside:
         return f"a file the run does not read: {problem}"
     if not os.path.isfile(path) or not inside:
         return "" if (mark.line, mark.column) == (1, 1) else f"a line and column in a file that is none: {problem}"
-    lines = Path(path).read_bytes().decode("utf-8", errors="replace").replace("\r\n", "\n").split("\n")
-    if not 1 <= mark.line <= len(lines) + 1:
+    text = Path(path).read_bytes().decode("utf-8", errors="replace").replace("\r\n", "\n")
+    lines = text.split("\n")
+    if text.endswith("\n"):  # the line break ends the last line; nothing follows it
+        lines.pop()
+    if not 1 <= mark.line <= max(len(lines), 1):
         return f"line {mark.line} of a file of {len(lines)} lines: {problem}"
     width = len(lines[mark.line - 1]) if mark.line <= len(lines) else 0
     if not 1 <= mark.column <= width + 2:

@@ -54,6 +54,11 @@ class _Tally:
     violations: int = 0
     refused_connections: int = 0  # closed by the server as it was full (expected)
 
+    def __str__(self) -> str:
+        """The running totals as the progress lines show them."""
+        return (f"so far {self.frames} frames, {self.lost} lost, {self.hangs} hangs, {self.violations} rule"
+                f" violations, {self.refused_connections} connections closed by the server when full")
+
 
 class _Wire:
     """A raw connection that collects whole answers by their MBAP length."""

@@ -17,7 +17,7 @@ import difflib
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, Protocol, TypeVar
+from typing import TYPE_CHECKING, Any, Protocol, TypeVar
 
 from interfaces.plant_io import PointOwner
 from interfaces.signals import HMI_INSTANCE, Direction, SignalType, UnknownSignalError
@@ -38,6 +38,9 @@ from vc.scenario.expressions import (
 from vc.scenario.model import NO_PLC, Event, Step
 from vc.scenario.quantities import NameResolver, Quantity, QuantityKind
 from vc.scenario.target import ScenarioTarget
+
+if TYPE_CHECKING:
+    from vc.core.alarms import Alarm
 
 DEFAULT_PRESS = Duration(100_000)  # press, pulse and turn without 'for'
 
@@ -326,6 +329,9 @@ class StepRun(Protocol):
     def now(self, names: Sequence[Quantity], lead: str) -> str:
         """``lead`` and the current values of ``names``, or "" without any."""
 
+    def shown(self, quantity: Quantity, value: float) -> str:
+        """A value of ``quantity`` for a message, with its unit (``600.0 rev/min``)."""
+
     def occurrences(self, event: Event) -> list[int]:
         """The cycles (since the start) ``event`` occurred at."""
 
@@ -360,3 +366,13 @@ def built(step: Step, kind: type[S]) -> S:
     if not isinstance(step, kind):  # pragma: no cover - the loader builds only the table's classes
         raise TypeError(f"unknown step {step!r}")
     return step
+
+
+def alarms_text(alarms: Sequence[Alarm]) -> str:
+    """The alarms as a failure message lists them: ``65830 Gear stage change ... (SP1), 3000 ...``; "none"."""
+    shown = []
+    for alarm in alarms:
+        place = alarm.axis or alarm.channel
+        shown.append(f"{alarm.number} {alarm.text}" if not place or place in alarm.text
+                     else f"{alarm.number} {alarm.text} ({place})")
+    return ", ".join(shown) or "none"

@@ -32,8 +32,8 @@ from vc.scenario.model import (
     Step,
 )
 from vc.scenario.quantities import Quantity, QuantityKind
-from vc.scenario.steps.common import StepChecker, StepKind, StepRun, built, kind_of_value
-from vc.scenario.values import ExpectedValue, ExpectedValueError, format_value, parse_expected
+from vc.scenario.steps.common import StepChecker, StepKind, StepRun, alarms_text, built, kind_of_value
+from vc.scenario.values import ExpectedValue, ExpectedValueError, parse_expected
 
 # -- checking ------------------------------------------------------------------------------
 
@@ -233,7 +233,7 @@ def run_expect(run: StepRun, step: Step) -> None:
     for quantity, expected in values.checks:
         actual = run.read(quantity)
         if not expected.matches(actual):
-            wrong.append(f"expected {quantity.name} {relation(expected)}, found {format_value(actual)}")
+            wrong.append(f"expected {quantity.name} {relation(expected)}, found {run.shown(quantity, actual)}")
     if wrong:
         raise run.fail(values, "; ".join(wrong))
 
@@ -244,8 +244,7 @@ def run_expect_alarm(run: StepRun, step: Step) -> None:
     place = f" ({alarm.place})" if alarm.place else ""
     place += f" showing '{alarm.text}'" if alarm.text else ""
     alarms = list(run.target.alarms())
-    present = ", ".join(_alarm_text(shown.number, shown.axis or shown.channel, shown.text)
-                        for shown in alarms) or "none"
+    present = alarms_text(alarms)
     if alarm.present:
         if not run.probe.alarm_present(alarm.number, alarm.place, alarm.text):
             raise run.fail(alarm, f"expected alarm {alarm.number}{place} to be present;"
@@ -306,10 +305,6 @@ def _window(minimum: Duration | None, maximum: Duration | None) -> str:
     if minimum is not None:
         return f"at least {minimum}"
     return f"at most {maximum}"
-
-
-def _alarm_text(number: int, place: str, text: str) -> str:
-    return f"{number} {text}" if not place or place in text else f"{number} {text} ({place})"
 
 
 # -- the kinds -----------------------------------------------------------------------------

@@ -208,6 +208,9 @@ class RecordingRun:
     def now(self, names: Sequence[Quantity], lead: str) -> str:
         return ""
 
+    def shown(self, quantity: Quantity, value: float) -> str:
+        return str(value)
+
     def occurrences(self, event: Event) -> list[int]:
         self.calls.append("occurrences")
         return [0]
