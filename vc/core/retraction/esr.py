@@ -34,9 +34,12 @@ not ESR-enabled and the master spindle run on with the path [control].  Coupling
 coupled following spindle keeps following its leading spindle while the stop axes run on and brake
 (seed 003 L41545-41546).
 
-A single axis (here: a spindle; the harness has no PLC or command axes [INF]) reacts only to its own
-``$AA_ESR_TRIGGER`` with MD37510 / MD37511 (stop) or POLFA (retract), and the channel trigger
-ignores it (L11505-11558).
+A single axis (here: a spindle turning or positioning on its own; the harness has no PLC or command
+axes [INF]) reacts only to its own ``$AA_ESR_TRIGGER`` with MD37510 / MD37511 (stop) or POLFA
+(retract), and the channel trigger ignores it (L11505-11558).  The stop ends the single axis's own
+motion, not just its setpoint: what moves it (``SingleAxis``) is stopped with the brake and keeps it
+stopped until a reset, so nothing that still asks for motion turns it again (L41528-41530: an
+orderly stop).
 
 ``$AC_ALARM_STAT`` bits (the seed gives 'H2000' = an alarm with follow-up, L42182-42186; the others
 are the project's reading of the control's alarm reactions [control])::
@@ -48,9 +51,9 @@ are the project's reading of the control's alarm reactions [control])::
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList, Reaction
@@ -106,6 +109,20 @@ class NckEsr:
             self._reacting = self._reacting or drive.reaction is DriveReaction.REACTING
 
 
+class SingleAxis(Protocol):
+    """What moves a single axis on its own (a spindle: vc/core/spindle/spindle.py), as the ESR sees it."""
+
+    @property
+    def is_single_axis(self) -> bool:
+        """It moves on its own now, not with the channel's path or a coupling (L11525-11527)."""
+        ...
+
+    def esr_stop(self) -> None:
+        """The extended stop brakes it, or the retraction takes it: its own motion ends, and it stays
+        stopped until a reset."""
+        ...
+
+
 @dataclass(slots=True)
 class _StopAxes:
     """The stop axes of a running ESR: the path goes on until ``brake_at``, then stops by ``stopped_by``."""
@@ -128,9 +145,10 @@ class ChannelEsr:
     """Trigger variables, synchronized actions and the retract / stop reaction of one channel."""
 
     def __init__(self, name: str, axes: dict[str, MachineAxis], alarms: AlarmList, dt: float, nck: NckEsr,
-                 geometry: dict[str, str]):
+                 geometry: dict[str, str], single_axes: Mapping[str, SingleAxis]):
         self.name = name
         self.axes = axes
+        self._single_axes = single_axes  # the channel's axes that may move on their own (its spindles)
         self._alarms = alarms
         self._dt = dt
         self.nck = nck
@@ -317,10 +335,11 @@ class ChannelEsr:
         self.liftfast = 1.0
 
     def _single_axis_reaction(self, name: str, cycle: int) -> None:
-        """$AA_ESR_TRIGGER[ax]: only a single axis (a spindle here) with $AA_ESR_ENABLE reacts."""
-        axis = self.axes.get(name)
-        if axis is None or not axis.is_spindle or not self.enabled(name):
-            return  # not a single axis at the trigger: ignored (L11546-11552)
+        """$AA_ESR_TRIGGER[ax]: only a single axis (a spindle on its own here) with $AA_ESR_ENABLE reacts."""
+        single = self._single_axes.get(name)
+        if single is None or not single.is_single_axis or not self.enabled(name):
+            return  # not a single axis at the trigger: ignored (L11523-11527)
+        axis = self.axes[name]
         md = axis.config.md
         reaction = md.int(MD.ESR_REACTION)
         if reaction == RETRACT_AXIS and name in self.single_axis_retract:
@@ -331,6 +350,7 @@ class ChannelEsr:
             else:
                 self.motion.add(group)  # the running retractions go on as they are
             self.protected.add(name)
+            single.esr_stop()  # its own motion ends: it stands at the retract position afterwards
         elif reaction in (RETRACT_AXIS, STOP_AXIS):
             self._single_stops[name] = _StopAxes.after(cycle, md.float(MD.AX_ESR_DELAY_TIME1),
                                                        md.float(MD.AX_ESR_DELAY_TIME2), self._dt)
@@ -358,6 +378,7 @@ class ChannelEsr:
             axis = self.axes[name]
             if cycle == single.brake_at:
                 axis.brake(single.deceleration(axis, self._dt))
+                self._single_axes[name].esr_stop()  # its own motion ends too: nothing turns it again
             if cycle >= single.stopped_by and axis.command_velocity == 0.0:
                 del self._single_stops[name]
         if not self.running:
