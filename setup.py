@@ -17,12 +17,16 @@ Metadata lives in pyproject.toml; this file only adds the compiled parts.
   found.  Otherwise, or with ``VC_BUILD=pure``, the package installs as pure Python and says so
   in one line on standard error.
 * Never stale: the build writes ``vc_build/compiled.json``, the SHA-256 of every compiled
-  module's source.  At import ``vc_build`` compares them with the sources beside the extensions;
+  module's source (the pure build writes there why it is pure, so ``vc --version`` can say it).
+  At import ``vc_build`` compares them with the sources beside the extensions;
   if one differs (a developer edited a file after ``pip install -e .``), every compiled module
   is loaded from its source instead, all or none, because compiled modules call each other
   directly and must never be mixed with edited ones.  ``vc --version`` tells which build runs.
   ``pip install -e .`` again with unchanged sources (the same manifest) reuses the extensions in
   the checkout instead of compiling them again.
+* Each build owns its manifest: a wheel or a non-editable install (``pip wheel .``, ``pip install
+  .``) writes it into the build only; the checkout's manifest belongs to the editable install, and
+  only an editable build removes or rewrites it.
 """
 
 from __future__ import annotations
@@ -91,6 +95,12 @@ def module_name(source: str) -> str:
 
 def source_digest(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def pure_manifest_text(reason: str) -> str:
+    """The manifest of the pure build: no compiled module, and why (``vc --version`` shows it)."""
+    why = f"installed with {reason}" if reason.startswith("VC_BUILD=") else f"not compiled at install: {reason}"
+    return json.dumps({"format": 1, "modules": {}, "pure": why}, indent=1, sort_keys=True) + "\n"
 
 
 def manifest_text(sources: list[str]) -> str:
@@ -176,10 +186,18 @@ def manifest_command(base: type[Any], text: str) -> type[Any]:
     return WithManifest
 
 
+def builds_in_place() -> bool:
+    """An editable install (PEP 660 ``editable_wheel``, the older ``develop``) or ``build_ext
+    --inplace``: the build whose extensions and manifest live in the checkout itself."""
+    arguments = sys.argv[1:]
+    return bool({"editable_wheel", "develop"}.intersection(arguments)) or (
+        "build_ext" in arguments and ("--inplace" in arguments or "-i" in arguments))
+
+
 def reusable_in_place(text: str) -> bool:
     """An editable install whose checkout already holds the extensions of exactly these sources
     (the manifest beside them says so): ``pip install -e .`` again need not compile again."""
-    if "editable_wheel" not in sys.argv[1:]:
+    if not builds_in_place():
         return False
     manifest = ROOT / MANIFEST
     if not manifest.exists() or manifest.read_text(encoding="utf-8") != text:
@@ -194,7 +212,7 @@ def remove_stale_extensions(modules: set[str]) -> None:
     """An editable checkout keeps the compiled module shims beside the sources: remove those of
     modules this build does not compile (a module moved or renamed since the last build), so that
     no extension stands where no source is and nothing finds a module that no longer exists."""
-    if "editable_wheel" not in sys.argv[1:]:
+    if not builds_in_place():
         return
     suffix = sysconfig.get_config_var("EXT_SUFFIX") or ".so"
     for package in COMPILED_PACKAGES:
@@ -206,14 +224,17 @@ def remove_stale_extensions(modules: set[str]) -> None:
 
 def build() -> None:
     reason = why_not_compiled()
-    if BUILDING.intersection(sys.argv[1:]):
+    building = bool(BUILDING.intersection(sys.argv[1:]))  # not a metadata step (egg_info, dist_info)
+    if building:
         remove_stale_extensions(set() if reason is not None else set(map(module_name, compiled_sources())))
     if reason is not None:
-        (ROOT / MANIFEST).unlink(missing_ok=True)  # the pure build vouches for no extension
+        if building and builds_in_place():
+            (ROOT / MANIFEST).unlink(missing_ok=True)  # until it is written anew: it vouches for no extension
         print(f"vc-harness: installing the pure-Python build ({reason})", file=sys.stderr)
-        setup(ext_modules=FMU_BINARY)
+        pure = pure_manifest_text(reason)
+        setup(ext_modules=FMU_BINARY, cmdclass={"build_py": manifest_command(build_py, pure)})
         return
-    if not BUILDING.intersection(sys.argv[1:]):  # metadata only (egg_info, dist_info): no C needed
+    if not building:  # metadata only: no C needed
         setup(ext_modules=FMU_BINARY)
         return
     sources = compiled_sources()
@@ -225,7 +246,9 @@ def build() -> None:
         setup(ext_modules=[*FMU_BINARY, *reused],
               cmdclass={"build_ext": manifest_command(ReuseInPlaceBuildExt, text)})
         return
-    (ROOT / MANIFEST).unlink(missing_ok=True)  # an earlier editable build's: written anew when this one ends
+    if builds_in_place():
+        # an earlier editable build's: written anew when this one ends (a wheel's is in its build only)
+        (ROOT / MANIFEST).unlink(missing_ok=True)
     from mypyc.build import mypycify
 
     extensions = mypycify(sources, opt_level=OPT_LEVEL, multi_file=True, group_name=GROUP)

@@ -82,8 +82,15 @@ def test_vc_pure_asks_for_the_source(tree: Path) -> None:
 
 
 def test_an_extension_the_manifest_does_not_list_never_runs(tree: Path) -> None:
-    (tree / "vc_build" / "compiled.json").unlink()  # a pure install over an older compiled build
-    assert _probe(tree) == ["source", "pure Python"]
+    (tree / "vc_build" / "compiled.json").unlink()  # a manifest lost: the pure build, and it says why
+    assert _probe(tree) == ["source", "pure Python (no compiled build: vc_build/compiled.json is missing)"]
+
+
+def test_the_pure_build_says_why_it_is_pure(tree: Path) -> None:
+    # the manifest setup.py writes for VC_BUILD=pure pip install -e . over an older compiled build
+    (tree / "vc_build" / "compiled.json").write_text(json.dumps({"format": 1, "modules": {},
+                                                                   "pure": "installed with VC_BUILD=pure"}))
+    assert _probe(tree) == ["source", "pure Python (installed with VC_BUILD=pure)"]
 
 
 def test_an_unreadable_manifest_means_the_pure_build(tree: Path) -> None:
