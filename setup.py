@@ -14,8 +14,9 @@ Metadata lives in pyproject.toml; this file only adds the compiled parts.
   which compiled code cannot do, and costs a handful of calls per cycle.  Everything else
   (loaders, CLI, links, reports) stays Python: it runs once per scenario or waits on sockets.
 * When: on ``pip install`` (editable or not) where a C compiler, the Python headers and mypyc are
-  found.  Otherwise, or with ``VC_BUILD=pure``, the package installs as pure Python and says so
-  in one line on standard error.
+  found.  Otherwise, or with ``VC_BUILD=pure``, the package installs as pure Python.  Either way
+  the build says what it does in one line (``announce``) before it starts: pip hides a build's
+  output until it fails (``-q`` or not), and compiling takes a minute or more.
 * Never stale: the build writes ``vc_build/compiled.json``, the SHA-256 of every compiled
   module's source (the pure build writes there why it is pure, so ``vc --version`` can say it).
   At import ``vc_build`` compares them with the sources beside the extensions;
@@ -110,6 +111,20 @@ def manifest_text(sources: list[str]) -> str:
     return json.dumps({"format": 1, "group": GROUP, "opt_level": OPT_LEVEL, "mypyc": mypy_version,
                        "python": sysconfig.get_config_var("EXT_SUFFIX"), "modules": modules},
                       indent=1, sort_keys=True) + "\n"
+
+
+def announce(line: str) -> None:
+    """One line for whoever runs the install, on their terminal: pip captures the build's standard
+    output and error and shows them only when the build fails or with ``-v``, so a build that
+    compiles for a minute would otherwise look hung under ``pip install -q``.  Without a terminal
+    (CI, a pipe, a detached session) the line goes to standard error, where ``pip -v`` shows it."""
+    try:
+        with open("/dev/tty", "w", encoding="utf-8") as terminal:
+            terminal.write(line + "\n")
+        return
+    except OSError:
+        pass
+    print(line, file=sys.stderr)
 
 
 def why_not_compiled() -> str | None:
@@ -230,7 +245,8 @@ def build() -> None:
     if reason is not None:
         if building and builds_in_place():
             (ROOT / MANIFEST).unlink(missing_ok=True)  # until it is written anew: it vouches for no extension
-        print(f"vc-harness: installing the pure-Python build ({reason})", file=sys.stderr)
+        if building:
+            announce(f"vc-harness: installing the pure-Python build ({reason})")
         pure = pure_manifest_text(reason)
         setup(ext_modules=FMU_BINARY, cmdclass={"build_py": manifest_command(build_py, pure)})
         return
@@ -240,8 +256,7 @@ def build() -> None:
     sources = compiled_sources()
     text = manifest_text(sources)
     if reusable_in_place(text):
-        print("vc-harness: the compiled modules in the checkout match their sources: not compiled again",
-              file=sys.stderr)
+        announce("vc-harness: the compiled modules in the checkout match their sources: not compiled again")
         reused = [Extension(name, sources=[]) for name in (f"{GROUP}__mypyc", *map(module_name, sources))]
         setup(ext_modules=[*FMU_BINARY, *reused],
               cmdclass={"build_ext": manifest_command(ReuseInPlaceBuildExt, text)})
@@ -249,6 +264,8 @@ def build() -> None:
     if builds_in_place():
         # an earlier editable build's: written anew when this one ends (a wheel's is in its build only)
         (ROOT / MANIFEST).unlink(missing_ok=True)
+    announce(f"vc-harness: compiling {len(sources)} modules with mypyc - about a minute on two idle cores, up to"
+             " three when they are busy (VC_BUILD=pure installs without compiling)")
     from mypyc.build import mypycify
 
     extensions = mypycify(sources, opt_level=OPT_LEVEL, multi_file=True, group_name=GROUP)
