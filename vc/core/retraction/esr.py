@@ -34,9 +34,10 @@ not ESR-enabled and the master spindle run on with the path [control].  Coupling
 coupled following spindle keeps following its leading spindle while the stop axes run on and brake
 (seed 003 L41545-41546).
 
-A single axis (here: a spindle turning or positioning on its own; the harness has no PLC or command
-axes [INF]) reacts only to its own ``$AA_ESR_TRIGGER`` with MD37510 / MD37511 (stop) or POLFA
-(retract), and the channel trigger ignores it (L11505-11558).  The stop ends the single axis's own
+A single axis - a command axis while a synchronized action's POS moves it (vc/core/axis/command_axis.py,
+L11211-11236), or a spindle turning or positioning on its own [INF: the harness has no PLC axes] -
+reacts only to its own ``$AA_ESR_TRIGGER`` with MD37510 / MD37511 (stop) or POLFA (retract), and the
+channel trigger ignores it (L11505-11558, L11529-11534).  The stop ends the single axis's own
 motion, not just its setpoint: what moves it (``SingleAxis``) is stopped with the brake and keeps it
 stopped until a reset, so nothing that still asks for motion turns it again (L41528-41530: an
 orderly stop).
@@ -58,6 +59,7 @@ from typing import TYPE_CHECKING, Protocol
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList, Reaction
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.command_axis import CommandAxes
 from vc.core.axis.owner import Owner
 from vc.core.interpolation.thread_cutting import ThreadSegment
 from vc.core.program.commands import LFPOS, RetractProgramming
@@ -110,7 +112,8 @@ class NckEsr:
 
 
 class SingleAxis(Protocol):
-    """What moves a single axis on its own (a spindle: vc/core/spindle/spindle.py), as the ESR sees it."""
+    """What moves a single axis on its own (a command axis: vc/core/axis/command_axis.py; a spindle:
+    vc/core/spindle/spindle.py), as the ESR sees it."""
 
     @property
     def is_single_axis(self) -> bool:
@@ -145,10 +148,11 @@ class ChannelEsr:
     """Trigger variables, synchronized actions and the retract / stop reaction of one channel."""
 
     def __init__(self, name: str, axes: dict[str, MachineAxis], alarms: AlarmList, dt: float, nck: NckEsr,
-                 geometry: dict[str, str], single_axes: Mapping[str, SingleAxis]):
+                 geometry: dict[str, str], single_axes: Mapping[str, SingleAxis], command_axes: CommandAxes):
         self.name = name
         self.axes = axes
-        self._single_axes = single_axes  # the channel's axes that may move on their own (its spindles)
+        self._single_axes = single_axes  # what may move the channel's axes on their own (spindles, command axes)
+        self.command_axes = command_axes  # POS[ax]= / FA[ax]= of a synchronized action move them
         self._alarms = alarms
         self._dt = dt
         self.nck = nck
@@ -220,6 +224,10 @@ class ChannelEsr:
             rising, self.axis_trigger[write.index] = value and not self.axis_trigger[write.index], value
             if rising:
                 self._single_axis_reaction(write.index, cycle)
+        elif write.name == "POS":
+            self.command_axes.position(write.index, write.value, cycle)
+        elif write.name == "FA":
+            self.command_axes.set_feed(write.index, write.value)
         elif self.other_variables is not None:
             self.other_variables[1](write)
 
@@ -231,6 +239,7 @@ class ChannelEsr:
         """Reset / program end: the modal synchronized actions (ID=) end, the static ones (IDS=) stay;
         the channel and axis triggers go back to 0, so the next 1 is an edge again [control]."""
         self.actions = {number: action for number, action in self.actions.items() if action.static}
+        self.command_axes.program_ended()
         self.trigger = False
         self.channel_trigger_pending = False
         self.axis_trigger = dict.fromkeys(self.axis_trigger, False)
@@ -281,7 +290,9 @@ class ChannelEsr:
 
         ``transform``: the active transformation; unless all its axes are ESR-enabled its group is
         dissolved and its axes react as machine axes (seed 003 L42098-42104)."""
-        enabled = [name for name in candidates if self.enabled(name) and not self.axes[name].is_spindle]
+        # spindles, and the axes that are single axes at the trigger, take no part (L11529-11534)
+        enabled = [name for name in candidates if self.enabled(name) and not self.axes[name].is_spindle
+                   and not self._is_single_axis(name)]
         thread = segment if isinstance(segment, ThreadSegment) else None
         thread_axes = {axis.name for axis in thread.axes} if thread is not None else set()
         if transform is not None and not all(self.enabled(name) for name in transform.machine_axes):
@@ -334,11 +345,15 @@ class ChannelEsr:
             self.protected |= {axis.name for axis in thread.axes} | {thread.spindle.name}
         self.liftfast = 1.0
 
+    def _is_single_axis(self, name: str) -> bool:
+        single = self._single_axes.get(name)
+        return single is not None and single.is_single_axis
+
     def _single_axis_reaction(self, name: str, cycle: int) -> None:
         """$AA_ESR_TRIGGER[ax]: only a single axis (a spindle on its own here) with $AA_ESR_ENABLE reacts."""
-        single = self._single_axes.get(name)
-        if single is None or not single.is_single_axis or not self.enabled(name):
+        if not self._is_single_axis(name) or not self.enabled(name):
             return  # not a single axis at the trigger: ignored (L11523-11527)
+        single = self._single_axes[name]
         axis = self.axes[name]
         md = axis.config.md
         reaction = md.int(MD.ESR_REACTION)
@@ -387,4 +402,4 @@ class ChannelEsr:
     def holds(self, axis: str) -> bool:
         """The axis's alarm reaction (rapid stop, controller enable off) waits for its ESR reaction."""
         return axis in self.protected and self.axes[axis].owner in (Owner.RETRACT, Owner.PATH, Owner.BRAKE,
-                                                                    Owner.SPINDLE, Owner.COUPLING)
+                                                                    Owner.SPINDLE, Owner.COUPLING, Owner.COMMAND)
