@@ -11,7 +11,7 @@ the channel is reset, a running motion keeps its feed.
 While it moves it is a *single axis*, independent of the channel's program: NC stop, the channel's
 alarms and the program's end do not stop it (L11215-11227); the reset of its channel does
 (L24176-24178), and so does the axis's DB31.DBX2.2 (delete distance to go of a positioning axis,
-L12175; the axis reset of a single axis, L11442-11467).  An emergency stop, an alarm's rapid stop or
+L12175; the axis reset of a single axis, L11442-11468).  An emergency stop, an alarm's rapid stop or
 a program block that moves the axis takes the axis from it, as from every motion owner.  Its
 extended stop (``$AA_ESR_TRIGGER``, vc/core/retraction/esr.py) keeps it stopped until one of those
 resets: a POS of a synchronized action that goes on firing does not move it again.

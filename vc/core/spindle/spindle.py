@@ -262,7 +262,7 @@ class Spindle:
         """The extended stop of the single axis (MD37500 = 22, L11541-11548) brakes it, or its retraction
         (21, POLFA) takes it: its own motion ends as under an alarm's rapid stop - the direction is
         deleted, S stays, a positioning is dropped (L16215-16217) - and it stays stopped, whatever is
-        commanded, until the channel's reset or its own DB31.DBX2.2 (L11442-11467: the reset ends a
+        commanded, until the channel's reset or its own DB31.DBX2.2 (L11442-11468: the reset ends a
         stopped single axis) [control]."""
         self.quiet = False
         self.esr_stopped = True
@@ -382,7 +382,7 @@ class Spindle:
 
     def spindle_reset(self) -> None:
         """DB31.DBX2.2: stop, delete S and the direction, abort positioning and a gear change
-        (L16212-16214, L16676-16678, L18646); a single-axis ESR stop ends (L11442-11467)."""
+        (L16212-16214, L16676-16678, L18646); a single-axis ESR stop ends (L11442-11468)."""
         self.quiet = False
         if self.gear_change.state is not None:
             self._end_gear_change()
