@@ -17,6 +17,7 @@ from collections.abc import Callable
 from enum import Enum
 
 from vc.config import md_dictionary as MD
+from vc.core.axis.command_axis import CommandAxis
 from vc.core.axis.encoder import DISTANCE_CODED_MODES
 from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
@@ -158,6 +159,11 @@ def _channel_probes(nck: Nck, channel: Channel, data: CoverageData, instance: st
     if esr is not None:
         probes.append(StateProbe(_retract_state(esr), data.function("esr.retract"), instance))
         probes.append(StateProbe(_stop_state(nck, esr), data.function("esr.stop"), instance))
+    machine = instance.rpartition("/")[0]
+    for name, command in channel.command_axes.by_name.items():
+        def command_state(command: CommandAxis = command) -> State:
+            return command.state
+        probes.append(StateProbe(command_state, data.function("command_axis"), f"{machine}/{name}"))
     return probes
 
 

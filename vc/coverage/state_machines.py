@@ -18,6 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import Enum
 
+from vc.core.axis.command_axis import CommandState
 from vc.core.channel.program_run import ChannelState, ProgramState
 from vc.core.referencing.referencing import State as ReferencingState
 from vc.core.retraction.drive_esr import DriveEsrReaction as DriveReaction
@@ -208,6 +209,14 @@ STATE_MACHINES: tuple[StateMachine, ...] = (
         _transitions(("IDLE", "RUNNING_ON", "$AC_ESR_TRIGGER (a stop axis, or G33 with LFON)"),
                      ("IDLE", "BRAKING", "$AC_ESR_TRIGGER with MD21380 = 0"),
                      ("RUNNING_ON", "BRAKING", "MD21380 elapsed"), ("BRAKING", "IDLE", "the stop axes stand"))),
+    StateMachine(
+        "command_axis", "Command axis: POS[ax]= of a synchronized action, a single axis (seed 003 §9.3.2)",
+        "vc/core/axis/command_axis.py", "axis", _enum_states(tuple(CommandState)),
+        _transitions(("IDLE", "TRAVERSING", "POS[ax]= of a synchronized action"),
+                     ("TRAVERSING", "IDLE", "at its end point; channel reset, DB31.DBX2.2; another owner took it"),
+                     ("TRAVERSING", "ESR_STOPPED", "its single-axis ESR stop or retraction"),
+                     ("IDLE", "ESR_STOPPED", "its ESR stop after the motion ended within MD37510"),
+                     ("ESR_STOPPED", "IDLE", "the channel's reset, DB31.DBX2.2"))),
     StateMachine(
         "manual_retraction", "Manual retraction along the tool axis (DB21.DBX377.4, 377.5)",
         "vc/core/nck/manual_retraction.py", "channel",

@@ -28,7 +28,7 @@ referencing, a retraction) is refused with alarm 20141 [control].
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from enum import Enum
 
 from vc.config import md_dictionary as MD
@@ -51,9 +51,10 @@ class CommandState(Enum):
 class CommandAxis:
     """One machine axis as a command axis (see the module docstring)."""
 
-    def __init__(self, axis: MachineAxis, dt: float):
+    def __init__(self, axis: MachineAxis, dt: float, busy: Callable[[], None]):
         self.axis = axis
         self._dt = dt
+        self._busy = busy  # tells the channel's command axes to run their cycle
         # mm/min -> mm/s; for a rotary axis MD32060 is rev/min (as MD32000) and FA deg/min
         self._velocity_unit = 6.0 if axis.config.is_rotary else 1.0 / 60.0
         self.state = CommandState.IDLE
@@ -61,6 +62,11 @@ class CommandAxis:
         self.feed = 0.0  # FA[ax] in mm/min (deg/min) for the next motion; 0: MD32060
         self.motion_feed = 0.0  # the running motion's
         self._reset_level = False  # DB31.DBX2.2 as last seen, for its rising edge
+
+    @property
+    def busy(self) -> bool:
+        """It moves, or stands stopped by its ESR: its cycle must run."""
+        return self.state is not CommandState.IDLE
 
     # ------------------------------------------------------------------ the ESR's view (SingleAxis)
     @property
@@ -72,6 +78,7 @@ class CommandAxis:
         """Its extended stop brakes it (or its retraction takes it): it stays stopped until a reset."""
         self.state = CommandState.ESR_STOPPED
         self._reset_level = self.axis.inputs.reset_movement
+        self._busy()
 
     # ------------------------------------------------------------------ commands
     def position(self, target: float, cycle: int, alarms: AlarmList) -> None:
@@ -95,6 +102,7 @@ class CommandAxis:
             self._reset_level = axis.inputs.reset_movement
             self.motion_feed = self.feed
         self.state = CommandState.TRAVERSING
+        self._busy()
         if axis.owner is Owner.NONE:
             axis.take(Owner.COMMAND)
 
@@ -142,13 +150,12 @@ class CommandAxes:
 
     def __init__(self, channel: str, axes: Iterable[MachineAxis], alarms: AlarmList, dt: float):
         self.channel = channel
-        self.by_name = {axis.name: CommandAxis(axis, dt) for axis in axes if not axis.is_spindle}
+        self.by_name = {axis.name: CommandAxis(axis, dt, self._busy) for axis in axes if not axis.is_spindle}
         self._alarms = alarms
+        self.active = False  # a command axis moves or stands stopped by its ESR: the channel runs cycle()
 
-    @property
-    def active(self) -> bool:
-        """A command axis moves or stands stopped by its ESR: the channel runs :meth:`cycle`."""
-        return any(command.state is not CommandState.IDLE for command in self.by_name.values())
+    def _busy(self) -> None:
+        self.active = True
 
     def position(self, name: str, target: float, cycle: int) -> None:
         """POS[name]=target; a spindle has no command axis here: refused like one in use."""
@@ -168,9 +175,12 @@ class CommandAxes:
                 command.motion_feed = feed
 
     def cycle(self) -> None:
+        active = False
         for command in self.by_name.values():
-            if command.state is not CommandState.IDLE:
+            if command.busy:
                 command.cycle()
+                active = active or command.busy
+        self.active = active
 
     def program_ended(self) -> None:
         """Program end or reset: the programmed FA no longer counts (L11595)."""
@@ -180,5 +190,5 @@ class CommandAxes:
     def reset(self) -> None:
         """The channel's reset stops its command axes (L24176-24178)."""
         for command in self.by_name.values():
-            if command.state is not CommandState.IDLE:
+            if command.busy:
                 command.reset()
