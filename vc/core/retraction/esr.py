@@ -133,6 +133,7 @@ class _StopAxes:
     brake_at: int
     stopped_by: int
     braking_time: float
+    braked: bool = False  # a single axis's brake has been applied
 
     @classmethod
     def after(cls, cycle: int, delay: float, braking_time: float, dt: float) -> _StopAxes:
@@ -350,7 +351,8 @@ class ChannelEsr:
         return single is not None and single.is_single_axis
 
     def _single_axis_reaction(self, name: str, cycle: int) -> None:
-        """$AA_ESR_TRIGGER[ax]: only a single axis (a spindle on its own here) with $AA_ESR_ENABLE reacts."""
+        """$AA_ESR_TRIGGER[ax]: only a single axis (a command axis moving, a spindle on its own) with
+        $AA_ESR_ENABLE reacts."""
         if not self._is_single_axis(name) or not self.enabled(name):
             return  # not a single axis at the trigger: ignored (L11523-11527)
         single = self._single_axes[name]
@@ -391,7 +393,10 @@ class ChannelEsr:
                 self._stop = None
         for name, single in list(self._single_stops.items()):
             axis = self.axes[name]
-            if cycle == single.brake_at:
+            # at or after brake_at: with MD37510 = 0 a trigger written by a block comes after this
+            # cycle's reaction, so brake_at has passed when the reaction sees it first
+            if not single.braked and cycle >= single.brake_at:
+                single.braked = True
                 axis.brake(single.deceleration(axis, self._dt))
                 self._single_axes[name].esr_stop()  # its own motion ends too: nothing turns it again
             if cycle >= single.stopped_by and axis.command_velocity == 0.0:

@@ -140,6 +140,17 @@ def test_the_single_axis_esr_stops_a_command_axis_and_it_stays_stopped_until_the
     rig.run_until(lambda: z1.setpoint == 100.0, 5000)
 
 
+def test_with_md37510_0_the_single_axis_brakes_at_once() -> None:
+    # MD37510's default is 0: the trigger's block comes after the cycle's reaction, which must still brake
+    rig = _rig(ESR_Z.replace("MD37510: 0.2", "MD37510: 0.0"))
+    _run(rig, f"N10 $AA_ESR_ENABLE[Z]=1\nN20 {MOVE_Z}\nN30 G4 F1\nN40 $AA_ESR_TRIGGER[Z]=1\nN50 G4 F0.5\nM30")
+    z1 = _z1(rig)
+    rig.run_until(lambda: rig.nck.channels[0].esr is not None and rig.nck.channels[0].esr.axis_trigger["Z1"], 1000)
+    trigger = rig.nck.cycle
+    rig.run_until(lambda: z1.command_velocity == 0.0, 100)
+    assert (rig.nck.cycle - trigger) * DT <= 0.05 + DT and _state(rig) is CommandState.ESR_STOPPED
+
+
 def test_db31_dbx2_2_ends_the_single_axis_esr_stop_of_a_command_axis() -> None:
     rig = _rig()
     _stopped_by_its_esr(rig)
