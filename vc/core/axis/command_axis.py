@@ -4,7 +4,8 @@ its own, ``POS[<axis>]=<position>`` at ``FA[<axis>]=<feed>``, beside the channel
 Its axis interpolator (L11195-11205) runs a straight line (G01) to the end point at FA (mm/min or
 deg/min; without FA at MD32060 POS_AX_VELO, L11592-11594; at most MD32000), times the axis's own
 feed override DB31.DBB0 (L11597-11599, L12172-12173), ramped with MD32300 (L11624-11627) and
-stopping exactly on its end point; the axis's feed stop DB31.DBX4.3 holds it.  An FA written while
+stopping exactly on its end point; the axis's feed stop DB31.DBX4.3 holds it, and it goes only away
+from an actuated hardware limit switch.  An FA written while
 the axis moves changes its feed; FA for the next motion lasts until the program ends (L11595) or
 the channel is reset, a running motion keeps its feed.
 
@@ -133,7 +134,9 @@ class CommandAxis:
         # FA per minute in the axis's unit; MD32060 in the unit of MD32000
         feed = self.motion_feed / 60.0 if self.motion_feed else \
             axis.config.md.float(MD.POS_AX_VELO) * self._velocity_unit
-        held = axis.inputs.feed_stop or not axis.drive_ready
+        inp = axis.inputs
+        # the feed stop holds it, and it never runs on into an actuated hardware limit switch (as JOG)
+        held = inp.feed_stop or not axis.drive_ready or (inp.hw_limit_plus if way > 0.0 else inp.hw_limit_minus)
         speed = 0.0 if held else min(feed, dyn.max_velocity) * axis.override
         wanted = way * min(speed, stopping_velocity(abs(remaining), dyn.max_accel, dt))
         velocity = ramp(axis.command_velocity, wanted, dyn.max_accel, dt)

@@ -78,6 +78,18 @@ def test_nc_stop_and_program_end_leave_it_alone_feed_stop_holds_it_and_the_reset
     assert z1.command_velocity == 0.0 and _state(rig) is CommandState.IDLE and z1.setpoint > 100.0
 
 
+def test_it_never_runs_on_into_an_actuated_hardware_limit_switch() -> None:
+    rig = _rig()
+    _run(rig, f"N10 {MOVE_Z}\nM30")
+    z1 = _z1(rig)
+    rig.step(100)
+    rig.set("Z1.basic.out.hwLimitSwitchMinus", 1)  # the switch in its way: 21614, the axis brakes
+    rig.step(20)
+    stopped_at = z1.setpoint
+    rig.step(200)  # the action goes on commanding POS[Z]=100: it takes the axis but does not move it
+    assert z1.setpoint == stopped_at and 21614 in [item.number for item in rig.nck.present_alarms()]
+
+
 @pytest.mark.parametrize(("action", "alarm"), [
     ("POS[SP1]=90", 20141),  # a spindle in speed control (L17574-17575)
     ("POS[Z]=700", 10720),  # beyond the software limit switch 608
