@@ -80,7 +80,8 @@ def test_nc_stop_and_program_end_leave_it_alone_feed_stop_holds_it_and_the_reset
 
 def test_it_never_runs_on_into_an_actuated_hardware_limit_switch() -> None:
     rig = _rig()
-    _run(rig, f"N10 {MOVE_Z}\nM30")
+    rig.set("NC.basic.out.setDigitalInputs", 4)
+    _run(rig, "N10 IDS=1 WHENEVER $A_IN[3]==1 DO POS[Z]=100 FA[Z]=2000\nM30")  # also while 21614 is present
     z1 = _z1(rig)
     rig.step(100)
     rig.set("Z1.basic.out.hwLimitSwitchMinus", 1)  # the switch in its way: 21614, the axis brakes
