@@ -14,15 +14,20 @@ Metadata lives in pyproject.toml; this file only adds the compiled parts.
   which compiled code cannot do, and costs a handful of calls per cycle.  Everything else
   (loaders, CLI, links, reports) stays Python: it runs once per scenario or waits on sockets.
 * When: on ``pip install`` (editable or not) where a C compiler, the Python headers and mypyc are
-  found.  Otherwise, or with ``VC_BUILD=pure``, the package installs as pure Python and says so
-  in one line on standard error.
+  found.  Otherwise, or with ``VC_BUILD=pure``, the package installs as pure Python.  Either way
+  the build says what it does in one line (``announce``) before it starts: pip hides a build's
+  output until it fails (``-q`` or not), and compiling takes a minute or more.
 * Never stale: the build writes ``vc_build/compiled.json``, the SHA-256 of every compiled
-  module's source.  At import ``vc_build`` compares them with the sources beside the extensions;
+  module's source (the pure build writes there why it is pure, so ``vc --version`` can say it).
+  At import ``vc_build`` compares them with the sources beside the extensions;
   if one differs (a developer edited a file after ``pip install -e .``), every compiled module
   is loaded from its source instead, all or none, because compiled modules call each other
   directly and must never be mixed with edited ones.  ``vc --version`` tells which build runs.
   ``pip install -e .`` again with unchanged sources (the same manifest) reuses the extensions in
   the checkout instead of compiling them again.
+* Each build owns its manifest: a wheel or a non-editable install (``pip wheel .``, ``pip install
+  .``) writes it into the build only; the checkout's manifest belongs to the editable install, and
+  only an editable build removes or rewrites it.
 """
 
 from __future__ import annotations
@@ -93,6 +98,12 @@ def source_digest(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
+def pure_manifest_text(reason: str) -> str:
+    """The manifest of the pure build: no compiled module, and why (``vc --version`` shows it)."""
+    why = f"installed with {reason}" if reason.startswith("VC_BUILD=") else f"not compiled at install: {reason}"
+    return json.dumps({"format": 1, "modules": {}, "pure": why}, indent=1, sort_keys=True) + "\n"
+
+
 def manifest_text(sources: list[str]) -> str:
     from mypy.version import __version__ as mypy_version
 
@@ -100,6 +111,20 @@ def manifest_text(sources: list[str]) -> str:
     return json.dumps({"format": 1, "group": GROUP, "opt_level": OPT_LEVEL, "mypyc": mypy_version,
                        "python": sysconfig.get_config_var("EXT_SUFFIX"), "modules": modules},
                       indent=1, sort_keys=True) + "\n"
+
+
+def announce(line: str) -> None:
+    """One line for whoever runs the install, on their terminal: pip captures the build's standard
+    output and error and shows them only when the build fails or with ``-v``, so a build that
+    compiles for a minute would otherwise look hung under ``pip install -q``.  Without a terminal
+    (CI, a pipe, a detached session) the line goes to standard error, where ``pip -v`` shows it."""
+    try:
+        with open("/dev/tty", "w", encoding="utf-8") as terminal:
+            terminal.write(line + "\n")
+        return
+    except OSError:
+        pass
+    print(line, file=sys.stderr)
 
 
 def why_not_compiled() -> str | None:
@@ -176,10 +201,18 @@ def manifest_command(base: type[Any], text: str) -> type[Any]:
     return WithManifest
 
 
+def builds_in_place() -> bool:
+    """An editable install (PEP 660 ``editable_wheel``, the older ``develop``) or ``build_ext
+    --inplace``: the build whose extensions and manifest live in the checkout itself."""
+    arguments = sys.argv[1:]
+    return bool({"editable_wheel", "develop"}.intersection(arguments)) or (
+        "build_ext" in arguments and ("--inplace" in arguments or "-i" in arguments))
+
+
 def reusable_in_place(text: str) -> bool:
     """An editable install whose checkout already holds the extensions of exactly these sources
     (the manifest beside them says so): ``pip install -e .`` again need not compile again."""
-    if "editable_wheel" not in sys.argv[1:]:
+    if not builds_in_place():
         return False
     manifest = ROOT / MANIFEST
     if not manifest.exists() or manifest.read_text(encoding="utf-8") != text:
@@ -194,7 +227,7 @@ def remove_stale_extensions(modules: set[str]) -> None:
     """An editable checkout keeps the compiled module shims beside the sources: remove those of
     modules this build does not compile (a module moved or renamed since the last build), so that
     no extension stands where no source is and nothing finds a module that no longer exists."""
-    if "editable_wheel" not in sys.argv[1:]:
+    if not builds_in_place():
         return
     suffix = sysconfig.get_config_var("EXT_SUFFIX") or ".so"
     for package in COMPILED_PACKAGES:
@@ -206,26 +239,33 @@ def remove_stale_extensions(modules: set[str]) -> None:
 
 def build() -> None:
     reason = why_not_compiled()
-    if BUILDING.intersection(sys.argv[1:]):
+    building = bool(BUILDING.intersection(sys.argv[1:]))  # not a metadata step (egg_info, dist_info)
+    if building:
         remove_stale_extensions(set() if reason is not None else set(map(module_name, compiled_sources())))
     if reason is not None:
-        (ROOT / MANIFEST).unlink(missing_ok=True)  # the pure build vouches for no extension
-        print(f"vc-harness: installing the pure-Python build ({reason})", file=sys.stderr)
-        setup(ext_modules=FMU_BINARY)
+        if building and builds_in_place():
+            (ROOT / MANIFEST).unlink(missing_ok=True)  # until it is written anew: it vouches for no extension
+        if building:
+            announce(f"vc-harness: installing the pure-Python build ({reason})")
+        pure = pure_manifest_text(reason)
+        setup(ext_modules=FMU_BINARY, cmdclass={"build_py": manifest_command(build_py, pure)})
         return
-    if not BUILDING.intersection(sys.argv[1:]):  # metadata only (egg_info, dist_info): no C needed
+    if not building:  # metadata only: no C needed
         setup(ext_modules=FMU_BINARY)
         return
     sources = compiled_sources()
     text = manifest_text(sources)
     if reusable_in_place(text):
-        print("vc-harness: the compiled modules in the checkout match their sources: not compiled again",
-              file=sys.stderr)
+        announce("vc-harness: the compiled modules in the checkout match their sources: not compiled again")
         reused = [Extension(name, sources=[]) for name in (f"{GROUP}__mypyc", *map(module_name, sources))]
         setup(ext_modules=[*FMU_BINARY, *reused],
               cmdclass={"build_ext": manifest_command(ReuseInPlaceBuildExt, text)})
         return
-    (ROOT / MANIFEST).unlink(missing_ok=True)  # an earlier editable build's: written anew when this one ends
+    if builds_in_place():
+        # an earlier editable build's: written anew when this one ends (a wheel's is in its build only)
+        (ROOT / MANIFEST).unlink(missing_ok=True)
+    announce(f"vc-harness: compiling {len(sources)} modules with mypyc - about a minute on two idle cores, up to"
+             " three when they are busy (VC_BUILD=pure installs without compiling)")
     from mypyc.build import mypycify
 
     extensions = mypycify(sources, opt_level=OPT_LEVEL, multi_file=True, group_name=GROUP)

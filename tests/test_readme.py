@@ -48,3 +48,15 @@ def test_the_modbus_example_reads_the_address_vc_map_gives() -> None:
     assert int(example["number"]) == row.modbus_address
     assert example["display"] == row.modbus_number
     assert int(example["reference"]) == int(example["number"]) + 1  # mbpoll's -r counts from 1
+
+
+def test_the_test_run_lists_its_skips_with_their_reasons() -> None:
+    """The README explains the skips the test command reports: pytest must list them (``-r`` with
+    ``s``), and the failures and errors as its default ``-r fE`` does (``-r`` replaces it)."""
+    import tomllib
+
+    options = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["pytest"]["ini_options"]
+    report = [option[2:] for option in options["addopts"].split() if option.startswith("-r")]
+    assert report and set("fEs") <= set(report[0])
+    text = " ".join((ROOT / "README.md").read_text(encoding="utf-8").split())
+    assert f"`-r{report[0]}` in `pyproject.toml`" in text

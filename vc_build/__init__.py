@@ -47,10 +47,11 @@ class BuildStatus:
     names: frozenset[str] = frozenset()  # the compiled modules in use
 
     def describe(self) -> str:
-        """``compiled (52 modules, mypyc -O3)``, ``pure Python``, ``pure Python (VC_PURE=1)``."""
+        """``compiled (52 modules, mypyc -O3)``, ``pure Python (VC_PURE=1)``, ``pure Python (installed
+        with VC_BUILD=pure)``: the pure build always says why."""
         if self.compiled:
             return f"compiled ({self.modules} modules, mypyc -O{self.opt_level})"
-        return f"pure Python ({self.reason})" if self.reason else "pure Python"
+        return f"pure Python ({self.reason})"
 
 
 def _source_of(module: str) -> Path:
@@ -65,9 +66,11 @@ def _check() -> BuildStatus:
         modules: dict[str, str] = manifest["modules"]
         opt_level = str(manifest.get("opt_level", ""))
     except FileNotFoundError:
-        return BuildStatus(False, 0, "")
+        return BuildStatus(False, 0, f"no compiled build: {MANIFEST.parent.name}/{MANIFEST.name} is missing")
     except (OSError, ValueError, KeyError, TypeError) as error:
         return BuildStatus(False, 0, f"unreadable {MANIFEST.name}: {error}")
+    if not modules:  # the pure build's manifest says why (setup.py), e.g. "installed with VC_BUILD=pure"
+        return BuildStatus(False, 0, str(manifest.get("pure", "")) or f"{MANIFEST.name} lists no compiled module")
     for module, digest in sorted(modules.items()):
         source = _source_of(module)
         try:

@@ -6,11 +6,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from fmu_machines import TURN_MILL
 
 from fmu.export import ExportResult, PythonRuntime, export_fmu
 
-REPOSITORY = Path(__file__).resolve().parents[2]
-TURN_MILL = str(REPOSITORY / "scenarios" / "machines" / "turn_mill.yaml")
 VARIANTS = ("fmi2", "fmi3", "lean")
 
 

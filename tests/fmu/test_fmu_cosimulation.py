@@ -18,7 +18,7 @@ from types import ModuleType
 from typing import Any
 
 import pytest
-from conftest import REPOSITORY, TURN_MILL
+from fmu_machines import REPOSITORY, TURN_MILL
 
 from interfaces.signals import SignalRef, UnknownSignalError
 from vc.config.loader import load_machine

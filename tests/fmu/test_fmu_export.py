@@ -13,9 +13,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import REPOSITORY, TURN_MILL
 from fmpy import read_model_description, simulate_fmu
 from fmpy.validation import validate_fmu
+from fmu_machines import REPOSITORY, TURN_MILL
 
 from fmu.export import ExportResult, PythonRuntime, export_fmu
 from fmu.instance import FmuError

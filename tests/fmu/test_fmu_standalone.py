@@ -25,7 +25,6 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from conftest import TURN_MILL
 from fmpy import calloc as fmpy_calloc
 from fmpy import extract, read_model_description
 from fmpy import free as fmpy_free
@@ -36,6 +35,7 @@ from fmpy.fmi2 import (
     fmi2CallbackFunctions,
     fmi2CallbackLoggerTYPE,
 )
+from fmu_machines import TURN_MILL
 
 from fmu.elf import needs
 from fmu.export import ExportResult

@@ -6,7 +6,7 @@ import subprocess
 import sys
 
 import pytest
-from conftest import REPOSITORY, TURN_MILL
+from fmu_machines import REPOSITORY, TURN_MILL
 
 from fmu.unit import IPO_CYCLE, PLC_SIGN_OF_LIFE, Causality, Kind, NcUnit, UnitError, Variability
 from vc.simulation.lockstep import Simulation

@@ -217,6 +217,8 @@ MAX_AX_VELO = MdDef(32000, "MAX_AX_VELO", A, FLOAT, 10000.0, "maximum axis veloc
                     nonzero="the axis could never move, and its rapid-stop ramp is scaled by it")
 JOG_VELO_RAPID = MdDef(32010, "JOG_VELO_RAPID", A, FLOAT, 10000.0, "rapid traverse in JOG", "[control]",
                        "mm/min", 0.0, 1.0e7)
+POS_AX_VELO = MdDef(32060, "POS_AX_VELO", A, FLOAT, 10000.0, "initial setting of the positioning axis velocity",
+                    "seed 003 L11592-11594 (a command axis without FA); [control] default", "mm/min", 0.0, 1.0e7)
 JOG_VELO = MdDef(32020, "JOG_VELO", A, FLOAT, 2000.0, "JOG velocity", "[control]", "mm/min", 0.0, 1.0e7)
 HANDWH_VELO_OVERLAY_FACTOR = MdDef(32090, "HANDWH_VELO_OVERLAY_FACTOR", A, FLOAT, 0.5,
                                    "handwheel velocity of the DRF offset per JOG velocity",

@@ -135,6 +135,9 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         "seed 003 L1564-1568 (distance-coded marks within MD34060) [control]"),
         AlarmDefinition(20005, "Channel %1 axis %2 reference point approach aborted", _STOP, Clear.RESET,
                         "seed 003 L1252-1254 (override 0 % in phase 2) [control]"),
+        AlarmDefinition(20141, "Channel %1 axis %2 motion-synchronized action: illegal axis type", _STOP,
+                        Clear.RESET, "seed 003 L17574-17575 (POS on a spindle in speed control); text [control]; also"
+                        " a POS on an axis another motion owns [control]"),
         AlarmDefinition(21610, "Channel %1 axis %2 encoder %3 frequency exceeded", _STOP | Reaction.RAPID_STOP,
                         Clear.RESET, "seed 003 L758-761 (re-reference after the encoder limit frequency);"
                         " [control] number and reaction"),

@@ -12,6 +12,7 @@
 ``encoder``        measuring systems and their reference marks
 ``stroke_limits``  software limits and the stored stroke limits 2 and 3
 ``handwheel``      the handwheels of the control (JOG)
+``command_axis``   command axes: POS[ax]= of a synchronized action, a single axis (§9.3.2)
 
 Imports: the base modules only (alarms, interface_map, nc_memory, overrides); never kinematics.
 """

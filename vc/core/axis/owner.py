@@ -8,6 +8,7 @@ Motion owners::
     NONE ──spindle turns (M3/M4, SPOS, oscillation)──▶ SPINDLE ──stands──▶ NONE
     any ──e-stop, enable removed, hardware limit──▶ BRAKE ──standstill──▶ NONE
     PATH / NONE ──fast retraction, ESR retract──▶ RETRACT ──at the retract position──▶ NONE
+    NONE ──POS[ax]= of a synchronized action──▶ COMMAND ──at its end point──▶ NONE
 """
 
 from __future__ import annotations
@@ -26,3 +27,4 @@ class Owner(Enum):
     # the orthogonal axis carried along by its inclined axis (vc/core/transforms/inclined_axis_control.py)
     TRANSFORM = "transform"
     RETRACT = "retract"  # a retract motion at maximum dynamics (LIFTFAST, ESR: vc/core/retraction/retract_motion.py)
+    COMMAND = "command"  # a command axis, moved on its own by a synchronized action (vc/core/axis/command_axis.py)

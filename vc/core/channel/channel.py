@@ -18,6 +18,9 @@ cycle of its program; its parts, each in a module of its own, share one :class:`
 ``stroke_limit_path``    stored stroke limits 2 and 3 on the paths and in JOG
 ``channel_referencing``  channel-specific referencing (DB21.DBX1.0, MD34110 order)
 
+Beside the program it keeps its command axes (``vc/core/axis/command_axis.py``): axes a
+synchronized action moves on their own, which NC stop and program end leave alone and its reset stops.
+
 NC stop goes through :meth:`Channel.stop` from every part: in G33 with LFON it lifts the tool.
 """
 
@@ -27,6 +30,7 @@ from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import CHANNEL_INTERRUPT, NC_START_DISABLED, STOP_AXES, AlarmList, Clear
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.command_axis import CommandAxes
 from vc.core.axis.jog import JogLimits
 from vc.core.axis.owner import Owner
 from vc.core.axis.stroke_limits import StrokeLimitControl
@@ -93,6 +97,7 @@ class Channel:
                                          referencing, self.five_axis, self._stroke, self._spindles, self._threads,
                                          self.stop)
         self._inclined: InclinedAxisControl | None = None
+        self.command_axes = CommandAxes(self.name, axes, alarms, dt)  # POS[ax]= of synchronized actions
 
     # ------------------------------------------------------------------ what the NCK gives the channel
     @property
@@ -205,6 +210,7 @@ class Channel:
             axis.at_software_limit = 0
         self._spindles.reset_couplings()
         self._spindles.reset_spindles(program_end=False)
+        self.command_axes.reset()
 
     def nc_start(self, cycle: int, mode: Mode, reference_function: bool) -> None:
         """NC start edge from the PLC."""
@@ -271,6 +277,8 @@ class Channel:
         if self._channel_referencing.groups:
             self._channel_referencing.cycle(cycle)
         path_runs_on = self._threads.esr_cycle(cycle)
+        if self.command_axes.active:
+            self.command_axes.cycle()  # independent of the program's state (L11215-11227)
         run = self.run
         reactions = self._alarms.reactions(self.name)
         if reactions & CHANNEL_INTERRUPT and run.state is ChannelState.ACTIVE:

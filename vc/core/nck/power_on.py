@@ -126,7 +126,8 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     for channel in channels:
         geometry = {name: axis for name, axis in zip(channel.config.geometry_names, channel.config.geometry_axes,
                                                        strict=True) if axis}
-        channel.esr = ChannelEsr(channel.name, channel.axes_by_name, alarms, dt, esr, geometry)
+        channel.esr = ChannelEsr(channel.name, channel.axes_by_name, alarms, dt, esr, geometry,
+                                 {**channel.spindles, **channel.command_axes.by_name}, channel.command_axes)
         channel.esr.other_variables = (couplings.variable_reader(channel.spindle_indices()),
                                        channel.write_coupling_variable)
     polygons: list[PolygonTurning] = []

@@ -13,6 +13,7 @@ from collections.abc import Callable, Sequence
 from typing import Any, Generic, TypeVar
 
 from interfaces.signals import MODE_GROUP_INSTANCE
+from vc.core.axis.command_axis import COMMAND_AXIS_STATES
 from vc.core.channel.program_run import CHANNEL_STATES, PROGRAM_STATES
 from vc.core.nck.manual_retraction import MANUAL_RETRACTION_STATES
 from vc.core.nck.mode_group import MODE_GROUP_STATES
@@ -55,6 +56,8 @@ PUBLISHED: tuple[Published[Any], ...] = (
                                                if channel.esr is not None]),
     Published(ESR_STOP_STATES, lambda nck: [(channel.name, channel.esr) for channel in nck.channels
                                             if channel.esr is not None]),
+    Published(COMMAND_AXIS_STATES, lambda nck: [(name, command) for channel in nck.channels
+                                                for name, command in channel.command_axes.by_name.items()]),
     Published(MANUAL_RETRACTION_STATES, lambda nck: [(channel.name, nck.retractions[channel.name])
                                                      for channel in nck.channels]),
 )

@@ -19,7 +19,14 @@ from vc.core.program.commands import (
 )
 from vc.core.program.decoder import BlockDecoder
 from vc.core.program.program import Assignment, Call, SynchronizedAction, ValueFunction
-from vc.core.program.sync_actions import SyncAction, SyncActionError, VariableWrite, parse_actions, parse_condition
+from vc.core.program.sync_actions import (
+    COMMAND_AXIS_WORDS,
+    SyncAction,
+    SyncActionError,
+    VariableWrite,
+    parse_actions,
+    parse_condition,
+)
 
 # System variables a part program (or a synchronized action) may write; True: indexed by an axis.
 PROGRAM_VARIABLES = {"$AC_LIFTFAST": False, "$AC_ESR_TRIGGER": False, "$AN_ESR_TRIGGER": False,
@@ -47,6 +54,19 @@ def _variable_write(decoder: BlockDecoder, name: str, index: str, value: object)
                 decoder.unknown(index)  # spindle_axis raised 16105 itself
             return None
         machine_axis = found
+    return VariableWrite(name, machine_axis, value)
+
+
+def _command_axis_word(decoder: BlockDecoder, name: str, index: str, value: float) -> VariableWrite | None:
+    """``POS[Z]=100`` / ``FA[Z]=2000`` of a synchronized action, with the axis as a machine axis of the
+    channel (12550 for another name); FA above 0 (12080)."""
+    if name == "FA" and value <= 0.0:
+        decoder.fail(12080, decoder.channel.name, decoder.block.label, f"FA[{index}]={value}")
+        return None
+    machine_axis = decoder.machine_axis(index)
+    if machine_axis is None:
+        decoder.unknown(index)
+        return None
     return VariableWrite(name, machine_axis, value)
 
 
@@ -164,7 +184,8 @@ def synchronized_action(decoder: BlockDecoder, item: SynchronizedAction) -> None
     except SyncActionError as error:
         decoder.fail(12080, decoder.channel.name, decoder.block.label, str(error))
         return
-    writes = [_variable_write(decoder, action.name, action.index, action.value) for action in actions]
+    writes = [_command_axis_word(decoder, action.name, action.index, action.value) if action.name in COMMAND_AXIS_WORDS
+              else _variable_write(decoder, action.name, action.index, action.value) for action in actions]
     if all(write is not None for write in writes):
         decoder.plan.sync_actions.append(SyncAction(item.number, item.static, item.mode, condition,
                                                     tuple(write for write in writes if write is not None),

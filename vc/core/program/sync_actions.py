@@ -12,7 +12,8 @@ end [control].  The condition language is the part the retraction functions need
     bit_expr   := term { (B_AND | B_OR | B_XOR | + | -) term }
     term       := number | 'H<hex>' | 'B<binary>' | $VARIABLE[ '[' index ']' ] | '(' or_expr ')'
 
-An action is ``$VARIABLE[ [index] ]=<number>``; several are separated by blanks.  Modes: WHENEVER
+An action is ``$VARIABLE[ [index] ]=<number>``, or ``POS[<axis>]=<number>`` / ``FA[<axis>]=<number>``
+that move the axis as a command axis (vc/core/axis/command_axis.py); several are separated by blanks.  Modes: WHENEVER
 does the actions in every cycle the condition holds, EVERY on each rising edge, WHEN once, FROM
 once the condition held once, in every cycle from then on [control].
 
@@ -31,6 +32,7 @@ from vc.core.program.program import number, tokenize
 from vc.input_limits import MAX_EXPRESSION_DEPTH, MAX_EXPRESSION_NESTING, MAX_MAGNITUDE
 
 Reader = Callable[[str, str], float]  # (variable, index) -> value; KeyError for an unknown variable
+COMMAND_AXIS_WORDS = ("POS", "FA")  # the words of a command axis an action may write (L11211-11236)
 
 _TOKEN = re.compile(r"\s*(?:(?P<number>\d+\.?\d*|\.\d+)|'(?P<literal>[HB][0-9A-F]+)'|(?P<variable>\$[A-Z0-9_]+)"
                     r"|(?P<word>[A-Z_][A-Z0-9_]*)|(?P<symbol>==|<>|>=|<=|[<>()\[\]=+\-]))", re.IGNORECASE)
@@ -66,7 +68,7 @@ class SyncActionError(VcError, ValueError):
 
 @dataclass(frozen=True, slots=True)
 class VariableWrite:
-    """``$AC_ESR_TRIGGER=1``, ``$AA_ESR_ENABLE[X]=0``: an action (or a program assignment)."""
+    """``$AC_ESR_TRIGGER=1``, ``$AA_ESR_ENABLE[X]=0``, ``POS[Z1]=100``: an action (or a program assignment)."""
 
     name: str
     index: str  # "" or the index as written (an axis name, an input number)
@@ -203,7 +205,7 @@ def parse_actions(text: str) -> tuple[VariableWrite, ...]:
     actions = []
     while not parser.at_end():
         kind, name = parser.take()
-        if kind != "variable":
+        if kind != "variable" and not (kind == "word" and name in COMMAND_AXIS_WORDS and parser.peek() == "["):
             raise SyncActionError(name)
         index = parser.index()
         parser.expect("=")

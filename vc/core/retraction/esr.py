@@ -34,9 +34,13 @@ not ESR-enabled and the master spindle run on with the path [control].  Coupling
 coupled following spindle keeps following its leading spindle while the stop axes run on and brake
 (seed 003 L41545-41546).
 
-A single axis (here: a spindle; the harness has no PLC or command axes [INF]) reacts only to its own
-``$AA_ESR_TRIGGER`` with MD37510 / MD37511 (stop) or POLFA (retract), and the channel trigger
-ignores it (L11505-11558).
+A single axis - a command axis while a synchronized action's POS moves it (vc/core/axis/command_axis.py,
+L11211-11236), or a spindle turning or positioning on its own [INF: the harness has no PLC axes] -
+reacts only to its own ``$AA_ESR_TRIGGER`` with MD37510 / MD37511 (stop) or POLFA (retract), and the
+channel trigger ignores it (L11505-11558, L11529-11534).  The stop ends the single axis's own
+motion, not just its setpoint: what moves it (``SingleAxis``) is stopped with the brake and keeps it
+stopped until a reset, so nothing that still asks for motion turns it again (L41528-41530: an
+orderly stop).
 
 ``$AC_ALARM_STAT`` bits (the seed gives 'H2000' = an alarm with follow-up, L42182-42186; the others
 are the project's reading of the control's alarm reactions [control])::
@@ -51,14 +55,15 @@ RETRACTING) and the stop axes (``StopPhase``: IDLE, RUNNING_ON for MD21380, BRAK
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from enum import Enum
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList, Reaction
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.command_axis import CommandAxes
 from vc.core.axis.owner import Owner
 from vc.core.interpolation.thread_cutting import ThreadSegment
 from vc.core.program.commands import LFPOS, RetractProgramming
@@ -142,6 +147,21 @@ class NckEsr:
             self._reacting = self._reacting or drive.reaction is DriveReaction.REACTING
 
 
+class SingleAxis(Protocol):
+    """What moves a single axis on its own (a command axis: vc/core/axis/command_axis.py; a spindle:
+    vc/core/spindle/spindle.py), as the ESR sees it."""
+
+    @property
+    def is_single_axis(self) -> bool:
+        """It moves on its own now, not with the channel's path or a coupling (L11525-11527)."""
+        ...
+
+    def esr_stop(self) -> None:
+        """The extended stop brakes it, or the retraction takes it: its own motion ends, and it stays
+        stopped until a reset."""
+        ...
+
+
 @dataclass(slots=True)
 class _StopAxes:
     """The stop axes of a running ESR: the path goes on until ``brake_at``, then stops by ``stopped_by``."""
@@ -149,6 +169,7 @@ class _StopAxes:
     brake_at: int
     stopped_by: int
     braking_time: float
+    braked: bool = False  # a single axis's brake has been applied
 
     @classmethod
     def after(cls, cycle: int, delay: float, braking_time: float, dt: float) -> _StopAxes:
@@ -164,9 +185,11 @@ class ChannelEsr:
     """Trigger variables, synchronized actions and the retract / stop reaction of one channel."""
 
     def __init__(self, name: str, axes: dict[str, MachineAxis], alarms: AlarmList, dt: float, nck: NckEsr,
-                 geometry: dict[str, str]):
+                 geometry: dict[str, str], single_axes: Mapping[str, SingleAxis], command_axes: CommandAxes):
         self.name = name
         self.axes = axes
+        self._single_axes = single_axes  # what may move the channel's axes on their own (spindles, command axes)
+        self.command_axes = command_axes  # POS[ax]= / FA[ax]= of a synchronized action move them
         self._alarms = alarms
         self._dt = dt
         self.nck = nck
@@ -239,6 +262,10 @@ class ChannelEsr:
             rising, self.axis_trigger[write.index] = value and not self.axis_trigger[write.index], value
             if rising:
                 self._single_axis_reaction(write.index, cycle)
+        elif write.name == "POS":
+            self.command_axes.position(write.index, write.value, cycle)
+        elif write.name == "FA":
+            self.command_axes.set_feed(write.index, write.value)
         elif self.other_variables is not None:
             self.other_variables[1](write)
 
@@ -250,6 +277,7 @@ class ChannelEsr:
         """Reset / program end: the modal synchronized actions (ID=) end, the static ones (IDS=) stay;
         the channel and axis triggers go back to 0, so the next 1 is an edge again [control]."""
         self.actions = {number: action for number, action in self.actions.items() if action.static}
+        self.command_axes.program_ended()
         self.trigger = False
         self.channel_trigger_pending = False
         self.axis_trigger = dict.fromkeys(self.axis_trigger, False)
@@ -305,7 +333,9 @@ class ChannelEsr:
 
         ``transform``: the active transformation; unless all its axes are ESR-enabled its group is
         dissolved and its axes react as machine axes (seed 003 L42098-42104)."""
-        enabled = [name for name in candidates if self.enabled(name) and not self.axes[name].is_spindle]
+        # spindles, and the axes that are single axes at the trigger, take no part (L11529-11534)
+        enabled = [name for name in candidates if self.enabled(name) and not self.axes[name].is_spindle
+                   and not self._is_single_axis(name)]
         thread = segment if isinstance(segment, ThreadSegment) else None
         thread_axes = {axis.name for axis in thread.axes} if thread is not None else set()
         if transform is not None and not all(self.enabled(name) for name in transform.machine_axes):
@@ -360,11 +390,17 @@ class ChannelEsr:
             self.protected |= {axis.name for axis in thread.axes} | {thread.spindle.name}
         self.liftfast = 1.0
 
+    def _is_single_axis(self, name: str) -> bool:
+        single = self._single_axes.get(name)
+        return single is not None and single.is_single_axis
+
     def _single_axis_reaction(self, name: str, cycle: int) -> None:
-        """$AA_ESR_TRIGGER[ax]: only a single axis (a spindle here) with $AA_ESR_ENABLE reacts."""
-        axis = self.axes.get(name)
-        if axis is None or not axis.is_spindle or not self.enabled(name):
-            return  # not a single axis at the trigger: ignored (L11546-11552)
+        """$AA_ESR_TRIGGER[ax]: only a single axis (a command axis moving, a spindle on its own) with
+        $AA_ESR_ENABLE reacts."""
+        if not self._is_single_axis(name) or not self.enabled(name):
+            return  # not a single axis at the trigger: ignored (L11523-11527)
+        single = self._single_axes[name]
+        axis = self.axes[name]
         md = axis.config.md
         reaction = md.int(MD.ESR_REACTION)
         if reaction == RETRACT_AXIS and name in self.single_axis_retract:
@@ -375,6 +411,7 @@ class ChannelEsr:
             else:
                 self.motion.add(group)  # the running retractions go on as they are
             self.protected.add(name)
+            single.esr_stop()  # its own motion ends: it stands at the retract position afterwards
         elif reaction in (RETRACT_AXIS, STOP_AXIS):
             self._single_stops[name] = _StopAxes.after(cycle, md.float(MD.AX_ESR_DELAY_TIME1),
                                                        md.float(MD.AX_ESR_DELAY_TIME2), self._dt)
@@ -401,8 +438,12 @@ class ChannelEsr:
                 self._stop = None
         for name, single in list(self._single_stops.items()):
             axis = self.axes[name]
-            if cycle == single.brake_at:
+            # at or after brake_at: with MD37510 = 0 a trigger written by a block comes after this
+            # cycle's reaction, so brake_at has passed when the reaction sees it first
+            if not single.braked and cycle >= single.brake_at:
+                single.braked = True
                 axis.brake(single.deceleration(axis, self._dt))
+                self._single_axes[name].esr_stop()  # its own motion ends too: nothing turns it again
             if cycle >= single.stopped_by and axis.command_velocity == 0.0:
                 del self._single_stops[name]
         if not self.running:
@@ -411,4 +452,4 @@ class ChannelEsr:
     def holds(self, axis: str) -> bool:
         """The axis's alarm reaction (rapid stop, controller enable off) waits for its ESR reaction."""
         return axis in self.protected and self.axes[axis].owner in (Owner.RETRACT, Owner.PATH, Owner.BRAKE,
-                                                                    Owner.SPINDLE, Owner.COUPLING)
+                                                                    Owner.SPINDLE, Owner.COUPLING, Owner.COMMAND)

@@ -124,6 +124,7 @@ class Spindle:
         self.coupling_hold = False  # leading spindle: a coupled FS's spindle stop brakes the group
         self.sync_speed_reached = False  # following spindle: the differential speed is reached (83.5)
         self.start_keys_locked = False  # manual retraction: DBX30.1 / 30.2 start nothing (L35582-35588)
+        self.esr_stopped = False  # stopped by its single-axis ESR until a reset (vc/core/retraction/esr.py)
         self.alarm_version = -1
         self._apply_gear_data()
         self._apply_default_mode()
@@ -265,6 +266,26 @@ class Spindle:
             return self.stationary()
         return True
 
+    # ------------------------------------------------------------------ single-axis ESR (vc/core/retraction/esr.py)
+    @property
+    def is_single_axis(self) -> bool:
+        """Moves on its own, as the single axis of ``$AA_ESR_TRIGGER`` (seed 003 L11491-11527): not in axis
+        mode, where the channel's path moves it, nor as the following spindle of a coupling, which only
+        stopping its leading spindle stops (L11390-11392)."""
+        return self.mode not in (SpindleMode.AXIS, SpindleMode.SYNCHRONOUS)
+
+    def esr_stop(self) -> None:
+        """The extended stop of the single axis (MD37500 = 22, L11541-11548) brakes it, or its retraction
+        (21, POLFA) takes it: its own motion ends as under an alarm's rapid stop - the direction is
+        deleted, S stays, a positioning is dropped (L16215-16217) - and it stays stopped, whatever is
+        commanded, until the channel's reset or its own DB31.DBX2.2 (L11442-11468: the reset ends a
+        stopped single axis) [control]."""
+        self.quiet = False
+        self.esr_stopped = True
+        self.direction = 0
+        if self.mode is SpindleMode.POSITIONING:
+            self._enter_control_mode()  # the positioning is aborted (as by a reset, L16672-16686)
+
     # ------------------------------------------------------------------ coupling (vc/core/spindle/coupling.py)
     def enter_synchronous_mode(self) -> None:
         """The spindle becomes the following spindle of a coupling: its own motion ends."""
@@ -346,6 +367,8 @@ class Spindle:
             self._enter_control_mode()  # a running positioning is aborted (L16672-16686)
         self.gear_change.reset()
         self.held = False
+        if not program_end:
+            self.esr_stopped = False  # a reset ends the single-axis ESR stop; the program's end does not
         self.spcon = False  # [control] reset ends SPCON like the other modal spindle functions
         if not self.md.int(MD.SPIND_ACTIVE_AFTER_RESET):
             self.direction = 0
@@ -375,12 +398,13 @@ class Spindle:
 
     def spindle_reset(self) -> None:
         """DB31.DBX2.2: stop, delete S and the direction, abort positioning and a gear change
-        (L16212-16214, L16676-16678, L18646)."""
+        (L16212-16214, L16676-16678, L18646); a single-axis ESR stop ends (L11442-11468)."""
         self.quiet = False
         if self.gear_change.state is not None:
             self._end_gear_change()
         self.direction = 0
         self.speed = 0.0
+        self.esr_stopped = False
         if self.mode is SpindleMode.POSITIONING:
             self._enter_control_mode()
 
@@ -514,7 +538,7 @@ class Spindle:
         else:
             command = None
         self.stopped_by_alarm = bool(alarms.reactions(self.channel) & STOP_AXES) and not esr_run_on
-        stopped = self.inputs.rapid_stop or self.held or self.stopped_by_alarm or \
+        stopped = self.inputs.rapid_stop or self.held or self.stopped_by_alarm or self.esr_stopped or \
             not axis.drive_ready or axis.disabled
         if stopped and command is not None:
             command = 0.0

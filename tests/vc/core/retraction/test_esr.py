@@ -14,6 +14,7 @@ import pytest
 from core_rig import ABSOLUTE_XYZ, DT, FIVE_AXIS, Rig, machine, spindle_rig
 
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.owner import Owner
 from vc.core.interpolation.tool_path import ToolPathSegment
 from vc.core.program.block_plan import BlockPlan, DecodeAlarm, ModalState
 from vc.core.program.commands import RetractProgramming
@@ -456,6 +457,75 @@ def test_seq_esr_3_single_axis_stop_runs_on_for_md37510_and_stops_within_md37511
     assert (rig.nck.cycle - trigger_cycle) * DT == pytest.approx(0.3, abs=DT)  # MD37510: turning on
     rig.run_until(lambda: spindle.command_velocity == 0.0, 1000)
     assert (rig.nck.cycle - trigger_cycle) * DT <= 0.36 + DT  # MD37511: stopped within 0.06 s
+
+
+def _spindle_stopped_by_its_esr(trigger: str) -> Rig:
+    """SP3 at 600 rev/min by the program, stopped by its single-axis ESR (MD37510 0.3 s, MD37511 0.06 s)."""
+    rig = Rig(machine(ESR_MACHINE + "\nSP3: {MD37500: 22, MD37510: 0.3, MD37511: 0.06}"))
+    rig.ready_mda()
+    rig.set("SP3.spindle.out.ovrFactor", 100)
+    spindle = axis(rig, "SP3")
+    run_mda(rig, "N10 M3=3 S3=600\nN20 $AA_ESR_ENABLE[SP3]=1\n"
+                 "N25 IDS=1 WHENEVER $A_IN[3]==1 DO $AA_ESR_TRIGGER[SP3]=1\n"
+                 f"N30 G4 F1\n{trigger}\nN50 G4 F0.5\nM30")
+    rig.run_until(lambda: block_number(rig) == 30, 20000)
+    rig.run_until(lambda: spindle.command_velocity == 3600.0, 1000)
+    if "ESR_TRIGGER" in trigger:  # in the program
+        rig.run_until(lambda: block_number(rig) == 40, 1000)
+    else:  # by the synchronized action
+        rig.set("NC.basic.out.setDigitalInputs", 4)
+    rig.run_until(lambda: spindle.command_velocity == 0.0, 1000)
+    return rig
+
+
+@pytest.mark.parametrize("trigger", ["N40 $AA_ESR_TRIGGER[SP3]=1", "N40 G4 F0.1"])
+def test_a_spindle_stopped_by_its_single_axis_esr_stays_stopped_until_a_reset(trigger: str) -> None:
+    # seed 003 L11541-11548, L41528-41530: the stop is an orderly stop; its M3 S600 must not turn it again
+    rig = _spindle_stopped_by_its_esr(trigger)
+    spindle, program = axis(rig, "SP3"), rig.nck.channels[0].spindles["SP3"]
+    assert program.direction == 0 and program.speed == 600.0  # the direction is deleted, S stays (L16215-16217)
+    for _ in range(500):  # 1 s: the block after the trigger, program end; the synchronized action stays
+        rig.step(1)
+        assert spindle.command_velocity == 0.0 and rig.get("SP3.basic.in.traversPlusCommandActive") == 0
+    assert rig.get("SP3.basic.in.isStationary") == 1 and rig.get("SP3.spindle.in.cwRotActive") == 0
+    rig.set("NC.basic.out.setDigitalInputs", 0)  # else IDS=1 triggers again after each program end
+    run_mda(rig, "N10 M3=3 S3=600\nN20 G4 F0.5\nM30")  # a new start is no reset: it stays stopped
+    rig.step(300)
+    assert spindle.command_velocity == 0.0
+    rig.pulse("CHAN1.basic.out.reset", 2)  # the reset ends the stop; the spindle turns when started again
+    rig.step(5)
+    assert spindle.command_velocity == 0.0
+    run_mda(rig, "N10 M3=3 S3=600\nN20 G4 F0.5\nM30")
+    rig.run_until(lambda: spindle.command_velocity == 3600.0, 1000)
+
+
+def test_db31_dbx2_2_ends_the_single_axis_esr_stop_of_a_spindle() -> None:
+    rig = _spindle_stopped_by_its_esr("N40 G4 F0.1")
+    spindle = axis(rig, "SP3")
+    rig.set("NC.basic.out.setDigitalInputs", 0)
+    rig.step(500)  # the program has ended
+    rig.pulse("SP3.basic.out.resetMovement", 2)
+    rig.pulse("SP3.spindle.out.startCw", 2)  # DBB30: start with the last S - deleted by DBX2.2
+    rig.step(100)
+    assert spindle.command_velocity == 0.0
+    run_mda(rig, "N10 M3=3 S3=300\nN20 G4 F0.5\nM30")
+    rig.run_until(lambda: spindle.command_velocity == 1800.0, 1000)
+
+
+@pytest.mark.parametrize("program", ["N20 M2=3 S2=300\nN25 COUPDEF(S3,S2,1,1)\nN30 COUPON(S3,S2)",
+                                     "N20 M2=3 S2=300\nN30 M3=70"])
+def test_a_single_axis_trigger_ignores_a_following_spindle_and_a_spindle_in_axis_mode(program: str) -> None:
+    # L11523-11527: only a single axis at the trigger reacts; a coupled SP3 moves with SP2 (L11390-11392),
+    # SP3 in axis mode (M70) is an axis of the channel's path
+    rig = Rig(machine(ESR_MACHINE + "\nSP3: {MD37500: 22, MD37510: 0.0}"))
+    rig.ready_mda()
+    rig.set("SP2.spindle.out.ovrFactor", 100)
+    run_mda(rig, f"N10 $AA_ESR_ENABLE[SP3]=1\n{program}\nN50 G4 F1\nN60 $AA_ESR_TRIGGER[SP3]=1\nN70 G4 F1\nM30")
+    rig.run_until(lambda: block_number(rig) == 70, 20000)
+    rig.step(100)
+    assert not rig.nck.channels[0].spindles["SP3"].esr_stopped and axis(rig, "SP3").owner is not Owner.BRAKE
+    if "COUPON" in program:
+        assert axis(rig, "SP3").command_velocity == pytest.approx(axis(rig, "SP2").command_velocity)
 
 
 def test_a_single_axis_trigger_leaves_the_running_retraction_alone() -> None:
