@@ -85,7 +85,8 @@ DESCRIPTION_REGISTER = 4096  # first input register of the description
 MAX_DESCRIPTION_BYTES = 2 * 12288  # input registers 4096..16383 (the commissioning facts of many axes fit)
 READ_LIMIT = 125  # registers in one read request or response (FC 3, 4): the protocol's limit
 WRITE_LIMIT = 123  # registers in one write request (FC 16)
-LINK_VERSION = 1
+LINK_VERSION = 2  # raised with every change of the layout (tests/interfaces/test_link_layout.py)
+SESSION_KEY_REGISTERS = 4  # holding registers 2..5: a 64-bit key
 
 # Modbus function codes by the table they address
 READ_COILS, READ_DISCRETE_INPUTS, READ_HOLDING, READ_INPUT = 1, 2, 3, 4
@@ -119,6 +120,7 @@ class LinkHolding(IntEnum):
 
     SCAN_DONE = 0
     SESSION_READY = 1
+    SESSION_KEY = 2  # 2..5: the PLC's session key, high word first; written, never read back
 
 
 class ModbusMapError(VcError, ValueError):
@@ -298,6 +300,19 @@ def words_as_bits(table: bytes | bytearray, first_word: int, count: int) -> list
     """Table bytes as 16-bit words with bit 0 first: byte ``2w`` is bits 0..7 of word w, byte
     ``2w + 1`` bits 8..15 (the little-endian packing bit-addressed stores use)."""
     return list(struct.unpack_from(f"<{count}H", table, 2 * first_word))
+
+
+def session_key_of(registers: Sequence[int]) -> int:
+    """The 64-bit session key of holding registers 2..5, high word first."""
+    key = 0
+    for register in registers[:SESSION_KEY_REGISTERS]:
+        key = key << 16 | register & 0xFFFF
+    return key
+
+
+def session_key_registers(key: int) -> list[int]:
+    """Holding registers 2..5 of a 64-bit session key, high word first."""
+    return [key >> shift & 0xFFFF for shift in (48, 32, 16, 0)]
 
 
 def text_registers(text: bytes) -> list[int]:

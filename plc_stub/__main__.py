@@ -7,9 +7,12 @@
     --program NAME         the program to run (default: the one the harness asks for)
     --period MS            scan period in free-running mode (default: the machine's PLC period)
     --connect-timeout S    give up when no server answers (no harness is heard on the bus) for this long
-                           (default 30 s)
+                           (default 30 s); over Modbus a connection lost later is made again within 2 s,
+                           else the harness has ended and so does the PLC
     --answer-timeout S     Modbus: wait this long for the answer to a request before the connection counts
                            as lost and is made again (default 3 s in real time, 120 s in lockstep)
+    --key-file FILE        Modbus: claim sessions with the key in FILE (``vc serve --plc-key-file FILE``);
+                           default: a random key of this process
 
 Exit codes: 0 stopped (Ctrl-C), 1 no server (no bus, no harness heard), 2 the PLC cannot run what the
 harness describes.
@@ -21,9 +24,12 @@ import argparse
 import sys
 from collections.abc import Sequence
 
+from interfaces.links.access import key_file
 from interfaces.links.endpoint import parse_endpoint
+from interfaces.links.errors import LinkError
 from plc_stub.links.can import run_on_can
 from plc_stub.links.modbus import run_forever
+from plc_stub.scan_loop import EXIT_CANNOT_RUN
 
 
 def _endpoint(text: str) -> tuple[str, int]:
@@ -57,6 +63,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--answer-timeout", type=float, default=None, metavar="S",
                         help="Modbus: seconds to wait for an answer before reconnecting (default 3 in real time,"
                              " 120 in lockstep)")
+    parser.add_argument("--key-file", metavar="FILE",
+                        help="Modbus: claim sessions with the key in FILE (vc serve --plc-key-file FILE)")
     arguments = parser.parse_args(argv)
     period_s = arguments.period / 1000 if arguments.period else None
 
@@ -69,7 +77,11 @@ def main(argv: Sequence[str] | None = None) -> int:
                               arguments.can_link_id)
         host, port = arguments.modbus
         return run_forever(host, port, arguments.program, period_s, arguments.connect_timeout, log,
-                           answer_timeout_s=arguments.answer_timeout)
+                           answer_timeout_s=arguments.answer_timeout,
+                           key=key_file(arguments.key_file) if arguments.key_file else None)
+    except LinkError as error:  # the key file
+        log(str(error))
+        return EXIT_CANNOT_RUN
     except KeyboardInterrupt:
         return 0
 

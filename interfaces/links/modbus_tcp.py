@@ -59,7 +59,7 @@ from typing import Any
 
 from pymodbus.client import ModbusTcpClient
 from pymodbus.constants import ExcCodes
-from pymodbus.exceptions import ModbusException
+from pymodbus.exceptions import ConnectionException, ModbusException, ModbusIOException
 from pymodbus.pdu import ExceptionResponse, ModbusPDU
 from pymodbus.pdu.register_message import ReadWriteMultipleRegistersRequest
 from pymodbus.server import ModbusTcpServer
@@ -78,6 +78,7 @@ from interfaces.codec_modbus import (
     READ_INPUT,
     READ_LIMIT,
     READ_WRITE_REGISTERS,
+    SESSION_KEY_REGISTERS,
     WRITE_COIL,
     WRITE_COILS,
     WRITE_LIMIT,
@@ -87,13 +88,15 @@ from interfaces.codec_modbus import (
     LinkInput,
     bits_writable,
     read_registers,
+    session_key_of,
     text_registers,
     words_as_bits,
     write_bits,
     write_registers,
 )
-from interfaces.links.access import AllowList, ConnectionLimits, LinkOwner
+from interfaces.links.access import NO_KEY, AllowList, ConnectionLimits, LinkOwner
 from interfaces.links.errors import LinkError as LinkError  # the links' error, raised here for pymodbus's
+from interfaces.links.errors import RequestRefused
 
 _COIL_CODES = (READ_COILS, WRITE_COIL, WRITE_COILS)
 WRITE_FUNCTIONS = frozenset({WRITE_COIL, WRITE_REGISTER, WRITE_COILS, WRITE_REGISTERS, MASK_WRITE_REGISTER,
@@ -103,6 +106,10 @@ MBAP = struct.Struct(">HHHB")  # transaction, protocol (0), length (unit id and 
 MAX_PDU_BYTES = 253  # the protocol's limit: an ADU of 260 bytes
 SERVE_SLICE_S = 0.0002  # requests served per pass of the event loop, in time
 PENDING_LIMIT = 16  # requests of one connection waiting before its socket is no longer read
+CONNECT_PAUSE_S = 0.1  # a client's pause between two connection attempts
+# a PLC's client after a lost connection: a harness that still runs takes a new one at once; when none
+# does within this window the harness has ended, and so does the PLC process
+RECONNECT_WINDOW_S = 2.0
 
 log = logging.getLogger(__name__)
 # pymodbus logs every refused request and every dropped connection at warning/error level: its
@@ -250,17 +257,24 @@ def take_requests(received: bytearray) -> tuple[list[Request], str | None]:
     return requests, problem
 
 
-def claims_session(pdu: ModbusPDU, session: int) -> bool:
-    """Whether a register write puts ``session`` into holding register 1 (session ready): the PLC's
-    claim of the session (:mod:`interfaces.links.access`)."""
+def session_claim(pdu: ModbusPDU, session: int) -> int | None:
+    """The session key of a register write that puts ``session`` into holding register 1 (session
+    ready), the PLC's claim of the session (:mod:`interfaces.links.access`); None when the write
+    claims nothing.  The key is holding registers 2..5 of the same request, high word first
+    (:data:`~interfaces.links.access.NO_KEY` when the request does not write all four)."""
     if pdu.function_code in (WRITE_REGISTER, WRITE_REGISTERS):
         first, values = pdu.address, pdu.registers
     elif isinstance(pdu, ReadWriteMultipleRegistersRequest):
         first, values = pdu.write_address, pdu.write_registers
     else:
-        return False
+        return None
     index = LinkHolding.SESSION_READY - first
-    return session != 0 and 0 <= index < len(values) and values[index] == session
+    if session == 0 or not 0 <= index < len(values) or values[index] != session:
+        return None
+    key = LinkHolding.SESSION_KEY - first
+    if key + SESSION_KEY_REGISTERS > len(values):
+        return NO_KEY
+    return session_key_of(values[key: key + SESSION_KEY_REGISTERS])
 
 
 # ---------------------------------------------------------------------------------- the server
@@ -567,8 +581,8 @@ class ModbusServerLink:
             return ExceptionResponse(function, ExcCodes.ILLEGAL_VALUE)
         session = self.tables.session
         if function in WRITE_FUNCTIONS and session:  # only the session's PLC: asked where a write lands
-            claims = claims_session(pdu, session)
-            self.tables.may_write = lambda: self.owner.may_write(connection, connection.peer, claims)
+            claim = session_claim(pdu, session)
+            self.tables.may_write = lambda: self.owner.may_write(connection, connection.peer, claim)
         try:
             # pymodbus's own handler passes its SimCore where the PDUs name a ModbusServerContext
             context: Any = self._server.context
@@ -636,6 +650,18 @@ class ModbusLinkClient:
         except (OSError, ModbusException):
             return False
 
+    def connect_within(self, seconds: float, should_stop: Callable[[], bool] = lambda: False) -> bool:
+        """Connect, trying again every :data:`CONNECT_PAUSE_S` for up to ``seconds`` (or until
+        ``should_stop``); False when no server took the connection in that time."""
+        deadline = wallclock.monotonic() + seconds
+        while not should_stop():
+            if self.connect():
+                return True
+            if wallclock.monotonic() >= deadline:
+                return False
+            wallclock.sleep(CONNECT_PAUSE_S)
+        return False
+
     def close(self) -> None:
         self._client.close()
 
@@ -668,9 +694,9 @@ class ModbusLinkClient:
             try:
                 response = self._client.write_registers(address + start, chunk, device_id=self.device_id)
             except (ModbusException, OSError) as error:
-                raise LinkError(f"Modbus server {self.host}:{self.port}: {error}") from None
+                raise self._lost(error) from None
             if response.isError():
-                raise LinkError(f"Modbus server {self.host}:{self.port} refused writing registers"
+                raise RequestRefused(f"Modbus server {self.host}:{self.port} refused writing registers"
                                 f" {address + start}..{address + start + len(chunk) - 1}:"
                                 f" exception {getattr(response, 'exception_code', '?')}")
 
@@ -678,8 +704,20 @@ class ModbusLinkClient:
         try:
             response = method(address, count=count, device_id=self.device_id)
         except (ModbusException, OSError) as error:
-            raise LinkError(f"Modbus server {self.host}:{self.port}: {error}") from None
+            raise self._lost(error) from None
         if response.isError():
-            raise LinkError(f"Modbus server {self.host}:{self.port} refused reading registers"
+            raise RequestRefused(f"Modbus server {self.host}:{self.port} refused reading registers"
                             f" {address}..{address + count - 1}: exception {getattr(response, 'exception_code', '?')}")
         return list(response.registers)
+
+    def _lost(self, error: Exception) -> LinkError:
+        """A request that got no answer, in words (pymodbus's own messages name its internals)."""
+        if isinstance(error, ConnectionException | ConnectionError):
+            what = "the server closed the connection"
+        elif isinstance(error, ModbusIOException):
+            what = f"no answer within {self.timeout_s:g} s"
+        elif isinstance(error, OSError):
+            what = error.strerror or type(error).__name__
+        else:
+            what = str(error)
+        return LinkError(f"Modbus server {self.host}:{self.port}: {what}")

@@ -387,7 +387,7 @@ def _serve(arguments: argparse.Namespace) -> int:
     if (arguments.junit or arguments.keep_running) and not arguments.scenario:
         print("--junit and --keep-running need --scenario", file=sys.stderr)
         return EXIT_PROBLEMS
-    from interfaces.links.access import ConnectionLimits
+    from interfaces.links.access import ConnectionLimits, key_file
     from interfaces.links.can_bus import BusSpec
     from interfaces.links.errors import LinkError
     from vc.harness.links.modbus import Endpoint
@@ -403,7 +403,9 @@ def _serve(arguments: argparse.Namespace) -> int:
             link = "can" if arguments.can else "modbus" if arguments.modbus or not arguments.s7 else "s7"
             recorder = session_recorder(arguments.record, arguments.scenario, link, arguments.realtime)
         options = ServeOptions(
-            machine_path=arguments.machine,
+            machine_path=arguments.machine or DEFAULT_MACHINE,
+            machine_given=arguments.machine is not None,
+            plc_key=key_file(arguments.plc_key_file) if arguments.plc_key_file else None,
             modbus=Endpoint.parse(arguments.modbus, 5020) if arguments.modbus else None,
             s7=Endpoint.parse(arguments.s7, 102) if arguments.s7 else None,
             can=BusSpec.parse(arguments.can) if arguments.can else None,
@@ -526,7 +528,7 @@ def build_parser() -> argparse.ArgumentParser:
     signal_map.set_defaults(handler=_map)
 
     serve = commands.add_parser("serve", help="serve the NC and the plant to a PLC over Modbus TCP and/or S7")
-    serve.add_argument("--machine", default=DEFAULT_MACHINE, help=machine_help)
+    serve.add_argument("--machine", help=f"{machine_help}; with --scenario only the scenario's machine")
     serve.add_argument("--modbus", nargs="?", const="127.0.0.1:5020", metavar="HOST:PORT",
                        help="serve Modbus TCP (default 127.0.0.1:5020; the default when no --s7 is given)")
     serve.add_argument("--s7", metavar="HOST:PORT", help="serve the data blocks over S7 (python-snap7)")
@@ -540,6 +542,10 @@ def build_parser() -> argparse.ArgumentParser:
                        help="these clients may write besides the session's PLC, the one connection that wrote"
                             " the session into holding register 1 (a PLC with several connections, a tool;"
                             " repeatable)")
+    serve.add_argument("--plc-key-file", metavar="FILE",
+                       help="only a PLC that claims its session with the key in FILE writes into the NC (16"
+                            " hexadecimal digits; made, readable by you alone, when missing; python -m plc_stub"
+                            " --key-file FILE; docs/modbus.md)")
     serve.add_argument("--max-clients", type=int, default=DEFAULT_MAX_CLIENTS, metavar="N",
                        help=f"connections per server (default {DEFAULT_MAX_CLIENTS}); when full, the one idle"
                             " the longest makes room")

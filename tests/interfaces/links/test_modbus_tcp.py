@@ -20,6 +20,7 @@ import threading
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
+from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -27,8 +28,8 @@ from hypothesis import strategies as st
 from pyModbusTCP.client import ModbusClient
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import RegisterMap, Table, read_registers
-from interfaces.links.access import ConnectionLimits, LinkOwner
+from interfaces.codec_modbus import RegisterMap, Table, read_registers, session_key_registers
+from interfaces.links.access import ConnectionLimits, LinkOwner, OwnerState, key_file
 from interfaces.links.modbus_tcp import LinkError, ModbusServerLink, ModbusTables, Request, take_requests
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import InterfaceLayout, expand
@@ -379,12 +380,26 @@ def _open_session(tables: ModbusTables) -> None:
     tables.nc_to_plc[0:4] = struct.pack(">HH", 1, SESSION)  # link version 1, session 5
 
 
+KEY = 0x0123_4567_89AB_CDEF  # the PLC's session key
+
+
+def _claim(client: ModbusClient, key: int = KEY) -> bool:
+    """The claim of a PLC: holding register 1 = the session, 2..5 = its key."""
+    return bool(client.write_multiple_registers(1, [SESSION, *session_key_registers(key)]))
+
+
+def _until_no_owner(served: Served) -> None:
+    deadline = time.monotonic() + TIMEOUT
+    while served.link.owner.owner is not None and time.monotonic() < deadline:
+        time.sleep(0.01)
+
+
 def test_only_the_connection_that_claimed_the_session_writes(served: Served) -> None:
     _open_session(served.tables)
     plc, other = served.client(), served.client()
     assert not plc.write_single_register(16, 0x0100)  # before its claim, nobody writes
     assert plc.last_except == 1
-    assert plc.write_single_register(1, SESSION)  # the claim: session ready = the session
+    assert _claim(plc)  # the claim: session ready = the session, with the key
     assert plc.write_multiple_registers(0, [7, SESSION])  # sign of life and outputs
     assert plc.write_single_coil(8 * 32, True)  # Q0.0
     for refused in (lambda: other.write_single_register(0, 8), lambda: other.write_single_register(1, SESSION),
@@ -392,14 +407,70 @@ def test_only_the_connection_that_claimed_the_session_writes(served: Served) -> 
                     lambda: other.write_multiple_registers(16, [0xFFFF])):
         assert not refused()
         assert other.last_except == 1
-    assert other.read_holding_registers(0, 2) == [7, SESSION]  # reading is everybody's
+    assert other.read_holding_registers(0, 6) == [7, SESSION, 0, 0, 0, 0]  # reading is everybody's; the key is not
     assert served.link.owner.refused == 5 and served.link.counters.requests >= 9
-    plc.close()  # the PLC goes: the next claim takes the link
-    deadline = time.monotonic() + TIMEOUT
-    while served.link.owner.owner is not None and time.monotonic() < deadline:
-        time.sleep(0.01)
-    assert other.write_multiple_registers(0, [9, SESSION])
+    plc.close()
     other.close()
+
+
+def test_a_lost_plc_closes_its_session_and_only_its_key_takes_it_back(served: Served) -> None:
+    """The PLC's connection ended and the next client that wrote the session number into holding
+    register 1 owned the link: it kept alarm 2000 away with the sign of life and moved the axes."""
+    _open_session(served.tables)
+    plc, intruder = served.client(), served.client()
+    assert _claim(plc) and plc.write_multiple_registers(0, [7, SESSION])
+    plc.close()  # the PLC is lost
+    _until_no_owner(served)
+    assert served.link.owner.state is OwnerState.CLOSED
+    for claim in (lambda: intruder.write_single_register(1, SESSION),
+                  lambda: intruder.write_multiple_registers(0, [8, SESSION]),
+                  lambda: _claim(intruder, key=0), lambda: _claim(intruder, key=KEY ^ 1)):
+        assert not claim()
+        assert intruder.last_except == 1
+    assert intruder.read_holding_registers(0, 2) == [7, SESSION]  # nothing of it landed
+    assert served.link.owner.refused_claims == 4
+    back = served.client()  # the same PLC on a new connection, with its key
+    assert _claim(back) and back.write_single_register(0, 9)
+    assert served.link.owner.state is OwnerState.OWNED and served.link.owner.claims == 2
+    back.close()
+    intruder.close()
+
+
+def test_a_session_claimed_without_a_key_stays_closed_until_a_new_session(served: Served) -> None:
+    _open_session(served.tables)
+    plc = served.client()
+    assert plc.write_single_register(1, SESSION)  # a PLC that claims with the session alone (no key)
+    plc.close()
+    _until_no_owner(served)
+    again = served.client()
+    assert not again.write_single_register(1, SESSION) and not _claim(again, key=0)
+    served.link.owner.open_session()  # the next power-on, or the operator's new session
+    assert again.write_single_register(1, SESSION) and again.write_single_register(0, 1)
+    again.close()
+
+
+def test_with_a_required_key_only_its_claim_takes_a_session() -> None:
+    for served in _serve(owner=LinkOwner(required_key=KEY)):
+        _open_session(served.tables)
+        stranger, plc = served.client(), served.client()
+        assert not stranger.write_single_register(1, SESSION) and not _claim(stranger, key=KEY + 1)
+        assert _claim(plc)
+        plc.close()
+        _until_no_owner(served)
+        served.link.owner.open_session()  # a new session: still the key alone
+        assert not stranger.write_single_register(1, SESSION)
+        assert _claim(stranger)  # whoever holds the key is the PLC
+        stranger.close()
+
+
+def test_a_key_file_is_made_for_its_owner_alone_and_read_back(tmp_path: Path) -> None:
+    path = tmp_path / "plc.key"
+    key = key_file(str(path))
+    assert 0 < key < 1 << 64 and key_file(str(path)) == key
+    assert os.stat(path).st_mode & 0o777 == 0o600
+    path.write_text("not a key\n")
+    with pytest.raises(LinkError, match="16 hexadecimal digits"):
+        key_file(str(path))
 
 
 def test_allowed_writers_write_without_owning_the_link() -> None:
