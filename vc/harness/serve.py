@@ -203,10 +203,10 @@ def _machine_and_program(options: ServeOptions) -> tuple[MachineConfig, str, str
 def _check_same_machine(reference: str, scenario_path: str, machine: MachineConfig) -> None:
     """``--machine`` with ``--scenario`` must name the scenario's machine: the scenario's machine is
     what runs, and a PLC configured for the machine given would meet another one."""
-    given = machine_file(reference)
+    given, runs = machine_file(reference), machine_file(machine.source)  # a scenario's machine may be a name too
     if given is None:
         raise LinkError(unknown_machine(reference))
-    if not os.path.exists(given) or not os.path.samefile(given, machine.source):
+    if runs is None or not os.path.exists(given) or not os.path.samefile(given, runs):
         raise LinkError(f"--machine {reference} names another machine than the scenario {scenario_path}, which runs"
                         f" {machine.name} ({machine.source}): leave --machine out, or give the scenario's machine")
 
