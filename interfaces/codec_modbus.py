@@ -31,7 +31,7 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
 
 * **Link block**, NC-to-PLC table (input registers 0..15)::
 
-      0  link protocol version (1)          8  first register of the description (4096)
+      0  link version (2, see below)        8  first register of the description (4096)
       1  session: counts power-ons          9  description length in bytes
       2  mode: 1 lockstep, 2 free-running  10  NC-to-PLC table size in registers
       3  scan grant (lockstep)             11  PLC-to-NC table size in registers
@@ -45,7 +45,13 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
       0  scan done: the number of the granted scan the PLC finished (lockstep); in
          free-running mode a counter the PLC changes every scan (its sign of life)
       1  session ready: the session the PLC has (re)started its program for
-      2..15  reserved, read 0 (register writes there are dropped, coil writes refused)
+      2..5  the PLC's session key, 64 bits high word first: written with register 1 in the claim
+            of a session (:mod:`interfaces.links.access`), never stored, read 0
+      6..15  reserved, read 0 (register writes there are dropped, coil writes refused)
+
+  The link version (input register 0) changes with every change of this block and of where any
+  signal of a shipped machine lies (tests/interfaces/test_link_versions.py pins the layout to it):
+  a PLC built for another version must not run.
 
   Sessions count from 1 in every harness process; the boot id tells two processes apart.  A PLC
   restarts its program whenever the session or the boot id differs from those it started for
@@ -85,7 +91,7 @@ DESCRIPTION_REGISTER = 4096  # first input register of the description
 MAX_DESCRIPTION_BYTES = 2 * 12288  # input registers 4096..16383 (the commissioning facts of many axes fit)
 READ_LIMIT = 125  # registers in one read request or response (FC 3, 4): the protocol's limit
 WRITE_LIMIT = 123  # registers in one write request (FC 16)
-LINK_VERSION = 2  # raised with every change of the layout (tests/interfaces/test_link_layout.py)
+LINK_VERSION = 2  # raised with every change of the layout (tests/interfaces/test_link_versions.py)
 SESSION_KEY_REGISTERS = 4  # holding registers 2..5: a 64-bit key
 
 # Modbus function codes by the table they address
