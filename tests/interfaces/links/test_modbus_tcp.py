@@ -28,7 +28,8 @@ from hypothesis import strategies as st
 from pyModbusTCP.client import ModbusClient
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import RegisterMap, Table, read_registers, session_key_registers
+from interfaces.codec_modbus import Location, RegisterMap, Table, read_registers, session_key_registers
+from interfaces.image import encode
 from interfaces.links.access import ConnectionLimits, LinkOwner, OwnerState, key_file
 from interfaces.links.modbus_tcp import LinkError, ModbusServerLink, ModbusTables, Request, take_requests
 from interfaces.plant_io import PlantIoMap
@@ -638,3 +639,38 @@ def test_mbpoll_reads_a_documented_bit_and_gets_exception_02_for_a_read_only_add
     refused = _mbpoll(served.port, "-t", "0", "-r", str(referenced.coil + 1), "127.0.0.1", "1")
     assert refused.returncode != 0
     assert "Illegal data address" in refused.stderr + refused.stdout
+
+
+# ------------------------------------------------------------------------------ REAL values
+
+S_VALUE = -1234.5678  # an S7 REAL whose words differ (0xC49A, 0x522B), so a swapped order cannot pass
+
+
+def _serve_real(served: Served) -> Location:
+    """SP1's S function value (DB34.DBD88, a REAL) in the NC-to-PLC table as the NC writes it."""
+    ref = CATALOG.resolve("SP1.spindle.in.sFuncValue")
+    areas = {key: bytearray(size) for key, size in {**CATALOG.area_sizes, **PLANT.area_sizes()}.items()}
+    encode(areas["DB34"], ref, S_VALUE)
+    MAP.fill_table(Table.NC_TO_PLC, areas, served.tables.nc_to_plc)
+    return location("SP1.spindle.in.sFuncValue")
+
+
+def test_a_real_is_two_registers_high_word_first_of_an_ieee_754_single(served: Served) -> None:
+    """docs/modbus.md, "REAL values": DBD n is input registers r, r + 1; (r << 16 | r + 1) is the bit
+    pattern of the IEEE 754 single, so it is a REAL by a bit cast, not by a conversion."""
+    found = _serve_real(served)
+    assert found.registers == 2
+    high, low = served.client().read_input_registers(found.register, 2)
+    assert (high, low) == (0xC49A, 0x522B)
+    pattern = high << 16 | low  # what a PLC gets from the two words, as the doc writes it
+    assert struct.unpack(">f", struct.pack(">I", pattern))[0] == pytest.approx(S_VALUE, rel=1e-7)
+    assert struct.unpack(">f", struct.pack(">I", low << 16 | high))[0] != pytest.approx(S_VALUE, rel=1e-3)
+
+
+@needs_mbpoll
+def test_mbpoll_reads_a_real_with_big_endian_word_order(served: Served) -> None:
+    found = _serve_real(served)
+    result = _mbpoll(served.port, "-t", "3:float", "-B", "-r", str(found.register + 1), "-c", "1", "127.0.0.1")
+    assert result.returncode == 0, result.stderr
+    printed = result.stdout.split(f"[{found.register + 1}]:")[1].split()[0]
+    assert float(printed) == pytest.approx(S_VALUE, abs=0.01)  # mbpoll prints six digits: -1234.57
