@@ -26,6 +26,7 @@ from vc.bench.robustness.flood import run_flood
 from vc.bench.robustness.modbus_fuzz import run_modbus_fuzz
 from vc.bench.robustness.s7_probe import run_s7_probe
 from vc.bench.robustness.soak import run_soak
+from vc.bench.robustness.takeover import run_session_takeover
 
 
 def _file_part(settings: CampaignSettings, say: Say) -> Row:
@@ -46,6 +47,7 @@ PARTS: list[Part] = [
     Part("can", run_can_noise),
     Part("files", _file_part),  # the scenario and machine files (vc/bench/robustness/files.py)
     Part("soak", run_soak),  # only with --soak
+    Part("takeover", run_session_takeover),  # a lost PLC's session (vc/bench/robustness/takeover.py)
 ]
 
 

@@ -9,7 +9,9 @@ thread here, as a test stands in for the harness that would run it while it wait
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import itertools
+import logging
 import os
 import select
 import shutil
@@ -31,7 +33,15 @@ from interfaces.catalog import load_catalog
 from interfaces.codec_modbus import Location, RegisterMap, Table, read_registers, session_key_registers
 from interfaces.image import encode
 from interfaces.links.access import ConnectionLimits, LinkOwner, OwnerState, key_file
-from interfaces.links.modbus_tcp import LinkError, ModbusServerLink, ModbusTables, Request, take_requests
+from interfaces.links.modbus_tcp import (
+    ANSWER_LIMIT,
+    RECEIVE_LIMIT,
+    LinkError,
+    ModbusServerLink,
+    ModbusTables,
+    Request,
+    take_requests,
+)
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import InterfaceLayout, expand
 
@@ -551,6 +561,43 @@ def test_idle_connections_are_closed_after_the_idle_time_out() -> None:
         assert served.link.clients == 0 and served.link.counters.idle_closed == 101
         for wire in [*idle, half_open]:
             wire.close()
+
+
+def test_a_client_that_never_takes_its_answers_is_not_read_and_cannot_grow_the_server(
+        caplog: pytest.LogCaptureFixture) -> None:
+    """It grew the server from 58 to 405 MB in 120 s: every answer waited in the server's buffer."""
+    caplog.set_level(logging.INFO, logger="interfaces.links.modbus_tcp")
+    for served in _serve(limits=ConnectionLimits(idle_timeout_s=3.0)):
+        hog = socket.create_connection(("127.0.0.1", served.port), timeout=TIMEOUT)
+        hog.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        hog.setblocking(False)
+        batch = b"".join(struct.pack(">HHHBBHH", number, 0, 6, 1, 4, 0, 125) for number in range(1000))
+        sent, most = 0, 0
+        deadline = time.monotonic() + 20.0
+        # 259-byte answers to 12-byte requests, never read, until the kernel's buffers are full and the
+        # server's own fill up
+        while served.link.counters.stalls == 0 and time.monotonic() < deadline:
+            with contextlib.suppress(BlockingIOError):
+                sent += hog.send(batch)
+            most = max(most, served.link.held_bytes())
+            time.sleep(0.001)
+        for _ in range(200):  # and on, while it is no longer read
+            with contextlib.suppress(BlockingIOError):
+                sent += hog.send(batch)
+            most = max(most, served.link.held_bytes())
+            time.sleep(0.001)
+        assert sent > 100 * 1024  # the answers to what it sent would be more than 2 MB
+        assert most <= RECEIVE_LIMIT + 256 * 1024 + ANSWER_LIMIT + 4096  # what the server held for it
+        assert served.link.counters.stalls >= 1
+        assert "does not take its answers" in caplog.text
+        other = served.client()  # everybody else is served meanwhile
+        assert other.read_input_registers(0, 2) is not None
+        deadline = time.monotonic() + 10.0
+        while served.link.counters.stalled_closed == 0 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert served.link.counters.stalled_closed == 1  # closed after the idle time-out, its answers dropped
+        other.close()
+        hog.close()
 
 
 def test_a_full_server_closes_the_longest_idle_connection_for_a_new_one() -> None:
