@@ -180,7 +180,12 @@ class RemotePlc:
             head[LinkInput.SESSION], head[LinkInput.BOOT_ID], lockstep, description, register_map, plc,
             ProcessImage(environment.catalog.area_sizes), ProcessImage(environment.plant_io.area_sizes()),
             bytearray(sizes[Table.NC_TO_PLC]), bytearray(sizes[Table.PLC_TO_NC]))
-        if not self._claim(head[LinkInput.SESSION], head[LinkInput.BOOT_ID]):
+        try:
+            claimed = self._claim(head[LinkInput.SESSION], head[LinkInput.BOOT_ID])
+        except LinkError:
+            self.session = None  # never claimed: after the reconnect it starts again
+            raise
+        if not claimed:
             return None
         self.log(f"session {self.session.number} (boot id {self.session.boot_id}): machine {description.machine},"
                  f" program {name},"

@@ -76,22 +76,23 @@ def test_a_plc_refused_its_session_says_so_once_and_takes_the_next_one() -> None
                             pacer=RealtimePacer(link.loop, Simulation.ipo_seconds(TURN_MILL), speed=1.0))
     other = ModbusClient(host="127.0.0.1", port=link.modbus.port, timeout=2, auto_open=True)
     plc: subprocess.Popen[str] | None = None
+    seen: list[object] = []
     try:
         simulation.step(10)
         assert _stepping(simulation, lambda: other.write_single_register(1, link.session))  # another PLC's session
         plc = _plc(link.modbus.port)
-        deadline = time.monotonic() + 20
+        deadline = time.monotonic() + 60
         while link.owner.refused_claims == 0 and time.monotonic() < deadline:
             simulation.step(10)
         simulation.step(500)  # a second: the PLC polls, and does not claim again
-        assert link.owner.refused_claims == 1
+        seen.append(link.owner.refused_claims)
         other.close()  # the holder is lost: its session is closed
         while link.owner.state is not OwnerState.CLOSED and time.monotonic() < deadline:
             simulation.step(10)
-        assert link.open_new_session() == "session 2 opened: the first PLC that claims it owns the link"
+        seen.append(link.open_new_session())
         while link.owner.state is not OwnerState.OWNED and time.monotonic() < deadline:
             simulation.step(10)
-        assert link.owner.claims == 2 and link.owner.owner_peer == "127.0.0.1"
+        seen += [link.owner.claims, link.owner.owner_peer]
     finally:
         other.close()
         if plc is not None:
@@ -99,5 +100,6 @@ def test_a_plc_refused_its_session_says_so_once_and_takes_the_next_one() -> None
         link.close()
     assert plc is not None
     _code, said, _waited = _ended(plc, 10.0)
+    assert seen == [1, "session 2 opened: the first PLC that claims it owns the link", 2, "127.0.0.1"], said
     assert said.count("the server refused this PLC's claim") == 1, said
     assert "session 2 (boot id" in said

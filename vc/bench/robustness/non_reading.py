@@ -1,12 +1,12 @@
 """The non-reading part: clients that pipeline requests and never take their answers.
 
 ``vc serve --realtime`` with the built-in PLC connected and an ``--idle-timeout`` of a quarter of
-the part; up to :data:`CONNECTIONS` raw connections (each with a small receive buffer, set before it
-connects) send reads of 125 input registers back to back, 259 bytes of answer for every 12 bytes
-of request, and never read, for twice the flood's seconds (the kernel's buffers take about 4 MB of
-answers per connection before the server's own would fill); a connection the server closes is
-made again, so the abuse goes on for the whole part.  Meanwhile a well-behaved client reads once
-every :data:`PROBE_PERIOD_S`.
+the part (at least :data:`IDLE_TIMEOUT_MIN_S`); up to :data:`CONNECTIONS` raw connections (each
+with a small receive buffer, set before it connects) send reads of 125 input registers back to
+back, 259 bytes of answer for every 12 bytes of request, and never read, for twice the flood's
+seconds (the kernel's buffers take about 4 MB of answers per connection before the server's own
+would fill); a connection the server closes is made again, so the abuse goes on for the whole
+part.  Meanwhile a well-behaved client reads once every :data:`PROBE_PERIOD_S`.
 
 The server's resident memory (RSS) is sampled throughout.  Rule violations: growth beyond what the
 server may hold for the connections (:data:`~interfaces.links.modbus_tcp.RECEIVE_LIMIT` bytes
@@ -37,6 +37,7 @@ MARGIN_KB = 16 * 1024  # the allocator's and the statistics' own growth
 SAMPLE_S = 0.5
 PROBE_PERIOD_S = 0.05
 CONNECTIONS = 8
+IDLE_TIMEOUT_MIN_S = 5.0  # the PLC starting its program may be silent for a second or two
 STALLS = re.compile(r"(\d+) times a client did not take its answers")
 UNTAKEN_CLOSED = re.compile(r"(\d+) with answers untaken for the time-out")
 
@@ -101,7 +102,7 @@ class _Probe(threading.Thread):
 def run_non_reading(settings: CampaignSettings, say: Say) -> Row:
     """The part's row (module docstring)."""
     seconds = 2 * settings.flood_seconds
-    idle_timeout = max(1.0, seconds / 4)
+    idle_timeout = max(IDLE_TIMEOUT_MIN_S, seconds / 4)
     connections = min(CONNECTIONS, settings.flood_connections)
     bound_kb = connections * (RECEIVE_LIMIT // 1024 + SOCKET_READ_KB + ANSWER_LIMIT // 1024) + MARGIN_KB
     with ServedNc(["--realtime", "--idle-timeout", f"{idle_timeout:g}", "--stats", "5"]) as served:
