@@ -14,7 +14,8 @@
                                                       the signal map for a PLC tool (docs/plc_tools.md)
     vc serve [--machine M] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
              [--scenario FILE [--junit FILE] [--keep-running]] [--duration S] [--record FILE] [--allow IP,...]
-             [--allow-writers IP,...] [--max-clients N] [--idle-timeout S] [--verbose]
+             [--allow-writers IP,...] [--plc-key-file FILE] [--max-clients N] [--idle-timeout S]
+             [--cpu LIST] [--fifo PRIORITY] [--verbose]
                                                       the NC as a server (or CAN node) for a PLC in another
                                                       process; with a scenario the exit code is its result;
                                                       --record records the session
@@ -390,6 +391,7 @@ def _serve(arguments: argparse.Namespace) -> int:
     from interfaces.links.access import ConnectionLimits, key_file
     from interfaces.links.can_bus import BusSpec
     from interfaces.links.errors import LinkError
+    from interfaces.links.scheduling import parse_cpus, parse_priority
     from vc.harness.links.modbus import Endpoint
     from vc.harness.serve import ServeOptions, serve
 
@@ -406,6 +408,8 @@ def _serve(arguments: argparse.Namespace) -> int:
             machine_path=arguments.machine or DEFAULT_MACHINE,
             machine_given=arguments.machine is not None,
             plc_key=key_file(arguments.plc_key_file) if arguments.plc_key_file else None,
+            cpus=parse_cpus(arguments.cpu) if arguments.cpu else None,
+            fifo_priority=parse_priority(arguments.fifo) if arguments.fifo else None,
             modbus=Endpoint.parse(arguments.modbus, 5020) if arguments.modbus else None,
             s7=Endpoint.parse(arguments.s7, 102) if arguments.s7 else None,
             can=BusSpec.parse(arguments.can) if arguments.can else None,
@@ -555,6 +559,12 @@ def build_parser() -> argparse.ArgumentParser:
                        help="log what the links and their libraries report (refused requests, server failures)")
     serve.add_argument("--realtime", action="store_true",
                        help="tie the IPO cycles to the wall clock; the PLC scans on its own clock")
+    serve.add_argument("--cpu", metavar="LIST",
+                       help="pin the server to these CPUs (1, 0,2, 2-3): with --fifo, what keeps the real-time NC's"
+                            " period on a busy host (docs/modbus.md, bench/README.md)")
+    serve.add_argument("--fifo", metavar="PRIORITY",
+                       help="SCHED_FIFO real-time scheduling at PRIORITY 1..99 where permitted (root, CAP_SYS_NICE"
+                            " or an rtprio limit); the statistics say what the server got")
     serve.add_argument("--speed", default="1", metavar="FACTOR",
                        help="real-time factor with --realtime: 0.5, 2 ... or max (default 1)")
     serve.add_argument("--program", default="basic_machine",

@@ -5,7 +5,8 @@ Over Modbus TCP (and S7), or as a node on a CAN bus (``--can BUS``, with the mac
 done, so a PLC that can be stepped (``python -m plc_stub``) runs deterministically; time stands
 while no PLC answers.  Real time (``--realtime``): the IPO cycles follow the wall clock
 (``--speed`` scales it), the PLC scans on its own clock, and the NC watches the PLC's sign of
-life (alarm 2000 after MD10100 without one).  An ``observer`` (the session recording of
+life (alarm 2000 after MD10100 without one); ``--cpu`` and ``--fifo`` pin the server to CPUs and ask
+for real-time scheduling (:mod:`interfaces.links.scheduling`).  An ``observer`` (the session recording of
 ``--record``) sees every cycle and every action of the operator.  Every ``--stats`` seconds of the
 wall clock, also while a scenario runs, and at the end, a line tells the pacing (real time:
 overruns, those caused by serving the links, the share of real time the NC kept) and the link
@@ -35,6 +36,7 @@ from interfaces.links.access import ConnectionLimits
 from interfaces.links.can_bus import BusSpec
 from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import plc_programs
+from interfaces.links.scheduling import place
 from vc.config.loader import load_machine
 from vc.config.machine_files import machine_file, unknown_machine
 from vc.config.model import MachineConfig
@@ -74,6 +76,8 @@ class ServeOptions:
     observer: SimulationObserver | None = None  # watches the served simulation (vc serve --record)
     machine_given: bool = False  # --machine was given: with a scenario it must be the scenario's machine
     plc_key: int | None = None  # the only session key a PLC's claim may carry (--plc-key-file)
+    cpus: frozenset[int] | None = None  # pin the server to these CPUs (--cpu)
+    fifo_priority: int | None = None  # SCHED_FIFO at this priority, where permitted (--fifo)
 
 
 class AlarmWatch:
@@ -109,6 +113,7 @@ def serve(options: ServeOptions) -> int:
             check_bind(endpoint, options.allow_remote)
     machine, program, scenario_path = _machine_and_program(options)
     mode = LinkMode.FREE_RUNNING if options.realtime else LinkMode.LOCKSTEP
+    placement = place(options.cpus, options.fifo_priority)
     def on_wait(text: str) -> None:
         say(f"waiting: {text}")
 
@@ -131,6 +136,8 @@ def serve(options: ServeOptions) -> int:
         pacer = _ReportingPacer(realtime, options.stats_every_s, link,
                                 lambda: simulations[-1] if simulations else None, say)
         _banner(options, machine, link, program, mode, say)
+        if options.cpus or options.fifo_priority is not None or options.realtime:
+            say(f"scheduling: {placement}")
 
         def power_on(scenario: Scenario | None = None) -> Simulation | ObservedSimulation:
             powered = scenario.machine if scenario else machine
@@ -156,7 +163,7 @@ def serve(options: ServeOptions) -> int:
             say("stopped")
         finally:
             if realtime is not None:
-                say(f"real time: {realtime.stats()}")
+                say(f"real time: {realtime.stats()}; {placement}")
             if simulations:
                 say(f"link: {link.peer_state(simulations[-1])}")
         return code

@@ -291,3 +291,22 @@ def test_after_the_plc_is_lost_the_operator_opens_a_new_session_for_the_restarte
             stop(restarted)
         stop(plc)
         stop(server)
+
+
+@pytest.mark.realtime
+def test_the_server_pinned_with_sched_fifo_says_so_in_its_statistics() -> None:
+    cpu = min(os.sched_getaffinity(0))
+    result = subprocess.run([sys.executable, "-m", "vc.cli.main", "serve", "--modbus", "127.0.0.1:0", "--realtime",
+                             "--cpu", str(cpu), "--fifo", "10", "--duration", "0.3"],
+                            capture_output=True, text=True, timeout=60, cwd=ROOT)
+    assert result.returncode == 0, result.stderr
+    got = next(line for line in result.stdout.splitlines() if line.startswith("scheduling: ")).removeprefix(
+        "scheduling: ")
+    assert got.startswith(f"pinned to CPU {cpu}, SCHED_")
+    final = next(line for line in result.stdout.splitlines() if line.startswith("real time: "))
+    assert final.endswith(f"; {got}")
+
+
+def test_a_cpu_the_server_cannot_run_on_is_refused_before_anything_runs(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["serve", "--modbus", "127.0.0.1:0", "--realtime", "--cpu", "4096", "--duration", "0.1"]) == 2
+    assert "CPU 4096 is not one this process may run on" in capsys.readouterr().err
