@@ -52,8 +52,8 @@ COMMISSIONING_INSTANCE = "COMMISSIONING"
 LINK_ROWS = (
     ("LINK.version", "input_register", LinkInput.VERSION, 1, f"link version ({LINK_VERSION}): changes with every change"
      " of the link block or of where a signal lies; 0 = no machine powered on yet"),
-    ("LINK.session", "input_register", LinkInput.SESSION, 1, "session: counts the harness's power-ons from 1 in every"
-     " harness process; a new one (or a new boot id) restarts the PLC program"),
+    ("LINK.session", "input_register", LinkInput.SESSION, 1, "session: counts the harness's power-ons and the"
+     " operator's new sessions from 1 in every harness process; a new one (or a new boot id) restarts the PLC program"),
     ("LINK.mode", "input_register", LinkInput.MODE, 1, "1 = lockstep, 2 = free-running (real time)"),
     ("LINK.scanGrant", "input_register", LinkInput.SCAN_GRANT, 1, "lockstep: the number of the scan the PLC may run"),
     ("LINK.ncCycle", "input_register", LinkInput.NC_CYCLE_HIGH, 2, "NC IPO cycles at the last exchange, high word"

@@ -384,6 +384,15 @@ def _percent(text: str) -> float:
     return value
 
 
+class _Given(argparse.Action):
+    """Stores the value and that it was given (``<dest>_given``): a default is no choice of the user's."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: object,
+                 option_string: str | None = None) -> None:
+        setattr(namespace, self.dest, values)
+        setattr(namespace, f"{self.dest}_given", True)
+
+
 def _serve(arguments: argparse.Namespace) -> int:
     if (arguments.junit or arguments.keep_running) and not arguments.scenario:
         print("--junit and --keep-running need --scenario", file=sys.stderr)
@@ -405,8 +414,8 @@ def _serve(arguments: argparse.Namespace) -> int:
             link = "can" if arguments.can else "modbus" if arguments.modbus or not arguments.s7 else "s7"
             recorder = session_recorder(arguments.record, arguments.scenario, link, arguments.realtime)
         options = ServeOptions(
-            machine_path=arguments.machine or DEFAULT_MACHINE,
-            machine_given=arguments.machine is not None,
+            machine_path=arguments.machine,
+            machine_given=arguments.machine_given,
             plc_key=key_file(arguments.plc_key_file) if arguments.plc_key_file else None,
             cpus=parse_cpus(arguments.cpu) if arguments.cpu else None,
             fifo_priority=parse_priority(arguments.fifo) if arguments.fifo else None,
@@ -532,7 +541,8 @@ def build_parser() -> argparse.ArgumentParser:
     signal_map.set_defaults(handler=_map)
 
     serve = commands.add_parser("serve", help="serve the NC and the plant to a PLC over Modbus TCP and/or S7")
-    serve.add_argument("--machine", help=f"{machine_help}; with --scenario only the scenario's machine")
+    serve.add_argument("--machine", default=DEFAULT_MACHINE, action=_Given,
+                       help=f"{machine_help}; with --scenario only the scenario's machine")
     serve.add_argument("--modbus", nargs="?", const="127.0.0.1:5020", metavar="HOST:PORT",
                        help="serve Modbus TCP (default 127.0.0.1:5020; the default when no --s7 is given)")
     serve.add_argument("--s7", metavar="HOST:PORT", help="serve the data blocks over S7 (python-snap7)")
@@ -582,7 +592,7 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--record", metavar="FILE",
                        help="record the session (the PLC's writes, the NC's outputs, the operator's actions, the"
                             " machine) for vc replay; FILE.gz is compressed (docs/recording.md)")
-    serve.set_defaults(handler=_serve)
+    serve.set_defaults(handler=_serve, machine_given=False)
 
     replay = commands.add_parser("replay", help="replay a session recorded by vc serve --record without the PLC")
     replay.add_argument("file", metavar="FILE", help="the recording")
