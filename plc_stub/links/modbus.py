@@ -9,12 +9,17 @@ of :mod:`interfaces.codec_modbus`) and follows the server's mode:
 * **free-running**: scan every PLC period of the wall clock (or ``period_s``): read, scan,
   write, and count the scan-done register up as the sign of life.
 
-A new session (the harness powered the machine on again, or started the next scenario) or a new
-boot id (another harness process, whose sessions count from 1 again) means a PLC restart: the
-description is read again and the program starts from its initial state.  A connection lost and
-made again to the same session of the same process keeps the program: it carries on where it was,
-and in lockstep the outputs of a scan whose write was lost are sent again instead of the scan
-running twice.
+A new session (the harness powered the machine on again, started the next scenario, or its
+operator opened one) or a new boot id (another harness process, whose sessions count from 1 again)
+means a PLC restart: the description is read again and the program starts from its initial state.
+The PLC claims every session with its session key (random per process, or ``--key-file``), so a
+connection lost and made again to the same session of the same process keeps the program: the key
+takes the session back, the program carries on where it was, and in lockstep the outputs of a scan
+whose write was lost are sent again instead of the scan running twice.  A claim the server refuses
+(another PLC holds the session, or it was closed when its PLC was lost) is said once; the PLC then
+waits for the next session.  When no server takes a new connection within
+:data:`~interfaces.links.modbus_tcp.RECONNECT_WINDOW_S` the harness has ended, and so does the PLC
+(exit code 1).
 
 In lockstep the harness answers only while it waits for the PLC, and it may pause between two
 scans for longer than a real-time PLC would wait (a garbage collection of a long ``vc run``, a
