@@ -24,9 +24,12 @@ from vc.bench.robustness.can_noise import run_can_noise
 from vc.bench.robustness.control_characters import run_control_characters
 from vc.bench.robustness.files import run_file_mutations
 from vc.bench.robustness.flood import run_flood
+from vc.bench.robustness.isolation import run_isolation
 from vc.bench.robustness.modbus_fuzz import run_modbus_fuzz
+from vc.bench.robustness.non_reading import run_non_reading
 from vc.bench.robustness.s7_probe import run_s7_probe
 from vc.bench.robustness.soak import run_soak
+from vc.bench.robustness.takeover import run_session_takeover
 
 
 def _file_part(settings: CampaignSettings, say: Say) -> Row:
@@ -48,6 +51,9 @@ PARTS: list[Part] = [
     Part("files", _file_part),  # the scenario and machine files (vc/bench/robustness/files.py)
     Part("control", run_control_characters),  # control characters in names through vc run's outputs
     Part("soak", run_soak),  # only with --soak
+    Part("takeover", run_session_takeover),  # a lost PLC's session (vc/bench/robustness/takeover.py)
+    Part("non-reading", run_non_reading),  # clients that never take their answers (non_reading.py)
+    Part("isolation", run_isolation),  # busy processes beside the real-time NC: --cpu, --fifo (isolation.py)
 ]
 
 

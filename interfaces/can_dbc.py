@@ -21,7 +21,7 @@ from cantools.database.can import Database, Message, Node, Signal
 from cantools.database.can.formats.dbc import DbcAttribute, DbcAttributeDefinition, DbcSpecifics
 from cantools.database.conversion import BaseConversion
 
-from interfaces.codec_can import LINK_FRAME_BYTES, CanLayout, CanLocation
+from interfaces.codec_can import LINK_FRAME_BYTES, LINK_VERSION, CanLayout, CanLocation
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import Direction, ExpandedCatalog, SignalRef, SignalType
 
@@ -54,7 +54,7 @@ _CHECKSUM = "CRC-8 SAE J1850 over the identifier and the other bytes of the fram
 _LINK_FRAMES = (
     ("NC_LINK", NC_NODE, (
         ("mode", 0, 4, "1 lockstep, 2 free-running"),
-        ("version", 4, 4, "link version (1)"),
+        ("version", 4, 4, f"link version ({LINK_VERSION})"),
         ("ncLife", 8, 8, "the NC's sign of life: counts every transmission"),
         ("session", 16, 16, "counts the harness's power-ons; a new one restarts the PLC program"),
         ("scanGrant", 32, 16, "lockstep: the scan the PLC may run")),
@@ -62,7 +62,7 @@ _LINK_FRAMES = (
     ("PLC_LINK", PLC_NODE, (
         ("needsDescription", 0, 1, "1: the PLC asks for the interface description"),
         ("missesNcFrames", 1, 1, "1: the PLC's time-out monitor misses frames of the NC (substitute values 0)"),
-        ("version", 4, 4, "link version (1)"),
+        ("version", 4, 4, f"link version ({LINK_VERSION})"),
         ("plcLife", 8, 8, "the PLC's sign of life: counts every scan (the NC watches it)"),
         ("sessionReady", 16, 16, "the session the PLC runs its program for"),
         ("scanDone", 32, 16, "lockstep: the granted scan the PLC finished")),

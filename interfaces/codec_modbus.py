@@ -31,7 +31,7 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
 
 * **Link block**, NC-to-PLC table (input registers 0..15)::
 
-      0  link protocol version (1)          8  first register of the description (4096)
+      0  link version (2, see below)        8  first register of the description (4096)
       1  session: counts power-ons          9  description length in bytes
       2  mode: 1 lockstep, 2 free-running  10  NC-to-PLC table size in registers
       3  scan grant (lockstep)             11  PLC-to-NC table size in registers
@@ -45,7 +45,13 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
       0  scan done: the number of the granted scan the PLC finished (lockstep); in
          free-running mode a counter the PLC changes every scan (its sign of life)
       1  session ready: the session the PLC has (re)started its program for
-      2..15  reserved, read 0 (register writes there are dropped, coil writes refused)
+      2..5  the PLC's session key, 64 bits high word first: written with register 1 in the claim
+            of a session (:mod:`interfaces.links.access`), never stored, read 0
+      6..15  reserved, read 0 (register writes there are dropped, coil writes refused)
+
+  The link version (input register 0) changes with every change of this block and of where any
+  signal of a shipped machine lies (tests/interfaces/test_link_versions.py pins the layout to it):
+  a PLC built for another version must not run.
 
   Sessions count from 1 in every harness process; the boot id tells two processes apart.  A PLC
   restarts its program whenever the session or the boot id differs from those it started for
@@ -85,7 +91,8 @@ DESCRIPTION_REGISTER = 4096  # first input register of the description
 MAX_DESCRIPTION_BYTES = 2 * 12288  # input registers 4096..16383 (the commissioning facts of many axes fit)
 READ_LIMIT = 125  # registers in one read request or response (FC 3, 4): the protocol's limit
 WRITE_LIMIT = 123  # registers in one write request (FC 16)
-LINK_VERSION = 1
+LINK_VERSION = 2  # raised with every change of the layout (tests/interfaces/test_link_versions.py)
+SESSION_KEY_REGISTERS = 4  # holding registers 2..5: a 64-bit key
 
 # Modbus function codes by the table they address
 READ_COILS, READ_DISCRETE_INPUTS, READ_HOLDING, READ_INPUT = 1, 2, 3, 4
@@ -119,6 +126,7 @@ class LinkHolding(IntEnum):
 
     SCAN_DONE = 0
     SESSION_READY = 1
+    SESSION_KEY = 2  # 2..5: the PLC's session key, high word first; written, never read back
 
 
 class ModbusMapError(VcError, ValueError):
@@ -298,6 +306,19 @@ def words_as_bits(table: bytes | bytearray, first_word: int, count: int) -> list
     """Table bytes as 16-bit words with bit 0 first: byte ``2w`` is bits 0..7 of word w, byte
     ``2w + 1`` bits 8..15 (the little-endian packing bit-addressed stores use)."""
     return list(struct.unpack_from(f"<{count}H", table, 2 * first_word))
+
+
+def session_key_of(registers: Sequence[int]) -> int:
+    """The 64-bit session key of holding registers 2..5, high word first."""
+    key = 0
+    for register in registers[:SESSION_KEY_REGISTERS]:
+        key = key << 16 | register & 0xFFFF
+    return key
+
+
+def session_key_registers(key: int) -> list[int]:
+    """Holding registers 2..5 of a 64-bit session key, high word first."""
+    return [key >> shift & 0xFFFF for shift in (48, 32, 16, 0)]
 
 
 def text_registers(text: bytes) -> list[int]:

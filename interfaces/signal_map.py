@@ -32,6 +32,7 @@ from dataclasses import dataclass
 from interfaces.codec_can import CanLayout, CanLocation, CanSettings
 from interfaces.codec_modbus import (
     DESCRIPTION_REGISTER,
+    LINK_VERSION,
     LinkHolding,
     LinkInput,
     Location,
@@ -49,10 +50,10 @@ COMMISSIONING_INSTANCE = "COMMISSIONING"
 
 # The link block (interfaces/codec_modbus.py): (symbol, table kind, register, registers, meaning)
 LINK_ROWS = (
-    ("LINK.version", "input_register", LinkInput.VERSION, 1, "link protocol version (1); 0 = no machine powered on"
-     " yet"),
-    ("LINK.session", "input_register", LinkInput.SESSION, 1, "session: counts the harness's power-ons from 1 in every"
-     " harness process; a new one (or a new boot id) restarts the PLC program"),
+    ("LINK.version", "input_register", LinkInput.VERSION, 1, f"link version ({LINK_VERSION}): changes with every change"
+     " of the link block or of where a signal lies; 0 = no machine powered on yet"),
+    ("LINK.session", "input_register", LinkInput.SESSION, 1, "session: counts the harness's power-ons and the"
+     " operator's new sessions from 1 in every harness process; a new one (or a new boot id) restarts the PLC program"),
     ("LINK.mode", "input_register", LinkInput.MODE, 1, "1 = lockstep, 2 = free-running (real time)"),
     ("LINK.scanGrant", "input_register", LinkInput.SCAN_GRANT, 1, "lockstep: the number of the scan the PLC may run"),
     ("LINK.ncCycle", "input_register", LinkInput.NC_CYCLE_HIGH, 2, "NC IPO cycles at the last exchange, high word"
@@ -69,6 +70,11 @@ LINK_ROWS = (
      " free-running: a counter the PLC changes every scan (its sign of life)"),
     ("LINK.sessionReady", "holding_register", LinkHolding.SESSION_READY, 1, "the session the PLC has started its"
      " program for"),
+    # the session key as two double words (a PLC tool's widest integer type)
+    ("LINK.sessionKeyHigh", "holding_register", LinkHolding.SESSION_KEY, 2, "the PLC's session key, its high 32"
+     " bits (high word first): random, written with HR 1 in the claim, so that only this PLC takes its session back"
+     " after a lost connection; reads 0"),
+    ("LINK.sessionKeyLow", "holding_register", LinkHolding.SESSION_KEY + 2, 2, "the session key's low 32 bits"),
 )
 
 

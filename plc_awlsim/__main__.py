@@ -6,7 +6,10 @@
                          ``vc map --format awlsim`` gives it)
     --io-base N          table byte t is IB / QB N + t (default 0)
     --mnemonics en|de    English (I, Q, A, SD) or German (E, A, U, SE) mnemonics (default en)
-    --connect-timeout S  give up when no harness answers for this long (default 30 s)
+    --key-file FILE      claim sessions with the key in FILE (``vc serve --plc-key-file FILE``)
+    --connect-timeout S  give up when no harness answers for this long (default 30 s); a connection
+                         lost later is made again within 2 s, else the harness has ended and so does
+                         the PLC (exit code 1)
 
 Exit codes: 0 stopped (Ctrl-C), 1 no harness, 2 the program or its symbols cannot run.
 """
@@ -18,7 +21,9 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from interfaces.links.access import key_file
 from interfaces.links.endpoint import parse_endpoint
+from interfaces.links.errors import LinkError
 
 
 def _endpoint(text: str) -> tuple[str, int]:
@@ -37,6 +42,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--io-base", type=int, default=0, metavar="N")
     parser.add_argument("--mnemonics", choices=("en", "de"), default="en")
     parser.add_argument("--connect-timeout", type=float, default=30.0, metavar="S")
+    parser.add_argument("--key-file", metavar="FILE", help="claim sessions with the key in FILE"
+                        " (vc serve --plc-key-file FILE)")
     arguments = parser.parse_args(argv)
 
     def log(text: str) -> None:
@@ -48,9 +55,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         log(f"awlsim is not installed ({error}): pip install 'vc-harness[awlsim]'")
         return 2
     host, port = arguments.modbus
+    if arguments.key_file:
+        try:
+            key_file(arguments.key_file)  # made now when missing; a bad one is a problem before anything runs
+        except LinkError as error:
+            log(str(error))
+            return 2
     try:
         return run(host, port, arguments.program, arguments.symbols, arguments.io_base, arguments.mnemonics,
-                   arguments.connect_timeout, log)
+                   arguments.connect_timeout, log, arguments.key_file)
     except KeyboardInterrupt:
         return 0
 

@@ -24,15 +24,20 @@ link's work there, as docs/modbus.md ("Lockstep with a third-party PLC") states 
 * **Real time.** A scan every PLC period of the wall clock (input registers 6 and 7); the
   scan counter in HR 0 is the sign of life the NC watches.
 
-A lost connection is retried for ``connectTimeout`` seconds; the session that follows restarts
-the program.  Parameters (awlsim's hardware module parameters): ``host`` (127.0.0.1), ``port``
-(5020), ``connectTimeout`` (30 s) and awlsim's own ``inputAddressBase``, ``outputAddressBase``.
+A lost connection is made again within a short window (a harness that still runs takes it at
+once) and the session that follows restarts the program; when no server listens any more the
+harness has ended and so does the PLC (:class:`HarnessGone`).  ``connectTimeout`` is how long the
+first connection may take.  Parameters (awlsim's hardware module parameters): ``host`` (127.0.0.1), ``port``
+(5020), ``connectTimeout`` (30 s), ``keyFile`` (the session key of ``vc serve --plc-key-file``; default a
+random key of this process) and awlsim's own ``inputAddressBase``, ``outputAddressBase``.
 """
 
 from __future__ import annotations
 
+import secrets
 import struct
 import time as wallclock
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -44,10 +49,12 @@ from interfaces.codec_modbus import (
     LinkHolding,
     LinkInput,
     registers_text,
+    session_key_registers,
 )
 from interfaces.errors import VcError
-from interfaces.links.errors import LinkError
-from interfaces.links.modbus_tcp import ModbusLinkClient
+from interfaces.links.access import key_file
+from interfaces.links.errors import LinkError, RequestRefused
+from interfaces.links.modbus_tcp import RECONNECT_WINDOW_S, ModbusLinkClient
 from plc_awlsim.awlsim_api import (
     AbstractHardwareInterface,
     AwlSimError,
@@ -62,8 +69,11 @@ _WORD = struct.Struct(">H")
 POLL_PAUSE_S = 0.01  # between polls while no machine is powered on
 
 
-class HarnessGone(VcError, AwlSimError):  # type: ignore[misc]  # awlsim is not annotated
-    """No harness answered within the connect time-out."""
+class HarnessGone(VcError):
+    """No harness answered within the connect time-out, or the harness has ended.
+
+    Not an awlsim error: awlsim reports the errors of hardware modules and runs its next cycle, so
+    the bridge would retry for ever; this one ends ``AwlSim.runCycle`` and the PLC process."""
 
 
 @dataclass(slots=True)
@@ -91,6 +101,8 @@ class HardwareInterface(AbstractHardwareInterface):  # type: ignore[misc]  # awl
         HwParamDesc_int("port", defaultValue=5020, minValue=1, maxValue=65535, description="its port"),
         HwParamDesc_float("connectTimeout", defaultValue=30.0, minValue=0.1,
                           description="seconds to wait for the harness before giving up"),
+        HwParamDesc_str("keyFile", defaultValue="",
+                        description="claim sessions with the key in this file (vc serve --plc-key-file)"),
     ]
 
     def __init__(self, sim: Any, parameters: dict[str, Any] | None = None):
@@ -107,6 +119,11 @@ class HardwareInterface(AbstractHardwareInterface):  # type: ignore[misc]  # awl
         self._next_scan = 0.0
         self._restart_due = False  # a session began: the next readInputs restarts the program
         self._starting = False  # the CPU's start-up: its readInputs before OB 100 takes no scan
+        # the session key of this bridge's claims (docs/modbus.md): after a lost connection only this
+        # process can take its session back
+        path = self.getParamValueByName("keyFile")
+        self.key = key_file(path) if path else secrets.randbits(64) or 1
+        self.log: Callable[[str], None] = lambda text: None  # python -m plc_awlsim sets its own
 
     # ------------------------------------------------------------------ awlsim's calls
     def doStartup(self) -> None:
@@ -170,10 +187,13 @@ class HardwareInterface(AbstractHardwareInterface):  # type: ignore[misc]  # awl
 
     # ------------------------------------------------------------------ the link
     def wait_for_session(self) -> Session:
-        """Poll until the harness has powered a machine on; open its session (HR 1 = session)."""
+        """Poll until the harness has powered a machine on; claim its session (HR 1 = session, HR 2..5
+        = the key).  A session whose claim the server refuses (another PLC holds it, or it was closed
+        when its PLC was lost) is passed by: the bridge waits for a new one."""
+        refused: tuple[int, int] | None = None
         while True:
             head = self._read(0, LINK_REGISTERS)
-            if head[LinkInput.VERSION] == 0:
+            if head[LinkInput.VERSION] == 0 or (head[LinkInput.SESSION], head[LinkInput.BOOT_ID]) == refused:
                 wallclock.sleep(POLL_PAUSE_S)
                 continue
             if head[LinkInput.VERSION] != LINK_VERSION:
@@ -185,7 +205,13 @@ class HardwareInterface(AbstractHardwareInterface):  # type: ignore[misc]  # awl
                                    2 * head[LinkInput.NC_TO_PLC_REGISTERS], 2 * head[LinkInput.PLC_TO_NC_REGISTERS],
                                    head[LinkInput.IPO_CYCLE_US], head[LinkInput.PLC_CYCLE_IPO], description)
             self._fit_process_images(self.session)
-            self._write(LinkHolding.SESSION_READY, [self.session.number])
+            try:
+                self._write(LinkHolding.SESSION_READY, [self.session.number, *session_key_registers(self.key)])
+            except RequestRefused:
+                refused = (head[LinkInput.SESSION], head[LinkInput.BOOT_ID])
+                self.log(f"session {refused[0]}: the server refused this PLC's claim (another PLC holds the session,"
+                         " or it was closed when its PLC was lost); waiting for a new session")
+                continue
             self._last_grant = 0
             self.scans = 0
             self._next_scan = wallclock.perf_counter()
@@ -221,8 +247,10 @@ class HardwareInterface(AbstractHardwareInterface):  # type: ignore[misc]  # awl
             try:
                 assert self.client is not None
                 return self.client.read_input_registers(address, count)
-            except LinkError:
-                self._reconnect()
+            except RequestRefused:
+                raise  # an answer: the link stands
+            except LinkError as error:
+                self._reconnect(error)
 
     def _write(self, address: int, values: list[int]) -> None:
         while True:
@@ -230,20 +258,24 @@ class HardwareInterface(AbstractHardwareInterface):  # type: ignore[misc]  # awl
                 assert self.client is not None
                 self.client.write_registers(address, values)
                 return
-            except LinkError:
-                self._reconnect()
+            except RequestRefused:
+                raise  # an answer: the link stands
+            except LinkError as error:
+                self._reconnect(error)
 
-    def _reconnect(self) -> None:
-        """After a lost connection: connect again; the next session restarts the program."""
+    def _reconnect(self, error: LinkError) -> None:
+        """After a lost connection: connect again within :data:`RECONNECT_WINDOW_S` (a harness that
+        still runs takes it at once); the next session restarts the program.  No server: the
+        harness has ended (:class:`HarnessGone`)."""
         assert self.client is not None
         self.client.close()
         self._restart_due = True
-        self._connect()
+        window = min(RECONNECT_WINDOW_S, self.connect_timeout_s)
+        if not self.client.connect_within(window):
+            raise HarnessGone(f"the harness has gone: {error}, and no server has listened at {self.host}:{self.port}"
+                              f" since ({window:g} s)")
 
     def _connect(self) -> None:
         assert self.client is not None
-        deadline = wallclock.monotonic() + self.connect_timeout_s
-        while not self.client.connect():
-            if wallclock.monotonic() > deadline:
-                raise HarnessGone(f"no Modbus server at {self.host}:{self.port} after {self.connect_timeout_s:g} s")
-            wallclock.sleep(0.1)
+        if not self.client.connect_within(self.connect_timeout_s):
+            raise HarnessGone(f"no Modbus server at {self.host}:{self.port} after {self.connect_timeout_s:g} s")

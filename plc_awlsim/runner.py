@@ -21,6 +21,7 @@ from interfaces.errors import VcError
 from interfaces.exports.context import ExportContext
 from interfaces.exports.symbol_tables import awlsim_csv
 from interfaces.link_description import DescriptionError, LinkDescription
+from interfaces.links.errors import LinkError
 from interfaces.signal_map import map_rows
 from plc_awlsim.awlsim_api import AwlParser, AwlSim, AwlSimError, AwlSource, S7CPUConfig, SymTabParser
 from plc_awlsim.hardware import HardwareInterface, HarnessGone
@@ -55,14 +56,16 @@ class AwlsimPlc:
     """An awlsim CPU with the bridge, loaded with one program."""
 
     def __init__(self, host: str, port: int, program: Path, symbols: Path | None = None, io_base: int = 0,
-                 mnemonics: str = "en", connect_timeout_s: float = 30.0, log: Callable[[str], None] = print):
+                 mnemonics: str = "en", connect_timeout_s: float = 30.0, log: Callable[[str], None] = print,
+                 key_file: str | None = None):
         self.log = log
         self.sim = AwlSim()
         cpu = self.sim.getCPU()
         cpu.getConf().setConfiguredMnemonics(MNEMONICS[mnemonics])
         self.hardware: HardwareInterface = self.sim.registerHardwareClass(HardwareInterface, {
-            "host": host, "port": str(port), "connectTimeout": str(connect_timeout_s),
+            "host": host, "port": str(port), "connectTimeout": str(connect_timeout_s), "keyFile": key_file or "",
             "inputAddressBase": str(io_base), "outputAddressBase": str(io_base)})
+        self.hardware.log = log
         self.hardware.startup()  # connect and wait for the first session: it describes the machine
         session = self.hardware.session
         assert session is not None
@@ -94,13 +97,13 @@ class AwlsimPlc:
 
 
 def run(host: str, port: int, program: Path, symbols: Path | None, io_base: int, mnemonics: str,
-        connect_timeout_s: float, log: Callable[[str], None]) -> int:
+        connect_timeout_s: float, log: Callable[[str], None], key_file: str | None = None) -> int:
     """Run until stopped; the exit code of ``python -m plc_awlsim``."""
     plc: AwlsimPlc | None = None
     try:
-        plc = AwlsimPlc(host, port, program, symbols, io_base, mnemonics, connect_timeout_s, log)
+        plc = AwlsimPlc(host, port, program, symbols, io_base, mnemonics, connect_timeout_s, log, key_file)
         plc.run()
-    except HarnessGone as error:
+    except (HarnessGone, LinkError) as error:
         log(str(error))
         return EXIT_NO_HARNESS
     except (ProgramError, OSError) as error:

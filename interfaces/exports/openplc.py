@@ -42,7 +42,9 @@ def access(tag: PlcTag) -> str:
         return word
     low = register_name(tag.is_input, tag.register + 1)
     if tag.word_aligned:
-        return f"SHL(WORD_TO_DWORD({word}), 16) OR WORD_TO_DWORD({low})"
+        pattern = f"SHL(WORD_TO_DWORD({word}), 16) OR WORD_TO_DWORD({low})"
+        # a REAL's two words are the bit pattern of the IEEE 754 single: DWORD_TO_REAL would convert the number
+        return pattern + (", its bits as a REAL (a bit cast)" if tag.data_type is DataType.REAL else "")
     return f"low byte of {word}, high byte of {low}"
 
 

@@ -8,3 +8,7 @@ from interfaces.errors import VcError
 
 class LinkError(VcError):
     """A link could not be set up or a peer did not answer as the protocol says."""
+
+
+class RequestRefused(LinkError):
+    """The peer answered a request with a refusal (a Modbus exception response): the link itself stands."""

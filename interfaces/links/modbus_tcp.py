@@ -29,10 +29,16 @@ What the link adds to pymodbus 3.16's server, per connection (:class:`_Connectio
   session's PLC writes (exception 01 for the others' writes to valid addresses; an address the
   tables do not hold is exception 02 for everybody); connections are limited and idle ones
   closed.
+* **Bounded memory per connection.**  Of what a client sent, :data:`PENDING_LIMIT` requests are
+  taken out and wait for their answers; the rest waits as bytes, and at :data:`RECEIVE_LIMIT`
+  bytes the socket is no longer read (the client's own buffers fill, TCP holds it back).  A
+  client that does not take its answers (:data:`ANSWER_LIMIT` bytes of them waiting: asyncio's
+  flow control) is served no more and not read until it takes them; that is counted and logged,
+  and a connection left so for the idle time-out is closed (its answers dropped).  So a client
+  that never reads cannot grow the server (it grew by 350 MB in two minutes).
 * **Bounded work per pass of the event loop.** Requests are queued per connection and served
   by one task, the session's PLC first, the other connections in turn, for at most
-  :data:`SERVE_SLICE_S` per pass (and at least one request); a connection with
-  :data:`PENDING_LIMIT` requests waiting is not read until they are answered.  So a flood of
+  :data:`SERVE_SLICE_S` per pass (and at least one request).  So a flood of
   requests cannot hold the loop past the pacer's quiet time before an IPO cycle
   (:mod:`vc.harness.pacer`), and the PLC's exchange never waits behind it.  A share of the time
   for the other clients (a quarter of every 10 ms) was tried as well and dropped: the server then
@@ -59,7 +65,7 @@ from typing import Any
 
 from pymodbus.client import ModbusTcpClient
 from pymodbus.constants import ExcCodes
-from pymodbus.exceptions import ModbusException
+from pymodbus.exceptions import ConnectionException, ModbusException, ModbusIOException
 from pymodbus.pdu import ExceptionResponse, ModbusPDU
 from pymodbus.pdu.register_message import ReadWriteMultipleRegistersRequest
 from pymodbus.server import ModbusTcpServer
@@ -78,6 +84,7 @@ from interfaces.codec_modbus import (
     READ_INPUT,
     READ_LIMIT,
     READ_WRITE_REGISTERS,
+    SESSION_KEY_REGISTERS,
     WRITE_COIL,
     WRITE_COILS,
     WRITE_LIMIT,
@@ -87,13 +94,15 @@ from interfaces.codec_modbus import (
     LinkInput,
     bits_writable,
     read_registers,
+    session_key_of,
     text_registers,
     words_as_bits,
     write_bits,
     write_registers,
 )
-from interfaces.links.access import AllowList, ConnectionLimits, LinkOwner
+from interfaces.links.access import NO_KEY, AllowList, ConnectionLimits, LinkOwner
 from interfaces.links.errors import LinkError as LinkError  # the links' error, raised here for pymodbus's
+from interfaces.links.errors import RequestRefused
 
 _COIL_CODES = (READ_COILS, WRITE_COIL, WRITE_COILS)
 WRITE_FUNCTIONS = frozenset({WRITE_COIL, WRITE_REGISTER, WRITE_COILS, WRITE_REGISTERS, MASK_WRITE_REGISTER,
@@ -102,7 +111,13 @@ SERVED_FUNCTIONS = frozenset({READ_COILS, READ_DISCRETE_INPUTS, READ_HOLDING, RE
 MBAP = struct.Struct(">HHHB")  # transaction, protocol (0), length (unit id and PDU), unit id
 MAX_PDU_BYTES = 253  # the protocol's limit: an ADU of 260 bytes
 SERVE_SLICE_S = 0.0002  # requests served per pass of the event loop, in time
-PENDING_LIMIT = 16  # requests of one connection waiting before its socket is no longer read
+PENDING_LIMIT = 16  # requests of one connection taken out of its bytes and waiting for their answers
+RECEIVE_LIMIT = 16 * 1024  # bytes of one connection waiting to be taken before its socket is no longer read
+ANSWER_LIMIT = 64 * 1024  # answers of one connection not yet taken by its client before it is no longer served
+CONNECT_PAUSE_S = 0.1  # a client's pause between two connection attempts
+# a PLC's client after a lost connection: a harness that still runs takes a new one at once; when none
+# does within this window the harness has ended, and so does the PLC process
+RECONNECT_WINDOW_S = 2.0
 
 log = logging.getLogger(__name__)
 # pymodbus logs every refused request and every dropped connection at warning/error level: its
@@ -230,13 +245,14 @@ class Request:
     pdu: bytes
 
 
-def take_requests(received: bytearray) -> tuple[list[Request], str | None]:
-    """The complete requests at the start of ``received``, removed from it (what stays is the
-    beginning of the next one), and what is wrong with the header that follows them, if anything."""
+def take_requests(received: bytearray, limit: int | None = None) -> tuple[list[Request], str | None]:
+    """The complete requests at the start of ``received`` (at most ``limit``), removed from it (what
+    stays is the beginning of the next one, or the requests beyond the limit), and what is wrong
+    with the header that follows them, if anything."""
     requests: list[Request] = []
     offset = 0
     problem = None
-    while len(received) - offset >= MBAP.size:
+    while len(received) - offset >= MBAP.size and (limit is None or len(requests) < limit):
         transaction, protocol, length, unit = MBAP.unpack_from(received, offset)
         if protocol != 0 or not 2 <= length <= MAX_PDU_BYTES + 1:
             problem = f"a header with protocol identifier {protocol} and length {length}"
@@ -250,17 +266,24 @@ def take_requests(received: bytearray) -> tuple[list[Request], str | None]:
     return requests, problem
 
 
-def claims_session(pdu: ModbusPDU, session: int) -> bool:
-    """Whether a register write puts ``session`` into holding register 1 (session ready): the PLC's
-    claim of the session (:mod:`interfaces.links.access`)."""
+def session_claim(pdu: ModbusPDU, session: int) -> int | None:
+    """The session key of a register write that puts ``session`` into holding register 1 (session
+    ready), the PLC's claim of the session (:mod:`interfaces.links.access`); None when the write
+    claims nothing.  The key is holding registers 2..5 of the same request, high word first
+    (:data:`~interfaces.links.access.NO_KEY` when the request does not write all four)."""
     if pdu.function_code in (WRITE_REGISTER, WRITE_REGISTERS):
         first, values = pdu.address, pdu.registers
     elif isinstance(pdu, ReadWriteMultipleRegistersRequest):
         first, values = pdu.write_address, pdu.write_registers
     else:
-        return False
+        return None
     index = LinkHolding.SESSION_READY - first
-    return session != 0 and 0 <= index < len(values) and values[index] == session
+    if session == 0 or not 0 <= index < len(values) or values[index] != session:
+        return None
+    key = LinkHolding.SESSION_KEY - first
+    if key + SESSION_KEY_REGISTERS > len(values):
+        return NO_KEY
+    return session_key_of(values[key: key + SESSION_KEY_REGISTERS])
 
 
 # ---------------------------------------------------------------------------------- the server
@@ -282,6 +305,8 @@ class ServerCounters:
     full: int = 0  # connections closed because every connection was busy
     evicted: int = 0  # idle connections closed to make room for a new one
     idle_closed: int = 0  # connections closed after the idle time-out
+    stalls: int = 0  # times a client left its answers untaken and was no longer read
+    stalled_closed: int = 0  # connections closed after leaving their answers untaken for the idle time-out
 
     def describe(self) -> str:
         parts = [f"{self.requests} requests"]
@@ -289,9 +314,12 @@ class ServerCounters:
             parts.append(f"{self.exceptions} exception responses")
         if self.failures:
             parts.append(f"{self.failures} failed in the server (exception 04; --verbose shows why)")
+        if self.stalls:
+            parts.append(f"{self.stalls} times a client did not take its answers (not read meanwhile)")
         closed = [f"{count} {why}" for count, why in (
             (self.refused, "not on the allow-list"), (self.full, "while every connection was busy"),
             (self.evicted, "idle to make room"), (self.idle_closed, "idle for the time-out"),
+            (self.stalled_closed, "with answers untaken for the time-out"),
             (self.framing_errors, "after a malformed header")) if count]
         if closed:
             parts.append("connections closed: " + ", ".join(closed))
@@ -310,8 +338,9 @@ class _Connection(ServerRequestHandler):
         self.requests: deque[Request] = deque()
         self.queued = False  # waits in the link's queue of connections to serve
         self.paused = False  # its socket is not read until its requests are answered
+        self.stalled_since: float | None = None  # its client has not taken its answers since then
         self.close_when_answered = False  # a malformed header followed the queued requests
-        self.last_heard = wallclock.monotonic()
+        self.last_active = wallclock.monotonic()  # it last sent something, or one of its requests was answered
 
     def callback_connected(self) -> None:
         peer = self.transport.get_extra_info("peername") if self.transport else None
@@ -320,6 +349,8 @@ class _Connection(ServerRequestHandler):
             self.transport.close()
             return
         self.admitted = True
+        if (stream := self.stream) is not None:
+            stream.set_write_buffer_limits(high=ANSWER_LIMIT)
         super().callback_connected()
 
     def callback_disconnected(self, exc: Exception | None) -> None:
@@ -332,16 +363,48 @@ class _Connection(ServerRequestHandler):
         """Instead of pymodbus's buffer, which keeps one request and drops the rest (module docstring)."""
         if not self.admitted or self.close_when_answered:
             return
-        self.last_heard = wallclock.monotonic()
+        self.last_active = wallclock.monotonic()
         self.received += data
-        requests, problem = take_requests(self.received)
-        self.requests.extend(requests)
-        if problem is not None:
-            self.link.malformed(self, problem)
-        elif len(self.requests) >= PENDING_LIMIT:
+        self.take()
+
+    def take(self) -> None:
+        """Requests out of the bytes that arrived, while fewer than :data:`PENDING_LIMIT` wait for their
+        answers; the socket is not read while that many wait or :data:`RECEIVE_LIMIT` bytes do."""
+        room = PENDING_LIMIT - len(self.requests)
+        if room > 0 and len(self.received) >= MBAP.size and not self.close_when_answered:
+            requests, problem = take_requests(self.received, room)
+            self.requests.extend(requests)
+            if problem is not None:
+                self.link.malformed(self, problem)  # the requests before it are answered, then it closes
+        if len(self.requests) >= PENDING_LIMIT or len(self.received) >= RECEIVE_LIMIT:
             self.pause()
         if self.requests:
             self.link.ready(self)
+
+    def answered(self) -> None:
+        """A request was answered: take the next ones; read the socket again when little waits."""
+        self.last_active = wallclock.monotonic()
+        self.take()
+        if len(self.requests) <= PENDING_LIMIT // 2 and len(self.received) < RECEIVE_LIMIT // 2:
+            self.resume()
+
+    # the transport's flow control: its buffer of answers passed ANSWER_LIMIT, or drained again
+    def pause_writing(self) -> None:
+        """The client does not take its answers: no more are made, and its socket is not read, until
+        it does (module docstring); counted and logged."""
+        self.stalled_since = wallclock.monotonic()
+        self.pause()
+        self.link.stalled(self)
+
+    def resume_writing(self) -> None:
+        self.stalled_since = None
+        if self.requests:
+            self.link.ready(self)
+        self.answered()
+
+    @property
+    def stalled(self) -> bool:
+        return self.stalled_since is not None
 
     @property
     def stream(self) -> asyncio.Transport | None:
@@ -355,7 +418,8 @@ class _Connection(ServerRequestHandler):
             stream.pause_reading()
 
     def resume(self) -> None:
-        if self.paused and (stream := self.stream) is not None and not self.close_when_answered:
+        if self.paused and (stream := self.stream) is not None and not self.close_when_answered \
+                and not self.stalled:
             self.paused = False
             stream.resume_reading()
 
@@ -364,8 +428,12 @@ class _Connection(ServerRequestHandler):
             stream.write(frame)
 
     def disconnect(self) -> None:
-        """Close the connection; the link forgets it when the transport reports it lost."""
-        if self.transport is not None:
+        """Close the connection; the link forgets it when the transport reports it lost.  Answers its
+        client has not taken are dropped (a close would wait for them to be taken)."""
+        stream = self.stream
+        if stream is not None and self.stalled:
+            stream.abort()
+        elif self.transport is not None:
             self.transport.close()
 
 
@@ -406,6 +474,12 @@ class ModbusServerLink:
     def clients(self) -> int:
         """Connected, admitted clients."""
         return len(self._connections)
+
+    def held_bytes(self) -> int:
+        """What the server holds for its clients: bytes received and not yet taken as requests, and
+        answers their clients have not taken yet (both bounded per connection: module docstring)."""
+        return sum(len(connection.received) + (connection.stream.get_write_buffer_size() if connection.stream else 0)
+                   for connection in self._connections)
 
     def start(self) -> None:
         async def listen() -> _Server:
@@ -460,10 +534,10 @@ class ModbusServerLink:
 
     def _make_room(self) -> bool:
         idle = [connection for connection in self._connections
-                if not connection.requests and not self.owner.owns(connection)]
+                if (not connection.requests or connection.stalled) and not self.owner.owns(connection)]
         if not idle:
             return False
-        longest = min(idle, key=lambda connection: connection.last_heard)
+        longest = min(idle, key=lambda connection: connection.last_active)
         self._drop(longest)
         self.counters.evicted += 1
         return True
@@ -488,10 +562,21 @@ class ModbusServerLink:
     def _close_idle(self) -> None:
         silent_since = wallclock.monotonic() - self.limits.idle_timeout_s
         for connection in list(self._connections):
-            if connection.last_heard < silent_since and not connection.requests:
+            if connection.stalled_since is not None and connection.stalled_since < silent_since:
+                log.info("Modbus: closing the connection of %s: it has not taken its answers for %g s",
+                         connection.peer, self.limits.idle_timeout_s)
+                self._drop(connection)
+                self.counters.stalled_closed += 1
+            elif connection.last_active < silent_since and not connection.requests:
                 self._drop(connection)
                 self.counters.idle_closed += 1
         self._sweep = self.loop.call_later(self._sweep_period(), self._close_idle)
+
+    def stalled(self, connection: _Connection) -> None:
+        """``connection``'s client does not take its answers (:meth:`_Connection.pause_writing`)."""
+        self.counters.stalls += 1
+        log.info("Modbus: %s does not take its answers (%d bytes waiting): its requests are not read until it"
+                 " does", connection.peer, connection.stream.get_write_buffer_size() if connection.stream else 0)
 
     def malformed(self, connection: _Connection, problem: str) -> None:
         """A header no request has: answer what came before it, then close."""
@@ -513,12 +598,12 @@ class ModbusServerLink:
     def _next(self) -> _Connection | None:
         """The connection whose request is answered next: the session's PLC first, then in turn."""
         owner = self.owner.owner
-        if isinstance(owner, _Connection) and owner.requests and owner.admitted:
+        if isinstance(owner, _Connection) and owner.requests and owner.admitted and not owner.stalled:
             return owner
         while self._waiting:
             connection = self._waiting.popleft()
             connection.queued = False
-            if connection.requests and connection.admitted:
+            if connection.requests and connection.admitted and not connection.stalled:
                 return connection
         return None
 
@@ -528,12 +613,10 @@ class ModbusServerLink:
             began = wallclock.perf_counter()
             while (connection := self._next()) is not None:
                 await self._answer(connection, connection.requests.popleft())
-                if connection.requests:
-                    self.ready(connection)
-                elif connection.close_when_answered:
+                if not connection.requests and connection.close_when_answered:
                     self._drop(connection)
-                if len(connection.requests) <= PENDING_LIMIT // 2:
-                    connection.resume()
+                else:
+                    connection.answered()
                 if wallclock.perf_counter() - began >= SERVE_SLICE_S:
                     break
             if not self._waiting:
@@ -567,8 +650,8 @@ class ModbusServerLink:
             return ExceptionResponse(function, ExcCodes.ILLEGAL_VALUE)
         session = self.tables.session
         if function in WRITE_FUNCTIONS and session:  # only the session's PLC: asked where a write lands
-            claims = claims_session(pdu, session)
-            self.tables.may_write = lambda: self.owner.may_write(connection, connection.peer, claims)
+            claim = session_claim(pdu, session)
+            self.tables.may_write = lambda: self.owner.may_write(connection, connection.peer, claim)
         try:
             # pymodbus's own handler passes its SimCore where the PDUs name a ModbusServerContext
             context: Any = self._server.context
@@ -636,6 +719,18 @@ class ModbusLinkClient:
         except (OSError, ModbusException):
             return False
 
+    def connect_within(self, seconds: float, should_stop: Callable[[], bool] = lambda: False) -> bool:
+        """Connect, trying again every :data:`CONNECT_PAUSE_S` for up to ``seconds`` (or until
+        ``should_stop``); False when no server took the connection in that time."""
+        deadline = wallclock.monotonic() + seconds
+        while not should_stop():
+            if self.connect():
+                return True
+            if wallclock.monotonic() >= deadline:
+                return False
+            wallclock.sleep(CONNECT_PAUSE_S)
+        return False
+
     def close(self) -> None:
         self._client.close()
 
@@ -668,9 +763,9 @@ class ModbusLinkClient:
             try:
                 response = self._client.write_registers(address + start, chunk, device_id=self.device_id)
             except (ModbusException, OSError) as error:
-                raise LinkError(f"Modbus server {self.host}:{self.port}: {error}") from None
+                raise self._lost(error) from None
             if response.isError():
-                raise LinkError(f"Modbus server {self.host}:{self.port} refused writing registers"
+                raise RequestRefused(f"Modbus server {self.host}:{self.port} refused writing registers"
                                 f" {address + start}..{address + start + len(chunk) - 1}:"
                                 f" exception {getattr(response, 'exception_code', '?')}")
 
@@ -678,8 +773,20 @@ class ModbusLinkClient:
         try:
             response = method(address, count=count, device_id=self.device_id)
         except (ModbusException, OSError) as error:
-            raise LinkError(f"Modbus server {self.host}:{self.port}: {error}") from None
+            raise self._lost(error) from None
         if response.isError():
-            raise LinkError(f"Modbus server {self.host}:{self.port} refused reading registers"
+            raise RequestRefused(f"Modbus server {self.host}:{self.port} refused reading registers"
                             f" {address}..{address + count - 1}: exception {getattr(response, 'exception_code', '?')}")
         return list(response.registers)
+
+    def _lost(self, error: Exception) -> LinkError:
+        """A request that got no answer, in words (pymodbus's own messages name its internals)."""
+        if isinstance(error, ConnectionException | ConnectionError):
+            what = "the server closed the connection"
+        elif isinstance(error, ModbusIOException):
+            what = f"no answer within {self.timeout_s:g} s"
+        elif isinstance(error, OSError):
+            what = error.strerror or type(error).__name__
+        else:
+            what = str(error)
+        return LinkError(f"Modbus server {self.host}:{self.port}: {what}")

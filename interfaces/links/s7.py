@@ -13,9 +13,11 @@ would replace a whole data block, NC->PLC bytes included: it is refused at its r
 the same error.  While a session is open only the session's PLC writes
 (:mod:`interfaces.links.access`): the first client that writes owns the link until it
 disconnects, unless the link's Modbus PLC owns it already; the others' writes get the same
-error.  Sessions are limited as the Modbus connections are: the one idle the longest makes room
-for a new client, and one silent for the idle time-out is closed (python-snap7 would keep 64 idle
-sessions and lock every further client out).
+error.  S7 has no session key: when the owner disconnects its session closes, and the next
+writer takes the link only in a new session (a power-on, or the operator's in ``vc serve``).
+Sessions are limited as the Modbus connections are: the one idle the longest makes room for a new
+client, and one silent for the idle time-out is closed (python-snap7 would keep 64 idle sessions
+and lock every further client out).
 
 python-snap7's server serves each client in a thread of its own; the server keeps its own copy
 of the bytes, and the harness exchanges them with the simulation once per PLC period
@@ -38,7 +40,7 @@ from snap7.error import S7Error
 from snap7.server import Server
 from snap7.type import SrvArea
 
-from interfaces.links.access import AllowList, ConnectionLimits, LinkOwner
+from interfaces.links.access import NO_KEY, AllowList, ConnectionLimits, LinkOwner
 from interfaces.links.errors import LinkError
 from interfaces.signals import Direction, ExpandedCatalog
 
@@ -112,7 +114,7 @@ class _ProtectedServer(Server):
     def _write_to_memory_area(self, area: S7Area, db_number: int, start: int, write_data: bytearray) -> bool:
         writer: Address = getattr(self._writer, "address", ("", 0))
         if not self.link.may_write(area, db_number, start, len(write_data)) or \
-                not self.link.owner.may_write(("s7", writer), writer[0], claims=True):
+                not self.link.owner.may_write(("s7", writer), writer[0], claim=NO_KEY):
             return False
         written: bool = super()._write_to_memory_area(area, db_number, start, write_data)
         if written:

@@ -9,12 +9,17 @@ of :mod:`interfaces.codec_modbus`) and follows the server's mode:
 * **free-running**: scan every PLC period of the wall clock (or ``period_s``): read, scan,
   write, and count the scan-done register up as the sign of life.
 
-A new session (the harness powered the machine on again, or started the next scenario) or a new
-boot id (another harness process, whose sessions count from 1 again) means a PLC restart: the
-description is read again and the program starts from its initial state.  A connection lost and
-made again to the same session of the same process keeps the program: it carries on where it was,
-and in lockstep the outputs of a scan whose write was lost are sent again instead of the scan
-running twice.
+A new session (the harness powered the machine on again, started the next scenario, or its
+operator opened one) or a new boot id (another harness process, whose sessions count from 1 again)
+means a PLC restart: the description is read again and the program starts from its initial state.
+The PLC claims every session with its session key (random per process, or ``--key-file``), so a
+connection lost and made again to the same session of the same process keeps the program: the key
+takes the session back, the program carries on where it was, and in lockstep the outputs of a scan
+whose write was lost are sent again instead of the scan running twice.  A claim the server refuses
+(another PLC holds the session, or it was closed when its PLC was lost) is said once; the PLC then
+waits for the next session.  When no server takes a new connection within
+:data:`~interfaces.links.modbus_tcp.RECONNECT_WINDOW_S` the harness has ended, and so does the PLC
+(exit code 1).
 
 In lockstep the harness answers only while it waits for the PLC, and it may pause between two
 scans for longer than a real-time PLC would wait (a garbage collection of a long ``vc run``, a
@@ -26,6 +31,7 @@ sets one time-out for both).  A harness that is gone closes the connection, whic
 from __future__ import annotations
 
 import math
+import secrets
 import struct
 import time as wallclock
 from collections.abc import Callable
@@ -42,10 +48,12 @@ from interfaces.codec_modbus import (
     Table,
     read_registers,
     registers_text,
+    session_key_registers,
 )
 from interfaces.image import ProcessImage
 from interfaces.link_description import LinkDescription, PlcSetupError
-from interfaces.links.modbus_tcp import LinkError, ModbusLinkClient
+from interfaces.links.errors import RequestRefused
+from interfaces.links.modbus_tcp import RECONNECT_WINDOW_S, LinkError, ModbusLinkClient
 from interfaces.plc import SoftPlc
 from plc_stub.programs import FACTORIES
 from plc_stub.scan_loop import EXIT_NO_HARNESS, EXIT_STOPPED, exit_code, run_scans
@@ -53,6 +61,7 @@ from plc_stub.scan_loop import EXIT_NO_HARNESS, EXIT_STOPPED, exit_code, run_sca
 _WORD = struct.Struct(">H")
 TIMEOUT_S = 3.0  # real time (and before the first session): an answer later than this is a lost server
 LOCKSTEP_TIMEOUT_S = 120.0  # lockstep: the harness may pause between scans (module docstring)
+REFUSED_PAUSE_S = 0.2  # between two polls while the server refuses this PLC the offered session
 
 
 @dataclass(slots=True)
@@ -81,7 +90,8 @@ class RemotePlc:
     """One PLC process: ``run`` until stopped (``should_stop``) or the server goes away for good."""
 
     def __init__(self, client: ModbusLinkClient, program: str | None = None, period_s: float | None = None,
-                 log: Callable[[str], None] = lambda text: None, answer_timeout_s: float | None = None):
+                 log: Callable[[str], None] = lambda text: None, answer_timeout_s: float | None = None,
+                 key: int | None = None):
         self.client = client
         self.answer_timeout_s = answer_timeout_s
         self.program = program
@@ -90,6 +100,10 @@ class RemotePlc:
         self.session: _Session | None = None
         self.scans = 0
         self._reconnected = False
+        # the session key of this process's claims (docs/modbus.md): only this process (or, with the
+        # harness's key file, a PLC given the same file) can take its session back after a lost connection
+        self.key = key or secrets.randbits(64) or 1
+        self._refused: tuple[int, int] | None = None  # (session, boot id) whose claim the server refused
 
     # ------------------------------------------------------------------ one poll
     def poll(self) -> bool:
@@ -101,15 +115,22 @@ class RemotePlc:
         if head[LinkInput.VERSION] != LINK_VERSION:
             raise PlcSetupError(f"the server speaks link version {head[LinkInput.VERSION]}, this PLC {LINK_VERSION}")
         session = self.session
-        if session is None or (session.number, session.boot_id) != (head[LinkInput.SESSION], head[LinkInput.BOOT_ID]):
+        offered = (head[LinkInput.SESSION], head[LinkInput.BOOT_ID])
+        if session is None or (session.number, session.boot_id) != offered:
+            if offered == self._refused:  # another PLC's session, or one closed: wait for a new one
+                wallclock.sleep(REFUSED_PAUSE_S)
+                return False
             # a new session of this harness, or a harness process started since (its sessions count from
             # 1 again): restart the program
             session = self._start_session(head)
+            if session is None:
+                return False
             head = self.client.read_input_registers(0, self._poll_count())
         elif self._reconnected:
             # the same session of the same harness process after a reconnect: the program carries on
-            # with its state; the session is claimed again on this connection
-            self.client.write_registers(LinkHolding.SESSION_READY, [session.number])
+            # with its state; the session is claimed again on this connection, with this process's key
+            if not self._claim(session.number, session.boot_id):
+                return False
             self.log(f"session {session.number} (boot id {session.boot_id}) goes on after the reconnect")
         self._reconnected = False
         if session.lockstep:
@@ -130,7 +151,28 @@ class RemotePlc:
             return LINK_REGISTERS
         return min(READ_LIMIT, self.session.register_map.registers(Table.NC_TO_PLC))
 
-    def _start_session(self, head: list[int]) -> _Session:
+    def _claim(self, number: int, boot_id: int) -> bool:
+        """Claim session ``number`` on this connection (holding register 1 = the session, 2..5 = the
+        key); False when the server refuses it: then this PLC waits for a new session."""
+        try:
+            self.client.write_registers(LinkHolding.SESSION_READY, [number, *session_key_registers(self.key)])
+        except RequestRefused:
+            self.session = None
+            self._refused = (number, boot_id)
+            self.log(f"session {number}: the server refused this PLC's claim (another PLC holds the session, or it"
+                     " was closed when its PLC was lost); waiting for a new session: the next power-on, or the"
+                     " operator's (vc serve: Enter or SIGUSR1)")
+            return False
+        self._refused = None
+        return True
+
+    def refused(self, error: RequestRefused) -> None:
+        """A write of a scan was refused (the operator opened a new session meanwhile, or another PLC
+        holds the session): the next poll reads the link block anew."""
+        self.log(f"{error}; reading the link block anew")
+        self.session = None
+
+    def _start_session(self, head: list[int]) -> _Session | None:
         length = head[LinkInput.DESCRIPTION_BYTES]
         first = head[LinkInput.DESCRIPTION_START]
         text = registers_text(self.client.read_input_registers(first, math.ceil(length / 2)), length)
@@ -143,7 +185,13 @@ class RemotePlc:
             head[LinkInput.SESSION], head[LinkInput.BOOT_ID], lockstep, description, register_map, plc,
             ProcessImage(environment.catalog.area_sizes), ProcessImage(environment.plant_io.area_sizes()),
             bytearray(sizes[Table.NC_TO_PLC]), bytearray(sizes[Table.PLC_TO_NC]))
-        self.client.write_registers(LinkHolding.SESSION_READY, [self.session.number])
+        try:
+            claimed = self._claim(head[LinkInput.SESSION], head[LinkInput.BOOT_ID])
+        except LinkError:
+            self.session = None  # never claimed: after the reconnect it starts again
+            raise
+        if not claimed:
+            return None
         self.log(f"session {self.session.number} (boot id {self.session.boot_id}): machine {description.machine},"
                  f" program {name},"
                  f" {'lockstep' if self.session.lockstep else 'free-running'}")
@@ -214,34 +262,40 @@ class RemotePlc:
 
 def run_forever(host: str, port: int, program: str | None, period_s: float | None, connect_timeout_s: float,
                 log: Callable[[str], None], should_stop: Callable[[], bool] = lambda: False,
-                answer_timeout_s: float | None = None) -> int:
-    """Connect (and reconnect) to the harness and run; the exit code of ``python -m plc_stub``.
-    ``answer_timeout_s``: how long a request may go unanswered before the connection is made again
-    (None: :data:`TIMEOUT_S` in real time, :data:`LOCKSTEP_TIMEOUT_S` in lockstep)."""
+                answer_timeout_s: float | None = None, key: int | None = None) -> int:
+    """Connect to the harness and run; the exit code of ``python -m plc_stub``.
+    ``connect_timeout_s``: how long the first connection may take (the harness may start after the
+    PLC).  A lost connection is made again within :data:`RECONNECT_WINDOW_S`: a harness that still
+    runs takes it at once; one that has ended ends the PLC (exit code 1) instead of a retry for the
+    whole connect time-out.  ``answer_timeout_s``: how long a request may go unanswered before the
+    connection is made again (None: :data:`TIMEOUT_S` in real time, :data:`LOCKSTEP_TIMEOUT_S` in
+    lockstep)."""
     client = ModbusLinkClient(host, port, timeout_s=answer_timeout_s or TIMEOUT_S)
-    plc = RemotePlc(client, program, period_s, log, answer_timeout_s)
+    plc = RemotePlc(client, program, period_s, log, answer_timeout_s, key)
 
     def run() -> int:
-        deadline = wallclock.monotonic() + connect_timeout_s
-        connected = False
+        if not client.connect_within(connect_timeout_s, should_stop):
+            if should_stop():
+                return EXIT_STOPPED
+            log(f"no Modbus server at {host}:{port} after {connect_timeout_s:g} s")
+            return EXIT_NO_HARNESS
+        log(f"connected to {host}:{port}")
         while not should_stop():
-            if not client.connect():
-                if wallclock.monotonic() > deadline:
-                    log(f"no Modbus server at {host}:{port} after {connect_timeout_s:.0f} s")
-                    return EXIT_NO_HARNESS
-                wallclock.sleep(0.1)
-                continue
-            if not connected:
-                log(f"connected to {host}:{port}")
-                connected = True
             try:
                 plc.run(should_stop)
+            except RequestRefused as error:
+                plc.refused(error)
             except LinkError as error:
-                log(f"link lost: {error}; reconnecting")
                 client.close()
                 plc.reconnected()
-                connected = False
-                deadline = wallclock.monotonic() + connect_timeout_s
+                window = min(RECONNECT_WINDOW_S, connect_timeout_s)
+                if not client.connect_within(window, should_stop):
+                    if should_stop():
+                        break
+                    log(f"the harness has gone: {error}, and no server has listened at {host}:{port} since"
+                        f" ({window:g} s); stopping")
+                    return EXIT_NO_HARNESS
+                log(f"link lost: {error}; connected again")
         return EXIT_STOPPED
 
     try:

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 from interfaces.can_dbc import dbc_name, dbc_text
 from interfaces.catalog import load_catalog
-from interfaces.codec_can import CanLayout, CanSettings
+from interfaces.codec_can import LINK_VERSION, CanLayout, CanSettings
 from interfaces.image import ProcessImage, decode
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import Direction, ExpandedCatalog, InterfaceLayout, SignalRef, SignalType, expand
@@ -99,7 +99,7 @@ def test_link_frames_decode_with_the_dbc() -> None:
 
     nc = NcLink(1, 7, 3, 42).encode(CanSettings())
     assert database().decode_message(nc.can_id, nc.data) == {
-        "mode": 1, "version": 1, "ncLife": 7, "session": 3, "scanGrant": 42, "checksum": nc.data[7]}
+        "mode": 1, "version": LINK_VERSION, "ncLife": 7, "session": 3, "scanGrant": 42, "checksum": nc.data[7]}
     plc = PlcLink(9, 3, 42, True).encode(CanSettings(), fd=True)
     decoded = database().decode_message(plc.can_id, plc.data)
     assert (decoded["needsDescription"], decoded["plcLife"], decoded["sessionReady"], decoded["scanDone"]) == (

@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from interfaces.catalog import load_catalog
 from interfaces.codec_can import (
     FD_LENGTHS,
+    LINK_VERSION,
     CanLayout,
     CanMapError,
     CanSettings,
@@ -206,7 +207,7 @@ def test_the_checksum_is_crc8_sae_j1850() -> None:
 def test_nc_link_frames_both_ways(mode: int, life: int, session: int, grant: int) -> None:
     frame = NcLink(mode, life, session, grant).encode(CanSettings())
     assert frame.can_id == 0x100 and len(frame.data) == 8
-    assert frame.data[0] == 0x10 | mode and frame.data[1] == life
+    assert frame.data[0] == LINK_VERSION << 4 | mode and frame.data[1] == life
     assert int.from_bytes(frame.data[2:4], "big") == session and int.from_bytes(frame.data[4:6], "big") == grant
     assert NcLink.decode(0x100, frame.data) == NcLink(mode, life, session, grant)
     assert NcLink.decode(0x101, frame.data) is None  # the identifier is part of the checksum
@@ -216,7 +217,7 @@ def test_nc_link_frames_both_ways(mode: int, life: int, session: int, grant: int
 def test_plc_link_frames_both_ways(life: int, ready: int, done: int, wants: bool) -> None:
     settings_ = CanSettings(link_id=0x300)
     frame = PlcLink(life, ready, done, wants).encode(settings_, fd=False)
-    assert frame.can_id == 0x301 and not frame.fd and frame.data[0] == 0x10 | int(wants)
+    assert frame.can_id == 0x301 and not frame.fd and frame.data[0] == LINK_VERSION << 4 | int(wants)
     assert PlcLink.decode(0x301, frame.data) == PlcLink(life, ready, done, wants)
     assert PlcLink.decode(0x301, frame.data[:7] + bytes([frame.data[7] ^ 0xFF])) is None
 

@@ -14,7 +14,8 @@
                                                       the signal map for a PLC tool (docs/plc_tools.md)
     vc serve [--machine M] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
              [--scenario FILE [--junit FILE] [--keep-running]] [--duration S] [--record FILE] [--allow IP,...]
-             [--allow-writers IP,...] [--max-clients N] [--idle-timeout S] [--verbose]
+             [--allow-writers IP,...] [--plc-key-file FILE] [--max-clients N] [--idle-timeout S]
+             [--cpu LIST] [--fifo PRIORITY] [--verbose]
                                                       the NC as a server (or CAN node) for a PLC in another
                                                       process; with a scenario the exit code is its result;
                                                       --record records the session
@@ -386,13 +387,23 @@ def _percent(text: str) -> float:
     return value
 
 
+class _Given(argparse.Action):
+    """Stores the value and that it was given (``<dest>_given``): a default is no choice of the user's."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: object,
+                 option_string: str | None = None) -> None:
+        setattr(namespace, self.dest, values)
+        setattr(namespace, f"{self.dest}_given", True)
+
+
 def _serve(arguments: argparse.Namespace) -> int:
     if (arguments.junit or arguments.keep_running) and not arguments.scenario:
         print("--junit and --keep-running need --scenario", file=sys.stderr)
         return EXIT_PROBLEMS
-    from interfaces.links.access import ConnectionLimits
+    from interfaces.links.access import ConnectionLimits, key_file
     from interfaces.links.can_bus import BusSpec
     from interfaces.links.errors import LinkError
+    from interfaces.links.scheduling import parse_cpus, parse_priority
     from vc.harness.links.modbus import Endpoint
     from vc.harness.serve import ServeOptions, serve
 
@@ -407,6 +418,10 @@ def _serve(arguments: argparse.Namespace) -> int:
             recorder = session_recorder(arguments.record, arguments.scenario, link, arguments.realtime)
         options = ServeOptions(
             machine_path=arguments.machine,
+            machine_given=arguments.machine_given,
+            plc_key=key_file(arguments.plc_key_file) if arguments.plc_key_file else None,
+            cpus=parse_cpus(arguments.cpu) if arguments.cpu else None,
+            fifo_priority=parse_priority(arguments.fifo) if arguments.fifo else None,
             modbus=Endpoint.parse(arguments.modbus, 5020) if arguments.modbus else None,
             s7=Endpoint.parse(arguments.s7, 102) if arguments.s7 else None,
             can=BusSpec.parse(arguments.can) if arguments.can else None,
@@ -529,7 +544,8 @@ def build_parser() -> argparse.ArgumentParser:
     signal_map.set_defaults(handler=_map)
 
     serve = commands.add_parser("serve", help="serve the NC and the plant to a PLC over Modbus TCP and/or S7")
-    serve.add_argument("--machine", default=DEFAULT_MACHINE, help=machine_help)
+    serve.add_argument("--machine", default=DEFAULT_MACHINE, action=_Given,
+                       help=f"{machine_help}; with --scenario only the scenario's machine")
     serve.add_argument("--modbus", nargs="?", const="127.0.0.1:5020", metavar="HOST:PORT",
                        help="serve Modbus TCP (default 127.0.0.1:5020; the default when no --s7 is given)")
     serve.add_argument("--s7", metavar="HOST:PORT", help="serve the data blocks over S7 (python-snap7)")
@@ -543,6 +559,10 @@ def build_parser() -> argparse.ArgumentParser:
                        help="these clients may write besides the session's PLC, the one connection that wrote"
                             " the session into holding register 1 (a PLC with several connections, a tool;"
                             " repeatable)")
+    serve.add_argument("--plc-key-file", metavar="FILE",
+                       help="only a PLC that claims its session with the key in FILE writes into the NC (16"
+                            " hexadecimal digits; made, readable by you alone, when missing; python -m plc_stub"
+                            " --key-file FILE; docs/modbus.md)")
     serve.add_argument("--max-clients", type=int, default=DEFAULT_MAX_CLIENTS, metavar="N",
                        help=f"connections per server (default {DEFAULT_MAX_CLIENTS}); when full, the one idle"
                             " the longest makes room")
@@ -552,6 +572,12 @@ def build_parser() -> argparse.ArgumentParser:
                        help="log what the links and their libraries report (refused requests, server failures)")
     serve.add_argument("--realtime", action="store_true",
                        help="tie the IPO cycles to the wall clock; the PLC scans on its own clock")
+    serve.add_argument("--cpu", metavar="LIST",
+                       help="pin the server to these CPUs (1, 0,2, 2-3): with --fifo, what keeps the real-time NC's"
+                            " period on a busy host (docs/modbus.md, bench/README.md)")
+    serve.add_argument("--fifo", metavar="PRIORITY",
+                       help="SCHED_FIFO real-time scheduling at PRIORITY 1..99 where permitted (root, CAP_SYS_NICE"
+                            " or an rtprio limit); the statistics say what the server got")
     serve.add_argument("--speed", default="1", metavar="FACTOR",
                        help="real-time factor with --realtime: 0.5, 2 ... or max (default 1)")
     serve.add_argument("--program", default="basic_machine",
@@ -569,7 +595,7 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--record", metavar="FILE",
                        help="record the session (the PLC's writes, the NC's outputs, the operator's actions, the"
                             " machine) for vc replay; FILE.gz is compressed (docs/recording.md)")
-    serve.set_defaults(handler=_serve)
+    serve.set_defaults(handler=_serve, machine_given=False)
 
     replay = commands.add_parser("replay", help="replay a session recorded by vc serve --record without the PLC")
     replay.add_argument("file", metavar="FILE", help="the recording")

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 from interfaces.codec_modbus import (
     DESCRIPTION_REGISTER,
     LINK_REGISTERS,
+    LINK_VERSION,
     MASK_WRITE_REGISTER,
     MODE_FREE_RUNNING,
     MODE_LOCKSTEP,
@@ -38,6 +39,7 @@ from interfaces.codec_modbus import (
     READ_INPUT,
     READ_LIMIT,
     READ_WRITE_REGISTERS,
+    SESSION_KEY_REGISTERS,
     WRITE_COIL,
     WRITE_COILS,
     WRITE_LIMIT,
@@ -59,7 +61,7 @@ from interfaces.exports.client_setups import (
     openplc_devices,
 )
 from interfaces.links.access import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CLIENTS
-from interfaces.links.modbus_tcp import SERVED_FUNCTIONS
+from interfaces.links.modbus_tcp import ANSWER_LIMIT, PENDING_LIMIT, RECEIVE_LIMIT, SERVED_FUNCTIONS
 from interfaces.plant_io import PlantIoMap
 from interfaces.signal_map import LINK_ROWS
 from interfaces.signals import ExpandedCatalog, SignalRef, SignalType
@@ -229,6 +231,10 @@ def modbus_guide(machine_name: str, machine_source: str, catalog: ExpandedCatalo
 
 def _convention(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[str]:
     example_symbol = f"{catalog.layout.axes[0]}.basic.in.enc1Synchronized"
+    real_symbol = f"{catalog.layout.axes[-1]}.spindle.in.sFuncValue"  # the last axis: a spindle on every machine
+    real = catalog.resolve(real_symbol)
+    real_at = _located(register_map, real)
+    key_first, key_last = LinkHolding.SESSION_KEY, LinkHolding.SESSION_KEY + SESSION_KEY_REGISTERS - 1
     example = catalog.resolve(example_symbol)
     location = _located(register_map, example)
     assert location.register_bit is not None and location.coil is not None
@@ -285,9 +291,10 @@ def _convention(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[str
         f" read beyond its length. The description (UTF-8 JSON, two bytes a register) starts at input"
         f" register {DESCRIPTION_REGISTER}.",
         f"* **The PLC owns its link.** While a session is open (IR {LinkInput.VERSION} not 0), in lockstep and in real"
-        f" time, only the session's PLC writes: the connection that wrote the session (IR {LinkInput.SESSION}) into"
-        f" HR {LinkHolding.SESSION_READY}, as every PLC of this protocol does when a session starts. It keeps the link"
-        " until it disconnects (a new session keeps it). Every other client may read; a write of it (FC"
+        f" time, only the session's PLC writes: the connection that claimed it by writing the session (IR"
+        f" {LinkInput.SESSION}) into HR {LinkHolding.SESSION_READY}, as every PLC of this protocol does when a session"
+        f" starts, with its session key in HR {_span('', key_first, key_last)} (below). It keeps the link until it"
+        " disconnects (a new session keeps it). Every other client may read; a write of it (FC"
         f" {WRITE_COIL}, {WRITE_REGISTER}, {WRITE_COILS}, {WRITE_REGISTERS}, {MASK_WRITE_REGISTER},"
         f" {READ_WRITE_REGISTERS}) into the PLC-to-NC table gets exception 01 (illegal function), changes nothing"
         " and is counted in `vc serve`'s statistics (an address the tables do not hold stays exception 02)."
@@ -296,12 +303,36 @@ def _convention(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[str
         " the link: a PLC that spreads its transfers over several connections (OpenPLC, below), a tool that"
         f" forces signals. The S7 server follows the same rule (`--s7`: its first writer owns the link, unless"
         " the Modbus PLC does).",
+        "* **A lost PLC closes its session.** When the PLC's connection ends (it stopped, crashed or was restarted),"
+        " no other connection may claim that session, however it learnt the number: in real time the NC raises"
+        f" alarm {PLC_SIGN_OF_LIFE_ALARM} as for any silent PLC, in lockstep it waits, and `vc serve` says so. A"
+        " session starts again only at the next power-on of the machine (the next scenario, a power cycle) or"
+        " when the operator opens one: Enter in `vc serve`'s terminal, or `kill -USR1` with its process id; the"
+        " first PLC that claims it owns the link. The PLC that held the session takes it back by itself after a"
+        " lost connection when it claimed it with a *session key*: 64 random bits of its own, not all 0, in"
+        f" HR {_span('', key_first, key_last)}, high word first, written in the same request as"
+        f" HR {LinkHolding.SESSION_READY} (FC {WRITE_REGISTERS} of HR"
+        f" {_span('', LinkHolding.SESSION_READY, key_last)});"
+        f" the server never shows the key (HR {_span('', key_first, key_last)} read 0). `python -m plc_stub` and"
+        " `python -m plc_awlsim` do so. With `vc serve --plc-key-file FILE` (16 hexadecimal digits; made, readable"
+        " by you alone, when missing) only a claim with that key counts, in every session: give your PLC the same"
+        " key (`python -m plc_stub --key-file FILE`, or the digits as `LINK.sessionKeyHigh` / `Low` in your program).",
+        f"* **REAL values.** A REAL (`DBD n`, an IEEE 754 single as in the S7) spans two registers, high word first,"
+        f" each word big-endian: `{real_symbol}` ({real.address}) is IR {real_at.register}..{real_at.register + 1},"
+        f" and (IR {real_at.register} << 16) | IR {real_at.register + 1} is the bit pattern of the float (byte order"
+        " ABCD; `mbpoll -t 3:float -B` reads it so). Cast those 32 bits to REAL (a UNION of DWORD and REAL in"
+        " CODESYS, `struct.unpack('>f', struct.pack('>HH', high, low))` in Python): a conversion such as TO_REAL of"
+        " the double word gives the integer's value, not the float. A DWORD lies the same way, high word first.",
         f"* **Connections.** At most {DEFAULT_MAX_CLIENTS} connections (`--max-clients`); when a client connects"
         " to a full server the connection idle the longest makes room for it (never the PLC's, never one with"
         f" a request in progress). A connection silent for {DEFAULT_IDLE_TIMEOUT_S:g} s (`--idle-timeout`) is"
         " closed. Requests are answered once each and in their order, also several in one TCP segment; function"
         f" codes other than {', '.join(str(code) for code in sorted(SERVED_FUNCTIONS))} get exception 01, counts"
-        " beyond the protocol's limits exception 03, both under the request's own function code | 0x80.",
+        " beyond the protocol's limits exception 03, both under the request's own function code | 0x80. A client"
+        f" that does not take its answers ({ANSWER_LIMIT // 1024} kB of them waiting) is served no more and not read"
+        f" until it does: the server holds at most {PENDING_LIMIT} requests and {RECEIVE_LIMIT // 1024} kB of any"
+        " connection's bytes, so such a client cannot grow it; it is counted in the statistics and closed after the"
+        " idle time-out.",
         "",
         "**Link block.** The NC-to-PLC link block tells the PLC about the session; the PLC-to-NC link block"
         " is the PLC's handshake:",
@@ -309,6 +340,16 @@ def _convention(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[str
         *_table(("register", "name", "meaning"),
                 [(_span("IR " if kind == "input_register" else "HR ", register, register + count - 1),
                   f"`{symbol}`", meaning) for symbol, kind, register, count, meaning in LINK_ROWS]),
+        "",
+        f"**Link versions.** IR {LinkInput.VERSION} is the version of this link: of the link block and of where every"
+        " signal lies. It changes with every change of either (a byte range that grows, a data block added, a"
+        " register of the link block), so a PLC that checks it against the version it was built for never reads"
+        " or writes the wrong registers. When they differ, stop, and build the PLC's configuration again from"
+        " `vc map` of the harness you run (the variable list, the channels, the addresses of this guide); check"
+        f" IR {LinkInput.NC_TO_PLC_REGISTERS} and IR {LinkInput.PLC_TO_NC_REGISTERS} against it. The versions: 1, the"
+        " first layout; 2, DB100 (the alarm list) at the end of the NC-to-PLC table (turn_mill's grew from 325 to"
+        f" 359 registers) and the session key in HR {_span('', key_first, key_last)}; this server speaks"
+        f" {LINK_VERSION}. A test pins every version to its layout (tests/interfaces/test_link_versions.py).",
         "",
         f"* **Lockstep** (IR {LinkInput.MODE} = {MODE_LOCKSTEP}, `vc serve` without `--realtime`): the NC advances one"
         f" PLC period per scan the PLC reports done, and time stands while it waits. For PLCs that can be"
@@ -321,9 +362,37 @@ def _convention(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[str
         f" once the PLC scans again. Alarm {PLC_NOT_STARTED_ALARM} follows when the sign of life never changes"
         f" within MD{PLC_RUNNINGUP_TIMEOUT.number} {PLC_RUNNINGUP_TIMEOUT.name}"
         f" (default {_seconds(PLC_RUNNINGUP_TIMEOUT)}) of power-on. Copy IR {LinkInput.SESSION} into"
-        f" HR {LinkHolding.SESSION_READY} as well; it is required in lockstep and harmless here.",
+        f" HR {LinkHolding.SESSION_READY} as well: it is the claim that makes your PLC the session's. On a busy host"
+        " give the server a CPU and real-time scheduling, `vc serve --realtime --cpu 1 --fifo 50`, and the PLC"
+        " another (`python -m plc_stub --cpu 0 --fifo 40`; SCHED_FIFO needs root, CAP_SYS_NICE or an rtprio limit):"
+        " the statistics say what each got, bench/README.md what it kept.",
     ]
-    return lines
+    return lines + _threat_model()
+
+
+def _threat_model() -> list[str]:
+    return [
+        "",
+        "## Threat model",
+        "",
+        "The servers listen on 127.0.0.1 unless told otherwise, so this is about a process on the same host:"
+        " another user's, or a program of yours gone astray (a remote client needs `--allow-remote` and the"
+        " allow-list `--allow`). Such a process **can** read everything the PLC reads (both tables, the"
+        " description, the session number); take connections up to the limit and its share of a busy server (the"
+        " PLC is answered first; a client that does not take its answers is no longer read, so it cannot grow the"
+        " server); and, while no PLC has claimed a session (right after `vc serve` starts, after a power-on, after"
+        " the operator opened one), claim it before your PLC and be the session's PLC, with all a PLC may do: your"
+        " PLC is then refused and says so, and `vc serve`'s statistics name the client that holds the session."
+        " Against that, start `vc serve` with `--plc-key-file`: only a claim with your key counts. It **cannot**"
+        " write into"
+        " the NC while your PLC holds the session (every write is refused and counted), take the session over when"
+        " your PLC is lost (the session closes and the NC stops with alarm"
+        f" {PLC_SIGN_OF_LIFE_ALARM}), keep a lost PLC's sign of life alive, read the session key, write the NC-to-PLC"
+        " table or download S7 blocks; with `--plc-key-file` it cannot claim any session. Out of reach of the"
+        " harness: a process that can read your PLC's memory or its key file (root, or your own user through"
+        " ptrace or /proc) can act as your PLC; `--allow-writers 127.0.0.1` lets every local process write; a CAN"
+        " bus has no sender identity at all (docs/can.md).",
+    ]
 
 
 def _sizes(register_map: RegisterMap) -> list[str]:
@@ -506,10 +575,13 @@ def _codesys(register_map: RegisterMap, signals: Sequence[GuideSignal], catalog:
         "",
         *_table(("channel", "access type", "offset", "length", "registers", "trigger"), channel_rows),
         "",
-        f"*{link_out.name}* writes the sign of life (index {LinkHolding.SCAN_DONE}) and the session (index"
-        f" {LinkHolding.SESSION_READY}); it comes last so that, when channels go out in list order, the scan-done word"
+        f"*{link_out.name}* writes the sign of life (index {LinkHolding.SCAN_DONE}), the session (index"
+        f" {LinkHolding.SESSION_READY}) and the session key (indexes {LinkHolding.SESSION_KEY}.."
+        f"{LinkHolding.SESSION_KEY + SESSION_KEY_REGISTERS - 1}; 0 when your program sets none, see *A lost PLC"
+        " closes its session*); it comes last so that, when channels go out in list order, the scan-done word"
         " follows the outputs. Its first write makes the slave's connection the session's PLC: the output"
-        " channels before it are refused (exception 01) in the very first cycle only.",
+        " channels before it are refused (exception 01) in the very first cycle only. docs/plc_examples/turn_mill.st"
+        " is a whole program for these channels, with the link's part in its network 8.",
         "",
         "**Arithmetic.** On the *Modbus TCP Slave I/O Mapping* tab each channel is an ARRAY OF WORD; map it to a"
         " variable. Register r lies in the channel whose registers include it, at index r - offset; bit b of"
@@ -553,10 +625,13 @@ def _lockstep(register_map: RegisterMap) -> list[str]:
         f"2. When IR {LinkInput.SESSION} (the session) or IR {LinkInput.BOOT_ID} (the boot id) differs from"
         f" those you run:"
         f" the machine was powered on again, or another harness process serves it. Restart the program from its"
-        f" initial state, forget the last grant, and write HR {LinkHolding.SESSION_READY} = IR"
-        f" {LinkInput.SESSION}, once per"
-        " session. The first of these writes makes your connection the session's PLC, the only one whose writes"
-        " the server takes; make all writes over it.",
+        f" initial state, forget the last grant, and claim the session: HR {LinkHolding.SESSION_READY} = IR"
+        f" {LinkInput.SESSION} with your session key in HR {LinkHolding.SESSION_KEY}.."
+        f"{LinkHolding.SESSION_KEY + SESSION_KEY_REGISTERS - 1}, one FC {WRITE_REGISTERS} request, once per session."
+        " The claim makes your connection the session's PLC, the only one whose writes the server takes; make all"
+        " writes over it, and after a lost connection claim again with the same key. A claim refused with"
+        " exception 01 means another client holds the session, or it was closed when its PLC was lost: wait for"
+        f" IR {LinkInput.SESSION} to change.",
         f"3. Read IR {LinkInput.SCAN_GRANT}, the scan grant. While it is 0 or equal to the last grant you finished,"
         " poll again (no scan).",
         f"4. When it changed: read the NC-to-PLC data (IR {LINK_REGISTERS}..{inputs - 1}; the server published"

@@ -5,7 +5,8 @@ Over Modbus TCP (and S7), or as a node on a CAN bus (``--can BUS``, with the mac
 done, so a PLC that can be stepped (``python -m plc_stub``) runs deterministically; time stands
 while no PLC answers.  Real time (``--realtime``): the IPO cycles follow the wall clock
 (``--speed`` scales it), the PLC scans on its own clock, and the NC watches the PLC's sign of
-life (alarm 2000 after MD10100 without one).  An ``observer`` (the session recording of
+life (alarm 2000 after MD10100 without one); ``--cpu`` and ``--fifo`` pin the server to CPUs and ask
+for real-time scheduling (:mod:`interfaces.links.scheduling`).  An ``observer`` (the session recording of
 ``--record``) sees every cycle and every action of the operator.  Every ``--stats`` seconds of the
 wall clock, also while a scenario runs, and at the end, a line tells the pacing (real time:
 overruns, those caused by serving the links, the share of real time the NC kept) and the link
@@ -23,6 +24,10 @@ with the same exit code.  Without a scenario the machine runs until Ctrl-C or ``
 from __future__ import annotations
 
 import asyncio
+import contextlib
+import os
+import signal
+import sys
 import time as wallclock
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -31,16 +36,22 @@ from interfaces.links.access import ConnectionLimits
 from interfaces.links.can_bus import BusSpec
 from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import plc_programs
+from interfaces.links.scheduling import place
 from vc.config.loader import load_machine
+from vc.config.machine_files import machine_file, unknown_machine
 from vc.config.model import MachineConfig
+from vc.harness.external_plc import EXTERNAL_PLC_MODULES
 from vc.harness.links import Link, LinkMode
 from vc.harness.links.can import CanLink
 from vc.harness.links.modbus import Endpoint, PlcLink, check_bind
 from vc.harness.pacer import RealtimePacer
 from vc.scenario.command import EXIT_PASSED, run_command
-from vc.scenario.model import Scenario
+from vc.scenario.model import Scenario, external_plc
 from vc.simulation.lockstep import Simulation
 from vc.simulation.observed import ObservedSimulation, SimulationObserver
+
+# how the operator opens a new session after the session's PLC was lost
+NEW_SESSION_HINT = "a restarted PLC gets a new session: press Enter here, or kill -USR1 {pid}"
 
 
 @dataclass(slots=True)
@@ -63,6 +74,10 @@ class ServeOptions:
     stats_every_s: float = 10.0
     say: Callable[[str], None] = field(default=print)
     observer: SimulationObserver | None = None  # watches the served simulation (vc serve --record)
+    machine_given: bool = False  # --machine was given: with a scenario it must be the scenario's machine
+    plc_key: int | None = None  # the only session key a PLC's claim may carry (--plc-key-file)
+    cpus: frozenset[int] | None = None  # pin the server to these CPUs (--cpu)
+    fifo_priority: int | None = None  # SCHED_FIFO at this priority, where permitted (--fifo)
 
 
 class AlarmWatch:
@@ -98,6 +113,7 @@ def serve(options: ServeOptions) -> int:
             check_bind(endpoint, options.allow_remote)
     machine, program, scenario_path = _machine_and_program(options)
     mode = LinkMode.FREE_RUNNING if options.realtime else LinkMode.LOCKSTEP
+    placement = place(options.cpus, options.fifo_priority)
     def on_wait(text: str) -> None:
         say(f"waiting: {text}")
 
@@ -107,8 +123,11 @@ def serve(options: ServeOptions) -> int:
     else:
         link = PlcLink(mode, modbus=modbus, s7=options.s7, allowed_clients=options.allowed_clients,
                        allow_writers=options.allow_writers, limits=options.limits, first_scan_timeout_s=None,
-                       scan_timeout_s=None, on_wait=on_wait)
+                       scan_timeout_s=None, on_wait=on_wait, required_key=options.plc_key,
+                       on_notice=lambda text: say(f"{text}; {NEW_SESSION_HINT.format(pid=os.getpid())}"))
     loop = link.loop or asyncio.new_event_loop()  # the pacer's
+    if isinstance(link, PlcLink):
+        _take_new_session_requests(link, say)
     try:
         ipo_s = Simulation.ipo_seconds(machine)
         simulations: list[Simulation] = []  # one per power-on; the latest is served
@@ -117,6 +136,8 @@ def serve(options: ServeOptions) -> int:
         pacer = _ReportingPacer(realtime, options.stats_every_s, link,
                                 lambda: simulations[-1] if simulations else None, say)
         _banner(options, machine, link, program, mode, say)
+        if options.cpus or options.fifo_priority is not None or options.realtime:
+            say(f"scheduling: {placement}")
 
         def power_on(scenario: Scenario | None = None) -> Simulation | ObservedSimulation:
             powered = scenario.machine if scenario else machine
@@ -142,7 +163,7 @@ def serve(options: ServeOptions) -> int:
             say("stopped")
         finally:
             if realtime is not None:
-                say(f"real time: {realtime.stats()}")
+                say(f"real time: {realtime.stats()}; {placement}")
             if simulations:
                 say(f"link: {link.peer_state(simulations[-1])}")
         return code
@@ -150,6 +171,26 @@ def serve(options: ServeOptions) -> int:
         link.close()
         if loop is not link.loop:
             loop.close()
+
+
+def _take_new_session_requests(link: PlcLink, say: Callable[[str], None]) -> None:
+    """The operator's new session for a restarted PLC (:meth:`PlcLink.open_new_session`): SIGUSR1, or
+    Enter when standard input is a terminal.  Both are served by the link's event loop, which runs
+    while the harness waits for the PLC and between the cycles of real time."""
+    def open_new_session() -> None:
+        say(link.open_new_session())
+
+    def line_typed() -> None:
+        if not sys.stdin.readline():  # end of input: nothing more to read there
+            link.loop.remove_reader(sys.stdin.fileno())
+            return
+        open_new_session()
+
+    with contextlib.suppress(ValueError, RuntimeError, NotImplementedError):  # not the main thread, no signals
+        link.loop.add_signal_handler(signal.SIGUSR1, open_new_session)
+    with contextlib.suppress(ValueError, OSError, AttributeError):  # no terminal (a pipe, a service, a test)
+        if sys.stdin is not None and sys.stdin.isatty():
+            link.loop.add_reader(sys.stdin.fileno(), line_typed)
 
 
 def _machine_and_program(options: ServeOptions) -> tuple[MachineConfig, str, str | None]:
@@ -161,7 +202,20 @@ def _machine_and_program(options: ServeOptions) -> tuple[MachineConfig, str, str
     if scenario.plc_program is None:
         raise LinkError(f"{options.scenario}: plc: none makes the scenario the PLC; a served scenario plays the"
                         " operator for the PLC on the link (leave plc: out, or name the program plc_stub runs)")
+    if options.machine_given:
+        _check_same_machine(options.machine_path, options.scenario, scenario.machine)
     return scenario.machine, scenario.plc_program, options.scenario
+
+
+def _check_same_machine(reference: str, scenario_path: str, machine: MachineConfig) -> None:
+    """``--machine`` with ``--scenario`` must name the scenario's machine: the scenario's machine is
+    what runs, and a PLC configured for the machine given would meet another one."""
+    given, runs = machine_file(reference), machine_file(machine.source)  # a scenario's machine may be a name too
+    if given is None:
+        raise LinkError(unknown_machine(reference))
+    if runs is None or not os.path.exists(given) or not os.path.samefile(given, runs):
+        raise LinkError(f"--machine {reference} names another machine than the scenario {scenario_path}, which runs"
+                        f" {machine.name} ({machine.source}): leave --machine out, or give the scenario's machine")
 
 
 def _banner(options: ServeOptions, machine: MachineConfig, link: Link, program: str, mode: LinkMode,
@@ -170,11 +224,21 @@ def _banner(options: ServeOptions, machine: MachineConfig, link: Link, program: 
     for line in link.banner(machine):
         say(line)
     if mode is LinkMode.LOCKSTEP:
-        say(f"lockstep: the NC advances one PLC period per scan the PLC reports done; a PLC that follows the"
-            f" harness runs '{program}' ({link.plc_command})")
+        say(f"lockstep: the NC advances one PLC period per scan the PLC reports done; {_who_follows(link, program)}")
     else:
         speed = "as fast as possible" if options.speed is None else f"{options.speed:g} x real time"
         say(f"real time, {speed}; the NC watches the PLC's sign of life (alarm 2000){link.watched}")
+
+
+def _who_follows(link: Link, program: str) -> str:
+    """Which PLC the scenario expects and how to start it."""
+    external = external_plc(program)
+    if external is None:
+        return f"a PLC that follows the harness runs '{program}' ({link.plc_command})"
+    kind, path = external
+    where = str(link.modbus.port) if isinstance(link, PlcLink) and link.modbus is not None else "PORT"
+    return (f"the scenario's PLC is {kind} with {path}: python -m {EXTERNAL_PLC_MODULES[kind]} --modbus"
+            f" 127.0.0.1:{where} {path}")
 
 
 def _keep_running(target: Simulation | ObservedSimulation, options: ServeOptions) -> None:

@@ -9,7 +9,9 @@ thread here, as a test stands in for the harness that would run it while it wait
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import itertools
+import logging
 import os
 import select
 import shutil
@@ -20,6 +22,7 @@ import threading
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
+from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -27,9 +30,18 @@ from hypothesis import strategies as st
 from pyModbusTCP.client import ModbusClient
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import RegisterMap, Table, read_registers
-from interfaces.links.access import ConnectionLimits, LinkOwner
-from interfaces.links.modbus_tcp import LinkError, ModbusServerLink, ModbusTables, Request, take_requests
+from interfaces.codec_modbus import Location, RegisterMap, Table, read_registers, session_key_registers
+from interfaces.image import encode
+from interfaces.links.access import ConnectionLimits, LinkOwner, OwnerState, key_file
+from interfaces.links.modbus_tcp import (
+    ANSWER_LIMIT,
+    RECEIVE_LIMIT,
+    LinkError,
+    ModbusServerLink,
+    ModbusTables,
+    Request,
+    take_requests,
+)
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import InterfaceLayout, expand
 
@@ -379,12 +391,26 @@ def _open_session(tables: ModbusTables) -> None:
     tables.nc_to_plc[0:4] = struct.pack(">HH", 1, SESSION)  # link version 1, session 5
 
 
+KEY = 0x0123_4567_89AB_CDEF  # the PLC's session key
+
+
+def _claim(client: ModbusClient, key: int = KEY) -> bool:
+    """The claim of a PLC: holding register 1 = the session, 2..5 = its key."""
+    return bool(client.write_multiple_registers(1, [SESSION, *session_key_registers(key)]))
+
+
+def _until_no_owner(served: Served) -> None:
+    deadline = time.monotonic() + TIMEOUT
+    while served.link.owner.owner is not None and time.monotonic() < deadline:
+        time.sleep(0.01)
+
+
 def test_only_the_connection_that_claimed_the_session_writes(served: Served) -> None:
     _open_session(served.tables)
     plc, other = served.client(), served.client()
     assert not plc.write_single_register(16, 0x0100)  # before its claim, nobody writes
     assert plc.last_except == 1
-    assert plc.write_single_register(1, SESSION)  # the claim: session ready = the session
+    assert _claim(plc)  # the claim: session ready = the session, with the key
     assert plc.write_multiple_registers(0, [7, SESSION])  # sign of life and outputs
     assert plc.write_single_coil(8 * 32, True)  # Q0.0
     for refused in (lambda: other.write_single_register(0, 8), lambda: other.write_single_register(1, SESSION),
@@ -392,14 +418,70 @@ def test_only_the_connection_that_claimed_the_session_writes(served: Served) -> 
                     lambda: other.write_multiple_registers(16, [0xFFFF])):
         assert not refused()
         assert other.last_except == 1
-    assert other.read_holding_registers(0, 2) == [7, SESSION]  # reading is everybody's
+    assert other.read_holding_registers(0, 6) == [7, SESSION, 0, 0, 0, 0]  # reading is everybody's; the key is not
     assert served.link.owner.refused == 5 and served.link.counters.requests >= 9
-    plc.close()  # the PLC goes: the next claim takes the link
-    deadline = time.monotonic() + TIMEOUT
-    while served.link.owner.owner is not None and time.monotonic() < deadline:
-        time.sleep(0.01)
-    assert other.write_multiple_registers(0, [9, SESSION])
+    plc.close()
     other.close()
+
+
+def test_a_lost_plc_closes_its_session_and_only_its_key_takes_it_back(served: Served) -> None:
+    """The PLC's connection ended and the next client that wrote the session number into holding
+    register 1 owned the link: it kept alarm 2000 away with the sign of life and moved the axes."""
+    _open_session(served.tables)
+    plc, intruder = served.client(), served.client()
+    assert _claim(plc) and plc.write_multiple_registers(0, [7, SESSION])
+    plc.close()  # the PLC is lost
+    _until_no_owner(served)
+    assert served.link.owner.state is OwnerState.CLOSED
+    for claim in (lambda: intruder.write_single_register(1, SESSION),
+                  lambda: intruder.write_multiple_registers(0, [8, SESSION]),
+                  lambda: _claim(intruder, key=0), lambda: _claim(intruder, key=KEY ^ 1)):
+        assert not claim()
+        assert intruder.last_except == 1
+    assert intruder.read_holding_registers(0, 2) == [7, SESSION]  # nothing of it landed
+    assert served.link.owner.refused_claims == 4
+    back = served.client()  # the same PLC on a new connection, with its key
+    assert _claim(back) and back.write_single_register(0, 9)
+    assert served.link.owner.state is OwnerState.OWNED and served.link.owner.claims == 2
+    back.close()
+    intruder.close()
+
+
+def test_a_session_claimed_without_a_key_stays_closed_until_a_new_session(served: Served) -> None:
+    _open_session(served.tables)
+    plc = served.client()
+    assert plc.write_single_register(1, SESSION)  # a PLC that claims with the session alone (no key)
+    plc.close()
+    _until_no_owner(served)
+    again = served.client()
+    assert not again.write_single_register(1, SESSION) and not _claim(again, key=0)
+    served.link.owner.open_session()  # the next power-on, or the operator's new session
+    assert again.write_single_register(1, SESSION) and again.write_single_register(0, 1)
+    again.close()
+
+
+def test_with_a_required_key_only_its_claim_takes_a_session() -> None:
+    for served in _serve(owner=LinkOwner(required_key=KEY)):
+        _open_session(served.tables)
+        stranger, plc = served.client(), served.client()
+        assert not stranger.write_single_register(1, SESSION) and not _claim(stranger, key=KEY + 1)
+        assert _claim(plc)
+        plc.close()
+        _until_no_owner(served)
+        served.link.owner.open_session()  # a new session: still the key alone
+        assert not stranger.write_single_register(1, SESSION)
+        assert _claim(stranger)  # whoever holds the key is the PLC
+        stranger.close()
+
+
+def test_a_key_file_is_made_for_its_owner_alone_and_read_back(tmp_path: Path) -> None:
+    path = tmp_path / "plc.key"
+    key = key_file(str(path))
+    assert 0 < key < 1 << 64 and key_file(str(path)) == key
+    assert os.stat(path).st_mode & 0o777 == 0o600
+    path.write_text("not a key\n")
+    with pytest.raises(LinkError, match="16 hexadecimal digits"):
+        key_file(str(path))
 
 
 def test_allowed_writers_write_without_owning_the_link() -> None:
@@ -479,6 +561,49 @@ def test_idle_connections_are_closed_after_the_idle_time_out() -> None:
         assert served.link.clients == 0 and served.link.counters.idle_closed == 101
         for wire in [*idle, half_open]:
             wire.close()
+
+
+def test_a_client_that_never_takes_its_answers_is_not_read_and_cannot_grow_the_server(
+        caplog: pytest.LogCaptureFixture) -> None:
+    """It grew the server from 58 to 405 MB in 120 s: every answer waited in the server's buffer."""
+    caplog.set_level(logging.INFO, logger="interfaces.links.modbus_tcp")
+    for served in _serve(limits=ConnectionLimits(idle_timeout_s=3.0)):
+        hog = socket.create_connection(("127.0.0.1", served.port), timeout=TIMEOUT)
+        hog.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        hog.setblocking(False)
+        # The kernel takes megabytes of answers into its own buffers first (how many depends on the host,
+        # and it may hold the client back before the server's buffer fills): a small send buffer on the
+        # server's side of the connection makes the server's own buffer the one that fills, as it does
+        # on every host once the kernel's are full.
+        deadline = time.monotonic() + TIMEOUT
+        while not served.link.clients and time.monotonic() < deadline:
+            time.sleep(0.01)
+        (connection,) = served.link._connections
+        connection.transport.get_extra_info("socket").setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, 4096)
+        batch = b"".join(struct.pack(">HHHBBHH", number, 0, 6, 1, 4, 0, 125) for number in range(1000))
+        sent, most, waiting = 0, 0, b""
+        deadline = time.monotonic() + 20.0
+        after_stall = 200  # sends on while it is no longer read
+        while after_stall and time.monotonic() < deadline:
+            waiting = waiting or batch  # 259-byte answers to 12-byte requests, never read
+            with contextlib.suppress(BlockingIOError):
+                done = hog.send(waiting)
+                sent, waiting = sent + done, waiting[done:]
+            most = max(most, served.link.held_bytes())
+            after_stall -= served.link.counters.stalls > 0
+            time.sleep(0.001)
+        assert sent > 100 * 1024  # the answers to what it sent would be more than 2 MB
+        assert most <= RECEIVE_LIMIT + 256 * 1024 + ANSWER_LIMIT + 4096  # what the server held for it
+        assert served.link.counters.stalls >= 1
+        assert "does not take its answers" in caplog.text
+        other = served.client()  # everybody else is served meanwhile
+        assert other.read_input_registers(0, 2) is not None
+        deadline = time.monotonic() + 10.0
+        while served.link.counters.stalled_closed == 0 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert served.link.counters.stalled_closed == 1  # closed after the idle time-out, its answers dropped
+        other.close()
+        hog.close()
 
 
 def test_a_full_server_closes_the_longest_idle_connection_for_a_new_one() -> None:
@@ -567,3 +692,38 @@ def test_mbpoll_reads_a_documented_bit_and_gets_exception_02_for_a_read_only_add
     refused = _mbpoll(served.port, "-t", "0", "-r", str(referenced.coil + 1), "127.0.0.1", "1")
     assert refused.returncode != 0
     assert "Illegal data address" in refused.stderr + refused.stdout
+
+
+# ------------------------------------------------------------------------------ REAL values
+
+S_VALUE = -1234.5678  # an S7 REAL whose words differ (0xC49A, 0x522B), so a swapped order cannot pass
+
+
+def _serve_real(served: Served) -> Location:
+    """SP1's S function value (DB34.DBD88, a REAL) in the NC-to-PLC table as the NC writes it."""
+    ref = CATALOG.resolve("SP1.spindle.in.sFuncValue")
+    areas = {key: bytearray(size) for key, size in {**CATALOG.area_sizes, **PLANT.area_sizes()}.items()}
+    encode(areas["DB34"], ref, S_VALUE)
+    MAP.fill_table(Table.NC_TO_PLC, areas, served.tables.nc_to_plc)
+    return location("SP1.spindle.in.sFuncValue")
+
+
+def test_a_real_is_two_registers_high_word_first_of_an_ieee_754_single(served: Served) -> None:
+    """docs/modbus.md, "REAL values": DBD n is input registers r, r + 1; (r << 16 | r + 1) is the bit
+    pattern of the IEEE 754 single, so it is a REAL by a bit cast, not by a conversion."""
+    found = _serve_real(served)
+    assert found.registers == 2
+    high, low = served.client().read_input_registers(found.register, 2)
+    assert (high, low) == (0xC49A, 0x522B)
+    pattern = high << 16 | low  # what a PLC gets from the two words, as the doc writes it
+    assert struct.unpack(">f", struct.pack(">I", pattern))[0] == pytest.approx(S_VALUE, rel=1e-7)
+    assert struct.unpack(">f", struct.pack(">I", low << 16 | high))[0] != pytest.approx(S_VALUE, rel=1e-3)
+
+
+@needs_mbpoll
+def test_mbpoll_reads_a_real_with_big_endian_word_order(served: Served) -> None:
+    found = _serve_real(served)
+    result = _mbpoll(served.port, "-t", "3:float", "-B", "-r", str(found.register + 1), "-c", "1", "127.0.0.1")
+    assert result.returncode == 0, result.stderr
+    printed = result.stdout.split(f"[{found.register + 1}]:")[1].split()[0]
+    assert float(printed) == pytest.approx(S_VALUE, abs=0.01)  # mbpoll prints six digits: -1234.57

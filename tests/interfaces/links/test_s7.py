@@ -140,7 +140,7 @@ def test_a_block_download_is_refused_and_leaves_the_nc_to_plc_bytes(link: S7Serv
     assert client.db_read(31, 60, 1)[0] == 0x10  # the server keeps serving
 
 
-def test_only_the_first_writer_of_the_session_writes_until_it_leaves(link: S7ServerLink) -> None:
+def test_only_the_first_writer_of_the_session_writes_and_its_loss_closes_the_session(link: S7ServerLink) -> None:
     plc, other = _client(link), _client(link)
     try:
         plc.db_write(21, 4, bytearray([100]))  # the PLC's first write: it owns the link now
@@ -152,7 +152,12 @@ def test_only_the_first_writer_of_the_session_writes_until_it_leaves(link: S7Ser
         deadline = time.monotonic() + 5
         while link.owner.owner is not None and time.monotonic() < deadline:
             time.sleep(0.01)
-        other.db_write(21, 4, bytearray([50]))  # the owner left: the next writer owns the link
+        # the owner left: its session is closed, a later writer does not take it (it did)
+        with pytest.raises(Exception, match=r"0x84|cannot be performed"):
+            other.db_write(21, 4, bytearray([50]))
+        assert link.areas["DB21"][4] == 100 and link.owner.refused == 2
+        link.owner.open_session()  # the next power-on, or the operator's new session
+        other.db_write(21, 4, bytearray([50]))  # the first writer of the new session owns the link
         assert link.areas["DB21"][4] == 50
     finally:
         other.disconnect()

@@ -8,6 +8,7 @@ import dataclasses
 import os
 import queue
 import shutil
+import signal
 import socket
 import subprocess
 import sys
@@ -225,3 +226,87 @@ def test_statistics_come_while_a_scenario_runs_in_real_time(tmp_path: Path) -> N
     finally:
         stop(plc)
         stop(server)
+
+
+MILL_3AXIS_SCENARIO = (SERVED % "2000 +- 0.01").replace("machine: turn_mill", "machine: mill_3axis")
+
+
+def test_a_machine_other_than_the_scenarios_is_refused_before_anything_runs(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """--machine turn_mill with a mill_3axis scenario silently served mill_3axis."""
+    scenario = tmp_path / "mill.yaml"
+    scenario.write_text(MILL_3AXIS_SCENARIO)
+    assert main(["serve", "--machine", "turn_mill", "--modbus", "127.0.0.1:0", "--scenario", str(scenario)]) == 2
+    error = capsys.readouterr().err
+    assert f"--machine turn_mill names another machine than the scenario {scenario}, which runs mill_3axis" in error
+
+
+@pytest.mark.parametrize("machine", ["mill_3axis", str(ROOT / "scenarios" / "machines" / "mill_3axis.yaml")],
+                         ids=["by name", "by the path through scenarios/machines"])
+def test_the_scenarios_machine_may_be_given_by_name_or_path(tmp_path: Path, machine: str) -> None:
+    from vc.harness.serve import ServeOptions, _machine_and_program
+
+    scenario = tmp_path / "mill.yaml"
+    scenario.write_text(MILL_3AXIS_SCENARIO)
+    options = ServeOptions(machine_path=machine, machine_given=True, scenario=str(scenario))
+    assert _machine_and_program(options)[0].name == "mill_3axis"
+
+
+def test_the_banner_of_an_awlsim_scenario_names_the_awlsim_command() -> None:
+    """It said the PLC runs via python -m plc_stub."""
+    server = spawn("-m", "vc.cli.main", "serve", "--modbus", "127.0.0.1:0", "--scenario",
+                   "examples/awlsim/turn_mill_bringup.yaml")
+    try:
+        output = Lines(server)
+        port = output.wait_for("Modbus TCP on 127.0.0.1:").split(":")[1].split()[0]
+        line = output.wait_for("lockstep:")
+        assert (f"the scenario's PLC is awlsim with examples/awlsim/turn_mill.awl: python -m plc_awlsim --modbus"
+                f" 127.0.0.1:{port} examples/awlsim/turn_mill.awl") in line
+        assert "plc_stub" not in line
+    finally:
+        stop(server)
+
+
+@pytest.mark.realtime
+def test_after_the_plc_is_lost_the_operator_opens_a_new_session_for_the_restarted_plc() -> None:
+    port = free_port()
+    server = spawn("-m", "vc.cli.main", "serve", "--modbus", f"127.0.0.1:{port}", "--realtime", "--stats", "1")
+    plc = spawn("-m", "plc_stub", "--modbus", f"127.0.0.1:{port}", "--connect-timeout", "30")
+    restarted: subprocess.Popen[str] | None = None
+    try:
+        output = Lines(server)
+        output.wait_for("PLC at 127.0.0.1")  # the statistics line: the PLC owns session 1
+        stop(plc)
+        line = output.wait_for("has gone")
+        assert ("the PLC at 127.0.0.1 has gone: session 1 is closed, and no other client may claim it; a restarted PLC"
+                f" gets a new session: press Enter here, or kill -USR1 {server.pid}") in line
+        output.wait_for("alarm 2000")
+        restarted = spawn("-m", "plc_stub", "--modbus", f"127.0.0.1:{port}", "--connect-timeout", "30")
+        output.wait_for("(1 of them claims)")  # its claim of the closed session is refused
+        server.send_signal(signal.SIGUSR1)
+        output.wait_for("session 2 opened: the first PLC that claims it owns the link")
+        output.wait_for("PLC at 127.0.0.1")
+    finally:
+        if restarted is not None:
+            stop(restarted)
+        stop(plc)
+        stop(server)
+
+
+@pytest.mark.realtime
+def test_the_server_pinned_with_sched_fifo_says_so_in_its_statistics() -> None:
+    cpu = min(os.sched_getaffinity(0))
+    result = subprocess.run([sys.executable, "-m", "vc.cli.main", "serve", "--modbus", "127.0.0.1:0", "--realtime",
+                             "--cpu", str(cpu), "--fifo", "10", "--duration", "0.3"],
+                            capture_output=True, text=True, timeout=60, cwd=ROOT)
+    assert result.returncode == 0, result.stderr
+    got = next(line for line in result.stdout.splitlines() if line.startswith("scheduling: ")).removeprefix(
+        "scheduling: ")
+    assert got.startswith(f"pinned to CPU {cpu}, SCHED_")
+    final = next(line for line in result.stdout.splitlines() if line.startswith("real time: "))
+    assert final.endswith(f"; {got}")
+
+
+def test_a_cpu_the_server_cannot_run_on_is_refused_before_anything_runs(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["serve", "--modbus", "127.0.0.1:0", "--realtime", "--cpu", "4096", "--duration", "0.1"]) == 2
+    assert "CPU 4096 is not one this process may run on" in capsys.readouterr().err

@@ -129,7 +129,9 @@ class ServedNc:
     """``vc serve`` with ``serve_arguments`` and ``python -m plc_stub`` connected to it (a context
     manager); Modbus on an ephemeral loopback port unless the arguments name a CAN bus."""
 
-    def __init__(self, serve_arguments: Sequence[str], plc_arguments: Sequence[str] | None = None):
+    def __init__(self, serve_arguments: Sequence[str], plc_arguments: Sequence[str] | None = None,
+                 plc_options: Sequence[str] = ()):
+        """``plc_arguments``: instead of ``--modbus`` to the server; ``plc_options``: more of them."""
         can = "--can" in serve_arguments
         modbus = [] if can or "--modbus" in serve_arguments else ["--modbus", "127.0.0.1:0"]
         self.serve = Child("vc serve", ["-m", "vc.cli.main", "serve", *modbus, *serve_arguments])
@@ -142,7 +144,7 @@ class ServedNc:
             if "--s7" in serve_arguments:
                 self.s7_port = int(self.serve.wait_for(r"^S7 on [\d.]+:(\d+)").group(1))
             plc = plc_arguments if plc_arguments is not None else ["--modbus", f"127.0.0.1:{self.modbus_port}"]
-            self.plc = Child("plc_stub", ["-m", "plc_stub", *plc])
+            self.plc = Child("plc_stub", ["-m", "plc_stub", *plc, *plc_options])
             self.plc.wait_for(r"session \d+( \(boot id \d+\))?: machine", errors=True)
         except BaseException:
             self.close()

@@ -15,7 +15,9 @@ the session number in the link block) and hands the simulation a :class:`LinkedP
 The servers share one asyncio loop with the pacer, run only while the harness waits; see
 :mod:`interfaces.links.modbus_tcp` for the threading argument.  Only the session's PLC writes
 into the NC (:mod:`interfaces.links.access`): the connection that wrote the session into holding
-register 1 (or, over S7, wrote first), one owner for both servers.
+register 1 (or, over S7, wrote first), one owner for both servers.  When it is lost the session
+closes: a restarted PLC gets a session only at the next power-on or when the operator opens one
+(:meth:`PlcLink.open_new_session`).
 
 S7 is a second server of the same link, not a link of its own: it shares the sessions, the owner
 and the outputs with the Modbus server (its tables mirror the Modbus PLC's outputs, and a
@@ -45,7 +47,7 @@ from interfaces.codec_modbus import (
 from interfaces.exchange import grant_of_scan, next_session
 from interfaces.image import ProcessImage
 from interfaces.link_description import LinkDescription
-from interfaces.links.access import ConnectionLimits, LinkOwner
+from interfaces.links.access import ConnectionLimits, LinkOwner, OwnerState
 from interfaces.links.errors import LinkError
 from interfaces.links.modbus_tcp import ModbusServerLink, ModbusTables
 from interfaces.links.s7 import S7ServerLink
@@ -96,13 +98,16 @@ class PlcLink:
                  allowed_clients: Collection[str] = (), allow_writers: Collection[str] = (),
                  limits: ConnectionLimits | None = None, first_scan_timeout_s: float | None = 30.0,
                  scan_timeout_s: float | None = 10.0, on_wait: Callable[[str], None] | None = None,
-                 peer_ended: Callable[[], str | None] = lambda: None, boot_id: int | None = None):
+                 peer_ended: Callable[[], str | None] = lambda: None, boot_id: int | None = None,
+                 required_key: int | None = None, on_notice: Callable[[str], None] | None = None):
         """``allowed_clients``: who may connect; ``allow_writers``: who may write besides the
-        session's PLC; ``limits``: connections and idle time-out (interfaces/links/access.py).
-        ``peer_ended`` tells why the PLC process the harness started is gone (None while it runs),
-        so that lockstep stops waiting for a PLC that cannot answer any more.  ``boot_id`` (default:
-        random, 1..65535) tells a PLC this link from one of an earlier harness process, whose
-        sessions counted from 1 as well; it is link metadata, never part of a trace."""
+        session's PLC; ``limits``: connections and idle time-out; ``required_key``: the only session
+        key a claim may carry (interfaces/links/access.py).  ``peer_ended`` tells why the PLC process
+        the harness started is gone (None while it runs), so that lockstep stops waiting for a PLC
+        that cannot answer any more.  ``boot_id`` (default: random, 1..65535) tells a PLC this link
+        from one of an earlier harness process, whose sessions counted from 1 as well; it is link
+        metadata, never part of a trace.  ``on_notice`` hears what the operator must know: the
+        session's PLC was lost, a new session was opened."""
         if modbus is None and s7 is None:
             raise LinkError("a PLC link needs a Modbus TCP or an S7 endpoint")
         if mode is LinkMode.LOCKSTEP and modbus is None:
@@ -114,9 +119,12 @@ class PlcLink:
         self.on_wait = on_wait
         self.peer_ended = peer_ended
         self.loop = asyncio.new_event_loop()
+        self.on_notice = on_notice
         self.tables = ModbusTables(on_write=self._modbus_written)
-        self.owner = LinkOwner(allow_writers)  # the session's PLC, one for both servers
+        # the session's PLC, one for both servers
+        self.owner = LinkOwner(allow_writers, required_key, on_lost=self._plc_lost)
         self.session = 0
+        self.power_ons = 0  # sessions opened by a power-on (the operator's new sessions not counted)
         self.boot_id = boot_id if boot_id is not None else secrets.randbelow(0xFFFF) + 1
         self.outputs_written = False  # a Modbus client wrote PLC-to-NC registers since the last exchange
         self._handshake = asyncio.Event()
@@ -160,6 +168,8 @@ class PlcLink:
     def connect(self, environment: PlcEnvironment, program: str) -> LinkedPlc:
         """A power-on: new tables and description; the PLC (re)starts its program for them."""
         self.session = next_session(self.session)
+        self.power_ons += 1
+        self.owner.open_session()
         register_map = RegisterMap.build(environment.catalog, environment.plant_io.area_sizes())
         description = LinkDescription.of(environment, program, register_map)
         tables = self.tables
@@ -182,6 +192,25 @@ class PlcLink:
         if self.s7 is not None:
             self.s7.open_session(environment.catalog, environment.plant_io.area_sizes())
         return LinkedPlc(self, register_map, environment)
+
+    def open_new_session(self) -> str:
+        """The operator's new session for a restarted PLC, on the running machine (``vc serve``:
+        Enter, SIGUSR1): the session number counts on and the PLC restarts its program for it,
+        with the NC as it is.  Only while no PLC holds the session; what happened, in words."""
+        if self.owner.state is OwnerState.OWNED:
+            return f"the PLC at {self.owner.owner_peer} holds session {self.session}: no new session"
+        if not self.power_ons:
+            return "no machine is powered on yet: its power-on opens the first session"
+        self.session = next_session(self.session)
+        self.owner.open_session()
+        self.set_input_register(LinkInput.SESSION, self.session)
+        self._handshake.set()
+        return f"session {self.session} opened: the first PLC that claims it owns the link"
+
+    def _plc_lost(self, peer: str) -> None:
+        if self.on_notice is not None:
+            self.on_notice(f"the PLC at {peer} has gone: session {self.session} is closed, and no other client"
+                           " may claim it")
 
     # ------------------------------------------------------------------ registers of the link block
     def set_input_register(self, register: int, value: int) -> None:
@@ -254,6 +283,7 @@ class LinkedPlc:
         self.link = link
         self.register_map = register_map
         self.session = link.session
+        self.power_on = link.power_ons
         self.plc_cycle_ipo = environment.plc_cycle_ipo
         self.scans = 0
         self._life = 0
@@ -264,8 +294,9 @@ class LinkedPlc:
 
     def scan(self, interface: ProcessImage, plant: ProcessImage) -> None:
         link, register_map = self.link, self.register_map
-        if link.session != self.session:
+        if link.power_ons != self.power_on:
             raise LinkError(f"session {self.session} was replaced by session {link.session}")
+        self.session = link.session  # or the operator's new session on this machine
         areas: Mapping[str, bytearray] = {**interface.areas, **plant.areas}
         register_map.fill_table(Table.NC_TO_PLC, areas, link.tables.nc_to_plc)
         cycle = self.scans * self.plc_cycle_ipo

@@ -12,13 +12,14 @@ import subprocess
 import sys
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
 from panel_operator import images, operate
 from pyModbusTCP.client import ModbusClient
 
+from interfaces.links.access import OwnerState
 from interfaces.links.modbus_tcp import LinkError
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
@@ -134,6 +135,14 @@ def _stop(plc: subprocess.Popen[bytes]) -> None:
     plc.wait()
 
 
+def _step_until(simulation: Simulation, done: Callable[[], bool], seconds: float) -> bool:
+    for _ in range(round(seconds / simulation.ipo_cycle_s)):
+        simulation.step(1)
+        if done():
+            return True
+    return False
+
+
 def _run_until(simulation: Simulation, condition: str, seconds: float) -> bool:
     ref = simulation.catalog.resolve(condition)
     for _ in range(round(seconds / simulation.ipo_cycle_s)):
@@ -159,9 +168,12 @@ def test_real_time_a_silent_plc_raises_2000_and_after_its_return_a_reset_clears_
         simulation.step(round(0.3 / TURN_MILL_IPO_S))
         assert [alarm.number for alarm in simulation.nck.alarms.present] == [2000]
         assert simulation.read(simulation.catalog.resolve("X1.basic.in.posCtrlActive")) == 0
-        plc = _plc(link.modbus.port)  # the PLC comes back ...
-        simulation.step(round(3.0 / TURN_MILL_IPO_S))
-        assert [alarm.number for alarm in simulation.nck.alarms.present] == [2000]  # ... the alarm stays
+        plc = _plc(link.modbus.port)  # the PLC comes back: its session was closed when it was lost ...
+        assert _step_until(simulation, lambda: link.owner.refused_claims >= 1, 15.0)
+        assert link.owner.state is OwnerState.CLOSED
+        assert "session 2 opened" in link.open_new_session()  # ... until the operator opens a new one
+        assert _step_until(simulation, lambda: link.owner.state is OwnerState.OWNED, 5.0)
+        assert [alarm.number for alarm in simulation.nck.alarms.present] == [2000]  # the alarm stays
         reset = simulation.plant_io.resolve("MCP.reset")
         simulation.write(reset, 1)
         simulation.step(round(0.1 / TURN_MILL_IPO_S))
@@ -228,6 +240,77 @@ def test_real_time_another_client_can_neither_keep_the_sign_of_life_nor_move_an_
     finally:
         stop.set()
         plc.send_signal(signal.SIGCONT)
+        _stop(plc)
+        link.close()
+
+
+@pytest.mark.realtime
+def test_real_time_a_lost_plc_leaves_its_session_closed_to_every_other_client() -> None:
+    """The PLC died in the middle of a JOG; a second Modbus client wrote holding register 1 = the
+    session, became the owner, reversed X1 within 15 ms and kept alarm 2000 away with the sign of
+    life; the restarted PLC was locked out.  S7 took the same write."""
+    import snap7
+
+    link = PlcLink(LinkMode.FREE_RUNNING, modbus=Endpoint("127.0.0.1", 0), s7=Endpoint("127.0.0.1", 0))
+    assert link.modbus is not None and link.s7 is not None
+    port = link.modbus.port
+    pacer = RealtimePacer(link.loop, TURN_MILL_IPO_S, speed=1.0)
+    plc = _plc(port)
+    stop = threading.Event()
+    answers: list[bool] = []
+
+    def intruder() -> None:
+        client = ModbusClient(host="127.0.0.1", port=port, timeout=2, auto_open=True)
+        life = 0
+        while not stop.is_set():
+            life = (life + 1) & 0xFFFF
+            session = (client.read_input_registers(1, 1) or [0])[0]
+            answers.append(bool(client.write_single_register(1, session)))  # the claim as every PLC makes it
+            answers.append(bool(client.write_multiple_registers(0, [life, session, 0, 0, 0, 0])))
+            answers.append(bool(client.write_multiple_registers(67, [0xFF80, 0x0200, 0x4000])))  # X1 minus
+            stop.wait(0.01)
+        client.close()
+
+    thread = threading.Thread(target=intruder, daemon=True)
+    s7 = snap7.client.Client()
+    try:
+        simulation = Simulation(TURN_MILL, "basic_machine", connector=link, pacer=pacer)
+        assert _run_until(simulation, "X1.basic.in.posCtrlActive", 10.0)
+        x1 = simulation.nck.axes_by_name["X1"]
+        simulation.write(simulation.plant_io.resolve("MCP.jog"), 1)
+        simulation.step(round(0.1 / TURN_MILL_IPO_S))
+        simulation.write(simulation.plant_io.resolve("MCP.jog"), 0)
+        simulation.write(simulation.plant_io.resolve("MCP.plus.X1"), 1)
+        assert _run_until(simulation, "X1.basic.in.traversPlusCommandActive", 2.0)
+        _stop(plc)  # the PLC is lost in the middle of the JOG
+        thread.start()
+        s7.connect("127.0.0.1", 0, 1, link.s7.port)
+        lowest = x1.velocity
+        for _ in range(round(1.0 / TURN_MILL_IPO_S)):
+            simulation.step(1)
+            lowest = min(lowest, x1.velocity)
+        assert lowest >= 0  # X1 never moved minus
+        assert [alarm.number for alarm in simulation.nck.alarms.present] == [2000]
+        with pytest.raises(Exception, match=r"0x84|cannot be performed"):
+            s7.db_write(31, 4, bytearray([0x40]))  # S7 cannot claim the closed session either
+        stop.set()
+        while thread.is_alive():  # its last request is answered too
+            link.serve()
+        assert answers and not any(answers)
+        claims = link.owner.refused_claims
+        assert claims >= len(answers) // 3
+        restarted = _plc(port)  # the PLC restarts: the session stays closed to it too
+        try:
+            assert _step_until(simulation, lambda: link.owner.refused_claims > claims, 15.0)
+            assert link.owner.state is OwnerState.CLOSED
+            link.open_new_session()  # the operator's new session: the restarted PLC claims it
+            assert _step_until(simulation, lambda: link.owner.state is OwnerState.OWNED, 5.0)
+            assert link.owner.claims == 2
+        finally:
+            _stop(restarted)
+    finally:
+        stop.set()
+        s7.disconnect()
         _stop(plc)
         link.close()
 
