@@ -27,13 +27,20 @@ MIN_MD_MAGNITUDE        1e-12        smallest machine datum other than 0: nothin
                                      sets is finer, and dividing by 1e-320 gives infinity
 MAX_DURATION_S          86,400 s     longest time in a scenario (one simulated day; the
                                      longest shipped one is 120 s)
-MAX_EXPRESSION_NESTING  32           parentheses, ``not``, ``-`` and ``abs`` inside one another
-                                     in a condition; shipped conditions nest 3 deep
+MAX_EXPRESSION_CHARACTERS
+                        4,096        characters of one condition or ``${...}`` placeholder; the
+                                     longest shipped one has 221
+MAX_EXPRESSION_NESTING  32           parentheses, brackets, ``not``, signs and ``abs`` inside one
+                                     another in a condition or a placeholder; shipped ones nest
+                                     3 deep
 MAX_EXPRESSION_DEPTH    100          operators a value passes through from a leaf of a condition
-                                     to its result (``a and b and c`` is 2 deep): the checker,
-                                     the compiler and every evaluation recurse once per level;
-                                     shipped conditions are 9 deep
+                                     or a placeholder to its result (``a and b and c`` is 2 deep):
+                                     the checker, the compiler and every evaluation recurse once
+                                     per level; shipped conditions are 9 deep
 ======================  ===========  ==========================================================
+
+Conditions and placeholders share one reader (:mod:`vc.scenario.expressions`) and so these
+bounds; the value of every step of a placeholder's arithmetic stays within ``MAX_MAGNITUDE``.
 
 Numbers must also be finite everywhere: a YAML file holds no ``.inf`` or ``.nan``, and a
 number written as text (``"1e400"``) that overflows is refused where it is read.
@@ -48,5 +55,6 @@ MAX_INTEGER_DIGITS = 20
 MAX_MAGNITUDE = 1e15
 MIN_MD_MAGNITUDE = 1e-12
 MAX_DURATION_S = 86_400
+MAX_EXPRESSION_CHARACTERS = 4096
 MAX_EXPRESSION_NESTING = 32
 MAX_EXPRESSION_DEPTH = 100
