@@ -37,6 +37,10 @@ MAX_EXPRESSION_DEPTH    100          operators a value passes through from a lea
                                      or a placeholder to its result (``a and b and c`` is 2 deep):
                                      the checker, the compiler and every evaluation recurse once
                                      per level; shipped conditions are 9 deep
+MAX_RUN_VARIANTS        100,000      variants of one run (``vary:`` matrices and campaigns),
+                                     counted before any is built; ``vc run --max-variants N``
+                                     raises it.  The shipped campaign has 1,000; beyond this a
+                                     typo (a long list in a product) is likelier than intent
 ======================  ===========  ==========================================================
 
 Conditions and placeholders share one reader (:mod:`vc.scenario.expressions`) and so these
@@ -58,3 +62,4 @@ MAX_DURATION_S = 86_400
 MAX_EXPRESSION_CHARACTERS = 4096
 MAX_EXPRESSION_NESTING = 32
 MAX_EXPRESSION_DEPTH = 100
+MAX_RUN_VARIANTS = 100_000

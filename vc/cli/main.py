@@ -2,7 +2,8 @@
 
     vc run PATH... [-j N | --cluster ADDRESS|local:N [--cluster-files send|shared]] [--junit FILE]
            [--trace-dir DIR] [--report DIR] [--golden DIR [--update-golden]] [--link inprocess|modbus|can
-           [--can-bus BUS]] [--coverage FILE]          run scenario files, campaign files or directories
+           [--can-bus BUS]] [--coverage FILE] [--max-variants N]
+                                                      run scenario files, campaign files or directories
     vc run --plot SCENARIO [--plot-to FILE]           one scenario's timing diagram
     vc coverage report FILE... [--json OUT] [--html OUT] [--fail-under PCT] [--fail-under-function NAME=PCT]
                                                       the interface coverage of runs (docs/coverage.md)
@@ -60,6 +61,7 @@ from interfaces.signals import expand
 from vc.cli.map_formats import FORMATTERS
 from vc.config.loader import load_machine
 from vc.config.machine_files import DEFAULT_MACHINE, packaged_machines
+from vc.input_limits import MAX_RUN_VARIANTS
 from vc.located_yaml import SourceError
 from vc_build import status as build_status
 
@@ -346,7 +348,8 @@ def _run(arguments: argparse.Namespace) -> int:
                                   golden=arguments.golden, update_golden=arguments.update_golden, link=arguments.link,
                                   can_bus=arguments.can_bus, jobs=arguments.jobs, cluster=arguments.cluster,
                                   cluster_files=arguments.cluster_files, report_dir=arguments.report,
-                                  observe=collector.observe if collector else None)
+                                  observe=collector.observe if collector else None,
+                                  max_variants=arguments.max_variants)
     except LinkError as error:
         print(f"vc run: {error}", file=sys.stderr)
         return EXIT_PROBLEMS
@@ -371,6 +374,16 @@ def _coverage_report(arguments: argparse.Namespace) -> int:
     return coverage_report(arguments.files, json_path=arguments.json, html_path=arguments.html,
                            fail_under=arguments.fail_under, fail_under_function=thresholds,
                            complain=lambda text: print(text, file=sys.stderr))
+
+
+def _max_variants(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text}: at least 1")
+    return value
 
 
 def _percent(text: str) -> float:
@@ -496,6 +509,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("-j", "--jobs", type=_jobs, default=None, metavar="N",
                      help="run N scenario files at a time in worker processes (default: the number of cores;"
                           " -j 1 runs them one after another in this process); in process only")
+    run.add_argument("--max-variants", type=_max_variants, default=MAX_RUN_VARIANTS, metavar="N",
+                     help=f"the most variants the run's vary: matrices and campaigns may give together, counted before"
+                          f" any is built (default {MAX_RUN_VARIANTS:,}; docs/scenarios.md)")
     run.add_argument("--coverage", metavar="FILE",
                      help="write the interface coverage of the run (signals, state machines, alarms, plant I/O) to"
                           " FILE; vc coverage report FILE shows it (docs/coverage.md)")

@@ -23,7 +23,7 @@ from typing import Any
 
 from interfaces.errors import VcError
 from vc.input_limits import MAX_MAGNITUDE
-from vc.scenario.expressions import Binary, ExpressionError, Grammar, Index, Literal, Name, Node, Unary, parse
+from vc.scenario.expressions import Binary, ExpressionError, Grammar, Index, Literal, Name, Node, Unary, parse, walk
 
 PLACEHOLDER = re.compile(r"\$\{([^{}]*)\}")
 MARKER = "${"
@@ -60,6 +60,17 @@ def fill(text: str, values: Mapping[str, Any], used: MutableSet[str] | None = No
     if MARKER in rest:
         raise PlaceholderError("'${' without its closing '}'", position + rest.index(MARKER) + 1)
     return "".join(pieces) + rest
+
+
+def placeholder_names(text: str) -> set[str]:
+    """The names the placeholders of ``text`` read (``X1.MD34100`` for ``${X1.MD34100[0] + 1}``);
+    a placeholder that cannot be read adds none (filling it reports it)."""
+    names: set[str] = set()
+    for match in PLACEHOLDER.finditer(text):
+        tree = _parsed(match.group(1)) if match.group(1).strip() else None
+        if tree is not None and not isinstance(tree, ExpressionError):
+            names.update(node.text for node in walk(tree) if isinstance(node, Name))
+    return names
 
 
 def shown(value: Any) -> str:

@@ -121,3 +121,15 @@ def test_commands_find_the_default_machine_by_name_from_any_directory(
     unknown.write_text("name: an unknown machine\nmachine: lathe\nplc: basic_machine\nsteps:\n  - wait: 20ms\n")
     assert main(["run", str(unknown)]) == 2
     assert f"{unknown}:2:10: no machine file 'lathe' and no packaged machine" in capsys.readouterr().out
+
+
+def test_run_max_variants_sets_the_ceiling_on_the_variants_of_a_run(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    scenario = tmp_path / "matrix.yaml"
+    scenario.write_text("name: a matrix\nmachine: mill_3axis\nplc: basic_machine\nvary: {wait: [10ms, 20ms, 30ms]}\n"
+                        "steps:\n  - wait: ${wait}\n")
+    assert main(["run", str(scenario), "--max-variants", "2", "-j", "1"]) == 2
+    assert f"{scenario}:4:7: this matrix gives 3 variants; a run holds at most 2" in capsys.readouterr().out
+    assert main(["run", str(scenario), "--max-variants", "3", "-j", "1"]) == 0
+    with pytest.raises(SystemExit):
+        build_parser().parse_args(["run", str(scenario), "--max-variants", "0"])
