@@ -23,6 +23,7 @@ from vc.bench.robustness.campaign import CampaignSettings, Part, Row, Say, faile
 from vc.bench.robustness.can_noise import run_can_noise
 from vc.bench.robustness.files import run_file_mutations
 from vc.bench.robustness.flood import run_flood
+from vc.bench.robustness.hostile_recordings import run_hostile_recordings
 from vc.bench.robustness.modbus_fuzz import run_modbus_fuzz
 from vc.bench.robustness.s7_probe import run_s7_probe
 from vc.bench.robustness.soak import run_soak
@@ -45,6 +46,7 @@ PARTS: list[Part] = [
     Part("s7", run_s7_probe),
     Part("can", run_can_noise),
     Part("files", _file_part),  # the scenario and machine files (vc/bench/robustness/files.py)
+    Part("recordings", run_hostile_recordings),  # vc replay on hostile recordings
     Part("soak", run_soak),  # only with --soak
 ]
 

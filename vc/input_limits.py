@@ -41,6 +41,19 @@ MAX_RUN_VARIANTS        100,000      variants of one run (``vary:`` matrices and
                                      counted before any is built; ``vc run --max-variants N``
                                      raises it.  The shipped campaign has 1,000; beyond this a
                                      typo (a long list in a product) is likelier than intent
+MAX_RECORDING_BYTES     1 GiB        a session recording, decompressed: ``vc serve --record``
+                                     stops there (``--record-limit`` lowers it; a busy PLC
+                                     writes some 110 kB/s, an idle one a few), ``vc replay``
+                                     refuses more (a gzip file of 2 MB may hold 2 GB)
+MAX_RECORDING_LINE      8 MiB        one line of a recording: the header holds the machine and
+                                     scenario files (1 MiB each at most), a row a program text
+MAX_RECORDED_SECONDS    7 days       the cycle of a row, at the recording's IPO cycle: a replay
+                                     runs every cycle up to it (10^30 would never end)
+MAX_AREA_BYTES          65,536       bytes of one data block or I/O area in a recording's header
+                                     (the largest shipped one has 400; DB numbers address 64 KiB)
+MAX_JSON_NESTING        8            arrays and objects inside one another in a line of a
+                                     recording or a coverage file's value; their readers'
+                                     documents nest 5 deep
 ======================  ===========  ==========================================================
 
 Conditions and placeholders share one reader (:mod:`vc.scenario.expressions`) and so these
@@ -63,3 +76,8 @@ MAX_EXPRESSION_CHARACTERS = 4096
 MAX_EXPRESSION_NESTING = 32
 MAX_EXPRESSION_DEPTH = 100
 MAX_RUN_VARIANTS = 100_000
+MAX_RECORDING_BYTES = 1 << 30
+MAX_RECORDING_LINE = 8 << 20
+MAX_RECORDED_SECONDS = 7 * 86_400
+MAX_AREA_BYTES = 65_536
+MAX_JSON_NESTING = 8

@@ -14,8 +14,8 @@
     vc map --machine M --format codesys|openplc|tia|s7|awlsim [--io-base N] [-o FILE]
                                                       the signal map for a PLC tool (docs/plc_tools.md)
     vc serve [--machine M] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
-             [--scenario FILE [--junit FILE] [--keep-running]] [--duration S] [--record FILE] [--allow IP,...]
-             [--allow-writers IP,...] [--max-clients N] [--idle-timeout S] [--verbose]
+             [--scenario FILE [--junit FILE] [--keep-running]] [--duration S] [--record FILE [--record-limit MIB]]
+             [--allow IP,...] [--allow-writers IP,...] [--max-clients N] [--idle-timeout S] [--verbose]
                                                       the NC as a server (or CAN node) for a PLC in another
                                                       process; with a scenario the exit code is its result;
                                                       --record records the session
@@ -61,13 +61,14 @@ from interfaces.signals import expand
 from vc.cli.map_formats import FORMATTERS
 from vc.config.loader import load_machine
 from vc.config.machine_files import DEFAULT_MACHINE, packaged_machines
-from vc.input_limits import MAX_RUN_VARIANTS
+from vc.input_limits import MAX_RECORDING_BYTES, MAX_RUN_VARIANTS
 from vc.located_yaml import SourceError
 from vc_build import status as build_status
 
 GUIDE_FORMAT = "guide"  # vc map --format guide: docs/modbus.md for the machine
 DBC_FORMAT = "dbc"  # vc map --format dbc: the CAN frames through cantools
 DEFAULT_BENCH_SECONDS = 30.0  # simulated, in process, per workload
+DEFAULT_RECORD_LIMIT_MIB = 256  # vc serve --record-limit: some 40 minutes of a busy PLC
 DEFAULT_SCALING_SECONDS = 10.0  # simulated, per machine and load of --scaling
 DEFAULT_REALTIME_BENCH_SECONDS = 60.0  # wall-clock, the real-time measurement of --link modbus
 DEFAULT_FMU_BENCH_SECONDS = 20.0  # simulated, per workload of --link fmu
@@ -376,6 +377,16 @@ def _coverage_report(arguments: argparse.Namespace) -> int:
                            complain=lambda text: print(text, file=sys.stderr))
 
 
+def _record_limit(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number of MiB") from None
+    if not 1 <= value <= MAX_RECORDING_BYTES >> 20:
+        raise argparse.ArgumentTypeError(f"{text}: 1 to {MAX_RECORDING_BYTES >> 20} MiB")
+    return value
+
+
 def _max_variants(text: str) -> int:
     try:
         value = int(text)
@@ -414,7 +425,8 @@ def _serve(arguments: argparse.Namespace) -> int:
             from vc.recording.command import session_recorder
 
             link = "can" if arguments.can else "modbus" if arguments.modbus or not arguments.s7 else "s7"
-            recorder = session_recorder(arguments.record, arguments.scenario, link, arguments.realtime)
+            recorder = session_recorder(arguments.record, arguments.scenario, link, arguments.realtime,
+                                        arguments.record_limit << 20, lambda text: print(text, file=sys.stderr))
         options = ServeOptions(
             machine_path=arguments.machine,
             modbus=Endpoint.parse(arguments.modbus, 5020) if arguments.modbus else None,
@@ -582,6 +594,9 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--record", metavar="FILE",
                        help="record the session (the PLC's writes, the NC's outputs, the operator's actions, the"
                             " machine) for vc replay; FILE.gz is compressed (docs/recording.md)")
+    serve.add_argument("--record-limit", type=_record_limit, default=DEFAULT_RECORD_LIMIT_MIB, metavar="MIB",
+                       help=f"with --record: end the recording at MIB mebibytes (uncompressed; default"
+                            f" {DEFAULT_RECORD_LIMIT_MIB}, at most {MAX_RECORDING_BYTES >> 20}); the session goes on")
     serve.set_defaults(handler=_serve)
 
     replay = commands.add_parser("replay", help="replay a session recorded by vc serve --record without the PLC")
