@@ -236,7 +236,10 @@ def _judge(hostile: Hostile, replayed: Outcome, converted: Outcome, out: Path, p
                           f" {replayed.output[-300:]}")
         return 0, 0, ""
     if converted.code == 0:
-        document = yaml.safe_load(out.read_text(encoding="utf-8"))
+        try:
+            document = yaml.safe_load(out.read_text(encoding="utf-8"))
+        except yaml.YAMLError as error:
+            return 0, 1, f"the scenario is not YAML: {str(error).splitlines()[0]}"
         if not isinstance(document, dict) or set(document) != CONVERTED_KEYS:
             return 0, 1, f"the scenario's top keys are {sorted(document) if isinstance(document, dict) else document}"
     return 0, 0, ""
