@@ -109,6 +109,11 @@ def _row(text: str, at: int = 3) -> Callable[[list[Any]], bytes]:
     return make
 
 
+def _last(text: str) -> Callable[[list[Any]], bytes]:
+    """A raw row in place of the sound recording's end row (the cycles before it never decrease)."""
+    return lambda lines: _raw(lines[0], *(json.dumps(value) for value in lines[1:-1]), text)
+
+
 def _op(kind: str, *arguments: str) -> Callable[[list[Any]], bytes]:
     return lambda lines: _row(f'[{lines[4][0]}, "op", "{kind}", {", ".join(arguments)}]', 4)(lines)
 
@@ -169,10 +174,10 @@ HOSTILE: tuple[Hostile, ...] = (
     Hostile("cycle of 5,000 digits", _row("[" + "9" * 5000 + ', "life"]'), "refused"),
     Hostile("offset of 5,000 digits", lambda lines: _row(f'[{lines[4][0]}, "nc", "DB31", {"1" * 5000}, "00"]', 4)(
         lines), "refused"),
-    Hostile("cycle 10^30", lambda lines: _row(f'[{10**30}, "life"]', len(lines) - 2)(lines), "refused"),
-    Hostile("cycle 10^15", lambda lines: _row(f'[{10**15}, "life"]', len(lines) - 2)(lines), "refused"),
+    Hostile("cycle 10^30", _last(f'[{10**30}, "life"]'), "refused"),
+    Hostile("cycle 10^15", _last(f'[{10**15}, "life"]'), "refused"),
     Hostile("cycle -1", _row('[-1, "life"]', 0), "refused"),
-    Hostile("cycle 1e308", lambda lines: _row('[1e308, "life"]', len(lines) - 2)(lines), "refused"),
+    Hostile("cycle 1e308", _last('[1e308, "life"]'), "refused"),
     Hostile("Infinity written", _op("write", '"MCP.jog"', "Infinity"), "refused"),
     Hostile("NaN velocity", _op("move_by_hand", '"X1"', "NaN"), "refused"),
     Hostile("-Infinity off time", _op("power_cycle", "-Infinity"), "refused"),
