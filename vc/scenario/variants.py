@@ -408,6 +408,7 @@ class _Expansion:
         self.found: dict[Problem, dict[int, list[str]]] = {}
         self.documents: dict[tuple[int, object], _Document] = {}
         self.read_by_placeholders: dict[int, set[str]] = {}  # per scenario: the names its placeholders read
+        self.sharing: dict[int, bool] = {}  # per scenario: whether its variants share documents
 
     def run(self, scenarios: Sequence[tuple[str, LocatedMap]], only: int | None) -> list[Scenario]:
         per_scenario = self.matrix.count
@@ -458,11 +459,13 @@ class _Expansion:
                 label: str) -> Scenario | None:
         settings = self.rebased(path, combination)
         machine_only = self.machine_only(scenario_number, document)
-        key = (scenario_number, _plain([(setting.key, setting.value) for setting in settings
-                                        if not machine_only(setting.key)]))
-        shared = self.documents.get(key)
-        if shared is None:
-            shared = self.documents[key] = self.fill(document, settings, machine_only)
+        if not self.shares(scenario_number, machine_only):  # every variant a document of its own: nothing to keep
+            shared = self.fill(document, settings, machine_only)
+        else:
+            key = (scenario_number, _plain([(setting.key, setting.value) for setting in settings
+                                            if not machine_only(setting.key)]))
+            shared = self.documents.get(key) or self.documents.setdefault(
+                key, self.fill(document, settings, machine_only))
         found = Problems()
         variant_document = _copy_top(shared.filled)
         _apply(variant_document, tuple(setting for setting in settings if machine_only(setting.key)), found)
@@ -481,6 +484,14 @@ class _Expansion:
         if read is None:
             read = self.read_by_placeholders[scenario_number] = _placeholder_names(document)
         return lambda key: _is_machine_setting(key) and key not in read and key.partition("[")[0] not in read
+
+    def shares(self, scenario_number: int, machine_only: Callable[[str], bool]) -> bool:
+        """Whether some dimension of the matrix changes only the machine, so that variants share documents."""
+        shares = self.sharing.get(scenario_number)
+        if shares is None:
+            shares = self.sharing[scenario_number] = any(
+                all(machine_only(setting.key) for setting in dimension[0]) for dimension in self.matrix.dimensions)
+        return shares
 
     def fill(self, document: LocatedMap, settings: Combination, machine_only: Callable[[str], bool]) -> _Document:
         """The document with its placeholders filled and the settings that are not only machine data applied."""
