@@ -284,14 +284,21 @@ def _positive(text: str) -> float:
     return value
 
 
-def _jobs(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{text}: at least 1")
-    return value
+def _whole(lowest: int, highest: int | None = None, unit: str = "") -> Callable[[str], int]:
+    """An argument type: a whole number from ``lowest`` (to ``highest``)."""
+    def whole(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"'{text}' is not a whole number{unit}") from None
+        if value < lowest or (highest is not None and value > highest):
+            raise argparse.ArgumentTypeError(f"{text}: at least {lowest}" if highest is None else
+                                             f"{text}: {lowest} to {highest}{unit}")
+        return value
+    return whole
+
+
+_jobs = _whole(1)
 
 
 def _version() -> str:
@@ -375,26 +382,6 @@ def _coverage_report(arguments: argparse.Namespace) -> int:
     return coverage_report(arguments.files, json_path=arguments.json, html_path=arguments.html,
                            fail_under=arguments.fail_under, fail_under_function=thresholds,
                            complain=lambda text: print(text, file=sys.stderr))
-
-
-def _record_limit(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number of MiB") from None
-    if not 1 <= value <= MAX_RECORDING_BYTES >> 20:
-        raise argparse.ArgumentTypeError(f"{text}: 1 to {MAX_RECORDING_BYTES >> 20} MiB")
-    return value
-
-
-def _max_variants(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{text}: at least 1")
-    return value
 
 
 def _percent(text: str) -> float:
@@ -521,7 +508,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("-j", "--jobs", type=_jobs, default=None, metavar="N",
                      help="run N scenario files at a time in worker processes (default: the number of cores;"
                           " -j 1 runs them one after another in this process); in process only")
-    run.add_argument("--max-variants", type=_max_variants, default=MAX_RUN_VARIANTS, metavar="N",
+    run.add_argument("--max-variants", type=_whole(1), default=MAX_RUN_VARIANTS, metavar="N",
                      help=f"the most variants the run's vary: matrices and campaigns may give together, counted before"
                           f" any is built (default {MAX_RUN_VARIANTS:,}; docs/scenarios.md)")
     run.add_argument("--coverage", metavar="FILE",
@@ -594,7 +581,8 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--record", metavar="FILE",
                        help="record the session (the PLC's writes, the NC's outputs, the operator's actions, the"
                             " machine) for vc replay; FILE.gz is compressed (docs/recording.md)")
-    serve.add_argument("--record-limit", type=_record_limit, default=DEFAULT_RECORD_LIMIT_MIB, metavar="MIB",
+    serve.add_argument("--record-limit", type=_whole(1, MAX_RECORDING_BYTES >> 20, " MiB"),
+                       default=DEFAULT_RECORD_LIMIT_MIB, metavar="MIB",
                        help=f"with --record: end the recording at MIB mebibytes (uncompressed; default"
                             f" {DEFAULT_RECORD_LIMIT_MIB}, at most {MAX_RECORDING_BYTES >> 20}); the session goes on")
     serve.set_defaults(handler=_serve)
