@@ -3,7 +3,7 @@ allowed large one, through ``vc run`` in its own process (:mod:`.one_shot`).
 
 :data:`OVERSIZED` are the files a run must refuse before anything is built: a campaign of 15 kB
 naming 1,000 scenario files over a matrix of 100,000 variants (10^8; it was still being checked
-after 120 s), a scenario of 10^12 variants, two files whose 60,000 variants each make 120,000
+after 120 s, some 5 CPU-days), a scenario of 10^12 variants, two files whose 60,000 variants each make 120,000
 together, a campaign naming one file 1,000 times.  Each must end with exit 2 and the problem
 at ``FILE:LINE:COLUMN`` within the bound.  Then an allowed campaign of 10,000 variants over
 machine data and an override is checked with ``--max-variants`` at its size, and its checking
@@ -52,6 +52,10 @@ class Oversized:
 def _thousand_files(directory: Path) -> list[Path]:
     campaign = directory / "thousand.yaml"
     listed = [f"scenario_{number}.yaml" for number in range(1000)]
+    small = (f"name: small\nmachine: {ROOT}/scenarios/machines/turn_mill.yaml\nplc: basic_machine\nsteps:\n"
+             '  - set: {MCP.feedOverride: "${override}"}\n  - wait: "${a}ms"\n  - wait: "${b}ms"\n')
+    for name in listed:
+        (directory / name).write_text(small, encoding="utf-8")
     campaign.write_text(_campaign(listed, f"  override: {_values(10)}\n  a: {_values(100)}\n  b: {_values(100)}\n"),
                         encoding="utf-8")
     return [campaign]
