@@ -29,7 +29,7 @@ class JsonProblem(VcError, ValueError):
         self.column = column
 
 
-class _Refused(Exception):
+class _Refused(VcError, ValueError):
     """A value a hook of the decoder refuses (the decoder passes it on unchanged)."""
 
 
