@@ -20,10 +20,13 @@ import sys
 from collections.abc import Sequence
 
 from vc.bench.robustness.campaign import CampaignSettings, Part, Row, Say, failed_row, table
+from vc.bench.robustness.campaign_size import run_campaign_size
 from vc.bench.robustness.can_noise import run_can_noise
 from vc.bench.robustness.control_characters import run_control_characters
 from vc.bench.robustness.files import run_file_mutations
 from vc.bench.robustness.flood import run_flood
+from vc.bench.robustness.hostile_expressions import run_hostile_expressions
+from vc.bench.robustness.hostile_recordings import run_hostile_recordings
 from vc.bench.robustness.isolation import run_isolation
 from vc.bench.robustness.modbus_fuzz import run_modbus_fuzz
 from vc.bench.robustness.non_reading import run_non_reading
@@ -50,6 +53,9 @@ PARTS: list[Part] = [
     Part("can", run_can_noise),
     Part("files", _file_part),  # the scenario and machine files (vc/bench/robustness/files.py)
     Part("control", run_control_characters),  # control characters in names through vc run's outputs
+    Part("recordings", run_hostile_recordings),  # vc replay on hostile recordings
+    Part("expressions", run_hostile_expressions),  # conditions and ${...} built to exhaust the reader
+    Part("campaign_size", run_campaign_size),  # matrices and campaigns beyond the ceiling, and a large allowed one
     Part("soak", run_soak),  # only with --soak
     Part("takeover", run_session_takeover),  # a lost PLC's session (vc/bench/robustness/takeover.py)
     Part("non-reading", run_non_reading),  # clients that never take their answers (non_reading.py)

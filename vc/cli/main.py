@@ -2,7 +2,8 @@
 
     vc run PATH... [-j N | --cluster ADDRESS|local:N [--cluster-files send|shared]] [--junit FILE]
            [--trace-dir DIR] [--report DIR] [--golden DIR [--update-golden]] [--link inprocess|modbus|can
-           [--can-bus BUS]] [--coverage FILE]          run scenario files, campaign files or directories
+           [--can-bus BUS]] [--coverage FILE] [--max-variants N]
+                                                      run scenario files, campaign files or directories
     vc run --plot SCENARIO [--plot-to FILE]           one scenario's timing diagram
     vc coverage report FILE... [--json OUT] [--html OUT] [--fail-under PCT] [--fail-under-function NAME=PCT]
                                                       the interface coverage of runs (docs/coverage.md)
@@ -13,8 +14,8 @@
     vc map --machine M --format codesys|openplc|tia|s7|awlsim [--io-base N] [-o FILE]
                                                       the signal map for a PLC tool (docs/plc_tools.md)
     vc serve [--machine M] [--modbus HOST:PORT] [--s7 HOST:PORT] [--can BUS] [--realtime [--speed F]]
-             [--scenario FILE [--junit FILE] [--keep-running]] [--duration S] [--record FILE] [--allow IP,...]
-             [--allow-writers IP,...] [--plc-key-file FILE] [--max-clients N] [--idle-timeout S]
+             [--scenario FILE [--junit FILE] [--keep-running]] [--duration S] [--record FILE [--record-limit MIB]]
+             [--allow IP,...] [--allow-writers IP,...] [--plc-key-file FILE] [--max-clients N] [--idle-timeout S]
              [--cpu LIST] [--fifo PRIORITY] [--verbose]
                                                       the NC as a server (or CAN node) for a PLC in another
                                                       process; with a scenario the exit code is its result;
@@ -61,12 +62,14 @@ from interfaces.signals import expand
 from vc.cli.map_formats import FORMATTERS
 from vc.config.loader import load_machine
 from vc.config.machine_files import DEFAULT_MACHINE, packaged_machines
+from vc.input_limits import MAX_RECORDING_BYTES, MAX_RUN_VARIANTS
 from vc.located_yaml import SourceError
 from vc_build import status as build_status
 
 GUIDE_FORMAT = "guide"  # vc map --format guide: docs/modbus.md for the machine
 DBC_FORMAT = "dbc"  # vc map --format dbc: the CAN frames through cantools
 DEFAULT_BENCH_SECONDS = 30.0  # simulated, in process, per workload
+DEFAULT_RECORD_LIMIT_MIB = 256  # vc serve --record-limit: some 40 minutes of a busy PLC
 DEFAULT_SCALING_SECONDS = 10.0  # simulated, per machine and load of --scaling
 DEFAULT_REALTIME_BENCH_SECONDS = 60.0  # wall-clock, the real-time measurement of --link modbus
 DEFAULT_FMU_BENCH_SECONDS = 20.0  # simulated, per workload of --link fmu
@@ -282,17 +285,24 @@ def _positive(text: str) -> float:
     return value
 
 
+def _whole(lowest: int, highest: int | None = None, unit: str = "") -> Callable[[str], int]:
+    """An argument type: a whole number from ``lowest`` (to ``highest``, ``unit`` said after it)."""
+    def whole(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+        if value < lowest or (highest is not None and value > highest):
+            raise argparse.ArgumentTypeError(f"{text}: at least {lowest}" if highest is None else
+                                             f"{text}: from {lowest} to {highest}{unit}")
+        return value
+    return whole
+
+
 def _jobs(text: str) -> int:
     from vc.scenario.parallel import MAX_WORKERS_PER_CORE, max_workers
 
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
-    if not 1 <= value <= max_workers():
-        raise argparse.ArgumentTypeError(f"{text}: from 1 to {max_workers()} ({MAX_WORKERS_PER_CORE} worker"
-                                         " processes per core)")
-    return value
+    return _whole(1, max_workers(), f" ({MAX_WORKERS_PER_CORE} worker processes per core)")(text)
 
 
 def _version() -> str:
@@ -350,7 +360,8 @@ def _run(arguments: argparse.Namespace) -> int:
                                   golden=arguments.golden, update_golden=arguments.update_golden, link=arguments.link,
                                   can_bus=arguments.can_bus, jobs=arguments.jobs, cluster=arguments.cluster,
                                   cluster_files=arguments.cluster_files, report_dir=arguments.report,
-                                  observe=collector.observe if collector else None)
+                                  observe=collector.observe if collector else None,
+                                  max_variants=arguments.max_variants)
     except LinkError as error:
         print(f"vc run: {error}", file=sys.stderr)
         return EXIT_PROBLEMS
@@ -415,7 +426,8 @@ def _serve(arguments: argparse.Namespace) -> int:
             from vc.recording.command import session_recorder
 
             link = "can" if arguments.can else "modbus" if arguments.modbus or not arguments.s7 else "s7"
-            recorder = session_recorder(arguments.record, arguments.scenario, link, arguments.realtime)
+            recorder = session_recorder(arguments.record, arguments.scenario, link, arguments.realtime,
+                                        arguments.record_limit << 20, lambda text: print(text, file=sys.stderr))
         options = ServeOptions(
             machine_path=arguments.machine,
             machine_given=arguments.machine_given,
@@ -514,6 +526,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("-j", "--jobs", type=_jobs, default=None, metavar="N",
                      help="run N scenario files at a time in worker processes (default: the number of cores;"
                           " -j 1 runs them one after another in this process); in process only")
+    run.add_argument("--max-variants", type=_whole(1), default=MAX_RUN_VARIANTS, metavar="N",
+                     help=f"the most variants the run's vary: matrices and campaigns may give together, counted before"
+                          f" any is built (default {MAX_RUN_VARIANTS:,}; docs/scenarios.md)")
     run.add_argument("--coverage", metavar="FILE",
                      help="write the interface coverage of the run (signals, state machines, alarms, plant I/O) to"
                           " FILE; vc coverage report FILE shows it (docs/coverage.md)")
@@ -595,6 +610,10 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--record", metavar="FILE",
                        help="record the session (the PLC's writes, the NC's outputs, the operator's actions, the"
                             " machine) for vc replay; FILE.gz is compressed (docs/recording.md)")
+    serve.add_argument("--record-limit", type=_whole(1, MAX_RECORDING_BYTES >> 20, " MiB"),
+                       default=DEFAULT_RECORD_LIMIT_MIB, metavar="MIB",
+                       help=f"with --record: end the recording at MIB mebibytes (uncompressed; default"
+                            f" {DEFAULT_RECORD_LIMIT_MIB}, at most {MAX_RECORDING_BYTES >> 20}); the session goes on")
     serve.set_defaults(handler=_serve, machine_given=False)
 
     replay = commands.add_parser("replay", help="replay a session recorded by vc serve --record without the PLC")

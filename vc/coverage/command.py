@@ -1,7 +1,9 @@
 """``vc coverage report FILE... [--json OUT] [--html OUT] [--fail-under PCT] [--fail-under-function NAME=PCT]``.
 
 Reads and merges the coverage files of ``vc run --coverage`` (several runs, or the parts of one),
-prints the summary, writes the JSON and HTML reports, and checks the thresholds.  Exit codes:
+prints the summary, writes the JSON and HTML reports, and checks the thresholds.  A name the
+harness does not know (a signal, a plant point, a state machine or state, an alarm) is a problem
+of its file at its key, not merged.  Exit codes:
 0 every threshold met, 1 a figure falls short, 2 a file or an option has problems (each problem
 ``file:line:column: message``).
 """
@@ -13,6 +15,7 @@ from collections.abc import Callable, Mapping, Sequence
 
 from vc.coverage.data import CoverageData
 from vc.coverage.html import report_html
+from vc.coverage.names import CoverageNames
 from vc.coverage.report import build_report, check_thresholds, summary_text
 from vc.located_yaml import Problem, SourceError
 
@@ -38,9 +41,10 @@ def coverage_report(paths: Sequence[str], *, json_path: str | None = None, html_
                     say: Callable[[str], None] = print, complain: Callable[[str], None] = print) -> int:
     problems: list[Problem] = []
     data = CoverageData()
+    names = CoverageNames.of_this_harness()
     for path in paths:
         try:
-            data.merge(CoverageData.load(path))
+            data.merge(CoverageData.load(path, names))
         except SourceError as error:
             problems.extend(error.problems)
     if problems:

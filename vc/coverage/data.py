@@ -14,7 +14,11 @@ the machines they used (the report compares it with the declared state machines 
 :meth:`CoverageData.merge` adds another run's data (counts add, value sets unite), so the data of
 scenario runs in several processes, or of several ``vc run`` calls, add up to one report.
 ``save`` / ``load`` write and read the JSON file of ``vc run --coverage FILE``; a file that is not
-such a file is reported as problems with their location (``SourceError``).
+such a file is reported as problems with their location (``SourceError``).  The file is read
+within the limits of :mod:`vc.bounded_json` (nesting, digits, finite numbers), and with the
+names of this harness (:class:`~vc.coverage.names.CoverageNames`) a signal, plant point, state
+machine, state or alarm the harness does not know is refused with the file and the key instead
+of being merged.
 """
 
 from __future__ import annotations
@@ -23,13 +27,19 @@ import json
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+from vc.bounded_json import JsonProblem, loads
 from vc.located_yaml import Mark, Problem, SourceError, load_text
+
+if TYPE_CHECKING:
+    from vc.coverage.names import CoverageNames
 
 FORMAT = "vc-coverage"
 VERSION = 1
 MAX_DISTINCT = 64  # distinct values kept per signal; beyond, only the count "more" and lowest / highest
+MAX_PROBLEMS = 100  # problems shown of one file (a file that is no coverage file has thousands)
+MAX_VALUE = 1e300  # a value a signal took: finite (a REAL reaches 3.4e38; a double beyond it is no signal's)
 
 RISES = 1  # ValueRecord.edges: 0 -> not 0 seen
 FALLS = 2  # not 0 -> 0 seen
@@ -222,8 +232,9 @@ class CoverageData:
             handle.write("\n")
 
     @classmethod
-    def load(cls, path: str) -> CoverageData:
-        """Read a coverage file; raises :class:`SourceError` with every problem and its location."""
+    def load(cls, path: str, names: CoverageNames | None = None) -> CoverageData:
+        """Read a coverage file; raises :class:`SourceError` with every problem and its location.
+        With ``names`` every name in it must be one of them."""
         try:
             with open(path, encoding="utf-8") as handle:
                 text = handle.read()
@@ -232,23 +243,27 @@ class CoverageData:
         except UnicodeDecodeError as error:
             raise SourceError([Problem(Mark(path, 1, 1), f"the file is not UTF-8 text ({error.reason})")]) from None
         try:
-            document = json.loads(text)
-        except json.JSONDecodeError as error:
-            raise SourceError([Problem(Mark(path, error.lineno, error.colno),
-                                       f"not a coverage file of vc run --coverage (JSON: {error.msg})")]) from None
-        reader = _Reader()
+            document = loads(text)
+        except JsonProblem as error:
+            raise SourceError([Problem(Mark(path, error.line, error.column),
+                                       f"not a coverage file of vc run --coverage ({error.message})")]) from None
+        reader = _Reader(names)
         data = reader.document(document)
         if reader.problems:
-            raise SourceError([Problem(locate(text, path, where), message) for where, message in reader.problems])
+            located, _ = load_text(text, path)  # once for all problems: JSON is YAML, its composer marks each node
+            shown = reader.problems[:MAX_PROBLEMS]
+            problems = [Problem(locate(located, path, where), message) for where, message in shown]
+            if len(reader.problems) > len(shown):
+                problems.append(Problem(Mark(path, 1, 1), f"and {len(reader.problems) - len(shown):,} more problems"))
+            raise SourceError(problems)
         return data
 
 
 Path = tuple[str | int, ...]  # where in the document: keys and list indices
 
 
-def locate(text: str, file: str, where: Path) -> Mark:
-    """The mark of the value at ``where`` in the JSON ``text`` (its enclosing value if it is missing)."""
-    document, _ = load_text(text, file)  # JSON is YAML: its composer gives every node's mark
+def locate(document: Any, file: str, where: Path) -> Mark:
+    """The mark of the value at ``where`` in the located ``document`` (its enclosing value if it is missing)."""
     mark = Mark(file, 1, 1)
     node = document
     for key in where:
@@ -268,11 +283,18 @@ def locate(text: str, file: str, where: Path) -> Mark:
 class _Reader:
     """Builds :class:`CoverageData` from a parsed document, collecting ``(where, message)`` problems."""
 
-    def __init__(self) -> None:
+    def __init__(self, names: CoverageNames | None = None) -> None:
         self.problems: list[tuple[Path, str]] = []
+        self.names = names
 
     def problem(self, where: Path, message: str) -> None:
         self.problems.append((where, message))
+
+    def known(self, where: Path, problem: str) -> bool:
+        """False (reported at ``where``) when a check of the names found a problem."""
+        if problem:
+            self.problem(where, problem)
+        return not problem
 
     def mapping(self, value: Any, where: Path, what: str) -> Mapping[str, Any]:
         if isinstance(value, dict):
@@ -287,12 +309,12 @@ class _Reader:
         return 0
 
     def number(self, value: Any, where: Path) -> float:
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
+        if isinstance(value, (int, float)) and not isinstance(value, bool) and abs(value) <= MAX_VALUE:
             return float(value)
-        self.problem(where, f"{_shown(where)} must be a number, not {json.dumps(value)}")
+        self.problem(where, f"{_shown(where)} must be a number (at most {MAX_VALUE:g}), not {json.dumps(value)[:40]}")
         return 0.0
 
-    def names(self, value: Any, where: Path) -> set[str]:
+    def names_list(self, value: Any, where: Path) -> set[str]:
         if isinstance(value, list) and all(isinstance(item, str) for item in value):
             return set(value)
         self.problem(where, f"{_shown(where)} must be a list of names")
@@ -320,8 +342,10 @@ class _Reader:
             data.functions[name] = self.function(function, ("functions", name))
         for number, alarm in self.mapping(top.get("alarms", {}), ("alarms",), "an object").items():
             where: Path = ("alarms", number)
-            if not number.isdigit():
-                self.problem(where, f"alarm '{number}' is not an alarm number")
+            if not number.isdigit() or len(number) > 9:
+                self.problem(where, f"alarm '{number[:20]}' is not an alarm number")
+                continue
+            if self.names is not None and not self.known(where, self.names.alarm(int(number))):
                 continue
             entry = self.mapping(alarm, where, "an object {raised, cleared}")
             record = AlarmCoverage(self.count(entry.get("raised", 0), (*where, "raised")))
@@ -332,23 +356,41 @@ class _Reader:
 
     def machine(self, value: Any, where: Path) -> MachineCoverage:
         entry = self.mapping(value, where, "an object {source, instances, types, not_applicable, signals, plant}")
-        machine = MachineCoverage(source=str(entry.get("source", "")))
+        source = entry.get("source", "")
+        if not isinstance(source, str):
+            self.problem((*where, "source"), f"{_shown((*where, 'source'))} must be the machine file, a text")
+        machine = MachineCoverage(source=str(source))
+        names = self.names
+        refused: set[str] = set()  # instances refused: their signals are not reported once more
         for name, db in self.mapping(entry.get("instances", {}), (*where, "instances"), "an object").items():
-            machine.instances[name] = self.count(db, (*where, "instances", name))
+            problems = len(self.problems)
+            number = self.count(db, (*where, "instances", name))
+            if len(self.problems) == problems and (
+                    names is None or self.known((*where, "instances", name), names.instance(name, number))):
+                machine.instances[name] = number
+            else:
+                refused.add(name)
         for name, kind in self.mapping(entry.get("types", {}), (*where, "types"), "an object").items():
-            machine.types[name] = str(kind)
-        machine.not_applicable = self.names(entry.get("not_applicable", []), (*where, "not_applicable"))
-        for key, records in (("signals", machine.signals), ("plant", machine.plant)):
-            for name, record in self.mapping(entry.get(key, {}), (*where, key), "an object").items():
-                records[name] = self.record(record, (*where, key, name))
+            if names is None or self.known((*where, "types", name), names.type(name, kind)):
+                machine.types[name] = str(kind)
+        machine.not_applicable = self.names_list(entry.get("not_applicable", []), (*where, "not_applicable"))
+        for name, record in self.mapping(entry.get("signals", {}), (*where, "signals"), "an object").items():
+            if name.partition(".")[0] in refused:
+                continue
+            if names is None or self.known((*where, "signals", name), names.signal(name, machine.instances)):
+                machine.signals[name] = self.record(record, (*where, "signals", name))
+        for name, record in self.mapping(entry.get("plant", {}), (*where, "plant"), "an object").items():
+            if names is None or self.known((*where, "plant", name), names.plant_point(name)):
+                machine.plant[name] = self.record(record, (*where, "plant", name))
         return machine
 
     def record(self, value: Any, where: Path) -> ValueRecord:
         entry = self.mapping(value, where, "an object {values, low, high, more, edges}")
         values = entry.get("values", [])
         record = ValueRecord()
-        if not isinstance(values, list):
-            self.problem((*where, "values"), f"{_shown((*where, 'values'))} must be a list of numbers")
+        if not isinstance(values, list) or len(values) > MAX_DISTINCT:
+            self.problem((*where, "values"), f"{_shown((*where, 'values'))} must be a list of at most {MAX_DISTINCT}"
+                                             " numbers")
             values = []
         for index, item in enumerate(values):
             record.values.add(self.number(item, (*where, "values", index)))
@@ -366,9 +408,13 @@ class _Reader:
 
     def function(self, value: Any, where: Path) -> FunctionCoverage:
         entry = self.mapping(value, where, "an object {instances, states, transitions}")
-        function = FunctionCoverage(instances=self.names(entry.get("instances", []), (*where, "instances")))
+        function = FunctionCoverage(instances=self.names_list(entry.get("instances", []), (*where, "instances")))
+        machine = str(where[-1])
+        states_known = self.names is None or self.known(where, self.names.state_machine(machine))
         for state, count in self.mapping(entry.get("states", {}), (*where, "states"), "an object").items():
-            function.states[state] = self.count(count, (*where, "states", state))
+            if not states_known or self.names is None or self.known((*where, "states", state),
+                                                                    self.names.state(machine, state)):
+                function.states[state] = self.count(count, (*where, "states", state))
         transitions = entry.get("transitions", [])
         if not isinstance(transitions, list):
             self.problem((*where, "transitions"), f"{_shown((*where, 'transitions'))} must be a list")
@@ -378,6 +424,10 @@ class _Reader:
             if not (isinstance(item, list) and len(item) == 3 and isinstance(item[0], str)
                     and isinstance(item[1], str)):
                 self.problem(place, f"{_shown(place)} must be [from state, to state, count]")
+                continue
+            if states_known and self.names is not None and not (
+                    self.known((*place, 0), self.names.state(machine, item[0]))
+                    and self.known((*place, 1), self.names.state(machine, item[1]))):
                 continue
             function.transitions[(item[0], item[1])] = self.count(item[2], (*place, 2))
         return function

@@ -3,7 +3,8 @@
 The page shows the figures (per data block kind and instance, per state machine, alarms, plant
 I/O) and then everything never exercised, grouped by category and function (a DB instance's
 signal group, a state machine, an alarm range, a plant function), each with its address, what
-is missing, its meaning and its source (the catalogue's seed line, the module line of a state).
+is missing, its meaning and its source (the catalogue's seed line, the module line of a state);
+then, apart, the catalogue signals the NC does not model, with why.
 Groups fold (``<details>``) so that a long list stays navigable.
 """
 
@@ -90,6 +91,10 @@ def report_html(report: Report, title: str = "Interface coverage") -> str:
     parts.append(f"<h3>Catalogue entries no instance exercised fully ({len(report.catalogue_gaps)})</h3>"
                  "<p class=dim>Each catalogue signal over all its DB instances on all machines: what none of them"
                  f" showed.</p>{_grouped(report.catalogue_gaps)}")
+    parts.append(f"<h2>Not modelled by the NC ({len(report.not_modelled)})</h2>"
+                 "<p class=dim>Catalogue signals the simulated NC neither reads nor writes (<code>vc map</code>,"
+                 " column <code>modelled</code>): no scenario can exercise them, so they are no gap of the scenarios"
+                 f" and are counted nowhere. The column <i>never</i> says why.</p>{_grouped(report.not_modelled)}")
     others = [function for function in report.functions if function.other_transitions]
     if others:
         parts.append("<h2>Transitions seen that no state machine declares</h2><p class=dim>States are sampled at"

@@ -6,7 +6,9 @@ Coverage points (what a figure counts):
 * a bool signal of a DB instance: seen 0, seen 1, rising edge, falling edge (4 points); a bits,
   byte, word, double word or real signal: took two or more values (1 point; the report shows the
   number of distinct values and the lowest and highest); signals that do not apply to their
-  instance are left out (``vc.coverage.collector.NOT_APPLICABLE``);
+  instance are left out (``vc.coverage.collector.NOT_APPLICABLE``), and so are the signals the
+  NC does not model (the catalogue's ``not_modelled``, ``vc map``'s ``modelled: no``): no
+  scenario can exercise them, so they are listed apart with the reason, not as gaps;
 * a state machine (``vc.coverage.state_machines``): each declared state entered, each declared
   transition taken (transitions seen that are not declared are listed, not counted);
 * an alarm the NC can raise (``vc.core.alarms.ALARM_TEXTS``): raised, cleared (2 points; the
@@ -15,8 +17,8 @@ Coverage points (what a figure counts):
 
 A figure's percentage is covered points over points.  Names for thresholds: ``signals``,
 ``functions``, ``alarms``, ``plant``, a data block kind ``DB10`` / ``DB11`` / ``DB19`` / ``DB21`` /
-``DB31``, a state machine (``gear_change``) or a group of them by prefix (``referencing``,
-``esr``).
+``DB31`` / ``DB100``, a state machine (``gear_change``) or a group of them by prefix
+(``referencing``, ``esr``).
 """
 
 from __future__ import annotations
@@ -29,16 +31,16 @@ from pathlib import Path
 from typing import Any
 
 import vc
-from interfaces.catalog import load_catalog
 from interfaces.plant_io import plant_function
-from interfaces.signals import FIRST_DB, PLACEHOLDER, InstanceKind, SignalDef
+from interfaces.signals import FIRST_DB, PLACEHOLDER, InstanceKind
 from vc.coverage.collector import NOT_APPLICABLE
 from vc.coverage.data import FALLS, RISES, CoverageData, FunctionCoverage, MachineCoverage, ValueRecord
+from vc.coverage.names import definitions, kind_of_db
 from vc.coverage.state_machines import STATE_MACHINES, StateMachine
 from vc.simulation.published import ALARM_TEXTS
 
 CATEGORIES = ("signals", "functions", "alarms", "plant")
-DB_KINDS = ("DB10", "DB11", "DB19", "DB21", "DB31")
+DB_KINDS = ("DB10", "DB11", "DB19", "DB21", "DB31", "DB100")
 _ROOT = Path(vc.__file__).resolve().parent.parent  # where the sources lie (the repository, or site-packages)
 
 
@@ -111,6 +113,8 @@ class Report:
     # entries no instance exercised fully
     catalogue: Figure = field(default_factory=lambda: Figure("catalogue", "catalogue entries, over all instances"))
     catalogue_gaps: list[Gap] = field(default_factory=list)
+    # catalogue entries the NC does not model (not counted): one per entry, "missing" says why
+    not_modelled: list[Gap] = field(default_factory=list)
 
     def named(self) -> dict[str, Figure]:
         """Every figure a threshold can name (state machine groups by their prefix)."""
@@ -145,6 +149,7 @@ class Report:
             "gaps": [gap.to_json() for gap in self.gaps],
             "catalogue": self.catalogue.to_json(),
             "catalogue_gaps": [gap.to_json() for gap in self.catalogue_gaps],
+            "not_modelled": [gap.to_json() for gap in self.not_modelled],
         }
 
 
@@ -174,26 +179,8 @@ def build_report(data: CoverageData) -> Report:
     return report
 
 
-_KIND_TITLES = {"DB10": "NCK", "DB11": "mode group", "DB19": "operator panel", "DB21": "channels", "DB31": "axes"}
-
-
-def _kind_of_db(db: int) -> InstanceKind:
-    if db >= FIRST_DB[InstanceKind.AXIS]:
-        return InstanceKind.AXIS
-    if db >= FIRST_DB[InstanceKind.CHANNEL]:
-        return InstanceKind.CHANNEL
-    return {10: InstanceKind.NCK, 11: InstanceKind.MODE_GROUP}.get(db, InstanceKind.HMI)
-
-
-@cache
-def _definitions() -> dict[tuple[InstanceKind, str], SignalDef]:
-    """Catalogue entries by kind and symbol without the instance: (AXIS, "basic.in.enc1Synchronized")."""
-    result = {}
-    for section in load_catalog().sections:
-        placeholder = PLACEHOLDER[section.kind]
-        for definition in section.signals:
-            result[(section.kind, definition.symbol[len(placeholder) + 1:])] = definition
-    return result
+_KIND_TITLES = {"DB10": "NCK", "DB11": "mode group", "DB19": "operator panel", "DB21": "channels", "DB31": "axes",
+                "DB100": "alarm list"}
 
 
 def signal_points(record: ValueRecord, kind: str) -> list[tuple[str, bool]]:
@@ -220,7 +207,7 @@ def _shown_values(record: ValueRecord) -> str:
 
 def _signals(report: Report, machine_name: str, machine: MachineCoverage,
              entries: dict[tuple[InstanceKind, str], tuple[ValueRecord, str]]) -> None:
-    definitions = _definitions()
+    catalogue = definitions()
     instances: dict[str, Figure] = {}
     for instance, number in sorted(machine.instances.items(), key=lambda item: (item[1], item[0])):
         instances[instance] = Figure(f"{machine_name}/{instance}", f"{machine_name} DB{number} {instance}")
@@ -230,9 +217,13 @@ def _signals(report: Report, machine_name: str, machine: MachineCoverage,
             continue
         instance, _, rest = symbol.partition(".")
         db = machine.instances.get(instance)
-        if db is None:
+        kind = kind_of_db(db) if db is not None else None
+        if db is None or kind is None:
             continue
-        kind = _kind_of_db(db)
+        definition = catalogue.get((kind, rest))
+        if definition is not None and not definition.modelled:
+            _not_modelled(report, kind, rest, definition.not_modelled)
+            continue
         signal_type = machine.types.get(symbol, "bool")
         merged, _ = entries.setdefault((kind, rest), (ValueRecord(), signal_type))
         merged.merge(record)
@@ -243,7 +234,6 @@ def _signals(report: Report, machine_name: str, machine: MachineCoverage,
         report.categories["signals"].add(covered, len(points))
         missing = [what for what, hit in points if not hit]
         if missing:
-            definition = definitions.get((kind, rest))
             group = rest.rsplit(".", 1)[0]
             detail = "" if machine.types.get(symbol, "bool") == "bool" else f" ({_shown_values(record)})"
             report.gaps.append(Gap(
@@ -253,14 +243,24 @@ def _signals(report: Report, machine_name: str, machine: MachineCoverage,
     report.instances.extend(figure for figure in instances.values() if figure.total)
 
 
+def _not_modelled(report: Report, kind: InstanceKind, rest: str, why: str) -> None:
+    """A catalogue entry the NC does not model: listed once, with why, and counted nowhere."""
+    symbol = f"{PLACEHOLDER[kind]}.{rest}"
+    if any(gap.item == symbol for gap in report.not_modelled):
+        return
+    definition = definitions()[(kind, rest)]
+    report.not_modelled.append(Gap("signals", f"DB{FIRST_DB[kind]} {rest.rsplit('.', 1)[0]}", symbol,
+                                   str(definition.address), why, definition.meaning, definition.source))
+
+
 def _catalogue(report: Report, entries: dict[tuple[InstanceKind, str], tuple[ValueRecord, str]]) -> None:
-    definitions = _definitions()
+    catalogue = definitions()
     for (kind, rest), (record, signal_type) in sorted(entries.items()):
         points = signal_points(record, signal_type)
         covered = sum(1 for _, hit in points if hit)
         report.catalogue.add(covered, len(points))
         missing = [what for what, hit in points if not hit]
-        definition = definitions.get((kind, rest))
+        definition = catalogue.get((kind, rest))
         if missing and definition is not None:
             detail = "" if signal_type == "bool" else f" ({_shown_values(record)})"
             report.catalogue_gaps.append(Gap(
@@ -402,6 +402,10 @@ def summary_text(report: Report) -> str:
     for figure in report.categories.values():
         row(figure.name, figure.covered, figure.total)
     row("total", report.total.covered, report.total.total)
+    if report.not_modelled:
+        lines.append("")
+        lines.append(f"  {len(report.not_modelled)} catalogue signals the NC does not model are left out (not a gap"
+                     " of the scenarios: vc map --format csv, column modelled)")
     return "\n".join(lines) + "\n"
 
 

@@ -11,6 +11,7 @@ from collections.abc import Callable, Sequence
 from interfaces.links.inprocess import plc_programs
 from vc.harness.external_plc import PLC_PROCESSES, ExternalPlcs
 from vc.harness.targets import TargetFactory, simulation_for
+from vc.input_limits import MAX_RUN_VARIANTS
 from vc.scenario.cluster import ClusterSettings
 from vc.scenario.command import plot_command, run_command
 from vc.scenario.model import Scenario
@@ -24,7 +25,8 @@ Observe = Callable[[TargetFactory], Callable[[Scenario], ScenarioTarget]]
 def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_dir: str | None = None,
                        golden: str | None = None, update_golden: bool = False, link: str = "inprocess",
                        can_bus: str | None = None, jobs: int | None = None, observe: Observe | None = None,
-                       cluster: str | None = None, cluster_files: str = "send", report_dir: str | None = None) -> int:
+                       cluster: str | None = None, cluster_files: str = "send", report_dir: str | None = None,
+                       max_variants: int = MAX_RUN_VARIANTS) -> int:
     """``link``: ``inprocess`` runs the PLC programs in lockstep in this process, or in ``jobs``
     worker processes (default one per core), or on the Dask ``cluster`` (an address or local:N;
     ``cluster_files``: send or shared); ``modbus`` runs them in a ``python -m plc_stub``
@@ -33,7 +35,8 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
     after the other.  A scenario with an external PLC (``plc: awlsim:FILE``) runs against that
     PLC in its own process, in every run.  ``observe`` wraps the run's factory of simulations
     (the interface coverage observes each one, in this process: such a run has no workers).
-    ``report_dir`` gets the HTML report with the timing diagrams."""
+    ``report_dir`` gets the HTML report with the timing diagrams; ``max_variants`` is the ceiling on
+    the variants of the run's matrices (vc run --max-variants)."""
     build = build_status().describe()
 
     def run(make_target: TargetFactory, workers: int | None = 1, on: ClusterSettings | None = None) -> int:
@@ -43,7 +46,8 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
             return run_command(paths, target_factory, plc_programs(), junit=junit, trace_dir=trace_dir,
                                golden=golden, update_golden=update_golden,
                                jobs=workers if observe is None else 1, build=build,
-                               cluster=on if observe is None else None, report_dir=report_dir)
+                               cluster=on if observe is None else None, report_dir=report_dir,
+                               max_variants=max_variants)
 
     if link in PLC_PROCESSES:
         with PLC_PROCESSES[link](can_bus) as process:

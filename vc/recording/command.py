@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from importlib import metadata
 
-from vc.recording.format import RecordedFile, read_recording
+from vc.recording.format import SIZE_LIMIT, RecordedFile, read_recording
 from vc.recording.recorder import SessionInfo, SessionRecorder
 from vc.recording.replay import replay
 from vc.recording.to_scenario import ConversionError, to_scenario
@@ -21,8 +21,10 @@ EXIT_DIFFERENT = 1
 EXIT_PROBLEMS = 2
 
 
-def session_recorder(path: str, scenario: str | None, link: str, realtime: bool) -> SessionRecorder:
-    """The recorder ``vc serve --record`` passes to the server as its observer."""
+def session_recorder(path: str, scenario: str | None, link: str, realtime: bool, limit_bytes: int,
+                     say: Callable[[str], None] = print) -> SessionRecorder:
+    """The recorder ``vc serve --record`` passes to the server as its observer; it stops at
+    ``limit_bytes`` (``--record-limit``) and says so through ``say``."""
     played = None
     if scenario is not None:
         try:
@@ -33,7 +35,7 @@ def session_recorder(path: str, scenario: str | None, link: str, realtime: bool)
     with open(path, "w", encoding="utf-8"):
         pass  # a path that cannot be written fails now, before a PLC connects
     return SessionRecorder(path, SessionInfo(played, link, "free_running" if realtime else "lockstep",
-                                             f"vc-harness {_version()}"))
+                                             f"vc-harness {_version()}", limit_bytes), say)
 
 
 def _version() -> str:
@@ -49,9 +51,15 @@ def replay_command(path: str, *, machine: str | None = None, to_scenario_path: s
     """Raises ``SourceError`` for a recording or machine file with problems (the CLI lists them)."""
     recording = read_recording(path)
     header = recording.header
-    if not recording.complete:
+    if recording.cut is not None:
+        complain(f"{path}:{recording.cut.line}: the recording was cut here ({recording.cut.why}: the server was"
+                 f" stopped while writing); it replays up to its last complete row, cycle {recording.last_cycle}")
+    elif not recording.complete:
         complain(f"{path}: the recording has no end row (the session was cut short); it goes up to cycle"
                  f" {recording.last_cycle}")
+    elif recording.end is not None and recording.end.reason == SIZE_LIMIT:
+        complain(f"{path}: the recording stopped at its size limit at cycle {recording.last_cycle}; the session"
+                 " went on")
     if to_scenario_path is not None:
         try:
             conversion = to_scenario(recording, to_scenario_path, name)
@@ -70,8 +78,7 @@ def replay_command(path: str, *, machine: str | None = None, to_scenario_path: s
         return EXIT_SAME
     result = replay(recording, machine)
     seconds = result.cycles * header.ipo_cycle_us / 1e6
-    what = f"{path}: {header.mode} session of {header.program or 'no PLC program'} over {header.link} on" \
-           f" {result.machine.name}"
+    what = f"{path}: {header.mode} session of {recording.plc} on {result.machine.name}"
     if result.difference is None:
         say(f"{what}: no difference in {result.cycles} IPO cycles ({seconds:.3f} s)")
         return EXIT_SAME

@@ -14,6 +14,7 @@ A recording of a real-time session replays in lockstep: the PLC's timing is in t
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 from interfaces.image import ProcessImage, Value, decode
@@ -22,7 +23,7 @@ from interfaces.signals import SignalRef
 from vc.config.loader import load_machine, load_machine_text
 from vc.config.model import MachineConfig
 from vc.located_yaml import LocatedMap, Mark, Problem, SourceError, load_text
-from vc.recording.format import NC, Action, Bytes, Recording
+from vc.recording.format import LIFE, NC, Action, Bytes, Marker, Recording, Row
 from vc.simulation.lockstep import Simulation
 from vc.simulation.observed import perform
 
@@ -121,6 +122,19 @@ def check_interface(recording: Recording, simulation: Simulation) -> None:
                                    " (another catalogue or machine layout): it cannot be replayed here")])
 
 
+def cycle_groups(recording: Recording) -> Iterator[tuple[int, list[tuple[Row, Mark]]]]:
+    """The rows of a recording cycle by cycle: a replay must know, before it runs into a cycle,
+    whether the PLC's scan in it left the sign of life unchanged (that row comes last)."""
+    group: list[tuple[Row, Mark]] = []
+    for row, mark in recording.rows():
+        if group and row.cycle != group[0][0].cycle:
+            yield group[0][0].cycle, group
+            group = []
+        group.append((row, mark))
+    if group:
+        yield group[0][0].cycle, group
+
+
 class _Replay:
     def __init__(self, recording: Recording, machine: MachineConfig):
         self.recording = recording
@@ -128,32 +142,38 @@ class _Replay:
         self.simulation = Simulation(machine, recording.header.program, connector=self.connector)
         check_interface(recording, self.simulation)
         self.expected = ProcessImage(recording.header.areas)
-        self.stalls = recording.stalls()
 
     def run(self) -> Difference | None:
         simulation = self.simulation
-        for row, mark in zip(self.recording.rows, self.recording.row_marks, strict=True):
-            while simulation.cycle < row.cycle:
+        for cycle, rows in cycle_groups(self.recording):
+            stalled = any(isinstance(row, Marker) and row.kind == LIFE for row, _ in rows)
+            while simulation.cycle < cycle:
                 difference = self.compare()
                 if difference is not None:
                     return difference
-                self.connector.plc.stall_next_scan = simulation.cycle + 1 in self.stalls
+                self.connector.plc.stall_next_scan = stalled and simulation.cycle + 1 == cycle
                 simulation.step(1)
-            if isinstance(row, Bytes):
-                if row.source == NC:
-                    self.expected.areas[row.area][row.offset:row.offset + len(row.data)] = row.data
-                else:
-                    image = simulation.plant_image if row.area == "Q" else simulation.interface
-                    image.areas[row.area][row.offset:row.offset + len(row.data)] = row.data
-                    image.touch()
-            elif isinstance(row, Action) and row.action.kind not in NOT_REPLAYED:
-                try:
-                    perform(simulation, row.action)
-                except (KeyError, ValueError) as error:
-                    message = error.args[0] if error.args else error
-                    raise SourceError([Problem(mark, f"the operator's action {row.action.kind} cannot be done"
-                                                     f" again on this machine: {message}")]) from None
+            for row, mark in rows:
+                self.play(row, mark)
         return self.compare()
+
+    def play(self, row: Row, mark: Mark) -> None:
+        """Put a row's bytes in place, or do its action again."""
+        simulation = self.simulation
+        if isinstance(row, Bytes):
+            if row.source == NC:
+                self.expected.areas[row.area][row.offset:row.offset + len(row.data)] = row.data
+            else:
+                image = simulation.plant_image if row.area == "Q" else simulation.interface
+                image.areas[row.area][row.offset:row.offset + len(row.data)] = row.data
+                image.touch()
+        elif isinstance(row, Action) and row.action.kind not in NOT_REPLAYED:
+            try:
+                perform(simulation, row.action)
+            except (KeyError, ValueError) as error:
+                message = error.args[0] if error.args else error
+                raise SourceError([Problem(mark, f"the operator's action {row.action.kind} cannot be done"
+                                                 f" again on this machine: {message}")]) from None
 
     def compare(self) -> Difference | None:
         actual, expected = self.simulation.nck.image.areas, self.expected.areas

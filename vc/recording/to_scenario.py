@@ -12,21 +12,29 @@ What a scenario cannot say is left out and reported as a note: a PLC sign of lif
 PLC's writes, is in the recording), bytes of the wire that no catalogue signal holds, the NC's
 responses during a handwheel turn.  A turn takes its time in a scenario: a PLC write or an action
 of the operator during it cannot be placed, and the conversion stops with a message.
+
+The file is written by PyYAML's emitter from the scenario as data, never by formatting text:
+whatever the recording's header holds (a newline in a file name, a quote in a program name), it
+stays inside its value.
 """
 
 from __future__ import annotations
 
-import json
+import math
 import os
 from dataclasses import dataclass, field
+from typing import Any
+
+import yaml
 
 from interfaces.catalog import load_catalog
 from interfaces.errors import VcError
 from interfaces.image import ProcessImage, Value, decode
 from interfaces.signals import Direction, SignalRef, expand
+from vc.config.machine_files import looks_like_a_path, machine_file
 from vc.config.model import MachineConfig
 from vc.located_yaml import load_text
-from vc.recording.format import LIFE, NC, Bytes, Marker, Recording
+from vc.recording.format import LIFE, NC, Bytes, Marker, Peer, Recording
 from vc.recording.replay import recorded_machine
 from vc.scenario.values import format_value
 from vc.simulation.observed import OperatorAction
@@ -43,14 +51,6 @@ class Conversion:
     machine_file: str = ""  # a machine file written next to the scenario (empty: an existing one is named)
 
 
-def _json(value: object) -> str:
-    return json.dumps(value, ensure_ascii=False)
-
-
-def _mapping(values: dict[str, Value]) -> str:
-    return "{" + ", ".join(f"{_json(name)}: {_json(value)}" for name, value in values.items()) + "}"
-
-
 def _duration(microseconds: int) -> str:
     if microseconds % 1000:
         return f"{microseconds}us"
@@ -62,7 +62,7 @@ class _Writer:
         self.recording = recording
         self.machine = machine
         self.ipo_us = recording.header.ipo_cycle_us
-        self.steps: list[str] = []
+        self.steps: list[dict[str, Any]] = []
         self.notes: list[str] = []
         areas = recording.header.areas
         self.nc = ProcessImage(areas)  # the NC's bytes as the recording showed them
@@ -89,17 +89,17 @@ class _Writer:
     def catch_up(self) -> None:
         """The wait that brings the scenario to the cycle of the rows read."""
         if self.due > self.now:
-            self.steps.append(f"  - wait: {_duration((self.due - self.now) * self.ipo_us)}")
+            self.steps.append({"wait": _duration((self.due - self.now) * self.ipo_us)})
             self.now = self.due
 
-    def step(self, text: str) -> None:
+    def step(self, kind: str, value: Any) -> None:
         self.catch_up()
-        self.steps.append(text)
+        self.steps.append({kind: value})
 
     def flush(self) -> None:
         for step, values in (("set", self.pending_set), ("expect", self.pending_expect)):
             if values:
-                self.step(f"  - {step}: {_mapping(values)}")
+                self.step(step, dict(values))
                 values.clear()
 
     def reach(self, cycle: int, where: str, placed: bool) -> bool:
@@ -124,7 +124,7 @@ class _Writer:
             return
         for ref in self._refs_in(self.nc_refs, row):
             value = decode(area, ref)
-            if value != decode(before, ref):
+            if value != decode(before, ref) and self.finite(row, ref, value):
                 self.pending_expect[ref.name] = value
 
     def plc_bytes(self, row: Bytes) -> None:
@@ -135,8 +135,15 @@ class _Writer:
         area[row.offset:row.offset + len(row.data)] = row.data
         for ref in self._refs_in(self.plc_refs, row):
             value = decode(area, ref)
-            if value != decode(before, ref):
+            if value != decode(before, ref) and self.finite(row, ref, value):
                 self.pending_set[ref.name] = value
+
+    def finite(self, row: Bytes, ref: SignalRef, value: Value) -> bool:
+        """A REAL that is not finite cannot be written in a scenario: left out, with a note."""
+        if isinstance(value, float) and not math.isfinite(value):
+            self.notes.append(f"cycle {row.cycle}: {ref.name} = {value} left out (a scenario holds finite numbers)")
+            return False
+        return True
 
     @staticmethod
     def _refs_in(refs: dict[str, list[SignalRef]], row: Bytes) -> list[SignalRef]:
@@ -149,42 +156,43 @@ class _Writer:
         kind, arguments = action.kind, action.arguments
         if kind in ("write", "force"):
             step = "set" if kind == "write" else "force"
-            self.step(f"  - {step}: {{{_json(arguments[0])}: {_json(arguments[1])}}}")
+            self.step(step, {arguments[0]: arguments[1]})
         elif kind == "release":
-            self.step(f"  - release: {_json(arguments[0])}")
+            self.step("release", arguments[0])
         elif kind == "mda":
-            self.step(f"  - mda: {{channel: {_json(arguments[0])}, text: {_json(arguments[1])}}}")
+            self.step("mda", {"channel": arguments[0], "text": arguments[1]})
         elif kind == "program":
-            self.step(f"  - program: {{channel: {_json(arguments[0])}, name: {_json(arguments[1])},"
-                              f" text: {_json(arguments[2])}}}")
+            self.step("program", {"channel": arguments[0], "name": arguments[1], "text": arguments[2]})
         elif kind == "power_cycle":
             off = arguments[0]
             off_us = round((off if isinstance(off, (int, float)) else 0.0) * 1_000_000)
-            self.step(f"  - power_cycle: {_duration(off_us)}")
+            self.step("power_cycle", _duration(off_us))
             self.now = self.due = cycle + round(off_us / self.ipo_us)
             self.plc = ProcessImage(self.recording.header.areas)  # a fresh wire, the outputs dropped
         elif kind == "fault":
             axis, fault, start, end, amount, encoder = arguments
-            self.step(f"  - fault: {{axis: {_json(axis)}, kind: {_json(fault)}, from: {_json(start)},"
-                              f" to: {_json(end)}, by: {_json(amount)}, encoder: {_json(encoder)}}}")
+            self.step("fault", {"axis": axis, "kind": fault, "from": start, "to": end, "by": amount,
+                                "encoder": encoder})
         elif kind == "clear_faults":
-            self.step(f"  - clear_faults: {_json(arguments[0])}")
+            self.step("clear_faults", arguments[0])
         elif kind == "acknowledge":
-            self.step("  - acknowledge: alarms")
+            self.step("acknowledge", "alarms")
         elif kind == "move_by_hand":
-            self.step(f"  - move_by_hand: {{axis: {_json(arguments[0])}, velocity: {_json(arguments[1])}}}")
+            self.step("move_by_hand", {"axis": arguments[0], "velocity": arguments[1]})
         elif kind == "handwheel":
             number, detents, cycles = (int(item) if isinstance(item, (int, float)) else 0 for item in arguments)
-            self.step(f"  - turn: {{handwheel{number}: {detents}, for: {_duration(cycles * self.ipo_us)}}}")
+            self.step("turn", {f"handwheel{number}": detents, "for": _duration(cycles * self.ipo_us)})
             self.now = self.due = cycle + cycles
         else:  # link_fault: its effect on the PLC's timing is in the recorded writes
             self.notes.append(f"cycle {cycle}: {kind} left out (its effect on the PLC's writes is recorded)")
 
     # ------------------------------------------------------------------ the whole
-    def convert(self) -> list[str]:
+    def convert(self) -> list[dict[str, Any]]:
         recording = self.recording
         stalls = 0
-        for row, mark in zip(recording.rows, recording.row_marks, strict=True):
+        for row, mark in recording.rows():
+            if isinstance(row, Peer):
+                continue  # who the PLC was is in the description
             if isinstance(row, Marker):
                 stalls += row.kind == LIFE
                 self.due = max(self.due, row.cycle)  # the end row: the scenario lasts as long as the session
@@ -204,30 +212,38 @@ class _Writer:
         if stalls:
             self.notes.append(f"the PLC's sign of life stood still in {stalls} scans; without a PLC the NC does not"
                               " watch it (alarm 2000 cannot occur in the scenario)")
+        if recording.cut is not None:
+            self.notes.append(f"the recording was cut at line {recording.cut.line} ({recording.cut.why}): the"
+                              f" scenario ends with its last complete row, at cycle {recording.last_cycle}")
         return self.steps
 
 
 def _machine_reference(recording: Recording, out: str) -> tuple[str, str]:
-    """The ``machine:`` of the scenario (relative to it) and the machine file to write (or "")."""
+    """The ``machine:`` of the scenario (relative to it, or a packaged machine's name) and the
+    machine file to write beside it (or "")."""
     recorded = recording.header.machine
     directory = os.path.dirname(os.path.abspath(out))
-    if os.path.isfile(recorded.file):
-        with open(recorded.file, encoding="utf-8") as handle:
+    found = machine_file(recorded.file)
+    if found is not None and os.path.isfile(found):
+        with open(found, encoding="utf-8") as handle:
             if handle.read() == recorded.text:
-                return os.path.relpath(os.path.abspath(recorded.file), directory), ""
+                if not looks_like_a_path(recorded.file) and not os.path.exists(recorded.file):
+                    return recorded.file, ""  # a packaged machine, by its name
+                return os.path.relpath(os.path.abspath(found), directory), ""
     stem = os.path.splitext(os.path.basename(out))[0]
     written = os.path.join(directory, f"{stem}.machine.yaml")
     return os.path.basename(written), written
 
 
-def _machine_data_block(recording: Recording) -> list[str]:
+def _machine_data(recording: Recording) -> Any:
+    """The recorded scenario's ``machine_data`` overrides, as plain data (None without)."""
     scenario = recording.header.scenario
     if scenario is None:
-        return []
+        return None
     document, _ = load_text(scenario.text, scenario.file)
     if not isinstance(document, dict) or not document.get("machine_data"):
-        return []
-    return [f"machine_data: {_json(_plain(document['machine_data']))}"]
+        return None
+    return _plain(document["machine_data"])
 
 
 def _plain(value: object) -> object:
@@ -238,30 +254,59 @@ def _plain(value: object) -> object:
     return value
 
 
+class _Step(dict[str, Any]):
+    """A step: written ``- kind: value``, its value in flow style (``{X1.position: 5}``)."""
+
+
+class _ScenarioDumper(yaml.SafeDumper):
+    """PyYAML's safe emitter, with the items of a list indented under their key and one line per
+    step, as the library's scenarios are written."""
+
+    def increase_indent(self, flow: bool = False, indentless: bool = False) -> None:
+        super().increase_indent(flow, False)
+
+
+def _represent_step(dumper: yaml.SafeDumper, step: _Step) -> yaml.Node:
+    node = dumper.represent_mapping("tag:yaml.org,2002:map", step, flow_style=False)
+    for _, value in node.value:
+        if isinstance(value, yaml.CollectionNode):
+            value.flow_style = True
+    return node
+
+
+_ScenarioDumper.add_representer(_Step, _represent_step)
+
+
+def _line(text: str) -> str:
+    """A text for a comment line: control characters (a newline) shown, not written."""
+    return "".join(character if character.isprintable() else repr(character)[1:-1] for character in text)
+
+
 def to_scenario(recording: Recording, out: str, name: str | None = None) -> Conversion:
     """The scenario text for ``recording``, to be written to ``out``.  Raises :class:`ConversionError`
     or (for the recorded machine) ``SourceError``."""
     machine = recorded_machine(recording)
     writer = _Writer(recording, machine)
     steps = writer.convert()
-    machine_reference, machine_file = _machine_reference(recording, out)
+    machine_reference, machine_file_written = _machine_reference(recording, out)
     header = recording.header
-    played = f"; the operator:\n  {header.scenario.file}" if header.scenario else ""
+    played = f"; the operator: {header.scenario.file}" if header.scenario else ""
     seconds = recording.last_cycle * header.ipo_cycle_us / 1e6
-    lines = [
-        f"name: {_json(name or f'Recorded session on {header.machine_name}: {header.program} over {header.link}')}",
-        "description: >",
-        f"  Generated by vc replay --to-scenario from {os.path.basename(recording.path)}: a {header.mode}",
-        f"  session of the PLC program {header.program} over {header.link}{played}.",
-        "  The PLC's writes are the set steps at their recorded cycles, the NC's recorded responses",
-        "  the expectations on the signals that changed.",
-        f"machine: {_json(machine_reference)}",
-        "plc: none",
-        *_machine_data_block(recording),
-        f"timeout: {format_value(round(seconds + 1.0, 3))}s",
-        "steps:",
-        *steps,
-    ]
-    for note in writer.notes:
-        lines.append(f"# note: {note}")
-    return Conversion("\n".join(lines) + "\n", writer.notes, machine_file)
+    scenario: dict[str, Any] = {
+        "name": name or f"Recorded session on {header.machine_name}: {recording.plc} over {header.link}",
+        "description": f"Generated by vc replay --to-scenario from {os.path.basename(recording.path)}: a"
+                       f" {header.mode} session of {recording.plc} over {header.link}{played}.  The PLC's writes"
+                       " are the set steps at their recorded cycles, the NC's recorded responses the expectations"
+                       " on the signals that changed.",
+        "machine": machine_reference,
+        "plc": "none",
+    }
+    overrides = _machine_data(recording)
+    if overrides is not None:
+        scenario["machine_data"] = overrides
+    scenario["timeout"] = f"{format_value(round(seconds + 1.0, 3))}s"
+    scenario["steps"] = [_Step(step) for step in steps]
+    text = yaml.dump(scenario, Dumper=_ScenarioDumper, sort_keys=False, allow_unicode=True, width=1 << 20,
+                     default_flow_style=None)
+    notes = "".join(f"# note: {_line(note)}\n" for note in writer.notes)
+    return Conversion(text + notes, writer.notes, machine_file_written)

@@ -19,6 +19,7 @@ from pathlib import Path
 from rich.console import Console
 
 from interfaces.signals import Catalog
+from vc.input_limits import MAX_RUN_VARIANTS
 from vc.located_yaml import SourceError
 from vc.scenario.cluster import ClusterError, ClusterSettings, run_on_cluster
 from vc.scenario.golden import GoldenCheck
@@ -63,7 +64,8 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
                 catalog: Catalog | None = None, machine_loader: MachineLoader | None = None,
                 golden: str | Path | None = None, update_golden: bool = False, jobs: int | None = 1,
                 build: str = "", cluster: ClusterSettings | None = None,
-                report_dir: str | Path | None = None, default_plc: str | None = None) -> int:
+                report_dir: str | Path | None = None, default_plc: str | None = None,
+                max_variants: int = MAX_RUN_VARIANTS) -> int:
     """Check every scenario of ``paths``, run them if all are sound, report; return the exit code.
 
     With ``golden`` each passed scenario is compared with its golden trace in that directory
@@ -71,7 +73,8 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
     (None: one per core; 1: in this process); ``cluster`` runs them on a Dask cluster instead
     (:mod:`vc.scenario.cluster`).  A run with its own ``catalog`` or ``machine_loader``, or with a
     scenario of an external PLC, stays in this process.  ``report_dir`` gets the HTML report with timing diagrams.
-    ``build`` names the build that runs (printed first); ``default_plc``: see :func:`load_scenarios`.
+    ``build`` names the build that runs (printed first); ``default_plc`` and ``max_variants``: see
+    :func:`load_scenarios`.
     """
     report = ConsoleReport(console)
     began = wallclock.perf_counter()
@@ -83,7 +86,7 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
         return EXIT_PROBLEMS
     try:
         scenarios = load_scenarios(paths, known_programs, catalog=catalog, machine_loader=machine_loader,
-                                   default_plc=default_plc)
+                                   default_plc=default_plc, max_variants=max_variants)
     except SourceError as error:
         report.print_problems(error)
         return EXIT_PROBLEMS

@@ -1,6 +1,8 @@
-"""Conditions in scenario files: a small expression language, parsed once, evaluated every cycle.
+"""Expressions in scenario files: conditions and ``${...}`` placeholders, one bounded reader.
 
-Grammar (lowest precedence first; keywords and function names in any letter case)::
+Conditions (``wait: {until: ...}``, ``expect``, invariants, ``when`` events) are parsed once and
+evaluated every cycle.  Grammar (lowest precedence first; keywords and function names in any
+letter case)::
 
     expression  := or
     or          := and ( "or" and )*
@@ -9,29 +11,34 @@ Grammar (lowest precedence first; keywords and function names in any letter case
     comparison  := sum [ ( "==" | "!=" | "<" | "<=" | ">" | ">=" ) sum ]
     sum         := product ( ( "+" | "-" ) product )*
     product     := unary ( ( "*" | "/" ) unary )*
-    unary       := "-" unary | primary
-    primary     := NUMBER | "true" | "false" | NAME | "(" expression ")"
+    unary       := ( "-" | "+" ) unary | primary
+    primary     := NUMBER | "true" | "false" | NAME [ "[" WHOLE NUMBER "]" ] | "(" expression ")"
                  | "abs" "(" expression ")"
                  | "alarm" "(" NUMBER [ "," NAME ] ")"
 
-``NAME`` is a signal symbol, an absolute address, a plant I/O name, ``<axis>.<quantity>`` or
-``time`` (see :mod:`vc.scenario.quantities`).  Comparisons and ``and``/``or``/``not`` give 1 or
-0; a condition holds when its value is not 0.  Only one comparison per level: write
-``0 < X1.position and X1.position < 5`` (chained comparisons read differently in different
-languages, so they are refused with that hint).  ``alarm(21614, X1)`` is 1 while alarm 21614
-of axis (or channel) X1 is present.
+``NAME`` is a signal symbol, an absolute address, a plant I/O name, ``<axis>.<quantity>``, a
+machine datum (``X1.MD34090[1]``) or ``time`` (see :mod:`vc.scenario.quantities`).  Comparisons
+and ``and``/``or``/``not`` give 1 or 0; a condition holds when its value is not 0.  Only one
+comparison per level: write ``0 < X1.position and X1.position < 5`` (chained comparisons read
+differently in different languages, so they are refused with that hint).  ``alarm(21614, X1)``
+is 1 while alarm 21614 of axis (or channel) X1 is present.
 
-Parsing never uses ``eval``: a tokenizer and a recursive-descent parser build a tree that is
-compiled into nested closures, so an invariant costs a few function calls per IPO cycle.
-Errors carry the 1-based column inside the text.
+The arithmetic of a placeholder (:mod:`vc.scenario.placeholders`, :data:`Grammar.ARITHMETIC`) is
+the ``sum`` of this grammar: names (varied keys), numbers, ``+ - * /``, signs, parentheses, and
+an index of any whole-number value after a name or another index (``X1.plant.ref_cam[side + 1]``).
 
-Bounds (:mod:`vc.input_limits`): parentheses, ``not``, ``-`` and ``abs`` nest at most
-``MAX_EXPRESSION_NESTING`` deep and the tree is at most ``MAX_EXPRESSION_DEPTH`` deep, since
+Parsing never uses ``eval``: a tokenizer and a recursive-descent parser build a tree; a
+condition's tree is compiled into nested closures, so an invariant costs a few function calls per
+IPO cycle.  Errors carry the 1-based column inside the text.
+
+Bounds (:mod:`vc.input_limits`), the same for both grammars: a text holds at most
+``MAX_EXPRESSION_CHARACTERS`` characters; parentheses, brackets, ``not``, signs and ``abs`` nest at
+most ``MAX_EXPRESSION_NESTING`` deep and the tree is at most ``MAX_EXPRESSION_DEPTH`` deep, since
 checking, compiling and evaluating recurse along it; a number is finite and at most
-``MAX_MAGNITUDE``.  A comparison of a value that is not finite (a NaN or an infinity read
-from a signal or made by arithmetic) cannot be judged: evaluating it raises
-:class:`EvaluationError`, as a division by zero does, and a division whose result is not
-finite does too.  Without that, ``!=`` would hold for a NaN and ``<`` for minus infinity.
+``MAX_MAGNITUDE``.  A comparison of a value that is not finite (a NaN or an infinity read from a
+signal or made by arithmetic) cannot be judged: evaluating it raises :class:`EvaluationError`, as
+a division by zero does, and a division whose result is not finite does too.  Without that,
+``!=`` would hold for a NaN and ``<`` for minus infinity.
 """
 
 from __future__ import annotations
@@ -42,11 +49,17 @@ import re
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
+from enum import Enum
 from typing import Protocol
 
 from interfaces.errors import VcError
 from interfaces.signals import UnknownSignalError
-from vc.input_limits import MAX_EXPRESSION_DEPTH, MAX_EXPRESSION_NESTING, MAX_MAGNITUDE
+from vc.input_limits import (
+    MAX_EXPRESSION_CHARACTERS,
+    MAX_EXPRESSION_DEPTH,
+    MAX_EXPRESSION_NESTING,
+    MAX_MAGNITUDE,
+)
 from vc.scenario.quantities import NameResolver, Quantity
 
 Number = int | float
@@ -76,7 +89,7 @@ _TOKEN = re.compile(
     (?P<space>\s+)
   | (?P<number>(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?(?![A-Za-z_0-9.]))
   | (?P<name>[A-Za-z_][A-Za-z_0-9]*(?:\.[A-Za-z_0-9]+)*)
-  | (?P<op>==|!=|<=|>=|<|>|\+|-|\*|/|\(|\)|,)
+  | (?P<op>==|!=|<=|>=|<|>|\+|-|\*|/|\(|\)|\[|\]|,)
     """,
     re.VERBOSE,
 )
@@ -160,6 +173,15 @@ class Abs:
 
 
 @dataclass(frozen=True, slots=True)
+class Index:
+    """``target[index]`` of an arithmetic expression: an item of a list (a placeholder's varied value)."""
+
+    target: Node
+    index: Node
+    column: int
+
+
+@dataclass(frozen=True, slots=True)
 class AlarmCall:
     number: int
     place: str  # axis or channel name; "" = anywhere
@@ -167,17 +189,29 @@ class AlarmCall:
     place_column: int = 0
 
 
-Node = Literal | Name | Unary | Binary | Abs | AlarmCall
+Node = Literal | Name | Unary | Binary | Abs | Index | AlarmCall
 
 _COMPARISONS = ("==", "!=", "<", "<=", ">", ">=")
 
 
+class Grammar(Enum):
+    """What a text may hold: a whole condition, or the arithmetic of a ``${...}`` placeholder."""
+
+    CONDITION = "condition"
+    ARITHMETIC = "arithmetic"
+
+
+_NESTED = {Grammar.CONDITION: "parentheses, brackets, not, signs and abs",
+           Grammar.ARITHMETIC: "parentheses, brackets and signs"}
+
+
 class _Parser:
-    def __init__(self, text: str):
+    def __init__(self, text: str, grammar: Grammar):
         self.text = text
+        self.grammar = grammar
         self.tokens = tokenize(text)
         self.index = 0
-        self.nesting = 0  # parentheses, not, - and abs around the current token
+        self.nesting = 0  # parentheses, brackets, not, signs and abs around the current token
 
     @property
     def token(self) -> Token:
@@ -189,7 +223,7 @@ class _Parser:
         return token
 
     def is_keyword(self, word: str) -> bool:
-        return self.token.kind == "name" and self.token.text.lower() == word
+        return self.grammar is Grammar.CONDITION and self.token.kind == "name" and self.token.text.lower() == word
 
     def is_op(self, *ops: str) -> bool:
         return self.token.kind == "op" and self.token.text in ops
@@ -203,14 +237,18 @@ class _Parser:
     def parse(self) -> Node:
         if self.token.kind == "end":
             raise ExpressionError("the expression is empty", 1)
-        node = self.parse_or()
+        node = self.parse_top()
         if self.token.kind != "end":
-            if self.is_op(*_COMPARISONS):
+            if self.is_op(*_COMPARISONS) and self.grammar is Grammar.CONDITION:
                 raise ExpressionError(
                     f"a comparison cannot follow another ('{self.token.text}'); join them with and",
                     self.token.column)
             raise self.unexpected()
         return node
+
+    def parse_top(self) -> Node:
+        """The whole of the grammar: a condition, or a sum."""
+        return self.parse_or() if self.grammar is Grammar.CONDITION else self.parse_sum()
 
     def parse_or(self) -> Node:
         node = self.parse_and()
@@ -255,10 +293,11 @@ class _Parser:
         return node
 
     def parse_unary(self) -> Node:
-        if self.is_op("-"):
-            column = self.advance().column
-            with self.nested(column):
-                return Unary("-", self.parse_unary(), column)
+        if self.is_op("-", "+"):
+            sign = self.advance()
+            with self.nested(sign.column):
+                operand = self.parse_unary()
+            return Unary("-", operand, sign.column) if sign.text == "-" else operand
         return self.parse_primary()
 
     def parse_primary(self) -> Node:
@@ -269,11 +308,17 @@ class _Parser:
         if self.is_op("("):
             self.advance()
             with self.nested(token.column):
-                node = self.parse_or()
-            self.expect_close(token)
-            return node
+                node = self.parse_top()
+            self.expect_close(token, ")")
+            return self.indexes(node) if self.grammar is Grammar.ARITHMETIC else node
         if token.kind != "name":
             raise self.unexpected()
+        if self.grammar is Grammar.ARITHMETIC:
+            self.advance()
+            if self.is_op("("):
+                raise ExpressionError(f"'{token.text}(' calls a function; a placeholder holds varied keys, numbers,"
+                                      " + - * / and parentheses", token.column)
+            return self.indexes(Name(token.text, token.column))
         word = token.text.lower()
         if word in ("true", "false"):
             self.advance()
@@ -281,25 +326,47 @@ class _Parser:
         if word in ("and", "or", "not"):
             raise self.unexpected()
         self.advance()
+        if self.is_op("["):
+            return self.element(token)
         if not self.is_op("("):
             return Name(token.text, token.column)
         opening = self.advance()
         if word == "abs":
             with self.nested(token.column):
                 operand = self.parse_or()
-            self.expect_close(opening)
+            self.expect_close(opening, ")")
             return Abs(operand, token.column)
         if word == "alarm":
             return self.parse_alarm(token, opening)
         raise ExpressionError(f"unknown function '{token.text}' (known: {', '.join(FUNCTIONS)})",
                               token.column)
 
+    def element(self, name: Token) -> Name:
+        """``X1.MD34090[1]`` in a condition: an element of an array datum is one name."""
+        opening = self.advance()
+        number = self.token
+        if number.kind != "number" or not number.text.isdigit() or len(number.text) > 9:
+            raise ExpressionError("an index in a condition is a whole number, e.g. X1.MD34090[1]", number.column)
+        self.advance()
+        self.expect_close(opening, "]")
+        return Name(f"{name.text}[{int(number.text)}]", name.column)
+
+    def indexes(self, node: Node) -> Node:
+        """``target[index][index]...`` of the arithmetic grammar."""
+        while self.is_op("["):
+            opening = self.advance()
+            with self.nested(opening.column):
+                index = self.parse_sum()
+            self.expect_close(opening, "]")
+            node = Index(node, index, opening.column)
+        return node
+
     @contextmanager
     def nested(self, column: int) -> Iterator[None]:
-        """One level deeper into parentheses, not, - or abs (the parser recurses per level)."""
+        """One level deeper into parentheses, brackets, not, a sign or abs (the parser recurses per level)."""
         if self.nesting == MAX_EXPRESSION_NESTING:
-            raise ExpressionError(f"more than {MAX_EXPRESSION_NESTING} parentheses, not, - and abs inside one"
-                                  " another", column)
+            raise ExpressionError(f"more than {MAX_EXPRESSION_NESTING} {_NESTED[self.grammar]} inside one another",
+                                  column)
         self.nesting += 1
         try:
             yield
@@ -320,15 +387,15 @@ class _Parser:
                                       self.token.column)
             place_column = self.token.column
             place = self.advance().text
-        self.expect_close(opening)
+        self.expect_close(opening, ")")
         return AlarmCall(int(number.text), place, name.column, place_column)
 
-    def expect_close(self, opening: Token) -> None:
-        if self.is_op(")"):
+    def expect_close(self, opening: Token, closing: str) -> None:
+        if self.is_op(closing):
             self.advance()
             return
         if self.token.kind == "end":
-            raise ExpressionError("this '(' is not closed", opening.column)
+            raise ExpressionError(f"this '{opening.text}' is not closed", opening.column)
         raise self.unexpected()
 
 
@@ -339,18 +406,23 @@ def _number(token: Token) -> Number:
         return int(text)
     value = float(text)
     if not abs(value) <= MAX_MAGNITUDE:
-        raise ExpressionError(f"the number {text} is beyond {MAX_MAGNITUDE:g}, the largest a condition may hold",
+        shown = text if len(text) <= 24 else f"{text[:12]}...({len(text)} characters)"
+        raise ExpressionError(f"the number {shown} is beyond {MAX_MAGNITUDE:g}, the largest an expression may hold",
                               token.column)
     return int(text) if text.isdigit() else value
 
 
-def parse(text: str) -> Node:
-    """Parse ``text`` into a tree; raises :class:`ExpressionError` with the column."""
-    root = _Parser(text).parse()
+def parse(text: str, grammar: Grammar = Grammar.CONDITION) -> Node:
+    """Parse ``text`` into a tree; raises :class:`ExpressionError` with the column.  Every bound of
+    the module docstring is checked here, before anything evaluates the tree."""
+    if len(text) > MAX_EXPRESSION_CHARACTERS:
+        raise ExpressionError(f"{len(text):,} characters; an expression holds at most"
+                              f" {MAX_EXPRESSION_CHARACTERS:,}", MAX_EXPRESSION_CHARACTERS + 1)
+    root = _Parser(text, grammar).parse()
     deepest, column = _depth(root)
     if deepest > MAX_EXPRESSION_DEPTH:
         raise ExpressionError(f"more than {MAX_EXPRESSION_DEPTH} operators one inside the other (split the"
-                              " condition, or group long chains of and/or with parentheses)", column)
+                              " expression, or group long chains with parentheses)", column)
     return root
 
 
@@ -359,6 +431,8 @@ def _children(node: Node) -> tuple[Node, ...]:
         return (node.operand,)
     if isinstance(node, Binary):
         return (node.left, node.right)
+    if isinstance(node, Index):
+        return (node.target, node.index)
     return ()
 
 
@@ -396,6 +470,8 @@ def to_text(node: Node) -> str:
         return f"({to_text(node.left)} {node.op} {to_text(node.right)})"
     if isinstance(node, Abs):
         return f"abs({to_text(node.operand)})"
+    if isinstance(node, Index):
+        return f"{to_text(node.target)}[{to_text(node.index)}]"
     return f"alarm({node.number}, {node.place})" if node.place else f"alarm({node.number})"
 
 
@@ -490,6 +566,8 @@ def _compile(node: Node, quantities: dict[str, Quantity], probe: Probe) -> Evalu
         if node.op == "not":
             return lambda: 0 if _judged(operand()) else 1
         return lambda: -operand()
+    if isinstance(node, Index):  # the parser folds a condition's index into its name
+        raise ExpressionError("an index belongs to a placeholder's arithmetic", node.column)
     left = _compile(node.left, quantities, probe)
     right = _compile(node.right, quantities, probe)
     op = node.op

@@ -33,6 +33,7 @@ from vc.config.loader import load_machine
 from vc.config.machine_files import looks_like_a_path, unknown_machine
 from vc.config.machine_files import machine_file as packaged_machine_file
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
+from vc.input_limits import MAX_RUN_VARIANTS
 from vc.located_yaml import LocatedList, LocatedMap, Mark, Problem, Problems, SourceError, load_file
 from vc.scenario.durations import Duration
 from vc.scenario.model import EXTERNAL_PLCS, LINK_CAN, NO_PLC, Invariant, Scenario, Step, external_plc
@@ -40,7 +41,7 @@ from vc.scenario.quantities import NameResolver
 from vc.scenario.steps.common import StepChecker, kind_of_value, looked_for, suggest
 from vc.scenario.steps.expectations import check_timing_bounds
 from vc.scenario.steps.table import check_step
-from vc.scenario.variants import check_file
+from vc.scenario.variants import VariantCeiling, check_file
 
 TOP_KEYS = ("name", "description", "machine", "plc", "link", "machine_data", "plc_parameters", "timeout",
             "invariants", "steps")
@@ -80,7 +81,7 @@ def load_scenario(path: str, known_programs: Programs, *, catalog: Catalog | Non
 
 def load_scenarios(paths: Sequence[str], known_programs: Programs, *, catalog: Catalog | None = None,
                    machine_loader: MachineLoader | None = None, variant: int | None = None,
-                   default_plc: str | None = None) -> list[Scenario]:
+                   default_plc: str | None = None, max_variants: int = MAX_RUN_VARIANTS) -> list[Scenario]:
     """Load every scenario of ``paths`` (files, or directories searched recursively for ``*.yaml``
     outside directories named ``machines``), each variant of a ``vary:`` matrix and of a campaign
     file a scenario of its own (:mod:`vc.scenario.variants`).  Raises one :class:`SourceError`
@@ -91,7 +92,8 @@ def load_scenarios(paths: Sequence[str], known_programs: Programs, *, catalog: C
     its parameters (the machine file's ``plc:`` section and ``plc_parameters``) before anything runs.
     ``default_plc``: the program of a scenario without ``plc:`` (``vc serve``, where the PLC is on
     the link and ``plc:`` only names what a PLC that follows the harness runs); None: ``plc:`` is
-    required."""
+    required.  ``max_variants``: the most variants the matrices of all files may give together
+    (counted before any is built)."""
     files, problems = scenario_files(paths)
     machines = _Machines(machine_loader or default_machine_loader)
     collected = Problems()
@@ -101,8 +103,19 @@ def load_scenarios(paths: Sequence[str], known_programs: Programs, *, catalog: C
     def check(path: str, document: LocatedMap, found: Problems) -> Scenario | None:
         return _ScenarioChecker(path, known_programs, catalog, machines, found, default_plc).check(document)
 
+    def rebuild(path: str, document: LocatedMap, checked: Scenario | None, found: Problems) -> Scenario | None:
+        checker = _ScenarioChecker(path, known_programs, catalog, machines, found, default_plc)
+        checker.machine_of(document)
+        if checker.machine is None or checked is None or found:
+            return None
+        if machine_shape(checker.machine) != machine_shape(checked.machine):
+            return None
+        return replace(checked, machine=checker.machine)
+
+    ceiling = VariantCeiling(max_variants)
     for file in files:
-        scenarios += check_file(file, _read_scenario, check, collected, only=variant)
+        scenarios += check_file(file, _read_scenario, check, collected, only=variant, rebuild=rebuild,
+                                ceiling=ceiling)
     if collected:
         raise SourceError(sorted(set(collected.items)))
     return scenarios
@@ -177,6 +190,15 @@ class _Machines:
         if key not in self._expanded:
             self._expanded[key] = expand(catalog, layout)
         return self._expanded[key]
+
+
+def machine_shape(machine: MachineConfig) -> tuple[object, ...]:
+    """All the check of a scenario's PLC, invariants and steps reads of its machine: its layout,
+    names, plant I/O, DC link, CAN settings, cycles and PLC parameters, not the values of its
+    machine data.  Variants whose machines have one shape share the check of their document."""
+    return (machine.name, machine.layout, tuple(axis.name for axis in machine.axes),
+            tuple(channel.name for channel in machine.channels), machine.plant_io, machine.dc_link is None,
+            machine.can, machine.plc_cycle_ipo, machine_ipo_cycle_us(machine), machine.plc_parameters)
 
 
 def machine_key(path: str, overrides: LocatedMap | None, overrides_file: str) -> tuple[str, str, object]:
@@ -291,6 +313,20 @@ class _ScenarioChecker(StepChecker):
         return str(value)
 
     def load_machine(self, document: LocatedMap) -> str:
+        machine_file = self.machine_of(document)
+        if self.machine is None:
+            return machine_file
+        catalog = self.catalog if self.catalog is not None else default_catalog()
+        machine = self.machine
+        self.resolver = NameResolver(self.machines.expanded(catalog, machine.layout), machine.plant_io,
+                                     (axis.name for axis in machine.axes),
+                                     (channel.name for channel in machine.channels), link=self.link == LINK_CAN,
+                                     dc_link=machine.dc_link is not None)
+        self.check_plc_parameters(document)
+        return machine_file
+
+    def machine_of(self, document: LocatedMap) -> str:
+        """The machine file and the machine (``self.machine``) with the overrides and PLC parameters."""
         value = document.get("machine")
         if "machine" not in document:
             return ""
@@ -340,13 +376,6 @@ class _ScenarioChecker(StepChecker):
             else:
                 self.add(document.mark_of("plc_parameters"), "plc_parameters is a mapping of the PLC program's"
                          " parameters, e.g. {referencing_order: [[Z1], [X1]]}")
-        catalog = self.catalog if self.catalog is not None else default_catalog()
-        machine = self.machine
-        self.resolver = NameResolver(self.machines.expanded(catalog, machine.layout), machine.plant_io,
-                                     (axis.name for axis in machine.axes),
-                                     (channel.name for channel in machine.channels), link=self.link == LINK_CAN,
-                                     dc_link=machine.dc_link is not None)
-        self.check_plc_parameters(document)
         return machine_file
 
     def check_plc_parameters(self, document: LocatedMap) -> None:

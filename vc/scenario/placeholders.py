@@ -7,26 +7,28 @@ the value itself (a number stays a number, a list a list: ``set: {MCP.feedOverri
 inside a longer text the value is written out: ``"${X1.plant.ref_cam[0] - 7} +- 0.001"`` becomes
 ``"273 +- 0.001"``.
 
-The text between the braces is parsed by Python's :mod:`ast` in ``eval`` mode and evaluated by
-walking a short list of allowed nodes (numbers, names, attributes, one index, the four
-operators): nothing is ever executed.
+The text between the braces is read by the reader of conditions (:mod:`vc.scenario.expressions`,
+its arithmetic grammar), with its bounds: length, nesting, depth, numbers at most 1e15.  The tree
+is evaluated by walking it, and the value of every step must stay finite and within
+``MAX_MAGNITUDE`` as well: a product of large numbers or a division by a tiny one is refused
+where it is written, never a number of thousands of digits.  Nothing is ever executed.
 """
 
 from __future__ import annotations
 
-import ast
 import functools
 import re
 from collections.abc import Mapping, MutableSet, Sequence
 from typing import Any
 
 from interfaces.errors import VcError
+from vc.input_limits import MAX_MAGNITUDE
+from vc.scenario.expressions import Binary, ExpressionError, Grammar, Index, Literal, Name, Node, Unary, parse, walk
 
 PLACEHOLDER = re.compile(r"\$\{([^{}]*)\}")
 MARKER = "${"
 
 Number = int | float
-_OPERATORS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/"}
 
 
 class PlaceholderError(VcError, ValueError):
@@ -60,6 +62,17 @@ def fill(text: str, values: Mapping[str, Any], used: MutableSet[str] | None = No
     return "".join(pieces) + rest
 
 
+def placeholder_names(text: str) -> set[str]:
+    """The names the placeholders of ``text`` read (``X1.MD34100`` for ``${X1.MD34100[0] + 1}``);
+    a placeholder that cannot be read adds none (filling it reports it)."""
+    names: set[str] = set()
+    for match in PLACEHOLDER.finditer(text):
+        tree = _parsed(match.group(1)) if match.group(1).strip() else None
+        if tree is not None and not isinstance(tree, ExpressionError):
+            names.update(node.text for node in walk(tree) if isinstance(node, Name))
+    return names
+
+
 def shown(value: Any) -> str:
     """A value as a scenario text would write it: 273, 0.5, true, [250, 260], {axis: X1}."""
     if isinstance(value, bool):
@@ -79,24 +92,28 @@ def _evaluate(source: str, values: Mapping[str, Any], column: int, used: Mutable
     written = "${" + source + "}"
     if not source.strip():
         raise PlaceholderError(f"{written} is empty: name a varied key, e.g. ${{X1.MD34050}}", column)
-    tree = _parsed(source.strip())
-    if tree is None:
-        raise PlaceholderError(f"{written} is not a varied key or arithmetic of them (+ - * /)", column)
-    return _Evaluation(written, values, column, used).value(tree.body)
+    tree = _parsed(source)
+    if isinstance(tree, ExpressionError):
+        shown_source = written if len(written) <= 60 else f"{written[:40]}...}} ({len(written):,} characters)"
+        where = f" at column {tree.column}" if tree.column is not None else ""
+        raise PlaceholderError(f"{shown_source} is not a varied key or arithmetic of them (+ - * /):"
+                               f" {tree.message}{where}", column)
+    return _Evaluation(written, values, column, used).value(tree)
 
 
 @functools.lru_cache(maxsize=1024)
-def _parsed(source: str) -> ast.Expression | None:
-    """Parsed once: every variant of a matrix fills the same placeholders (the tree is only read)."""
+def _parsed(source: str) -> Node | ExpressionError:
+    """Parsed once: every variant of a matrix fills the same placeholders (the tree is only read);
+    a text that cannot be read gives its error, once as well."""
     try:
-        return ast.parse(source, mode="eval")
-    except SyntaxError:
-        return None
+        return parse(source, Grammar.ARITHMETIC)
+    except ExpressionError as error:
+        return error
 
 
 class _Evaluation:
     def __init__(self, written: str, values: Mapping[str, Any], column: int, used: MutableSet[str] | None):
-        self.written = written
+        self.written = written if len(written) <= 60 else f"{written[:40]}...}}"
         self.values = values
         self.column = column
         self.used = used
@@ -104,38 +121,37 @@ class _Evaluation:
     def fail(self, message: str) -> PlaceholderError:
         return PlaceholderError(f"{self.written}: {message}", self.column)
 
-    def value(self, node: ast.expr) -> Any:
-        if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) \
-                and not isinstance(node.value, bool):
+    def value(self, node: Node) -> Any:
+        """The value of ``node``; the tree is at most MAX_EXPRESSION_DEPTH deep (the reader's bound)."""
+        if isinstance(node, Literal):
             return node.value
-        if isinstance(node, (ast.Name, ast.Attribute)):
-            return self.lookup(self.dotted(node))
-        if isinstance(node, ast.Subscript):
+        if isinstance(node, Name):
+            return self.lookup(node.text)
+        if isinstance(node, Index):
             return self.item(node)
-        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-            operand = self.number(self.value(node.operand), "-")
-            return -operand if isinstance(node.op, ast.USub) else operand
-        if isinstance(node, ast.BinOp) and type(node.op) in _OPERATORS:
-            symbol = _OPERATORS[type(node.op)]
-            left = self.number(self.value(node.left), symbol)
-            right = self.number(self.value(node.right), symbol)
-            if symbol == "+":
-                return left + right
-            if symbol == "-":
-                return left - right
-            if symbol == "*":
-                return left * right
+        if isinstance(node, Unary):
+            return -self.number(self.value(node.operand), "-")
+        if isinstance(node, Binary):
+            left = self.number(self.value(node.left), node.op)
+            right = self.number(self.value(node.right), node.op)
+            if node.op == "+":
+                return self.bounded(left + right)
+            if node.op == "-":
+                return self.bounded(left - right)
+            if node.op == "*":
+                return self.bounded(left * right)
             if right == 0:
                 raise self.fail("division by zero")
-            return left / right
+            return self.bounded(left / right)
         raise self.fail("only varied keys, numbers, + - * / and parentheses are allowed")
 
-    def dotted(self, node: ast.expr) -> str:
-        if isinstance(node, ast.Name):
-            return node.id
-        if isinstance(node, ast.Attribute):
-            return f"{self.dotted(node.value)}.{node.attr}"
-        raise self.fail("a key is a name with dots, e.g. X1.plant.ref_cam")
+    def bounded(self, result: Number) -> Number:
+        """A step of the arithmetic: finite and at most MAX_MAGNITUDE (its operands are, so no
+        step can make a number of thousands of digits)."""
+        if not abs(result) <= MAX_MAGNITUDE:  # also a NaN or an infinity
+            raise self.fail(f"the value {shown(result)} is beyond {MAX_MAGNITUDE:g}, the largest a placeholder"
+                            " may compute")
+        return result
 
     def lookup(self, key: str) -> Any:
         if key not in self.values:
@@ -145,20 +161,15 @@ class _Evaluation:
             self.used.add(key)
         return self.values[key]
 
-    def item(self, node: ast.Subscript) -> Any:
-        index_node = node.slice
-        index = self.value(index_node)
+    def item(self, node: Index) -> Any:
+        index = self.value(node.index)
         if isinstance(index, float) and index.is_integer():
             index = int(index)
-        if not isinstance(index, int):
-            raise self.fail("an index is a whole number, e.g. [0]")
-        if isinstance(node.value, (ast.Name, ast.Attribute)):
-            key = self.dotted(node.value)
-            if f"{key}[{index}]" in self.values:  # a varied item of an array: X1.MD34100[0]
-                return self.lookup(f"{key}[{index}]")
-            items = self.lookup(key)
-        else:
-            items = self.value(node.value)
+        if isinstance(index, bool) or not isinstance(index, int):
+            raise self.fail(f"an index is a whole number, e.g. [0], not {shown(index)}")
+        if isinstance(node.target, Name) and f"{node.target.text}[{index}]" in self.values:
+            return self.lookup(f"{node.target.text}[{index}]")  # a varied item of an array: X1.MD34100[0]
+        items = self.value(node.target)
         if isinstance(items, str) or not isinstance(items, Sequence):
             raise self.fail(f"[{index}] needs a list, and the value is {shown(items)}")
         if not -len(items) <= index < len(items):
@@ -168,4 +179,6 @@ class _Evaluation:
     def number(self, value: Any, symbol: str) -> Number:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise self.fail(f"'{symbol}' needs numbers, and {shown(value)} is not one")
+        if not abs(value) <= MAX_MAGNITUDE:
+            raise self.fail(f"'{symbol}' needs numbers within {MAX_MAGNITUDE:g}, and {shown(value)} is not one")
         return value

@@ -32,6 +32,12 @@ Every text of a scenario may hold ``${...}`` placeholders of the varied values
 anything runs.  A problem every variant of a scenario has is reported once; one that only
 some variants have names the first of them.
 
+A run holds at most ``MAX_RUN_VARIANTS`` variants (``vc run --max-variants N`` raises it),
+counted from the sizes of the matrices before a single variant is built or a campaign's
+scenario file is read.  Checking shares what variants have in common: the variants that differ
+only in machine data share the check of their document, and each distinct machine is loaded
+once (:class:`_Expansion`).
+
 A variant's id is the scenario's name with the varied values in brackets,
 ``JOG-REF of X1[X1.MD34050=1,X1.plant.ref_cam=[250,260]]``, stable as long as the matrix is:
 reports, trace files and golden files use it.
@@ -40,15 +46,17 @@ reports, trace files and golden files use it.
 from __future__ import annotations
 
 import itertools
+import math
 import os
 import re
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
+from vc.input_limits import MAX_RUN_VARIANTS
 from vc.located_yaml import LocatedList, LocatedMap, Mark, Problem, Problems
 from vc.scenario.model import Scenario, Variant
-from vc.scenario.placeholders import PlaceholderError, fill, has_placeholder, shown
+from vc.scenario.placeholders import PlaceholderError, fill, has_placeholder, placeholder_names, shown
 
 VARY = "vary"
 CASES = "cases"
@@ -60,7 +68,8 @@ FAULT_AT_STEP = "fault.at_step"
 PLC_PARAMETERS = "plc_parameters"
 MACHINE_DATA = "machine_data"
 OVERRIDE_BLOCKS = ("plant", "sim", "dc_link")  # nested blocks of an instance's overrides
-MAX_VARIANTS = 100_000  # per matrix: beyond this a typo (a long list in a product) is more likely than intent
+MAX_FAILED_VARIANTS = 1_000  # variants with problems after which a check stops (the file is broken)
+_NO_CEILING = 1 << 62  # a worker building one variant the client counted
 _VARIABLE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _NO_FAULT = (None, False, "none")
 
@@ -68,6 +77,11 @@ _NO_FAULT = (None, False, "none")
 ReadDocument = Callable[[str, Problems], LocatedMap | None]
 # check(scenario path, document, problems) -> the checked scenario, or None (its problems reported)
 CheckDocument = Callable[[str, LocatedMap, Problems], Scenario | None]
+# rebuild(scenario path, document, checked, problems) -> ``checked`` with the machine of ``document``
+# (whose other parts are those of the document ``checked`` came from); None when that machine has
+# problems (reported) or another shape (nothing reported: check the document in full).  With
+# ``checked`` None it only loads the machine and reports its problems.
+RebuildVariant = Callable[[str, LocatedMap, Scenario | None, Problems], Scenario | None]
 
 
 @dataclass(frozen=True, slots=True)
@@ -86,33 +100,87 @@ Combination = tuple[_Setting, ...]
 # ---------------------------------------------------------------------------------- public
 
 
+@dataclass(slots=True)
+class VariantCeiling:
+    """How many variants one run may hold (``vc run --max-variants N``), counted from the sizes of
+    the matrices before any variant is built: a campaign of 1,000 files x 100,000 variants is
+    refused at once, not after days of checking."""
+
+    limit: int = MAX_RUN_VARIANTS
+    counted: int = 0
+
+    def admit(self, count: int, mark: Mark, problems: Problems, what: str) -> bool:
+        """Count the ``count`` variants of ``what``; False (reported at ``mark``) when the run passes
+        the ceiling."""
+        before = self.counted
+        self.counted += count
+        if self.counted <= self.limit:
+            return True
+        run = f" ({self.counted:,} with the files before it)" if before else ""
+        problems.add(mark, f"{what} gives {count:,} variants{run}; a run holds at most {self.limit:,} (vc run"
+                           " --max-variants N raises the ceiling)")
+        return False
+
+
 def check_file(path: str, read: ReadDocument, check: CheckDocument, problems: Problems,
-               only: int | None = None) -> list[Scenario]:
+               only: int | None = None, *, rebuild: RebuildVariant | None = None,
+               ceiling: VariantCeiling | None = None) -> list[Scenario]:
     """The scenarios of one file: itself, each variant of its matrix, or each variant of each
-    scenario of a campaign.  ``only``: just the variant at that position of the file's matrix."""
+    scenario of a campaign.  ``only``: just the variant at that position of the file's matrix
+    (no ceiling applies).  ``rebuild`` lets variants that differ only in their machine share the
+    check of their document; ``ceiling`` counts the variants of the whole run."""
     document = read(path, problems)
     if document is None:
         return []
+    ceiling = ceiling if only is None and ceiling is not None else VariantCeiling(_NO_CEILING)
     if CAMPAIGN in document:
-        return _check_campaign(path, document, read, check, problems, only)
+        return _check_campaign(path, document, read, _Checks(check, rebuild, ceiling), problems, only)
     if VARY not in document:
         if only is not None:
             problems.add(document.mark, f"variant {only} asked for, but the file has no vary:")
             return []
         scenario = check(path, document, problems)
         return [scenario] if scenario is not None else []
-    combinations = read_matrix(document[VARY], document.mark_of(VARY), problems)
-    if combinations is None:
+    matrix = read_matrix(document[VARY], document.mark_of(VARY), problems)
+    if matrix is None or not ceiling.admit(matrix.count, document.mark_of(VARY), problems, "this matrix"):
         return []
-    return _Expansion(path, "", combinations, check, problems).run([(path, document)], only)
+    return _Expansion(path, "", matrix, _Checks(check, rebuild, ceiling), problems).run([(path, document)], only)
 
 
 def is_campaign(document: object) -> bool:
     return isinstance(document, LocatedMap) and CAMPAIGN in document
 
 
-def read_matrix(value: Any, mark: Mark, problems: Problems) -> list[Combination] | None:
-    """The combinations of a ``vary:`` value in their order; None (reported) when it is not one."""
+@dataclass(frozen=True, slots=True)
+class Matrix:
+    """The dimensions of a ``vary:`` matrix; its variants are their product, built one at a time."""
+
+    dimensions: tuple[tuple[Combination, ...], ...]
+
+    @property
+    def count(self) -> int:
+        """The number of variants, from the sizes alone."""
+        return math.prod(len(dimension) for dimension in self.dimensions)
+
+    def combinations(self) -> Iterator[Combination]:
+        """Every combination in order (the first dimension changes slowest)."""
+        for parts in itertools.product(*self.dimensions):
+            yield tuple(setting for part in parts for setting in part)
+
+    def combination(self, index: int) -> Combination:
+        """The combination at position ``index`` (0 <= index < count), without the ones before it."""
+        parts: list[Combination] = []
+        for dimension in reversed(self.dimensions):
+            index, position = divmod(index, len(dimension))
+            parts.append(dimension[position])
+        return tuple(setting for part in reversed(parts) for setting in part)
+
+    def first(self) -> Combination:
+        return self.combination(0)
+
+
+def read_matrix(value: Any, mark: Mark, problems: Problems) -> Matrix | None:
+    """The matrix of a ``vary:`` value; None (reported) when it is not one.  Nothing is multiplied out."""
     before = len(problems.items)
     if isinstance(value, LocatedList):
         dimensions = [_cases(value, mark, problems, "vary")]
@@ -137,14 +205,24 @@ def read_matrix(value: Any, mark: Mark, problems: Problems) -> list[Combination]
     if FAULT_AT_STEP in keys and FAULT not in keys:
         problems.add(keys[FAULT_AT_STEP], "fault.at_step places a varied fault: vary fault too, e.g."
                                           " fault: [{axis: X1, kind: zero_marks_missing}]")
-    count = 1
     for dimension in dimensions:
-        count *= len(dimension)
-    if count > MAX_VARIANTS:
-        problems.add(mark, f"the matrix has {count:,} variants; at most {MAX_VARIANTS:,}")
+        _check_distinct(dimension, problems)
     if len(problems.items) > before:
         return None
-    return [tuple(setting for part in parts for setting in part) for parts in itertools.product(*dimensions)]
+    return Matrix(tuple(tuple(dimension) for dimension in dimensions))
+
+
+def _check_distinct(dimension: list[Combination], problems: Problems) -> None:
+    """Two equal entries of one dimension would give every variant twice (ids must be unique)."""
+    seen: dict[str, Combination] = {}
+    for combination in dimension:
+        arguments = arguments_of(combination)
+        if arguments in seen:
+            problems.add(combination[0].value_mark, f"{arguments} appears twice in the matrix (first at line"
+                                                    f" {seen[arguments][0].value_mark.line}): every variant would"
+                                                    " run twice")
+            continue
+        seen[arguments] = combination
 
 
 def arguments_of(combination: Combination) -> str:
@@ -227,7 +305,7 @@ def _key_is_sound(key: str, mark: Mark, problems: Problems) -> bool:
 # ---------------------------------------------------------------------------------- campaign
 
 
-def _check_campaign(path: str, document: LocatedMap, read: ReadDocument, check: CheckDocument, problems: Problems,
+def _check_campaign(path: str, document: LocatedMap, read: ReadDocument, checks: _Checks, problems: Problems,
                     only: int | None) -> list[Scenario]:
     before = len(problems.items)
     for key in document:
@@ -247,8 +325,16 @@ def _check_campaign(path: str, document: LocatedMap, read: ReadDocument, check: 
                                                     " file, e.g. [../scenarios/referencing/edges.yaml]")
     if len(problems.items) > before or not isinstance(listed, LocatedList):
         return []
-    combinations = read_matrix(document[VARY], document.mark_of(VARY), problems)
+    matrix = read_matrix(document[VARY], document.mark_of(VARY), problems)
+    if matrix is None:
+        return []
+    # counted before a single scenario file is read
+    files = f"{len(listed):,} scenario file{'s' if len(listed) != 1 else ''}"
+    if not checks.ceiling.admit(matrix.count * len(listed), document.mark_of(VARY), problems,
+                                f"this campaign (a matrix of {matrix.count:,} over {files})"):
+        return []
     scenarios: list[tuple[str, LocatedMap]] = []
+    stems: dict[str, Mark] = {}
     directory = os.path.dirname(path)
     for _, item, item_mark in listed.located_items():
         location = os.path.normpath(os.path.join(directory, item.strip()))
@@ -256,6 +342,12 @@ def _check_campaign(path: str, document: LocatedMap, read: ReadDocument, check: 
             shown_as = "" if os.path.normpath(item.strip()) == location else f" (looked for {location})"
             problems.add(item_mark, f"scenario file '{item}' not found{shown_as}")
             continue
+        stem = _stem(location)
+        if stem in stems:
+            problems.add(item_mark, f"'{item}' has the name {stem} of the file at line {stems[stem].line}: the"
+                                    " variants' ids would be the same")
+            continue
+        stems[stem] = item_mark
         scenario_document = read(location, problems)
         if scenario_document is None:
             continue
@@ -263,75 +355,179 @@ def _check_campaign(path: str, document: LocatedMap, read: ReadDocument, check: 
             problems.add(item_mark, f"'{item}' is a campaign itself; a campaign names scenario files")
             continue
         scenarios.append((location, scenario_document))
-    if combinations is None or len(problems.items) > before:
+    if len(problems.items) > before:
         return []
-    return _Expansion(path, str(name).strip(), combinations, check, problems).run(scenarios, only)
+    return _Expansion(path, str(name).strip(), matrix, checks, problems).run(scenarios, only)
+
+
+def _stem(path: str) -> str:
+    return os.path.splitext(os.path.basename(path))[0]
 
 
 # ---------------------------------------------------------------------------------- expansion
 
 
-class _Expansion:
-    """The variants of one matrix over one or more scenario documents, checked one by one."""
+@dataclass(frozen=True, slots=True)
+class _Checks:
+    check: CheckDocument
+    rebuild: RebuildVariant | None
+    ceiling: VariantCeiling
 
-    def __init__(self, origin: str, campaign: str, combinations: list[Combination], check: CheckDocument,
-                 problems: Problems):
+
+@dataclass(slots=True)
+class _Document:
+    """A scenario document filled for one combination of the settings that are not machine data:
+    checked once, shared by every variant that differs from it only in its machine."""
+
+    filled: LocatedMap  # placeholders filled, settings applied (but machine data)
+    problems: list[Problem]  # of the filling, and of the check where they are not about its machine
+    known: bool = False  # a variant of it was checked in full
+    checked: Scenario | None = None  # the check of a variant of it that passed
+
+
+class _Expansion:
+    """The variants of one matrix over one or more scenario documents.
+
+    A variant is a document filled with its values, its settings applied, and checked as a
+    scenario.  Variants that differ only in machine data (``X1.MD34040``, ``X1.plant.ref_cam``,
+    ...) share their document: it is filled and checked once, and each of them gets its own
+    machine through ``rebuild`` (each distinct machine loaded and checked once), as long as that
+    machine has the shape of the checked one (all the check of the steps reads of a machine);
+    otherwise the variant is checked in full.  A matrix of 100,000 variants over a few documents
+    costs a few checks and its distinct machines, not 100,000 checks.
+    """
+
+    def __init__(self, origin: str, campaign: str, matrix: Matrix, checks: _Checks, problems: Problems):
         self.origin = origin
         self.campaign = campaign
-        self.combinations = combinations
-        self.check = check
+        self.matrix = matrix
+        self.checks = checks
         self.problems = problems
         self.variables_used: set[str] = set()
         # a problem -> the labels of the variants that have it, per scenario
         self.found: dict[Problem, dict[int, list[str]]] = {}
+        self.documents: dict[tuple[int, object], _Document] = {}
+        self.read_by_placeholders: dict[int, set[str]] = {}  # per scenario: the names its placeholders read
+        self.sharing: dict[int, bool] = {}  # per scenario: whether its variants share documents
 
     def run(self, scenarios: Sequence[tuple[str, LocatedMap]], only: int | None) -> list[Scenario]:
-        per_scenario = len(self.combinations)
+        per_scenario = self.matrix.count
         total = per_scenario * len(scenarios)
         if only is not None and not 0 <= only < total:
             self.problems.add(Mark(self.origin, 1, 1), f"variant {only} asked for; the matrix has {total}")
             return []
         checked: list[Scenario] = []
-        labels: set[str] = set()
-        for scenario_number, (path, document) in enumerate(scenarios):
-            for number, combination in enumerate(self.combinations):
-                index = scenario_number * per_scenario + number
-                if only is not None and index != only:
-                    continue
-                arguments = arguments_of(combination)
-                label = f"{os.path.splitext(os.path.basename(path))[0]}[{arguments}]"
-                if label in labels:
-                    self.problems.add(combination[0].value_mark if combination else Mark(self.origin, 1, 1),
-                                      f"variant {label} appears twice in the matrix")
-                    continue
-                labels.add(label)
-                scenario = self.variant(path, document, combination, scenario_number, label)
-                if scenario is not None:
-                    variant = Variant(self.origin, index, arguments,
-                                      tuple((setting.key, compact(setting.value)) for setting in combination),
-                                      self.campaign, number == 0)
-                    checked.append(replace(scenario, name=f"{scenario.name}[{arguments}]", variant=variant,
-                                           sources=tuple(dict.fromkeys((self.origin, *scenario.sources)))))
+        tried = failed = 0
+        for index, scenario_number, number, combination in self.positions(len(scenarios), only):
+            if failed == MAX_FAILED_VARIANTS:
+                self.problems.add(self.matrix_mark(), f"checking stopped after {failed:,} variants with problems"
+                                                      f" ({tried:,} of {total:,} checked)")
+                break
+            path, document = scenarios[scenario_number]
+            arguments = arguments_of(combination)
+            scenario = self.variant(path, document, combination, scenario_number, f"{_stem(path)}[{arguments}]")
+            tried += 1
+            if scenario is None:
+                failed += 1
+                continue
+            variant = Variant(self.origin, index, arguments,
+                              tuple((setting.key, compact(setting.value)) for setting in combination),
+                              self.campaign, number == 0)
+            checked.append(replace(scenario, name=f"{scenario.name}[{arguments}]", variant=variant,
+                                   sources=tuple(dict.fromkeys((self.origin, *scenario.sources)))))
         self.report(1 if only is not None else per_scenario)
         if only is None:
             self.check_variables_used(scenarios)
         return checked
 
+    def positions(self, scenarios: int, only: int | None) -> Iterator[tuple[int, int, int, Combination]]:
+        """(position in the file's matrix, scenario number, position in the scenario's matrix, combination)."""
+        per_scenario = self.matrix.count
+        if only is not None:
+            scenario_number, number = divmod(only, per_scenario)
+            yield only, scenario_number, number, self.matrix.combination(number)
+            return
+        for scenario_number in range(scenarios):
+            for number, combination in enumerate(self.matrix.combinations()):
+                yield scenario_number * per_scenario + number, scenario_number, number, combination
+
+    def matrix_mark(self) -> Mark:
+        first = self.matrix.first()
+        return first[0].key_mark if first else Mark(self.origin, 1, 1)
+
     def variant(self, path: str, document: LocatedMap, combination: Combination, scenario_number: int,
                 label: str) -> Scenario | None:
+        settings = self.rebased(path, combination)
+        machine_only = self.machine_only(scenario_number, document)
+        if not self.shares(scenario_number, machine_only):  # every variant a document of its own: nothing to keep
+            shared = self.fill(document, settings, machine_only)
+        else:
+            key = (scenario_number, _plain([(setting.key, setting.value) for setting in settings
+                                            if not machine_only(setting.key)]))
+            shared = self.documents.get(key) or self.documents.setdefault(
+                key, self.fill(document, settings, machine_only))
+        found = Problems()
+        variant_document = _copy_top(shared.filled)
+        _apply(variant_document, tuple(setting for setting in settings if machine_only(setting.key)), found)
+        scenario = self.shared_check(path, variant_document, shared, found)
+        if scenario is None and not found:  # not checked yet, or another shape of machine: the whole check
+            scenario = self.whole_check(path, variant_document, shared, found)
+        for problem in found.items:
+            self.found.setdefault(problem, {}).setdefault(scenario_number, []).append(label)
+        return scenario if not found else None
+
+    def machine_only(self, scenario_number: int, document: LocatedMap) -> Callable[[str], bool]:
+        """Whether a varied key changes only the machine of ``document``: machine data that no
+        placeholder of its texts reads (``${X1.MD32020 * override}`` makes X1.MD32020 a part
+        of the document's texts too)."""
+        read = self.read_by_placeholders.get(scenario_number)
+        if read is None:
+            read = self.read_by_placeholders[scenario_number] = _placeholder_names(document)
+        return lambda key: _is_machine_setting(key) and key not in read and key.partition("[")[0] not in read
+
+    def shares(self, scenario_number: int, machine_only: Callable[[str], bool]) -> bool:
+        """Whether some dimension of the matrix changes only the machine, so that variants share documents."""
+        shares = self.sharing.get(scenario_number)
+        if shares is None:
+            shares = self.sharing[scenario_number] = any(
+                all(machine_only(setting.key) for setting in dimension[0]) for dimension in self.matrix.dimensions)
+        return shares
+
+    def fill(self, document: LocatedMap, settings: Combination, machine_only: Callable[[str], bool]) -> _Document:
+        """The document with its placeholders filled and the settings that are not only machine data applied."""
         problems = Problems()
-        values = {setting.key: setting.value for setting in combination}
+        values = {setting.key: setting.value for setting in settings}
         filled = _fill(document, values, problems, self.variables_used)
         assert isinstance(filled, LocatedMap)
-        _apply(filled, self.rebased(path, combination), problems)
-        unfilled = {problem.mark for problem in problems.items}
+        _apply(filled, tuple(setting for setting in settings if not machine_only(setting.key)), problems)
+        return _Document(filled, list(problems.items))
+
+    def shared_check(self, path: str, document: LocatedMap, shared: _Document, found: Problems) -> Scenario | None:
+        """A variant of a document checked before: its machine, and the document's problems; None
+        without problems when it needs the whole check."""
+        rebuild = self.checks.rebuild
+        if rebuild is None or not shared.known:
+            return None
+        found.extend(shared.problems)
+        return rebuild(path, document, None if shared.problems else shared.checked, found)
+
+    def whole_check(self, path: str, document: LocatedMap, shared: _Document, found: Problems) -> Scenario | None:
+        """Check the variant as a scenario; a text whose placeholder failed is reported once."""
+        found.extend(shared.problems)
+        unfilled = {problem.mark for problem in found.items}
         checked = Problems()
-        scenario = self.check(path, filled, checked)
-        # the rest of the variant is checked too; a text whose placeholder failed is reported once
-        problems.extend([problem for problem in checked.items if problem.mark not in unfilled])
-        for problem in problems.items:
-            self.found.setdefault(problem, {}).setdefault(scenario_number, []).append(label)
-        return scenario if not problems else None
+        scenario = self.checks.check(path, document, checked)
+        found.extend([problem for problem in checked.items if problem.mark not in unfilled])
+        shared.known = True
+        if scenario is not None and not found:
+            shared.checked = scenario
+        elif self.checks.rebuild is not None:
+            # what is not about this variant's machine holds for every variant of the document
+            of_machine = Problems()
+            self.checks.rebuild(path, document, None, of_machine)
+            about_machine = set(of_machine.items)
+            shared.problems = [problem for problem in found.items if problem not in about_machine]
+        return scenario
 
     def rebased(self, path: str, combination: Combination) -> Combination:
         """A campaign's machine files are written relative to the campaign file; the scenario
@@ -355,13 +551,48 @@ class _Expansion:
             self.problems.add(problem.mark, f"{problem.message} (in variant {labels[0]}{more})")
 
     def check_variables_used(self, scenarios: Sequence[tuple[str, LocatedMap]]) -> None:
-        if not self.combinations or not scenarios:
+        if not scenarios:
             return
-        for setting in self.combinations[0]:
+        for setting in self.matrix.first():
             key = setting.key
             if _VARIABLE.match(key) and key not in (*ENTRIES, FAULT) and key not in self.variables_used:
                 self.problems.add(setting.key_mark, f"'{key}' is varied, but no text of the scenario uses ${{{key}}}:"
                                                     " every variant would be the same")
+
+
+def _is_machine_setting(key: str) -> bool:
+    """A key whose value goes under ``machine_data:`` (machine data, plant, simulation, DC link)."""
+    head, dot, _ = key.partition(".")
+    return bool(dot) and key not in (*ENTRIES, FAULT, FAULT_AT_STEP) and head != PLC_PARAMETERS
+
+
+def _plain(value: Any) -> object:
+    """A hashable copy of a value of a matrix (lists and mappings as tuples)."""
+    if isinstance(value, Mapping):
+        return ("map", tuple((key, _plain(item)) for key, item in value.items()))
+    if isinstance(value, (list, tuple)):
+        return ("list", tuple(_plain(item) for item in value))
+    return (type(value).__name__, value)
+
+
+def _placeholder_names(document: LocatedMap) -> set[str]:
+    """Every name a placeholder of the document's texts reads (``vary:`` left out)."""
+    names: set[str] = set()
+    for key, value in document.items():
+        if key != VARY:
+            for text in _texts(value):
+                if has_placeholder(text):
+                    names |= placeholder_names(text)
+    return names
+
+
+def _copy_top(document: LocatedMap) -> LocatedMap:
+    """A copy of the top level of a document (its blocks shared: ``_apply`` copies what it changes)."""
+    copy = _empty_map(document.mark)
+    copy.update(document)
+    copy.key_marks.update(document.key_marks)
+    copy.value_marks.update(document.value_marks)
+    return copy
 
 
 def _rebase(written: str, origin: str, scenario: str) -> str:

@@ -131,3 +131,15 @@ def test_run_takes_at_most_four_worker_processes_per_core(capsys: pytest.Capture
         build_parser().parse_args(["run", "-j", "100000"])
     assert exit_code.value.code == 2
     assert f"100000: from 1 to {max_workers()} (4 worker processes per core)" in capsys.readouterr().err
+
+
+def test_run_max_variants_sets_the_ceiling_on_the_variants_of_a_run(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    scenario = tmp_path / "matrix.yaml"
+    scenario.write_text("name: a matrix\nmachine: mill_3axis\nplc: basic_machine\nvary: {wait: [10ms, 20ms, 30ms]}\n"
+                        "steps:\n  - wait: ${wait}\n")
+    assert main(["run", str(scenario), "--max-variants", "2", "-j", "1"]) == 2
+    assert f"{scenario}:4:7: this matrix gives 3 variants; a run holds at most 2" in capsys.readouterr().out
+    assert main(["run", str(scenario), "--max-variants", "3", "-j", "1"]) == 0
+    with pytest.raises(SystemExit):
+        build_parser().parse_args(["run", str(scenario), "--max-variants", "0"])

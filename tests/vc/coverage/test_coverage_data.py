@@ -4,7 +4,9 @@ file that is not one is a list of problems at their lines."""
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import pytest
 from hypothesis import given
@@ -78,7 +80,7 @@ def _problems(tmp_path: Path, text: str) -> list[str]:
 
 def test_a_file_that_is_not_a_coverage_file_is_located(tmp_path: Path) -> None:
     assert _problems(tmp_path, "{\n  \"format\": \"vc-coverage\",\n  oops\n}") == [
-        "F:3:3: not a coverage file of vc run --coverage (JSON: Expecting property name enclosed in double quotes)"]
+        "F:3:3: not a coverage file of vc run --coverage (not JSON: Expecting property name enclosed in double quotes)"]
     assert _problems(tmp_path, '{"format": "vc-recording", "version": 1}') == [
         'F:1:12: not a coverage file of vc run --coverage ("format" must be "vc-coverage")']
     assert _problems(tmp_path, '{"format": "vc-coverage", "version": 9}') == [
@@ -99,3 +101,48 @@ def test_a_file_that_is_not_a_coverage_file_is_located(tmp_path: Path) -> None:
         f'F:{raised}:14: alarms.3000.raised must be a whole number >= 0, not "once"']
     assert _problems(tmp_path, '{"format": "vc-coverage", "version": 1, "extra": 1}') == [
         "F:1:50: unknown key 'extra' (known: alarms, cycles, format, functions, machines, scenarios, version)"]
+
+
+@pytest.mark.parametrize(("text", "message"), [
+    # each gave a traceback (RecursionError, ValueError) or was taken
+    ('{"format": "vc-coverage", "version": 1, "machines": ' + "[" * 100_000 + "]" * 100_000 + "}",
+     "F:1:1: not a coverage file of vc run --coverage (arrays and objects nested more than 8 deep)"),
+    ('{"format": "vc-coverage", "version": 1, "scenarios": ' + "9" * 5000 + "}",
+     "F:1:1: not a coverage file of vc run --coverage (a whole number of 5,000 digits (at most 20))"),
+    ('{"format": "vc-coverage", "version": 1, "cycles": Infinity}',
+     "F:1:1: not a coverage file of vc run --coverage (Infinity is not a number JSON knows (numbers must be finite))"),
+])
+def test_a_hostile_file_is_a_located_problem(tmp_path: Path, text: str, message: str) -> None:
+    assert _problems(tmp_path, text) == [message]
+
+
+@pytest.mark.parametrize(("change", "message"), [
+    (lambda d: d["machines"]["mini"]["signals"].update({"X1.basic.in.noSuchSignal": {"values": [0, 1]}}),
+     "'X1.basic.in.noSuchSignal' is no signal of the catalogue for DB31"),
+    (lambda d: d["machines"]["mini"]["signals"].update({"Q9.basic.in.enc1Synchronized": {"values": [0]}}),
+     "'Q9.basic.in.enc1Synchronized': its instance 'Q9' is not one of the file's instances"),
+    (lambda d: d["machines"]["mini"]["plant"].update({"X1.teleporter": {"values": [0]}}),
+     "'X1.teleporter' is no plant I/O point of the harness"),
+    (lambda d: d["functions"]["gear_change"]["states"].update({"FLYING": 1}),
+     "'FLYING' is no state of gear_change"),
+    (lambda d: d["functions"].update({"warp_drive": {"instances": [], "states": {}, "transitions": []}}),
+     "'warp_drive' is no state machine of the harness"),
+    (lambda d: d["alarms"].update({"123456": {"raised": 1}}), "alarm 123456 is no alarm of this NC"),
+    (lambda d: d["machines"]["mini"]["instances"].update({"X7": 7}), "DB7 of 'X7' is no data block of the interface"),
+])
+def test_a_name_the_harness_does_not_know_is_refused_with_the_file_and_the_key(
+        tmp_path: Path, change: Callable[[dict[str, Any]], None], message: str) -> None:
+    """Unknown signals were merged silently."""
+    from vc.coverage.names import CoverageNames
+
+    document = _sample().to_json()
+    change(document)
+    path = tmp_path / "c.json"
+    path.write_text(json.dumps(document, indent=1), encoding="utf-8")
+    CoverageData.load(str(path))  # without the names of the harness, the file is only JSON of the right shape
+    with pytest.raises(SourceError) as caught:
+        CoverageData.load(str(path), CoverageNames.of_this_harness())
+    (problem,) = caught.value.problems
+    key = message.split("'")[1] if "'" in message else message.split()[1]
+    line = next(number for number, text in enumerate(path.read_text().splitlines(), start=1) if key in text)
+    assert problem.mark.file == str(path) and problem.mark.line == line and message in problem.message

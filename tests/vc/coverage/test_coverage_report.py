@@ -117,3 +117,30 @@ def test_vc_run_coverage_and_vc_coverage_report(tmp_path: Path, capsys: pytest.C
     assert main(["coverage", "report", str(coverage), str(broken)]) == 2
     err = capsys.readouterr().err
     assert f"{broken}:1:26: not a coverage file" in err and "Traceback" not in err
+
+
+def test_the_alarm_list_db100_is_a_data_block_of_its_own_with_meaning_and_address(report: Report) -> None:
+    """DB100's rows were counted as axis signals, with empty address, meaning and source."""
+    assert [figure.name for figure in report.db_kinds][-1] == "DB100" and report.db_kinds[-1].total > 0
+    entries = [gap for gap in report.gaps if gap.item.startswith("ALARMS.")]
+    assert entries and all(gap.address.startswith("DB100.") and gap.meaning and gap.source for gap in entries)
+    second = next(gap for gap in entries if gap.item == "ALARMS.entry[2].in.number")
+    assert second.address == "DB100.DBD12" and second.meaning == "Number of the 2nd alarm present (0: none)"
+
+
+def test_signals_the_nc_does_not_model_are_listed_apart_and_counted_nowhere(
+        data: CoverageData, report: Report) -> None:
+    """They were counted as "never exercised": no scenario can exercise them."""
+    from vc.coverage.names import definitions, kind_of_db
+
+    catalogue = definitions()
+    not_modelled = {item.symbol for item in catalogue.values() if not item.modelled}
+    assert report.not_modelled and {gap.item for gap in report.not_modelled} <= not_modelled
+    assert all(gap.missing for gap in report.not_modelled)  # why: the catalogue's not_modelled
+    for gap in (gap for gap in report.gaps if gap.category == "signals"):
+        kind = kind_of_db(int(gap.address.split(".")[0][2:]))
+        assert kind is not None and catalogue[(kind, gap.item.split(".", 1)[1])].modelled, gap
+    page, text = report_html(report), summary_text(report)
+    assert f"Not modelled by the NC ({len(report.not_modelled)})" in page
+    assert f"{len(report.not_modelled)} catalogue signals the NC does not model are left out" in text
+    assert build_report(data).to_json()["not_modelled"]

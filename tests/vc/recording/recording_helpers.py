@@ -7,7 +7,7 @@ from pathlib import Path
 
 from interfaces.links.inprocess import InProcessConnector, plc_programs
 from interfaces.plc import PlcConnector
-from vc.recording.format import RecordedFile
+from vc.recording.format import Header, RecordedFile
 from vc.recording.recorder import SessionInfo, SessionRecorder
 from vc.scenario.loader import load_scenario
 from vc.scenario.runner import ScenarioResult, run_scenario
@@ -16,6 +16,8 @@ from vc.simulation.observed import ObservedSimulation
 
 ROOT = Path(__file__).resolve().parents[3]
 OPERATOR = ROOT / "tests" / "vc" / "recording" / "reference_x1_operator.yaml"
+HEADER = Header("mini", RecordedFile("machines/mini.yaml", "machine: mini\n"), None, "basic_machine", "modbus",
+                "lockstep", 2000, 5, {"DB10": 120, "DB31": 160, "I": 4, "Q": 2}, "test")
 
 
 def record_scenario(scenario_file: Path, out: Path, connector: PlcConnector | None = None) -> ScenarioResult:

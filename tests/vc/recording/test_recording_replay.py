@@ -65,7 +65,7 @@ def test_operator_actions_machine_data_and_a_power_cycle_replay_too(tmp_path: Pa
     out = tmp_path / "power_failure.vcrec"
     assert record_scenario(POWER_FAILURE, out).passed
     recording = read_recording(str(out))
-    kinds = {row.action.kind for row in recording.rows if hasattr(row, "action")}
+    kinds = {row.action.kind for row, _ in recording.rows() if hasattr(row, "action")}
     assert {"write", "power_cycle", "program"} <= kinds
     assert replay(recording).difference is None
     # the scenario's machine data (MD34210 = 3: restore the positions at power-on) belong to the machine
@@ -98,7 +98,7 @@ def test_a_sign_of_life_that_stood_still_raises_the_same_alarm_in_the_replay(tmp
     result = record_scenario(OPERATOR, out, _HangingConnector())
     assert not result.passed  # the axes stop with alarm 2000
     recording = read_recording(str(out))
-    assert any(isinstance(row, Marker) and row.kind == LIFE for row in recording.rows)
+    assert any(isinstance(row, Marker) and row.kind == LIFE for row, _ in recording.rows())
     assert replay(recording).difference is None
 
     # the same recording without its life rows: the stand-in PLC lives on, the NC raises no alarm

@@ -74,7 +74,7 @@ def test_vc_replay_to_scenario_writes_it_and_the_machine_beside_it_when_the_reco
     assert (out.parent / "from_recording.machine.yaml").read_text(encoding="utf-8") == \
         read_recording(str(recorded)).header.machine.text
     text = out.read_text(encoding="utf-8")
-    assert 'name: "X1 referenced, as recorded"' in text and 'machine: "from_recording.machine.yaml"' in text
+    assert "name: X1 referenced, as recorded\n" in text and "machine: from_recording.machine.yaml\n" in text
     assert main(["run", str(out)]) == 0
     assert "1 passed" in capsys.readouterr().out
 

@@ -71,7 +71,8 @@ def test_a_placeholder_alone_gives_the_value_itself_and_inside_a_text_its_text()
     ("${override +}", "is not a varied key or arithmetic", 1),
     ("${cam[5]}", "[5] is outside the list [1, 2]", 1),
     ("${override[0]}", "[0] needs a list, and the value is 50", 1),
-    ("${__import__('os')}", "only varied keys, numbers", 1),
+    ("${__import__('os')}", "is not a varied key or arithmetic of them (+ - * /): unexpected ''' at column 12", 1),
+    ("${abs(override)}", "'abs(' calls a function", 1),
     ("${cam + 1}", "'+' needs numbers, and [1, 2] is not one", 1),
     ("a ${override", "'${' without its closing '}'", 3),
     ("${ }", "is empty", 1),
@@ -208,7 +209,8 @@ steps:
     ("vary: {override: []}\n", "override: give the values to vary over as a list"),
     ("vary: {cases: [{override: 1}, {speed: 2}]}\n", "every entry of cases names the same keys (override)"),
     ("vary: {override: [1], cases: [{override: 2}]}\n", "'override' is varied twice (first at line 5)"),
-    ("vary: {override: [1, 1]}\n", "variant s[override=1] appears twice in the matrix"),
+    ("vary: {override: [1, 1]}\n", "override=1 appears twice in the matrix (first at line 5): every variant would run"
+                                   " twice"),
     ("vary: {override: [1], fault.at_step: [2]}\n", "fault.at_step places a varied fault"),
     ("vary: {override: [1], fault: [{axis: X1, kind: zero_marks_missing}], fault.at_step: [0]}\n",
      "fault.at_step is a step number from 1, not 0"),
@@ -220,7 +222,7 @@ steps:
     ("vary: {override: [1], X9.MD32020: [1]}\n", "X9"),
     ("vary: {override: [1, 2], a: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10], b: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10],"
      " c: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10], d: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10], e: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]}\n",
-     "the matrix has 200,000 variants; at most 100,000"),
+     "this matrix gives 200,000 variants; a run holds at most 100,000 (vc run --max-variants N raises the ceiling)"),
 ])
 def test_a_matrix_that_is_not_one_is_refused_with_its_place(tmp_path: Path, matrix: str, message: str) -> None:
     problems = _problems(tmp_path, HEAD + matrix + STEPS)

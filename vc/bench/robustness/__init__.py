@@ -15,6 +15,10 @@ tracebacks, false passes, lost requests, rule violations, RSS growth, overruns.
   frames on the CAN bus of a lockstep scenario and of a real-time NC;
 * :mod:`~vc.bench.robustness.control_characters`: scenario names with control characters through
   ``vc run``'s console, JUnit, CSV, VCD, GTKWave and HTML outputs;
+* :mod:`~vc.bench.robustness.hostile_recordings`, :mod:`~vc.bench.robustness.hostile_expressions`,
+  :mod:`~vc.bench.robustness.campaign_size`: the inputs of ``vc replay`` and ``vc run`` made
+  hostile (recordings, conditions and placeholders, matrices and campaigns), each command in its
+  own bounded process (:mod:`~vc.bench.robustness.one_shot`);
 * :mod:`~vc.bench.robustness.soak`: ``vc serve --realtime`` with the built-in PLC over Modbus for
   minutes, the RSS of both processes sampled.
 

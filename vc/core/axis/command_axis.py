@@ -50,17 +50,6 @@ class CommandState(Enum):
     ESR_STOPPED = "stopped by its single-axis ESR until a reset"
 
 
-COMMAND_AXIS_STATES: StateMachine[CommandAxis] = StateMachine(
-    __name__, "command_axis", "Command axis: POS[ax]= of a synchronized action, a single axis (seed 003 §9.3.2)",
-    Instance.AXIS, states(*CommandState),
-    transitions(("IDLE", "TRAVERSING", "POS[ax]= of a synchronized action"),
-                ("TRAVERSING", "IDLE", "at its end point; channel reset, DB31.DBX2.2; another owner took it"),
-                ("TRAVERSING", "ESR_STOPPED", "its single-axis ESR stop or retraction"),
-                ("IDLE", "ESR_STOPPED", "its ESR stop after the motion ended within MD37510"),
-                ("ESR_STOPPED", "IDLE", "the channel's reset, DB31.DBX2.2")),
-    read=lambda command: command.state)
-
-
 class CommandAxis:
     """One machine axis as a command axis (see the module docstring)."""
 
@@ -158,6 +147,17 @@ class CommandAxis:
             axis.setpoint = self.target  # lands exactly on its end point
             axis.release()
             self.state = CommandState.IDLE
+
+
+COMMAND_AXIS_STATES: StateMachine[CommandAxis] = StateMachine(
+    __name__, "command_axis", "Command axis: POS[ax]= of a synchronized action, a single axis (seed 003 §9.3.2)",
+    Instance.AXIS, states(*CommandState),
+    transitions(("IDLE", "TRAVERSING", "POS[ax]= of a synchronized action"),
+                ("TRAVERSING", "IDLE", "at its end point; channel reset, DB31.DBX2.2; another owner took it"),
+                ("TRAVERSING", "ESR_STOPPED", "its single-axis ESR stop or retraction"),
+                ("IDLE", "ESR_STOPPED", "its ESR stop after the motion ended within MD37510"),
+                ("ESR_STOPPED", "IDLE", "the channel's reset, DB31.DBX2.2")),
+    read=lambda command: command.state)
 
 
 class CommandAxes:

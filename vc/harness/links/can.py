@@ -193,6 +193,11 @@ class CanLinkedPlc:
     def sign_of_life(self) -> int:
         return self._shown_life
 
+    @property
+    def peer(self) -> str:
+        """Who holds the session, for the session recording: a node has no address on the bus."""
+        return f"external PLC on CAN bus {self.link.spec}" if self.taken else ""
+
     # ------------------------------------------------------------------ faults, observables
     def inject_fault(self, fault: LinkFault) -> None:
         self.faults = [*active(self.faults, self.cycle), fault]

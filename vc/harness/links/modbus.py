@@ -292,6 +292,15 @@ class LinkedPlc:
     def sign_of_life(self) -> int:
         return self._life
 
+    @property
+    def peer(self) -> str:
+        """Who holds the session, for the session recording ("" while nobody does)."""
+        owner = self.link.owner
+        if owner.owner is None:
+            return ""
+        over = "s7" if isinstance(owner.owner, tuple) and owner.owner[:1] == ("s7",) else "modbus"
+        return f"external PLC over {over} from {owner.owner_peer}"
+
     def scan(self, interface: ProcessImage, plant: ProcessImage) -> None:
         link, register_map = self.link, self.register_map
         if link.power_ons != self.power_on:
