@@ -24,3 +24,10 @@ def test_every_package_of_the_nc_core_is_in_the_picture() -> None:
     packages = sorted(p.name for p in (ROOT / "vc" / "core").iterdir() if (p / "__init__.py").exists())
     assert len(packages) == 10
     assert [name for name in packages if f"\n{name}/" not in text] == []
+
+
+def test_every_step_of_the_machine_reader_is_in_the_picture() -> None:
+    text = DOC.read_text(encoding="utf-8")
+    modules = sorted(p.name for p in (ROOT / "vc" / "config" / "reader").glob("*.py") if p.name != "__init__.py")
+    assert len(modules) == 6
+    assert [name for name in modules if name not in text] == []
