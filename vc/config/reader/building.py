@@ -59,4 +59,4 @@ def _channel(number: int, entry: ChannelEntry) -> ChannelConfig:
     geometry_names = entry.geometry_names()
     return ChannelConfig(entry.name, number, MachineData(entry.name, entry.data.values()), tuple(entry.axes),
                          entry.program_names(), geometry_names,
-                         tuple(entry.geometry_axis(index) for index in range(len(geometry_names))))
+                         tuple([entry.geometry_axis(index) for index in range(len(geometry_names))]))

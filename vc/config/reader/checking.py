@@ -117,8 +117,8 @@ class _Checker:
             self.add(data.mark_of(mdd.AXCONF_ASSIGN_MASTER_CHAN),
                      f"{entry.name}: MD30550 AXCONF_ASSIGN_MASTER_CHAN = {master}, but {entry.name} is an"
                      f" axis of channel {channel_numbers[entry.channel]} ({entry.channel})")
-        self._check_gearbox(entry)
-        self._check_chuck(entry)
+        self._check_gearbox(entry, spindle)
+        self._check_chuck(entry, spindle)
         self._check_generator(entry)
 
     def _check_generator(self, entry: AxisEntry) -> None:
@@ -145,7 +145,7 @@ class _Checker:
             self.add(mark, f"{where} needs p2161, the minimum generator speed, above the speed comparison's"
                            f" hysteresis {SPEED_HYSTERESIS:g} rev/min (got {drive.p2161:g})")
 
-    def _check_gearbox(self, entry: AxisEntry) -> None:
+    def _check_gearbox(self, entry: AxisEntry, spindle: int) -> None:
         """The axis's gearbox against its machine data and the I/O list."""
         declared = entry.gearbox_mark
         if declared is None:
@@ -155,14 +155,14 @@ class _Checker:
                    if key not in entry.gearbox_keys]
         if missing:
             self.add(declared, f"{entry.name}: plant.gearbox lacks {' and '.join(missing)}")
-        if not entry.spindle_number:
+        if not spindle:
             self.add(declared, f"{entry.name}: plant.gearbox on an axis that is not a spindle"
                                " (MD35000 SPIND_ASSIGN_TO_MACHAX = 0); only a spindle changes gear stages")
         if "stages" not in written:
             return
         stages = int(written["stages"].value)
         configured = int(entry.data.value(mdd.NUM_GEAR_STEPS))
-        if entry.spindle_number and stages != configured:
+        if spindle and stages != configured:
             # at MD35090 where it is written (a scenario may change it), else at the stages
             if entry.data.is_written(mdd.NUM_GEAR_STEPS):
                 mark, default = entry.data.mark_of(mdd.NUM_GEAR_STEPS), ""
@@ -196,12 +196,12 @@ class _Checker:
                 self.add(mark, f"plant_io {key}: {name}: the gearbox of {point.axis} has"
                                f" {count(int(stages.value), 'stage', 'stages')}")
 
-    def _check_chuck(self, entry: AxisEntry) -> None:
+    def _check_chuck(self, entry: AxisEntry, spindle: int) -> None:
         """The spindle's chuck against the I/O list."""
         declared = entry.chuck_mark
         if declared is None:
             return
-        if not entry.spindle_number:
+        if not spindle:
             self.add(declared, f"{entry.name}: plant.chuck on an axis that is not a spindle"
                                " (MD35000 SPIND_ASSIGN_TO_MACHAX = 0)")
         unwired = [name for name in (chuck_close(entry.name), chuck_release(entry.name), chuck_closed(entry.name))
@@ -222,14 +222,17 @@ class _Checker:
     # ------------------------------------------------------------------ channels
 
     def _check_channel(self, entry: ChannelEntry) -> None:
-        self._check_geometry_names(entry)
+        geometry_names = entry.geometry_names()
+        self._check_names(entry, mdd.AXCONF_GEOAX_NAME_TAB, geometry_names,
+                          lambda name: f"geometry axis {name} is named twice")
         if entry.axes:  # a channel without a readable axes list has been reported already
-            self._check_program_names(entry)
-            self._check_geometry_axes(entry)
+            program_names = entry.program_names()
+            self._check_program_names(entry, program_names)
+            self._check_geometry_axes(entry, geometry_names, program_names)
             self._check_coupling(entry)
             self._check_master_spindle(entry)
 
-    def _check_program_names(self, entry: ChannelEntry) -> None:
+    def _check_program_names(self, entry: ChannelEntry, program_names: tuple[str, ...]) -> None:
         md = mdd.AXCONF_CHANAX_NAME_TAB
         written = entry.data.written.get(md.number, {})
         for index, item in sorted(written.items(), key=lambda pair: pair[0] or 0):
@@ -237,12 +240,8 @@ class _Checker:
             if index >= len(entry.axes) and item.value:
                 self.add(item.mark, f"{md.label}[{index}] = '{item.value}': {entry.name} has only"
                                     f" {count(len(entry.axes), 'axis', 'axes')}")
-        self._check_names(entry, md, entry.program_names(),
+        self._check_names(entry, md, program_names,
                           lambda name: f"{entry.name} already has a channel axis named {name}")
-
-    def _check_geometry_names(self, entry: ChannelEntry) -> None:
-        self._check_names(entry, mdd.AXCONF_GEOAX_NAME_TAB, entry.geometry_names(),
-                          lambda name: f"geometry axis {name} is named twice")
 
     def _check_names(self, entry: ChannelEntry, md: MdDef, names: tuple[str, ...],
                      twice: Callable[[str], str]) -> None:
@@ -258,11 +257,11 @@ class _Checker:
                 self.add(mark, f"{md.label}[{index}]: {twice(name)}")
             seen.add(name)
 
-    def _check_geometry_axes(self, entry: ChannelEntry) -> None:
+    def _check_geometry_axes(self, entry: ChannelEntry, geometry_names: tuple[str, ...],
+                             program_names: tuple[str, ...]) -> None:
         md = mdd.AXCONF_GEOAX_ASSIGN_TAB
-        program_names = entry.program_names()
         used: dict[int, str] = {}
-        for index, geometry_name in enumerate(entry.geometry_names()):
+        for index, geometry_name in enumerate(geometry_names):
             channel_axis = int(entry.data.value(md, index))
             mark = entry.data.mark_of(md, index)
             label = f"{md.label}[{index}] = {channel_axis}"
@@ -274,7 +273,7 @@ class _Checker:
                          f"{label}{default}: geometry axis {geometry_name} names channel axis {channel_axis},"
                          f" but {entry.name} has {count(len(entry.axes), 'axis', 'axes')}")
                 continue
-            machine_axis = entry.geometry_axis(index)
+            machine_axis = entry.axes[channel_axis - 1]
             if channel_axis in used:
                 self.add(mark,
                          f"{label}: geometry axes {used[channel_axis]} and {geometry_name} both use channel"
@@ -315,8 +314,8 @@ class _Checker:
     def _check_master_spindle(self, entry: ChannelEntry) -> None:
         md = mdd.SPIND_DEF_MASTER_SPIND
         master = int(entry.data.value(md))
-        axes = self.machine.axes
-        spindles = sorted({axes[name].spindle_number for name in entry.axes if axes[name].is_spindle})
+        numbers = [self.machine.axes[name].spindle_number for name in entry.axes]
+        spindles = sorted({number for number in numbers if number > 0})
         if master == 0 and spindles:
             self.add(entry.data.mark_of(md),
                      f"{md.label} = 0: {entry.name} has spindles ({', '.join(str(number) for number in spindles)});"

@@ -43,7 +43,8 @@ class Instance:
     written: dict[int, dict[int | None, Written]] = field(default_factory=dict)
 
     def value(self, md: MdDef, index: int | None = None) -> MdScalar:
-        written = self.written.get(md.number, {}).get(index)
+        entries = self.written.get(md.number)  # asked for dozens of times a load: no empty dict each time
+        written = entries.get(index) if entries is not None else None
         if written is not None:
             return written.value
         default = md.default
@@ -53,11 +54,12 @@ class Instance:
 
     def mark_of(self, md: MdDef, index: int | None = None) -> Mark:
         """Where the effective value comes from: its last write, else the instance."""
-        entries = self.written.get(md.number, {})
-        if index in entries:
-            return entries[index].mark
-        if index is None and entries:
-            return min(entry.mark for entry in entries.values())
+        entries = self.written.get(md.number)
+        if entries:
+            if index in entries:
+                return entries[index].mark
+            if index is None:
+                return min(entry.mark for entry in entries.values())
         return self.mark
 
     def is_written(self, md: MdDef) -> bool:
@@ -93,12 +95,15 @@ class Marks:
         return mark if isinstance(mark, Mark) else self.fallback
 
     def key(self, mapping: Mapping[str, Any], key: str) -> Mark:
-        marks = getattr(mapping, "key_marks", None)
-        return marks.get(key, self.of(mapping)) if isinstance(marks, dict) else self.of(mapping)
+        return self._marked(mapping, getattr(mapping, "key_marks", None), key)
 
     def value(self, mapping: Mapping[str, Any], key: str) -> Mark:
-        marks = getattr(mapping, "value_marks", None)
-        return marks.get(key, self.of(mapping)) if isinstance(marks, dict) else self.of(mapping)
+        return self._marked(mapping, getattr(mapping, "value_marks", None), key)
+
+    def _marked(self, mapping: Mapping[str, Any], marks: Any, key: str) -> Mark:
+        # the mapping's own mark only where the key has none: reading asks twice for every key it reads
+        mark = marks.get(key) if isinstance(marks, dict) else None
+        return mark if isinstance(mark, Mark) else self.of(mapping)
 
     def item(self, items: list[Any], index: int) -> Mark:
         marks = getattr(items, "item_marks", None)
@@ -140,12 +145,12 @@ class ChannelEntry:
 
     def program_names(self) -> tuple[str, ...]:
         """The name of each channel axis in part programs: MD20080, else the machine axis's name."""
-        return tuple(str(self.data.value(mdd.AXCONF_CHANAX_NAME_TAB, index)) or axis
-                     for index, axis in enumerate(self.axes))
+        return tuple([str(self.data.value(mdd.AXCONF_CHANAX_NAME_TAB, index)) or axis
+                      for index, axis in enumerate(self.axes)])
 
     def geometry_names(self) -> tuple[str, ...]:
         md = mdd.AXCONF_GEOAX_NAME_TAB
-        return tuple(str(self.data.value(md, index)) for index in range(md.length))
+        return tuple([str(self.data.value(md, index)) for index in range(md.length)])
 
     def geometry_axis(self, index: int) -> str:
         """The machine axis serving geometry axis ``index`` (MD20050); "" for none, or for a channel
