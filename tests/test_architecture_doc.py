@@ -74,3 +74,10 @@ def test_every_signal_group_is_keyword_only() -> None:
     assert len(groups) >= 20
     assert [group.__name__ for group in groups
             if not all(field.kw_only for field in dataclasses.fields(group))] == []
+
+
+def test_every_step_of_the_machine_reader_is_in_the_picture() -> None:
+    text = DOC.read_text(encoding="utf-8")
+    modules = sorted(p.name for p in (ROOT / "vc" / "config" / "reader").glob("*.py") if p.name != "__init__.py")
+    assert len(modules) == 6
+    assert [name for name in modules if name not in text] == []
