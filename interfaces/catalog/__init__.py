@@ -1,4 +1,5 @@
-"""The signal catalogue files (``db10_nck.yaml`` ... ``db31_axis.yaml``, ``db100_alarms.yaml``) and their loader.
+"""The signal catalogue files (``db2_plc_alarms.yaml``, ``db10_nck.yaml`` ... ``db31_axis.yaml``,
+``db100_alarms.yaml``) and their loader.
 
 Reading the packaged YAML files is the only file access of ``interfaces`` outside
 ``links/``; everything else builds on the parsed :class:`~interfaces.signals.Catalog`.
@@ -13,8 +14,8 @@ import yaml
 
 from interfaces.signals import Catalog
 
-CATALOG_FILES = ("db10_nck.yaml", "db11_mode_group.yaml", "db19_hmi.yaml", "db21_channel.yaml", "db31_axis.yaml",
-                 "db100_alarms.yaml")
+CATALOG_FILES = ("db2_plc_alarms.yaml", "db10_nck.yaml", "db11_mode_group.yaml", "db19_hmi.yaml", "db21_channel.yaml",
+                 "db31_axis.yaml", "db100_alarms.yaml")
 
 
 @lru_cache(maxsize=1)
