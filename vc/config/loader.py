@@ -88,6 +88,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from interfaces.plant_io import (
+    DEVICE_PREFIXES,
     MAX_GEAR_STAGES,
     PlantIoError,
     PlantIoMap,
@@ -101,6 +102,7 @@ from interfaces.plant_io import (
 )
 from vc.config import md_dictionary as mdd
 from vc.config.can_config import CanSection, check_against_machine, read_can_section
+from vc.config.devices import read_plant, read_plc_alarms
 from vc.config.machine_data import (
     MachineData,
     MdDef,
@@ -128,12 +130,13 @@ from vc.config.model import (
     DriveParameters,
     GearboxPlant,
     MachineConfig,
+    MachinePlant,
     machine_ipo_cycle_us,
 )
 from vc.located_yaml import LocatedMap, Mark, Problem, Problems, SourceError, load_file, load_text
 
 TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", "axes", "plant_io", "plc", "can",
-                  "dc_link")
+                  "dc_link", "plant", "plc_alarms")
 SIM_KEYS = ("start_position", "zero_mark_offset", "zero_mark_offset_2", "encoder_serial", "encoder_serial_2")
 _WHOLE_SIM_KEYS = ("encoder_serial", "encoder_serial_2")
 AXIS_EXTRA_KEYS = ("sim", "plant", "drive")  # an axis block's keys besides machine data
@@ -167,7 +170,7 @@ COUPLED_LIKE_PARAMETERS = (mdd.FIPO_TYPE, mdd.AX_JERK_ENABLE, mdd.AX_JERK_MODE, 
                            mdd.AX_JERK_DAMP, mdd.JOG_AND_POS_JERK_ENABLE, mdd.JOG_AND_POS_MAX_JERK)
 # Instance names the interface and the plant I/O vocabulary already use.
 RESERVED_NAMES = frozenset({"NC", "MODEGROUP", "HMI", "ALARMS", "MCP", "EStop", "Drives", "Lamp", "Door",
-                            "PLC"})  # PLC: the FMU
+                            "PLC", "PLCALARMS", *DEVICE_PREFIXES})  # PLC: the FMU
 MAX_CHANNELS = 10  # DB21..DB30: channel 11 would collide with DB31 of machine axis 1
 MAX_AXES = 31  # MD10000 has 31 entries
 MAX_CHANNEL_AXES = 20  # MD20070 has 20 entries
@@ -370,6 +373,8 @@ class _MachineReader:
         self.dc_link: DcLinkConfig | None = None
         self.can = CanSection()
         self.can_mark: Mark | None = None  # where the ``can:`` section is; None: there is none
+        self.plant = MachinePlant()  # ``plant:``, the devices besides the axes
+        self.plc_alarms: dict[int, str] = {}  # ``plc_alarms:``
         self.channel_lists_complete = True  # every channel's axes list could be read
 
     def add(self, mark: Mark, message: str) -> None:
@@ -407,6 +412,11 @@ class _MachineReader:
             self.can = read_can_section(document["can"], document.mark_of("can"), self.problems)
         if "dc_link" in document:
             self._read_dc_link(document["dc_link"], document.mark_of("dc_link"))
+        # the devices besides the axes and the PLC alarm texts (vc/config/devices.py), after plant_io
+        self.plant = read_plant(document.get("plant"), document.mark_of("plant"), self.problems,
+                                self.plant_io_names)
+        self.plc_alarms = read_plc_alarms(document.get("plc_alarms"), document.mark_of("plc_alarms"),
+                                          self.problems)
 
     def _read_dc_link(self, raw: Any, mark: Mark) -> None:
         values = self._read_parameters(raw, mark, "dc_link", DC_LINK_KEYS)
@@ -942,6 +952,8 @@ class _MachineReader:
             plc_cycle_ipo=self.plc_cycle_ipo,
             dc_link=self.dc_link,
             can=self.can.config,
+            plant=self.plant,
+            plc_alarms=self.plc_alarms,
         )
         if self.can_mark is not None:  # without a section the defaults fit every machine the loader accepts
             check_against_machine(self.can, machine_ipo_cycle_us(config), config.plc_cycle_ipo, config.layout,

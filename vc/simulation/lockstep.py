@@ -166,12 +166,18 @@ class Simulation:
             self.nck.drive_line_up(bool(state))
 
     def _plc_cycle(self) -> None:
-        """Interface update and one PLC scan (or, without a PLC, just the interface update)."""
+        """Interface update and one PLC scan (or, without a PLC, just the interface update), which
+        the NC counts for the handshake of its auxiliary functions: every scan with a new sign of
+        life (in lockstep each one; in real time those the PLC finished since the last exchange)."""
         self._refresh_plc_inputs()
         if self.plc is not None:
+            life = self.plc.sign_of_life
             self.plc.scan(self.interface, self.plant_image)
             self.nck.plc_sign_of_life(self.plc.sign_of_life)
             self._apply_plc_forces()
+            if self.plc.sign_of_life == life:
+                return  # real time: the PLC has not finished a scan since the last exchange
+        self.nck.plc_cycle_done()
 
     def _link_cycle(self, link: CyclicPlc) -> None:
         """An IPO cycle between two scans of a PLC whose link works every cycle (CAN): the NC's
