@@ -69,6 +69,9 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
                   SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR, "machine control panel key"),
     PlantFunction(rf"MCP\.(plus|minus)\.{_AXIS}", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "traverse key of one axis on the machine control panel"),
+    PlantFunction(r"MCP\.optionalStop", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
+                  "optional stop switch on the machine control panel: 1 = M01 stops the program (the PLC selects"
+                  " it with DB21.DBX0.5)"),
     PlantFunction(r"MCP\.noOrthogonalCompensation", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "switch on the machine control panel: move the inclined axis without compensating the "
                   "orthogonal one (NOZAGC of the inclined-axis control)"),

@@ -128,12 +128,11 @@ class Turret(Coolant):
         self.lock_watchdog = TON(lock_timeout, scan)
         self.index_watchdog = TON(index_timeout, scan)
         # Network 13
-        layout = io.environment.catalog.layout
         self.chucks = [
             _Chuck(axis, number, io.output(chuck_close(axis)), io.output(chuck_release(axis)),
                    io.input(chuck_closed(axis)), io.input(chuck_open(axis)) if io.is_wired(chuck_open(axis)) else None,
                    io.input(f"{axis}.basic.in.isStationary"), TON(chuck_timeout, scan))
-            for number, axis in enumerate(layout.axes, start=1)
+            for number, axis in enumerate(spindles(io), start=1)
             if io.is_wired(chuck_close(axis)) and io.is_wired(chuck_release(axis)) and io.is_wired(chuck_closed(axis))
         ]
         self.chuck_alarms = {number: self.plc_alarm(number) for number in (CHUCK_NOT_REACHED, CHUCK_WHILE_TURNING)}
@@ -255,3 +254,12 @@ def device_count(io: PlcIo, device: str, key: str) -> int:
     commissioning = io.environment.commissioning
     facts = commissioning.devices.get(device) if commissioning is not None else None
     return int(facts.get(key, 0)) if facts else 0
+
+
+def spindles(io: PlcIo) -> list[str]:
+    """The machine's spindles in the order of their numbers (the machine builder's wiring: the
+    commissioning facts list them in machine axis order, spindle 1 first)."""
+    commissioning = io.environment.commissioning
+    if commissioning is None:
+        return list(io.environment.catalog.layout.axes)
+    return [facts.axis for facts in commissioning.axes if facts.kind == "spindle"]

@@ -14,7 +14,7 @@ Grammar (lowest precedence first; keywords and function names in any letter case
                  | "abs" "(" expression ")"
                  | "alarm" "(" NUMBER [ "," NAME ] ")"
 
-``NAME`` is a signal symbol, an absolute address, a plant I/O name, ``<axis>.<quantity>`` or
+``NAME`` is a signal symbol (with its index: ``CHAN1.auxMFuncs[2].in.value``), an absolute address, a plant I/O name, ``<axis>.<quantity>`` or
 ``time`` (see :mod:`vc.scenario.quantities`).  Comparisons and ``and``/``or``/``not`` give 1 or
 0; a condition holds when its value is not 0.  Only one comparison per level: write
 ``0 < X1.position and X1.position < 5`` (chained comparisons read differently in different
@@ -75,7 +75,7 @@ _TOKEN = re.compile(
     r"""
     (?P<space>\s+)
   | (?P<number>(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?(?![A-Za-z_0-9.]))
-  | (?P<name>[A-Za-z_][A-Za-z_0-9]*(?:\.[A-Za-z_0-9]+)*)
+  | (?P<name>[A-Za-z_][A-Za-z_0-9]*(?:\[[0-9]+\])?(?:\.[A-Za-z_0-9]+(?:\[[0-9]+\])?)*)
   | (?P<op>==|!=|<=|>=|<|>|\+|-|\*|/|\(|\)|,)
     """,
     re.VERBOSE,
