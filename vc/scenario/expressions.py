@@ -14,12 +14,12 @@ Grammar (lowest precedence first; keywords and function names in any letter case
                  | "abs" "(" expression ")"
                  | "alarm" "(" NUMBER [ "," NAME ] ")"
 
-``NAME`` is a signal symbol (with its index: ``CHAN1.auxMFuncs[2].in.value``), an absolute address, a plant I/O name, ``<axis>.<quantity>`` or
-``time`` (see :mod:`vc.scenario.quantities`).  Comparisons and ``and``/``or``/``not`` give 1 or
-0; a condition holds when its value is not 0.  Only one comparison per level: write
-``0 < X1.position and X1.position < 5`` (chained comparisons read differently in different
-languages, so they are refused with that hint).  ``alarm(21614, X1)`` is 1 while alarm 21614
-of axis (or channel) X1 is present.
+``NAME`` is a signal symbol (with its index: ``CHAN1.auxMFuncs[2].in.value``), an absolute
+address, a plant I/O name, ``<axis>.<quantity>`` or ``time`` (see :mod:`vc.scenario.quantities`).
+Comparisons and ``and``/``or``/``not`` give 1 or 0; a condition holds when its value is not 0.
+Only one comparison per level: write ``0 < X1.position and X1.position < 5`` (chained
+comparisons read differently in different languages, so they are refused with that hint).
+``alarm(21614, X1)`` is 1 while alarm 21614 of axis (or channel) X1 is present.
 
 Parsing never uses ``eval``: a tokenizer and a recursive-descent parser build a tree that is
 compiled into nested closures, so an invariant costs a few function calls per IPO cycle.
