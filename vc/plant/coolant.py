@@ -36,17 +36,19 @@ class Coolant:
     def pressure(self) -> bool:
         return self.running_cycles >= self._build_up_cycles and not self.pressure_lost
 
-    def step(self, io: ProcessImage) -> None:
+    def step(self, io: ProcessImage) -> bool:
+        """One IPO cycle; True while the pressure builds up."""
         if self._pump.on(io.areas["Q"]):
             if self.running_cycles >= self._build_up_cycles:
                 self._switch.write(io, (int(self.pressure),))
-                return
+                return False
             self.running_cycles += 1
         elif not self.running_cycles:
-            return
+            return False
         else:
             self.running_cycles = 0
         self.write_sensors(io)
+        return self.running_cycles > 0
 
     def write_sensors(self, io: ProcessImage) -> None:
         self._switch.write(io, (int(self.pressure),))

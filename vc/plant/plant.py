@@ -62,7 +62,9 @@ class Device(Protocol):
 
     name: str  # its I/O prefix, which clear_faults names
 
-    def step(self, io: ProcessImage) -> None: ...
+    def step(self, io: ProcessImage) -> bool:
+        """One IPO cycle; True while something of it still moves (False: it rests until an output
+        changes)."""
     def write_sensors(self, io: ProcessImage) -> None: ...
     def forget_sensors(self) -> None: ...
     def inject(self, kind: str) -> None: ...
@@ -119,6 +121,9 @@ class Plant:
         coolant = Coolant(devices.coolant, self._io, ipo_cycle_us) if devices.coolant else None
         self._devices: list[Device] = [device for device in (self.turret, self.tool_changer, coolant)
                                        if device is not None]
+        # the devices rest until the PLC changes an output or one of them still moves
+        self._outputs_seen = b""
+        self._devices_moving = True
 
     def _switches_of(self, axis: AxisConfig) -> _AxisSwitches:
         def wired(function: str) -> SignalRef | None:
@@ -160,6 +165,7 @@ class Plant:
         for device in self._devices:
             device.forget_sensors()
             device.write_sensors(io)
+        self._devices_moving = True
         self._drive_line_up(io)
 
     def gear_stages(self) -> dict[str, int]:
@@ -182,8 +188,21 @@ class Plant:
             chuck.step(io, pressure)
         if self._parts:
             self.blocked_drives = [part.counter.axis for part in self._parts if part.step()]
+        if self._devices:
+            self._devices_cycle(io)
+
+    def _devices_cycle(self, io: ProcessImage) -> None:
+        """The devices' cycle, only when an output changed or one of them still moves: a machine
+        standing with its turret locked pays one comparison of its outputs."""
+        outputs = io.areas["Q"]
+        if not self._devices_moving and outputs == self._outputs_seen:
+            return
+        self._outputs_seen = bytes(outputs)
+        moving = False
         for device in self._devices:
-            device.step(io)
+            if device.step(io):
+                moving = True
+        self._devices_moving = moving
 
     # ------------------------------------------------------------------ faults of the devices
     def device_names(self) -> list[str]:
@@ -194,9 +213,11 @@ class Plant:
     def inject(self, device: str, kind: str) -> None:
         """A fault of a device (its FAULTS), until :meth:`repair`."""
         self._device(device).inject(kind)
+        self._devices_moving = True
 
     def repair(self, device: str) -> None:
         self._device(device).repair()
+        self._devices_moving = True
 
     def _device(self, name: str) -> Device:
         wanted = "Magazine" if name == "ToolArm" else name

@@ -47,11 +47,13 @@ class ToolChanger:
         self._commands: tuple[bool, bool, bool] | None = None
         self._settled = False
 
-    def step(self, io: ProcessImage) -> None:
+    def step(self, io: ProcessImage) -> bool:
+        """One IPO cycle: read the outputs, move magazine and arm, write the sensors; True while one
+        of them moves."""
         outputs = io.areas["Q"]
         commands = (self._cw.on(outputs), self._ccw.on(outputs), self._swing.on(outputs))
         if self._settled and commands == self._commands:
-            return
+            return False
         self._commands = commands
         cw, ccw, swing = commands
         arm, magazine = self.arm, self.magazine
@@ -69,6 +71,7 @@ class ToolChanger:
             self._swapped = False
         self._settled = arm.stroke == stroke and magazine.position == position
         self.write_sensors(io)
+        return not self._settled
 
     def write_sensors(self, io: ProcessImage) -> None:
         self._sensors.write(io, (int(self.arm.back), int(self.arm.out),

@@ -55,12 +55,13 @@ class Turret:
     def station(self) -> int:
         return self.disk.station
 
-    def step(self, io: ProcessImage) -> None:
-        """One IPO cycle: read the outputs, move pin and disk, write the sensors."""
+    def step(self, io: ProcessImage) -> bool:
+        """One IPO cycle: read the outputs, move pin and disk, write the sensors; True while the pin
+        or the disk moves."""
         outputs = io.areas["Q"]
         commands = (self._unlock.on(outputs), self._cw.on(outputs), self._ccw.on(outputs))
         if self._settled and commands == self._commands:
-            return
+            return False
         self._commands = commands
         unlock, cw, ccw = commands
         pin, disk = self.pin, self.disk
@@ -74,6 +75,7 @@ class Turret:
             disk.centre()  # the pin's cone pulls the disk onto the station as it enters the notch
         self._settled = pin.stroke == stroke and disk.position == position
         self.write_sensors(io)
+        return not self._settled
 
     def write_sensors(self, io: ProcessImage) -> None:
         pin, disk = self.pin, self.disk
