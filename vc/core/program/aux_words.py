@@ -33,6 +33,7 @@ ALARM_PROGRAMMED_INCORRECTLY = 14770
 
 PROGRAM_STOP, OPTIONAL_STOP = 0, 1
 PROGRAM_END = (2, 17, 30)
+PROGRAM_FLOW = (PROGRAM_STOP, OPTIONAL_STOP, *PROGRAM_END)  # M0, M1, M2, M17, M30
 PROGRAM_FLOW_GROUP = -1  # M0, M1, M2, M17, M30: one predefined group [control]
 IMPLICIT_M70 = 1 << 20  # MD35035: the transition to axis mode outputs M70
 LIMITS = {"M": 5, "S": 3, "H": 3, "T": 1, "D": 1, "DL": 1, "F": 1}  # functions of a type per block
@@ -74,7 +75,7 @@ def output_time(channel: ChannelConfig, kind: str, extension: int, value: float)
             if spec & bit:
                 return time, bool(spec & _QUICK)
         return OutputTime(channel.md.int(_SYNC_TYPE[kind])), bool(spec & _QUICK)
-    if kind == "M" and extension == 0 and value in (PROGRAM_STOP, OPTIONAL_STOP, *PROGRAM_END):
+    if kind == "M" and extension == 0 and value in PROGRAM_FLOW:
         return OutputTime.AT_BLOCK_END, False
     return OutputTime(channel.md.int(_SYNC_TYPE[kind])), False
 
@@ -108,8 +109,7 @@ def group_of(channel: ChannelConfig, function: AuxiliaryFunction) -> int:
     index = _assigned_entry(channel, function.kind, function.extension, function.value)
     if index is not None:
         return channel.md.int(MD.AUXFU_ASSIGN_GROUP, index)
-    if function.kind == "M" and function.extension == 0 and function.value in (PROGRAM_STOP, OPTIONAL_STOP,
-                                                                               *PROGRAM_END):
+    if function.kind == "M" and function.extension == 0 and function.value in PROGRAM_FLOW:
         return PROGRAM_FLOW_GROUP
     return 0
 
