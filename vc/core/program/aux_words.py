@@ -32,6 +32,7 @@ ALARM_GROUP_REPEATED = 14760
 ALARM_PROGRAMMED_INCORRECTLY = 14770
 
 PROGRAM_STOP, OPTIONAL_STOP = 0, 1
+M19 = 19
 PROGRAM_END = (2, 17, 30)
 PROGRAM_FLOW = (PROGRAM_STOP, OPTIONAL_STOP, *PROGRAM_END)  # M0, M1, M2, M17, M30
 PROGRAM_FLOW_GROUP = -1  # M0, M1, M2, M17, M30: one predefined group [control]
@@ -97,6 +98,11 @@ def _assigned_entry(channel: ChannelConfig, kind: str, extension: int, value: fl
         if assigned_extension in (-1, extension) and (assigned_value == -1 or assigned_value == value):
             return index
     return None
+
+
+def user_m19(channel: ChannelConfig, extension: int) -> bool:
+    """M19 is the machine builder's auxiliary function, no spindle positioning (L16397-16403)."""
+    return _assigned_entry(channel, "M", extension, M19) is not None
 
 
 def _assigned_spec(channel: ChannelConfig, kind: str, extension: int, value: float) -> int | None:

@@ -71,8 +71,10 @@ from vc.core.program.spindle_words import (
 
 def _m_function(decoder: BlockDecoder, value: float, extension: int | None, quick: bool = False) -> None:
     """An M function (``M8``, ``M2=3``, ``M=QU(8)``): a spindle's function for that spindle, a program
-    flow function, and in every case to the PLC (``aux_words``)."""
-    if spindle_m(decoder, value, extension):
+    flow function, and in every case to the PLC (``aux_words``).  An M19 that MD22000 .. MD22030
+    assign to a group is only an auxiliary function: the NC does not position (L16397-16403)."""
+    if not (value == aux_words.M19 and aux_words.user_m19(decoder.channel, extension or 0)) and \
+            spindle_m(decoder, value, extension):
         number = extension if extension is not None else decoder.channel.md.int(MD.SPIND_DEF_MASTER_SPIND)
         aux_words.output(decoder, "M", number, value, quick)
         return
