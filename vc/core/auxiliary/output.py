@@ -86,8 +86,9 @@ class AuxiliaryOutput:
         self._area = area
         self._whole = {kind: [table.codec(AuxWholeFunction, AUX_FUNCTION.format(kind=kind, number=number)).encode
                               for number in range(1, SLOTS[kind] + 1)] for kind in _WHOLE_KINDS}
-        self._real_writers = {kind: [table.codec(AuxRealFunction, AUX_FUNCTION.format(kind=kind, number=number)).encode
-                             for number in range(1, SLOTS[kind] + 1)] for kind in _REAL_KINDS}
+        self._real_writers = {
+            kind: [table.codec(AuxRealFunction, AUX_FUNCTION.format(kind=kind, number=number)).encode
+                   for number in range(1, SLOTS[kind] + 1)] for kind in _REAL_KINDS}
         self._feed = table.codec(AuxFeedFunction, AUX_FUNCTION.format(kind="F", number=1)).encode
         decoded = [table.bit(AUX_M_DECODED.format(number=number)) for number in range(DECODED_M)]
         self._decoded: tuple[Bit, ...] = tuple(decoded)
@@ -236,7 +237,7 @@ class AuxiliaryOutput:
             self._whole[kind][slot](area, AuxWholeFunction(change=change, quick=quick, extended_address=extension,
                                                            value=int(value)))
         elif kind in _REAL_KINDS:
-            self._real_writers[kind][slot](area, AuxRealFunction(change=change, quick=quick, extended_address=extension,
-                                                         value=float(value)))
+            self._real_writers[kind][slot](area, AuxRealFunction(change=change, quick=quick,
+                                                                 extended_address=extension, value=float(value)))
         else:
             self._feed(area, AuxFeedFunction(change=change, extended_address=extension, value=float(value)))
