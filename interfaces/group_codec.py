@@ -1,15 +1,18 @@
 """Groups of interface signals, declared once and compiled at power-on into a decoder and an encoder.
 
-A group is a dataclass whose signal fields name their catalogue symbol with :func:`signal` (the
-groups of the NC/PLC interface are in :mod:`interfaces.signal_groups`)::
+A group is a keyword-only dataclass whose signal fields name their catalogue symbol with
+:func:`signal` (the groups of the NC/PLC interface are in :mod:`interfaces.signal_groups`)::
 
-    @dataclass(slots=True)
+    @dataclass(slots=True, kw_only=True)
     class AxisRequests:
         controller_enable: bool = signal("basic.out.enableCtrl")   # DB31.DBX2.1
         override_raw: int = signal("basic.out.feedrateOvrFactor", 0)
 
 The attribute is the one name the code uses, the symbol the one the catalogue (and the manual)
-uses; nothing else names the signal.  A user may subclass a group to keep what it derives from
+uses; nothing else names the signal.  Whoever builds a group names each value
+(``AxisStatus(exact_fine=..., stationary=...)``), as the codec reads and writes them by attribute:
+the order of a declaration moves no value to another signal, and a group whose signal fields may
+be given by position is refused.  A user may subclass a group to keep what it derives from
 the signals beside them (the NC's axis adds the measuring system the two selection bits give);
 fields without a symbol are left alone by the codec.
 
@@ -61,8 +64,8 @@ class SignalLocation(Protocol):
 
 
 class SignalGroupError(VcError, TypeError):
-    """A signal group that does not fit the catalogue: mixed directions, overlapping signals, a
-    field type that is not the signal's."""
+    """A signal group that does not fit the catalogue (mixed directions, overlapping signals, a
+    field type that is not the signal's) or that could be built by position."""
 
 
 def signal(symbol: str, default: Any = False) -> Any:
@@ -142,6 +145,7 @@ def _functions(group: type, accessors: tuple[Accessor, ...]) -> tuple[Decoder, E
     name = group.__name__
     _check_overlaps(name, accessors)
     _check_types(group, accessors)
+    _check_keyword_only(group)
     values = _values(accessors)
     decode = _generate(f"decode_{name}", "area, into", [f"into.{attribute} = {value}" for attribute, value in values])
     encode = _generate(f"encode_{name}", "area, values", _encoder_lines(accessors))
@@ -161,6 +165,15 @@ def _check_types(group: type, accessors: tuple[Accessor, ...]) -> None:
             raise SignalGroupError(f"{group.__name__}.{accessor.attribute} is declared "
                                    f"{declared[accessor.attribute]}, but {accessor.symbol} is a "
                                    f"{accessor.type.value}: {expected}")
+
+
+def _check_keyword_only(group: type) -> None:
+    """Every signal field is keyword-only (``@dataclass(kw_only=True)``), so that no caller builds
+    the group by position: reordering the declaration would silently move values to other signals."""
+    positional = [f.name for f in dataclasses.fields(group) if SYMBOL in f.metadata and not f.kw_only]
+    if positional:
+        raise SignalGroupError(f"{group.__name__} lets {', '.join(positional)} be given by position: declare "
+                               f"the group @dataclass(kw_only=True), so that it is built by keyword")
 
 
 def _check_overlaps(group: str, accessors: tuple[Accessor, ...]) -> None:

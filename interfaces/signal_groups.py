@@ -21,14 +21,14 @@ from interfaces.group_codec import signal
 # ---------------------------------------------------------------------------------------- DB10 NCK
 
 
-@dataclass(slots=True)
+@dataclass(slots=True, kw_only=True)
 class NckRequests:
     emergency_stop: bool = signal("basic.out.emergencyStop")  # DB10.DBX56.1
     emergency_stop_ack: bool = signal("basic.out.emergencyStopAck")  # DB10.DBX56.2
     digital_inputs: int = signal("basic.out.setDigitalInputs", 0)  # $A_IN[1..8]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class NckStatus:
     emergency_stop_active: bool = signal("basic.in.emergencyStopActive")
     nc_ready: bool = signal("basic.in.ncReady")
@@ -40,7 +40,7 @@ DISPLAY_WCS = "basic.out.displayWcsValues"  # DB19.DBX0.7: 1 WCS, 0 MCS; the one
 # --------------------------------------------------------------------------------- DB11 mode group
 
 
-@dataclass(slots=True)
+@dataclass(slots=True, kw_only=True)
 class ModeGroupRequests:
     auto: bool = signal("basic.out.autoMode")
     mda: bool = signal("basic.out.mdaMode")
@@ -49,7 +49,7 @@ class ModeGroupRequests:
     ref: bool = signal("basic.out.refPoint")
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class ModeGroupStatus:
     auto_active: bool = signal("basic.in.autoModeActive")
     mda_active: bool = signal("basic.in.mdaModeActive")
@@ -61,7 +61,7 @@ class ModeGroupStatus:
 # ------------------------------------------------------------------------------------ DB21 channel
 
 
-@dataclass(slots=True)
+@dataclass(slots=True, kw_only=True)
 class ChannelRequests:
     nc_start_disable: bool = signal("basic.out.disableNcStart")
     nc_start: bool = signal("basic.out.ncStart")
@@ -81,7 +81,7 @@ class ChannelRequests:
     activate_m01: bool = signal("basic.out.activateM01")  # DB21.DBX0.5
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class ChannelStatus:
     """The channel and program state and the alarm bits (DB21.DBX35.x, 36.x, 33.x)."""
 
@@ -98,7 +98,7 @@ class ChannelStatus:
     reference_active: bool = signal("basic.in.refActive")
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class AxisSummary:
     all_referenced: bool = signal("basic.in.allAxesReferenced")
     all_stationary: bool = signal("basic.in.allAxesStationary")
@@ -109,7 +109,7 @@ class AxisSummary:
 AUX_FUNCTION = "aux{kind}Funcs[{number}].in."  # the prefix of one output slot: auxMFuncs[1].in.
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class AuxWholeFunction:
     """One slot of the M, T or D functions (DB21.DBX58.x / 61.0 / 62.0 change, the quick bit, the
     extended address and the value: a DINT, the D number an INT)."""
@@ -120,7 +120,7 @@ class AuxWholeFunction:
     value: int = signal("value", 0)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class AuxRealFunction:
     """One slot of the S, H or DL functions: as :class:`AuxWholeFunction` with a REAL value."""
 
@@ -130,7 +130,7 @@ class AuxRealFunction:
     value: float = signal("value", 0.0)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class AuxFeedFunction:
     """F function 1, the path feed (DB21.DBX65.0, DBW158, DBD160): no quick output."""
 
@@ -142,7 +142,7 @@ class AuxFeedFunction:
 AUX_M_DECODED = "auxMDynFuncs.in.m{number:02d}Decoded"  # DB21.DBX194.0 + M: M00 .. M99 decoded
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class ProgramStopStatus:
     """A programmed stop or end holds the program (DB21.DBX32.5, DBX33.5)."""
 
@@ -153,7 +153,7 @@ class ProgramStopStatus:
 RETRACTION_REQUEST = "piService.out.retracRequest"  # DB21.DBX396.0: PI service RETRAC, read every IPO cycle
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class RetractionStatus:
     """Manual retraction (DB21.DBX377.4 / 377.5) and the answer to the PI service RETRAC (397.0 / 397.1)."""
 
@@ -169,7 +169,7 @@ HANDWHEEL_OF_MACHINE_AXIS = "basic.out."  # the prefix of HandwheelSelection in 
 HANDWHEEL_OF_GEOMETRY_AXIS = "geoAxis{number}.out."  # the prefix in DB21, geometry axis 1..3
 
 
-@dataclass(slots=True)
+@dataclass(slots=True, kw_only=True)
 class HandwheelSelection:
     """A machine axis's (DB31.DBX4.0..4.2, 5.0..5.4) or a geometry axis's handwheel assignment and
     its increment INC1 .. INC10000 (symbols after the prefix)."""
@@ -185,7 +185,7 @@ class HandwheelSelection:
 # --------------------------------------------------------------------------------------- DB31 axis
 
 
-@dataclass(slots=True)
+@dataclass(slots=True, kw_only=True)
 class AxisRequests:
     controller_enable: bool = signal("basic.out.enableCtrl")
     pulse_enable: bool = signal("drive.out.enablePulses")
@@ -206,7 +206,7 @@ class AxisRequests:
     encoder_2_activation: bool = signal("basic.out.enc2Activation")  # DBX1.6
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class AxisStatus:
     exact_coarse: bool = signal("basic.in.posCoarseReached")
     exact_fine: bool = signal("basic.in.posFineReached")
@@ -225,7 +225,7 @@ class AxisStatus:
     drive_enabled: bool = signal("drive.in.enabled")
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class DriveEsrStatus:
     """The drive's ESR feedback (DB31.DBX95.2..95.4)."""
 
@@ -237,7 +237,7 @@ class DriveEsrStatus:
 # ------------------------------------------------------------------------------------ DB31 spindle
 
 
-@dataclass(slots=True)
+@dataclass(slots=True, kw_only=True)
 class SpindleRequests:
     """The spindle signals the NC takes as they stand."""
 
@@ -255,7 +255,7 @@ class SpindleRequests:
     resync_for_positioning_2: bool = signal("spindle.out.resyncEnc2ForPos")  # DBX17.5
 
 
-@dataclass(slots=True)
+@dataclass(slots=True, kw_only=True)
 class SpindleEdgeRequests:
     """The spindle signals the NC evaluates against their last value."""
 
@@ -267,7 +267,7 @@ class SpindleEdgeRequests:
     plc_start_ccw: bool = signal("spindle.out.startCcw")
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class SpindleStatus:
     requested_gear: int = signal("spindle.in.requestedGearStageNumber", 0)  # the set gear in a change, else the active
     change_gear: bool = signal("spindle.in.gearChangeoverRequested")
@@ -285,7 +285,7 @@ class SpindleStatus:
     parameter_set: int = signal("drive.in.posCtrlParameterSetNumber", 0)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class SpindleSpeed:
     s_value: float = signal("spindle.in.sFuncValue", 0.0)  # DBD88 (L17367)
 
@@ -293,7 +293,7 @@ class SpindleSpeed:
 # ----------------------------------------------------------------------- DB31 synchronous spindle
 
 
-@dataclass(slots=True)
+@dataclass(slots=True, kw_only=True)
 class CouplingRequests:
     overlay_enable: bool = signal("coupling.out.enableFollowOverlay")  # DBX26.4
     resync: bool = signal("coupling.out.syncSpindleResync")  # DBX31.4
@@ -302,7 +302,7 @@ class CouplingRequests:
     delete_correction: bool = signal("coupling.out.syncResetCorrection")  # DBX31.7
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class CouplingStatus:
     """Every bit but the first is the following spindle's (all off for a spindle that does not follow)."""
 
@@ -325,7 +325,7 @@ class CouplingStatus:
 # ----------------------------------------------------------------------------- DB100 alarm list
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class AlarmListHeader:
     count: int = signal("list.in.count", 0)
     changes: int = signal("list.in.changes", 0)  # the alarm list's version, modulo 2^16
@@ -334,7 +334,7 @@ class AlarmListHeader:
 ALARM_ENTRY = "entry[{number}].in."  # the prefix of AlarmEntry, entry 1..n
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class AlarmEntry:
     """One entry of the list; all 0: no alarm."""
 

@@ -1,9 +1,14 @@
-"""docs/architecture.md is the living design: every repository path it names exists, and every
-package of vc/core is described in it."""
+"""docs/architecture.md is the living design: every repository path it names exists, every
+package of vc/core is described in it, and what it says of the published states, of the coverage's
+imports and of the signal groups holds."""
 
 from __future__ import annotations
 
+import ast
+import dataclasses
+import importlib
 import re
+import tomllib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -24,3 +29,48 @@ def test_every_package_of_the_nc_core_is_in_the_picture() -> None:
     packages = sorted(p.name for p in (ROOT / "vc" / "core").iterdir() if (p / "__init__.py").exists())
     assert len(packages) == 11
     assert [name for name in packages if f"\n{name}/" not in text] == []
+
+
+def _module_names(package: Path) -> list[str]:
+    return sorted(".".join(path.relative_to(ROOT).with_suffix("").parts) for path in package.rglob("*.py")
+                  if path.name != "__init__.py")
+
+
+def test_every_state_machine_declared_in_the_core_is_published_by_its_row() -> None:
+    """'A new state machine': a declaration beside its enum and its row in PUBLISHED, nothing else."""
+    from vc.core.nck.state_view import PUBLISHED, STATE_MACHINES
+    from vc.core.state_machine import StateMachine, Variants
+
+    published = {id(machine) for machine in STATE_MACHINES} | {id(row.declaration) for row in PUBLISHED}
+    declared: set[int] = set()
+    for name in _module_names(ROOT / "vc" / "core"):
+        for attribute, value in vars(importlib.import_module(name)).items():
+            machines = value.machines if isinstance(value, Variants) else (value,)
+            if isinstance(value, (StateMachine, Variants)) and machines[0].module == name:
+                assert id(value) in published, f"{name}.{attribute} is declared but has no row in PUBLISHED"
+                declared.update(id(machine) for machine in machines)
+    # and each published state machine is declared at the top level of the module it names
+    assert [machine.name for machine in STATE_MACHINES if id(machine) not in declared] == []
+
+
+def test_the_coverage_imports_nothing_of_the_nc_core() -> None:
+    """The coverage reads the NC through vc/simulation/published.py; a forbidden contract keeps it so."""
+    for name in _module_names(ROOT / "vc" / "coverage"):
+        tree = ast.parse((ROOT / (name.replace(".", "/") + ".py")).read_text(encoding="utf-8"))
+        imported = [node.module or "" for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)]
+        imported += [alias.name for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names]
+        assert [module for module in imported if module.startswith("vc.core")] == [], name
+    contracts = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["importlinter"]
+    assert any(contract["type"] == "forbidden" and contract["source_modules"] == ["vc.coverage"]
+               and "vc.core" in contract["forbidden_modules"] for contract in contracts["contracts"])
+
+
+def test_every_signal_group_is_keyword_only() -> None:
+    from interfaces import signal_groups
+    from interfaces.group_codec import declared_signals
+
+    groups = [value for value in vars(signal_groups).values()
+              if isinstance(value, type) and dataclasses.is_dataclass(value) and declared_signals(value)]
+    assert len(groups) >= 20
+    assert [group.__name__ for group in groups
+            if not all(field.kw_only for field in dataclasses.fields(group))] == []

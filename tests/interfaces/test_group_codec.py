@@ -1,8 +1,10 @@
 """A declared signal group compiled into a generated decoder and encoder (interfaces/group_codec.py):
-the generated code reads and writes exactly what the shared bit access reads and writes."""
+the generated code reads and writes exactly what the shared bit access reads and writes, by
+attribute, whatever the order of the declaration."""
 
 from __future__ import annotations
 
+import dataclasses
 import random
 import struct
 from dataclasses import dataclass
@@ -40,7 +42,7 @@ def resolve(symbol: str) -> SignalDef:
                      bits or _BITS[kind], Trigger.LEVEL, "", "test", Origin.PROJECT)
 
 
-@dataclass(slots=True)
+@dataclass(slots=True, kw_only=True)
 class Requests:
     a: bool = signal("out.a")
     b: bool = signal("out.b")
@@ -52,7 +54,7 @@ class Requests:
     derived: str = "left alone"  # no symbol: not a signal
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, kw_only=True)
 class Ready:
     ready: bool = signal("in.ready")
 
@@ -83,13 +85,12 @@ def test_the_decoder_reads_what_the_bit_access_reads(seed: int) -> None:
 def test_encode_then_decode_gives_the_values_and_keeps_every_other_bit(seed: int) -> None:
     rng = random.Random(seed)
     before = bytearray(rng.randbytes(16))
-    values = Requests(rng.random() < 0.5, rng.random() < 0.5, rng.randrange(8), rng.randrange(256),
-                      rng.randrange(1 << 16), rng.randrange(1 << 32), 1.5)
+    values = Requests(a=rng.random() < 0.5, b=rng.random() < 0.5, gear=rng.randrange(8), override=rng.randrange(256),
+                      word=rng.randrange(1 << 16), dword=rng.randrange(1 << 32), real=1.5)
     codec = GroupCodec(Requests, resolve)
     area = bytearray(before)
     codec.encode(area, values)
-    assert codec.read(area) == Requests(values.a, values.b, values.gear, values.override, values.word, values.dword,
-                                        1.5)
+    assert codec.read(area) == values
     untouched = bytearray(before)
     untouched[0] &= 0b0110_0010  # bits 0, 2..4 and 7 of byte 0, bytes 1..11 belong to the group
     area[0] &= 0b0110_0010
@@ -106,8 +107,8 @@ def test_values_beyond_a_field_are_cut_to_its_width() -> None:
 def test_a_prefix_selects_a_repeated_block() -> None:
     first, second = GroupCodec(Ready, resolve, "x1."), GroupCodec(Ready, resolve, "x2.")
     area = bytearray(16)
-    second.encode(area, Ready(True))
-    assert (first.read(area), second.read(area)) == (Ready(False), Ready(True))
+    second.encode(area, Ready(ready=True))
+    assert (first.read(area), second.read(area)) == (Ready(ready=False), Ready(ready=True))
     assert area[13] == 0b10
 
 
@@ -122,8 +123,59 @@ def test_resolving_records_every_symbol() -> None:
     assert seen == ["x1.in.ready"]
 
 
-def test_a_group_is_one_direction() -> None:
+@dataclass(slots=True, kw_only=True)
+class Reordered:
+    """``Requests`` declared in another order."""
+
+    real: float = signal("out.real", 0.0)
+    dword: int = signal("out.dword", 0)
+    gear: int = signal("out.gear", 0)
+    b: bool = signal("out.b")
+    word: int = signal("out.word", 0)
+    a: bool = signal("out.a")
+    override: int = signal("out.override", 0)
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_the_order_of_a_declaration_changes_no_byte(seed: int) -> None:
+    rng = random.Random(seed)
+    values = {"a": rng.random() < 0.5, "b": rng.random() < 0.5, "gear": rng.randrange(8),
+              "override": rng.randrange(256), "word": rng.randrange(1 << 16), "dword": rng.randrange(1 << 32),
+              "real": 2.5}
+    before = bytearray(rng.randbytes(16))
+    declared, reordered = bytearray(before), bytearray(before)
+    GroupCodec(Requests, resolve).encode(declared, Requests(**values))
+    GroupCodec(Reordered, resolve).encode(reordered, Reordered(**values))
+    assert declared == reordered
+    read = GroupCodec(Reordered, resolve).read(declared)
+    assert {name: getattr(read, name) for name in values} == values
+
+
+def test_a_group_that_can_be_built_by_position_is_refused() -> None:
     @dataclass
+    class Positional:
+        a: bool = signal("out.a")
+        b: bool = signal("out.b")
+
+    with pytest.raises(SignalGroupError, match=r"Positional lets a, b be given by position: declare the group "
+                                               r"@dataclass\(kw_only=True\)"):
+        GroupCodec(Positional, resolve)
+
+
+def test_every_group_of_the_interface_is_built_by_keyword() -> None:
+    from interfaces import signal_groups
+
+    groups = [item for item in vars(signal_groups).values()
+              if isinstance(item, type) and dataclasses.is_dataclass(item) and declared_signals(item)]
+    assert len(groups) >= 20
+    for group in groups:
+        assert all(field.kw_only for field in dataclasses.fields(group)), group
+        with pytest.raises(TypeError):
+            group(*[field.default for field in dataclasses.fields(group)])
+
+
+def test_a_group_is_one_direction() -> None:
+    @dataclass(kw_only=True)
     class Mixed:
         a: bool = signal("out.a")
         ready: bool = signal("in.ready")
@@ -133,7 +185,7 @@ def test_a_group_is_one_direction() -> None:
 
 
 def test_two_signals_on_one_bit_are_refused() -> None:
-    @dataclass
+    @dataclass(kw_only=True)
     class Overlapping:
         gear: int = signal("out.gear", 0)
         overlap: bool = signal("in.overlap")
@@ -143,7 +195,7 @@ def test_two_signals_on_one_bit_are_refused() -> None:
 
 
 def test_a_field_of_another_type_than_its_signal_is_refused() -> None:
-    @dataclass
+    @dataclass(kw_only=True)
     class Mistyped:
         override: bool = signal("out.override")
 
@@ -152,7 +204,7 @@ def test_a_field_of_another_type_than_its_signal_is_refused() -> None:
 
 
 def test_a_group_without_signals_is_refused() -> None:
-    @dataclass
+    @dataclass(kw_only=True)
     class Empty:
         value: int = 0
 
@@ -161,7 +213,7 @@ def test_a_group_without_signals_is_refused() -> None:
 
 
 def test_an_unknown_symbol_fails_at_power_on() -> None:
-    @dataclass
+    @dataclass(kw_only=True)
     class Unknown:
         a: bool = signal("out.nothing")
 

@@ -11,5 +11,7 @@ Layers, from the top; a package imports only packages below it (import-linter ke
 7. ``kinematics`` | ``axis``   pure transform math; machine axes
 
 The base modules beside the packages (``alarms``, ``interface_map``, ``nc_memory``,
-``overrides``) import no package of vc/core.
+``overrides``, ``state_machine``) import no package of vc/core.  ``state_machine`` is how a
+function declares its state machine beside its State enum for observers; ``nck/state_view.py``
+publishes every instance through ``Nck.state_view()``.
 """

@@ -5,7 +5,7 @@ is observed (``vc.simulation.observed``) by a :class:`CoverageObserver`, which a
 
 * compares the bytes of the interface and the plant I/O with those of the cycle before (one
   ``memcmp`` per area) and, only where they differ, decodes the signals in the changed bytes;
-* reads the state of every state machine instance (``vc.coverage.probes``);
+* reads the state of every state machine instance the NC publishes (``vc.coverage.probes``);
 * looks at the alarms when the alarm list has changed (raised: its history; cleared: its log of
   cleared alarms, which says by what; alarms present at a power cycle are cleared by power-on).
 
@@ -26,13 +26,12 @@ from dataclasses import dataclass
 
 from interfaces.image import decode
 from interfaces.signals import InstanceKind, SignalRef
-from vc.core.alarms import AlarmList, Clear
-from vc.core.nck.nck import Nck
 from vc.coverage.data import CoverageData, MachineCoverage, ValueRecord
-from vc.coverage.probes import Probe, state_probes
+from vc.coverage.probes import StateProbe, state_probes
 from vc.scenario.model import Scenario
 from vc.simulation.lockstep import Simulation
 from vc.simulation.observed import ObservedSimulation, OperatorAction
+from vc.simulation.published import AlarmList, Clear, NcFunction
 
 # Catalogue groups that mean nothing on some instances: (kind, symbol part, who has them)
 NOT_APPLICABLE: tuple[tuple[InstanceKind, str, str], ...] = (
@@ -41,18 +40,15 @@ NOT_APPLICABLE: tuple[tuple[InstanceKind, str, str], ...] = (
     (InstanceKind.CHANNEL, ".inclinedAxis.", "channels with an inclined-axis control"),
     (InstanceKind.CHANNEL, ".orientationAxis1.", "channels with five-axis kinematics"),
 )
+# the function an instance must have for the group of NOT_APPLICABLE to apply (by symbol part)
+_NEEDS = {".spindle.": NcFunction.SPINDLE, ".coupling.": NcFunction.SPINDLE,
+          ".inclinedAxis.": NcFunction.INCLINED_AXIS, ".orientationAxis1.": NcFunction.FIVE_AXIS}
 
 
-def _applies(nck: Nck, kind: InstanceKind, instance: str, symbol: str) -> bool:
+def _applies(simulation: Simulation, kind: InstanceKind, instance: str, symbol: str) -> bool:
     for rule_kind, part, _ in NOT_APPLICABLE:
-        if rule_kind is not kind or part not in symbol:
-            continue
-        if kind is InstanceKind.AXIS:
-            return nck.axes_by_name[instance].is_spindle
-        channel = nck.channels_by_name[instance]
-        if part == ".inclinedAxis.":
-            return channel.inclined is not None
-        return channel.five_axis.kinematics is not None
+        if rule_kind is kind and part in symbol:
+            return _NEEDS[part] in simulation.functions_of(instance)
     return True
 
 
@@ -123,7 +119,7 @@ class CoverageObserver:
     def __init__(self, data: CoverageData, indexes: dict[object, _SignalIndex] | None = None):
         self.data = data
         self.indexes = indexes if indexes is not None else {}  # by machine, shared with other observers
-        self.probes: list[Probe] = []
+        self.probes: list[StateProbe] = []
         self.signals: _SignalWatch | None = None
         self.alarm_list: AlarmList | None = None
         self.alarm_version = -1
@@ -167,12 +163,11 @@ class CoverageObserver:
 
     # ------------------------------------------------------------------ parts
     def _powered_on(self, simulation: Simulation) -> None:
-        nck = simulation.nck
-        self.probes = state_probes(nck, self.data, simulation.machine.name)
-        self.alarm_list = nck.alarms
+        self.probes = state_probes(simulation.state_view(), self.data, simulation.machine.name)
+        self.alarm_list = alarms = simulation.alarm_list
         self.alarm_version = -1
         self.raised_seen = self.cleared_seen = 0
-        self._alarms(nck.alarms)
+        self._alarms(alarms)
 
     def _alarms(self, alarms: AlarmList) -> None:
         self.alarm_version = alarms.version
@@ -190,7 +185,6 @@ class CoverageObserver:
         machine = self.data.machines.get(config.name)
         if machine is None:
             machine = self.data.machines[config.name] = MachineCoverage(source=config.source)
-        nck = simulation.nck
         layout = config.layout
         for instance_kind in InstanceKind:
             machine.instances.update(layout.instances(instance_kind))
@@ -199,7 +193,7 @@ class CoverageObserver:
                 machine.signals[item.symbol] = ValueRecord()
                 machine.types[item.symbol] = item.type.value
                 kind = _kind_of(item.definition.address.db)
-                if kind is not None and not _applies(nck, kind, item.instance, item.symbol):
+                if kind is not None and not _applies(simulation, kind, item.instance, item.symbol):
                     machine.not_applicable.add(item.symbol)
         for point in simulation.plant_io.points:
             if point.name not in machine.plant:

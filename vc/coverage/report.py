@@ -32,10 +32,10 @@ import vc
 from interfaces.catalog import load_catalog
 from interfaces.plant_io import plant_function
 from interfaces.signals import FIRST_DB, PLACEHOLDER, InstanceKind, SignalDef
-from vc.core.alarms import ALARM_TEXTS
 from vc.coverage.collector import NOT_APPLICABLE
 from vc.coverage.data import FALLS, RISES, CoverageData, FunctionCoverage, MachineCoverage, ValueRecord
 from vc.coverage.state_machines import STATE_MACHINES, StateMachine
+from vc.simulation.published import ALARM_TEXTS
 
 CATEGORIES = ("signals", "functions", "alarms", "plant")
 DB_KINDS = ("DB10", "DB11", "DB19", "DB21", "DB31")

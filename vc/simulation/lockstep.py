@@ -44,6 +44,7 @@ from vc.simulation.observables import (
     NCK_QUANTITIES,
     StepRefused,
 )
+from vc.simulation.published import AlarmList, NcFunction, StateView
 
 
 class Pacer(Protocol):
@@ -320,6 +321,27 @@ class Simulation:
 
     def alarms(self) -> Sequence[Alarm]:
         return list(self.nck.alarms.present)
+
+    # ------------------------------------------------------------------ for observers (vc.simulation.published)
+    def state_view(self) -> StateView:
+        """The states of the NC's state machines (of the present power-on)."""
+        return self.nck.state_view()
+
+    @property
+    def alarm_list(self) -> AlarmList:
+        return self.nck.alarms
+
+    def functions_of(self, instance: str) -> frozenset[NcFunction]:
+        """The functions of those only some have that the axis or channel ``instance`` has now."""
+        axis = self.nck.axes_by_name.get(instance)
+        if axis is not None:
+            return frozenset({NcFunction.SPINDLE} if axis.is_spindle else ())
+        channel = self.nck.channels_by_name.get(instance)
+        if channel is None:
+            return frozenset()
+        return frozenset(function for function, present in (
+            (NcFunction.INCLINED_AXIS, channel.inclined is not None),
+            (NcFunction.FIVE_AXIS, channel.five_axis.kinematics is not None)) if present)
 
     def alarm_history(self) -> Sequence[Alarm]:
         return list(self.nck.alarms.history)

@@ -484,26 +484,29 @@ class MachineAxis:
         dyn = self.dyn
         error = abs(self.setpoint + self.overlay - self.actual)  # exact stop windows count from the end point
         no_motion = self.owner is Owner.NONE and self.command_velocity == 0.0
-        status = (
-            no_motion and error <= dyn.coarse_window,
-            no_motion and error <= dyn.fine_window,
-            # "stationary" is the actual speed below MD36060, whoever owns the axis (a coupled FS,
-            # a path axis held by feed stop), as long as nothing commands it to move
-            self.command_velocity == 0.0 and abs(self.velocity) <= dyn.standstill_velocity,
-            self.servo_on and self.position_control,
-            self.follow_up,
-            self.encoders[0].referenced,
-            len(self.encoders) > 1 and self.encoders[1].referenced,
-            self.encoders[0].restored,
-            len(self.encoders) > 1 and self.encoders[1].restored,
-            self.encoders[0].frequency_exceeded,
-            len(self.encoders) > 1 and self.encoders[1].frequency_exceeded,
-            self.disabled,
-            self.command_velocity > _TINY,
-            self.command_velocity < -_TINY,
-            self.drive_enabled,
-        )
+        first = self.encoders[0]
+        second = self.encoders[1] if len(self.encoders) > 1 else None
+        exact_coarse = no_motion and error <= dyn.coarse_window
+        exact_fine = no_motion and error <= dyn.fine_window
+        # "stationary" is the actual speed below MD36060, whoever owns the axis (a coupled FS,
+        # a path axis held by feed stop), as long as nothing commands it to move
+        stationary = self.command_velocity == 0.0 and abs(self.velocity) <= dyn.standstill_velocity
+        position_control = self.servo_on and self.position_control
+        referenced_2 = second is not None and second.referenced
+        restored_2 = second is not None and second.restored
+        frequency_exceeded_2 = second is not None and second.frequency_exceeded
+        command_plus = self.command_velocity > _TINY
+        command_minus = self.command_velocity < -_TINY
+        # a plain tuple first: compared every cycle, the status is built (by keyword) only when it changed
+        status = (exact_coarse, exact_fine, stationary, position_control, self.follow_up, first.referenced,
+                  referenced_2, first.restored, restored_2, first.frequency_exceeded, frequency_exceeded_2,
+                  self.disabled, command_plus, command_minus, self.drive_enabled)
         if status == self._status:
             return
         self._status = status
-        self._encode(self._area, AxisStatus(*status))
+        self._encode(self._area, AxisStatus(
+            exact_coarse=exact_coarse, exact_fine=exact_fine, stationary=stationary, position_control=position_control,
+            follow_up_active=self.follow_up, referenced_1=first.referenced, referenced_2=referenced_2,
+            restored_1=first.restored, restored_2=restored_2, frequency_exceeded_1=first.frequency_exceeded,
+            frequency_exceeded_2=frequency_exceeded_2, disabled=self.disabled, command_plus=command_plus,
+            command_minus=command_minus, drive_enabled=self.drive_enabled))

@@ -70,17 +70,19 @@ class ChannelInterface:
         """Channel and program state and the alarm bits (written when they change)."""
         state, program = run.state, run.program_state
         self._encode_status(self._area, ChannelStatus(
-            program is ProgramState.RUNNING, program is ProgramState.WAITING, program is ProgramState.STOPPED,
-            program is ProgramState.INTERRUPTED, program is ProgramState.ABORTED, state is ChannelState.ACTIVE,
-            state is ChannelState.INTERRUPTED, state is ChannelState.RESET, alarm_present, alarm_with_stop,
-            reference_active))
+            running=program is ProgramState.RUNNING, waiting=program is ProgramState.WAITING,
+            stopped=program is ProgramState.STOPPED, interrupted=program is ProgramState.INTERRUPTED,
+            aborted=program is ProgramState.ABORTED, state_active=state is ChannelState.ACTIVE,
+            state_interrupted=state is ChannelState.INTERRUPTED, state_reset=state is ChannelState.RESET,
+            alarm_active=alarm_present, alarm_with_stop=alarm_with_stop, reference_active=reference_active))
 
     def write_axis_summary(self, axes: Sequence[MachineAxis], needs_reference: Sequence[MachineAxis]) -> None:
         """All axes referenced / all axes stationary (written when they change); spindles count
         as axes only in axis mode."""
-        summary = (all(axis.referenced for axis in needs_reference),
-                   all(axis.at_rest and abs(axis.velocity) <= axis.dyn.standstill_velocity for axis in axes
-                       if not axis.is_spindle or axis.axis_mode))
+        all_referenced = all(axis.referenced for axis in needs_reference)
+        all_stationary = all(axis.at_rest and abs(axis.velocity) <= axis.dyn.standstill_velocity for axis in axes
+                             if not axis.is_spindle or axis.axis_mode)
+        summary = (all_referenced, all_stationary)
         if summary != self._summary:
             self._summary = summary
-            self._encode_summary(self._area, AxisSummary(*summary))
+            self._encode_summary(self._area, AxisSummary(all_referenced=all_referenced, all_stationary=all_stationary))

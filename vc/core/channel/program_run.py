@@ -8,6 +8,8 @@ Channel and program states (DB21.DBX35.x)::
     INTERRUPTED ──NC start (in the mode the program was started in)──▶ ACTIVE / running
     any ──reset, M2, M30──▶ RESET / aborted
 
+Observers see them as two state machines, ``CHANNEL_STATES`` and ``PROGRAM_STATES``.
+
 The :class:`~vc.core.channel.channel.Channel` makes these transitions on its commands; its parts
 (block execution, the spindle functions, thread cutting and the ESR) read and change the one
 :class:`ProgramRun` it owns, so each sees the block, the phase and the state the others left.
@@ -22,6 +24,7 @@ from vc.core.interpolation.path import PathSegment
 from vc.core.interpolation.tool_path import ToolPathSegment
 from vc.core.program.block_plan import BlockPlan, ModalState
 from vc.core.program.program import Block
+from vc.core.state_machine import Instance, StateMachine, states, transitions
 
 
 class ChannelState(Enum):
@@ -36,6 +39,28 @@ class ProgramState(Enum):
     WAITING = "waiting"
     STOPPED = "stopped"
     INTERRUPTED = "interrupted"
+
+
+CHANNEL_STATES: StateMachine[ProgramRun] = StateMachine(
+    __name__, "channel", "Channel state (DB21.DBX35.5-35.7)", Instance.CHANNEL,
+    states(*ChannelState),
+    transitions(("RESET", "ACTIVE", "NC start"), ("ACTIVE", "INTERRUPTED", "NC stop, an alarm"),
+                ("RESET", "INTERRUPTED", "NC start, and an alarm of the first block in the same cycle"),
+                ("INTERRUPTED", "ACTIVE", "NC start"), ("ACTIVE", "RESET", "program end, reset"),
+                ("INTERRUPTED", "RESET", "reset")),
+    read=lambda run: run.state)
+
+PROGRAM_STATES: StateMachine[ProgramRun] = StateMachine(
+    __name__, "program", "Program state (DB21.DBX35.0-35.4)", Instance.CHANNEL,
+    states(*ProgramState),
+    transitions(("ABORTED", "RUNNING", "NC start"), ("RUNNING", "ABORTED", "program end, reset"),
+                ("ABORTED", "STOPPED", "NC start, and an alarm of the first block in the same cycle"),
+                ("RUNNING", "WAITING", "read-in disable DB21.DBX6.1"), ("WAITING", "RUNNING", "read-in enabled"),
+                ("RUNNING", "STOPPED", "NC stop, an alarm"), ("STOPPED", "RUNNING", "NC start"),
+                ("STOPPED", "INTERRUPTED", "another mode selected"),
+                ("INTERRUPTED", "RUNNING", "back in the mode, NC start"),
+                ("STOPPED", "ABORTED", "reset"), ("INTERRUPTED", "ABORTED", "reset")),
+    read=lambda run: run.program_state)
 
 
 class BlockPhase(Enum):
@@ -59,8 +84,8 @@ class ProgramRun:
     """The channel and program state, the modal state, the program and the block in progress."""
 
     def __init__(self) -> None:
-        self.state = ChannelState.RESET
-        self.program_state = ProgramState.ABORTED
+        self.state: ChannelState = ChannelState.RESET
+        self.program_state: ProgramState = ProgramState.ABORTED
         self.modal = ModalState()
         self.started_in: Mode | None = None
         self.blocks: tuple[Block, ...] = ()

@@ -25,7 +25,8 @@ from vc.core.axis.axis import MachineAxis
 from vc.core.kinematics.inclined_axis import reference_order_alarm
 from vc.core.nc_memory import NcMemory
 from vc.core.referencing.distance_coded import PassiveMarkWatcher, passive_distance_coded
-from vc.core.referencing.referencing import AxisReferencing, CycleConditions, Source
+from vc.core.referencing.referencing import AxisReferencing, Source
+from vc.core.referencing.referencing_data import CycleConditions
 from vc.core.transforms.inclined_axis_control import InclinedAxisControl, at_reference_point
 
 

@@ -28,11 +28,12 @@ class AlarmArea:
 
     def write(self, alarms: AlarmList) -> None:
         area, present = self._area, alarms.present
-        self._encode_header(area, AlarmListHeader(min(len(present), 0xFFFF), alarms.version & 0xFFFF))
+        self._encode_header(area, AlarmListHeader(count=min(len(present), 0xFFFF), changes=alarms.version & 0xFFFF))
         for index, encode in enumerate(self._entries):
             if index >= len(present):
                 encode(area, NO_ENTRY)
                 continue
             alarm = present[index]
-            encode(area, AlarmEntry(alarm.number, self._channels.get(alarm.channel, 0), self._axes.get(alarm.axis, 0),
-                                    alarm.reaction.value, cleared_by_code(alarm.clear.value)))
+            encode(area, AlarmEntry(number=alarm.number, channel=self._channels.get(alarm.channel, 0),
+                                    axis=self._axes.get(alarm.axis, 0), reaction=alarm.reaction.value,
+                                    cleared_by=cleared_by_code(alarm.clear.value)))

@@ -7,14 +7,14 @@ memory, which survives the power cycle, and shows DB21.DBX377.5.
 In JOG the PLC selects the function; then only the tool axis moves, with the traverse keys,
 and the spindle turns with it by the thread's pitch, so the tap unscrews itself.
 
-One channel's states::
+One channel's states (:class:`RetractionState`)::
 
-    NO DATA ──reset / power failure in G33, G331, G332──▶ DATA (377.5 = 1)
+    NO_DATA ──reset / power failure in G33, G331, G332──▶ DATA (377.5 = 1)
     DATA ──PI service RETRAC: JOG, channel in reset, tool axis and spindle
            referenced or restored──▶ ACTIVE (377.4 = 1)
     ACTIVE ──channel or mode-group reset, another mode, REF──▶ DATA (377.4 = 0; reselect from
            where the axes stand now, L35608-35656)
-    DATA, ACTIVE ──NC start that starts a program in AUTOMATIC / MDA──▶ NO DATA (377.5 = 0, L35683-35693)
+    DATA, ACTIVE ──NC start that starts a program in AUTOMATIC / MDA──▶ NO_DATA (377.5 = 0, L35683-35693)
 
 While ACTIVE: the tool axis only in its plus direction unless MD10735 bit 8 = 1 (L35390-35400);
 the channel's other geometry axes stand (they place the tool in the thread) [INF: seed 003
@@ -35,6 +35,7 @@ or 397.1 (refused) until the PLC takes the request away, FB4's REQ / DONE / ERRO
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import Enum
 
 from interfaces.signal_groups import RETRACTION_REQUEST, RetractionStatus
 from vc.core.axis.axis import MachineAxis
@@ -44,10 +45,27 @@ from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import ChannelState, Mode
 from vc.core.interface_map import SignalTable
 from vc.core.nc_memory import NcMemory, RetractData
+from vc.core.state_machine import Instance, StateMachine, states, transitions
 
 BOTH_DIRECTIONS = 1 << 8  # MD10735 bit 8: retraction in plus and minus direction (L35396-35400)
 THREAD_FUNCTIONS = ("G33", "G331", "G332")
 STANDING = JogLimits(plus=False, minus=False)
+
+
+class RetractionState(Enum):
+    NO_DATA = "no retract data"
+    DATA = "retract data kept (377.5)"
+    ACTIVE = "retraction selected (377.4)"
+
+
+MANUAL_RETRACTION_STATES: StateMachine[ManualRetraction] = StateMachine(
+    __name__, "manual_retraction", "Manual retraction along the tool axis (DB21.DBX377.4, 377.5)", Instance.CHANNEL,
+    states(*RetractionState),
+    transitions(("NO_DATA", "DATA", "reset / power failure in G33, G331, G332"),
+                ("DATA", "ACTIVE", "RETRAC (DB21.DBX396.0) in JOG"),
+                ("ACTIVE", "DATA", "reset, another mode, REF"),
+                ("DATA", "NO_DATA", "a program starts"), ("ACTIVE", "NO_DATA", "a program starts")),
+    read=lambda retraction: retraction.state)
 
 
 @dataclass(slots=True)
@@ -85,6 +103,12 @@ class ManualRetraction:
     @property
     def data(self) -> RetractData | None:
         return self._memory.retract.get(self.channel.name)
+
+    @property
+    def state(self) -> RetractionState:
+        if self.active:
+            return RetractionState.ACTIVE
+        return RetractionState.NO_DATA if self.data is None else RetractionState.DATA
 
     # ------------------------------------------------------------------ the abort
     def keep_data(self) -> None:
@@ -227,8 +251,11 @@ class ManualRetraction:
 
     # ------------------------------------------------------------------ outputs
     def write_outputs(self) -> None:
-        status = (self.channel.name in self._memory.retract, self.active, self._answer is True, self._answer is False)
+        data_available = self.channel.name in self._memory.retract
+        done, error = self._answer is True, self._answer is False
+        status = (data_available, self.active, done, error)
         if status == self._written:
             return
         self._written = status
-        self._encode(self._area, RetractionStatus(*status))
+        self._encode(self._area, RetractionStatus(data_available=data_available, active=self.active, done=done,
+                                                  error=error))

@@ -5,6 +5,13 @@ if several are set, JOG wins over MDA over AUTOMATIC, as on the control.  A mode
 is refused while a channel of the mode group is active (a program running); the
 selection then waits until the channel is stopped or reset.  REF (DB11.DBX1.2) is a
 machine function inside JOG or MDA.  DB11.DBX0.7 resets every channel of the group.
+
+Published as one state machine (``MODE_GROUP_STATES``): the mode, with REF as a state of its own
+inside JOG and MDA::
+
+    JOG, MDA, AUTO ──DB11.DBX0.2 / 0.1 / 0.0, no channel active──▶ the mode selected
+    JOG ──DB11.DBX1.2──▶ JOG REF ──DB11.DBX1.2 = 0──▶ JOG          (MDA and MDA REF alike)
+    JOG REF ──MDA or AUTOMATIC selected: REF ends with JOG──▶ MDA, AUTO
 """
 
 from __future__ import annotations
@@ -12,6 +19,7 @@ from __future__ import annotations
 from interfaces.signal_groups import ModeGroupRequests, ModeGroupStatus
 from vc.core.channel.program_run import Mode
 from vc.core.interface_map import SignalTable
+from vc.core.state_machine import Instance, StateMachine, states, transitions
 
 
 class ModeGroup:
@@ -55,5 +63,24 @@ class ModeGroup:
 
     def write_outputs(self, ready: bool) -> None:
         mode = self.mode
-        self._encode(self._area, ModeGroupStatus(mode is Mode.AUTO, mode is Mode.MDA, mode is Mode.JOG, ready,
-                                                 self.reference_function))
+        self._encode(self._area, ModeGroupStatus(auto_active=mode is Mode.AUTO, mda_active=mode is Mode.MDA,
+                                                 jog_active=mode is Mode.JOG, ready=ready,
+                                                 ref_active=self.reference_function))
+
+
+# the state of the mode group for observers: JOG, MDA, AUTO; JOG REF and MDA REF with the machine function REF
+_STATE_NAMES = {(mode, ref): f"{mode.value} REF" if ref else mode.value for mode in Mode for ref in (False, True)}
+
+MODE_GROUP_STATES: StateMachine[ModeGroup] = StateMachine(
+    __name__, "mode_group", "Mode group: operating mode and machine function REF (DB11)", Instance.MODE_GROUP,
+    states(("JOG", "JOG (DB11.DBX6.2)"), ("JOG REF", "JOG with the machine function REF (DB11.DBX7.2)"),
+           ("MDA", "MDA (DB11.DBX6.1)"), ("MDA REF", "MDA with the machine function REF"),
+           ("AUTO", "AUTOMATIC (DB11.DBX6.0)")),
+    transitions(("JOG", "MDA", "DB11.DBX0.1"), ("MDA", "JOG", "DB11.DBX0.2"),
+                ("JOG", "AUTO", "DB11.DBX0.0"), ("AUTO", "JOG", "DB11.DBX0.2"),
+                ("MDA", "AUTO", "DB11.DBX0.0"), ("AUTO", "MDA", "DB11.DBX0.1"),
+                ("JOG", "JOG REF", "DB11.DBX1.2 in JOG"), ("JOG REF", "JOG", "DB11.DBX1.2 = 0"),
+                ("MDA", "MDA REF", "DB11.DBX1.2 in MDA"), ("MDA REF", "MDA", "DB11.DBX1.2 = 0"),
+                ("JOG REF", "MDA", "DB11.DBX0.1: REF ends with JOG"),
+                ("JOG REF", "AUTO", "DB11.DBX0.0: REF ends with JOG")),
+    read=lambda group: _STATE_NAMES[(group.mode, group.reference_function)])

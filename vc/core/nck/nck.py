@@ -61,8 +61,10 @@ from vc.core.channel.program_run import ChannelState, Mode
 from vc.core.nc_memory import NcMemory
 from vc.core.nck.alarm_reactions import EMERGENCY_STOP_ALARM, AlarmReactions
 from vc.core.nck.power_on import power_on
+from vc.core.nck.state_view import state_view
 from vc.core.referencing.buffered_positions import buffer_at_power_off, encoder_slip
 from vc.core.retraction.dc_link import DcLink
+from vc.core.state_machine import StateView
 
 PLC_SIGN_OF_LIFE_ALARM = 2000
 PLC_NOT_STARTED_ALARM = 2001
@@ -89,6 +91,8 @@ class Nck:
         # every catalogue signal the NC reads or writes, by its catalogue symbol: the signals it models
         self.signals_used: set[str] = set()
         parts = power_on(machine, catalog, self.image, self.memory, self.alarms, self.dt, physical, self.signals_used)
+        self._parts = parts
+        self._state_view: StateView | None = None
         self._decode_nck = parts.nck_inputs.decode
         self._encode_nck = parts.nck_status.encode
         self._nck_inputs = NckRequests()
@@ -380,7 +384,8 @@ class Nck:
         if self.alarms.version != self._alarm_area_version:
             self._alarm_area_version = self.alarms.version
             self._alarm_area.write(self.alarms)
-        self._encode_nck(self._nck_area, NckStatus(self.emergency_stop, True, bool(present)))
+        self._encode_nck(self._nck_area, NckStatus(emergency_stop_active=self.emergency_stop, nc_ready=True,
+                                                   alarm_active=bool(present)))
         self.mode_group.write_outputs(ready=True)
         for channel in self.channels:
             channel_alarms = [a for a in present if a.channel in ("", channel.name)] if present else []
@@ -446,6 +451,14 @@ class Nck:
         item = self.axes_by_name[axis]
         self.alarms.raise_alarm(207900, self.cycle, axis, channel=item.channel, axis=axis)
         item.resting = False
+
+    # ------------------------------------------------------------------ observers
+    def state_view(self) -> StateView:
+        """The state of every instance of every state machine, for observers (built on the first
+        call; reading it costs the NC's cycle nothing)."""
+        if self._state_view is None:
+            self._state_view = state_view(self._parts)
+        return self._state_view
 
     # ------------------------------------------------------------------ operator access (HMI)
     def load_mda(self, channel: str, text: str) -> None:

@@ -37,11 +37,15 @@ key brakes the axis without aborting; pressing it again continues.
 
 The marks of a distance-coded scale are decoded in ``distance_coded``; what the reference state
 of a measuring system is at power-on comes from ``buffered_positions``.
+
+Observers see one state machine per procedure (``REFERENCING``): the phases and their transitions
+differ by measuring system, so each :class:`Procedure` is declared with the states and transitions
+it can take; an axis is in the procedure it started last (before its first start, the one its
+active measuring system would run).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from enum import Enum
 
 from vc.config import md_dictionary as MD
@@ -58,6 +62,8 @@ from vc.core.axis.motion import braking_distance, ramp, stopping_velocity
 from vc.core.axis.owner import Owner
 from vc.core.nc_memory import NcMemory
 from vc.core.referencing.distance_coded import decode_marks, passive_distance_coded
+from vc.core.referencing.referencing_data import CycleConditions, ReferencingData
+from vc.core.state_machine import Instance, StateMachine, Variants, states, transitions
 
 ALARM_CAM_NOT_REACHED = 20000
 ALARM_NO_CAM_SIGNAL = 20001
@@ -92,65 +98,87 @@ class State(Enum):
     DONE = "referenced"
 
 
+class Procedure(Enum):
+    """The procedure an axis references with: a state machine of its own for observers."""
+
+    INCREMENTAL_CAM = "incremental measuring system with reference cam (MD34200 = 1, MD34000 = 1)"
+    INCREMENTAL_NO_CAM = "incremental measuring system without reference cam (MD34000 = 0)"
+    DISTANCE_CODED = "distance-coded reference marks (MD34200 = 3 / 8)"
+    ABSOLUTE = "absolute encoder (MD30240 = 4)"
+    FOLLOW_UP = "in follow-up mode (MD34104 = 1)"
+
+
+_ABORT = "abort: reset, an alarm, the traverse key or REF taken away"
+S = State
+
+
+def _procedure(procedure: Procedure, members: tuple[State, ...],
+               *steps: tuple[str, str, str]) -> StateMachine[AxisReferencing]:
+    return StateMachine(__name__, f"referencing.{procedure.name.lower()}", f"Referencing, {procedure.value}",
+                        Instance.AXIS, states(*members), transitions(*steps), read=_state)
+
+
+def _state(referencing: AxisReferencing) -> State:
+    return referencing.state
+
+
+_PROCEDURES: dict[Procedure, StateMachine[AxisReferencing]] = {
+    Procedure.INCREMENTAL_CAM: _procedure(
+        Procedure.INCREMENTAL_CAM,
+        (S.IDLE, S.P1_TO_CAM, S.P1_BRAKE, S.P2_LEAVE_CAM, S.P2_BRAKE_OFF_CAM, S.P2_RETURN_TO_CAM, S.P2_ZERO_MARK,
+         S.P3_STOP, S.P3_TO_POINT, S.SETTLE, S.DONE),
+        ("IDLE", "P1_TO_CAM", "start off the cam"), ("IDLE", "P2_LEAVE_CAM", "start on the cam"),
+        ("DONE", "P1_TO_CAM", "a referenced axis referenced again"),
+        ("P1_TO_CAM", "P1_BRAKE", "the cam rises"), ("P1_BRAKE", "P2_LEAVE_CAM", "standstill on the cam"),
+        ("P2_LEAVE_CAM", "P2_ZERO_MARK", "the cam falls, MD34050 = 0"),
+        ("P2_LEAVE_CAM", "P2_BRAKE_OFF_CAM", "the cam falls, MD34050 = 1"),
+        ("P2_LEAVE_CAM", "P1_TO_CAM", "the cam fell before creep speed: phase 1 again"),
+        ("P2_BRAKE_OFF_CAM", "P2_RETURN_TO_CAM", "standstill off the cam"),
+        ("P2_RETURN_TO_CAM", "P2_ZERO_MARK", "the cam rises"),
+        ("P2_ZERO_MARK", "P3_TO_POINT", "zero mark"),
+        ("P2_ZERO_MARK", "P3_STOP", "zero mark, reference point within the braking distance"),
+        ("P3_STOP", "P3_TO_POINT", "standstill"), ("P3_TO_POINT", "SETTLE", "at the reference point"),
+        ("SETTLE", "DONE", "exact stop fine: referenced"),
+        ("P1_TO_CAM", "IDLE", f"{_ABORT}, 20000"), ("P1_BRAKE", "IDLE", f"{_ABORT}, 20001"),
+        ("P2_LEAVE_CAM", "IDLE", f"{_ABORT}, 20005"), ("P2_ZERO_MARK", "IDLE", f"{_ABORT}, 20002"),
+        ("P3_TO_POINT", "IDLE", _ABORT)),
+    Procedure.INCREMENTAL_NO_CAM: _procedure(
+        Procedure.INCREMENTAL_NO_CAM, (S.IDLE, S.P2_ZERO_MARK, S.P3_STOP, S.P3_TO_POINT, S.SETTLE, S.DONE),
+        ("IDLE", "P2_ZERO_MARK", "start"), ("P2_ZERO_MARK", "P3_TO_POINT", "zero mark"),
+        ("P2_ZERO_MARK", "P3_STOP", "zero mark, reference point within the braking distance"),
+        ("P3_STOP", "P3_TO_POINT", "standstill"), ("P3_TO_POINT", "SETTLE", "at the reference point"),
+        ("SETTLE", "DONE", "exact stop fine: referenced"), ("P2_ZERO_MARK", "IDLE", f"{_ABORT}, 20002"),
+        ("P3_TO_POINT", "IDLE", _ABORT)),
+    Procedure.DISTANCE_CODED: _procedure(
+        Procedure.DISTANCE_CODED, (S.IDLE, S.DC_SEARCH, S.DC_REVERSE, S.DC_BRAKE, S.TO_TARGET, S.SETTLE, S.DONE),
+        ("IDLE", "DC_SEARCH", "start"), ("DC_SEARCH", "DC_BRAKE", "2 (4) plausible marks"),
+        ("DC_SEARCH", "DC_REVERSE", "the cam at the end of the range, or implausible marks"),
+        ("DC_REVERSE", "DC_SEARCH", "standstill: the other way"), ("DC_BRAKE", "TO_TARGET", "standstill, MD34330 = 0"),
+        ("DC_BRAKE", "DONE", "standstill, MD34330 = 1: referenced"), ("TO_TARGET", "SETTLE", "at the target"),
+        ("SETTLE", "DONE", "exact stop fine: referenced"), ("DC_SEARCH", "IDLE", f"{_ABORT}, 20003, 20004"),
+        ("TO_TARGET", "IDLE", _ABORT)),
+    Procedure.ABSOLUTE: _procedure(
+        Procedure.ABSOLUTE, (S.IDLE, S.TO_TARGET, S.SETTLE, S.DONE),
+        ("IDLE", "TO_TARGET", "start, calibrated, MD34330 = 0"),
+        ("IDLE", "DONE", "calibration without motion (MD34210 = 1), or MD34330 = 1"),
+        ("TO_TARGET", "SETTLE", "at the reference position"), ("SETTLE", "DONE", "exact stop fine: referenced"),
+        ("TO_TARGET", "IDLE", _ABORT)),
+    Procedure.FOLLOW_UP: _procedure(
+        Procedure.FOLLOW_UP, (S.IDLE, S.FOLLOW_UP, S.DONE),
+        ("IDLE", "FOLLOW_UP", "start in follow-up mode"), ("FOLLOW_UP", "DONE", "the slide crossed the marks"),
+        ("FOLLOW_UP", "IDLE", "follow-up mode ended"), ("DONE", "FOLLOW_UP", "G74 on a referenced axis")),
+}
+
+REFERENCING: Variants[AxisReferencing] = Variants(
+    "referencing", tuple(_PROCEDURES.values()), lambda referencing: _PROCEDURES[referencing.procedure])
+
+
 _PHASE = {
     State.P1_TO_CAM: 1, State.P1_BRAKE: 1,
     State.P2_LEAVE_CAM: 2, State.P2_BRAKE_OFF_CAM: 2, State.P2_RETURN_TO_CAM: 2, State.P2_ZERO_MARK: 2,
     State.P3_STOP: 3, State.P3_TO_POINT: 3, State.SETTLE: 3,
     State.DC_SEARCH: 1, State.DC_REVERSE: 1, State.DC_BRAKE: 1, State.TO_TARGET: 3,
 }
-
-
-@dataclass(frozen=True, slots=True)
-class ReferencingData:
-    """The referencing machine data of one axis in internal units (per second)."""
-
-    direction: int  # +1 / -1: MD34010 REFP_CAM_DIR_IS_MINUS
-    with_cam: bool  # MD34000
-    search_velocity: float  # MD34020
-    max_cam_distance: float  # MD34030
-    creep_velocity: float  # MD34040
-    rising_edge: bool  # MD34050
-    max_marker_distance: float  # MD34060
-    positioning_velocity: float  # MD34070
-    move_distance: float  # MD34080 + MD34090 (reference point distance + offset)
-    cam_shift: float  # MD34092
-    set_positions: tuple[float, ...]  # MD34100[0..3]
-    sync_encoders: bool  # MD34102
-    in_follow_up: bool  # MD34104
-    velocity_tolerance: float  # MD35150 (phase 2 speed reached within this factor)
-    hold_mode: bool  # MD11300
-    stop_at_target: bool  # MD34330: 1 = no travel to the reference position
-
-    @classmethod
-    def of(cls, axis: MachineAxis, md: MachineData, hold_mode: bool, encoder: int) -> ReferencingData:
-        unit = 6.0 if axis.config.is_rotary else 1.0 / 60.0
-        return cls(
-            direction=-1 if md.bool(MD.REFP_CAM_DIR_IS_MINUS) else 1,
-            with_cam=md.bool(MD.REFP_CAM_IS_ACTIVE),
-            search_velocity=md.float(MD.REFP_VELO_SEARCH_CAM) * unit,
-            max_cam_distance=md.float(MD.REFP_MAX_CAM_DIST),
-            creep_velocity=md.float(MD.REFP_VELO_SEARCH_MARKER) * unit,
-            rising_edge=md.bool(MD.REFP_SEARCH_MARKER_REVERSE),
-            max_marker_distance=md.float(MD.REFP_MAX_MARKER_DIST),
-            positioning_velocity=md.float(MD.REFP_VELO_POS) * unit,
-            move_distance=md.float(MD.REFP_MOVE_DIST) + md.float(MD.REFP_MOVE_DIST_CORR, encoder),
-            cam_shift=md.float(MD.REFP_CAM_SHIFT),
-            set_positions=md.floats(MD.REFP_SET_POS),
-            sync_encoders=md.bool(MD.REFP_SYNC_ENCS),
-            in_follow_up=md.bool(MD.REFP_PERMITTED_IN_FOLLOWUP),
-            velocity_tolerance=md.float(MD.SPIND_DES_VELO_TOL),
-            hold_mode=hold_mode,
-            stop_at_target=md.bool(MD.REFP_STOP_AT_ABS_MARKER),
-        )
-
-
-@dataclass(slots=True)
-class CycleConditions:
-    """What the NC tells the referencing of one axis in this cycle."""
-
-    feed_stop: bool  # channel feed disable or axis feed stop
-    nc_stop: bool  # NC stop of the channel is held (latched in phases 1 and 3 until NC start)
-    key_held: bool  # the traverse key of the started direction (hold mode)
 
 
 class AxisReferencing:
@@ -163,6 +191,7 @@ class AxisReferencing:
         self.state = State.IDLE
         self.source = Source.KEY
         self._data = self._read_data()
+        self.procedure: Procedure = self._configured_procedure()  # the procedure started last (observers read it)
         self._direction = 1  # direction of the present motion of the procedure
         self._search_direction = 1
         self._selection = 0  # index into MD34100, latched at the cam
@@ -194,6 +223,15 @@ class AxisReferencing:
     @property
     def encoder(self) -> MeasuringSystem:
         return self.axis.encoders[self._encoder_index()]
+
+    def _configured_procedure(self) -> Procedure:
+        """The procedure the active measuring system references with (follow-up aside)."""
+        encoder = self.encoder
+        if encoder.mode in DISTANCE_CODED_MODES:
+            return Procedure.DISTANCE_CODED
+        if encoder.absolute:
+            return Procedure.ABSOLUTE
+        return Procedure.INCREMENTAL_CAM if self._data.with_cam else Procedure.INCREMENTAL_NO_CAM
 
     @property
     def active(self) -> bool:
@@ -229,6 +267,7 @@ class AxisReferencing:
         if axis.follow_up and data.in_follow_up:
             if encoder.referenced and source is not Source.G74:
                 return False  # a referenced system is referenced again in follow-up only with G74 (L1892-1896)
+            self.procedure = Procedure.FOLLOW_UP
             self._begin(State.FOLLOW_UP, take=False)
             self._direction = key_direction or data.direction
             return True
@@ -242,6 +281,7 @@ class AxisReferencing:
             direction = key_direction or data.direction
             if data.with_cam and axis.inputs.ref_cam:
                 direction = -data.direction  # on the cam at the end of the range: away from it (L1526-1535)
+            self.procedure = Procedure.DISTANCE_CODED
             self._search(direction, data.creep_velocity)
             return True
         self._start_zero_mark_procedure()
@@ -249,6 +289,7 @@ class AxisReferencing:
 
     def _start_zero_mark_procedure(self) -> None:
         data = self._data
+        self.procedure = Procedure.INCREMENTAL_CAM if data.with_cam else Procedure.INCREMENTAL_NO_CAM
         if not data.with_cam:
             self._enter_zero_mark_search(self._direction_of_search())
         elif self.axis.inputs.ref_cam:
@@ -265,6 +306,7 @@ class AxisReferencing:
             # §4.9.3: the axis does not move; the NC computes MD34090 and marks the encoder calibrated
             self._write_calibration(value - encoder.absolute_reading(self.axis.physical))
             self.axis.synchronise(encoder, self.axis.physical, value)
+            self.procedure = Procedure.ABSOLUTE
             self.state = State.DONE
             return True
         if state == ENC_STATE_CALIBRATED:
@@ -272,6 +314,7 @@ class AxisReferencing:
             physical = self.axis.physical
             self.axis.synchronise(encoder, physical, encoder.calibrated_actual(
                 physical, md.float(MD.REFP_MOVE_DIST_CORR, index)))
+            self.procedure = Procedure.ABSOLUTE
             if self._data.stop_at_target:
                 self.state = State.DONE  # §4.9.6: MD34330 = 1, referencing ends at once
                 return True

@@ -20,6 +20,9 @@ second cycle.  Timeline of one axis (figures 22-1, 22-2, 22-4)::
     REACTING ──enable 1 -> 0──▶ ack pending: 95.2 falls when the reaction ends (red path of fig. 22-4)
     ACKNOWLEDGED ──enable 0 -> 1 and $AN_ESR_TRIGGER = 0──▶ ARMED
 
+Observers see the reaction as ``DRIVE_ESR_STATES`` (ARMED, REACTING, DONE: the acknowledgement
+arms the drive again).
+
 Generator operation (p0888 = 3, set up in the drive: the axis's ``drive:`` parameters) turns the
 motor's kinetic energy into the DC link's when the supply fails (L41700-41769, vc/core/retraction/dc_link.py):
 from the trigger T1 until T2 = T1 + p0892 the drive holds its speed setpoint, and its Vdc_min
@@ -43,6 +46,7 @@ from vc.core.axis.motion import ramp
 from vc.core.axis.owner import Owner
 from vc.core.interface_map import SignalTable
 from vc.core.program.commands import DriveEsrCommand
+from vc.core.state_machine import Instance, StateMachine, states, transitions
 
 TRIGGER_CYCLES = 2  # $AN_ESR_TRIGGER must stand this many IPO cycles to reach the drive (L41806-41809)
 STAT_REACTION = 1 << 2  # $AA_ESR_STAT bit 2 = r0887.12 = DB31.DBX95.2
@@ -55,6 +59,15 @@ class DriveEsrReaction(Enum):
     ARMED = "armed"
     REACTING = "reacting"
     DONE = "done"
+
+
+DRIVE_ESR_STATES: StateMachine[DriveEsr] = StateMachine(
+    __name__, "esr.drive", "Drive-autonomous ESR of an axis (DB31.DBX95.2)", Instance.AXIS,
+    states(*DriveEsrReaction),
+    transitions(("ARMED", "REACTING", "$AN_ESR_TRIGGER with $AA_ESR_ENABLE = 1"),
+                ("REACTING", "DONE", "the reaction ended"),
+                ("DONE", "ARMED", "$AA_ESR_ENABLE 1 -> 0 -> 1 (acknowledged)")),
+    read=lambda drive: drive.reaction)
 
 
 class DriveEsr:
@@ -74,7 +87,7 @@ class DriveEsr:
         self.retract_velocity = 0.0  # the same on the load side, per second (mm/s, deg/s)
         self.enabled = False  # $AA_ESR_ENABLE
         self._acknowledge_pending = False
-        self.reaction = DriveEsrReaction.ARMED
+        self.reaction: DriveEsrReaction = DriveEsrReaction.ARMED
         self._triggered = False  # r0887.12: reaction triggered (until acknowledged)
         self._elapsed = 0
         self._hold_velocity = 0.0  # stop: the speed setpoint of the trigger moment
@@ -184,7 +197,9 @@ class DriveEsr:
             self._write_status()
 
     def _write_status(self) -> None:
-        self._encode(self._area, DriveEsrStatus(self._triggered, self._vdc_min_active, self._below_minimum_speed))
+        self._encode(self._area, DriveEsrStatus(response_initiated=self._triggered,
+                                                dc_link_undervoltage=self._vdc_min_active,
+                                                below_minimum_speed=self._below_minimum_speed))
 
     # ------------------------------------------------------------------ IPO cycle
     def cycle(self, trigger_cycles: int) -> None:

@@ -44,12 +44,16 @@ are the project's reading of the control's alarm reactions [control])::
     bit 13 'H2000'  an alarm takes the controller enable (rapid stop, follow-up mode)
     bit  6 'H0040'  an alarm stops the axes of the channel (interpolation stop)
     bit  4 'H0010'  an alarm refuses NC start
+
+Observers see two state machines per channel: the retract motion (``RetractPhase``: IDLE,
+RETRACTING) and the stop axes (``StopPhase``: IDLE, RUNNING_ON for MD21380, BRAKING within MD21381).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from enum import Enum
 from typing import TYPE_CHECKING
 
 from vc.config import md_dictionary as MD
@@ -70,6 +74,7 @@ from vc.core.retraction.retract_motion import (
     retract_positions,
     through_transform,
 )
+from vc.core.state_machine import Instance, StateMachine, states, transitions
 
 if TYPE_CHECKING:
     from vc.core.interpolation.path import PathSegment
@@ -80,6 +85,37 @@ if TYPE_CHECKING:
 RETRACT_AXIS = 21  # MD37500
 STOP_AXIS = 22
 ALARM_STAT_BITS = ((Reaction.RAPID_STOP, 1 << 13), (Reaction.STOP_AXES, 1 << 6), (Reaction.NC_START_DISABLED, 1 << 4))
+
+
+class RetractPhase(Enum):
+    """The retract motion of a channel's ESR or fast retraction."""
+
+    IDLE = "no retract motion"
+    RETRACTING = "the retract axes move to their POLF / LIFTFAST positions"
+
+
+class StopPhase(Enum):
+    """The stop axes of a channel's ESR (and the thread axes of an ESR in G33 with LFON)."""
+
+    IDLE = "no stop reaction"
+    RUNNING_ON = "the path runs on for MD21380"
+    BRAKING = "the stop axes brake within MD21381"
+
+
+ESR_RETRACT_STATES: StateMachine[ChannelEsr] = StateMachine(
+    __name__, "esr.retract", "Fast retraction and NC-controlled ESR retract of a channel", Instance.CHANNEL,
+    states(*RetractPhase),
+    transitions(("IDLE", "RETRACTING", "$AC_ESR_TRIGGER, LIFTFAST in G33, POLFA"),
+                ("RETRACTING", "IDLE", "at the retract positions")),
+    read=lambda esr: esr.retract_phase)
+
+ESR_STOP_STATES: StateMachine[ChannelEsr] = StateMachine(
+    __name__, "esr.stop", "NC-controlled ESR stop axes of a channel (MD21380, MD21381)", Instance.CHANNEL,
+    states(*StopPhase),
+    transitions(("IDLE", "RUNNING_ON", "$AC_ESR_TRIGGER (a stop axis, or G33 with LFON)"),
+                ("IDLE", "BRAKING", "$AC_ESR_TRIGGER with MD21380 = 0"),
+                ("RUNNING_ON", "BRAKING", "MD21380 elapsed"), ("BRAKING", "IDLE", "the stop axes stand")),
+    read=lambda esr: esr.stop_phase)
 
 
 class NckEsr:
@@ -145,6 +181,7 @@ class ChannelEsr:
         self.other_variables: tuple[Reader, Callable[[VariableWrite], None]] | None = None
         self.motion: RetractMotion | None = None
         self._stop: _StopAxes | None = None
+        self._now = 0  # the IPO cycle of the reaction's last step (or its start): where the stop axes are
         self._single_stops: dict[str, _StopAxes] = {}
         self.protected: set[str] = set()  # axes whose alarm reaction waits for their ESR reaction
 
@@ -246,11 +283,16 @@ class ChannelEsr:
         return self.motion is not None or self._stop is not None or bool(self._single_stops)
 
     @property
-    def stop_deadlines(self) -> tuple[int, int] | None:
-        """The IPO cycles at which the stop axes of the running reaction begin to brake (MD21380) and
-        must stand (MD21381); None without a stop reaction.  Read by observers (the coverage)."""
+    def retract_phase(self) -> RetractPhase:
+        return RetractPhase.IDLE if self.motion is None else RetractPhase.RETRACTING
+
+    @property
+    def stop_phase(self) -> StopPhase:
+        """Whether the stop axes run on (MD21380) or brake (MD21381); IDLE without a stop reaction."""
         stop = self._stop
-        return None if stop is None else (stop.brake_at, stop.stopped_by)
+        if stop is None:
+            return StopPhase.IDLE
+        return StopPhase.RUNNING_ON if self._now < stop.brake_at else StopPhase.BRAKING
 
     def path_runs_on(self, cycle: int) -> bool:
         """The stop axes' delay MD21380: the path goes on whatever holds it."""
@@ -276,6 +318,7 @@ class ChannelEsr:
                 segment.release_axis(self.axes[name])
         self.motion = RetractMotion(groups) if groups else None
         self._stop = _StopAxes.after(cycle, *delays, self._dt)
+        self._now = cycle
         self.protected = moving | set(enabled)
         if thread is not None:
             # the thread is one interpolation group with its master spindle: the path that runs on for
@@ -308,6 +351,7 @@ class ChannelEsr:
         else:
             cycle, delays = esr
             self._stop = _StopAxes.after(cycle, *delays, self._dt)
+            self._now = cycle
         self.motion = RetractMotion(groups) if groups else None
         self.protected = {axis.name for axis in moving}
         if esr is not None:
@@ -339,6 +383,7 @@ class ChannelEsr:
     def cycle(self, cycle: int, segment: Interpolation | None) -> None:
         """One IPO cycle of the running reaction: the retract motions, and after MD21380 the path
         (``segment``: the block's path, tool path or thread) starts braking."""
+        self._now = cycle
         if self.motion is not None:
             self.motion.cycle(self._dt)
             if self.motion.finished:

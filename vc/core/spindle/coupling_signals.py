@@ -62,33 +62,38 @@ class CouplingInterface:
         leaders = {c.definition.leading for c in self._active.values()}
         for name in self._spindles:
             coupling = self._active.get(name)
-            status: tuple[object, ...]
-            if coupling is None:
-                status = (name in leaders,)
-            else:
-                md, axis = self._spindles[name].md, self._spindles[name].axis
-                warning = md.float(MD.EG_VEL_WARNING) / 100.0
-                accel_threshold = md.float(MD.EG_ACC_TOL) / 100.0 * axis.dyn.max_accel
-                overlay = coupling.overlay
-                overlaid = (overlay is not None and overlay.left != 0.0) or coupling.differential_velocity != 0.0 \
-                    or coupling.jog_velocity != 0.0
-                status = (
-                    name in leaders, coupling.fine, coupling.coarse, overlaid,
-                    abs(axis.command_velocity) > warning * axis.dyn.max_velocity,
-                    abs(coupling.acceleration) > warning * axis.dyn.max_accel,
-                    coupling.correction_done, abs(coupling.acceleration) > accel_threshold,
-                    not coupling.coarse or (overlay is not None and overlay.resync),
-                    coupling.correction_applied != 0.0,
-                    coupling.stage_2_within(ALARM_FINE_2_EXCEEDED, threshold(coupling, md, MD.COUPLE_POS_TOL_FINE_2)),
-                    coupling.stage_2_within(ALARM_COARSE_2_EXCEEDED,
-                                          threshold(coupling, md, MD.COUPLE_POS_TOL_COARSE_2)),
-                )
-            if self._written.get(name) == status:
+            leading = name in leaders
+            if coupling is not None:
+                self._write_following(name, coupling, leading)
                 continue
-            self._written[name] = status
-            self._put(name, status, coupling is not None)
+            status = (leading,)
+            if self._written.get(name) != status:
+                self._written[name] = status
+                self._encode(self._areas[name], CouplingStatus(leading_active=leading))
 
-    def _put(self, name: str, status: tuple[object, ...], following: bool) -> None:
-        values = status[1:] if following else (False,) * 11
-        bits = (bool(status[0]), *(bool(value) for value in values), following, following)
-        self._encode(self._areas[name], CouplingStatus(*bits))
+    def _write_following(self, name: str, coupling: Coupling, leading: bool) -> None:
+        md, axis = self._spindles[name].md, self._spindles[name].axis
+        warning = md.float(MD.EG_VEL_WARNING) / 100.0
+        accel_threshold = md.float(MD.EG_ACC_TOL) / 100.0 * axis.dyn.max_accel
+        overlay = coupling.overlay
+        overlaid = (overlay is not None and overlay.left != 0.0) or coupling.differential_velocity != 0.0 \
+            or coupling.jog_velocity != 0.0
+        speed_warning = abs(axis.command_velocity) > warning * axis.dyn.max_velocity
+        accel_warning = abs(coupling.acceleration) > warning * axis.dyn.max_accel
+        accelerating = abs(coupling.acceleration) > accel_threshold
+        process_active = not coupling.coarse or (overlay is not None and overlay.resync)
+        correction_active = coupling.correction_applied != 0.0
+        fine_2 = coupling.stage_2_within(ALARM_FINE_2_EXCEEDED, threshold(coupling, md, MD.COUPLE_POS_TOL_FINE_2))
+        coarse_2 = coupling.stage_2_within(ALARM_COARSE_2_EXCEEDED,
+                                           threshold(coupling, md, MD.COUPLE_POS_TOL_COARSE_2))
+        # a plain tuple first: compared every cycle, the status is built (by keyword) only when it changed
+        status = (leading, coupling.fine, coupling.coarse, overlaid, speed_warning, accel_warning,
+                  coupling.correction_done, accelerating, process_active, correction_active, fine_2, coarse_2)
+        if self._written.get(name) == status:
+            return
+        self._written[name] = status
+        self._encode(self._areas[name], CouplingStatus(
+            leading_active=leading, fine=coupling.fine, coarse=coupling.coarse, overlaid=overlaid,
+            speed_warning=speed_warning, accel_warning=accel_warning, correction_done=coupling.correction_done,
+            accelerating=accelerating, process_active=process_active, correction_active=correction_active,
+            fine_2=fine_2, coarse_2=coarse_2, following_active=True, sync_mode=True))

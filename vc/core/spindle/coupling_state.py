@@ -17,6 +17,9 @@ offset`` (L21727).  :class:`PairDefinition` is the pair of the table (MD21300.. 
 
 The LS position is its setpoint for DV and VV and its actual value for AV (and for DV while
 the LS has no controller enable, which the control does internally, L23232-23246).
+
+Observers see each spindle as a following spindle (``COUPLING_STATES``): UNCOUPLED while it
+follows no leading spindle (its pair defined or not), else the phase of its coupling.
 """
 
 from __future__ import annotations
@@ -30,6 +33,7 @@ from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
 from vc.core.program.commands import BlockChange, Kind
 from vc.core.spindle.spindle import Spindle
+from vc.core.state_machine import Instance, StateMachine, StateValue, states, transitions
 
 ALARM_FINE_2_EXCEEDED = 22025  # stage-2 monitoring, display only (L29878-29888)
 ALARM_COARSE_2_EXCEEDED = 22026
@@ -69,6 +73,16 @@ class PairDefinition:
 class SyncPhase(Enum):
     SYNCHRONISING = "synchronising"
     SYNCHRONOUS = "synchronous"
+
+
+COUPLING_STATES: StateMachine[FollowingSpindle] = StateMachine(
+    __name__, "coupling", "Synchronous spindle coupling of a following spindle", Instance.SPINDLE,
+    states(("UNCOUPLED", "follows no leading spindle"), *SyncPhase),
+    transitions(("UNCOUPLED", "SYNCHRONISING", "COUPON, the configured pair at NC start"),
+                ("UNCOUPLED", "SYNCHRONOUS", "COUPON with both spindles at standstill: synchronous at once"),
+                ("SYNCHRONISING", "SYNCHRONOUS", "synchronism reached"),
+                ("SYNCHRONOUS", "UNCOUPLED", "COUPOF, reset"), ("SYNCHRONISING", "UNCOUPLED", "COUPOF, reset")),
+    read=lambda spindle: spindle.state())
 
 
 @dataclass(slots=True)
@@ -142,6 +156,17 @@ class Coupling:
         """DBX103.4 / 103.5: the running stage-2 monitoring finds the deviation within its tolerance."""
         return self.stage_2_monitors(number, tolerance) and self.deviation <= tolerance
 
+
+@dataclass(frozen=True, slots=True)
+class FollowingSpindle:
+    """A spindle as the following spindle of a coupling, as observers see it (``COUPLING_STATES``)."""
+
+    active: dict[str, Coupling]  # the couplings in force, by their following spindle
+    name: str
+
+    def state(self) -> StateValue:
+        coupling = self.active.get(self.name)
+        return "UNCOUPLED" if coupling is None else coupling.phase
 
 
 def threshold(coupling: Coupling, md: MachineData, datum: MdDef) -> float:

@@ -26,6 +26,8 @@ spindle reset DB31.DBX2.2 ends it without alarm and takes the gear the PLC repor
 MD35010 bit 3 the NC simulates the dialog: nothing is output, the set gear becomes active at
 standstill.  In reset state the PLC may set the gear without a request (L18597-18625).
 
+Observers see the dialog as ``GEAR_CHANGE_STATES``, with NONE while no change runs.
+
 The spindle owns its modes: :class:`GearChange` tells it through ``outcome`` when the dialog
 opens (oscillation mode), when the change position was not reached and when the change ended
 (control mode with the new gear's data), and it owns the positioning to the change position.
@@ -45,6 +47,7 @@ from vc.core.program.commands import SpindleCommand
 from vc.core.referencing.buffered_positions import lose_calibration
 from vc.core.spindle.positioning import Positioning
 from vc.core.spindle.signals import SpindleInputs
+from vc.core.state_machine import Instance, StateMachine, StateValue, states, transitions
 
 GEAR_CHANGE_WITH_OSCILLATION = 1 << 0  # MD35010 bit 0
 GEAR_CHANGE_AT_POSITION = 1 << 1  # MD35010 bit 1
@@ -87,6 +90,26 @@ class GearState(Enum):
     POSITION_DELAY = "waiting MD35310 at the gear-change position"
     REQUESTED = "change requested, braking"
     AT_STANDSTILL = "at standstill, waiting for the PLC"
+
+
+GEAR_CHANGE_STATES: StateMachine[GearChange] = StateMachine(
+    __name__, "gear_change", "Gear stage change dialog (DB31.DBX82.3, 16.3)", Instance.SPINDLE,
+    states(("NONE", "no gear change"), *GearState),
+    transitions(("NONE", "REQUESTED", "M40 S / M41..M45 with another stage"),
+                ("NONE", "AT_STANDSTILL", "requested at standstill (REQUESTED lasts less than a cycle)"),
+                ("NONE", "TO_POSITION", "change at a fixed position (MD35010 bit 1)"),
+                ("TO_POSITION", "POSITION_DELAY", "at the change position"),
+                ("POSITION_DELAY", "REQUESTED", "MD35310 elapsed"),
+                ("REQUESTED", "AT_STANDSTILL", "stationary (61.4)"),
+                ("AT_STANDSTILL", "NONE", "gear changed (16.3)"),
+                ("REQUESTED", "NONE", "gear changed before standstill, reset"),
+                ("TO_POSITION", "NONE", "position not reached (22020), reset")),
+    read=lambda change: _state_of(change))
+
+
+def _state_of(change: GearChange) -> StateValue:
+    state = change.state
+    return "NONE" if state is None else state  # NONE: no change runs
 
 
 @dataclass(frozen=True, slots=True)

@@ -13,6 +13,7 @@ Modes and their status bits (spec B.3, L16008-16100)::
     (a turning spindle first brakes like M5, then position control and parameter set 0)
 
 (A SYNCHRONOUS spindle follows a coupling's leading spindle: vc/core/spindle/coupling.py.)
+Observers see the modes as ``SPINDLE_MODES``.
 
 :class:`Spindle` keeps the modes: it takes the program's commands and the PLC's, switches the mode
 and chooses the velocity command of the mode each cycle.  It owns by composition what the modes
@@ -50,6 +51,7 @@ from vc.core.spindle.signals import SpindleInputs
 from vc.core.spindle.speed_control import RPM as RPM  # rev/min -> deg/s, for the spindle's callers
 from vc.core.spindle.speed_control import SpeedControl
 from vc.core.spindle.zero_mark import ZeroMarkSynchronisation
+from vc.core.state_machine import Instance, StateMachine, states, transitions
 
 ALARM_ZERO_MARK_MISSING = 20002  # the positioning's zero-mark search (MD34060) [control: the referencing alarm]
 SUPPRESS_IN_DRY_RUN = 1 << 0  # MD35035 bit 0: no gear change in dry run
@@ -62,6 +64,20 @@ class SpindleMode(Enum):
     POSITIONING = "positioning"
     AXIS = "axis"
     SYNCHRONOUS = "synchronous"  # following spindle of a coupling (84.4): vc/core/spindle/coupling.py drives it
+
+
+SPINDLE_MODES: StateMachine[Spindle] = StateMachine(
+    __name__, "spindle_mode", "Spindle modes (DB31.DBX84.3-84.7)", Instance.SPINDLE,
+    states(*SpindleMode),
+    transitions(("CONTROL", "OSCILLATION", "gear change"), ("POSITIONING", "OSCILLATION", "gear change"),
+                ("OSCILLATION", "CONTROL", "gear changed (16.3)"),
+                ("CONTROL", "POSITIONING", "SPOS / SPOSA / M19"), ("POSITIONING", "CONTROL", "M3 / M4 / M5"),
+                ("CONTROL", "AXIS", "M70"), ("POSITIONING", "AXIS", "M70"), ("AXIS", "CONTROL", "M3 / M4 / M5"),
+                ("AXIS", "POSITIONING", "SPOS in axis mode"),
+                ("CONTROL", "SYNCHRONOUS", "COUPON: following spindle"),
+                ("POSITIONING", "SYNCHRONOUS", "COUPON on a positioned spindle"),
+                ("SYNCHRONOUS", "CONTROL", "COUPOF")),
+    read=lambda spindle: spindle.mode)
 
 
 class Spindle:
@@ -91,7 +107,7 @@ class Spindle:
                                           channel, dt)
         self._positioning_drive = PositioningDrive(axis, dt)
         self._zero_mark = ZeroMarkSynchronisation(axis)
-        self.mode = SpindleMode.CONTROL
+        self.mode: SpindleMode = SpindleMode.CONTROL
         self.speed = 0.0  # programmed S, rev/min
         self.direction = 0  # +1 M3, -1 M4, 0 M5 (before M3/M4 inversion by DBX17.6)
         self.positioning: Positioning | None = None
@@ -286,7 +302,7 @@ class Spindle:
             self.set_position_control(on or self.mode is SpindleMode.SYNCHRONOUS)
 
     def show_speed(self, speed: float) -> None:
-        self._encode_speed(self._area, SpindleSpeed(speed))
+        self._encode_speed(self._area, SpindleSpeed(s_value=speed))
 
     # ------------------------------------------------------------------ modes
     def _enter_control_mode(self) -> None:
@@ -546,15 +562,20 @@ class Spindle:
         change, speed, mode = self.gear_change, self.speed_control, self.mode
         dialog = change.dialog_open
         limits_shown = mode is SpindleMode.CONTROL and not self.limits_unreported
-        # a plain tuple first: compared every cycle, the status is built only when it changed
-        shown = (change.target if dialog else change.acknowledged_gear, dialog, speed.at_chuck_limit,
-                 speed.limited and limits_shown, speed.raised and limits_shown, self.speed_reached(),
-                 self.axis.velocity > self.axis.dyn.standstill_velocity, mode is SpindleMode.CONTROL,
-                 mode is SpindleMode.OSCILLATION, mode is SpindleMode.POSITIONING, mode is not SpindleMode.AXIS,
-                 self.in_position(), self.m_function, self.parameter_set)
+        gear = change.target if dialog else change.acknowledged_gear
+        limited, raised, reached = speed.limited and limits_shown, speed.raised and limits_shown, self.speed_reached()
+        clockwise, in_position = self.axis.velocity > self.axis.dyn.standstill_velocity, self.in_position()
+        # a plain tuple first: compared every cycle, the status is built (by keyword) only when it changed
+        shown = (gear, dialog, speed.at_chuck_limit, limited, raised, reached, clockwise, mode, in_position,
+                 self.m_function, self.parameter_set)
         if shown != self._shown:
             self._shown = shown
-            self._encode_status(self._area, SpindleStatus(*shown))
+            self._encode_status(self._area, SpindleStatus(
+                requested_gear=gear, change_gear=dialog, speed_limit_exceeded=speed.at_chuck_limit,
+                setpoint_limited=limited, setpoint_raised=raised, speed_reached=reached, clockwise=clockwise,
+                control_mode=mode is SpindleMode.CONTROL, oscillation_mode=mode is SpindleMode.OSCILLATION,
+                positioning_mode=mode is SpindleMode.POSITIONING, spindle_mode=mode is not SpindleMode.AXIS,
+                in_position=in_position, m_function=self.m_function, parameter_set=self.parameter_set))
         if self.position_control != self._position_control_shown:
             self._position_control_shown = self.position_control
             self.axis.position_control = self.position_control

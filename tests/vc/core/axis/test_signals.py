@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import pytest
 
+from interfaces.group_codec import declared_signals
 from interfaces.signal_groups import AxisStatus
 from interfaces.signals import InstanceKind
 from vc.core.axis.signals import AxisInputs
@@ -56,25 +57,34 @@ def test_the_measuring_system_selection(table: SignalTable, selected: tuple[str,
     assert inputs.encoder_selected == expected
 
 
-STATUS_ORDER = ("basic.in.posCoarseReached", "basic.in.posFineReached", "basic.in.isStationary",
-                "basic.in.posCtrlActive", "basic.in.followUpModeActive", "basic.in.enc1Synchronized",
-                "basic.in.enc2Synchronized", "basic.in.enc1Restored", "basic.in.enc2Restored",
-                "basic.in.enc1FreqLimitExceeded", "basic.in.enc2FreqLimitExceeded", "basic.in.disabled",
-                "basic.in.traversPlusCommandActive", "basic.in.traversMinusCommandActive", "drive.in.enabled")
+# the status bits of DB31 the axis writes, by attribute (AxisStatus is built by keyword)
+STATUS_SIGNALS = {
+    "exact_coarse": "basic.in.posCoarseReached", "exact_fine": "basic.in.posFineReached",
+    "stationary": "basic.in.isStationary", "position_control": "basic.in.posCtrlActive",
+    "follow_up_active": "basic.in.followUpModeActive", "referenced_1": "basic.in.enc1Synchronized",
+    "referenced_2": "basic.in.enc2Synchronized", "restored_1": "basic.in.enc1Restored",
+    "restored_2": "basic.in.enc2Restored", "frequency_exceeded_1": "basic.in.enc1FreqLimitExceeded",
+    "frequency_exceeded_2": "basic.in.enc2FreqLimitExceeded", "disabled": "basic.in.disabled",
+    "command_plus": "basic.in.traversPlusCommandActive", "command_minus": "basic.in.traversMinusCommandActive",
+    "drive_enabled": "drive.in.enabled",
+}
 
 
-@pytest.mark.parametrize("position", range(len(STATUS_ORDER)))
-def test_each_status_bit_is_written_to_its_signal_alone(table: SignalTable, position: int) -> None:
+def test_the_status_group_declares_these_signals() -> None:
+    assert dict(declared_signals(AxisStatus)) == STATUS_SIGNALS
+
+
+@pytest.mark.parametrize("attribute", STATUS_SIGNALS)
+def test_each_status_bit_is_written_to_its_signal_alone(table: SignalTable, attribute: str) -> None:
     area = bytearray(table.size)
-    status = tuple(index == position for index in range(len(STATUS_ORDER)))
-    table.codec(AxisStatus).encode(area, AxisStatus(*status))
-    assert [table.bit(name).get(area) for name in STATUS_ORDER] == list(status)
+    table.codec(AxisStatus).encode(area, AxisStatus(**{attribute: True}))
+    assert [name for name, symbol in STATUS_SIGNALS.items() if table.bit(symbol).get(area)] == [attribute]
     assert sum(bin(byte).count("1") for byte in area) == 1
 
 
 def test_status_bits_are_cleared_again(table: SignalTable) -> None:
     encode = table.codec(AxisStatus).encode
     area = bytearray(table.size)
-    encode(area, AxisStatus(*(True,) * len(STATUS_ORDER)))
+    encode(area, AxisStatus(**dict.fromkeys(STATUS_SIGNALS, True)))
     encode(area, AxisStatus())
     assert not any(area)
