@@ -41,6 +41,7 @@ from interfaces.signal_groups import (
 )
 from vc.core.interface_map import SignalTable
 from vc.core.program.commands import AuxiliaryFunction, OutputTime
+from vc.core.state_machine import Instance, StateMachine, states, transitions
 
 SLOTS = {"M": 5, "S": 3, "T": 1, "D": 1, "DL": 1, "H": 3, "F": 1}  # output slots per type in DB21
 DECODED_M = 100  # M00 .. M99 have a decoded signal (DB21.DBB194 .. 206)
@@ -241,3 +242,14 @@ class AuxiliaryOutput:
                                                                  extended_address=extension, value=float(value)))
         else:
             self._feed(area, AuxFeedFunction(change=change, extended_address=extension, value=float(value)))
+
+
+AUX_OUTPUT_STATES: StateMachine[AuxiliaryOutput] = StateMachine(
+    __name__, "auxiliary_output", "Auxiliary function output to the PLC (DB21.DBB58 ff.)", Instance.CHANNEL,
+    states(*OutputState),
+    transitions(("IDLE", "OUTPUT", "a block's functions are due"),
+                ("OUTPUT", "READ", "a PLC cycle: the PLC has read them"),
+                ("READ", "OUTPUT", "another batch queued"),
+                ("READ", "IDLE", "a PLC cycle: acknowledged"),
+                ("OUTPUT", "IDLE", "reset")),
+    read=lambda output: output.state)
