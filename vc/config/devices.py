@@ -30,13 +30,16 @@ once both are read; every problem is reported with ``file:line:column``.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from interfaces.plant_io import COOLANT, MAGAZINE, TOOL_ARM, TURRET, station_code_bits
 from vc.config.machine_data import as_number, shown
 from vc.config.model import PLC_USER_ALARMS, CoolantPlant, MachinePlant, ToolChangerPlant, TurretPlant
 from vc.located_yaml import LocatedMap, Mark, Problems
+
+# the loader's reader of a block of numbers: (raw, mark, where, key -> (lowest, highest, whole, meaning))
+ReadParameters = Callable[[Any, Mark, str, Mapping[str, tuple[float, float, bool, str]]], dict[str, Any]]
 
 DEVICES = ("turret", "coolant", "tool_changer")
 MAX_STATIONS = 31  # a five-bit station code
@@ -71,9 +74,11 @@ def _io_of(device: str, values: Mapping[str, Any]) -> list[str]:
 _PREFIXES = {"turret": (TURRET,), "coolant": (COOLANT,), "tool_changer": (MAGAZINE, TOOL_ARM)}
 
 
-def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tuple[str, Mark]]) -> MachinePlant:
+def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tuple[str, Mark]],
+               read_parameters: ReadParameters) -> MachinePlant:
     """The ``plant:`` section checked against the I/O list ``wired`` (function -> address, mark);
-    ``raw`` None: the machine has none of the devices (their I/O is then a mistake too)."""
+    ``raw`` None: the machine has none of the devices (their I/O is then a mistake too).  A device's
+    numbers are read by the loader's ``read_parameters`` (each key in its range, as ``dc_link:``)."""
     block: Mapping[str, Any] = {}
     if raw is not None and not isinstance(raw, dict):
         problems.add(mark, f"plant: expected a mapping of devices ({', '.join(DEVICES)}), got {shown(raw)}")
@@ -86,7 +91,7 @@ def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tup
             problems.add(key_mark, f"unknown device '{device}' in plant; the machine's devices are"
                                    f" {', '.join(DEVICES)} (an axis's plant: is under its axis)")
             continue
-        values = _parameters(device, value, value_mark, problems)
+        values = _parameters(device, value, value_mark, problems, read_parameters)
         if values is None:
             continue
         unwired = [name for name in _io_of(device, values) if name not in wired]
@@ -103,29 +108,15 @@ def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tup
                                       changer.get("pocket", 1)) if changer else None)
 
 
-def _parameters(device: str, raw: Any, mark: Mark, problems: Problems) -> dict[str, Any] | None:
+def _parameters(device: str, raw: Any, mark: Mark, problems: Problems,
+                read_parameters: ReadParameters) -> dict[str, Any] | None:
     """The device's keys, each checked; None when one that is needed is missing or wrong."""
     table = _KEYS[device]
     if not isinstance(raw, dict):
         problems.add(mark, f"plant.{device}: expected a mapping with {', '.join(table)}, got {shown(raw)}")
         return None
-    values: dict[str, Any] = {}
-    sound = True
-    for key, value in raw.items():
-        key_mark, value_mark = _marks(raw, key, mark)
-        if key not in table:
-            problems.add(key_mark, f"unknown key '{key}' in plant.{device}; allowed: {', '.join(table)}")
-            sound = False
-            continue
-        lowest, highest, whole, meaning = table[key]
-        number = as_number(value)
-        if number is None or not lowest <= number <= highest or (whole and not float(number).is_integer()):
-            kind = "a whole number" if whole else "a number"
-            problems.add(value_mark, f"plant.{device}.{key} ({meaning}): {kind} from {lowest:g} to {highest:g},"
-                                     f" got {shown(value)}")
-            sound = False
-            continue
-        values[key] = int(number) if whole else float(number)
+    values = read_parameters(raw, mark, f"plant.{device}", table)
+    sound = all(key in values for key in raw)  # the reader reported every key it refused
     missing = [key for key in table if key not in _OPTIONAL and key not in raw]
     if missing:
         problems.add(mark, f"plant.{device} lacks {', '.join(missing)}")

@@ -417,7 +417,7 @@ class _MachineReader:
             self._read_dc_link(document["dc_link"], document.mark_of("dc_link"))
         # the devices besides the axes and the PLC alarm texts (vc/config/devices.py), after plant_io
         self.plant = read_plant(document.get("plant"), document.mark_of("plant"), self.problems,
-                                self.plant_io_names)
+                                self.plant_io_names, self._read_parameters)
         self.plc_alarms = read_plc_alarms(document.get("plc_alarms"), document.mark_of("plc_alarms"),
                                           self.problems)
 
