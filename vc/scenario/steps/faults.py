@@ -102,6 +102,10 @@ def check_clear_faults(checker: StepChecker, index: int, mark: Mark, value: Any,
         return ClearFaults(index, "clear_faults", mark, MAINS)
     if checker.machine is not None and value in machine_devices(checker.machine):
         return ClearFaults(index, "clear_faults", mark, str(value))
+    if checker.machine is not None and value in DEVICE_FAULTS.values():
+        checker.add(value_mark, f"this machine has no {value} (plant: of its machine file) whose faults could be"
+                                " repaired")
+        return None
     axis = checker.machine_axis(value, value_mark)
     return ClearFaults(index, "clear_faults", mark, axis) if axis is not None else None
 
