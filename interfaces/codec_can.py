@@ -21,14 +21,14 @@ Convention, stated once (``vc map --format dbc`` writes it as a DBC file, the te
       0x201  DB10.DBB106..109      5        0x401  DB10.DBB1..56       64
       0x202  DB11.DBB6..7          3        0x402  DB11.DBB0..1        3
       0x203  DB19.DBB20            2        0x403  DB19.DBB0           2
-      0x204  DB21.DBB33..95        64       0x404  DB21.DBB0..31       48
+      0x204  DB21.DBB32..93        64       0x404  DB21.DBB0..31       48
       ..     up to 63 bytes a frame         0x405  DB21.DBB321         2
-      0x208  DB21.DBB284..318      48       0x406  DB21.DBB396         2
+      0x208  DB21.DBB280..318      48       0x406  DB21.DBB396         2
       0x209  DB21.DBB333..377      48       0x407  DB21.DBB398         2
       0x20A  DB21.DBB397           2        0x408  DB31.DBB0..31       48
       0x20B  DB31.DBB60..103       48       ..     one frame per axis
       ..     one frame per axis             0x40D  DB36.DBB0..31       48
-      0x210  DB36.DBB60..103       48
+      0x210  DB36.DBB60..103       48       0x40E  DB2.DBB180..187     12
       0x211  DB100.DBB0..59        64
       0x212  DB100.DBB60..67       12
 

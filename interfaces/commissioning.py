@@ -90,6 +90,10 @@ RULES = {
     "drives": "switch the drive line-up on, then give the enables",
     "gearbox": "the gear stage change: actuator, oscillation, stage report",
     "chuck": "the chuck's valve and its end-position sensors",
+    "auxiliary_functions": "the NC's M, S, T, D, H, F output: read the change signals, hold the program with 6.1",
+    "turret": "the tool turret: lock pin, indexing drive, station code",
+    "tool_changer": "the tool magazine and the changer arm",
+    "coolant": "the coolant pump and its pressure switch",
 }
 
 
@@ -98,6 +102,8 @@ class Commissioning:
     axes: tuple[AxisFacts, ...]
     reference_order: Mapping[str, tuple[tuple[str, ...], ...]] = field(default_factory=dict)  # channel -> steps
     needs: tuple[PlantNeed, ...] = ()
+    # the machine's devices besides the axes (its plant:): "turret" -> {"stations": 8, ..}
+    devices: Mapping[str, Mapping[str, float]] = field(default_factory=dict)
 
     def axis(self, name: str) -> AxisFacts:
         return next(facts for facts in self.axes if facts.axis == name)
@@ -117,6 +123,7 @@ class Commissioning:
                                 for channel, steps in self.reference_order.items()},
             "plant_needs": [{"name": need.name, "rule": need.rule, "plant_io": list(need.plant_io),
                              "interface": list(need.interface)} for need in self.needs],
+            "devices": {name: dict(facts) for name, facts in self.devices.items()},
         }
 
     @classmethod
@@ -132,7 +139,9 @@ class Commissioning:
                  for channel, steps in document.get("reference_order", {}).items()}
         needs = tuple(PlantNeed(need["name"], need["rule"], tuple(need["plant_io"]), tuple(need["interface"]))
                       for need in document.get("plant_needs", []))
-        return cls(tuple(axes), order, needs)
+        devices = {str(name): {str(key): float(value) for key, value in facts.items()}
+                   for name, facts in document.get("devices", {}).items()}
+        return cls(tuple(axes), order, needs, devices)
 
     def rows(self, channels: Sequence[str]) -> list[tuple[str, str, str]]:
         """``(name, addresses, meaning)`` for the map: every axis, every channel's order, every need."""

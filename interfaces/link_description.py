@@ -36,6 +36,7 @@ from interfaces import alarm_block
 from interfaces.catalog import load_catalog
 from interfaces.codec_can import DEFAULT_TIMEOUT_US, CanLayout, CanMapError, CanSettings
 from interfaces.codec_modbus import RegisterMap, Table
+from interfaces.commissioning import Commissioning
 from interfaces.errors import VcError
 from interfaces.plant_io import PlantIoError, PlantIoMap
 from interfaces.plc import PlcEnvironment, PlcFactory, SoftPlc
@@ -131,8 +132,10 @@ class LinkDescription:
             raise DescriptionError(f"the server's tables have {self.nc_to_plc_registers} and"
                                    f" {self.plc_to_nc_registers} registers, this side computes {counts[0]} and"
                                    f" {counts[1]}: the two sides use different catalogues")
+        # the commissioning facts too: a program needs the machine's devices (the turret's stations)
+        commissioning = Commissioning.from_dict(self.commissioning) if self.commissioning else None
         environment = PlcEnvironment(catalog, plant_io, self.scan_time_s, self.parameters, self.machine,
-                                     self.ipo_cycle_us, self.plc_cycle_ipo)
+                                     self.ipo_cycle_us, self.plc_cycle_ipo, commissioning)
         return environment, register_map
 
     @classmethod

@@ -21,6 +21,14 @@ optionally a neutral sensor (``gearNeutral``).  A spindle's hydraulic chuck has 
 with two solenoids, outputs the PLC holds on to clamp (``chuckClose``) or to unclamp
 (``chuckRelease``), and end-position sensors (``chuckClosed``, optionally ``chuckOpen``).
 The guard door switch (``Door.closed``) is the operator's: a person opens and closes the door.
+A lathe's tool turret has an indexing drive (``Turret.indexCw``, ``Turret.indexCcw``), a lock pin
+pulled by its solenoid (``Turret.unlock``) with end-position sensors (``Turret.locked``,
+``Turret.unlocked``) and a binary station code (``Turret.code1``, ``code2``, ``code4`` ..: the
+station while the disk stands at one, 0 between).  A mill's tool magazine turns with
+``Magazine.rotateCw`` / ``Magazine.rotateCcw`` and reports its pocket as ``Magazine.code1`` ..; its
+changer arm swings to the spindle while ``ToolArm.toSpindle`` is on and reports ``ToolArm.home``
+and ``ToolArm.atSpindle``.  The coolant pump runs with ``Coolant.pump``; its pressure switch
+``Coolant.pressureOk`` closes once the pressure has built up.
 """
 
 from __future__ import annotations
@@ -61,6 +69,9 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
                   SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR, "machine control panel key"),
     PlantFunction(rf"MCP\.(plus|minus)\.{_AXIS}", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "traverse key of one axis on the machine control panel"),
+    PlantFunction(r"MCP\.optionalStop", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
+                  "optional stop switch on the machine control panel: 1 = M01 stops the program (the PLC selects"
+                  " it with DB21.DBX0.5)"),
     PlantFunction(r"MCP\.noOrthogonalCompensation", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "switch on the machine control panel: move the inclined axis without compensating the "
                   "orthogonal one (NOZAGC of the inclined-axis control)"),
@@ -102,7 +113,41 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
                   "clamp solenoid of the chuck valve: 1 = the chuck clamps (the PLC holds it on)"),
     PlantFunction(rf"{_AXIS}\.chuckRelease", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
                   "unclamp solenoid of the chuck valve: 1 = the chuck opens; neither solenoid on: it holds"),
+    PlantFunction(r"(Turret|Magazine)\.code(1|2|4|8|16)", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "bit n of the binary station (pocket) code: the station number while the turret disk (the"
+                  " magazine) stands at a station, 0 between two"),
+    PlantFunction(r"Turret\.locked", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "lock pin of the turret engaged: the disk is locked at a station"),
+    PlantFunction(r"Turret\.unlocked", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "lock pin of the turret fully pulled: the disk may turn"),
+    PlantFunction(r"Turret\.(indexCw|indexCcw)", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
+                  "indexing drive of the turret (contactor): 1 = the disk turns clockwise / counter-clockwise"
+                  " (only while the lock pin is pulled)"),
+    PlantFunction(r"Turret\.unlock", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
+                  "lock pin solenoid of the turret: 1 = pull the pin; 0 = the spring engages it (at a station)"),
+    PlantFunction(r"Magazine\.(rotateCw|rotateCcw)", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
+                  "drive of the tool magazine: 1 = it turns clockwise / counter-clockwise"),
+    PlantFunction(r"ToolArm\.toSpindle", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
+                  "valve of the tool changer arm: 1 = swing to the spindle (it takes the tool out and puts the"
+                  " magazine's in), 0 = back home"),
+    PlantFunction(r"ToolArm\.home", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "tool changer arm in its home position, clear of the spindle"),
+    PlantFunction(r"ToolArm\.atSpindle", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "tool changer arm at the spindle: the tools are swapped"),
+    PlantFunction(r"Coolant\.pump", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
+                  "coolant pump contactor: 1 = the pump runs"),
+    PlantFunction(r"Coolant\.pressureOk", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "coolant pressure switch: 1 once the running pump has built up the pressure"),
 )
+
+# The machine's devices besides the axes (the machine file's ``plant:``), by their I/O prefix.
+TURRET, MAGAZINE, TOOL_ARM, COOLANT = "Turret", "Magazine", "ToolArm", "Coolant"
+DEVICE_PREFIXES = (TURRET, MAGAZINE, TOOL_ARM, COOLANT)
+
+
+def station_code_bits(stations: int) -> tuple[int, ...]:
+    """The bit values of a binary station code for ``stations`` stations: 8 stations -> (1, 2, 4, 8)."""
+    return tuple(1 << bit for bit in range(stations.bit_length()))
 
 _COMPILED = tuple((re.compile(f"^{f.pattern}$"), f) for f in PLANT_FUNCTIONS)
 

@@ -78,6 +78,7 @@ class ChannelRequests:
     rapid_override_active: bool = signal("basic.out.pathRapidTraversOvr")
     dry_run: bool = signal("basic.out.dryRunFeedrate")
     program_test: bool = signal("basic.out.progTest")
+    activate_m01: bool = signal("basic.out.activateM01")  # DB21.DBX0.5
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -101,6 +102,52 @@ class ChannelStatus:
 class AxisSummary:
     all_referenced: bool = signal("basic.in.allAxesReferenced")
     all_stationary: bool = signal("basic.in.allAxesStationary")
+
+
+# --------------------------------------------------------------- DB21 auxiliary functions (H2)
+
+AUX_FUNCTION = "aux{kind}Funcs[{number}].in."  # the prefix of one output slot: auxMFuncs[1].in.
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class AuxWholeFunction:
+    """One slot of the M, T or D functions (DB21.DBX58.x / 61.0 / 62.0 change, the quick bit, the
+    extended address and the value: a DINT, the D number an INT)."""
+
+    change: bool = signal("change")
+    quick: bool = signal("quick")
+    extended_address: int = signal("extendedAddress", 0)
+    value: int = signal("value", 0)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class AuxRealFunction:
+    """One slot of the S, H or DL functions: as :class:`AuxWholeFunction` with a REAL value."""
+
+    change: bool = signal("change")
+    quick: bool = signal("quick")
+    extended_address: int = signal("extendedAddress", 0)
+    value: float = signal("value", 0.0)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class AuxFeedFunction:
+    """F function 1, the path feed (DB21.DBX65.0, DBW158, DBD160): no quick output."""
+
+    change: bool = signal("change")
+    extended_address: int = signal("extendedAddress", 0)
+    value: float = signal("value", 0.0)
+
+
+AUX_M_DECODED = "auxMDynFuncs.in.m{number:02d}Decoded"  # DB21.DBX194.0 + M: M00 .. M99 decoded
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ProgramStopStatus:
+    """A programmed stop or end holds the program (DB21.DBX32.5, DBX33.5)."""
+
+    m00_m01_active: bool = signal("basic.in.m00M01Active")
+    m02_m30_active: bool = signal("basic.in.m02M30Active")
 
 
 RETRACTION_REQUEST = "piService.out.retracRequest"  # DB21.DBX396.0: PI service RETRAC, read every IPO cycle

@@ -12,7 +12,10 @@ placeholder of its instance (``<Axis>.basic.in.enc1Synchronized``).  A machine's
   (the operator panel's DB19: its ``.out.`` signals go PLC -> OP, its ``.in.`` signals OP -> PLC,
   so the OP stands on the NC's side of the interface),
 * ``<Alarms>`` becomes ``ALARMS``: DB100, the NC's alarm list for the PLC (a project block behind
-  the axis blocks).
+  the axis blocks),
+* ``<PlcAlarms>`` becomes ``PLCALARMS``: DB2, the PLC's user alarms (700000 ..).  It was added after
+  the links' layout existed: the links carry it behind every other block (``byte_ranges``), so
+  it moves no address of the other blocks.
 
 This module is pure: it builds the catalogue from already parsed documents
 (``interfaces.catalog.load_catalog`` reads the YAML files).
@@ -82,6 +85,7 @@ class InstanceKind(StrEnum):
     CHANNEL = "channel"
     AXIS = "axis"
     ALARMS = "alarms"  # the NC's alarm list for the PLC: DB100 (project)
+    PLC_ALARMS = "plc_alarms"  # the PLC's user alarms: DB2 (the basic program's alarm block)
 
 
 FIRST_DB: dict[InstanceKind, int] = {
@@ -91,6 +95,7 @@ FIRST_DB: dict[InstanceKind, int] = {
     InstanceKind.CHANNEL: 21,
     InstanceKind.AXIS: 31,
     InstanceKind.ALARMS: 100,
+    InstanceKind.PLC_ALARMS: 2,
 }
 PLACEHOLDER: dict[InstanceKind, str] = {
     InstanceKind.NCK: "<Nc>",
@@ -99,11 +104,13 @@ PLACEHOLDER: dict[InstanceKind, str] = {
     InstanceKind.CHANNEL: "<Chan>",
     InstanceKind.AXIS: "<Axis>",
     InstanceKind.ALARMS: "<Alarms>",
+    InstanceKind.PLC_ALARMS: "<PlcAlarms>",
 }
 NCK_INSTANCE = "NC"
 MODE_GROUP_INSTANCE = "MODEGROUP"
 HMI_INSTANCE = "HMI"
 ALARMS_INSTANCE = "ALARMS"
+PLC_ALARMS_INSTANCE = "PLCALARMS"
 
 _TYPE_BYTES: dict[SignalType, int] = {
     SignalType.BOOL: 1,
@@ -190,7 +197,8 @@ class Catalog:
         _check_sections(sections, problems)
         if problems:
             raise CatalogError(problems)
-        return cls(tuple(sorted(sections, key=lambda s: s.db)))
+        # in the links' order (``_db_order``): a block added later comes after the others everywhere
+        return cls(tuple(sorted(sections, key=lambda s: _db_order(f"DB{s.db}"))))
 
 
 def _parse_section(name: str, document: Mapping[str, Any], problems: list[str]) -> CatalogSection | None:
@@ -356,6 +364,8 @@ class InterfaceLayout:
             return ((HMI_INSTANCE, 19),)
         if kind is InstanceKind.ALARMS:
             return ((ALARMS_INSTANCE, FIRST_DB[InstanceKind.ALARMS]),)
+        if kind is InstanceKind.PLC_ALARMS:
+            return ((PLC_ALARMS_INSTANCE, FIRST_DB[InstanceKind.PLC_ALARMS]),)
         if kind is InstanceKind.CHANNEL:
             return tuple((name, 20 + k) for k, name in enumerate(self.channels, start=1))
         return tuple((name, 30 + n) for n, name in enumerate(self.axes, start=1))
@@ -533,7 +543,14 @@ class ExpandedCatalog:
         return f"unknown signal '{text}'{hint}"
 
 
+# Blocks added after the links' layout existed go behind all others in the links' order, so that
+# no address of the other blocks moves.
+_LINKED_LAST = (f"DB{FIRST_DB[InstanceKind.PLC_ALARMS]}",)
+
+
 def _db_order(key: str) -> tuple[int, str]:
+    if key in _LINKED_LAST:
+        return (5_000 + _LINKED_LAST.index(key), key)
     return (int(key[2:]), key) if key.startswith("DB") else (10_000, key)
 
 

@@ -137,15 +137,16 @@ class PlcIo:
         ref = self._checked(name, _OUTPUTS, SignalType.BITS)
         return BitField(self.image.area(ref.area_key), ref)
 
-    def input_group(self, group: type[T], instance: str) -> GroupInput[T]:
-        """The NC's outputs of ``group`` for ``instance`` (a channel, an axis, ``NC``...)."""
+    def input_group(self, group: type[T], instance: str, prefix: str = "") -> GroupInput[T]:
+        """The NC's outputs of ``group`` for ``instance`` (a channel, an axis, ``NC``...); ``prefix``
+        goes before the group's symbols (one of a repeated block: ``auxMFuncs[2].in.``)."""
         refs: list[SignalRef] = []
 
         def resolve(symbol: str) -> SignalRef:
             refs.append(self.environment.catalog.resolve(f"{instance}.{symbol}"))
             return refs[-1]
 
-        codec = GroupCodec(group, resolve)
+        codec = GroupCodec(group, resolve, prefix)
         if codec.direction is not Direction.NC_TO_PLC:
             raise TypeError(f"{group.__name__} is an output of the PLC")
         areas = {ref.area_key for ref in refs}

@@ -11,12 +11,15 @@ from functools import partial
 
 from interfaces.plc import PlcFactory
 from plc_stub.programs.basic_machine import BasicMachine
+from plc_stub.programs.coolant import Coolant
 from plc_stub.programs.manual_retraction import ManualRetraction
 from plc_stub.programs.polygon import Polygon
 from plc_stub.programs.referencing import Referencing
 from plc_stub.programs.retraction import Retraction
 from plc_stub.programs.spindle import Spindle
 from plc_stub.programs.sync_spindle import SyncSpindle
+from plc_stub.programs.tool_change import ToolChange
+from plc_stub.programs.turret import Turret
 from plc_stub.runtime import ProgramClass, ScanCycleRuntime
 
 REGISTRY: dict[str, ProgramClass] = {
@@ -27,6 +30,9 @@ REGISTRY: dict[str, ProgramClass] = {
     "polygon": Polygon,
     "retraction": Retraction,
     "manual_retraction": ManualRetraction,
+    "coolant": Coolant,
+    "turret": Turret,
+    "tool_change": ToolChange,
 }
 
 

@@ -12,7 +12,8 @@ Networks (one method each, called in this order from OB1):
 3. Channel: NC start / NC stop / reset keys to DB21.DBX7.1 / 7.3 / 7.7; feed stop and
    feed start keys latch the channel feed disable DB21.DBX6.0 (the stop key wins while both
    are pressed); the override switches to
-   DB21.DBB4 (feed) and DBB5 (rapid) with their enables.
+   DB21.DBB4 (feed) and DBB5 (rapid) with their enables; the optional stop switch selects
+   M01 (DB21.DBX0.5).
 4. Axes: measuring system 1 selected (DB31.DBX1.5), controller and pulse enable once the
    drives are ready (follow-up mode while the enable is off), the axis override, the
    traverse keys to DB31.DBX4.6/4.7, the rapid traverse key, the reference cam to
@@ -65,6 +66,7 @@ class _ChannelIo:
     feed_override: Byte
     rapid_override_active: Bool
     rapid_override: Byte
+    activate_m01: Bool
 
 
 class BasicMachine:
@@ -110,6 +112,7 @@ class BasicMachine:
         self.feed_switch = optional_byte("MCP.feedOverride")
         self.rapid_switch = optional_byte("MCP.rapidOverride")
         self.key_rapid = optional_input("MCP.rapid")
+        self.optional_stop_switch = optional_input("MCP.optionalStop")
         # the panel's NOZAGC switch goes to the inclined-axis control of every channel; without the
         # switch the program leaves the signal alone
         self.nozagc_switch = optional_input("MCP.noOrthogonalCompensation")
@@ -126,6 +129,7 @@ class BasicMachine:
                 feed_override=io.output_byte(f"{name}.basic.out.pathFeedrateOvrFactor"),
                 rapid_override_active=io.output(f"{name}.basic.out.pathRapidTraversOvr"),
                 rapid_override=io.output_byte(f"{name}.basic.out.pathRapidTraversOvrFactor"),
+                activate_m01=io.output(f"{name}.basic.out.activateM01"),
             )
             for name in layout.channels
         ]
@@ -199,6 +203,7 @@ class BasicMachine:
             channel.feed_override.value = feed
             channel.rapid_override_active.value = True
             channel.rapid_override.value = rapid
+            channel.activate_m01.value = pressed(self.optional_stop_switch)
         for output in self.nozagc_outputs:
             output.value = pressed(self.nozagc_switch)
 

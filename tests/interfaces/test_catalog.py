@@ -88,12 +88,13 @@ def test_expanded_symbols_and_addresses_are_unique() -> None:
     assert len(set(addresses)) == len(addresses)
     per_kind = {section.kind: len(section.signals) for section in load_catalog().sections}
     expected = (per_kind[InstanceKind.NCK] + per_kind[InstanceKind.MODE_GROUP] + per_kind[InstanceKind.HMI]
-                + 2 * per_kind[InstanceKind.CHANNEL] + 3 * per_kind[InstanceKind.AXIS] + per_kind[InstanceKind.ALARMS])
+                + 2 * per_kind[InstanceKind.CHANNEL] + 3 * per_kind[InstanceKind.AXIS] + per_kind[InstanceKind.ALARMS]
+                + per_kind[InstanceKind.PLC_ALARMS])
     assert len(items) == expected
 
 
 def test_instances_land_in_their_data_blocks() -> None:
-    assert expanded().area_sizes.keys() == {"DB10", "DB11", "DB19", "DB21", "DB22", "DB31", "DB32",
+    assert expanded().area_sizes.keys() == {"DB2", "DB10", "DB11", "DB19", "DB21", "DB22", "DB31", "DB32",
                                                "DB33", "DB100"}
     assert expanded().resolve("CHAN2.basic.out.reset").address == Address.parse("DB22.DBX7.7")
     assert expanded().resolve("SP1.basic.in.enc1Synchronized").address == Address.parse("DB33.DBX60.4")
@@ -101,6 +102,7 @@ def test_instances_land_in_their_data_blocks() -> None:
     assert expanded().resolve("NC.basic.out.emergencyStop").address == Address.parse("DB10.DBX56.1")
     assert expanded().resolve("HMI.basic.out.displayWcsValues").address == Address.parse("DB19.DBX0.7")
     assert expanded().resolve("ALARMS.entry[2].in.number").address == Address.parse("DB100.DBD12")
+    assert expanded().resolve("PLCALARMS.userArea0.out.alarm700009").address == Address.parse("DB2.DBX181.1")
 
 
 def test_the_alarm_block_is_a_project_block_behind_every_axis() -> None:
@@ -109,6 +111,17 @@ def test_the_alarm_block_is_a_project_block_behind_every_axis() -> None:
     assert section.db == 100 and all(signal.origin is Origin.PROJECT for signal in section.signals)
     assert all(signal.direction is Direction.NC_TO_PLC for signal in section.signals)
     assert expanded().byte_ranges(Direction.NC_TO_PLC)[-1] == ("DB100", 0, section.size)
+
+
+def test_the_plc_alarm_block_comes_last_in_the_links_order() -> None:
+    """DB2 (the PLC's user alarms, added after the links' layout) follows every other PLC-to-NC
+    range, so that no address of the other blocks moves; alarm 700000 + n is bit n from DBX180.0."""
+    section = load_catalog().section(InstanceKind.PLC_ALARMS)
+    assert section.db == 2 and all(signal.direction is Direction.PLC_TO_NC for signal in section.signals)
+    assert expanded().byte_ranges(Direction.PLC_TO_NC)[-1] == ("DB2", 180, 188)
+    assert [str(signal.address) for signal in section.signals[:9]] == [
+        *(f"DB2.DBX180.{bit}" for bit in range(8)), "DB2.DBX181.0"]
+    assert section.signals[63].symbol == "<PlcAlarms>.userArea0.out.alarm700063"
 
 
 # --------------------------------------------------------------------------------------------
@@ -217,7 +230,7 @@ def test_entries_say_where_they_come_from() -> None:
             assert "seed 003 L" in signal.source, signal.address
         elif signal.origin is Origin.CONTROL:
             assert signal.source.startswith(CONTROL_SOURCE), signal.address
-            assert signal.note == CONTROL_NOTE, signal.address
+            assert signal.note.startswith(CONTROL_NOTE), signal.address  # then what else the entry needs
         assert signal.meaning, signal.address
 
 
@@ -229,11 +242,28 @@ def test_control_entries_are_the_agreed_ones() -> None:
         "DB21.DBX1.7", *(f"DB21.DBX35.{bit}" for bit in range(7)), "DB21.DBX36.6", "DB21.DBX36.7",
         # the geometry axes' machine functions INC1 .. INC10000 (the seed prints them at DB31 DBX5.x)
         *(f"DB21.DBX{byte}.{bit}" for byte in (13, 17, 21) for bit in range(5)),
+        # program control: activate M01, M00/M01 active, M02/M30 active
+        "DB21.DBX0.5", "DB21.DBX32.5", "DB21.DBX33.5",
+        # auxiliary function output (Basic Functions H2): change and quick signals ...
+        *(f"DB21.DBX58.{bit}" for bit in range(5)), *(f"DB21.DBX60.{bit}" for bit in (0, 1, 2, 4, 5, 6)),
+        "DB21.DBX61.0", "DB21.DBX61.4", *(f"DB21.DBX62.{bit}" for bit in (0, 1, 4, 5)),
+        *(f"DB21.DBX64.{bit}" for bit in (0, 1, 2, 4, 5, 6)), "DB21.DBX65.0",
+        *(f"DB21.DBX66.{bit}" for bit in range(5)),
+        # ... the values behind the seed's DBW68 (M 1), the S, T, D, DL and H functions ...
+        "DB21.DBD70", *(f"DB21.DB{kind}{byte}" for byte in (74, 80, 86, 92) for kind, byte in (("W", byte),
+                                                                                              ("D", byte + 2))),
+        *(f"DB21.DB{kind}{byte}" for byte in (98, 104, 110, 116, 140, 146, 152)
+          for kind, byte in (("W", byte), ("D", byte + 2))),
+        "DB21.DBW122", "DB21.DBW124", "DB21.DBW126", "DB21.DBD128",
+        # ... the decoded M signals besides the seed's m64Decoded (DBX202.0)
+        *(f"DB21.DBX{194 + m // 8}.{m % 8}" for m in range(100) if m != 64),
+        # the PLC's user alarms 700000 .. 700063 (the basic program's DB2, user area 0)
+        *(f"DB2.DBX{180 + n // 8}.{n % 8}" for n in range(64)),
     }
 
 
 def test_symbols_are_well_formed_and_match_the_direction() -> None:
-    form = re.compile(r"^<(Nc|ModeGroup|Hmi|Chan|Axis|Alarms)>(\.[A-Za-z][A-Za-z0-9]*(\[\d+\])?)+$")
+    form = re.compile(r"^<(Nc|ModeGroup|Hmi|Chan|Axis|Alarms|PlcAlarms)>(\.[A-Za-z][A-Za-z0-9]*(\[\d+\])?)+$")
     for signal in load_catalog().signals:
         assert form.match(signal.symbol), signal.symbol
         expected = Direction.PLC_TO_NC if ".out." in signal.symbol else Direction.NC_TO_PLC
@@ -310,7 +340,7 @@ def test_signals_that_must_not_be_catalogued() -> None:
     [
         ("Y9.basic.in.enc1Synchronized",
          "unknown signal 'Y9.basic.in.enc1Synchronized': 'Y9' is not an instance of this machine"
-         " (known: ALARMS, CHAN1, CHAN2, HMI, MODEGROUP, NC, SP1, X1, Z1)"),
+         " (known: ALARMS, CHAN1, CHAN2, HMI, MODEGROUP, NC, PLCALARMS, SP1, X1, Z1)"),
         ("X1.basic.in.enc1Synchronised",
          "unknown signal 'X1.basic.in.enc1Synchronised'; did you mean X1.basic.in.enc1Synchronized"
          " or X1.basic.in.enc2Synchronized?"),

@@ -87,17 +87,18 @@ def test_frame_lengths_identifiers_and_sizes(settings: CanSettings) -> None:
 def test_turn_mill_frames_as_the_docstring_draws_them() -> None:
     nc = layout().slots[Direction.NC_TO_PLC]
     plc = layout().slots[Direction.PLC_TO_NC]
-    assert (len(nc), len(plc)) == (19, 14)
+    assert (len(nc), len(plc)) == (19, 15)
     assert [(hex(s.can_id), s.name, s.length) for s in nc[:5]] == [
         ("0x200", "NC_I_0_9", 12), ("0x201", "NC_DB10_106_109", 5), ("0x202", "NC_DB11_6_7", 3),
-        ("0x203", "NC_DB19_20_20", 2), ("0x204", "NC_DB21_33_95", 64)]
+        ("0x203", "NC_DB19_20_20", 2), ("0x204", "NC_DB21_32_93", 64)]
     assert (hex(plc[3].can_id), plc[3].name, plc[3].length) == ("0x403", "PLC_DB19_0_0", 2)
     assert (hex(nc[-8].can_id), nc[-8].name, nc[-8].length) == ("0x20b", "NC_DB31_60_103", 48)
     assert [(hex(s.can_id), s.name, s.length) for s in nc[-2:]] == [
         ("0x211", "NC_DB100_0_59", 64), ("0x212", "NC_DB100_60_67", 12)]  # the alarm block, a dword not cut
     assert (hex(plc[8].can_id), plc[8].name) == ("0x408", "PLC_DB31_0_31")
+    assert (hex(plc[-1].can_id), plc[-1].name, plc[-1].length) == ("0x40e", "PLC_DB2_180_187", 12)  # behind the axes
     classic = layout(CanSettings(fd=False))
-    assert (len(classic.slots[Direction.NC_TO_PLC]), len(classic.slots[Direction.PLC_TO_NC])) == (107, 49)
+    assert (len(classic.slots[Direction.NC_TO_PLC]), len(classic.slots[Direction.PLC_TO_NC])) == (109, 51)
 
 
 def test_identifiers_that_clash_or_overflow_are_refused_with_their_ranges() -> None:
@@ -106,7 +107,7 @@ def test_identifiers_that_clash_or_overflow_are_refused_with_their_ranges() -> N
     assert str(caught.value) == ("the link frames (0x100..0x102) overlap the NC-to-PLC data frames (0x102..0x114)")
     with pytest.raises(CanMapError) as caught:
         CanLayout.build(catalog(), PLANT.area_sizes(), CanSettings(plc_to_nc_id=0x7FA))
-    assert str(caught.value) == ("the PLC-to-NC data frames need identifiers 0x7FA..0x807; standard identifiers"
+    assert str(caught.value) == ("the PLC-to-NC data frames need identifiers 0x7FA..0x808; standard identifiers"
                                  " end at 0x7FF")
 
 

@@ -57,7 +57,8 @@ def test_plant_area_then_db_ranges_from_register_16() -> None:
     assert [segment.area for segment in nc_to_plc[1:5]] == ["DB10", "DB11", "DB19", "DB21"]
     plc_to_nc = register_map().segments[Table.PLC_TO_NC]
     assert (plc_to_nc[0].area, plc_to_nc[0].table_byte) == ("Q", DATA_START_BYTE)
-    assert [segment.area for segment in plc_to_nc][-6:] == ["DB31", "DB32", "DB33", "DB34", "DB35", "DB36"]
+    # the PLC's user alarms DB2 behind the axes: added after the layout, it moves no address
+    assert [segment.area for segment in plc_to_nc][-7:] == ["DB31", "DB32", "DB33", "DB34", "DB35", "DB36", "DB2"]
 
 
 def test_every_segment_starts_on_a_register_and_keeps_the_parity_of_its_db_byte() -> None:

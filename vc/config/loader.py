@@ -64,6 +64,9 @@ Rules:
   (seed 003 L41700-41769); none of it without p0888 = 3 (1 and 2 are written by ESRS / ESRR from
   the program).  It needs the machine's ``dc_link: {supply_voltage: V (r0208), capacitance_uf: uF,
   load_power: W, precharge_time: s (optional)}`` (vc/core/retraction/dc_link.py).
+* The machine's devices besides the axes go under a top-level ``plant:`` (``turret``, ``coolant``,
+  ``tool_changer``, each with its I/O), the texts of the PLC user alarms its PLC program raises under
+  ``plc_alarms:`` (``700000: "Turret: lock pin not pulled"``): vc/config/devices.py.
 * Every machine axis belongs to exactly one channel.  A channel axis without a name in
   MD20080 is called by its machine axis name in part programs.
 * Scenario overrides (``load_machine(..., overrides=...)``) are ``{instance: {key: value}}``

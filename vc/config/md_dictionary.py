@@ -105,6 +105,13 @@ OVR_FACTOR_LIMIT_BIN = MdDef(12100, "OVR_FACTOR_LIMIT_BIN", N, FLOAT, 1.2,
                              "seed 003 L9216-9220; [control] default", "", 0.0, 2.0)
 
 
+USER_DATA_PLC_ALARM = MdDef(14516, "USER_DATA_PLC_ALARM", N, INT, (0,) * 64,
+                            "reaction of PLC user alarm 700000 + n (user area 0, DB2.DBX180.0 ..), bits: 0 NC start"
+                            " disabled, 1 read-in disabled, 2 feed disabled (the axes of every channel stop)",
+                            "[control] number and name; [INF] the bit meanings as the project reads them, the"
+                            " seed names no PLC alarms (docs/auxiliary_functions.md)", "", 0, 0xFF, 64)
+
+
 # ---------------------------------------------------------------------------------- channel
 AXCONF_GEOAX_ASSIGN_TAB = MdDef(20050, "AXCONF_GEOAX_ASSIGN_TAB", C, INT, (1, 2, 3),
                                 "channel axis number serving each geometry axis (0 = none)",
@@ -185,6 +192,59 @@ ESR_DELAY_TIME2 = MdDef(21381, "ESR_DELAY_TIME2", C, FLOAT, 0.04,
                         "NC-controlled stop: braking time after MD21380",
                         "seed 003 L42156; [control] default",
                         "s", 0.0, 1.0e3)
+
+
+# ------------------------------------------------------------ channel: auxiliary function output (H2)
+# The seed points at the control's "auxiliary function output to the PLC" (seed 003 L7390-7395,
+# L8893-8897, L16391-16455, L17456-17490); the data below are the real control's, marked [control].
+AUXFU_ASSIGN_ENTRIES = 32  # entries of MD22000 .. MD22035 here (the control sizes them with MD11100)
+AUXFU_ASSIGN_GROUP = MdDef(22000, "AUXFU_ASSIGN_GROUP", C, INT, (0,) * AUXFU_ASSIGN_ENTRIES,
+                           "auxiliary function group of the user-defined auxiliary function n (0 = entry unused):"
+                           " one function of a group per block (alarm 14760)",
+                           "seed 003 L16399-16404 (example); [control] meaning and default", "", 0, 64,
+                           AUXFU_ASSIGN_ENTRIES)
+AUXFU_ASSIGN_TYPE = MdDef(22010, "AUXFU_ASSIGN_TYPE", C, STR, ("",) * AUXFU_ASSIGN_ENTRIES,
+                          "type of the user-defined auxiliary function n: M, S, T, D, DL, H or F",
+                          "seed 003 L16399-16404 (example); [control]", length=AUXFU_ASSIGN_ENTRIES)
+AUXFU_ASSIGN_EXTENSION = MdDef(22020, "AUXFU_ASSIGN_EXTENSION", C, INT, (0,) * AUXFU_ASSIGN_ENTRIES,
+                               "extended address of the user-defined auxiliary function n (-1 = every extension)",
+                               "seed 003 L16399-16404 (example); [control]", "", -1, 99, AUXFU_ASSIGN_ENTRIES)
+AUXFU_ASSIGN_VALUE = MdDef(22030, "AUXFU_ASSIGN_VALUE", C, INT, (0,) * AUXFU_ASSIGN_ENTRIES,
+                           "value of the user-defined auxiliary function n (-1 = every value of its type and"
+                           " extension)", "seed 003 L16399-16404 (example); [control]", "", -1, 2_147_483_647,
+                           AUXFU_ASSIGN_ENTRIES)
+AUXFU_ASSIGN_SPEC = MdDef(22035, "AUXFU_ASSIGN_SPEC", C, INT, (0x121,) * AUXFU_ASSIGN_ENTRIES,
+                          "output behaviour of the user-defined auxiliary function n, bits: 0 acknowledgement"
+                          " normal (one PLC cycle), 1 quick (the block does not wait), 3 no output to the PLC,"
+                          " 5 output before the motion, 6 during the motion, 7 at the block end (none of 5..7:"
+                          " the type's MD22200 ..); the other bits are not modelled",
+                          "[control] number, bits and default 0x121 (docs/auxiliary_functions.md)", "", 0, 0xFFFFF,
+                          AUXFU_ASSIGN_ENTRIES)
+_SYNC_TYPE = ("when the {what} go to the PLC: 0 before the motion of the block (the motion starts once they"
+              " are acknowledged), 1 during the motion, 2 at the block end, 3 not at all")
+AUXFU_M_SYNC_TYPE = MdDef(22200, "AUXFU_M_SYNC_TYPE", C, INT, 1, _SYNC_TYPE.format(what="M functions"),
+                          "[control] number, coding and default (docs/auxiliary_functions.md)", "", 0, 3,
+                          allowed=(0, 1, 2, 3))
+AUXFU_S_SYNC_TYPE = MdDef(22210, "AUXFU_S_SYNC_TYPE", C, INT, 1, _SYNC_TYPE.format(what="S functions"),
+                          "[control] number, coding and default", "", 0, 3, allowed=(0, 1, 2, 3))
+AUXFU_T_SYNC_TYPE = MdDef(22220, "AUXFU_T_SYNC_TYPE", C, INT, 1, _SYNC_TYPE.format(what="T functions"),
+                          "[control] number, coding and default", "", 0, 3, allowed=(0, 1, 2, 3))
+AUXFU_H_SYNC_TYPE = MdDef(22230, "AUXFU_H_SYNC_TYPE", C, INT, 1, _SYNC_TYPE.format(what="H functions"),
+                          "[control] number, coding and default", "", 0, 3, allowed=(0, 1, 2, 3))
+AUXFU_F_SYNC_TYPE = MdDef(22240, "AUXFU_F_SYNC_TYPE", C, INT, 3, _SYNC_TYPE.format(what="F functions") +
+                          "; 3 by default: an F output in continuous-path mode could cause velocity jumps",
+                          "seed 003 L8893-8897 (default 3); [control] coding", "", 0, 3, allowed=(0, 1, 2, 3))
+AUXFU_D_SYNC_TYPE = MdDef(22250, "AUXFU_D_SYNC_TYPE", C, INT, 1, _SYNC_TYPE.format(what="D functions"),
+                          "[control] number, coding and default", "", 0, 3, allowed=(0, 1, 2, 3))
+AUXFU_DL_SYNC_TYPE = MdDef(22252, "AUXFU_DL_SYNC_TYPE", C, INT, 1, _SYNC_TYPE.format(what="DL functions"),
+                           "[control] number, coding and default", "", 0, 3, allowed=(0, 1, 2, 3))
+TOOL_CHANGE_MODE = MdDef(22550, "TOOL_CHANGE_MODE", C, INT, 0,
+                         "0 = T changes the tool (a turret: the T word selects and activates it), 1 = T preselects,"
+                         " the M function of MD22560 changes", "[control] number, coding and default", "", 0, 1,
+                         allowed=(0, 1))
+TOOL_CHANGE_M_CODE = MdDef(22560, "TOOL_CHANGE_M_CODE", C, INT, 6,
+                           "M function of the tool change with MD22550 = 1", "[control] number and default M6", "",
+                           0, 2_147_483_647)
 
 # ---------------------------------------------------------------------------------- axis
 IS_ROT_AX = MdDef(30300, "IS_ROT_AX", A, BOOL, False, "rotary axis / spindle", "[control]")

@@ -193,6 +193,47 @@ class CanConfig:
         return 0 if self.restart_s == 0 else max(1, round(self.restart_s * 1_000_000 / ipo_cycle_us))
 
 
+# The PLC's user alarms of DB2 user area 0 (DB2.DBX180.0 .. 187.7): the numbers the machine's PLC
+# program may raise, whose texts ``plc_alarms:`` gives (vc/core/nck/plc_alarms.py).
+PLC_USER_ALARMS = range(700000, 700064)
+
+
+@dataclass(frozen=True, slots=True)
+class TurretPlant:
+    """A tool turret indexed by the PLC: a disk with its stations, an indexing drive, a lock pin."""
+
+    stations: int  # tool stations on the disk, 1..stations
+    index_time_s: float  # s the disk needs from one station to the next
+    lock_time_s: float  # s the lock pin needs to engage or to retract
+    station_at_power_on: int = 1
+
+
+@dataclass(frozen=True, slots=True)
+class CoolantPlant:
+    """A coolant pump with a pressure switch."""
+
+    pressure_time_s: float  # s from the pump on to the pressure switch closing
+
+
+@dataclass(frozen=True, slots=True)
+class ToolChangerPlant:
+    """A mill's simple tool changer: a tool magazine indexed by the PLC and a changer arm."""
+
+    pockets: int  # magazine pockets, 1..pockets
+    index_time_s: float  # s the magazine needs from one pocket to the next
+    arm_time_s: float  # s the arm needs from its home position to the spindle (and back)
+    pocket_at_power_on: int = 1
+
+
+@dataclass(frozen=True, slots=True)
+class MachinePlant:
+    """The machine's devices besides its axes (the machine file's ``plant:``), None where it has none."""
+
+    turret: TurretPlant | None = None
+    coolant: CoolantPlant | None = None
+    tool_changer: ToolChangerPlant | None = None
+
+
 @dataclass(frozen=True, slots=True)
 class MachineConfig:
     name: str
@@ -205,6 +246,8 @@ class MachineConfig:
     plc_parameters: Mapping[str, Any] = field(default_factory=dict)  # ``plc:``, for the PLC program to check
     dc_link: DcLinkConfig | None = None  # ``dc_link:``; None: the drive line-up's link is not modelled
     can: CanConfig = field(default_factory=CanConfig)  # ``can:``, checked against the machine by the loader
+    plant: MachinePlant = field(default_factory=MachinePlant)  # ``plant:``: turret, coolant, tool changer
+    plc_alarms: Mapping[int, str] = field(default_factory=dict)  # ``plc_alarms:``: texts of the PLC user alarms
 
     @property
     def layout(self) -> InterfaceLayout:

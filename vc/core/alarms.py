@@ -14,6 +14,8 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from enum import Flag, StrEnum, auto
 
+from vc.config.model import PLC_USER_ALARMS
+
 
 class Reaction(Flag):
     """What the control does while the alarm is present."""
@@ -100,6 +102,12 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         " radius too small, full circle with a radius); the reason as %3"),
         AlarmDefinition(14080, "Channel %1 block %2 jump destination %3 not found", _STOP, Clear.RESET,
                         "[control]"),
+        AlarmDefinition(14760, "Channel %1 block %2 auxiliary function of a group programmed repeatedly", _STOP,
+                        Clear.RESET, "[control] number and text: two functions of one group (MD22000; M0, M1,"
+                        " M2, M17, M30 are one) in a block"),
+        AlarmDefinition(14770, "Channel %1 block %2 auxiliary function programmed incorrectly", _STOP, Clear.RESET,
+                        "[control] number and text: more than 5 M, 3 S, 3 H or one T, D, DL, F in a block, a value"
+                        " or extended address no auxiliary function takes"),
         AlarmDefinition(14800, "Channel %1 block %2 programmed path velocity is less than or equal to zero",
                         _STOP, Clear.RESET, "seed 003 L7841-7858"),
         AlarmDefinition(16105, "Channel %1 block %2 assigned spindle %3 does not exist", _STOP, Clear.RESET,
@@ -223,6 +231,16 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
 }
 
 
+# The PLC's user alarms (DB2 user area 0, vc/core/nck/plc_alarms.py): their texts and reactions
+# are the machine's (plc_alarms: of the machine file, MD14516), so they have no entry above.
+READ_IN_DISABLED = Reaction.READ_IN_DISABLED.value
+
+
+def known_alarm(number: int) -> bool:
+    """An alarm the simulated control can show: one of ``ALARM_TEXTS`` or a PLC user alarm."""
+    return number in ALARM_TEXTS or number in PLC_USER_ALARMS
+
+
 def format_text(template: str, parameters: tuple[object, ...]) -> str:
     text = template
     for index, parameter in reversed(list(enumerate(parameters, start=1))):
@@ -245,10 +263,16 @@ class AlarmList:
         self, number: int, cycle: int, *parameters: object, channel: str = "", axis: str = ""
     ) -> Alarm:
         """Raise alarm ``number`` unless the same alarm is already present for the same place."""
+        return self.raise_defined(ALARM_TEXTS[number], cycle, *parameters, channel=channel, axis=axis)
+
+    def raise_defined(self, definition: AlarmDefinition, cycle: int, *parameters: object, channel: str = "",
+                      axis: str = "") -> Alarm:
+        """Raise the alarm of ``definition`` (one the machine defines: a PLC user alarm with its
+        machine's text) unless the same alarm is already present for the same place."""
+        number = definition.number
         for alarm in self.present:
             if alarm.number == number and alarm.channel == channel and alarm.axis == axis:
                 return alarm
-        definition = ALARM_TEXTS[number]
         alarm = Alarm(number, format_text(definition.text, parameters), definition.reaction,
                       definition.clear, channel, axis, cycle)
         self.present.append(alarm)

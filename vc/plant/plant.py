@@ -11,7 +11,10 @@ is ready) - a part clamped in two chucks ties their spindles together and, twist
 counter spindle's drive (vc/plant/workpiece.py, reported by ``blocked_drives``) - and
 ``Drives.ready``, which follows the PLC's ``Drives.on`` output after the infeed's switch-on
 delay while the line supply is there and the DC link (if the machine has one) is precharged
-(a mains failure takes it at once).  Operator inputs
+(a mains failure takes it at once).  The machine's devices besides the axes (the machine file's
+``plant:``) are driven the same way: a lathe's tool turret (vc/plant/turret.py), a machining
+centre's tool magazine and changer arm (vc/plant/tool_changer.py), the coolant pump with its
+pressure switch (vc/plant/coolant.py); a machine without them pays nothing for them.  Operator inputs
 (panel keys, the emergency-stop button, the guard door switch) are not the plant's: a person (a scenario) sets them.
 """
 
@@ -25,7 +28,10 @@ from interfaces.image import ProcessImage
 from interfaces.signals import SignalRef
 from vc.config.model import AxisConfig, MachineConfig
 from vc.plant.chuck import Chuck
+from vc.plant.coolant import Coolant
 from vc.plant.gearbox import Gearbox
+from vc.plant.tool_changer import ToolChanger
+from vc.plant.turret import Turret
 from vc.plant.workpiece import ClampedPart
 
 DRIVE_READY_DELAY_S = 0.1  # infeed switch-on to "ready", a typical line module figure
@@ -51,6 +57,20 @@ class _AxisSwitches:
     states: tuple[int, int, int] | None = None  # cam, minus, plus as last written
 
 
+class Device(Protocol):
+    """A device of the machine besides its axes: it reads its outputs, moves, writes its sensors."""
+
+    name: str  # its I/O prefix, which clear_faults names
+
+    def step(self, io: ProcessImage) -> bool:
+        """One IPO cycle; True while something of it still moves (False: it rests until an output
+        changes)."""
+    def write_sensors(self, io: ProcessImage) -> None: ...
+    def forget_sensors(self) -> None: ...
+    def inject(self, kind: str) -> None: ...
+    def repair(self) -> None: ...
+
+
 class ChargedLink(Protocol):
     """The drive line-up's DC link as the infeed's ready signal sees it (vc/core/retraction/dc_link.py)."""
 
@@ -62,11 +82,11 @@ class ChargedLink(Protocol):
 class Plant:
     def __init__(self, machine: MachineConfig, ipo_cycle_us: int, slides: Sequence[Slide],
                  gear_stages: Mapping[str, int] | None = None, chucks_clamped: Mapping[str, bool] | None = None,
-                 dc_link: ChargedLink | None = None):
+                 dc_link: ChargedLink | None = None, turret_station: int | None = None):
         """``gear_stages`` are the stages in mesh at power-on by spindle and ``chucks_clamped``
         the chucks' states, where they differ from the machine file's (a gearbox keeps its stage
-        and a chuck its part while the machine is switched off); ``dc_link`` the line-up's link,
-        whose precharge holds ``Drives.ready`` back."""
+        and a chuck its part while the machine is switched off), as is ``turret_station``;
+        ``dc_link`` the line-up's link, whose precharge holds ``Drives.ready`` back."""
         self._io = machine.plant_io
         self._slides = list(slides)  # in machine axis order
         self._axes = [self._switches_of(axis) for axis in machine.axes]
@@ -94,6 +114,16 @@ class Plant:
         self.supply_on = True  # the line supply of the infeed
         self._dc_link = dc_link
         self._ready: int | None = None
+        devices = machine.plant
+        self.turret = Turret(devices.turret, self._io, ipo_cycle_us, turret_station) if devices.turret else None
+        self.tool_changer = ToolChanger(devices.tool_changer, self._io, ipo_cycle_us) \
+            if devices.tool_changer else None
+        coolant = Coolant(devices.coolant, self._io, ipo_cycle_us) if devices.coolant else None
+        self._devices: list[Device] = [device for device in (self.turret, self.tool_changer, coolant)
+                                       if device is not None]
+        # the devices rest until the PLC changes an output or one of them still moves
+        self._outputs_seen = b""
+        self._devices_moving = True
 
     def _switches_of(self, axis: AxisConfig) -> _AxisSwitches:
         def wired(function: str) -> SignalRef | None:
@@ -132,6 +162,10 @@ class Plant:
         for chuck in self._chucks:
             chuck.forget_sensors()
             chuck.write_sensors(io)
+        for device in self._devices:
+            device.forget_sensors()
+            device.write_sensors(io)
+        self._devices_moving = True
         self._drive_line_up(io)
 
     def gear_stages(self) -> dict[str, int]:
@@ -154,6 +188,43 @@ class Plant:
             chuck.step(io, pressure)
         if self._parts:
             self.blocked_drives = [part.counter.axis for part in self._parts if part.step()]
+        if self._devices:
+            self._devices_cycle(io)
+
+    def _devices_cycle(self, io: ProcessImage) -> None:
+        """The devices' cycle, only when an output changed or one of them still moves: a machine
+        standing with its turret locked pays one comparison of its outputs."""
+        outputs = io.areas["Q"]
+        if not self._devices_moving and outputs == self._outputs_seen:
+            return
+        self._outputs_seen = bytes(outputs)
+        moving = False
+        for device in self._devices:
+            if device.step(io):
+                moving = True
+        self._devices_moving = moving
+
+    # ------------------------------------------------------------------ faults of the devices
+    def device_names(self) -> list[str]:
+        """The devices a fault can be injected into and repaired (their I/O prefixes)."""
+        names = [device.name for device in self._devices]
+        return [*names, "ToolArm"] if self.tool_changer is not None else names
+
+    def inject(self, device: str, kind: str) -> None:
+        """A fault of a device (its FAULTS), until :meth:`repair`."""
+        self._device(device).inject(kind)
+        self._devices_moving = True
+
+    def repair(self, device: str) -> None:
+        self._device(device).repair()
+        self._devices_moving = True
+
+    def _device(self, name: str) -> Device:
+        wanted = "Magazine" if name == "ToolArm" else name
+        for device in self._devices:
+            if device.name == wanted:
+                return device
+        raise KeyError(f"this machine has no {name} (its devices: {', '.join(self.device_names()) or 'none'})")
 
     def _switches(self, io: ProcessImage) -> None:
         for switches, slide in zip(self._axes, self._slides, strict=True):

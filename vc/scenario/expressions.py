@@ -16,12 +16,13 @@ letter case)::
                  | "abs" "(" expression ")"
                  | "alarm" "(" NUMBER [ "," NAME ] ")"
 
-``NAME`` is a signal symbol, an absolute address, a plant I/O name, ``<axis>.<quantity>``, a
-machine datum (``X1.MD34090[1]``) or ``time`` (see :mod:`vc.scenario.quantities`).  Comparisons
-and ``and``/``or``/``not`` give 1 or 0; a condition holds when its value is not 0.  Only one
-comparison per level: write ``0 < X1.position and X1.position < 5`` (chained comparisons read
-differently in different languages, so they are refused with that hint).  ``alarm(21614, X1)``
-is 1 while alarm 21614 of axis (or channel) X1 is present.
+``NAME`` is a signal symbol (with its group's index: ``CHAN1.auxMFuncs[2].in.value``), an
+absolute address, a plant I/O name, ``<axis>.<quantity>``, a machine datum (``X1.MD34090[1]``) or
+``time`` (see :mod:`vc.scenario.quantities`).  Comparisons and ``and``/``or``/``not`` give 1 or 0; a
+condition holds when its value is not 0.  Only one comparison per level: write
+``0 < X1.position and X1.position < 5`` (chained comparisons read differently in different
+languages, so they are refused with that hint).  ``alarm(21614, X1)`` is 1 while alarm 21614 of
+axis (or channel) X1 is present.
 
 The arithmetic of a placeholder (:mod:`vc.scenario.placeholders`, :data:`Grammar.ARITHMETIC`) is
 the ``sum`` of this grammar: names (varied keys), numbers, ``+ - * /``, signs, parentheses, and
@@ -89,6 +90,7 @@ _TOKEN = re.compile(
     (?P<space>\s+)
   | (?P<number>(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?(?![A-Za-z_0-9.]))
   | (?P<name>[A-Za-z_][A-Za-z_0-9]*(?:\.[A-Za-z_0-9]+)*)
+  | (?P<member>(?<=\])\.[A-Za-z_][A-Za-z_0-9]*(?:\.[A-Za-z_0-9]+)*)
   | (?P<op>==|!=|<=|>=|<|>|\+|-|\*|/|\(|\)|\[|\]|,)
     """,
     re.VERBOSE,
@@ -106,7 +108,7 @@ FUNCTIONS = ("abs", "alarm")
 
 @dataclass(frozen=True, slots=True)
 class Token:
-    kind: str  # "number", "name", "op", "end"
+    kind: str  # "number", "name", "member" (".in.value" after an index), "op", "end"
     text: str
     column: int  # 1-based
 
@@ -342,14 +344,21 @@ class _Parser:
                               token.column)
 
     def element(self, name: Token) -> Name:
-        """``X1.MD34090[1]`` in a condition: an element of an array datum is one name."""
-        opening = self.advance()
-        number = self.token
-        if number.kind != "number" or not number.text.isdigit() or len(number.text) > 9:
-            raise ExpressionError("an index in a condition is a whole number, e.g. X1.MD34090[1]", number.column)
-        self.advance()
-        self.expect_close(opening, "]")
-        return Name(f"{name.text}[{int(number.text)}]", name.column)
+        """``X1.MD34090[1]`` or ``CHAN1.auxMFuncs[2].in.value`` in a condition: an element of an array
+        datum or of an indexed signal group is one name."""
+        text = name.text
+        while self.is_op("["):
+            opening = self.advance()
+            number = self.token
+            if number.kind != "number" or not number.text.isdigit() or len(number.text) > 9:
+                raise ExpressionError("an index in a condition is a whole number, e.g. X1.MD34090[1]",
+                                      number.column)
+            self.advance()
+            self.expect_close(opening, "]")
+            text = f"{text}[{int(number.text)}]"
+            if self.token.kind == "member":  # the signal's name goes on after its group's index
+                text += self.advance().text
+        return Name(text, name.column)
 
     def indexes(self, node: Node) -> Node:
         """``target[index][index]...`` of the arithmetic grammar."""

@@ -9,10 +9,10 @@ with its oscillation, the chucks, the emergency stop with its acknowledgement).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from interfaces.commissioning import AxisFacts, Commissioning, PlantNeed
-from interfaces.plant_io import PlantIoMap
+from interfaces.plant_io import PlantIoMap, station_code_bits
 from interfaces.signals import ExpandedCatalog
 from vc.config import md_dictionary as MD
 from vc.config.model import AxisConfig, ChannelConfig, MachineConfig
@@ -28,7 +28,23 @@ def commissioning_of(machine: MachineConfig, catalog: ExpandedCatalog) -> Commis
     inclined = _inclined_pairs(machine.channels)
     axes = tuple(_axis_facts(axis, inclined) for axis in machine.axes)
     order = {channel.name: _reference_order(machine, channel) for channel in machine.channels}
-    return Commissioning(axes, order, tuple(_needs(machine, catalog)))
+    return Commissioning(axes, order, tuple(_needs(machine, catalog)), _devices(machine))
+
+
+def _devices(machine: MachineConfig) -> dict[str, dict[str, float]]:
+    """The devices besides the axes, with what a PLC program must know of them."""
+    plant = machine.plant
+    devices: dict[str, dict[str, float]] = {}
+    if plant.turret is not None:
+        devices["turret"] = {"stations": plant.turret.stations, "index_time": plant.turret.index_time_s,
+                             "lock_time": plant.turret.lock_time_s}
+    if plant.tool_changer is not None:
+        devices["tool_changer"] = {"pockets": plant.tool_changer.pockets,
+                                   "index_time": plant.tool_changer.index_time_s,
+                                   "arm_time": plant.tool_changer.arm_time_s}
+    if plant.coolant is not None:
+        devices["coolant"] = {"pressure_time": plant.coolant.pressure_time_s}
+    return devices
 
 
 def _inclined_pairs(channels: Sequence[ChannelConfig]) -> dict[str, str]:
@@ -128,6 +144,8 @@ def _needs(machine: MachineConfig, catalog: ExpandedCatalog) -> list[PlantNeed]:
                                    f"{' / '.join(valves)}: one solenoid at a time strokes the chuck in"
                                    f" {axis.plant.chuck.travel_time_s:g} s while the drive line-up (its hydraulics)"
                                    f" is on; {' / '.join(sensors)} report the end positions"))
+    needs.extend(_auxiliary_functions(machine, catalog))
+    needs.extend(_device_needs(machine, point))
     nozagc = point("MCP.noOrthogonalCompensation")
     for channel in machine.channels:
         if nozagc is not None and isinstance(parameters_for_channel(channel), InclinedAxisParameters):
@@ -181,3 +199,66 @@ def _gearbox(axis: AxisConfig, io: PlantIoMap) -> PlantNeed:
         f" motor turns for {gearbox.shift_time_s:g} s, so set oscillation enable {db}.DBX18.5 meanwhile (the NC"
         f" oscillates; with 18.4 the PLC oscillates by 18.6 / 18.7). When {' / '.join(sensors)} reports the stage,"
         f" write it to {db}.DBX16.0-16.2 and set 16.3 (gear changed) until 82.3 falls")
+
+
+def _auxiliary_functions(machine: MachineConfig, catalog: ExpandedCatalog) -> list[PlantNeed]:
+    """The handshake of the auxiliary function output, per channel (vc/core/auxiliary/output.py)."""
+    needs = []
+    for channel in machine.channels:
+        name = channel.name
+
+        def at(symbol: str, channel: str = name) -> str:
+            return str(catalog.resolve(f"{channel}.{symbol}").address)
+
+        read_in = at("basic.out.disableReadIn")
+        needs.append(PlantNeed(
+            f"{name}.auxiliaryFunctions", "auxiliary_functions", (),
+            (at("auxMFuncs[1].in.change"), at("auxMFuncs[1].in.value"), at("auxTFuncs[1].in.value"),
+             at("auxMDynFuncs.in.m00Decoded"), read_in),
+            f"The NC outputs a block's M, S, T, D, DL, H (and F with MD22240) functions into {name}'s slots: a change"
+            f" signal per slot (M 1..5 {at('auxMFuncs[1].in.change')} ff., S DBX60.0-2, T DBX61.0, D DBX62.0, DL"
+            f" DBX62.1, H DBX64.0-2, F DBX65.0), the extended address (INT) and the value (DINT or REAL) behind it,"
+            f" M00..M99 without extended address also decoded from {at('auxMDynFuncs.in.m00Decoded')}. The change"
+            " signals stand for exactly one PLC scan; read them in every scan. The NC takes a function as"
+            " acknowledged one scan after the scan that saw it, and a normal function holds its block until then (a"
+            f" quick one, QU, never). To hold the program longer (a tool change) set the read-in disable {read_in} in"
+            " the scan that sees the function, and release it when done: the next block waits (program state"
+            " waiting)"))
+    return needs
+
+
+def _device_needs(machine: MachineConfig, point: Callable[[str], str | None]) -> list[PlantNeed]:
+    plant = machine.plant
+    needs = []
+
+    def wired(*names: str) -> tuple[str, ...]:
+        return tuple(text for name in names if (text := point(name)) is not None)
+
+    if plant.turret is not None:
+        turret = plant.turret
+        codes = [f"Turret.code{bit}" for bit in station_code_bits(turret.stations)]
+        needs.append(PlantNeed(
+            "Turret", "turret", wired("Turret.unlock", "Turret.unlocked", "Turret.indexCw", "Turret.indexCcw",
+                                      *codes, "Turret.locked"), (),
+            f"{turret.stations} stations. Pull the lock pin with Turret.unlock until Turret.unlocked"
+            f" ({turret.lock_time_s:g} s); only then may Turret.indexCw (towards higher stations) or Turret.indexCcw"
+            f" turn the disk, {turret.index_time_s:g} s per station; {' / '.join(codes)} show the station in binary"
+            " while the disk stands at one, 0 between two. Drop the drive at the station, then Turret.unlock: the"
+            " spring engages the pin (only at a station) and Turret.locked reports it"))
+    if plant.tool_changer is not None:
+        changer = plant.tool_changer
+        codes = [f"Magazine.code{bit}" for bit in station_code_bits(changer.pockets)]
+        needs.append(PlantNeed(
+            "ToolChanger", "tool_changer", wired("Magazine.rotateCw", "Magazine.rotateCcw", *codes,
+                                                 "ToolArm.toSpindle", "ToolArm.home", "ToolArm.atSpindle"), (),
+            f"{changer.pockets} pockets, tool n in pocket n at power-on. Magazine.rotateCw / rotateCcw turn the"
+            f" magazine ({changer.index_time_s:g} s per pocket, only while ToolArm.home); {' / '.join(codes)} show the"
+            f" pocket at the change position. ToolArm.toSpindle swings the arm to the spindle in"
+            f" {changer.arm_time_s:g} s (ToolArm.atSpindle): it swaps the spindle's tool with the pocket's; dropping it"
+            " brings the arm home (ToolArm.home)"))
+    if plant.coolant is not None:
+        needs.append(PlantNeed(
+            "Coolant", "coolant", wired("Coolant.pump", "Coolant.pressureOk"), (),
+            f"Coolant.pump runs the pump; Coolant.pressureOk closes {plant.coolant.pressure_time_s:g} s later and"
+            " opens at once when the pump stops (or the pressure is lost)"))
+    return needs

@@ -38,6 +38,7 @@ from vc.simulation.observables import (
     AXIS_QUANTITIES,
     CHANNEL_QUANTITIES,
     COUPLING_QUANTITY_MEANINGS,
+    DEVICE_FAULTS,
     FAULTS,
     MAINS,
     NCK_QUANTITIES,
@@ -74,15 +75,17 @@ class Simulation:
         self._power_on(NcMemory(), None, None, None, first=True)
 
     def _power_on(self, memory: NcMemory, physical: dict[str, float] | None,
-                  gear_stages: dict[str, int] | None, chucks_clamped: dict[str, bool] | None, first: bool) -> None:
+                  gear_stages: dict[str, int] | None, chucks_clamped: dict[str, bool] | None, first: bool,
+                  turret_station: int | None = None) -> None:
         """The control, the PLC and the plant start: a fresh NC with the kept memory, a PLC
         restart, the slides where they stand, the gearboxes in the stages they are in, the
-        chucks as they hold, the panel as the operator left it."""
+        chucks as they hold, the turret at its station, the panel as the operator left it."""
         machine = self.machine
         self.nck = Nck(machine, self._catalog, memory, physical)
         self.catalog = self.nck.catalog
         self.interface = ProcessImage(self.catalog.area_sizes)
-        self.plant = Plant(machine, self.nck.cycle_us, self.nck.axes, gear_stages, chucks_clamped, self.nck.dc_link)
+        self.plant = Plant(machine, self.nck.cycle_us, self.nck.axes, gear_stages, chucks_clamped, self.nck.dc_link,
+                           turret_station)
         self.plc: SoftPlc | None = None
         if self.plc_name is not None:
             scan_time = self.plc_period * self.nck.cycle_us / 1_000_000
@@ -114,8 +117,9 @@ class Simulation:
         physical = self.nck.physical_positions()
         gear_stages = self.plant.gear_stages()
         chucks_clamped = self.plant.chucks_clamped()
+        turret = self.plant.turret.station or None if self.plant.turret is not None else None
         self._cycles_before += self.nck.cycle + round(off_seconds * 1_000_000 / self.nck.cycle_us)
-        self._power_on(memory, physical, gear_stages, chucks_clamped, first=False)
+        self._power_on(memory, physical, gear_stages, chucks_clamped, first=False, turret_station=turret)
 
     # ------------------------------------------------------------------ time
     @property
@@ -167,12 +171,18 @@ class Simulation:
             self.nck.drive_line_up(bool(state))
 
     def _plc_cycle(self) -> None:
-        """Interface update and one PLC scan (or, without a PLC, just the interface update)."""
+        """Interface update and one PLC scan (or, without a PLC, just the interface update), which
+        the NC counts for the handshake of its auxiliary functions: every scan with a new sign of
+        life (in lockstep each one; in real time those the PLC finished since the last exchange)."""
         self._refresh_plc_inputs()
         if self.plc is not None:
+            life = self.plc.sign_of_life
             self.plc.scan(self.interface, self.plant_image)
             self.nck.plc_sign_of_life(self.plc.sign_of_life)
             self._apply_plc_forces()
+            if self.plc.sign_of_life == life:
+                return  # real time: the PLC has not finished a scan since the last exchange
+        self.nck.plc_cycle_done()
 
     def _link_cycle(self, link: CyclicPlc) -> None:
         """An IPO cycle between two scans of a PLC whose link works every cycle (CAN): the NC's
@@ -301,6 +311,10 @@ class Simulation:
         if quantity == "liftfast":
             if channel.esr is not None:
                 return channel.esr.liftfast
+        elif quantity in ("tool", "toolPreselected", "toolOffset"):
+            tools = channel.tools
+            numbers = {"tool": tools.tool, "toolPreselected": tools.preselected, "toolOffset": tools.offset}
+            return float(numbers[quantity])
         elif quantity in CHANNEL_QUANTITIES:  # CHAN1.toolTipX: the five-axis tool
             return channel.five_axis.quantity(quantity, channel.modal.five_axis)
         raise KeyError(f"unknown channel quantity '{quantity}' (known: {', '.join(CHANNEL_QUANTITIES)})")
@@ -356,6 +370,9 @@ class Simulation:
         if kind == "mains_failure":
             self._supply(False)
             return
+        if kind in DEVICE_FAULTS:
+            self.plant.inject(DEVICE_FAULTS[kind], kind)
+            return
         item = self.nck.axes_by_name[axis]
         measuring_system = item.encoders[encoder - 1]
         if kind == "zero_marks_missing":
@@ -403,8 +420,12 @@ class Simulation:
         self.nck.acknowledge()
 
     def clear_faults(self, axis: str) -> None:
+        """Repair: an axis's faults, the mains (``mains``) or a device's (``Turret``, ``Coolant`` ..)."""
         if axis == MAINS:
             self._supply(True)
+            return
+        if axis in self.plant.device_names():
+            self.plant.repair(axis)
             return
         item = self.nck.axes_by_name[axis]
         item.disturbance_velocity = 0.0

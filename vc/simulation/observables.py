@@ -61,6 +61,9 @@ CHANNEL_QUANTITY_MEANINGS = {
     "toolDirZ": "tool direction Z component",
     "tcpActive": "1 while tool centre point control G43.4 is active",
     "liftfast": "$AC_LIFTFAST: 1 after a fast retraction in G33, 0 when the program resets it",
+    "tool": "the active tool ($P_TOOLNO): the last T (MD22550 = 0) or the tool M6 changed to (MD22550 = 1)",
+    "toolPreselected": "the tool the last T selected (with MD22550 = 1 active after M6)",
+    "toolOffset": "the active tool offset: the last D",
 }
 CHANNEL_QUANTITIES = tuple(CHANNEL_QUANTITY_MEANINGS)
 CHANNEL_QUANTITY_UNITS = {"toolTipX": "mm", "toolTipY": "mm", "toolTipZ": "mm"}  # the others have none
@@ -94,9 +97,26 @@ def quantity_unit(machine: MachineConfig, instance: str, quantity: str) -> str:
 #   mains_failure            the line supply of the drive line-up fails (no axis; a machine with dc_link:):
 #                            Drives.ready falls, the DC link is on its own until the fault is cleared
 #                            (clear_faults: mains)
+# Faults of a device of the machine (its plant:; no axis), repaired with clear_faults: <device>:
+#   turret_sensor_missing    the wire of Turret.unlocked is broken: it reads 0 with the pin pulled
+#   turret_lock_jammed       the lock pin does not engage: Turret.locked never comes
+#   turret_drive_stalled     the indexing drive runs, the disk does not turn
+#   coolant_pressure_lost    the pressure switch stays open while the pump runs (clogged filter, dry tank)
+#   magazine_stalled         the magazine's drive runs, the magazine does not turn
+#   tool_arm_stuck           the tool changer arm does not move
+DEVICE_FAULTS = {"turret_sensor_missing": "Turret", "turret_lock_jammed": "Turret", "turret_drive_stalled": "Turret",
+                 "coolant_pressure_lost": "Coolant", "magazine_stalled": "Magazine", "tool_arm_stuck": "ToolArm"}
 FAULTS = ("zero_marks_missing", "reference_marks_missing", "encoder_slip", "load_disturbance", "workpiece_clamp",
-          "mains_failure")
-MACHINE_FAULTS = ("mains_failure",)  # faults of the whole machine: no axis
+          "mains_failure", *DEVICE_FAULTS)
+MACHINE_FAULTS = ("mains_failure", *DEVICE_FAULTS)  # faults of the whole machine or a device: no axis
+
+
+def machine_devices(machine: MachineConfig) -> tuple[str, ...]:
+    """The devices of ``machine`` a fault can be injected into (clear_faults names them)."""
+    plant = machine.plant
+    return tuple(name for name, present in (("Turret", plant.turret), ("Coolant", plant.coolant),
+                                            ("Magazine", plant.tool_changer), ("ToolArm", plant.tool_changer))
+                 if present is not None)
 MAINS = "mains"  # clear_faults: mains - the supply is back
 
 # Faults of the bus between the NC and the PLC a scenario can inject (link_fault step; the scenario

@@ -232,7 +232,7 @@ def test_an_awlsim_program_builds_against_the_exported_symbols(turn_mill) -> Non
     sim.startup()  # builds: every symbol resolved
     sim.cpu.storeInputRange(386, bytearray([0x10]))  # I 386.4
     sim.runCycle()
-    q_byte = 2 * 68  # X1.basic.out.enableCtrl = DB31.DBX2.1 = HR 68 bit 9: table byte 136, bit 1
+    q_byte = 2 * 69  # X1.basic.out.enableCtrl = DB31.DBX2.1 = HR 69 bit 9: table byte 138, bit 1
     assert sim.cpu.fetchOutputRange(q_byte, 1)[0] & 0x02
 
 
@@ -280,4 +280,4 @@ def test_vc_map_writes_each_export_and_refuses_what_does_not_apply(tmp_path: Pat
     assert main(["map", "--machine", machine, "--format", "csv", "--io-base", "4"]) == 2
     assert main(["map", "--machine", machine, "--format", "awlsim", "--io-base", "4"]) == 0
     first = next(csv.reader(io.StringIO(capsys.readouterr().out), delimiter=";"))
-    assert first[1] == "QB 39"  # NC.basic.out.setDigitalInputs DB10.DBB1: table byte 35, + 4
+    assert first[1] == "QB 41"  # NC.basic.out.setDigitalInputs DB10.DBB1: table byte 37 (behind QB0..2), + 4

@@ -28,8 +28,8 @@ def test_map_csv_starts_with_the_required_columns_and_lists_every_instance(capsy
     assert by_symbol["MODEGROUP.basic.out.jogMode"]["direction"] == "plc_to_nc"
     assert by_symbol["MCP.jog"]["direction"] == "plant_to_plc"
     instances = {row["instance"] for row in rows}
-    assert instances == {"NC", "MODEGROUP", "HMI", "CHAN1", "X1", "Z1", "Y1", "SP1", "SP2", "SP3", "ALARMS", "PLANT",
-                         "LINK", "COMMISSIONING"}
+    assert instances == {"NC", "MODEGROUP", "HMI", "CHAN1", "X1", "Z1", "Y1", "SP1", "SP2", "SP3", "ALARMS",
+                         "PLCALARMS", "PLANT", "LINK", "COMMISSIONING"}
     referenced = by_symbol["X1.basic.in.enc1Synchronized"]
     assert (referenced["modbus_table"], referenced["bit"]) == ("discrete_input", "")
     register, register_bit = int(referenced["register"]), int(referenced["register_bit"])

@@ -167,14 +167,14 @@ def test_the_gear_signals_are_in_the_signal_tables_with_their_registers(guide: s
         assert cells[3] == f"{'IR' if location.table is Table.NC_TO_PLC else 'HR'} {location.register}", symbol
     assert not any(line.startswith("| `SP2.spindle.out.oscillEnable`") for line in guide.splitlines())  # no gearbox
     rule = _section(guide, "What the NC expects of the PLC")
-    assert "set oscillation enable `SP1.spindle.out.oscillEnable` (DB34.DBX18.5, HR 124 bit 13)" in rule
+    assert "set oscillation enable `SP1.spindle.out.oscillEnable` (DB34.DBX18.5, HR 125 bit 13)" in rule
     assert "Without 18.5 the spindle stands still and the gearbox stays in neutral" in rule
 
 
 def test_the_emergency_stop_acknowledgement_needs_a_reset_while_56_2_is_set(guide: str) -> None:
     rule = _section(guide, "What the NC expects of the PLC")
-    assert "`NC.basic.out.emergencyStopAck` (DB10.DBX56.2, HR 45 bit 10) = 1" in rule
-    assert "`CHAN1.basic.out.reset` (DB21.DBX7.7, HR 51 bit 7)" in rule and "56.2 alone leaves alarm 3000" in rule
+    assert "`NC.basic.out.emergencyStopAck` (DB10.DBX56.2, HR 46 bit 10) = 1" in rule
+    assert "`CHAN1.basic.out.reset` (DB21.DBX7.7, HR 52 bit 7)" in rule and "56.2 alone leaves alarm 3000" in rule
 
 
 def test_the_alarm_block_time_base_and_boot_id_are_documented_at_their_registers(guide: str,

@@ -50,7 +50,12 @@ def test_the_facts_follow_the_machine_data_a_scenario_overrides() -> None:
 
 def test_what_the_plant_needs_from_the_plc_names_its_inputs_outputs_and_signals() -> None:
     needs = {need.name: need for need in facts(load_machine("turn_mill")).needs}
-    assert set(RULES) == {need.rule for need in needs.values()}
+    mill = {need.name: need for need in facts(load_machine("mill_3axis")).needs}
+    assert set(RULES) == {need.rule for need in (*needs.values(), *mill.values())}
+    assert "Turret.unlock (Q2.2)" in needs["Turret"].plant_io and "8 stations" in needs["Turret"].text
+    assert "ToolArm.toSpindle (Q0.3)" in mill["ToolChanger"].plant_io and "12 pockets" in mill["ToolChanger"].text
+    assert "DB21.DBX6.1" in needs["CHAN1.auxiliaryFunctions"].interface
+    assert "exactly one PLC scan" in needs["CHAN1.auxiliaryFunctions"].text
     assert (needs["X1.refCam"].plant_io, needs["X1.refCam"].interface) == (("X1.refCam (I7.0)",), ("DB31.DBX12.7",))
     assert needs["X1.hwLimitMinus"].rule == "copy_inverse" and "<= -12" in needs["X1.hwLimitMinus"].text
     gearbox = needs["SP1.gearbox"]
@@ -73,6 +78,7 @@ def test_the_description_carries_the_facts_within_its_registers(name: str) -> No
     assert received.axes == commissioning.axes and received.reference_order == commissioning.reference_order
     assert [(n.name, n.rule, n.plant_io, n.interface) for n in received.needs] == \
         [(n.name, n.rule, n.plant_io, n.interface) for n in commissioning.needs]
+    assert received.devices == commissioning.devices  # the turret's stations, the magazine's pockets
 
 
 def test_vc_map_prints_the_facts_in_every_format(capsys: pytest.CaptureFixture[str]) -> None:

@@ -30,6 +30,8 @@ def build_machine(machine: LocatedMachine, source: str) -> MachineConfig:
         plc_cycle_ipo=machine.plc_cycle_ipo,
         dc_link=machine.dc_link,
         can=machine.can.config,
+        plant=machine.plant,
+        plc_alarms=machine.plc_alarms,
     )
 
 

@@ -20,7 +20,7 @@ from interfaces.signals import NCK_INSTANCE
 from vc.config import md_dictionary as mdd
 from vc.config.can_config import CanSection
 from vc.config.machine_data import MdDef, MdLevel, MdScalar, MdValue
-from vc.config.model import AxisPlant, AxisSimulation, DcLinkConfig, DriveParameters
+from vc.config.model import AxisPlant, AxisSimulation, DcLinkConfig, DriveParameters, MachinePlant
 from vc.located_yaml import Mark
 
 DEFAULT_PLC_CYCLE_IPO = 5
@@ -175,6 +175,8 @@ class LocatedMachine:
     dc_link: DcLinkConfig | None = None
     can: CanSection = field(default_factory=CanSection)
     can_mark: Mark | None = None  # where the ``can:`` section is; None: there is none
+    plant: MachinePlant = field(default_factory=MachinePlant)  # ``plant:``, the devices besides the axes
+    plc_alarms: dict[int, str] = field(default_factory=dict)  # ``plc_alarms:``
     channel_lists_complete: bool = True  # every channel's axes list could be read
 
     def __post_init__(self) -> None:

@@ -1,6 +1,7 @@
 """A machine file's document into a :class:`~vc.config.reader.located.LocatedMachine`: its top
 level, its axes (machine axis order), its channels with their axes lists, its plant I/O list,
-its ``can:`` section (vc/config/can_config.py) and its DC link.
+its ``can:`` section (vc/config/can_config.py), its DC link, its devices besides the axes
+(``plant:``) and its PLC user alarm texts (``plc_alarms:``, both vc/config/devices.py).
 
 The blocks an axis, a channel or the NCK writes are read by vc/config/reader/blocks.py, which the
 overrides share.  Every value is checked alone as it is read; a value that cannot be read is
@@ -11,9 +12,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from interfaces.plant_io import PlantIoError, PlantIoMap
+from interfaces.plant_io import DEVICE_PREFIXES, PlantIoError, PlantIoMap
 from vc.config import md_dictionary as mdd
 from vc.config.can_config import read_can_section
+from vc.config.devices import read_plant, read_plc_alarms
 from vc.config.machine_data import MdDef, MdLevel, MdScalar, as_number, shown
 from vc.config.model import DcLinkConfig
 from vc.config.reader.blocks import AXIS_EXTRA_KEYS, DC_LINK_KEYS, BlockReader
@@ -21,11 +23,11 @@ from vc.config.reader.located import NAME, AxisEntry, ChannelEntry, Instance, Lo
 from vc.located_yaml import LocatedMap, Mark, Problems
 
 TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", "axes", "plant_io", "plc", "can",
-                  "dc_link")
+                  "dc_link", "plant", "plc_alarms")
 _OPTIONAL_DC_LINK_KEYS = ("precharge_time",)
 # Instance names the interface and the plant I/O vocabulary already use.
 RESERVED_NAMES = frozenset({"NC", "MODEGROUP", "HMI", "ALARMS", "MCP", "EStop", "Drives", "Lamp", "Door",
-                            "PLC"})  # PLC: the FMU
+                            "PLC", "PLCALARMS", *DEVICE_PREFIXES})  # PLC: the FMU
 MAX_CHANNELS = 10  # DB21..DB30: channel 11 would collide with DB31 of machine axis 1
 MAX_AXES = 31  # MD10000 has 31 entries
 MAX_CHANNEL_AXES = 20  # MD20070 has 20 entries
@@ -79,6 +81,11 @@ class _FileReader:
             machine.can = read_can_section(document["can"], document.mark_of("can"), self.blocks.problems)
         if "dc_link" in document:
             self._read_dc_link(document["dc_link"], document.mark_of("dc_link"))
+        # the devices besides the axes and the PLC alarm texts, after plant_io: a device needs its I/O
+        machine.plant = read_plant(document.get("plant"), document.mark_of("plant"), self.blocks.problems,
+                                   machine.plant_io_names, self.blocks.parameters)
+        machine.plc_alarms = read_plc_alarms(document.get("plc_alarms"), document.mark_of("plc_alarms"),
+                                             self.blocks.problems)
 
     def _read_dc_link(self, raw: Any, mark: Mark) -> None:
         values = self.blocks.parameters(raw, mark, "dc_link", DC_LINK_KEYS)

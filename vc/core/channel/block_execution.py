@@ -6,13 +6,17 @@ Block execution, one phase at a time::
     DECODE ──G4──▶ DWELL ──time elapsed──▶ next block
     DECODE ──G74──▶ REFERENCE ──the programmed axes referenced──▶ BLOCK_END
     DECODE ──spindle gear change or M70 in the block──▶ SPINDLE ──done──▶ (motion, dwell, BLOCK_END)
-    BLOCK_END ──window reached, read-in not disabled──▶ DECODE (next block)
+    (SPINDLE) ──functions output before the motion──▶ AUXILIARY ──acknowledged──▶ (motion, dwell, BLOCK_END)
+    BLOCK_END ──window reached, auxiliary functions acknowledged, read-in not disabled──▶ DECODE (next block)
     INTERPOLATE ──an axis braked off the path (e-stop, limit switch)──▶ CONTOUR_LOST ──RESET──▶ DECODE
     INTERPOLATE ──the path ended on a stored stroke limit 2 / 3 (G22)──▶ CONTOUR_LOST
 
 A block is decoded only when it is about to run, so a faulty block raises its alarm when
 execution reaches it, and a software limit switch in the block stops the program before
-the block moves.  M0 stops the program at the block end, M2 / M30 end it; IF ... GOTO jumps.
+the block moves.  M0 (M1 with "activate M01") stops the program at the block end, M2 / M17 / M30
+end it; IF ... GOTO jumps.  The block's auxiliary functions go to the PLC before, during or after
+its motion, and a normal one holds the block until the PLC has acknowledged it (seed 003 L16486,
+``vc/core/auxiliary/output.py``).
 The block's spindle and coupling functions go to the channel's :class:`SpindleFunctions`, its
 G33 thread and retraction words to its :class:`ThreadRetract`.
 """
@@ -23,7 +27,9 @@ import math
 from collections.abc import Callable, Sequence
 
 from vc.config.model import ChannelConfig
-from vc.core.alarms import AlarmList
+from vc.core.alarms import READ_IN_DISABLED, AlarmList
+from vc.core.auxiliary.output import AuxiliaryOutput
+from vc.core.auxiliary.tool_selection import ToolSelection
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.owner import Owner
 from vc.core.axis.stroke_limits import BOUNDARY, StrokeStop
@@ -48,7 +54,8 @@ class BlockExecution:
     def __init__(self, run: ProgramRun, config: ChannelConfig, axes: Sequence[MachineAxis],
                  axes_by_name: dict[str, MachineAxis], inputs: ChannelInputs, alarms: AlarmList, dt: float,
                  referencing: ReferencingControl, five_axis: FiveAxisControl, stroke: ChannelStrokeLimits,
-                 spindles: SpindleFunctions, threads: ThreadRetract, stop: Callable[[], None]):
+                 spindles: SpindleFunctions, threads: ThreadRetract, stop: Callable[[], None],
+                 aux: AuxiliaryOutput, tools: ToolSelection):
         self.run = run
         self.config = config
         self.name = config.name
@@ -63,6 +70,8 @@ class BlockExecution:
         self._spindles = spindles
         self._threads = threads
         self._stop = stop  # the channel's NC stop
+        self._aux = aux  # the auxiliary functions to the PLC
+        self._tools = tools
         self.inclined: InclinedAxisControl | None = None  # inclined-axis control (seed 000), given by the NCK
         self.stroke_stop: StrokeStop | None = None  # the running block ends on a stroke limit boundary
         self._g74_axes: list[str] = []
@@ -87,6 +96,9 @@ class BlockExecution:
             plan = run.plan
             assert plan is not None
             if self._spindles.spindles_ready(plan):
+                self._start_block_body(cycle)
+        elif run.phase is BlockPhase.AUXILIARY and not hold:
+            if self._aux.motion_may_start:
                 self._start_block_body(cycle)
         elif run.phase is BlockPhase.DWELL and not hold:
             self._dwell_cycle()
@@ -205,9 +217,15 @@ class BlockExecution:
                 window = axis.dyn.fine_window if fine else axis.dyn.coarse_window
                 if abs(axis.distance_to_end_point) > window:
                     return
+        if plan.aux_functions:
+            self._aux.block_end_reached()  # the functions of the block end go out now
+            if not self._aux.block_may_end:
+                return  # normal functions not yet acknowledged by the PLC (seed 003 L16486)
         if self.inputs.read_in_disable:
             self.run.program_state = ProgramState.WAITING
             return
+        if self._alarms.reactions(self.name) & READ_IN_DISABLED:
+            return  # an alarm disables the read-in (a PLC user alarm with MD14516 bit 1): no block change
         if self.run.program_state is ProgramState.WAITING:
             self.run.program_state = ProgramState.RUNNING
         self._next_block()
@@ -217,13 +235,21 @@ class BlockExecution:
         self.run.phase = BlockPhase.DECODE
         self.run.plan = None
         self.run.block_index += 1
-        if plan is not None and plan.program_end:
+        if plan is None:
+            return
+        if plan.aux_functions:
+            self._aux.block_changed()
+        if plan.program_end:
             self._spindles.reset_couplings()
             self._threads.end_thread_functions()
             self._spindles.reset_spindles(program_end=True)
             self.run.end()
-        elif plan is not None and plan.program_stop:
-            self._stop()
+            self._aux.ended_with_m30 = True  # DB21.DBX33.5 until the next NC start
+            self._aux.show_stop()
+        elif plan.program_stop or (plan.optional_stop and self.inputs.activate_m01):
+            self._stop()  # M0, or M1 with DB21.DBX0.5: interrupted until NC start
+            self._aux.stopped_at_m0 = True
+            self._aux.show_stop()
 
     def _decode_next(self, cycle: int) -> None:
         if self.run.block_index >= len(self.run.blocks):
@@ -267,6 +293,9 @@ class BlockExecution:
         if plan.delete_drf:
             for axis in self.axes:
                 axis.delete_drf_offset()
+        if plan.aux_functions:
+            self._tools.block(plan.aux_functions)
+            self._aux.block_started(plan.aux_functions)
         catching_up = self._spindles.program_spindles(plan, cycle, block)
         if plan.spindles or plan.targets or catching_up or self._spindles.waits:
             self.run.phase = BlockPhase.SPINDLE
@@ -302,9 +331,13 @@ class BlockExecution:
         self.run.block_index = self.run.block_index + 1 if target is None else target
 
     def _start_block_body(self, cycle: int = 0) -> None:
-        """After the spindle interlocks: referencing, dwell, motion or the block end."""
+        """After the spindle interlocks and the functions output before the motion: referencing,
+        dwell, motion or the block end."""
         plan = self.run.plan
         assert plan is not None
+        if plan.aux_functions and not self._aux.motion_may_start:
+            self.run.phase = BlockPhase.AUXILIARY
+            return
         if plan.reference_axes:
             self._g74_axes = list(plan.reference_axes)
             self.run.phase = BlockPhase.REFERENCE

@@ -21,6 +21,9 @@ cycle of its program; its parts, each in a module of its own, share one :class:`
 Beside the program it keeps its command axes (``vc/core/axis/command_axis.py``): axes a
 synchronized action moves on their own, which NC stop and program end leave alone and its reset stops.
 
+The channel owns its auxiliary function output (``vc/core/auxiliary``: the DB21 output slots, the
+tool the program selects), which block execution fills and the NCK tells of the PLC's cycles.
+
 NC stop goes through :meth:`Channel.stop` from every part: in G33 with LFON it lifts the tool.
 """
 
@@ -29,6 +32,8 @@ from __future__ import annotations
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import CHANNEL_INTERRUPT, NC_START_DISABLED, STOP_AXES, AlarmList, Clear
+from vc.core.auxiliary.output import AuxiliaryOutput
+from vc.core.auxiliary.tool_selection import ToolSelection
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.command_axis import CommandAxes
 from vc.core.axis.jog import JogLimits
@@ -79,6 +84,8 @@ class Channel:
                                                 not config.md.bool(MD.STROKE2_OUTSIDE_FORBIDDEN))
         self._alarms = alarms
         self._interface = ChannelInterface(table, area, feed_coding, rapid_coding)
+        self.aux = AuxiliaryOutput(table, area)  # the M, S, T, D, DL, H and F functions to the PLC
+        self.tools = ToolSelection(config.md)
         self.inputs = self._interface.inputs
         self.edges = self._interface.edges
         self.run = ProgramRun()
@@ -95,7 +102,7 @@ class Channel:
         self._threads = ThreadRetract(self.run, config, axes, self.axes_by_name, self._spindles, alarms, dt, self.stop)
         self._execution = BlockExecution(self.run, config, axes, self.axes_by_name, self.inputs, alarms, dt,
                                          referencing, self.five_axis, self._stroke, self._spindles, self._threads,
-                                         self.stop)
+                                         self.stop, self.aux, self.tools)
         self._inclined: InclinedAxisControl | None = None
         self.command_axes = CommandAxes(self.name, axes, alarms, dt)  # POS[ax]= of synchronized actions
 
@@ -211,6 +218,7 @@ class Channel:
         self._spindles.reset_couplings()
         self._spindles.reset_spindles(program_end=False)
         self.command_axes.reset()
+        self.aux.reset()
 
     def nc_start(self, cycle: int, mode: Mode, reference_function: bool) -> None:
         """NC start edge from the PLC."""
@@ -226,6 +234,9 @@ class Channel:
                 run.state = ChannelState.ACTIVE
                 run.program_state = ProgramState.RUNNING
                 run.stopping = False
+                if self.aux.stopped_at_m0:
+                    self.aux.stopped_at_m0 = False  # DB21.DBX32.5: the program goes on after M0 / M1
+                    self.aux.show_stop()
             return
         if run.state is not ChannelState.RESET:
             return
@@ -241,6 +252,9 @@ class Channel:
         run.started_in = mode
         run.state = ChannelState.ACTIVE
         run.program_state = ProgramState.RUNNING
+        if self.aux.ended_with_m30:
+            self.aux.ended_with_m30 = False  # DB21.DBX33.5: a new program run
+            self.aux.show_stop()
 
     def _references_allow_start(self, cycle: int, mode: Mode) -> bool:
         """MD20700 REFP_NC_START_LOCK: no program start with unreferenced axes (seed 003 L2218-2231);

@@ -70,6 +70,7 @@ class BlockPhase(Enum):
     DWELL = "dwell"
     REFERENCE = "reference"  # G74: waiting until the programmed axes are referenced
     SPINDLE = "spindle"  # the block's gear change, M70, or the spindle speed before machining
+    AUXILIARY = "auxiliary"  # the functions output before the motion wait for the PLC's acknowledgement
     CONTOUR_LOST = "contour_lost"  # an axis was braked off the path: NC start cannot continue
 
 

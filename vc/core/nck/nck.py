@@ -31,7 +31,11 @@ own skip-guards (most of the machine rests in most cycles).  Why each comes wher
 10. **alarm reactions**: rapid stop and follow-up for the alarms raised this cycle, the controller
     enable given back when the last one is cleared.
 11. **outputs**: the NCK, mode-group and channel status when it changed, the channels' axis
-    summary when an axis moved, the edges of this cycle cleared.
+    summary when an axis moved, the auxiliary function slots when a batch came or went, the edges
+    of this cycle cleared.
+
+Between two steps the composed machine tells the NCK of every PLC cycle (``plc_cycle_done``):
+the handshake of the auxiliary functions counts the PLC's cycles, not the NC's.
 
 The NCK owns its own process image of all interface data blocks.  It reads the PLC's outputs from
 ``plc_side`` at the start of the cycle (only when that image changed) and writes its outputs into
@@ -95,6 +99,7 @@ class Nck:
         self._nck_area = self.image.area("DB10")
         self._display_wcs = parts.display_wcs
         self._alarm_area = parts.alarm_area
+        self._plc_alarms = parts.plc_alarms
         self._alarm_area_version = -1
         self.mode_group = parts.mode_group
         self.axes = parts.axes
@@ -208,6 +213,8 @@ class Nck:
                 channel.write_axis_summary()
         for channel in self.channels:
             channel.clear_edges()
+            if channel.aux.dirty:
+                channel.aux.write_outputs()
         for retraction in self.retractions.values():
             retraction.write_outputs()
         self.mode_group.reset_edge = False
@@ -231,6 +238,8 @@ class Nck:
             self._emergency_stop_level = inputs.emergency_stop
             self._emergency_stop_ack = inputs.emergency_stop_ack
             self.esr.inputs = inputs.digital_inputs
+        if "DB2" in changed:
+            self._plc_alarms.decode(self.alarms, self.cycle)  # the PLC's user alarms (700000 ..)
         if "DB11" in changed:
             self.mode_group.decode_inputs()
         if "DB19" in changed:
@@ -396,6 +405,14 @@ class Nck:
             self._plc_life = counter
             self._plc_started = True
             self._plc_deadline = float(self.cycle + self._plc_timeout_cycles)
+
+    def plc_cycle_done(self) -> None:
+        """The PLC has run a cycle on the interface as this NC wrote it (the composed machine calls
+        it after every PLC cycle; in real time after every new sign of life): the auxiliary
+        functions on their way are read, the ones read before are acknowledged."""
+        for channel in self.channels:
+            if channel.aux.busy:
+                channel.aux.plc_cycle()
 
     def power_off(self) -> NcMemory:
         """Switch off: buffer what the control keeps, and hand its memory to the next power-on."""

@@ -36,6 +36,7 @@ from vc.core.nck.alarm_area import AlarmArea
 from vc.core.nck.manual_functions import ManualFunctions
 from vc.core.nck.manual_retraction import ManualRetraction
 from vc.core.nck.mode_group import ModeGroup
+from vc.core.nck.plc_alarms import PlcAlarms, definitions
 from vc.core.overrides import OverrideCoding
 from vc.core.referencing.buffered_positions import restore_at_power_on
 from vc.core.retraction.dc_link import DcLink
@@ -55,6 +56,7 @@ class NckParts:
     nck_status: GroupCodec[NckStatus]
     display_wcs: Bit  # of the operator panel's DB19
     alarm_area: AlarmArea
+    plc_alarms: PlcAlarms  # DB2: the PLC's user alarms into the alarm list
     mode_group: ModeGroup
     axes: list[MachineAxis]
     axes_by_name: dict[str, MachineAxis]
@@ -84,6 +86,8 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     alarm_area = AlarmArea(SignalTable(catalog, InstanceKind.ALARMS, used), image.area("DB100"),
                            {channel.name: channel.number for channel in machine.channels},
                            {axis.name: axis.number for axis in machine.axes})
+    plc_alarms = PlcAlarms(SignalTable(catalog, InstanceKind.PLC_ALARMS, used), image.area("DB2"),
+                           definitions(nck, machine.plc_alarms))
     display_wcs = SignalTable(catalog, InstanceKind.HMI, used).bit(DISPLAY_WCS)
     mode_group = ModeGroup(SignalTable(catalog, InstanceKind.MODE_GROUP, used), image.area("DB11"))
 
@@ -141,7 +145,7 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
         spindle.write_outputs()  # the power-on state
     manual = ManualFunctions(axis_table, channel_table, image, mode_group, channels, alarms, referencing, retractions,
                              couplings)
-    return NckParts(nck_table.codec(NckRequests), nck_table.codec(NckStatus), display_wcs, alarm_area,
+    return NckParts(nck_table.codec(NckRequests), nck_table.codec(NckStatus), display_wcs, alarm_area, plc_alarms,
                     mode_group, axes, axes_by_name, axis_coding, referencing,
                     channels, {channel.name: channel for channel in channels}, inclined_axes, retractions, spindles,
                     spindle_of, couplings, esr, dc_link, polygons, manual)

@@ -13,6 +13,7 @@ from collections.abc import Callable, Sequence
 from typing import Any, Generic, TypeVar
 
 from interfaces.signals import MODE_GROUP_INSTANCE
+from vc.core.auxiliary.output import AUX_OUTPUT_STATES
 from vc.core.axis.command_axis import COMMAND_AXIS_STATES
 from vc.core.channel.program_run import CHANNEL_STATES, PROGRAM_STATES
 from vc.core.nck.manual_retraction import MANUAL_RETRACTION_STATES
@@ -45,6 +46,7 @@ PUBLISHED: tuple[Published[Any], ...] = (
     Published(MODE_GROUP_STATES, lambda nck: [(MODE_GROUP_INSTANCE, nck.mode_group)]),
     Published(CHANNEL_STATES, lambda nck: [(channel.name, channel.run) for channel in nck.channels]),
     Published(PROGRAM_STATES, lambda nck: [(channel.name, channel.run) for channel in nck.channels]),
+    Published(AUX_OUTPUT_STATES, lambda nck: [(channel.name, channel.aux) for channel in nck.channels]),
     Published(REFERENCING, lambda nck: [(axis.name, nck.referencing.of[axis.name])
                                         for axis in nck.axes if not axis.is_spindle]),
     Published(SPINDLE_MODES, lambda nck: [(spindle.name, spindle) for spindle in nck.spindles]),

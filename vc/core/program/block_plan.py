@@ -16,6 +16,7 @@ from vc.core.axis.stroke_limits import StrokeCommand
 from vc.core.interpolation.circle import Arc
 from vc.core.interpolation.thread_cutting import ThreadCommand
 from vc.core.program.commands import (
+    AuxiliaryFunction,
     CouplingCommand,
     DriveEsrCommand,
     PolygonCommand,
@@ -97,7 +98,8 @@ class BlockPlan:
     feed_per_revolution: bool = False  # G95 / G99: the channel multiplies F by the spindle speed each cycle
     dwell: float = 0.0  # seconds
     program_stop: bool = False  # M0
-    program_end: bool = False  # M2 / M30
+    optional_stop: bool = False  # M1: stops only with DB21.DBX0.5 "activate M01"
+    program_end: bool = False  # M2 / M30 / M17
     block_end: str = EXACT_STOP_FINE
     reference_axes: tuple[str, ...] = ()  # G74: machine axes to reference
     preset: dict[str, float] = field(default_factory=dict)  # PRESETON: machine axis -> new actual value
@@ -125,6 +127,7 @@ class BlockPlan:
     path_length: float | None = None  # the length F is measured along where a transform makes it differ
     arc: Arc | None = None  # G2 / G3: the path in program coordinates (``targets`` hold its end point)
     stroke_limit: StrokeCommand | None = None  # G22 (with the box corners it sets) / G23
+    aux_functions: list[AuxiliaryFunction] = field(default_factory=list)  # to the PLC, in the block's order
 
 
 @dataclass(frozen=True, slots=True)

@@ -11,12 +11,14 @@ functions it commands: it imports none of them.
   a coupling, the polygon turning
 * ``DriveEsrCommand`` (ESRS / ESRR) and the modal retract words ``RetractProgramming``
   (LFON / LFOF, LFTXT / LFWP / LFPOS, DILF, ALF, POLF, POLFMASK / POLFMLIN)
+* ``AuxiliaryFunction``: an M, S, T, D, DL, H or F function of a block on its way to the PLC, with
+  when it goes out (``OutputTime``)
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from enum import Enum
+from enum import Enum, IntEnum
 
 from vc.config import md_dictionary as MD
 from vc.config.machine_data import MdDef
@@ -158,3 +160,29 @@ class RetractProgramming:
                 value, incremental = self.positions[name]
                 targets[name] = where[name] + value if incremental else value
         return targets
+
+
+class OutputTime(IntEnum):
+    """When an auxiliary function goes to the PLC: MD22200 .. MD22252 (the coding of the control)."""
+
+    BEFORE_MOTION = 0  # the block's motion starts once the functions are acknowledged
+    DURING_MOTION = 1  # with the motion; the block ends once they are acknowledged
+    AT_BLOCK_END = 2  # after the motion; the block change follows their acknowledgement
+    NOT_OUTPUT = 3  # the PLC never sees it
+
+
+@dataclass(frozen=True, slots=True)
+class AuxiliaryFunction:
+    """One auxiliary function of a block as the PLC gets it (seed 003 L16391, L20662-20680): its
+    type, extended address and value, whether it is quick (QU: the block does not wait for the
+    PLC) and when it goes out."""
+
+    kind: str  # "M", "S", "T", "D", "DL", "H" or "F"
+    extension: int  # the extended address: M2=5 -> 2; a spindle function's spindle number
+    value: float  # M, T, D: a whole number; S, H, F, DL: a real
+    time: OutputTime = OutputTime.DURING_MOTION
+    quick: bool = False
+
+    def __str__(self) -> str:
+        value = f"{self.value:g}"
+        return f"{self.kind}{self.extension}={value}" if self.extension else f"{self.kind}{value}"

@@ -8,8 +8,9 @@ available", as on a control without the function.  Later NC functions add handle
 
 The word handlers live by what they program: ``motion_words`` (G words, F, circle, thread,
 tapping, G28 / G30, G22, PRESETON, five-axis arguments), ``spindle_words`` (spindles,
-couplings, polygon turning) and ``retract_words`` (fast retraction, ESR, system variables,
-synchronized actions); ``block_plan`` holds what they produce, ``decoder`` what they share.
+couplings, polygon turning), ``retract_words`` (fast retraction, ESR, system variables,
+synchronized actions) and ``aux_words`` (the M, S, T, D, DL, H and F functions for the PLC);
+``block_plan`` holds what they produce, ``decoder`` what they share.
 """
 
 from __future__ import annotations
@@ -17,15 +18,17 @@ from __future__ import annotations
 import re
 from collections.abc import Callable, Collection, Mapping
 
+from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.axis.axis import MachineAxis
+from vc.core.program import aux_words
 from vc.core.program.block_plan import (
     BlockPlan,
     DecodeAlarm,
     ModalState,
     end_point_limit_alarm,
 )
-from vc.core.program.commands import SYNCHRONISM_THRESHOLDS, SpindleCommand
+from vc.core.program.commands import SYNCHRONISM_THRESHOLDS, OutputTime, SpindleCommand
 from vc.core.program.decoder import BlockDecoder
 from vc.core.program.motion_words import (
     PITCH_OF_GEOMETRY_AXIS,
@@ -41,7 +44,17 @@ from vc.core.program.motion_words import (
     tapping_block,
     thread_cutting_block,
 )
-from vc.core.program.program import Assignment, Block, Call, Item, Keyword, Label, SynchronizedAction, Word
+from vc.core.program.program import (
+    Assignment,
+    Block,
+    Call,
+    Item,
+    Keyword,
+    Label,
+    SynchronizedAction,
+    ValueFunction,
+    Word,
+)
 from vc.core.program.retract_words import RETRACT_CALLS, RETRACT_KEYWORDS, retract_assignment, synchronized_action
 from vc.core.program.spindle_words import (
     coupling_call,
@@ -56,24 +69,47 @@ from vc.core.program.spindle_words import (
 )
 
 
-def _m_word(decoder: BlockDecoder, value: float) -> None:
-    if spindle_m(decoder, value, None):
+def _m_function(decoder: BlockDecoder, value: float, extension: int | None, quick: bool = False) -> None:
+    """An M function (``M8``, ``M2=3``, ``M=QU(8)``): a spindle's function for that spindle, a program
+    flow function, and in every case to the PLC (``aux_words``).  An M19 that MD22000 .. MD22030
+    assign to a group is only an auxiliary function: the NC does not position (L16397-16403)."""
+    if not (value == aux_words.M19 and aux_words.user_m19(decoder.channel, extension or 0)) and \
+            spindle_m(decoder, value, extension):
+        number = extension if extension is not None else decoder.channel.md.int(MD.SPIND_DEF_MASTER_SPIND)
+        aux_words.output(decoder, "M", number, value, quick)
         return
-    if value == 0:
-        decoder.plan.program_stop = True
-    elif value == 1:
-        pass  # optional stop, not activated
-    elif value in (2, 30):
-        decoder.plan.program_end = True
-    else:
-        decoder.unknown(f"M{value:g}")
+    if not extension and value == round(value):
+        aux_words.program_flow(decoder, round(value))
+    aux_words.output(decoder, "M", extension or 0, value, quick)
+
+
+def _m_word(decoder: BlockDecoder, value: float) -> None:
+    _m_function(decoder, value, None)
+
+
+def _s_function(decoder: BlockDecoder, value: float, number: int | None = None, quick: bool = False) -> None:
+    """S: the spindle's speed, and to the PLC with the spindle number (seed 003 L20215)."""
+    s_word(decoder, value, number)
+    if decoder.alarm is None:
+        spindle = number if number is not None else decoder.channel.md.int(MD.SPIND_DEF_MASTER_SPIND)
+        aux_words.output(decoder, "S", spindle, value, quick)
+
+
+def _s_word(decoder: BlockDecoder, value: float) -> None:
+    _s_function(decoder, value)
+
+
+def _output_word(kind: str) -> Callable[[BlockDecoder, float], None]:
+    """T, D and H as words (``T5``, ``D1``, ``H12``): only to the PLC."""
+    return lambda decoder, value: aux_words.output(decoder, kind, 0, value)
 
 
 _WORD_HANDLERS: dict[str, Callable[[BlockDecoder, float], None]] = {"G": g_word, "M": _m_word, "F": f_word,
-                                                                  "S": s_word, "R": radius_word,
+                                                                  "S": _s_word, "R": radius_word,
+                                                                  **{kind: _output_word(kind) for kind in "TDH"},
                                                                   **{address: pitch_word(address)
                                                                      for address in PITCH_OF_GEOMETRY_AXIS}}
-_ADDRESS_EXTENSION = re.compile(r"([MS])(\d+)$")  # M2=3, S2=500: the function of spindle 2
+_ADDRESS_EXTENSION = re.compile(r"(S)(\d+)$")  # S2=500: the speed of spindle 2
 _KEYWORD_HANDLERS: dict[str, Callable[[BlockDecoder], None]] = {
     "SPCON": lambda decoder: spcon(decoder, None, True),
     "SPCOF": lambda decoder: spcon(decoder, None, False),
@@ -159,17 +195,20 @@ def _assignment(decoder: BlockDecoder, item: Assignment) -> None:
     if item.name in SYNCHRONISM_THRESHOLDS:
         synchronism_threshold(decoder, item.name, item.index, item.value)
         return
-    extended = _ADDRESS_EXTENSION.match(item.name)
-    if extended and not item.index and isinstance(item.value, float) and \
-            decoder.channel.axis_for_program_name(item.name) is None:
-        address, number = extended.group(1), int(extended.group(2))
-        if address == "S":
-            s_word(decoder, item.value, number)
-        elif not spindle_m(decoder, item.value, number):
-            decoder.unknown(f"{item.name}={item.value:g}")
+    if aux_words.is_auxiliary_assignment(decoder, item):
+        _auxiliary_assignment(decoder, item)
         return
-    if item.name == "S" and not item.index and isinstance(item.value, float):
-        s_word(decoder, item.value)
+    extended = _ADDRESS_EXTENSION.match(item.name)
+    if extended and not item.index and isinstance(item.value, (float, ValueFunction)) and \
+            decoder.channel.axis_for_program_name(item.name) is None:
+        speed = aux_words.quick_value(decoder, item.value)
+        if speed is not None:
+            _s_function(decoder, speed[0], int(extended.group(2)), speed[1])
+        return
+    if item.name == "S" and not item.index and isinstance(item.value, (float, ValueFunction)):
+        speed = aux_words.quick_value(decoder, item.value)
+        if speed is not None:
+            _s_function(decoder, *speed)
         return
     if item.name == "CR" and not item.index and isinstance(item.value, float):
         decoder.radius_word = item.value  # the SINUMERIK's circle radius (the ISO dialect's R)
@@ -180,8 +219,31 @@ def _assignment(decoder: BlockDecoder, item: Assignment) -> None:
         decoder.axis_value(item.name, item.value)
 
 
+def _auxiliary_assignment(decoder: BlockDecoder, item: Assignment) -> None:
+    """``M2=10``, ``M=QU(8)``, ``H3=5.5``, ``T=QU(5)``, ``D=2``, ``DL=1``: an auxiliary function with its
+    extended address (the digits after the letter), quick with QU."""
+    match = aux_words.AUXILIARY_ASSIGNMENT.match(item.name)
+    assert match is not None
+    kind, digits = match.group(1), match.group(2)
+    written = aux_words.quick_value(decoder, item.value)
+    if written is None:
+        return
+    value, quick = written
+    extension = int(digits) if digits else None
+    if kind == "M":
+        _m_function(decoder, value, extension, quick)
+    else:
+        aux_words.output(decoder, kind, extension or 0, value, quick)
+
+
 def _finish(decoder: BlockDecoder) -> None:
     modal, plan, channel = decoder.modal, decoder.plan, decoder.channel
+    for axis, command in plan.spindles.items():
+        if command.position is not None:
+            aux_words.implicit_spindle_function(decoder, axis, 19)  # SPOS / SPOSA (L16406-16455)
+        if command.axis_mode and command.m_function != 70:
+            aux_words.implicit_spindle_function(decoder, axis, 70)  # programmed as an axis (L17466-17490)
+    aux_words.check_block(decoder)
     if plan.polygon is not None:
         polygon_block(decoder)
         return
@@ -221,6 +283,8 @@ def _finish(decoder: BlockDecoder) -> None:
         return
     if decoder.feed_word is not None:
         modal.feed = decoder.feed_word
+        if channel.md.int(MD.AUXFU_F_SYNC_TYPE) != OutputTime.NOT_OUTPUT:
+            aux_words.output(decoder, "F", 0, decoder.feed_word)  # the path feed (seed 003 L7390-7395)
     # G53 (seed 000 L156) and G28 / G30 move in rapid whatever the modal motion is [control]
     plan.rapid = modal.rapid or plan.machine_coordinates or bool(plan.reference_return)
     plan.block_end = modal.block_end

@@ -25,6 +25,7 @@ POLYGON_OWN_BLOCK = 65842
 
 
 _SPINDLE_M = {3, 4, 5, 19, 40, 41, 42, 43, 44, 45, 70}
+IMPLICIT_M19 = 1 << 19  # MD35035 bit 19: SPOS / SPOSA output M19
 _POSITION_MODES = ("AC", "IC", "DC", "ACP", "ACN")
 
 
@@ -81,8 +82,13 @@ def spos(decoder: BlockDecoder, name: str, index: str, value: object) -> None:
     if command is not None:
         command.position = (mode, degrees)
         command.wait_for_position = name == "SPOS"
-        if decoder.channel.md.int(MD.SPOS_TO_VDI) & 1 and command.m_function is None:
-            command.m_function = 19  # MD20850 bit 0: SPOS / SPOSA output M19 to the PLC (L16406-16420)
+        axis = next(axis for axis, other in decoder.plan.spindles.items() if other is command)
+        implicit = decoder.channel.md.int(MD.SPOS_TO_VDI) & 1 or \
+            decoder.axes[axis].config.md.int(MD.SPIND_FUNCTION_MASK) & IMPLICIT_M19
+        if implicit and command.m_function is None:
+            # MD20850 bit 0 / MD35035 bit 19: SPOS / SPOSA output M19 to the PLC (L16406-16446), in
+            # DB31.DBB86 and in the channel's auxiliary functions (aux_words)
+            command.m_function = 19
 
 
 def coupling_call(decoder: BlockDecoder, call: Call) -> None:

@@ -16,7 +16,8 @@ from interfaces.image import value_range
 from interfaces.signals import SignalType
 from vc.config.machine_data import MdType
 from vc.config.md_dictionary import BY_NUMBER
-from vc.core.alarms import ALARM_TEXTS
+from vc.config.model import PLC_USER_ALARMS
+from vc.core.alarms import ALARM_TEXTS, known_alarm
 from vc.input_limits import MAX_MAGNITUDE
 from vc.located_yaml import LocatedList, LocatedMap, Mark
 from vc.scenario.durations import Duration, format_seconds
@@ -100,10 +101,11 @@ def check_alarm(checker: StepChecker, index: int, mark: Mark, value: Any, value_
         checker.add(number_mark,
                     f"{kind} takes an alarm number{also}, not {kind_of_value(number_value)}{hint}")
         return None
-    if number_value not in ALARM_TEXTS:
+    if not known_alarm(number_value):
         known = ", ".join(str(number) for number in sorted(ALARM_TEXTS))
         checker.add(number_mark, f"alarm {number_value} is not an alarm of the simulated control"
-                    f" (known: {known})")
+                    f" (known: {known}, and the PLC user alarms {PLC_USER_ALARMS.start} .."
+                    f" {PLC_USER_ALARMS.stop - 1})")
         return None
     return ExpectAlarm(index, kind, mark, number_value, place, present, text)
 

@@ -1,7 +1,7 @@
 """Faults and power: ``power_cycle`` (off and on again), ``fault`` (a fault of the simulated
-machine: on an axis, or the mains), ``clear_faults`` (repaired), ``link_fault`` (a fault of the
-CAN bus between NC and PLC, ``link: can``).  The faults are ``FAULTS`` and ``LINK_FAULTS`` of
-:mod:`vc.simulation.observables`.
+machine: on an axis, the mains, or a device such as the turret), ``clear_faults`` (repaired),
+``link_fault`` (a fault of the CAN bus between NC and PLC, ``link: can``).  The faults are
+``FAULTS`` and ``LINK_FAULTS`` of :mod:`vc.simulation.observables`.
 """
 
 from __future__ import annotations
@@ -12,7 +12,16 @@ from vc.located_yaml import LocatedMap, Mark
 from vc.scenario.durations import Duration
 from vc.scenario.model import LINK_CAN, ClearFaults, InjectFault, InjectLinkFault, PowerCycle, Step
 from vc.scenario.steps.common import StepChecker, StepKind, StepRun, built, kind_of_value, suggest
-from vc.simulation.observables import FAULTS, LINK_AREA, LINK_DIRECTIONS, LINK_FAULTS, MACHINE_FAULTS, MAINS
+from vc.simulation.observables import (
+    DEVICE_FAULTS,
+    FAULTS,
+    LINK_AREA,
+    LINK_DIRECTIONS,
+    LINK_FAULTS,
+    MACHINE_FAULTS,
+    MAINS,
+    machine_devices,
+)
 
 DEFAULT_POWER_OFF = Duration(1_000_000)
 LINK_FAULT_KEYS = ("kind", "for", "direction", "frames", "by", "every")
@@ -43,9 +52,14 @@ def check_fault(checker: StepChecker, index: int, mark: Mark, value: Any, value_
     if not checker.check_keys(value, ("kind",) if machine_fault else ("axis", "kind", "from", "to", "by", "encoder"),
                               ("kind",) if machine_fault else ("axis", "kind"), "fault"):
         return None
-    if machine_fault and checker.machine is not None and checker.machine.dc_link is None:
+    if kind == "mains_failure" and checker.machine is not None and checker.machine.dc_link is None:
         checker.add(value.mark_of("kind"), f"a {kind} fault needs the machine's DC link: this machine has no"
                                            " dc_link: section (only Drives.ready would fall)")
+        return None
+    if kind in DEVICE_FAULTS and checker.machine is not None and \
+            DEVICE_FAULTS[kind] not in machine_devices(checker.machine):
+        checker.add(value.mark_of("kind"), f"a {kind} fault needs the machine's {DEVICE_FAULTS[kind]}: this machine"
+                                           f" has none (plant: of its machine file)")
         return None
     if machine_fault:
         return InjectFault(index, "fault", mark, "", str(kind), 0.0, 0.0, 0.0, 1)
@@ -86,6 +100,12 @@ def check_fault(checker: StepChecker, index: int, mark: Mark, value: Any, value_
 def check_clear_faults(checker: StepChecker, index: int, mark: Mark, value: Any, value_mark: Mark) -> Step | None:
     if value == MAINS:
         return ClearFaults(index, "clear_faults", mark, MAINS)
+    if checker.machine is not None and value in machine_devices(checker.machine):
+        return ClearFaults(index, "clear_faults", mark, str(value))
+    if checker.machine is not None and value in DEVICE_FAULTS.values():
+        checker.add(value_mark, f"this machine has no {value} (plant: of its machine file) whose faults could be"
+                                " repaired")
+        return None
     axis = checker.machine_axis(value, value_mark)
     return ClearFaults(index, "clear_faults", mark, axis) if axis is not None else None
 

@@ -339,6 +339,7 @@ def test_the_encoder_limit_frequency_follows_the_gear_ratio_of_the_motor_encoder
     rig.step(2)
     rig.set("SP1.spindle.out.gearChangeoverDone", 0)
     assert encoder.limit_velocity == pytest.approx(300000 * 120 / 2048)  # 17578 deg/s = 2930 rev/min
+    rig.run_until(lambda: bit(rig, "CHAN1.basic.in.stateReset") == 1, 20)  # M42 acknowledged by the PLC
     rig.mda("M3 S1300")
     run_seconds(rig, 1.0)
     assert speed(rig) == pytest.approx(1300.0)

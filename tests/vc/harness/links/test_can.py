@@ -108,7 +108,7 @@ def test_the_time_out_monitor_holds_the_sign_of_life_of_a_plc_with_a_missing_fra
 
 
 def test_the_links_counters_as_scenario_quantities() -> None:
-    """Every PLC period the NC sends 19 data frames and its link frame and takes the PLC's 14 and
+    """Every PLC period the NC sends 19 data frames and its link frame and takes the PLC's 15 and
     its link frame; nothing lost, every frame fresh."""
     with VirtualCanPlc() as virtual:
         simulation = virtual.simulation(TURN_MILL, "basic_machine")
@@ -117,7 +117,7 @@ def test_the_links_counters_as_scenario_quantities() -> None:
         simulation.step(50)  # ten PLC periods
         after = {name: simulation.link_quantity(name) for name in LINK_QUANTITIES}
     assert after["framesSent"] - before["framesSent"] == 200
-    assert after["framesTaken"] - before["framesTaken"] == 150
+    assert after["framesTaken"] - before["framesTaken"] == 160
     assert after["plcSignOfLife"] - before["plcSignOfLife"] == 10
     assert all(after[name] == 0 for name in ("lostToPlc", "lostFromPlc", "delayedToPlc", "delayedFromPlc",
                                              "plcFrameAge", "timedOut", "plcMissesNcFrames", "busState",
@@ -147,8 +147,8 @@ def test_a_plc_that_cannot_run_the_program_is_reported() -> None:
         with pytest.raises(LinkError) as caught:
             Simulation(TURN_MILL, "basic_machine", connector=link)
         assert "no PLC has started session 1 on the CAN bus" in str(caught.value)
-        assert ("cannot run: no PLC program 'nonesuch' (known: basic_machine, manual_retraction, polygon, referencing,"
-                " retraction, spindle, sync_spindle)") in str(caught.value)
+        assert ("cannot run: no PLC program 'nonesuch' (known: basic_machine, coolant, manual_retraction, polygon,"
+                " referencing, retraction, spindle, sync_spindle, tool_change, turret)") in str(caught.value)
         assert child.wait(10) == 2
     finally:
         link.close()
@@ -229,7 +229,7 @@ def test_vc_serve_on_a_can_bus_runs_a_scenario_with_a_plc_process() -> None:
         _, errors = plc.communicate(timeout=10)
     assert served.returncode == 0, served.stdout + served.stderr
     assert f"CAN bus {bus}, link frames from 0x100" in served.stdout and "PASS" in served.stdout
-    assert "session 1: machine turn_mill, program basic_machine, lockstep, 33 data frames" in errors
+    assert "session 1: machine turn_mill, program basic_machine, lockstep, 34 data frames" in errors
 
 
 def test_vc_serve_takes_a_can_bus_or_the_servers_not_both() -> None:
