@@ -348,7 +348,9 @@ def _convention(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[str
         " `vc map` of the harness you run (the variable list, the channels, the addresses of this guide); check"
         f" IR {LinkInput.NC_TO_PLC_REGISTERS} and IR {LinkInput.PLC_TO_NC_REGISTERS} against it. The versions: 1, the"
         " first layout; 2, DB100 (the alarm list) at the end of the NC-to-PLC table (turn_mill's grew from 325 to"
-        f" 359 registers) and the session key in HR {_span('', key_first, key_last)}; this server speaks"
+        f" 359 registers) and the session key in HR {_span('', key_first, key_last)}; 3, the channel's auxiliary"
+        " function area (DB21.DBB58 ff.: the M, S, T, D, DL, H and F functions the NC outputs) and DB2 (the PLC's"
+        " user alarms) at the end of the PLC-to-NC table (turn_mill's grew from 163 to 168 registers); this server speaks"
         f" {LINK_VERSION}. A test pins every version to its layout (tests/interfaces/test_link_versions.py).",
         "",
         f"* **Lockstep** (IR {LinkInput.MODE} = {MODE_LOCKSTEP}, `vc serve` without `--realtime`): the NC advances one"
