@@ -56,7 +56,7 @@ class CoverageNames:
 
     def instance(self, name: str, db: int) -> str:
         if kind_of_db(db) is None:
-            return f"DB{db} of '{name}' is no data block of the interface (DB10, DB11, DB19, DB21..30, DB31..99, DB100)"
+            return f"DB{db} of '{name}' is no data block of the interface (DB2, DB10, DB11, DB19, DB21..30, DB31..99, DB100)"
         return ""
 
     def signal(self, symbol: str, instances: dict[str, int]) -> str:

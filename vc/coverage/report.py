@@ -17,7 +17,7 @@ Coverage points (what a figure counts):
 
 A figure's percentage is covered points over points.  Names for thresholds: ``signals``,
 ``functions``, ``alarms``, ``plant``, a data block kind ``DB10`` / ``DB11`` / ``DB19`` / ``DB21`` /
-``DB31`` / ``DB100``, a state machine (``gear_change``) or a group of them by prefix
+``DB31`` / ``DB100`` / ``DB2``, a state machine (``gear_change``) or a group of them by prefix
 (``referencing``, ``esr``).
 """
 
@@ -40,7 +40,7 @@ from vc.coverage.state_machines import STATE_MACHINES, StateMachine
 from vc.simulation.published import ALARM_TEXTS
 
 CATEGORIES = ("signals", "functions", "alarms", "plant")
-DB_KINDS = ("DB10", "DB11", "DB19", "DB21", "DB31", "DB100")
+DB_KINDS = ("DB2", "DB10", "DB11", "DB19", "DB21", "DB31", "DB100")
 _ROOT = Path(vc.__file__).resolve().parent.parent  # where the sources lie (the repository, or site-packages)
 
 
@@ -179,7 +179,7 @@ def build_report(data: CoverageData) -> Report:
     return report
 
 
-_KIND_TITLES = {"DB10": "NCK", "DB11": "mode group", "DB19": "operator panel", "DB21": "channels", "DB31": "axes",
+_KIND_TITLES = {"DB2": "PLC user alarms", "DB10": "NCK", "DB11": "mode group", "DB19": "operator panel", "DB21": "channels", "DB31": "axes",
                 "DB100": "alarm list"}
 
 
