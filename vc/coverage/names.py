@@ -17,7 +17,7 @@ from interfaces.catalog import load_catalog
 from interfaces.plant_io import plant_function
 from interfaces.signals import FIRST_DB, PLACEHOLDER, InstanceKind, SignalDef, SignalType
 from vc.coverage.state_machines import STATE_MACHINES
-from vc.simulation.published import ALARM_TEXTS
+from vc.simulation.published import ALARM_TEXTS, PLC_USER_ALARMS
 
 _LAST_DB = {InstanceKind.CHANNEL: FIRST_DB[InstanceKind.AXIS] - 1, InstanceKind.AXIS: FIRST_DB[InstanceKind.ALARMS] - 1}
 
@@ -52,11 +52,12 @@ class CoverageNames:
     @classmethod
     def of_this_harness(cls) -> CoverageNames:
         return cls({machine.name: frozenset(state.name for state in machine.states) for machine in STATE_MACHINES},
-                   frozenset(ALARM_TEXTS), frozenset(item.value for item in SignalType))
+                   frozenset(ALARM_TEXTS) | frozenset(PLC_USER_ALARMS), frozenset(item.value for item in SignalType))
 
     def instance(self, name: str, db: int) -> str:
         if kind_of_db(db) is None:
-            return f"DB{db} of '{name}' is no data block of the interface (DB2, DB10, DB11, DB19, DB21..30, DB31..99, DB100)"
+            return (f"DB{db} of '{name}' is no data block of the interface (DB2, DB10, DB11, DB19, DB21..30,"
+                    " DB31..99, DB100)")
         return ""
 
     def signal(self, symbol: str, instances: dict[str, int]) -> str:
@@ -88,4 +89,7 @@ class CoverageNames:
         return f"'{state}' is no state of {machine} (its states: {', '.join(sorted(declared))})"
 
     def alarm(self, number: int) -> str:
-        return "" if number in self.alarms else f"alarm {number} is no alarm of this NC (vc/core/alarms.py)"
+        if number in self.alarms:
+            return ""
+        return (f"alarm {number} is no alarm of this NC (vc/core/alarms.py) and no PLC user alarm"
+                f" ({PLC_USER_ALARMS.start} .. {PLC_USER_ALARMS.stop - 1})")

@@ -179,7 +179,8 @@ def build_report(data: CoverageData) -> Report:
     return report
 
 
-_KIND_TITLES = {"DB2": "PLC user alarms", "DB10": "NCK", "DB11": "mode group", "DB19": "operator panel", "DB21": "channels", "DB31": "axes",
+_KIND_TITLES = {"DB2": "PLC user alarms",
+                "DB10": "NCK", "DB11": "mode group", "DB19": "operator panel", "DB21": "channels", "DB31": "axes",
                 "DB100": "alarm list"}
 
 

@@ -10,6 +10,8 @@ through this module and the :class:`~vc.simulation.lockstep.Simulation` (``state
 ``STATE_MACHINES``     every state machine the NC declares, without an NC running: name, title,
                        what an instance is, states with meanings, transitions with triggers
 ``ALARM_TEXTS``        every alarm the NC can raise, with its text and source
+``PLC_USER_ALARMS``   the numbers the machine's PLC raises through DB2 (700000 ..), its texts the
+                       machine file's
 ``AlarmList``          the NC's alarm list: present, raised (``history``), cleared and by what
                        (``Clear``)
 ``NcFunction``         a function an axis or a channel has or lacks at a power-on
@@ -19,6 +21,7 @@ from __future__ import annotations
 
 from enum import Enum
 
+from vc.config.model import PLC_USER_ALARMS
 from vc.core.alarms import ALARM_TEXTS, AlarmList, Clear
 from vc.core.nck.state_view import STATE_MACHINES
 from vc.core.state_machine import (
@@ -33,6 +36,7 @@ from vc.core.state_machine import (
 
 __all__ = [
     "ALARM_TEXTS",
+    "PLC_USER_ALARMS",
     "STATE_MACHINES",
     "AlarmList",
     "Clear",

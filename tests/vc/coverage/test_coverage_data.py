@@ -116,6 +116,23 @@ def test_a_hostile_file_is_a_located_problem(tmp_path: Path, text: str, message:
     assert _problems(tmp_path, text) == [message]
 
 
+def test_the_plc_user_alarms_of_db2_are_names_the_harness_knows(tmp_path: Path) -> None:
+    """A run with the turret's alarm 700002 wrote a file that vc coverage report refused."""
+    from vc.coverage.names import CoverageNames
+
+    document = _sample().to_json()
+    document["alarms"].update({"700002": {"raised": 1}, "700063": {"raised": 1}})
+    path = tmp_path / "c.json"
+    path.write_text(json.dumps(document, indent=1), encoding="utf-8")
+    assert {700002, 700063} <= set(CoverageData.load(str(path), CoverageNames.of_this_harness()).alarms)
+    document["alarms"].update({"700064": {"raised": 1}})
+    path.write_text(json.dumps(document, indent=1), encoding="utf-8")
+    with pytest.raises(SourceError) as caught:
+        CoverageData.load(str(path), CoverageNames.of_this_harness())
+    assert "alarm 700064 is no alarm of this NC (vc/core/alarms.py) and no PLC user alarm (700000 .. 700063)" in str(
+        caught.value)
+
+
 @pytest.mark.parametrize(("change", "message"), [
     (lambda d: d["machines"]["mini"]["signals"].update({"X1.basic.in.noSuchSignal": {"values": [0, 1]}}),
      "'X1.basic.in.noSuchSignal' is no signal of the catalogue for DB31"),
