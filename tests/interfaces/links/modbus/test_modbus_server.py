@@ -2,7 +2,7 @@
 (pipelined requests, split requests, exception responses), the session's PLC as the only writer,
 connection limits and the idle time-out.
 
-The server serves the turn-mill's tables (interfaces/codec_modbus.py); its event loop runs in a
+The server serves the turn-mill's tables (interfaces/links/modbus/codec.py); its event loop runs in a
 thread here, as a test stands in for the harness that would run it while it waits.
 """
 
@@ -30,18 +30,13 @@ from hypothesis import strategies as st
 from pyModbusTCP.client import ModbusClient
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import Location, RegisterMap, Table, read_registers, session_key_registers
 from interfaces.image import encode
-from interfaces.links.access import ConnectionLimits, LinkOwner, OwnerState, key_file
-from interfaces.links.modbus_tcp import (
-    ANSWER_LIMIT,
-    RECEIVE_LIMIT,
-    LinkError,
-    ModbusServerLink,
-    ModbusTables,
-    Request,
-    take_requests,
-)
+from interfaces.links.errors import LinkError
+from interfaces.links.modbus.access import ConnectionLimits, LinkOwner, OwnerState, key_file
+from interfaces.links.modbus.codec import Location, RegisterMap, Table, read_registers, session_key_registers
+from interfaces.links.modbus.framing import Request, take_requests
+from interfaces.links.modbus.server import ANSWER_LIMIT, RECEIVE_LIMIT, ModbusServerLink
+from interfaces.links.modbus.tables import ModbusTables
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import InterfaceLayout, expand
 
@@ -372,7 +367,7 @@ def test_a_failure_in_the_server_is_answered_with_04_counted_and_logged(served: 
 
     served.tables.on_write = broken
     wire = _Wire(served.port)
-    with caplog.at_level("INFO", logger="interfaces.links.modbus_tcp"):
+    with caplog.at_level("INFO", logger="interfaces.links.modbus.server"):
         wire.send(_frame(0x06, struct.pack(">HH", 16, 0x0100)))
         (answer,) = wire.answers(1)
     assert answer[7:9] == bytes([0x86, 0x04])
@@ -566,7 +561,7 @@ def test_idle_connections_are_closed_after_the_idle_time_out() -> None:
 def test_a_client_that_never_takes_its_answers_is_not_read_and_cannot_grow_the_server(
         caplog: pytest.LogCaptureFixture) -> None:
     """It grew the server from 58 to 405 MB in 120 s: every answer waited in the server's buffer."""
-    caplog.set_level(logging.INFO, logger="interfaces.links.modbus_tcp")
+    caplog.set_level(logging.INFO, logger="interfaces.links.modbus.server")
     for served in _serve(limits=ConnectionLimits(idle_timeout_s=3.0)):
         hog = socket.create_connection(("127.0.0.1", served.port), timeout=TIMEOUT)
         hog.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
