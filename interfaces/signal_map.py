@@ -147,7 +147,7 @@ def map_rows(catalog: ExpandedCatalog, plant_io: PlantIoMap, can: CanSettings | 
     rows.append(MapRow("LINK.description", "-", "nc_to_plc", "text", "input_register", DESCRIPTION_REGISTER, 0,
                        display_number("input_register", DESCRIPTION_REGISTER), "", "", "", "", 0, "level", "-", "LINK",
                        "interface description, UTF-8 JSON, LINK.descriptionBytes long",
-                       "interfaces/link_description.py", "project", "Modbus link block", "yes"))
+                       "interfaces/links/description.py", "project", "Modbus link block", "yes"))
     if commissioning is not None:
         for name, addresses, meaning in commissioning.rows(catalog.layout.channels):
             rows.append(MapRow(name, addresses, "-", "fact", "", "", "", "", "", "", "", "", 0, "-", "-",

@@ -20,7 +20,7 @@ from typing import Any
 from interfaces.errors import VcError
 from interfaces.exports.context import ExportContext
 from interfaces.exports.symbol_tables import awlsim_csv
-from interfaces.link_description import DescriptionError, LinkDescription, PlcSetupError
+from interfaces.links.description import DescriptionError, LinkDescription, PlcSetupError
 from interfaces.links.errors import LinkError
 from interfaces.signal_map import map_rows
 from plc_awlsim.awlsim_api import AwlParser, AwlSim, AwlSimError, AwlSource, S7CPUConfig, SymTabParser

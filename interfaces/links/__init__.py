@@ -6,6 +6,7 @@ registry names each backend by its module and class).
 ``modbus/``                    Modbus TCP (pymodbus) with S7 (python-snap7) as a second server of the
                                same link: codec, framing, tables, server, client, s7, access, plc_end
 ``can/``                       CAN (python-can): codec, bus, dbc, plc_end
+``description.py``             the interface description the harness hands every PLC at a power-on
 ``errors.py``                  the one error every link raises
 ``endpoint.py``                ``HOST:PORT`` of a server
 ``scan_loop.py``               the loop of a PLC in its own process, whatever carries the interface

@@ -14,7 +14,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Protocol
 
-from interfaces.link_description import PlcSetupError
+from interfaces.links.description import PlcSetupError
 from interfaces.plc import PlcFactory
 
 EXIT_STOPPED = 0  # python -m plc_stub: stopped (Ctrl-C)

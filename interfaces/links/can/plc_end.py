@@ -43,7 +43,6 @@ from dataclasses import dataclass
 
 from interfaces.exchange import MODE_LOCKSTEP
 from interfaces.image import ProcessImage
-from interfaces.link_description import LinkDescription, PlcSetupError
 from interfaces.links.can.bus import BusSpec, CanBus
 from interfaces.links.can.codec import (
     DEFAULT_LINK_ID,
@@ -55,6 +54,7 @@ from interfaces.links.can.codec import (
     NcLink,
     PlcLink,
 )
+from interfaces.links.description import LinkDescription, PlcSetupError
 from interfaces.links.errors import LinkError
 from interfaces.links.scan_loop import EXIT_NO_HARNESS, EXIT_STOPPED, PlcProcessOptions, exit_code, run_scans
 from interfaces.plc import PlcFactory, SoftPlc

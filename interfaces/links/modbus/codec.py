@@ -65,7 +65,7 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
   outputs when holding register 1 equals the session and holding register 0 the grant.
 
 * **Description.** Input registers from 4096 (up to 16383) hold the interface description as
-  UTF-8 JSON (see :mod:`interfaces.link_description`), two bytes a register, so a client that can
+  UTF-8 JSON (see :mod:`interfaces.links.description`), two bytes a register, so a client that can
   be stepped configures itself from the server.
 
 The tables never exceed 4096 registers (65536 bits, the largest coil number).

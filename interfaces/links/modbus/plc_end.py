@@ -43,7 +43,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 from interfaces.image import ProcessImage
-from interfaces.link_description import LinkDescription, PlcSetupError
+from interfaces.links.description import LinkDescription, PlcSetupError
 from interfaces.links.endpoint import parse_endpoint
 from interfaces.links.errors import LinkError, RequestRefused
 from interfaces.links.modbus.client import RECONNECT_WINDOW_S, ModbusLinkClient
@@ -85,7 +85,7 @@ class Session:
     plc_to_nc_registers: int
     ipo_cycle_us: int
     plc_cycle_ipo: int
-    description: bytes  # the interface description (UTF-8 JSON, interfaces/link_description.py)
+    description: bytes  # the interface description (UTF-8 JSON, interfaces/links/description.py)
 
     @property
     def scan_time_s(self) -> float:
@@ -103,7 +103,7 @@ class Scan:
 class ModbusPlcEnd:
     """The handshake of the PLC's end over ``client`` (module docstring).  ``start`` is called with
     each new session before it is claimed: the PLC (re)starts its program for it there, and a
-    :class:`~interfaces.link_description.PlcSetupError` it raises leaves the session unclaimed."""
+    :class:`~interfaces.links.description.PlcSetupError` it raises leaves the session unclaimed."""
 
     def __init__(self, client: ModbusLinkClient, start: Callable[[Session], None], *,
                  log: Callable[[str], None] = lambda text: None, answer_timeout_s: float | None = None,

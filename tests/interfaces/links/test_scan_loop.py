@@ -4,7 +4,7 @@ what the harness describes into exit code 2."""
 
 from __future__ import annotations
 
-from interfaces.link_description import PlcSetupError
+from interfaces.links.description import PlcSetupError
 from interfaces.links.scan_loop import EXIT_CANNOT_RUN, EXIT_STOPPED, exit_code, run_scans
 
 

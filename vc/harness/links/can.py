@@ -49,7 +49,6 @@ from typing import Protocol
 
 from interfaces.exchange import MODE_FREE_RUNNING, MODE_LOCKSTEP, grant_of_scan, next_session
 from interfaces.image import ProcessImage
-from interfaces.link_description import LinkDescription
 from interfaces.links.can.bus import BusSpec, CanBus, private_virtual_bus
 from interfaces.links.can.codec import (
     DEFAULT_LINK_ID,
@@ -61,6 +60,7 @@ from interfaces.links.can.codec import (
     description_frames,
 )
 from interfaces.links.can.plc_end import CanPlcNode
+from interfaces.links.description import LinkDescription
 from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import plc_programs
 from interfaces.links.modbus.codec import RegisterMap

@@ -37,7 +37,7 @@ from typing import Protocol
 
 from interfaces.exchange import grant_of_scan, next_session
 from interfaces.image import ProcessImage
-from interfaces.link_description import LinkDescription
+from interfaces.links.description import LinkDescription
 from interfaces.links.errors import LinkError
 from interfaces.links.modbus.access import ConnectionLimits, LinkOwner, OwnerState
 from interfaces.links.modbus.codec import (

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
-import itertools
 import logging
 import os
 import select
@@ -34,7 +33,6 @@ from interfaces.image import encode
 from interfaces.links.errors import LinkError
 from interfaces.links.modbus.access import ConnectionLimits, LinkOwner, OwnerState, key_file
 from interfaces.links.modbus.codec import Location, RegisterMap, Table, read_registers, session_key_registers
-from interfaces.links.modbus.framing import Request, take_requests
 from interfaces.links.modbus.server import ANSWER_LIMIT, RECEIVE_LIMIT, ModbusServerLink
 from interfaces.links.modbus.tables import ModbusTables
 from interfaces.plant_io import PlantIoMap
@@ -264,30 +262,6 @@ def _read(transaction: int, register: int = 0, count: int = 1) -> bytes:
 
 def _transactions(answers: list[bytes]) -> list[int]:
     return [struct.unpack_from(">H", answer)[0] for answer in answers]
-
-
-@settings(max_examples=200, deadline=None)
-@given(st.lists(st.tuples(st.integers(0, 65535), st.integers(0, 255), st.binary(min_size=1, max_size=253)),
-                min_size=1, max_size=12), st.lists(st.integers(1, 600), max_size=8))
-def test_the_requests_of_a_stream_whatever_its_segments(requests: list[tuple[int, int, bytes]],
-                                                        cuts: list[int]) -> None:
-    stream = b"".join(struct.pack(">HHHB", transaction, 0, len(pdu) + 1, unit) + pdu
-                      for transaction, unit, pdu in requests)
-    received, found = bytearray(), []
-    for start, stop in itertools.pairwise([0, *sorted(cut % (len(stream) + 1) for cut in cuts), len(stream)]):
-        received += stream[start:stop]
-        taken, problem = take_requests(received)
-        assert problem is None
-        found += taken
-    assert found == [Request(transaction, unit, pdu) for transaction, unit, pdu in requests]
-    assert received == b""
-
-
-def test_a_header_no_request_has_is_named_after_the_requests_before_it() -> None:
-    received = bytearray(_read(1) + _frame(0x04, b"\x00\x00\x00\x01", length=300) + _read(2))
-    taken, problem = take_requests(received)
-    assert [request.transaction for request in taken] == [1]
-    assert problem == "a header with protocol identifier 0 and length 300"
 
 
 def test_ten_requests_in_one_segment_get_ten_answers_in_order(served: Served) -> None:

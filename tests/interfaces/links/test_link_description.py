@@ -6,8 +6,8 @@ import dataclasses
 
 import pytest
 
-from interfaces.link_description import DescriptionError, LinkDescription, PlcSetupError
 from interfaces.links.can.codec import CanSettings
+from interfaces.links.description import DescriptionError, LinkDescription, PlcSetupError
 
 DESCRIPTION = LinkDescription("turn_mill", ("CHAN1",), ("X1", "SP1"), {"I0.0": "MCP.auto"}, 2000, 5, "spindle",
                               {"esr_time": 0.3}, 323, 132)
