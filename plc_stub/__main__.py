@@ -63,7 +63,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                                      description="The built-in soft PLC as the PLC's end of a link to the harness")
     link = parser.add_mutually_exclusive_group(required=True)
     for kind in LINKS.values():
-        link.add_argument(f"--{kind.name}", metavar=kind.address, help=f"the harness's end of {kind.title}")
+        link.add_argument(f"--{kind.name}", metavar=kind.address, help=kind.address_help)
     parser.add_argument("--can-link-id", type=_identifier, default=0x100, metavar="ID",
                         help="identifier of the NC link frame (default 0x100)")
     parser.add_argument("--program", help="PLC program (default: the one the harness asks for)")

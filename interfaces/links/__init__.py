@@ -52,6 +52,7 @@ class LinkKind:
     title: str  # in words, for the command line's help
     package: str  # interfaces.links.<technology>
     address: str  # what python -m plc_stub --NAME is given, as its help shows it
+    address_help: str  # what that address names, for the help
     plc_end: str
     harness: str
     plc_process: str
@@ -61,10 +62,13 @@ class LinkKind:
 LINKS: Mapping[str, LinkKind] = {
     kind.name: kind for kind in (
         LinkKind("modbus", "a Modbus TCP link", "interfaces.links.modbus", "HOST:PORT",
+                 "the harness's Modbus TCP server (vc serve, vc run --link modbus)",
                  plc_end="interfaces.links.modbus.plc_end:run_plc",
                  harness="vc.harness.links.modbus:serving",
                  plc_process="vc.harness.external_plc:PlcProcess.for_run"),
         LinkKind("can", "a CAN link", "interfaces.links.can", "BUS",
+                 "the CAN bus the harness is on (vc run --link can): udp_multicast[:GROUP:PORT] or"
+                 " socketcan[:INTERFACE]",
                  plc_end="interfaces.links.can.plc_end:run_plc",
                  harness="vc.harness.links.can:serving",
                  plc_process="vc.harness.external_plc:CanPlcProcess.for_run",
