@@ -53,10 +53,10 @@ class LinkKind:
     package: str  # interfaces.links.<technology>
     address: str  # what python -m plc_stub --NAME is given, as its help shows it
     address_help: str  # what that address names, for the help
-    plc_end: str
-    harness: str
-    plc_process: str
-    in_process: str | None = None
+    plc_end: str  # python -m plc_stub --NAME: soft PLC programs as the PLC's end (a PlcEndRunner)
+    harness: str  # vc serve: the harness's end, of the serve options
+    plc_process: str  # vc run --link NAME: the run's PLC process and its link, of the run's address
+    in_process: str | None = None  # a scenario's link: NAME, its PLC behind the link in this process
 
 
 LINKS: Mapping[str, LinkKind] = {
