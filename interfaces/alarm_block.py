@@ -19,7 +19,7 @@ data block 100; over CAN its frames follow the axes' frames.
 
 from __future__ import annotations
 
-from interfaces.codec_modbus import RegisterMap, Table
+from interfaces.links.modbus.codec import RegisterMap, Table
 from interfaces.signals import FIRST_DB, ExpandedCatalog, InstanceKind
 
 ALARM_DB = FIRST_DB[InstanceKind.ALARMS]

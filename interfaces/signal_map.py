@@ -22,15 +22,16 @@ meaning only).  The CSV columns start with
   + bit for bits and bytes, the most significant bit (frame byte x 8 + 7) for S7 words and double
   words (Motorola).  The link block is Modbus only: its CAN counterpart are the link frames.
 
-The conventions themselves are documented in :mod:`interfaces.codec_modbus` and :mod:`interfaces.codec_can`.
+The conventions themselves are documented in :mod:`interfaces.links.modbus.codec` and :mod:`interfaces.links.can.codec`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from interfaces.codec_can import CanLayout, CanLocation, CanSettings
-from interfaces.codec_modbus import (
+from interfaces.commissioning import Commissioning
+from interfaces.links.can.codec import CanLayout, CanLocation, CanSettings
+from interfaces.links.modbus.codec import (
     DESCRIPTION_REGISTER,
     LINK_VERSION,
     LinkHolding,
@@ -39,7 +40,6 @@ from interfaces.codec_modbus import (
     RegisterMap,
     display_number,
 )
-from interfaces.commissioning import Commissioning
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import ExpandedCatalog, SignalRef
 
@@ -48,7 +48,7 @@ COLUMNS = ("symbol", "address", "direction", "type", "modbus_table", "modbus_add
            "source", "origin", "note", "modelled")
 COMMISSIONING_INSTANCE = "COMMISSIONING"
 
-# The link block (interfaces/codec_modbus.py): (symbol, table kind, register, registers, meaning)
+# The link block (interfaces/links/modbus/codec.py): (symbol, table kind, register, registers, meaning)
 LINK_ROWS = (
     ("LINK.version", "input_register", LinkInput.VERSION, 1, f"link version ({LINK_VERSION}): changes with every change"
      " of the link block or of where a signal lies; 0 = no machine powered on yet"),
@@ -143,11 +143,11 @@ def map_rows(catalog: ExpandedCatalog, plant_io: PlantIoMap, can: CanSettings | 
         direction = "nc_to_plc" if kind == "input_register" else "plc_to_nc"
         rows.append(MapRow(symbol, "-", direction, "dword" if count == 2 else "word", kind, register, 0,
                            display_number(kind, register), "", "", "", "", 16 * count, "level", "-", "LINK", meaning,
-                           "interfaces/codec_modbus.py", "project", "Modbus link block", "yes"))
+                           "interfaces/links/modbus/codec.py", "project", "Modbus link block", "yes"))
     rows.append(MapRow("LINK.description", "-", "nc_to_plc", "text", "input_register", DESCRIPTION_REGISTER, 0,
                        display_number("input_register", DESCRIPTION_REGISTER), "", "", "", "", 0, "level", "-", "LINK",
                        "interface description, UTF-8 JSON, LINK.descriptionBytes long",
-                       "interfaces/link_description.py", "project", "Modbus link block", "yes"))
+                       "interfaces/links/description.py", "project", "Modbus link block", "yes"))
     if commissioning is not None:
         for name, addresses, meaning in commissioning.rows(catalog.layout.channels):
             rows.append(MapRow(name, addresses, "-", "fact", "", "", "", "", "", "", "", "", 0, "-", "-",

@@ -21,9 +21,9 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from interfaces.links.access import key_file
 from interfaces.links.endpoint import parse_endpoint
 from interfaces.links.errors import LinkError
+from interfaces.links.modbus.access import key_file
 
 
 def _endpoint(text: str) -> tuple[str, int]:

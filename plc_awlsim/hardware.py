@@ -1,8 +1,10 @@
 """An awlsim hardware module that is the harness's Modbus TCP client (``vc serve --modbus``,
 ``vc run`` with an awlsim scenario).
 
-awlsim calls ``readInputs`` before and ``writeOutputs`` after every OB 1; the module does the
-link's work there, as docs/modbus.md ("Lockstep with a third-party PLC") states it::
+awlsim calls ``readInputs`` before and ``writeOutputs`` after every OB 1; there the module drives
+the PLC's end of the link that ``python -m plc_stub`` drives as well
+(:class:`~interfaces.links.modbus.plc_end.ModbusPlcEnd`: session, claim with the key, grant,
+scan done), as docs/modbus.md ("Lockstep with a third-party PLC") states it::
 
     readInputs                                              writeOutputs
       link block: no machine yet -> poll again                (a scan was granted)
@@ -25,8 +27,9 @@ link's work there, as docs/modbus.md ("Lockstep with a third-party PLC") states 
   scan counter in HR 0 is the sign of life the NC watches.
 
 A lost connection is made again within a short window (a harness that still runs takes it at
-once) and the session that follows restarts the program; when no server listens any more the
-harness has ended and so does the PLC (:class:`HarnessGone`).  ``connectTimeout`` is how long the
+once) and the session that follows restarts the program (the CPU's state of the lost scan is not
+kept); when no server listens any more the harness has ended and so does the PLC
+(:class:`~interfaces.links.modbus.plc_end.HarnessGone`).  ``connectTimeout`` is how long the
 first connection may take.  Parameters (awlsim's hardware module parameters): ``host`` (127.0.0.1), ``port``
 (5020), ``connectTimeout`` (30 s), ``keyFile`` (the session key of ``vc serve --plc-key-file``; default a
 random key of this process) and awlsim's own ``inputAddressBase``, ``outputAddressBase``.
@@ -34,63 +37,24 @@ random key of this process) and awlsim's own ``inputAddressBase``, ``outputAddre
 
 from __future__ import annotations
 
-import secrets
 import struct
 import time as wallclock
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
-from interfaces.codec_modbus import (
-    LINK_REGISTERS,
-    LINK_VERSION,
-    MODE_LOCKSTEP,
-    READ_LIMIT,
-    LinkHolding,
-    LinkInput,
-    registers_text,
-    session_key_registers,
-)
-from interfaces.errors import VcError
-from interfaces.links.access import key_file
 from interfaces.links.errors import LinkError, RequestRefused
-from interfaces.links.modbus_tcp import RECONNECT_WINDOW_S, ModbusLinkClient
+from interfaces.links.modbus.access import key_file
+from interfaces.links.modbus.client import ModbusLinkClient
+from interfaces.links.modbus.codec import LinkInput
+from interfaces.links.modbus.plc_end import ModbusPlcEnd, Scan, Session
 from plc_awlsim.awlsim_api import (
     AbstractHardwareInterface,
-    AwlSimError,
     HwParamDesc_float,
     HwParamDesc_int,
     HwParamDesc_str,
     MaintenanceRequest,
 )
 from plc_awlsim.clock import NcClock, follow_nc
-
-_WORD = struct.Struct(">H")
-POLL_PAUSE_S = 0.01  # between polls while no machine is powered on
-
-
-class HarnessGone(VcError):
-    """No harness answered within the connect time-out, or the harness has ended.
-
-    Not an awlsim error: awlsim reports the errors of hardware modules and runs its next cycle, so
-    the bridge would retry for ever; this one ends ``AwlSim.runCycle`` and the PLC process."""
-
-
-@dataclass(slots=True)
-class Session:
-    """What the harness said at a power-on."""
-
-    number: int
-    lockstep: bool
-    nc_to_plc_bytes: int
-    plc_to_nc_bytes: int
-    ipo_cycle_us: int
-    plc_cycle_ipo: int
-    description: bytes  # the interface description (UTF-8 JSON, interfaces/link_description.py)
-
-    @property
-    def scan_time_s(self) -> float:
-        return self.ipo_cycle_us * self.plc_cycle_ipo / 1_000_000
 
 
 class HardwareInterface(AbstractHardwareInterface):  # type: ignore[misc]  # awlsim is not annotated
@@ -111,171 +75,132 @@ class HardwareInterface(AbstractHardwareInterface):  # type: ignore[misc]  # awl
         self.port: int = self.getParamValueByName("port")
         self.connect_timeout_s: float = self.getParamValueByName("connectTimeout")
         self.clock = NcClock()
-        self.client: ModbusLinkClient | None = None
-        self.session: Session | None = None
+        self.end: ModbusPlcEnd | None = None
         self.scans = 0  # OB 1 scans run in this session
-        self._granted: int | None = None  # the scan-done value of the scan between readInputs and writeOutputs
-        self._last_grant = 0
+        self._granted: Scan | None = None  # the scan between readInputs and writeOutputs
+        self._pending: Scan | None = None  # a scan granted with a new session: it runs after the warm restart
+        self._restarted_for: Session | None = None  # the session the program was (re)started for
         self._next_scan = 0.0
-        self._restart_due = False  # a session began: the next readInputs restarts the program
         self._starting = False  # the CPU's start-up: its readInputs before OB 100 takes no scan
         # the session key of this bridge's claims (docs/modbus.md): after a lost connection only this
         # process can take its session back
         path = self.getParamValueByName("keyFile")
-        self.key = key_file(path) if path else secrets.randbits(64) or 1
+        self.key = key_file(path) if path else None
         self.log: Callable[[str], None] = lambda text: None  # python -m plc_awlsim sets its own
+
+    @property
+    def session(self) -> Session | None:
+        """The session the program runs for."""
+        return self._restarted_for
 
     # ------------------------------------------------------------------ awlsim's calls
     def doStartup(self) -> None:
-        if self.client is None:
+        if self.end is None:
             follow_nc(self.cpu, self.clock)
-            self.client = ModbusLinkClient(self.host, self.port)
-            self._connect()
-            self.wait_for_session()
-        self._restart_due = False  # the CPU's start-up runs OB 100 now ...
-        self._starting = True  # ... after a readInputs that must not take a granted scan
+            self.end = ModbusPlcEnd(ModbusLinkClient(self.host, self.port), self._fit_process_images,
+                                    log=self.log, key=self.key)
+            self.end.connect(self.connect_timeout_s)
+            self._restart_for(self._link(self.end.wait_for_session))
+        self._starting = True  # the CPU's start-up runs OB 100 now, after a readInputs that takes no scan
 
     def doShutdown(self) -> None:
-        if self.client is not None:
-            self.client.close()
-            self.client = None
+        if self.end is not None:
+            self.end.client.close()
+            self.end = None
 
     def readInputs(self) -> None:
         """Wait until a scan may run and put the NC-to-PLC table into the input image (module docstring)."""
         if self._starting:
             self._starting = False
             return
+        end = self.end
+        assert end is not None
         while True:
-            session = self.session
-            if self._restart_due or session is None:
-                self.wait_for_session()
+            scan, self._pending = self._pending, None
+            if scan is None:
+                self._pace()
+                scan = self._link(end.poll)
+            if end.session is not self._restarted_for:
+                self._pending = scan
                 self._warm_restart()
-            assert session is not None
-            head = self._read(0, min(READ_LIMIT, session.nc_to_plc_bytes // 2))
-            if head[LinkInput.VERSION] == 0 or head[LinkInput.SESSION] != session.number:
-                self._restart_due = True
-                continue
-            if session.lockstep:
-                grant = head[LinkInput.SCAN_GRANT]
-                if grant == 0 or grant == self._last_grant:
-                    continue
-                self._last_grant = grant
-                self._take_inputs(session, head, grant)
+            if scan is not None:
+                self._take_inputs(scan)
                 return
-            now = wallclock.perf_counter()
-            if now < self._next_scan:
-                wallclock.sleep(self._next_scan - now)
-                continue
-            self._next_scan = max(self._next_scan + session.scan_time_s, now - session.scan_time_s)
-            self._take_inputs(session, head, (self.scans % 0xFFFF) + 1)
-            return
 
     def writeOutputs(self) -> None:
         """The output image into the PLC-to-NC table, the scan-done word last (module docstring)."""
-        session, done = self.session, self._granted
-        if session is None or done is None or self.client is None:
+        end, scan = self.end, self._granted
+        if end is None or scan is None or end.session is None:
             return  # OB 100: no scan was granted
-        outputs = bytearray(self.cpu.fetchOutputRange(self.outputAddressBase, session.plc_to_nc_bytes))
-        _WORD.pack_into(outputs, 2 * LinkHolding.SCAN_DONE, done)
-        _WORD.pack_into(outputs, 2 * LinkHolding.SESSION_READY, session.number)
-        values = list(struct.unpack(f">{len(outputs) // 2}H", outputs))
-        try:
-            self.client.write_registers_last_first(0, values)
-        except LinkError:
-            self._restart_due = True  # readInputs reconnects
+        outputs = bytearray(self.cpu.fetchOutputRange(self.outputAddressBase, 2 * end.session.plc_to_nc_registers))
         self._granted = None
+        try:
+            end.finish(scan, outputs)
+        except RequestRefused as error:
+            end.refused(error)
+        except LinkError as error:
+            self._reconnect(error)
 
     # ------------------------------------------------------------------ the link
-    def wait_for_session(self) -> Session:
-        """Poll until the harness has powered a machine on; claim its session (HR 1 = session, HR 2..5
-        = the key).  A session whose claim the server refuses (another PLC holds it, or it was closed
-        when its PLC was lost) is passed by: the bridge waits for a new one."""
-        refused: tuple[int, int] | None = None
+    def _link(self, request: Callable[[], Any]) -> Any:
+        """``request`` of the PLC's end; a lost connection is made again (:meth:`_reconnect`) and the
+        request repeated, a refused write makes the end read the link block anew."""
+        end = self.end
+        assert end is not None
         while True:
-            head = self._read(0, LINK_REGISTERS)
-            if head[LinkInput.VERSION] == 0 or (head[LinkInput.SESSION], head[LinkInput.BOOT_ID]) == refused:
-                wallclock.sleep(POLL_PAUSE_S)
-                continue
-            if head[LinkInput.VERSION] != LINK_VERSION:
-                raise AwlSimError(f"the harness speaks link version {head[LinkInput.VERSION]},"
-                                  f" this bridge {LINK_VERSION}")
-            length = head[LinkInput.DESCRIPTION_BYTES]
-            description = registers_text(self._read(head[LinkInput.DESCRIPTION_START], (length + 1) // 2), length)
-            self.session = Session(head[LinkInput.SESSION], head[LinkInput.MODE] == MODE_LOCKSTEP,
-                                   2 * head[LinkInput.NC_TO_PLC_REGISTERS], 2 * head[LinkInput.PLC_TO_NC_REGISTERS],
-                                   head[LinkInput.IPO_CYCLE_US], head[LinkInput.PLC_CYCLE_IPO], description)
-            self._fit_process_images(self.session)
             try:
-                self._write(LinkHolding.SESSION_READY, [self.session.number, *session_key_registers(self.key)])
-            except RequestRefused:
-                refused = (head[LinkInput.SESSION], head[LinkInput.BOOT_ID])
-                self.log(f"session {refused[0]}: the server refused this PLC's claim (another PLC holds the session,"
-                         " or it was closed when its PLC was lost); waiting for a new session")
-                continue
-            self._last_grant = 0
-            self.scans = 0
-            self._next_scan = wallclock.perf_counter()
-            return self.session
+                return request()
+            except RequestRefused as error:
+                end.refused(error)
+            except LinkError as error:
+                self._reconnect(error)
 
-    def _take_inputs(self, session: Session, head: list[int], done: int) -> None:
-        total = session.nc_to_plc_bytes // 2
-        registers = head[:total] + (self._read(len(head), total - len(head)) if len(head) < total else [])
-        self.cpu.storeInputRange(self.inputAddressBase, bytearray(struct.pack(f">{total}H", *registers)))
+    def _reconnect(self, error: LinkError) -> None:
+        """After a lost connection: a new one within the reconnect window; the next session restarts the
+        program.  No server: the harness has ended (:class:`HarnessGone`)."""
+        assert self.end is not None
+        self.end.reconnect(error, self.connect_timeout_s)
+        self.end.forget_session()
+
+    def _pace(self) -> None:
+        """Real time: a scan every PLC period of the wall clock (lockstep: the harness's grant paces)."""
+        session = self.end.session if self.end is not None else None
+        if session is None or session.lockstep:
+            return
+        now = wallclock.perf_counter()
+        if now < self._next_scan:
+            wallclock.sleep(self._next_scan - now)
+            now = wallclock.perf_counter()
+        self._next_scan = max(self._next_scan + session.scan_time_s, now - session.scan_time_s)
+
+    def _take_inputs(self, scan: Scan) -> None:
+        registers = scan.inputs
+        self.cpu.storeInputRange(self.inputAddressBase, bytearray(struct.pack(f">{len(registers)}H", *registers)))
         self.clock.set_cycles(registers[LinkInput.NC_CYCLE_HIGH] << 16 | registers[LinkInput.NC_CYCLE_HIGH + 1],
                               registers[LinkInput.IPO_CYCLE_US])
         self.scans += 1
-        self._granted = done
+        self._granted = scan
+
+    def _restart_for(self, session: Session | None) -> None:
+        self._restarted_for = session
+        self.scans = 0
+        self._next_scan = wallclock.perf_counter()
 
     def _warm_restart(self) -> None:
         """A new session: clear the process images, bit memory, timers and counters, then OB 100
         (awlsim runs the start-up OBs on this request and skips the OB 1 of this cycle)."""
-        self._restart_due = False
+        assert self.end is not None
+        self._restart_for(self._link(self.end.wait_for_session))
         self._granted = None
         self.clock.set_cycles(0, 1)
         self.cpu.reallocate(force=True)
         raise MaintenanceRequest(MaintenanceRequest.TYPE_SOFTREBOOT, "new session: warm restart")
 
     def _fit_process_images(self, session: Session) -> None:
+        """The PLC's start of a session (before its claim): process images that hold both tables."""
         specs = self.cpu.getSpecs()
-        if specs.nrInputs < self.inputAddressBase + session.nc_to_plc_bytes:
-            specs.setNrInputs(self.inputAddressBase + session.nc_to_plc_bytes)
-        if specs.nrOutputs < self.outputAddressBase + session.plc_to_nc_bytes:
-            specs.setNrOutputs(self.outputAddressBase + session.plc_to_nc_bytes)
-
-    def _read(self, address: int, count: int) -> list[int]:
-        while True:
-            try:
-                assert self.client is not None
-                return self.client.read_input_registers(address, count)
-            except RequestRefused:
-                raise  # an answer: the link stands
-            except LinkError as error:
-                self._reconnect(error)
-
-    def _write(self, address: int, values: list[int]) -> None:
-        while True:
-            try:
-                assert self.client is not None
-                self.client.write_registers(address, values)
-                return
-            except RequestRefused:
-                raise  # an answer: the link stands
-            except LinkError as error:
-                self._reconnect(error)
-
-    def _reconnect(self, error: LinkError) -> None:
-        """After a lost connection: connect again within :data:`RECONNECT_WINDOW_S` (a harness that
-        still runs takes it at once); the next session restarts the program.  No server: the
-        harness has ended (:class:`HarnessGone`)."""
-        assert self.client is not None
-        self.client.close()
-        self._restart_due = True
-        window = min(RECONNECT_WINDOW_S, self.connect_timeout_s)
-        if not self.client.connect_within(window):
-            raise HarnessGone(f"the harness has gone: {error}, and no server has listened at {self.host}:{self.port}"
-                              f" since ({window:g} s)")
-
-    def _connect(self) -> None:
-        assert self.client is not None
-        if not self.client.connect_within(self.connect_timeout_s):
-            raise HarnessGone(f"no Modbus server at {self.host}:{self.port} after {self.connect_timeout_s:g} s")
+        nc_to_plc, plc_to_nc = 2 * session.nc_to_plc_registers, 2 * session.plc_to_nc_registers
+        if specs.nrInputs < self.inputAddressBase + nc_to_plc:
+            specs.setNrInputs(self.inputAddressBase + nc_to_plc)
+        if specs.nrOutputs < self.outputAddressBase + plc_to_nc:
+            specs.setNrOutputs(self.outputAddressBase + plc_to_nc)

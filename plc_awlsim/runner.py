@@ -20,11 +20,11 @@ from typing import Any
 from interfaces.errors import VcError
 from interfaces.exports.context import ExportContext
 from interfaces.exports.symbol_tables import awlsim_csv
-from interfaces.link_description import DescriptionError, LinkDescription
+from interfaces.links.description import DescriptionError, LinkDescription, PlcSetupError
 from interfaces.links.errors import LinkError
 from interfaces.signal_map import map_rows
 from plc_awlsim.awlsim_api import AwlParser, AwlSim, AwlSimError, AwlSource, S7CPUConfig, SymTabParser
-from plc_awlsim.hardware import HardwareInterface, HarnessGone
+from plc_awlsim.hardware import HardwareInterface
 
 EXIT_STOPPED, EXIT_NO_HARNESS, EXIT_CANNOT_RUN = 0, 1, 2
 MNEMONICS = {"en": S7CPUConfig.MNEMONICS_EN, "de": S7CPUConfig.MNEMONICS_DE}
@@ -103,10 +103,10 @@ def run(host: str, port: int, program: Path, symbols: Path | None, io_base: int,
     try:
         plc = AwlsimPlc(host, port, program, symbols, io_base, mnemonics, connect_timeout_s, log, key_file)
         plc.run()
-    except (HarnessGone, LinkError) as error:
+    except LinkError as error:  # no harness, or it has gone (HarnessGone)
         log(str(error))
         return EXIT_NO_HARNESS
-    except (ProgramError, OSError) as error:
+    except (ProgramError, PlcSetupError, OSError) as error:
         log(f"cannot run: {error}")
         return EXIT_CANNOT_RUN
     except AwlSimError as error:

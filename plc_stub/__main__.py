@@ -1,8 +1,10 @@
 """``python -m plc_stub --modbus HOST:PORT | --can BUS [--program NAME]``: the built-in PLC as its own process.
 
+One option per link of the registry (interfaces/links/__init__.py), which runs the PLC's end of that link.
+
     --modbus HOST:PORT     the harness's Modbus TCP server (``vc serve`` or ``vc run --link modbus``)
     --can BUS              the CAN bus the harness is on (``vc run --link can``): udp_multicast[:GROUP:PORT],
-                           socketcan[:INTERFACE] (interfaces/links/can_bus.py)
+                           socketcan[:INTERFACE] (interfaces/links/can/bus.py)
     --can-link-id ID       the harness's NC link frame identifier (default 0x100, the machine file's can.ids.link)
     --program NAME         the program to run (default: the one the harness asks for)
     --period MS            scan period in free-running mode (default: the machine's PLC period)
@@ -27,22 +29,14 @@ import sys
 from collections.abc import Callable, Sequence
 from typing import TypeVar
 
-from interfaces.links.access import key_file
-from interfaces.links.endpoint import parse_endpoint
-from interfaces.links.errors import LinkError
+from interfaces.links import LINKS, load
+from interfaces.links.errors import BadAddress, LinkError
+from interfaces.links.modbus.access import key_file
+from interfaces.links.scan_loop import EXIT_CANNOT_RUN, PlcEndRunner, PlcProcessOptions
 from interfaces.links.scheduling import SchedulingError, parse_cpus, parse_priority, place
-from plc_stub.links.can import run_on_can
-from plc_stub.links.modbus import run_forever
-from plc_stub.scan_loop import EXIT_CANNOT_RUN
+from plc_stub.programs import FACTORIES
 
 T = TypeVar("T")
-
-
-def _endpoint(text: str) -> tuple[str, int]:
-    try:
-        return parse_endpoint(text)
-    except ValueError as error:
-        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def _identifier(text: str) -> int:
@@ -66,10 +60,10 @@ def _scheduling(parse: Callable[[str], T]) -> Callable[[str], T]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m plc_stub",
-                                     description="The built-in soft PLC as a Modbus TCP client or a node on a CAN bus")
+                                     description="The built-in soft PLC as the PLC's end of a link to the harness")
     link = parser.add_mutually_exclusive_group(required=True)
-    link.add_argument("--modbus", type=_endpoint, metavar="HOST:PORT")
-    link.add_argument("--can", metavar="BUS", help="udp_multicast[:GROUP:PORT] or socketcan[:INTERFACE]")
+    for kind in LINKS.values():
+        link.add_argument(f"--{kind.name}", metavar=kind.address, help=kind.address_help)
     parser.add_argument("--can-link-id", type=_identifier, default=0x100, metavar="ID",
                         help="identifier of the NC link frame (default 0x100)")
     parser.add_argument("--program", help="PLC program (default: the one the harness asks for)")
@@ -84,7 +78,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--fifo", type=_scheduling(parse_priority), metavar="PRIORITY",
                         help="SCHED_FIFO real-time scheduling at PRIORITY 1..99 where permitted")
     arguments = parser.parse_args(argv)
-    period_s = arguments.period / 1000 if arguments.period else None
+    name, address = next((name, getattr(arguments, name)) for name in LINKS if getattr(arguments, name) is not None)
 
     def log(text: str) -> None:
         print(f"plc_stub: {text}", file=sys.stderr, flush=True)
@@ -92,13 +86,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     if arguments.cpu or arguments.fifo:
         log(f"scheduling: {place(arguments.cpu, arguments.fifo)}")
     try:
-        if arguments.can is not None:
-            return run_on_can(arguments.can, arguments.program, period_s, arguments.connect_timeout, log,
-                              arguments.can_link_id)
-        host, port = arguments.modbus
-        return run_forever(host, port, arguments.program, period_s, arguments.connect_timeout, log,
-                           answer_timeout_s=arguments.answer_timeout,
-                           key=key_file(arguments.key_file) if arguments.key_file else None)
+        options = PlcProcessOptions(
+            program=arguments.program, period_s=arguments.period / 1000 if arguments.period else None,
+            connect_timeout_s=arguments.connect_timeout, answer_timeout_s=arguments.answer_timeout,
+            key=key_file(arguments.key_file) if arguments.key_file else None, link_id=arguments.can_link_id)
+        run: PlcEndRunner = load(LINKS[name].plc_end)
+        return run(address, FACTORIES, options, log)
+    except BadAddress as error:
+        parser.error(f"argument --{name}: {error}")
     except LinkError as error:  # the key file
         log(str(error))
         return EXIT_CANNOT_RUN

@@ -81,3 +81,59 @@ def test_every_step_of_the_machine_reader_is_in_the_picture() -> None:
     modules = sorted(p.name for p in (ROOT / "vc" / "config" / "reader").glob("*.py") if p.name != "__init__.py")
     assert len(modules) == 6
     assert [name for name in modules if name not in text] == []
+
+
+LINKS_PACKAGE = ROOT / "interfaces" / "links"
+
+
+def _imported_modules(path: Path) -> list[str]:
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    imported = [node.module or "" for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)]
+    return imported + [alias.name for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names]
+
+
+def test_every_technology_folder_of_the_links_has_its_row_and_every_row_resolves() -> None:
+    """'A new link': one folder under interfaces/links/ and its row in LINKS, whose names all resolve."""
+    from interfaces.links import LINKS, load
+
+    folders = sorted(p.name for p in LINKS_PACKAGE.iterdir() if (p / "__init__.py").exists())
+    assert folders == sorted(kind.package.rsplit(".", 1)[1] for kind in LINKS.values()) == ["can", "modbus"]
+    for name, kind in LINKS.items():
+        assert kind.package == f"interfaces.links.{name}"
+        assert (LINKS_PACKAGE / name / "plc_end.py").exists()
+        for reference in (kind.plc_end, kind.harness, kind.plc_process, kind.in_process):
+            if reference is not None:
+                assert callable(load(reference)), reference
+
+
+def test_only_the_registry_names_every_link_technology() -> None:
+    """The registry imports no technology (it loads a row's names when that link is chosen), and a
+    technology's modules import neither the registry nor another technology."""
+    from interfaces.links import LINKS
+
+    packages = [kind.package for kind in LINKS.values()]
+    registry = _imported_modules(LINKS_PACKAGE / "__init__.py")
+    assert [module for module in registry if module.startswith("interfaces.links")] == []
+    for package in packages:
+        for path in (ROOT / package.replace(".", "/")).glob("*.py"):
+            imported = _imported_modules(path)
+            assert "interfaces.links" not in imported, path
+            others = [module for module in imported for other in packages
+                      if other != package and module.startswith(other)]
+            assert others == [], path
+    contracts = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["importlinter"]
+    for package in packages:
+        assert any(contract["type"] == "forbidden" and contract["source_modules"] == [package]
+                   and sorted(contract["forbidden_modules"]) == sorted(set(packages) - {package})
+                   for contract in contracts["contracts"]), f"no contract keeps {package} to itself"
+
+
+def test_the_architecture_names_the_steps_of_a_new_link_as_the_registry_has_them() -> None:
+    from interfaces.links import LinkKind
+
+    text = DOC.read_text(encoding="utf-8")
+    section = text[text.index("- **A new link**"): text.index("- **A new scenario step**")]
+    assert "`interfaces/links/__init__.py`" in section and "`interfaces/links/<technology>/`" in section
+    rows = [field.name for field in dataclasses.fields(LinkKind)]
+    assert [name for name in ("plc_end", "harness", "plc_process", "in_process") if name not in rows] == []
+    assert re.findall(r"\n  (\d)\. ", section) == ["1", "2", "3", "4", "5"]

@@ -9,9 +9,9 @@ import re
 from pathlib import Path
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import RegisterMap
 from interfaces.exports.codesys import codesys_gvl
 from interfaces.exports.context import ExportContext
+from interfaces.links.modbus.codec import RegisterMap
 from interfaces.signal_map import map_rows
 from interfaces.signals import expand
 from vc.config.loader import load_machine

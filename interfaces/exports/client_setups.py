@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from interfaces.codec_modbus import (
+from interfaces.links.modbus.codec import (
     LINK_REGISTERS,
     READ_INPUT,
     READ_LIMIT,

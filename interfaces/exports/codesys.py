@@ -18,10 +18,10 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from interfaces.codec_modbus import Table
 from interfaces.exports.client_setups import codesys_word
 from interfaces.exports.context import ExportContext
 from interfaces.exports.tags import DataType, PlcTag, plc_tags
+from interfaces.links.modbus.codec import Table
 from interfaces.signal_map import MapRow
 
 

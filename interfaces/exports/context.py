@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from interfaces.codec_modbus import RegisterMap
+from interfaces.links.modbus.codec import RegisterMap
 
 
 @dataclass(frozen=True, slots=True)

@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+from interfaces.links.errors import BadAddress
+
 
 def parse_endpoint(text: str) -> tuple[str, int]:
-    """``127.0.0.1:5020`` -> (host, port); an empty host is loopback.  ValueError says what is wrong."""
+    """``127.0.0.1:5020`` -> (host, port); an empty host is loopback.  :class:`BadAddress` (a ValueError)
+    says what is wrong."""
     host, _, port = text.rpartition(":")
     try:
         number = int(port)
     except ValueError:
-        raise ValueError(f"'{text}' is not HOST:PORT (e.g. 127.0.0.1:5020)") from None
+        raise BadAddress(f"'{text}' is not HOST:PORT (e.g. 127.0.0.1:5020)") from None
     if not 0 < number < 65536:
-        raise ValueError(f"'{text}': port {number} is outside 1..65535")
+        raise BadAddress(f"'{text}': port {number} is outside 1..65535")
     return host or "127.0.0.1", number

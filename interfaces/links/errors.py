@@ -12,3 +12,7 @@ class LinkError(VcError):
 
 class RequestRefused(LinkError):
     """The peer answered a request with a refusal (a Modbus exception response): the link itself stands."""
+
+
+class BadAddress(LinkError, ValueError):
+    """An address that has not the form the link's technology asks for (``HOST:PORT``, a bus)."""

@@ -13,10 +13,11 @@ from __future__ import annotations
 import hashlib
 import json
 
-from interfaces import codec_can, codec_modbus
 from interfaces.catalog import load_catalog
-from interfaces.codec_can import CanLayout
-from interfaces.codec_modbus import RegisterMap, Table
+from interfaces.links.can import codec as codec_can
+from interfaces.links.can.codec import CanLayout
+from interfaces.links.modbus import codec as codec_modbus
+from interfaces.links.modbus.codec import RegisterMap, Table
 from interfaces.signals import expand
 from vc.config.loader import load_machine
 from vc.config.machine_files import packaged_machines
@@ -81,11 +82,11 @@ def _check(link: str, version: int, pinned: dict[int, str], layout: dict[str, ob
 
 
 def test_the_modbus_link_version_stands_for_its_layout() -> None:
-    _check("Modbus", codec_modbus.LINK_VERSION, MODBUS_LAYOUTS, modbus_layout(), "interfaces/codec_modbus.py")
+    _check("Modbus", codec_modbus.LINK_VERSION, MODBUS_LAYOUTS, modbus_layout(), "interfaces/links/modbus/codec.py")
 
 
 def test_the_can_link_version_stands_for_its_layout() -> None:
-    _check("CAN", codec_can.LINK_VERSION, CAN_LAYOUTS, can_layout(), "interfaces/codec_can.py")
+    _check("CAN", codec_can.LINK_VERSION, CAN_LAYOUTS, can_layout(), "interfaces/links/can/codec.py")
 
 
 def test_a_moved_signal_changes_the_fingerprint() -> None:

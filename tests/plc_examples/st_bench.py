@@ -31,8 +31,8 @@ from blark import parse
 from blark import transform as tf
 from pyModbusTCP.client import ModbusClient
 
-from interfaces.codec_modbus import LINK_REGISTERS, LINK_VERSION, LinkHolding, LinkInput, RegisterMap, Table
 from interfaces.exports.client_setups import codesys_channels, codesys_word
+from interfaces.links.modbus.codec import LINK_REGISTERS, LINK_VERSION, LinkHolding, LinkInput, RegisterMap, Table
 
 BITS = {"BOOL": 1, "BYTE": 8, "USINT": 8, "WORD": 16, "UINT": 16, "DWORD": 32, "UDINT": 32, "TIME": 32}
 STUCK_S = 15.0  # no new grant for this long while the harness runs: it did not take the last scan

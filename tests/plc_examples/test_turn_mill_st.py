@@ -21,9 +21,9 @@ from pyModbusTCP.client import ModbusClient
 from st_bench import ChannelImage, HandshakeError, LockstepMaster, Program, StError, global_variables
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import RegisterMap
 from interfaces.exports.codesys import codesys_gvl
 from interfaces.exports.context import ExportContext
+from interfaces.links.modbus.codec import RegisterMap
 from interfaces.signal_map import map_rows
 from interfaces.signals import expand
 from vc.config.loader import load_machine

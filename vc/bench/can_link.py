@@ -24,8 +24,8 @@ from dataclasses import dataclass
 from multiprocessing.connection import Connection
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_can import CanLayout, Frame
-from interfaces.links.can_bus import BusSpec, CanBus, private_udp_bus, private_virtual_bus
+from interfaces.links.can.bus import BusSpec, CanBus, private_udp_bus, private_virtual_bus
+from interfaces.links.can.codec import CanLayout, Frame
 from interfaces.links.errors import LinkError
 from interfaces.signals import Direction, expand
 from vc.bench.lockstep import Workload, benchmark_machine

@@ -9,7 +9,7 @@ Three measurements, each a function that returns its figures:
   same register counts, each in a child process of its own so that both work under the same
   conditions, interleaved in rounds so that drift of the machine (frequency scaling, other
   load) falls on both alike.  The ratio of the medians is what the harness's request action
-  (:class:`~interfaces.links.modbus_tcp.ModbusTables`) adds to pymodbus.
+  (:class:`~interfaces.links.modbus.server.ModbusTables`) adds to pymodbus.
 * :func:`measure_lockstep`: the workload of ``vc bench`` (MDA program moving two axes) with
   ``python -m plc_stub`` in its own process on a lockstep link, in simulated seconds per wall
   second, next to the same workload with the PLC in this process.
@@ -18,7 +18,7 @@ Three measurements, each a function that returns its figures:
   start errors, and whether the NC saw the PLC's sign of life throughout (alarms 2000, 2001).
 
 The bare server is pymodbus itself, the yardstick
-(:func:`interfaces.links.modbus_tcp.start_plain_register_server`).
+(:func:`interfaces.links.modbus.server.start_plain_register_server`).
 """
 
 from __future__ import annotations
@@ -37,14 +37,11 @@ from multiprocessing.connection import Connection
 from typing import Any
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import READ_LIMIT, WRITE_LIMIT, LinkHolding, RegisterMap, Table
-from interfaces.links.modbus_tcp import (
-    LinkError,
-    ModbusLinkClient,
-    ModbusServerLink,
-    ModbusTables,
-    start_plain_register_server,
-)
+from interfaces.links.errors import LinkError
+from interfaces.links.modbus.client import ModbusLinkClient
+from interfaces.links.modbus.codec import READ_LIMIT, WRITE_LIMIT, LinkHolding, RegisterMap, Table
+from interfaces.links.modbus.server import ModbusServerLink, start_plain_register_server
+from interfaces.links.modbus.tables import ModbusTables
 from interfaces.signals import expand
 
 # The workload of ``vc bench`` itself, so that the lockstep and real-time figures compare with

@@ -54,9 +54,10 @@ from importlib import metadata
 from typing import Protocol
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import RegisterMap
 from interfaces.exports import EXPORTS, Export, ExportContext
-from interfaces.links.access import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CLIENTS
+from interfaces.links import INPROCESS, LINKS
+from interfaces.links.modbus.access import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CLIENTS
+from interfaces.links.modbus.codec import RegisterMap
 from interfaces.signal_map import MapRow, map_rows
 from interfaces.signals import expand
 from vc.cli.map_formats import FORMATTERS
@@ -90,8 +91,8 @@ def _map(arguments: argparse.Namespace) -> int:
         return 0
     can = machine.can
     if arguments.format == DBC_FORMAT:
-        from interfaces.can_dbc import dbc_text
-        from interfaces.codec_can import CanLayout
+        from interfaces.links.can.codec import CanLayout
+        from interfaces.links.can.dbc import dbc_text
         from vc.config.model import machine_ipo_cycle_us
 
         ipo_us = machine_ipo_cycle_us(machine)
@@ -333,10 +334,10 @@ def _run(arguments: argparse.Namespace) -> int:
         return EXIT_PROBLEMS
     from interfaces.links.errors import LinkError
 
-    if arguments.link != "inprocess" and arguments.jobs not in (None, 1):
+    if arguments.link != INPROCESS and arguments.jobs not in (None, 1):
         print(f"vc run: -j runs scenarios in process; with --link {arguments.link} they run one after another"
               " behind one PLC process", file=sys.stderr)
-    if arguments.cluster is not None and (arguments.link != "inprocess" or arguments.jobs is not None):
+    if arguments.cluster is not None and (arguments.link != INPROCESS or arguments.jobs is not None):
         print("vc run: --cluster runs the scenarios on the cluster's workers, with the PLC in process: it takes"
               " neither -j nor --link", file=sys.stderr)
         return EXIT_PROBLEMS
@@ -411,9 +412,9 @@ def _serve(arguments: argparse.Namespace) -> int:
     if (arguments.junit or arguments.keep_running) and not arguments.scenario:
         print("--junit and --keep-running need --scenario", file=sys.stderr)
         return EXIT_PROBLEMS
-    from interfaces.links.access import ConnectionLimits, key_file
-    from interfaces.links.can_bus import BusSpec
+    from interfaces.links.can.bus import BusSpec
     from interfaces.links.errors import LinkError
+    from interfaces.links.modbus.access import ConnectionLimits, key_file
     from interfaces.links.scheduling import parse_cpus, parse_priority
     from vc.harness.links.modbus import Endpoint
     from vc.harness.serve import ServeOptions, serve
@@ -517,9 +518,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--golden", metavar="DIR",
                      help="compare each scenario with its golden trace in DIR (regression check)")
     run.add_argument("--update-golden", action="store_true", help="write the golden traces of --golden DIR anew")
-    run.add_argument("--link", choices=("inprocess", "modbus", "can"), default="inprocess",
-                     help="where the PLC programs run: in this process (default) or in their own process"
-                          " over a lockstep Modbus TCP link or a lockstep CAN link")
+    run.add_argument("--link", choices=(INPROCESS, *LINKS), default=INPROCESS,
+                     help="where the PLC programs run: in this process (default) or in their own process over a"
+                          " lockstep link: " + ", ".join(f"{name} ({kind.title})" for name, kind in LINKS.items()))
     run.add_argument("--can-bus", metavar="BUS",
                      help="with --link can: udp_multicast[:GROUP:PORT] (default: a channel of this run) or"
                           " socketcan[:INTERFACE]")

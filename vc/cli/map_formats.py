@@ -2,7 +2,7 @@
 
 The rows come from :func:`interfaces.signal_map.map_rows`; the exports for PLC tools (TIA,
 CODESYS, OpenPLC, symbol tables) are in :mod:`interfaces.exports`, the DBC file in
-:mod:`interfaces.can_dbc`.
+:mod:`interfaces.links.can.dbc`.
 """
 
 from __future__ import annotations
@@ -52,7 +52,7 @@ def to_markdown(rows: Sequence[MapRow]) -> str:
         lines.append("| " + " | ".join(cells) + " |")
     convention = ("\n\nModbus: bit signals are coils (PLC writes) or discrete inputs (PLC reads) with number"
                   " = table byte x 8 + bit, and the same bit in its holding or input register (S7 byte order:"
-                  " an even table byte is the high byte). The convention: interfaces/codec_modbus.py;"
+                  " an even table byte is the high byte). The convention: interfaces/links/modbus/codec.py;"
                   " connecting a PLC: docs/modbus.md. CAN: the data frame's identifier and the signal's start"
                   " bit as in the DBC file (vc map --format dbc; docs/can.md).\n")
     return "# Signal map" + convention + "\n".join(lines) + "\n"

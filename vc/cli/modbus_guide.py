@@ -1,7 +1,7 @@
 """``vc map --format guide``: how to connect OpenPLC or CODESYS to ``vc serve`` over Modbus TCP.
 
 The guide is Markdown generated from the machine's register map
-(:class:`interfaces.codec_modbus.RegisterMap`) and its commissioning facts: every register, bit,
+(:class:`interfaces.links.modbus.codec.RegisterMap`) and its commissioning facts: every register, bit,
 device range and channel in it is computed, none is typed by hand, so it cannot drift from what the
 server does.  The sections on what a PLC must know besides the addresses (time base, sessions,
 referencing and wiring, the NC's rules, the alarm list, served scenarios) are in
@@ -26,7 +26,16 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
-from interfaces.codec_modbus import (
+from interfaces.commissioning import Commissioning
+from interfaces.exports.client_setups import (
+    OPENPLC_FIRST,
+    OPENPLC_SLAVE_ENTRIES,
+    RegisterBlock,
+    codesys_channels,
+    openplc_devices,
+)
+from interfaces.links.modbus.access import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CLIENTS
+from interfaces.links.modbus.codec import (
     DESCRIPTION_REGISTER,
     LINK_REGISTERS,
     LINK_VERSION,
@@ -52,16 +61,7 @@ from interfaces.codec_modbus import (
     Table,
     display_number,
 )
-from interfaces.commissioning import Commissioning
-from interfaces.exports.client_setups import (
-    OPENPLC_FIRST,
-    OPENPLC_SLAVE_ENTRIES,
-    RegisterBlock,
-    codesys_channels,
-    openplc_devices,
-)
-from interfaces.links.access import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_CLIENTS
-from interfaces.links.modbus_tcp import ANSWER_LIMIT, PENDING_LIMIT, RECEIVE_LIMIT, SERVED_FUNCTIONS
+from interfaces.links.modbus.server import ANSWER_LIMIT, PENDING_LIMIT, RECEIVE_LIMIT, SERVED_FUNCTIONS
 from interfaces.plant_io import PlantIoMap
 from interfaces.signal_map import LINK_ROWS
 from interfaces.signals import ExpandedCatalog, SignalRef, SignalType
@@ -646,5 +646,6 @@ def _lockstep(register_map: RegisterMap) -> list[str]:
         f" the session, advances one PLC period (IR {LinkInput.PLC_CYCLE_IPO} IPO cycles), publishes the new inputs"
         " and grants the next scan: the grant counts 1, 2, .. 65535, 1, .. and is never 0.",
         "",
-        "`python -m plc_stub --modbus HOST:PORT` is a client that follows this protocol (plc_stub/links/modbus.py).",
+        "`python -m plc_stub --modbus HOST:PORT` is a client that follows this protocol"
+        " (interfaces/links/modbus/plc_end.py).",
     ]

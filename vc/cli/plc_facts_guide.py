@@ -12,13 +12,13 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 
 from interfaces import alarm_block
-from interfaces.codec_modbus import (
+from interfaces.commissioning import Commissioning
+from interfaces.links.modbus.codec import (
     LinkHolding,
     LinkInput,
     RegisterMap,
     Table,
 )
-from interfaces.commissioning import Commissioning
 from interfaces.signals import ExpandedCatalog, SignalRef
 
 # DB31 signals of the gear stage change, for every spindle with a gearbox (seed 003 §13.4)

@@ -18,7 +18,7 @@
                           # interface restarts by its own setting (ip link ... restart-ms)
 
 Every key is optional; a machine file without the section uses the defaults.  Frame layout and
-identifiers: :mod:`interfaces.codec_can`.  The machine loader reads the section with the rest of
+identifiers: :mod:`interfaces.links.can.codec`.  The machine loader reads the section with the rest of
 the file (:func:`read_can_section`), checks it against the machine once its IPO cycle, channels,
 axes and plant I/O are known (:func:`check_against_machine`) and keeps the result in
 ``MachineConfig.can``; every problem is reported with ``file:line:column``.
@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_can import (
+from interfaces.links.can.codec import (
     DEFAULT_LINK_ID,
     DEFAULT_NC_TO_PLC_ID,
     DEFAULT_PLC_TO_NC_ID,

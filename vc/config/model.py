@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from interfaces.codec_can import DEFAULT_TIMEOUT_US, CanSettings
+from interfaces.links.can.codec import DEFAULT_TIMEOUT_US, CanSettings
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import InterfaceLayout
 from vc.config.machine_data import MachineData

@@ -20,17 +20,17 @@ from __future__ import annotations
 import subprocess
 import sys
 from abc import ABC, abstractmethod
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from types import TracebackType
-from typing import Any, Generic, Self, TypeVar
+from typing import Generic, Self, TypeVar
 
-from interfaces.links.can_bus import BusSpec, private_udp_bus
+from interfaces.links.can.bus import BusSpec, private_udp_bus
 from vc.config.model import MachineConfig
 from vc.harness.links import Link, LinkMode
 from vc.harness.links.can import CanLink
 from vc.harness.links.modbus import Endpoint, PlcLink
 from vc.harness.targets import simulation_for
-from vc.scenario.model import LINK_CAN, Scenario
+from vc.scenario.model import Scenario
 from vc.simulation.lockstep import Pacer, Simulation
 
 # plc: KIND:FILE -> the module run as ``python -m MODULE --modbus HOST:PORT FILE``
@@ -117,6 +117,12 @@ class PlcProcess(ChildPlcRun[PlcLink]):
         assert self.link.modbus is not None
         self._child = _PlcChild(["--modbus", f"127.0.0.1:{self.link.modbus.port}", *arguments], module=module)
 
+    @classmethod
+    def for_run(cls, address: str | None) -> PlcProcess:
+        """``vc run --link modbus`` (its row in interfaces/links/__init__.py): the server on an ephemeral
+        loopback port, whatever ``address`` says."""
+        return cls()
+
     def target_factory(self) -> Callable[[Scenario], Simulation]:
         def make(scenario: Scenario) -> Simulation:
             if scenario.plc_program is None or scenario.link is not None:
@@ -137,6 +143,12 @@ class CanPlcProcess(ChildPlcRun[CanLink]):
                             scan_timeout_s=scan_timeout_s, peer_ended=self._ended)
         self._link_id: int | None = None
 
+    @classmethod
+    def for_run(cls, address: str | None) -> CanPlcProcess:
+        """``vc run --link can`` (its row in interfaces/links/__init__.py): on the bus ``address`` (``vc run
+        --can-bus``), by default a UDP multicast channel of the run's own."""
+        return cls(bus=BusSpec.parse(address) if address else None)
+
     def simulation(self, machine: MachineConfig, program: str, pacer: Pacer | None = None) -> Simulation:
         """A power-on of ``machine`` (with its ``can:`` settings) and ``program`` in the process, over
         the bus; the process starts now if it does not run for these link identifiers."""
@@ -154,14 +166,6 @@ class CanPlcProcess(ChildPlcRun[CanLink]):
                 return simulation_for(scenario)
             return self.simulation(scenario.machine, scenario.plc_program)
         return make
-
-
-# ``vc run --link NAME``: the PLC process and its link, by technology; the argument is the run's CAN
-# bus (``--can-bus``; None: a UDP multicast channel of the run's own), which only CAN has
-PLC_PROCESSES: Mapping[str, Callable[[str | None], ChildPlcRun[Any]]] = {
-    "modbus": lambda can_bus: PlcProcess(),
-    LINK_CAN: lambda can_bus: CanPlcProcess(bus=BusSpec.parse(can_bus) if can_bus else None),
-}
 
 
 class ExternalPlcs:

@@ -8,7 +8,7 @@ the pacer sleeps coarsely until shortly before the deadline and then spins on th
 deadline and spins the rest outside the loop: a request handler that started late (pymodbus
 needs 0.1 to 0.3 ms for one) would otherwise delay the cycle; a request that arrives in that
 last half millisecond is answered in the next cycle.  The Modbus server bounds its work per pass
-of the loop (:mod:`interfaces.links.modbus_tcp`), so a flood of requests cannot hold the loop
+of the loop (:mod:`interfaces.links.modbus.server`), so a flood of requests cannot hold the loop
 past that quiet time either.
 
 The pacer keeps a fixed schedule (cycle n starts at t0 + n * period / speed).  It records the

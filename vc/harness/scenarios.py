@@ -7,9 +7,11 @@ The targets come from :mod:`vc.harness.targets` (in this process) and :mod:`vc.h
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from typing import Any
 
+from interfaces.links import INPROCESS, link_kind, load
 from interfaces.links.inprocess import plc_programs
-from vc.harness.external_plc import PLC_PROCESSES, ExternalPlcs
+from vc.harness.external_plc import ChildPlcRun, ExternalPlcs
 from vc.harness.targets import TargetFactory, simulation_for
 from vc.input_limits import MAX_RUN_VARIANTS
 from vc.scenario.cluster import ClusterSettings
@@ -23,7 +25,7 @@ Observe = Callable[[TargetFactory], Callable[[Scenario], ScenarioTarget]]
 
 
 def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_dir: str | None = None,
-                       golden: str | None = None, update_golden: bool = False, link: str = "inprocess",
+                       golden: str | None = None, update_golden: bool = False, link: str = INPROCESS,
                        can_bus: str | None = None, jobs: int | None = None, observe: Observe | None = None,
                        cluster: str | None = None, cluster_files: str = "send", report_dir: str | None = None,
                        max_variants: int = MAX_RUN_VARIANTS) -> int:
@@ -49,8 +51,9 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
                                cluster=on if observe is None else None, report_dir=report_dir,
                                max_variants=max_variants)
 
-    if link in PLC_PROCESSES:
-        with PLC_PROCESSES[link](can_bus) as process:
+    if link != INPROCESS:
+        plc_process: Callable[[str | None], ChildPlcRun[Any]] = load(link_kind(link).plc_process)
+        with plc_process(can_bus) as process:
             return run(process.target_factory())
     return run(simulation_for, jobs, ClusterSettings(cluster, cluster_files) if cluster else None)
 

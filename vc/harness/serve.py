@@ -32,18 +32,18 @@ import time as wallclock
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from interfaces.links.access import ConnectionLimits
-from interfaces.links.can_bus import BusSpec
+from interfaces.links import link_kind, load
+from interfaces.links.can.bus import BusSpec
 from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import plc_programs
+from interfaces.links.modbus.access import ConnectionLimits
 from interfaces.links.scheduling import place
 from vc.config.loader import load_machine
 from vc.config.machine_files import machine_file, unknown_machine
 from vc.config.model import MachineConfig
 from vc.harness.external_plc import EXTERNAL_PLC_MODULES
 from vc.harness.links import Link, LinkMode
-from vc.harness.links.can import CanLink
-from vc.harness.links.modbus import Endpoint, PlcLink, check_bind
+from vc.harness.links.modbus import Endpoint, PlcLink
 from vc.harness.pacer import RealtimePacer
 from vc.scenario.command import EXIT_PASSED, run_command
 from vc.scenario.model import Scenario, external_plc
@@ -62,7 +62,7 @@ class ServeOptions:
     can: BusSpec | None = None  # a CAN bus instead of the servers
     allow_remote: bool = False
     allowed_clients: tuple[str, ...] = ()
-    allow_writers: tuple[str, ...] = ()  # besides the session's PLC (interfaces/links/access.py)
+    allow_writers: tuple[str, ...] = ()  # besides the session's PLC (interfaces/links/modbus/access.py)
     limits: ConnectionLimits = field(default_factory=ConnectionLimits)
     realtime: bool = False
     speed: float | None = 1.0  # None: as fast as possible
@@ -78,6 +78,12 @@ class ServeOptions:
     plc_key: int | None = None  # the only session key a PLC's claim may carry (--plc-key-file)
     cpus: frozenset[int] | None = None  # pin the server to these CPUs (--cpu)
     fifo_priority: int | None = None  # SCHED_FIFO at this priority, where permitted (--fifo)
+
+    @property
+    def link(self) -> str:
+        """The kind of link served (interfaces/links/__init__.py): a CAN bus when ``--can`` names one,
+        else Modbus TCP (and S7)."""
+        return "can" if self.can is not None else "modbus"
 
 
 class AlarmWatch:
@@ -107,24 +113,15 @@ def serve(options: ServeOptions) -> int:
     say = options.say
     if options.can is not None and (options.modbus or options.s7):
         raise LinkError("serve either a CAN bus or Modbus TCP / S7, not both")
-    modbus = options.modbus if options.modbus or options.s7 or options.can else Endpoint("127.0.0.1", 5020)
-    for endpoint in (modbus, options.s7):
-        if endpoint is not None:
-            check_bind(endpoint, options.allow_remote)
-    machine, program, scenario_path = _machine_and_program(options)
+    serving: Callable[..., Link] = load(link_kind(options.link).harness)
     mode = LinkMode.FREE_RUNNING if options.realtime else LinkMode.LOCKSTEP
+    machine, program, scenario_path = _machine_and_program(options)
     placement = place(options.cpus, options.fifo_priority)
     def on_wait(text: str) -> None:
         say(f"waiting: {text}")
 
-    link: Link
-    if options.can is not None:
-        link = CanLink(mode, options.can, first_scan_timeout_s=None, scan_timeout_s=None, on_wait=on_wait)
-    else:
-        link = PlcLink(mode, modbus=modbus, s7=options.s7, allowed_clients=options.allowed_clients,
-                       allow_writers=options.allow_writers, limits=options.limits, first_scan_timeout_s=None,
-                       scan_timeout_s=None, on_wait=on_wait, required_key=options.plc_key,
-                       on_notice=lambda text: say(f"{text}; {NEW_SESSION_HINT.format(pid=os.getpid())}"))
+    link = serving(options, mode, on_wait=on_wait,
+                   on_notice=lambda text: say(f"{text}; {NEW_SESSION_HINT.format(pid=os.getpid())}"))
     loop = link.loop or asyncio.new_event_loop()  # the pacer's
     if isinstance(link, PlcLink):
         _take_new_session_requests(link, say)

@@ -8,7 +8,9 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from vc.scenario.model import LINK_CAN, Scenario
+from interfaces.links import link_kind, load
+from vc.config.model import MachineConfig
+from vc.scenario.model import Scenario
 from vc.simulation.lockstep import Simulation
 
 TargetFactory = Callable[[Scenario], Simulation]
@@ -16,9 +18,12 @@ TargetFactory = Callable[[Scenario], Simulation]
 
 def simulation_for(scenario: Scenario) -> Simulation:
     """A fresh power-on of the scenario's machine with its PLC program (or none); a scenario that
-    asks for a CAN link gets its program behind a virtual CAN bus in this process."""
-    if scenario.plc_program is not None and scenario.link == LINK_CAN:
-        from vc.harness.links.can import virtual_can_simulation  # python-can only for such a scenario
-
-        return virtual_can_simulation(scenario.machine, scenario.plc_program)
+    asks for a link (``link: can``) gets its program behind that link in this process (a virtual CAN
+    bus: the ``in_process`` of the link's row in interfaces/links/__init__.py)."""
+    if scenario.plc_program is not None and scenario.link is not None:
+        in_process = link_kind(scenario.link).in_process
+        assert in_process is not None  # the scenario's loader admits only links that offer it
+        # the link's library (python-can) is imported only for such a scenario
+        behind_link: Callable[[MachineConfig, str], Simulation] = load(in_process)
+        return behind_link(scenario.machine, scenario.plc_program)
     return Simulation(scenario.machine, scenario.plc_program)

@@ -27,6 +27,7 @@ import os
 from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from dataclasses import replace
 
+from interfaces.links import in_process_links
 from interfaces.plc import PlcEnvironment, PlcFactory
 from interfaces.signals import Catalog, ExpandedCatalog, InterfaceLayout, expand
 from vc.config.loader import load_machine
@@ -46,7 +47,7 @@ from vc.scenario.variants import VariantCeiling, check_file
 TOP_KEYS = ("name", "description", "machine", "plc", "link", "machine_data", "plc_parameters", "timeout",
             "invariants", "steps")
 REQUIRED_TOP_KEYS = ("name", "machine", "plc", "steps")
-LINKS = (LINK_CAN,)
+LINKS = in_process_links()  # a scenario's link: NAME (interfaces/links/__init__.py)
 DEFAULT_TIMEOUT = Duration(300_000_000)
 SCENARIO_SUFFIXES = (".yaml", ".yml")
 SKIPPED_DIRECTORY = "machines"

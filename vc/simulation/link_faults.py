@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from enum import StrEnum
 from typing import Generic, Protocol, TypeVar, runtime_checkable
 
-from interfaces.codec_can import ControllerState
+from interfaces.links.can.codec import ControllerState
 from interfaces.signals import Direction
 from vc.simulation.observables import LINK_AREA as LINK_AREA  # the link frames among a fault's areas
 

@@ -11,7 +11,6 @@ from pathlib import Path
 import pytest
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import RegisterMap, Table
 from interfaces.exports import EXPORTS, ExportContext
 from interfaces.exports.client_setups import codesys_channels, codesys_word
 from interfaces.exports.codesys import codesys_gvl
@@ -19,6 +18,7 @@ from interfaces.exports.openplc import openplc_variables
 from interfaces.exports.symbol_tables import awlsim_csv, step7_asc
 from interfaces.exports.tags import S7_SYMBOL_LENGTH, PlcTag, plc_tags, short_name, short_names
 from interfaces.exports.tia import COLUMNS, SHEET, tia_workbook
+from interfaces.links.modbus.codec import RegisterMap, Table
 from interfaces.signal_map import MapRow, map_rows
 from interfaces.signals import expand
 from vc.cli.main import main

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from interfaces.codec_modbus import READ_LIMIT, WRITE_LIMIT, Table
+from interfaces.links.modbus.codec import READ_LIMIT, WRITE_LIMIT, Table
 from vc.bench import modbus_link
 from vc.bench.modbus_link import (
     ExchangeClient,

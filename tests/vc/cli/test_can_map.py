@@ -13,10 +13,10 @@ import cantools
 import pytest
 from cantools.database.can import Database
 
-from interfaces.can_dbc import dbc_name
-from interfaces.codec_can import Frame
 from interfaces.image import decode
-from interfaces.links.can_bus import CanBus
+from interfaces.links.can.bus import CanBus
+from interfaces.links.can.codec import Frame
+from interfaces.links.can.dbc import dbc_name
 from interfaces.signals import SignalRef
 from vc.cli.main import main
 from vc.config.loader import load_machine

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import READ_LIMIT, WRITE_LIMIT, RegisterMap, Table, display_number
+from interfaces.links.modbus.codec import READ_LIMIT, WRITE_LIMIT, RegisterMap, Table, display_number
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import ExpandedCatalog, expand
 from vc.cli.main import main

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from interfaces.codec_can import CanSettings
+from interfaces.links.can.codec import CanSettings
 from vc.config.can_config import read_can_section
 from vc.config.loader import load_machine
 from vc.config.model import CanConfig

@@ -10,9 +10,9 @@ import json
 import pytest
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import MAX_DESCRIPTION_BYTES, RegisterMap
 from interfaces.commissioning import RULES, Commissioning
-from interfaces.link_description import LinkDescription
+from interfaces.links.description import LinkDescription
+from interfaces.links.modbus.codec import MAX_DESCRIPTION_BYTES, RegisterMap
 from interfaces.plc import PlcEnvironment
 from interfaces.signals import expand
 from vc.cli.main import main

@@ -3,7 +3,7 @@ drives the NC's CAN controller bus-off, its error counter and its restart."""
 
 from __future__ import annotations
 
-from interfaces.codec_can import ControllerState
+from interfaces.links.can.codec import ControllerState
 from interfaces.signals import Direction
 from vc.simulation.link_faults import CanController, FaultyWire, LinkFault, LinkFaultKind, active, disturbed
 from vc.simulation.observables import LINK_FAULTS

@@ -23,8 +23,8 @@ import threading
 import time as wallclock
 from dataclasses import dataclass
 
-from interfaces.codec_can import Frame
-from interfaces.links.can_bus import CAN_ERR_BUSOFF, BusSpec, CanBus, private_udp_bus
+from interfaces.links.can.bus import CAN_ERR_BUSOFF, BusSpec, CanBus, private_udp_bus
+from interfaces.links.can.codec import Frame
 from vc.bench.robustness.campaign import CampaignSettings, Row, Say
 from vc.bench.robustness.processes import CampaignError, ServedNc, final_pacing, growth_pct
 

@@ -4,7 +4,7 @@
 this process each read 125 input registers, send the next request as soon as the answer is in,
 for ``seconds``, after :data:`QUIET_S` of the same without the flood (what the host's other work
 costs the NC, for comparison).  The server answers its PLC first and bounds its work per pass of the event loop
-(interfaces/links/modbus_tcp.py), so the NC keeps its period: the row gives the overruns of the
+(interfaces/links/modbus/server.py), so the NC keeps its period: the row gives the overruns of the
 flood's cycles (those caused by serving the links apart), the share of real time the NC kept,
 the requests answered per second and whether the PLC's sign of life stayed (alarm 2000).
 """

@@ -28,7 +28,7 @@ import time as wallclock
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from interfaces.links.modbus_tcp import SERVED_FUNCTIONS, WRITE_FUNCTIONS
+from interfaces.links.modbus.server import SERVED_FUNCTIONS, WRITE_FUNCTIONS
 from vc.bench.robustness.campaign import CampaignSettings, Row, Say
 from vc.bench.robustness.processes import ServedNc, final_pacing, growth_pct
 

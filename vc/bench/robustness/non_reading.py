@@ -9,8 +9,8 @@ would fill); a connection the server closes is made again, so the abuse goes on 
 part.  Meanwhile a well-behaved client reads once every :data:`PROBE_PERIOD_S`.
 
 The server's resident memory (RSS) is sampled throughout.  Rule violations: growth beyond what the
-server may hold for the connections (:data:`~interfaces.links.modbus_tcp.RECEIVE_LIMIT` bytes
-received, one read of the socket, :data:`~interfaces.links.modbus_tcp.ANSWER_LIMIT` bytes of
+server may hold for the connections (:data:`~interfaces.links.modbus.server.RECEIVE_LIMIT` bytes
+received, one read of the socket, :data:`~interfaces.links.modbus.server.ANSWER_LIMIT` bytes of
 answers each, and :data:`MARGIN_KB` for the allocator).  A request of the well-behaved client
 without an answer is a lost request.  Alarm 2000 is a figure, as in the flood part: on a busy host
 the PLC's sign of life may stand for MD10100 while both processes wait for a core.  The notes say how often the server
@@ -27,7 +27,8 @@ import threading
 import time as wallclock
 
 from interfaces.links.errors import LinkError
-from interfaces.links.modbus_tcp import ANSWER_LIMIT, RECEIVE_LIMIT, ModbusLinkClient
+from interfaces.links.modbus.client import ModbusLinkClient
+from interfaces.links.modbus.server import ANSWER_LIMIT, RECEIVE_LIMIT
 from vc.bench.robustness.campaign import CampaignSettings, Row, Say
 from vc.bench.robustness.processes import ServedNc, final_pacing
 

@@ -34,9 +34,9 @@ from pathlib import Path
 import snap7
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import Location, RegisterMap
 from interfaces.links.errors import LinkError
-from interfaces.links.modbus_tcp import ModbusLinkClient
+from interfaces.links.modbus.client import ModbusLinkClient
+from interfaces.links.modbus.codec import Location, RegisterMap
 from interfaces.signals import expand
 from vc.bench.robustness.campaign import CampaignSettings, Row, Say
 from vc.bench.robustness.modbus_fuzz import _frame, _Wire

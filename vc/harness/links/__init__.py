@@ -9,10 +9,10 @@
 ``patience.py``        how long both wait for the PLC and what they say meanwhile
 =====================  ====================================================================
 
-The protocols themselves (pymodbus, python-snap7, python-can, the PLC's CAN node) are the adapters
-of :mod:`interfaces.links`; the PLC's end of each link is ``plc_stub/links/<technology>.py``.
-The runners choose a link by its name (``vc run --link modbus|can``) in
-:data:`vc.harness.external_plc.PLC_PROCESSES`.
+The protocols themselves and the PLC's end of each link live in ``interfaces/links/<technology>/``;
+the registry of link kinds (:data:`interfaces.links.LINKS`) names, per technology, the function of
+its module here that ``vc serve`` serves (``serving``), the PLC process of ``vc run --link NAME``
+(:mod:`vc.harness.external_plc`) and a scenario's ``link: NAME`` in process (:mod:`vc.harness.targets`).
 
 A link is a :class:`~interfaces.plc.PlcConnector`: every power-on of the simulation connects, which
 opens a new session and hands the simulation the PLC of that session.  Faults of the bus are a

@@ -1,4 +1,4 @@
-"""The harness's end of a PLC on a CAN bus (:mod:`interfaces.codec_can`): sessions, cyclic frames,
+"""The harness's end of a PLC on a CAN bus (:mod:`interfaces.links.can.codec`): sessions, cyclic frames,
 the time-out monitor, lockstep and faults of the bus.
 
 :class:`CanLink` is a :class:`~vc.harness.links.Link`: at every power-on it opens a session
@@ -28,11 +28,11 @@ well: while it is bus-off the NC sends nothing.  In lockstep the link frames are
 stepping's handshake: a fault never withholds a grant or a scan-done report from the stepping,
 only their content from the other side (the NC's sign of life from the PLC, the PLC's from the
 NC); the data frames are withheld completely.  The PLC watches the NC's frames in turn
-(:mod:`interfaces.links.can_plc`) and says so in its link frame.  What the bus itself does wrong
+(:mod:`interfaces.links.can.plc_end`) and says so in its link frame.  What the bus itself does wrong
 is a fault of the link as well, never the end of a run: a frame it refuses to send and a receive
 that fails are counted (``bus_errors``, in ``vc serve``'s statistics line) and the frame is lost,
 a datagram that is no frame or an error frame on the wire is counted by the adapter
-(:mod:`interfaces.links.can_bus`).
+(:mod:`interfaces.links.can.bus`).
 
 The link's counters and states are scenario quantities (``CAN.lostFromPlc``, ``CAN.busState``
 ...: ``LINK_QUANTITIES`` in vc/simulation/observables.py), counted per session.
@@ -45,8 +45,12 @@ import time as wallclock
 import weakref
 from collections.abc import Callable, Mapping
 from types import TracebackType
+from typing import Protocol
 
-from interfaces.codec_can import (
+from interfaces.exchange import MODE_FREE_RUNNING, MODE_LOCKSTEP, grant_of_scan, next_session
+from interfaces.image import ProcessImage
+from interfaces.links.can.bus import BusSpec, CanBus, private_virtual_bus
+from interfaces.links.can.codec import (
     DEFAULT_LINK_ID,
     CanLayout,
     ControllerState,
@@ -55,14 +59,11 @@ from interfaces.codec_can import (
     PlcLink,
     description_frames,
 )
-from interfaces.codec_modbus import RegisterMap
-from interfaces.exchange import MODE_FREE_RUNNING, MODE_LOCKSTEP, grant_of_scan, next_session
-from interfaces.image import ProcessImage
-from interfaces.link_description import LinkDescription
-from interfaces.links.can_bus import BusSpec, CanBus, private_virtual_bus
-from interfaces.links.can_plc import CanPlcNode
+from interfaces.links.can.plc_end import CanPlcNode
+from interfaces.links.description import LinkDescription
 from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import plc_programs
+from interfaces.links.modbus.codec import RegisterMap
 from interfaces.plc import PlcEnvironment
 from interfaces.signals import Direction
 from vc.config.model import CanConfig, MachineConfig
@@ -72,6 +73,21 @@ from vc.simulation.link_faults import LINK_AREA, CanController, FaultyWire, Link
 from vc.simulation.lockstep import Simulation
 
 RECEIVE_WAIT_S = 0.5  # lockstep: how long one receive waits before the patience is checked
+
+
+class ServedCan(Protocol):
+    """What ``vc serve`` says of its CAN bus (a field of its options)."""
+
+    can: BusSpec | None
+
+
+def serving(options: ServedCan, mode: LinkMode, on_wait: Callable[[str], None],
+            on_notice: Callable[[str], None]) -> CanLink:
+    """``vc serve``'s link (its row in interfaces/links/__init__.py): a node on the bus of ``--can``; it
+    waits for the PLC without a time-out (``on_notice``: the CAN link has no operator's sessions)."""
+    if options.can is None:
+        raise LinkError("a served CAN link needs its bus (vc serve --can BUS)")
+    return CanLink(mode, options.can, first_scan_timeout_s=None, scan_timeout_s=None, on_wait=on_wait)
 
 
 class CanLink:

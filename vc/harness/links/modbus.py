@@ -13,8 +13,8 @@ the session number in the link block) and hands the simulation a :class:`LinkedP
   last exchange; the PLC scans on its own clock and its scan counter is its sign of life.
 
 The servers share one asyncio loop with the pacer, run only while the harness waits; see
-:mod:`interfaces.links.modbus_tcp` for the threading argument.  Only the session's PLC writes
-into the NC (:mod:`interfaces.links.access`): the connection that wrote the session into holding
+:mod:`interfaces.links.modbus.server` for the threading argument.  Only the session's PLC writes
+into the NC (:mod:`interfaces.links.modbus.access`): the connection that wrote the session into holding
 register 1 (or, over S7, wrote first), one owner for both servers.  When it is lost the session
 closes: a restarted PLC gets a session only at the next power-on or when the operator opens one
 (:meth:`PlcLink.open_new_session`).
@@ -22,7 +22,7 @@ closes: a restarted PLC gets a session only at the next power-on or when the ope
 S7 is a second server of the same link, not a link of its own: it shares the sessions, the owner
 and the outputs with the Modbus server (its tables mirror the Modbus PLC's outputs, and a
 free-running S7 PLC writes into the same areas), and lockstep needs the Modbus handshake
-registers; the S7 protocol itself is in :mod:`interfaces.links.s7`.
+registers; the S7 protocol itself is in :mod:`interfaces.links.modbus.s7`.
 """
 
 from __future__ import annotations
@@ -33,8 +33,14 @@ import secrets
 import struct
 from collections.abc import Callable, Collection, Mapping
 from dataclasses import dataclass
+from typing import Protocol
 
-from interfaces.codec_modbus import (
+from interfaces.exchange import grant_of_scan, next_session
+from interfaces.image import ProcessImage
+from interfaces.links.description import LinkDescription
+from interfaces.links.errors import LinkError
+from interfaces.links.modbus.access import ConnectionLimits, LinkOwner, OwnerState
+from interfaces.links.modbus.codec import (
     DESCRIPTION_REGISTER,
     LINK_VERSION,
     MODE_FREE_RUNNING,
@@ -44,13 +50,9 @@ from interfaces.codec_modbus import (
     RegisterMap,
     Table,
 )
-from interfaces.exchange import grant_of_scan, next_session
-from interfaces.image import ProcessImage
-from interfaces.link_description import LinkDescription
-from interfaces.links.access import ConnectionLimits, LinkOwner, OwnerState
-from interfaces.links.errors import LinkError
-from interfaces.links.modbus_tcp import ModbusServerLink, ModbusTables
-from interfaces.links.s7 import S7ServerLink
+from interfaces.links.modbus.s7 import S7ServerLink
+from interfaces.links.modbus.server import ModbusServerLink
+from interfaces.links.modbus.tables import ModbusTables
 from interfaces.plc import PlcEnvironment
 from vc.config.model import MachineConfig
 from vc.harness.links import LinkMode
@@ -91,6 +93,35 @@ def check_bind(endpoint: Endpoint, allow_remote: bool) -> None:
                         " write into the NC; add --allow-remote to do so")
 
 
+class ServedModbus(Protocol):
+    """What ``vc serve`` says of its Modbus TCP and S7 servers (the fields of its options)."""
+
+    modbus: Endpoint | None
+    s7: Endpoint | None
+    allow_remote: bool
+    allowed_clients: tuple[str, ...]
+    allow_writers: tuple[str, ...]
+    limits: ConnectionLimits
+    plc_key: int | None
+
+
+DEFAULT_SERVED = Endpoint("127.0.0.1", 5020)  # vc serve without --modbus or --s7
+
+
+def serving(options: ServedModbus, mode: LinkMode, on_wait: Callable[[str], None],
+            on_notice: Callable[[str], None]) -> PlcLink:
+    """``vc serve``'s link (its row in interfaces/links/__init__.py): the Modbus TCP server (by default
+    on 127.0.0.1:5020) and the S7 server asked for, on loopback unless remote access is allowed; it
+    waits for the PLC without a time-out."""
+    modbus = options.modbus if options.modbus or options.s7 else DEFAULT_SERVED
+    for endpoint in (modbus, options.s7):
+        if endpoint is not None:
+            check_bind(endpoint, options.allow_remote)
+    return PlcLink(mode, modbus=modbus, s7=options.s7, allowed_clients=options.allowed_clients,
+                   allow_writers=options.allow_writers, limits=options.limits, first_scan_timeout_s=None,
+                   scan_timeout_s=None, on_wait=on_wait, required_key=options.plc_key, on_notice=on_notice)
+
+
 class PlcLink:
     """Servers for a remote PLC and the sessions of one harness run (see the module docstring)."""
 
@@ -102,7 +133,7 @@ class PlcLink:
                  required_key: int | None = None, on_notice: Callable[[str], None] | None = None):
         """``allowed_clients``: who may connect; ``allow_writers``: who may write besides the
         session's PLC; ``limits``: connections and idle time-out; ``required_key``: the only session
-        key a claim may carry (interfaces/links/access.py).  ``peer_ended`` tells why the PLC process
+        key a claim may carry (interfaces/links/modbus/access.py).  ``peer_ended`` tells why the PLC process
         the harness started is gone (None while it runs), so that lockstep stops waiting for a PLC
         that cannot answer any more.  ``boot_id`` (default: random, 1..65535) tells a PLC this link
         from one of an earlier harness process, whose sessions counted from 1 as well; it is link

@@ -20,7 +20,7 @@ import can
 import pytest
 from panel_operator import images, operate
 
-from interfaces.links.can_bus import BusSpec, CanBus, private_udp_bus, socketcan_available
+from interfaces.links.can.bus import BusSpec, CanBus, private_udp_bus, socketcan_available
 from interfaces.links.errors import LinkError
 from vc.config.loader import load_machine
 from vc.config.model import CanConfig, MachineConfig

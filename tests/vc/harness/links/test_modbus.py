@@ -19,8 +19,8 @@ import pytest
 from panel_operator import images, operate
 from pyModbusTCP.client import ModbusClient
 
-from interfaces.links.access import OwnerState
-from interfaces.links.modbus_tcp import LinkError
+from interfaces.links.errors import LinkError
+from interfaces.links.modbus.access import OwnerState
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.harness.external_plc import PlcProcess
@@ -345,8 +345,8 @@ def test_the_alarm_block_db100_reaches_a_modbus_client_and_an_s7_client() -> Non
     the NC-to-PLC table, and as S7 data block DB100."""
     import threading
 
-    from interfaces.codec_modbus import RegisterMap, Table
-    from interfaces.links.modbus_tcp import ModbusLinkClient
+    from interfaces.links.modbus.client import ModbusLinkClient
+    from interfaces.links.modbus.codec import RegisterMap, Table
 
     with PlcProcess(s7=Endpoint("127.0.0.1", 0)) as plc:
         simulation = Simulation(TURN_MILL, "basic_machine", connector=plc.link)
@@ -395,7 +395,8 @@ class _TablesClient:
 def test_a_new_boot_id_restarts_the_plc_program_though_the_session_number_is_the_same() -> None:
     """Sessions count from 1 in every harness process: a PLC that carried on across a server restart
     because it saw session 1 again would run on stale state.  The boot id (IR 12) tells them apart."""
-    from plc_stub.links.modbus import RemotePlc
+    from interfaces.links.modbus.plc_end import RemotePlc
+    from plc_stub.programs import FACTORIES
 
     first = PlcLink(LinkMode.FREE_RUNNING, modbus=Endpoint("127.0.0.1", 0), boot_id=111)
     second = PlcLink(LinkMode.FREE_RUNNING, modbus=Endpoint("127.0.0.1", 0))
@@ -403,7 +404,7 @@ def test_a_new_boot_id_restarts_the_plc_program_though_the_session_number_is_the
         assert 1 <= second.boot_id <= 0xFFFF
         second.boot_id = 222  # the random one, made known for the test
         client = _TablesClient(first)
-        plc = RemotePlc(client)  # type: ignore[arg-type]
+        plc = RemotePlc(client, FACTORIES)  # type: ignore[arg-type]
         Simulation(TURN_MILL, "basic_machine", connector=first).step(5)
         assert plc.poll() and plc.session is not None and (plc.session.number, plc.session.boot_id) == (1, 111)
         started = plc.session

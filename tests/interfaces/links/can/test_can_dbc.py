@@ -1,4 +1,4 @@
-"""The DBC file of interfaces/can_dbc.py: cantools reads it back, every signal is in it under its
+"""The DBC file of interfaces/links/can/dbc.py: cantools reads it back, every signal is in it under its
 symbol at its bit, and decoding the codec's frames with it gives the values of the image."""
 
 from __future__ import annotations
@@ -12,10 +12,10 @@ from cantools.database.can import Database
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from interfaces.can_dbc import dbc_name, dbc_text
 from interfaces.catalog import load_catalog
-from interfaces.codec_can import LINK_VERSION, CanLayout, CanSettings
 from interfaces.image import ProcessImage, decode
+from interfaces.links.can.codec import LINK_VERSION, CanLayout, CanSettings
+from interfaces.links.can.dbc import dbc_name, dbc_text
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import Direction, ExpandedCatalog, InterfaceLayout, SignalRef, SignalType, expand
 
@@ -95,7 +95,7 @@ def test_cantools_decodes_the_frames_to_the_values_of_the_image(seed: int) -> No
 
 
 def test_link_frames_decode_with_the_dbc() -> None:
-    from interfaces.codec_can import NcLink, PlcLink
+    from interfaces.links.can.codec import NcLink, PlcLink
 
     nc = NcLink(1, 7, 3, 42).encode(CanSettings())
     assert database().decode_message(nc.can_id, nc.data) == {

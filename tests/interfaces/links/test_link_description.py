@@ -6,8 +6,8 @@ import dataclasses
 
 import pytest
 
-from interfaces.codec_can import CanSettings
-from interfaces.link_description import DescriptionError, LinkDescription, PlcSetupError
+from interfaces.links.can.codec import CanSettings
+from interfaces.links.description import DescriptionError, LinkDescription, PlcSetupError
 
 DESCRIPTION = LinkDescription("turn_mill", ("CHAN1",), ("X1", "SP1"), {"I0.0": "MCP.auto"}, 2000, 5, "spindle",
                               {"esr_time": 0.3}, 323, 132)
@@ -30,7 +30,7 @@ def test_a_plc_refuses_what_it_cannot_read_with_its_setup_error(text: bytes) -> 
 
 def test_the_description_says_where_the_alarm_block_is_and_what_its_codes_mean() -> None:
     from interfaces.catalog import load_catalog
-    from interfaces.codec_modbus import RegisterMap, Table
+    from interfaces.links.modbus.codec import RegisterMap, Table
     from interfaces.plant_io import PlantIoMap
     from interfaces.plc import PlcEnvironment
     from interfaces.signals import InterfaceLayout, expand

@@ -1,8 +1,8 @@
 """The CAN frames of one machine as a DBC file, through cantools (pure: returns the text).
 
-One message per frame of :class:`~interfaces.codec_can.CanLayout`, sent by node ``NC`` or ``PLC``
+One message per frame of :class:`~interfaces.links.can.codec.CanLayout`, sent by node ``NC`` or ``PLC``
 with the frame's cycle time; in it one signal per catalogue signal and plant I/O point, named by
-its symbol and placed at its bit (the convention of :mod:`interfaces.codec_can`: bits and bytes
+its symbol and placed at its bit (the convention of :mod:`interfaces.links.can.codec`: bits and bytes
 Intel, S7 words and double words Motorola, reals IEEE 754 singles), plus the frame's ``checksum``.
 DBC names are C identifiers, so the symbol's dots (and brackets) become underscores
 (``X1.basic.in.enc1Synchronized`` -> ``X1_basic_in_enc1Synchronized``); the comment of every
@@ -21,7 +21,7 @@ from cantools.database.can import Database, Message, Node, Signal
 from cantools.database.can.formats.dbc import DbcAttribute, DbcAttributeDefinition, DbcSpecifics
 from cantools.database.conversion import BaseConversion
 
-from interfaces.codec_can import LINK_FRAME_BYTES, LINK_VERSION, CanLayout, CanLocation
+from interfaces.links.can.codec import LINK_FRAME_BYTES, LINK_VERSION, CanLayout, CanLocation
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import Direction, ExpandedCatalog, SignalRef, SignalType
 

@@ -1,4 +1,4 @@
-"""The CAN convention of interfaces/codec_can.py, checked both ways: the layout of the frames, the
+"""The CAN convention of interfaces/links/can/codec.py, checked both ways: the layout of the frames, the
 process image through the frames and back, the place of every signal, the checksum, the link
 frames and the description stream."""
 
@@ -12,7 +12,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_can import (
+from interfaces.exchange import exchange_ranges
+from interfaces.image import ProcessImage, decode
+from interfaces.links.can.codec import (
     FD_LENGTHS,
     LINK_VERSION,
     CanLayout,
@@ -24,8 +26,6 @@ from interfaces.codec_can import (
     checksum,
     description_frames,
 )
-from interfaces.exchange import exchange_ranges
-from interfaces.image import ProcessImage, decode
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import Direction, ExpandedCatalog, InterfaceLayout, SignalType, expand
 

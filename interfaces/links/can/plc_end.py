@@ -1,4 +1,4 @@
-"""The PLC's end of the CAN link (:mod:`interfaces.codec_can`), for any soft PLC.
+"""The PLC's end of the CAN link (:mod:`interfaces.links.can.codec`), for any soft PLC.
 
 The node configures itself from the harness, as the Modbus client does: when the NC link frame
 shows a new session it asks for the description (PLC link frame, flag bit 0; again every
@@ -29,8 +29,10 @@ CAN module does; its time-out monitor and the NC's react to what goes missing.  
 of another link version is dropped as well; only :data:`OTHER_VERSION_LIMIT` of them in a row (a
 harness that really speaks another version) stop the node.
 
-``python -m plc_stub --can`` runs this node with the built-in programs; the harness runs it on a
-virtual bus in its own process for scenarios that ask for a CAN link.
+``python -m plc_stub --can`` runs this node with the built-in programs (:func:`run_plc`: in lockstep
+it handles frames as they come and scans on every grant; free-running it scans every PLC period of the
+wall clock and handles frames in between; it gives up when no harness has been heard for the idle
+time-out); the harness runs it on a virtual bus in its own process for scenarios that ask for a CAN link.
 """
 
 from __future__ import annotations
@@ -39,7 +41,10 @@ import time as wallclock
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
-from interfaces.codec_can import (
+from interfaces.exchange import MODE_LOCKSTEP
+from interfaces.image import ProcessImage
+from interfaces.links.can.bus import BusSpec, CanBus
+from interfaces.links.can.codec import (
     DEFAULT_LINK_ID,
     LINK_VERSION,
     CanLayout,
@@ -49,15 +54,14 @@ from interfaces.codec_can import (
     NcLink,
     PlcLink,
 )
-from interfaces.exchange import MODE_LOCKSTEP
-from interfaces.image import ProcessImage
-from interfaces.link_description import LinkDescription, PlcSetupError
-from interfaces.links.can_bus import CanBus
+from interfaces.links.description import LinkDescription, PlcSetupError
 from interfaces.links.errors import LinkError
+from interfaces.links.scan_loop import EXIT_NO_HARNESS, EXIT_STOPPED, PlcProcessOptions, exit_code, run_scans
 from interfaces.plc import PlcFactory, SoftPlc
 from interfaces.signals import Direction
 
 REQUEST_AGAIN_S = 0.5
+POLL_S = 0.1  # a PLC process in lockstep: how long one wait for the next frame lasts
 OTHER_VERSION_LIMIT = 3  # NC link frames of another version in a row before the node gives up
 FAILED_RECEIVE_PAUSE_S = 0.05  # after a receive the bus refused, before the next
 
@@ -268,3 +272,66 @@ class CanPlcNode:
                                misses_nc_frames=session.misses_nc_frames).encode(self.link, self._fd)
         self._send(self._answer)
         self.scans += 1
+
+class _Silent(LinkError):
+    """No harness heard on the bus for the idle time-out."""
+
+
+class _CanTransport:
+    """The node on its bus as :func:`~interfaces.links.scan_loop.run_scans` drives it; gives up (:class:`_Silent`)
+    when no harness has been heard for ``idle_timeout_s``."""
+
+    def __init__(self, node: CanPlcNode, bus: CanBus, idle_timeout_s: float):
+        self.node = node
+        self.bus = bus
+        self.idle_timeout_s = idle_timeout_s
+        self._heard_at = wallclock.monotonic()
+        self._received = bus.received
+
+    def free_running_period(self) -> float | None:
+        session = self.node.session
+        return session.description.scan_time_s if session is not None and self.node.free_running else None
+
+    def follow(self) -> None:
+        self.idle(POLL_S)
+
+    def idle(self, seconds: float) -> None:
+        self.node.service(seconds)
+        if self.bus.received != self._received:
+            self._received, self._heard_at = self.bus.received, wallclock.monotonic()
+        elif wallclock.monotonic() - self._heard_at > self.idle_timeout_s:
+            raise _Silent(f"no harness heard on {self.bus.spec} for {self.idle_timeout_s:g} s")
+
+    def scan(self) -> None:
+        self.node.scan()
+
+
+def run_plc(bus_text: str, programs: Mapping[str, PlcFactory], options: PlcProcessOptions,
+            log: Callable[[str], None], should_stop: Callable[[], bool] = lambda: False) -> int:
+    """The soft PLC ``programs`` as a node on the bus ``bus_text`` until stopped; the exit code of
+    ``python -m plc_stub --can``: 0 stopped, 1 no bus or no harness heard for
+    ``options.connect_timeout_s``, 2 the PLC cannot run what the harness describes."""
+    link_id = DEFAULT_LINK_ID if options.link_id is None else options.link_id
+    try:
+        bus = CanBus(BusSpec.parse(bus_text))
+    except LinkError as error:
+        log(str(error))
+        return EXIT_NO_HARNESS
+    node = CanPlcNode(bus, programs, link_id=link_id, program=options.program, log=log)
+    log(f"listening on the CAN bus {bus.spec}, link frames from 0x{link_id:03X}")
+
+    def run() -> int:
+        try:
+            run_scans(_CanTransport(node, bus, options.connect_timeout_s), options.period_s, should_stop)
+        except _Silent as silent:
+            log(str(silent))
+            return EXIT_NO_HARNESS
+        except LinkError as error:
+            log(f"bus lost: {error}")
+            return EXIT_NO_HARNESS
+        return EXIT_STOPPED
+
+    try:
+        return exit_code(run, log)
+    finally:
+        bus.close()

@@ -1,4 +1,4 @@
-"""The Modbus convention of interfaces/codec_modbus.py, checked both ways: from a signal to its
+"""The Modbus convention of interfaces/links/modbus/codec.py, checked both ways: from a signal to its
 register and coil, and from register and coil values back to the signal in the process image."""
 
 from __future__ import annotations
@@ -10,7 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import (
+from interfaces.image import ProcessImage
+from interfaces.links.modbus.codec import (
     DATA_START_BYTE,
     RegisterMap,
     Table,
@@ -24,7 +25,6 @@ from interfaces.codec_modbus import (
     write_bits,
     write_registers,
 )
-from interfaces.image import ProcessImage
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import Direction, ExpandedCatalog, InterfaceLayout, SignalType, expand
 

@@ -10,14 +10,39 @@ the next ones hurry: the clock never runs more than one period behind.
 from __future__ import annotations
 
 import time as wallclock
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from typing import Protocol
 
-from interfaces.link_description import PlcSetupError
+from interfaces.links.description import PlcSetupError
+from interfaces.plc import PlcFactory
 
 EXIT_STOPPED = 0  # python -m plc_stub: stopped (Ctrl-C)
 EXIT_NO_HARNESS = 1  # no server, no bus, or no harness heard
 EXIT_CANNOT_RUN = 2  # the PLC cannot run what the harness describes
+
+
+@dataclass(frozen=True, slots=True)
+class PlcProcessOptions:
+    """How ``python -m plc_stub`` runs on a link; each technology reads what concerns it."""
+
+    program: str | None = None  # None: the one the harness asks for
+    period_s: float | None = None  # free-running: instead of the machine's PLC period
+    connect_timeout_s: float = 30.0
+    answer_timeout_s: float | None = None  # Modbus: None, by mode (interfaces/links/modbus/plc_end.py)
+    key: int | None = None  # Modbus: the session key; None, a random one of this process
+    link_id: int | None = None  # CAN: the NC link frame's identifier; None, the default
+
+
+class PlcEndRunner(Protocol):
+    """A technology's PLC process (``plc_end`` of its row in interfaces/links/__init__.py)."""
+
+    def __call__(self, address: str, programs: Mapping[str, PlcFactory], options: PlcProcessOptions,
+                 log: Callable[[str], None], should_stop: Callable[[], bool] = ...) -> int:
+        """Run soft PLC ``programs`` on the link at ``address`` until stopped; the exit code of
+        ``python -m plc_stub``.  An address of the wrong form is
+        :class:`~interfaces.links.errors.BadAddress` before anything runs (or, where
+        only opening it tells, exit code 1)."""
 
 
 class PlcTransport(Protocol):

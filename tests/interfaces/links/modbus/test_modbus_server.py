@@ -2,7 +2,7 @@
 (pipelined requests, split requests, exception responses), the session's PLC as the only writer,
 connection limits and the idle time-out.
 
-The server serves the turn-mill's tables (interfaces/codec_modbus.py); its event loop runs in a
+The server serves the turn-mill's tables (interfaces/links/modbus/codec.py); its event loop runs in a
 thread here, as a test stands in for the harness that would run it while it waits.
 """
 
@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
-import itertools
 import logging
 import os
 import select
@@ -30,18 +29,12 @@ from hypothesis import strategies as st
 from pyModbusTCP.client import ModbusClient
 
 from interfaces.catalog import load_catalog
-from interfaces.codec_modbus import Location, RegisterMap, Table, read_registers, session_key_registers
 from interfaces.image import encode
-from interfaces.links.access import ConnectionLimits, LinkOwner, OwnerState, key_file
-from interfaces.links.modbus_tcp import (
-    ANSWER_LIMIT,
-    RECEIVE_LIMIT,
-    LinkError,
-    ModbusServerLink,
-    ModbusTables,
-    Request,
-    take_requests,
-)
+from interfaces.links.errors import LinkError
+from interfaces.links.modbus.access import ConnectionLimits, LinkOwner, OwnerState, key_file
+from interfaces.links.modbus.codec import Location, RegisterMap, Table, read_registers, session_key_registers
+from interfaces.links.modbus.server import ANSWER_LIMIT, RECEIVE_LIMIT, ModbusServerLink
+from interfaces.links.modbus.tables import ModbusTables
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import InterfaceLayout, expand
 
@@ -271,30 +264,6 @@ def _transactions(answers: list[bytes]) -> list[int]:
     return [struct.unpack_from(">H", answer)[0] for answer in answers]
 
 
-@settings(max_examples=200, deadline=None)
-@given(st.lists(st.tuples(st.integers(0, 65535), st.integers(0, 255), st.binary(min_size=1, max_size=253)),
-                min_size=1, max_size=12), st.lists(st.integers(1, 600), max_size=8))
-def test_the_requests_of_a_stream_whatever_its_segments(requests: list[tuple[int, int, bytes]],
-                                                        cuts: list[int]) -> None:
-    stream = b"".join(struct.pack(">HHHB", transaction, 0, len(pdu) + 1, unit) + pdu
-                      for transaction, unit, pdu in requests)
-    received, found = bytearray(), []
-    for start, stop in itertools.pairwise([0, *sorted(cut % (len(stream) + 1) for cut in cuts), len(stream)]):
-        received += stream[start:stop]
-        taken, problem = take_requests(received)
-        assert problem is None
-        found += taken
-    assert found == [Request(transaction, unit, pdu) for transaction, unit, pdu in requests]
-    assert received == b""
-
-
-def test_a_header_no_request_has_is_named_after_the_requests_before_it() -> None:
-    received = bytearray(_read(1) + _frame(0x04, b"\x00\x00\x00\x01", length=300) + _read(2))
-    taken, problem = take_requests(received)
-    assert [request.transaction for request in taken] == [1]
-    assert problem == "a header with protocol identifier 0 and length 300"
-
-
 def test_ten_requests_in_one_segment_get_ten_answers_in_order(served: Served) -> None:
     wire = _Wire(served.port)
     wire.send(b"".join(_read(transaction, register=transaction) for transaction in range(1, 11)))
@@ -372,7 +341,7 @@ def test_a_failure_in_the_server_is_answered_with_04_counted_and_logged(served: 
 
     served.tables.on_write = broken
     wire = _Wire(served.port)
-    with caplog.at_level("INFO", logger="interfaces.links.modbus_tcp"):
+    with caplog.at_level("INFO", logger="interfaces.links.modbus.server"):
         wire.send(_frame(0x06, struct.pack(">HH", 16, 0x0100)))
         (answer,) = wire.answers(1)
     assert answer[7:9] == bytes([0x86, 0x04])
@@ -566,7 +535,7 @@ def test_idle_connections_are_closed_after_the_idle_time_out() -> None:
 def test_a_client_that_never_takes_its_answers_is_not_read_and_cannot_grow_the_server(
         caplog: pytest.LogCaptureFixture) -> None:
     """It grew the server from 58 to 405 MB in 120 s: every answer waited in the server's buffer."""
-    caplog.set_level(logging.INFO, logger="interfaces.links.modbus_tcp")
+    caplog.set_level(logging.INFO, logger="interfaces.links.modbus.server")
     for served in _serve(limits=ConnectionLimits(idle_timeout_s=3.0)):
         hog = socket.create_connection(("127.0.0.1", served.port), timeout=TIMEOUT)
         hog.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)

@@ -9,9 +9,11 @@ import threading
 
 import pytest
 
-from interfaces.links.can_bus import CAN_ERR_BUSOFF, CanBus, private_udp_bus
+from interfaces.links.can.bus import CAN_ERR_BUSOFF, CanBus, private_udp_bus
+from interfaces.links.can.plc_end import run_plc
+from interfaces.links.scan_loop import PlcProcessOptions
 from plc_stub.__main__ import main
-from plc_stub.links.can import run_on_can
+from plc_stub.programs import FACTORIES
 
 
 def test_modbus_or_can_not_both(capsys: pytest.CaptureFixture[str]) -> None:
@@ -29,7 +31,7 @@ def test_a_bad_link_identifier_is_refused(capsys: pytest.CaptureFixture[str]) ->
 
 def test_a_bus_that_is_no_bus_ends_with_code_1() -> None:
     said: list[str] = []
-    assert run_on_can("fieldbus", None, None, 1.0, said.append) == 1
+    assert run_plc("fieldbus", FACTORIES, PlcProcessOptions(connect_timeout_s=1.0), said.append) == 1
     assert said == ["'fieldbus': the bus is one of virtual, udp_multicast, socketcan (e.g. udp_multicast,"
                     " socketcan:can0, virtual)"]
 
@@ -37,7 +39,7 @@ def test_a_bus_that_is_no_bus_ends_with_code_1() -> None:
 def test_without_a_harness_on_the_bus_it_gives_up_after_the_time_out() -> None:
     said: list[str] = []
     bus = private_udp_bus()
-    assert run_on_can(str(bus), None, None, 0.3, said.append) == 1
+    assert run_plc(str(bus), FACTORIES, PlcProcessOptions(connect_timeout_s=0.3), said.append) == 1
     assert said == [f"listening on the CAN bus {bus}, link frames from 0x100",
                     f"no harness heard on {bus} for 0.3 s"]
 
@@ -48,8 +50,9 @@ def test_datagrams_that_are_no_frames_and_error_frames_do_not_end_it() -> None:
     bus = private_udp_bus()
     stop = threading.Event()
     codes: list[int] = []
-    plc = threading.Thread(target=lambda: codes.append(run_on_can(str(bus), None, None, 30.0, said.append,
-                                                                  should_stop=stop.is_set)))
+    options = PlcProcessOptions(connect_timeout_s=30.0)
+    plc = threading.Thread(target=lambda: codes.append(run_plc(str(bus), FACTORIES, options, said.append,
+                                                               should_stop=stop.is_set)))
     plc.start()
     noise = CanBus(bus)
     try:

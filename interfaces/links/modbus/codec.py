@@ -46,7 +46,7 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
          free-running mode a counter the PLC changes every scan (its sign of life)
       1  session ready: the session the PLC has (re)started its program for
       2..5  the PLC's session key, 64 bits high word first: written with register 1 in the claim
-            of a session (:mod:`interfaces.links.access`), never stored, read 0
+            of a session (:mod:`interfaces.links.modbus.access`), never stored, read 0
       6..15  reserved, read 0 (register writes there are dropped, coil writes refused)
 
   The link version (input register 0) changes with every change of this block and of where any
@@ -65,7 +65,7 @@ Convention, stated once (``vc map`` prints the addresses it gives, the tests che
   outputs when holding register 1 equals the session and holding register 0 the grant.
 
 * **Description.** Input registers from 4096 (up to 16383) hold the interface description as
-  UTF-8 JSON (see :mod:`interfaces.link_description`), two bytes a register, so a client that can
+  UTF-8 JSON (see :mod:`interfaces.links.description`), two bytes a register, so a client that can
   be stepped configures itself from the server.
 
 The tables never exceed 4096 registers (65536 bits, the largest coil number).

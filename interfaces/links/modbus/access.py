@@ -1,7 +1,7 @@
 """Who may connect to the harness's servers, who may write into the NC, and how many may stay.
 
-Three rules the Modbus TCP and the S7 server share (:mod:`interfaces.links.modbus_tcp`,
-:mod:`interfaces.links.s7`):
+Three rules the Modbus TCP and the S7 server share (:mod:`interfaces.links.modbus.server`,
+:mod:`interfaces.links.modbus.s7`):
 
 * **Allow-list** (``vc serve --allow IP,NET``): a client outside it is disconnected as it
   connects.  Empty: every client that reaches the socket (the servers bind to loopback unless

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 
 import can
 
-from interfaces.codec_can import ControllerState, Frame
+from interfaces.links.can.codec import ControllerState, Frame
 from interfaces.links.errors import LinkError
 
 KINDS = ("virtual", "udp_multicast", "socketcan")

@@ -1,11 +1,11 @@
-"""The loop both PLC transports share (plc_stub/scan_loop.py): it follows the harness while no
+"""The loop both PLC transports share (interfaces/links/scan_loop.py): it follows the harness while no
 session runs on the PLC's clock, scans on the clock when one does, and turns a PLC that cannot run
 what the harness describes into exit code 2."""
 
 from __future__ import annotations
 
-from interfaces.link_description import PlcSetupError
-from plc_stub.scan_loop import EXIT_CANNOT_RUN, EXIT_STOPPED, exit_code, run_scans
+from interfaces.links.description import PlcSetupError
+from interfaces.links.scan_loop import EXIT_CANNOT_RUN, EXIT_STOPPED, exit_code, run_scans
 
 
 class _Transport:

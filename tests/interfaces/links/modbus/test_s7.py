@@ -13,8 +13,8 @@ from snap7.type import Areas, WordLen
 from snap7.util import set_bool
 
 from interfaces.catalog import load_catalog
-from interfaces.links.access import ConnectionLimits
-from interfaces.links.s7 import S7ServerLink
+from interfaces.links.modbus.access import ConnectionLimits
+from interfaces.links.modbus.s7 import S7ServerLink
 from interfaces.signals import Direction, InterfaceLayout, expand
 
 CATALOG = expand(load_catalog(), InterfaceLayout(("CHAN1",), ("X1", "Z1")))

@@ -20,7 +20,7 @@ The register counts let a client check that it computes the same layout as the s
 its codes mean (:mod:`interfaces.alarm_block`); ``commissioning`` how each axis is referenced
 (direction MD34010, cam and limit switch positions, MD34110 and what must come first) and what the
 plant needs from the PLC (:class:`interfaces.commissioning.Commissioning`).  ``can``
-comes only over the CAN link (:mod:`interfaces.codec_can`, there as segments of the description
+comes only over the CAN link (:mod:`interfaces.links.can.codec`, there as segments of the description
 frame): the identifiers and frame format the PLC must use, and the time after which its
 time-out monitor treats a missing frame of the NC as a failure.
 """
@@ -34,10 +34,10 @@ from typing import Any
 
 from interfaces import alarm_block
 from interfaces.catalog import load_catalog
-from interfaces.codec_can import DEFAULT_TIMEOUT_US, CanLayout, CanMapError, CanSettings
-from interfaces.codec_modbus import RegisterMap, Table
 from interfaces.commissioning import Commissioning
 from interfaces.errors import VcError
+from interfaces.links.can.codec import DEFAULT_TIMEOUT_US, CanLayout, CanMapError, CanSettings
+from interfaces.links.modbus.codec import RegisterMap, Table
 from interfaces.plant_io import PlantIoError, PlantIoMap
 from interfaces.plc import PlcEnvironment, PlcFactory, SoftPlc
 from interfaces.signals import InterfaceLayout, expand

@@ -14,14 +14,14 @@ from pathlib import Path
 
 from pyModbusTCP.client import ModbusClient
 
-from interfaces.links.access import OwnerState
+from interfaces.links.modbus.access import OwnerState
 from vc.config.loader import load_machine
 from vc.harness.links import LinkMode
 from vc.harness.links.modbus import Endpoint, PlcLink
 from vc.harness.pacer import RealtimePacer
 from vc.simulation.lockstep import Simulation
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = Path(__file__).resolve().parents[4]
 TURN_MILL = load_machine(str(ROOT / "scenarios" / "machines" / "turn_mill.yaml"))
 
 

@@ -61,7 +61,7 @@ Convention, stated once (``vc map --format dbc`` writes it as a DBC file, the te
         7     checksum
 
 * **Description** (0x102), NC -> PLC when the PLC asks for it: the interface description
-  (:mod:`interfaces.link_description`) as a stream ``length (4 bytes) + CRC-32 (4) + UTF-8 JSON``,
+  (:mod:`interfaces.links.description`) as a stream ``length (4 bytes) + CRC-32 (4) + UTF-8 JSON``,
   cut into frames of the full frame size: bytes 0..1 the segment number, then the stream's
   bytes, the last byte the checksum.
 

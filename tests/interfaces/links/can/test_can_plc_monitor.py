@@ -7,7 +7,7 @@ from typing import Any
 
 import pytest
 
-from interfaces.links import can_plc
+from interfaces.links.can import plc_end as can_plc
 from interfaces.signals import Direction
 
 

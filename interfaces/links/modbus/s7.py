@@ -11,7 +11,7 @@ code 0x04, "the function cannot be performed") and changes nothing.  A bit write
 its bit (python-snap7 would write the whole byte).  A block download (``client.download``)
 would replace a whole data block, NC->PLC bytes included: it is refused at its request, with
 the same error.  While a session is open only the session's PLC writes
-(:mod:`interfaces.links.access`): the first client that writes owns the link until it
+(:mod:`interfaces.links.modbus.access`): the first client that writes owns the link until it
 disconnects, unless the link's Modbus PLC owns it already; the others' writes get the same
 error.  S7 has no session key: when the owner disconnects its session closes, and the next
 writer takes the link only in a new session (a power-on, or the operator's in ``vc serve``).
@@ -40,8 +40,8 @@ from snap7.error import S7Error
 from snap7.server import Server
 from snap7.type import SrvArea
 
-from interfaces.links.access import NO_KEY, AllowList, ConnectionLimits, LinkOwner
 from interfaces.links.errors import LinkError
+from interfaces.links.modbus.access import NO_KEY, AllowList, ConnectionLimits, LinkOwner
 from interfaces.signals import Direction, ExpandedCatalog
 
 # snap7 logs every refused write and every client that leaves: its records go to the

@@ -13,8 +13,7 @@ from collections.abc import Callable
 import can
 import pytest
 
-from interfaces.codec_can import Frame
-from interfaces.links.can_bus import (
+from interfaces.links.can.bus import (
     CAN_ERR_BUSOFF,
     CAN_ERR_CNT,
     CAN_ERR_CRTL,
@@ -27,6 +26,7 @@ from interfaces.links.can_bus import (
     private_virtual_bus,
     socketcan_available,
 )
+from interfaces.links.can.codec import Frame
 from interfaces.links.errors import LinkError
 
 TIMEOUT_S = 2.0

@@ -1,31 +1,21 @@
-"""Modbus TCP: the harness's server (the NC as remote I/O) and the PLC's client, on pymodbus.
+"""Modbus TCP: the harness's server (the NC as remote I/O), on pymodbus.
 
-This is the only module that imports pymodbus; its exceptions become :class:`LinkError`.
-The tables, the link block and the description follow :mod:`interfaces.codec_modbus`.
-
-Server: pymodbus decodes each request and answers it through its function (malformed and
-oversized requests get their exception responses); a request action hands every data access to
-:class:`ModbusTables`, the bytes the harness shares with the simulation.  pymodbus's own store
-is sized to the largest tables the convention allows and only buffers the answer: what the
-tables do not hold (an address outside the current map, a coil in padding or in the reserved
-link registers) gets exception 02 (illegal data address).  Modbus itself has no function that
-writes input registers or discrete inputs: the NC-to-PLC table is read-only by construction.
+The modules of the Modbus link that import pymodbus are this one, :mod:`~interfaces.links.modbus.tables`
+(the bytes served, as a pymodbus device) and :mod:`~interfaces.links.modbus.client` (the PLC's end);
+pymodbus's exceptions become :class:`LinkError`.
 
 What the link adds to pymodbus 3.16's server, per connection (:class:`_Connection`):
 
-* **Framing.** Every complete request in what arrives is answered, once and in its order:
-  ten requests in one TCP segment, a request split over segments, requests that arrive while
-  the previous one is served (pymodbus answers only the first request of a segment and drops
-  a split one when it answers in between).  A header no request has (protocol identifier
-  other than 0, a length outside 2..254) ends the connection after the requests before it are
-  answered: a byte stream cannot be resynchronised.
+* **Framing** (:mod:`interfaces.links.modbus.framing`). Every complete request in what arrives is
+  answered, once and in its order, also those that arrive while the previous one is served.  A
+  header no request has ends the connection after the requests before it are answered.
 * **Answers.** Only the functions of the convention are served (FC 1, 2, 3, 4, 5, 6, 15, 16, 22,
   23); every other function code gets exception 01 with its own code | 0x80, a request of a
   served function that pymodbus cannot decode (a count beyond the protocol's limits, a body too
   short) exception 03.  An exception inside the server is answered with exception 04, counted
-  and logged with its traceback (logger ``interfaces.links.modbus_tcp``, level INFO: ``vc
+  and logged with its traceback (logger ``interfaces.links.modbus.server``, level INFO: ``vc
   serve --verbose`` shows it).
-* **Ownership and limits** (:mod:`interfaces.links.access`): while a session is open only the
+* **Ownership and limits** (:mod:`interfaces.links.modbus.access`): while a session is open only the
   session's PLC writes (exception 01 for the others' writes to valid addresses; an address the
   tables do not hold is exception 02 for everybody); connections are limited and idle ones
   closed.
@@ -56,221 +46,58 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-import struct
 import time as wallclock
 from collections import deque
-from collections.abc import Callable, Collection, Iterable, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Collection
+from dataclasses import dataclass
 from typing import Any
 
-from pymodbus.client import ModbusTcpClient
 from pymodbus.constants import ExcCodes
-from pymodbus.exceptions import ConnectionException, ModbusException, ModbusIOException
+from pymodbus.exceptions import ModbusException
 from pymodbus.pdu import ExceptionResponse, ModbusPDU
 from pymodbus.pdu.register_message import ReadWriteMultipleRegistersRequest
 from pymodbus.server import ModbusTcpServer
 from pymodbus.server.requesthandler import ServerRequestHandler
 from pymodbus.simulator import DataType, SimData, SimDevice
 
-from interfaces.codec_modbus import (
-    DESCRIPTION_REGISTER,
-    LINK_REGISTERS,
+from interfaces.links.errors import LinkError
+from interfaces.links.modbus.access import NO_KEY, AllowList, ConnectionLimits, LinkOwner
+from interfaces.links.modbus.codec import (
     MASK_WRITE_REGISTER,
-    MAX_DESCRIPTION_BYTES,
-    MAX_TABLE_REGISTERS,
     READ_COILS,
     READ_DISCRETE_INPUTS,
     READ_HOLDING,
     READ_INPUT,
-    READ_LIMIT,
     READ_WRITE_REGISTERS,
     SESSION_KEY_REGISTERS,
     WRITE_COIL,
     WRITE_COILS,
-    WRITE_LIMIT,
     WRITE_REGISTER,
     WRITE_REGISTERS,
     LinkHolding,
-    LinkInput,
-    bits_writable,
-    read_registers,
     session_key_of,
-    text_registers,
-    words_as_bits,
-    write_bits,
-    write_registers,
 )
-from interfaces.links.access import NO_KEY, AllowList, ConnectionLimits, LinkOwner
-from interfaces.links.errors import LinkError as LinkError  # the links' error, raised here for pymodbus's
-from interfaces.links.errors import RequestRefused
+from interfaces.links.modbus.framing import MBAP, Request, take_requests
+from interfaces.links.modbus.tables import ModbusTables, table_device
 
-_COIL_CODES = (READ_COILS, WRITE_COIL, WRITE_COILS)
 WRITE_FUNCTIONS = frozenset({WRITE_COIL, WRITE_REGISTER, WRITE_COILS, WRITE_REGISTERS, MASK_WRITE_REGISTER,
                              READ_WRITE_REGISTERS})
 SERVED_FUNCTIONS = frozenset({READ_COILS, READ_DISCRETE_INPUTS, READ_HOLDING, READ_INPUT}) | WRITE_FUNCTIONS
-MBAP = struct.Struct(">HHHB")  # transaction, protocol (0), length (unit id and PDU), unit id
-MAX_PDU_BYTES = 253  # the protocol's limit: an ADU of 260 bytes
 SERVE_SLICE_S = 0.0002  # requests served per pass of the event loop, in time
 PENDING_LIMIT = 16  # requests of one connection taken out of its bytes and waiting for their answers
 RECEIVE_LIMIT = 16 * 1024  # bytes of one connection waiting to be taken before its socket is no longer read
 ANSWER_LIMIT = 64 * 1024  # answers of one connection not yet taken by its client before it is no longer served
-CONNECT_PAUSE_S = 0.1  # a client's pause between two connection attempts
-# a PLC's client after a lost connection: a harness that still runs takes a new one at once; when none
-# does within this window the harness has ended, and so does the PLC process
-RECONNECT_WINDOW_S = 2.0
 
 log = logging.getLogger(__name__)
 # pymodbus logs every refused request and every dropped connection at warning/error level: its
 # records go to the application's logging (vc serve --verbose), not to standard error by default.
 logging.getLogger("pymodbus").addHandler(logging.NullHandler())
 
-
-@dataclass(slots=True)
-class ModbusTables:
-    """The bytes the Modbus server serves: the two tables and the description.
-
-    ``nc_to_plc`` and ``plc_to_nc`` are table bytes (register ``r`` = bytes ``2r``, ``2r + 1``);
-    ``writable`` marks the PLC-to-NC bytes a write lands in.  ``on_write`` is called with the
-    first register and the register count of every accepted PLC write.  ``may_write`` is asked
-    before a write whose addresses are valid lands (the server sets it for each request: only
-    the session's PLC writes); a write it refuses gets exception 01.
-    """
-
-    # before the first session only the link block, all zeros: version 0 says "not ready"
-    nc_to_plc: bytearray = field(default_factory=lambda: bytearray(2 * LINK_REGISTERS))
-    plc_to_nc: bytearray = field(default_factory=lambda: bytearray(2 * LINK_REGISTERS))
-    writable: bytes = bytes(2 * LINK_REGISTERS)
-    description: bytes = b""
-    on_write: Callable[[int, int], None] = lambda first, count: None
-    may_write: Callable[[], bool] = lambda: True
-    writes: int = 0  # accepted PLC write requests, for statistics
-
-    def set_description(self, text: bytes) -> None:
-        if len(text) > MAX_DESCRIPTION_BYTES:
-            raise LinkError(f"the interface description has {len(text)} bytes; the link carries"
-                            f" {MAX_DESCRIPTION_BYTES}")
-        self.description = text
-
-    @property
-    def session(self) -> int:
-        """The open session (input register 1); 0 while no machine is powered on (version 0)."""
-        if not read_registers(self.nc_to_plc, LinkInput.VERSION, 1)[0]:
-            return 0
-        return read_registers(self.nc_to_plc, LinkInput.SESSION, 1)[0]
-
-    # ------------------------------------------------------------------ requests
-    def answer(self, function_code: int, address: int, count: int, registers: list[int],
-               values: Sequence[int] | Sequence[bool] | None) -> ExcCodes | None:
-        """Serve one data access of a request (see the module docstring); None when granted."""
-        if function_code == READ_INPUT:
-            return self._input_registers(address, count, registers)
-        if function_code == READ_DISCRETE_INPUTS:
-            return self._bit_words(self.nc_to_plc, address, count, registers)
-        if function_code in _COIL_CODES:
-            if values is not None:
-                return self._write_coils(address, [bool(value) for value in values])
-            return self._bit_words(self.plc_to_nc, address, count, registers)
-        # holding registers: FC 3, 6, 16, 22, 23
-        if address + count > len(self.plc_to_nc) // 2:
-            return ExcCodes.ILLEGAL_ADDRESS
-        if values is not None:
-            if not self.may_write():
-                return ExcCodes.ILLEGAL_FUNCTION
-            write_registers(self.plc_to_nc, self.writable, address, [int(value) for value in values])
-            self.writes += 1
-            self.on_write(address, count)
-        registers[address: address + count] = read_registers(self.plc_to_nc, address, count)
-        return None
-
-    def _input_registers(self, address: int, count: int, registers: list[int]) -> ExcCodes | None:
-        if address + count <= len(self.nc_to_plc) // 2:
-            registers[address: address + count] = read_registers(self.nc_to_plc, address, count)
-            return None
-        described = text_registers(self.description)
-        first = address - DESCRIPTION_REGISTER
-        if first >= 0 and first + count <= len(described):
-            registers[address: address + count] = described[first: first + count]
-            return None
-        return ExcCodes.ILLEGAL_ADDRESS
-
-    @staticmethod
-    def _bit_words(table: bytearray, address: int, words: int, registers: list[int]) -> ExcCodes | None:
-        # the bit store packs 16 bits a word, bit 0 first; ``words`` is how many the request touches
-        first = address // 16
-        if first + words > len(table) // 2:
-            return ExcCodes.ILLEGAL_ADDRESS
-        registers[first: first + words] = words_as_bits(table, first, words)
-        return None
-
-    def _write_coils(self, address: int, values: list[bool]) -> ExcCodes | None:
-        if address + len(values) > 8 * len(self.plc_to_nc) or not bits_writable(self.writable, address, len(values)):
-            return ExcCodes.ILLEGAL_ADDRESS
-        if not self.may_write():
-            return ExcCodes.ILLEGAL_FUNCTION
-        write_bits(self.plc_to_nc, address, values)
-        self.writes += 1
-        self.on_write(address // 16, (address % 16 + len(values) + 15) // 16)
-        return None
-
-
-def _device(tables: ModbusTables) -> SimDevice:
-    """A pymodbus device as large as the convention allows; ``tables`` decide what is valid."""
-    async def action(function_code: int, _start: int, address: int, count: int, registers: list[int],
-                     values: list[int] | list[bool] | None) -> ExcCodes | None:
-        return tables.answer(function_code, address, count, registers, values)
-
-    bits = [False] * (MAX_TABLE_REGISTERS * 16)  # a bits entry takes its size from the values
-    return SimDevice(
-        id=0,  # every unit id
-        simdata=(
-            [SimData(0, values=bits, datatype=DataType.BITS)],
-            [SimData(0, values=bits, datatype=DataType.BITS)],
-            [SimData(0, count=MAX_TABLE_REGISTERS, values=0, datatype=DataType.REGISTERS)],
-            [SimData(0, count=DESCRIPTION_REGISTER + MAX_DESCRIPTION_BYTES // 2, values=0,
-                     datatype=DataType.REGISTERS)],
-        ),
-        action=action,
-    )
-
-
-# ---------------------------------------------------------------------------------- framing
-
-
-@dataclass(frozen=True, slots=True)
-class Request:
-    """One request as it came: MBAP transaction and unit id, and the PDU (function code first)."""
-
-    transaction: int
-    unit: int
-    pdu: bytes
-
-
-def take_requests(received: bytearray, limit: int | None = None) -> tuple[list[Request], str | None]:
-    """The complete requests at the start of ``received`` (at most ``limit``), removed from it (what
-    stays is the beginning of the next one, or the requests beyond the limit), and what is wrong
-    with the header that follows them, if anything."""
-    requests: list[Request] = []
-    offset = 0
-    problem = None
-    while len(received) - offset >= MBAP.size and (limit is None or len(requests) < limit):
-        transaction, protocol, length, unit = MBAP.unpack_from(received, offset)
-        if protocol != 0 or not 2 <= length <= MAX_PDU_BYTES + 1:
-            problem = f"a header with protocol identifier {protocol} and length {length}"
-            break
-        end = offset + 6 + length
-        if end > len(received):
-            break
-        requests.append(Request(transaction, unit, bytes(received[offset + MBAP.size: end])))
-        offset = end
-    del received[:offset]
-    return requests, problem
-
-
 def session_claim(pdu: ModbusPDU, session: int) -> int | None:
     """The session key of a register write that puts ``session`` into holding register 1 (session
-    ready), the PLC's claim of the session (:mod:`interfaces.links.access`); None when the write
+    ready), the PLC's claim of the session (:mod:`interfaces.links.modbus.access`); None when the write
     claims nothing.  The key is holding registers 2..5 of the same request, high word first
-    (:data:`~interfaces.links.access.NO_KEY` when the request does not write all four)."""
+    (:data:`~interfaces.links.modbus.access.NO_KEY` when the request does not write all four)."""
     if pdu.function_code in (WRITE_REGISTER, WRITE_REGISTERS):
         first, values = pdu.address, pdu.registers
     elif isinstance(pdu, ReadWriteMultipleRegistersRequest):
@@ -285,8 +112,6 @@ def session_claim(pdu: ModbusPDU, session: int) -> int | None:
         return NO_KEY
     return session_key_of(values[key: key + SESSION_KEY_REGISTERS])
 
-
-# ---------------------------------------------------------------------------------- the server
 
 
 def _anybody() -> bool:
@@ -483,7 +308,7 @@ class ModbusServerLink:
 
     def start(self) -> None:
         async def listen() -> _Server:
-            server = _Server(self, _device(self.tables), (self.host, self._requested_port))
+            server = _Server(self, table_device(self.tables), (self.host, self._requested_port))
             await server.serve_forever(background=True)
             return server
 
@@ -696,97 +521,3 @@ def start_plain_register_server(loop: asyncio.AbstractEventLoop, input_registers
 
     return int(sockets[0].getsockname()[1]), stop
 
-
-class ModbusLinkClient:
-    """The PLC's side: a Modbus TCP client that reads and writes whole table ranges."""
-
-    def __init__(self, host: str, port: int, timeout_s: float = 3.0, device_id: int = 1):
-        self.host, self.port, self.device_id = host, port, device_id
-        self._client = ModbusTcpClient(host, port=port, timeout=timeout_s, retries=0)
-
-    @property
-    def timeout_s(self) -> float:
-        """How long a request waits for its answer (and a connect for the server)."""
-        return float(self._client.comm_params.timeout_connect or 0.0)
-
-    @timeout_s.setter
-    def timeout_s(self, seconds: float) -> None:
-        self._client.comm_params.timeout_connect = seconds
-
-    def connect(self) -> bool:
-        try:
-            return bool(self._client.connect())
-        except (OSError, ModbusException):
-            return False
-
-    def connect_within(self, seconds: float, should_stop: Callable[[], bool] = lambda: False) -> bool:
-        """Connect, trying again every :data:`CONNECT_PAUSE_S` for up to ``seconds`` (or until
-        ``should_stop``); False when no server took the connection in that time."""
-        deadline = wallclock.monotonic() + seconds
-        while not should_stop():
-            if self.connect():
-                return True
-            if wallclock.monotonic() >= deadline:
-                return False
-            wallclock.sleep(CONNECT_PAUSE_S)
-        return False
-
-    def close(self) -> None:
-        self._client.close()
-
-    def read_input_registers(self, address: int, count: int) -> list[int]:
-        values: list[int] = []
-        while count > 0:
-            chunk = min(count, READ_LIMIT)
-            values += self._call(self._client.read_input_registers, address, chunk)
-            address, count = address + chunk, count - chunk
-        return values
-
-    def read_holding_registers(self, address: int, count: int) -> list[int]:
-        values: list[int] = []
-        while count > 0:
-            chunk = min(count, READ_LIMIT)
-            values += self._call(self._client.read_holding_registers, address, chunk)
-            address, count = address + chunk, count - chunk
-        return values
-
-    def write_registers(self, address: int, values: Sequence[int]) -> None:
-        self._write_chunks(address, values, range(0, len(values), WRITE_LIMIT))
-
-    def write_registers_last_first(self, address: int, values: Sequence[int]) -> None:
-        """Like write_registers, but the chunk holding ``address`` itself goes last."""
-        self._write_chunks(address, values, reversed(range(0, len(values), WRITE_LIMIT)))
-
-    def _write_chunks(self, address: int, values: Sequence[int], starts: Iterable[int]) -> None:
-        for start in starts:
-            chunk = list(values[start: start + WRITE_LIMIT])
-            try:
-                response = self._client.write_registers(address + start, chunk, device_id=self.device_id)
-            except (ModbusException, OSError) as error:
-                raise self._lost(error) from None
-            if response.isError():
-                raise RequestRefused(f"Modbus server {self.host}:{self.port} refused writing registers"
-                                f" {address + start}..{address + start + len(chunk) - 1}:"
-                                f" exception {getattr(response, 'exception_code', '?')}")
-
-    def _call(self, method: Callable[..., Any], address: int, count: int) -> list[int]:
-        try:
-            response = method(address, count=count, device_id=self.device_id)
-        except (ModbusException, OSError) as error:
-            raise self._lost(error) from None
-        if response.isError():
-            raise RequestRefused(f"Modbus server {self.host}:{self.port} refused reading registers"
-                            f" {address}..{address + count - 1}: exception {getattr(response, 'exception_code', '?')}")
-        return list(response.registers)
-
-    def _lost(self, error: Exception) -> LinkError:
-        """A request that got no answer, in words (pymodbus's own messages name its internals)."""
-        if isinstance(error, ConnectionException | ConnectionError):
-            what = "the server closed the connection"
-        elif isinstance(error, ModbusIOException):
-            what = f"no answer within {self.timeout_s:g} s"
-        elif isinstance(error, OSError):
-            what = error.strerror or type(error).__name__
-        else:
-            what = str(error)
-        return LinkError(f"Modbus server {self.host}:{self.port}: {what}")
