@@ -44,6 +44,10 @@ def _devices(machine: MachineConfig) -> dict[str, dict[str, float]]:
                                    "arm_time": plant.tool_changer.arm_time_s}
     if plant.coolant is not None:
         devices["coolant"] = {"pressure_time": plant.coolant.pressure_time_s}
+    if plant.tailstock is not None:
+        # the quill's axis by its interface data block DB(30 + n), as the PLC addresses it
+        quill = next(axis for axis in machine.axes if axis.name == plant.tailstock.axis)
+        devices["tailstock"] = {"axis_db": quill.db}
     return devices
 
 

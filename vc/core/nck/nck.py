@@ -117,6 +117,7 @@ class Nck:
         self.dc_link = parts.dc_link
         self.polygons = parts.polygons
         self.manual = parts.manual
+        self.fixed_stops = parts.fixed_stops
         self.alarm_reactions = AlarmReactions(self.alarms, self.axes, self.axes_by_name, self.channels_by_name,
                                               self.esr, self.polygons)
         self.emergency_stop = False
@@ -200,6 +201,9 @@ class Nck:
                 continue  # nothing moves and no input changed: its outputs stand
             if axis.control_cycle(self.cycle, self.alarms):
                 moved = True
+        for fixed_stop in self.fixed_stops:
+            if fixed_stop.busy:
+                fixed_stop.cycle(self.cycle)  # detection and monitoring on the new actual values
         self.couplings.monitor(self.cycle)
         return moved
 
