@@ -57,6 +57,7 @@ AA_FXS = {State.OFF: 0, State.WAIT_ENABLE: 3, State.APPROACH: 3, State.DETECTED:
           State.DESELECTING: 5, State.FAILED: 2}
 _SELECTED = (State.WAIT_ENABLE, State.APPROACH, State.DETECTED, State.CLAMPED)
 
+
 class FixedStop:
     """Travel to fixed stop of one axis whose MD37000 allows it (see the module docstring)."""
 
