@@ -406,7 +406,8 @@ class MachineAxis:
                 held = self.obstacle.hold(previous, self.physical, force)
                 if held != self.physical:
                     self.physical = held
-                    slide_velocity = loop.drive_velocity = (held - previous) / dt  # the motor is blocked
+                    slide_velocity = (held - previous) / dt
+                    loop.drive_velocity = 0.0  # the motor is blocked
             self.velocity = slide_velocity
             if self.clamp is not None:
                 other, ratio, offset = self.clamp

@@ -85,6 +85,7 @@ class FixedStop:
         self._direction = 1.0  # the direction the axis pushes in
         self._torque_step = 0.0  # per IPO cycle while the torque ramps (MD37012)
         self._ramp_target = self.torque
+        self._pulses = True  # the pulses as last seen at the stop (MD37002)
         self._outputs: tuple[bool, bool] | None = None
         self._write_outputs()
 
@@ -205,6 +206,7 @@ class FixedStop:
         if by_sensor and not by_error:
             self._direction = 1.0 if axis.command_velocity >= 0.0 else -1.0
         self.stop_position = axis.actual
+        self._pulses = self._pulses_present
         axis.hold_at_fixed_stop(axis.actual + self._direction * self.threshold)
         self._set_state(State.DETECTED if self.ack_mask & 2 else State.CLAMPED)
 
@@ -216,9 +218,21 @@ class FixedStop:
             self._set_state(State.CLAMPED)
 
     def _clamped(self, cycle: int) -> None:
-        """Holding with the clamping torque; the window watched (20093, L37335-37337)."""
-        if not self._aborted(cycle):
-            self._window_left(cycle)
+        """Holding with the clamping torque; the window watched (20093, L37335-37337).  With
+        MD37002 bit 0 the pulses may go (the drive holds nothing) and come back: the torque then
+        jumps to the clamping torque, or with bit 1 it rises on the ramp MD37012 (L37461-37480)."""
+        if self._aborted(cycle) or self._window_left(cycle):
+            return
+        pulses = self._pulses_present
+        if pulses and not self._pulses and self.control & 2:
+            self.axis.torque_limit = 0.0
+            self._ramp_to(self.torque)
+        self._pulses = pulses
+
+    @property
+    def _pulses_present(self) -> bool:
+        axis = self.axis
+        return axis.inputs.pulse_enable and not axis.pulses_cancelled
 
     def _deselecting(self) -> None:
         """The signals are reset; position control again once the PLC acknowledged (L37436-37449)."""
@@ -237,7 +251,7 @@ class FixedStop:
         """The PLC took its enable away (MD37060 bit 0) or the pulses went (MD37002 bit 0 = 0): 20094."""
         inputs = self.axis.inputs
         enable_lost = bool(self.ack_mask & 1) and not inputs.fixed_stop_enable
-        pulses_lost = not inputs.pulse_enable and not self.control & 1
+        pulses_lost = not self._pulses_present and not self.control & 1
         if not (enable_lost or pulses_lost):
             return False
         self.info = INFO_ENABLE if enable_lost else INFO_TORQUE
