@@ -10,12 +10,15 @@ the channel asks nothing.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 
+from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
 from vc.core.fixed_stop.fixed_stop import NOT_POSSIBLE, STILL_ACTIVE, FixedStop, State
 from vc.core.program.block_plan import BlockPlan
+
+FIXED_STOP_VARIABLES = ("$AA_FXS", "$VA_FXS", "$VA_FXS_INFO")
 
 
 class ChannelFixedStops:
@@ -84,3 +87,19 @@ class ChannelFixedStops:
     def reset(self) -> None:
         for fixed_stop in self.of.values():
             fixed_stop.reset()
+
+    def reader(self, config: ChannelConfig, others: Callable[[str, str], float]) -> Callable[[str, str], float]:
+        """The channel's reader of system variables with $AA_FXS[ax], $VA_FXS[ax] (the same outside
+        a block search, L37592-37594) and $VA_FXS_INFO[ax] (L37867-37915) in front of ``others``:
+        ``IF $AA_FXS[W]==2 GOTOF ...`` as in L37928-37941; an axis without the function reads 0."""
+        def read(name: str, index: str) -> float:
+            if name not in FIXED_STOP_VARIABLES:
+                return others(name, index)
+            axis = config.axis_for_program_name(index)
+            if axis is None:
+                raise KeyError(f"{name}[{index}]")
+            fixed_stop = self.of.get(axis)
+            if fixed_stop is None:
+                return 0.0
+            return float(fixed_stop.info if name == "$VA_FXS_INFO" else fixed_stop.aa_fxs)
+        return read

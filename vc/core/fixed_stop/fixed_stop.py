@@ -92,7 +92,10 @@ class FixedStop:
     # ------------------------------------------------------------------ what the channel asks
     @property
     def aa_fxs(self) -> int:
-        """$AA_FXS: the state as the program reads it (L37867-37893)."""
+        """$AA_FXS: the state as the program reads it (L37867-37893); after a failure 2 until the
+        next FXS or a reset, so that the program can branch on it (L37917-37941)."""
+        if self.state is State.OFF and self.info != INFO_NONE:
+            return AA_FXS[State.FAILED]
         return AA_FXS[self.state]
 
     @property
@@ -133,7 +136,8 @@ class FixedStop:
         return True
 
     def deselect(self) -> None:
-        """FXS[ax]=0 (L37428-37449)."""
+        """FXS[ax]=0 (L37428-37449); after a failure it clears $AA_FXS."""
+        self.info = INFO_NONE
         if self.state in _SELECTED:
             self._set_state(State.DESELECTING)
 
@@ -159,7 +163,9 @@ class FixedStop:
 
     def reset(self) -> None:
         """NC reset aborts the function until the stop is reached; a clamp stays (L37703-37712)."""
-        if self.state in (State.WAIT_ENABLE, State.APPROACH, State.DETECTED):
+        if self.state is State.OFF:
+            self.info = INFO_NONE
+        elif self.state in (State.WAIT_ENABLE, State.APPROACH, State.DETECTED):
             self.info = INFO_RESET
             self._fail()
         self.torque = self._default_torque if self.state is State.OFF else self.torque

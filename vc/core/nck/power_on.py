@@ -129,13 +129,14 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
                                       _parameter_set_of(axis.name, spindle_of))
                   for axis in axes})
     dc_link = DcLink(machine.dc_link, dt) if machine.dc_link is not None else None
+    fixed_stops = _fixed_stops(channels, axis_table, image, dt, alarms)
     for channel in channels:
         geometry = {name: axis for name, axis in zip(channel.config.geometry_names, channel.config.geometry_axes,
                                                        strict=True) if axis}
         channel.esr = ChannelEsr(channel.name, channel.axes_by_name, alarms, dt, esr, geometry,
                                  {**channel.spindles, **channel.command_axes.by_name}, channel.command_axes)
-        channel.esr.other_variables = (couplings.variable_reader(channel.spindle_indices()),
-                                       channel.write_coupling_variable)
+        channel.esr.other_variables = (channel.fixed_stops.reader(channel.config, couplings.variable_reader(
+                                           channel.spindle_indices())), channel.write_coupling_variable)
     polygons: list[PolygonTurning] = []
     for channel in channels:
         channel.couplings = couplings
@@ -150,8 +151,7 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     return NckParts(nck_table.codec(NckRequests), nck_table.codec(NckStatus), display_wcs, alarm_area, plc_alarms,
                     mode_group, axes, axes_by_name, axis_coding, referencing,
                     channels, {channel.name: channel for channel in channels}, inclined_axes, retractions, spindles,
-                    spindle_of, couplings, esr, dc_link, polygons, manual, _fixed_stops(channels, axis_table, image, dt,
-                                                                          alarms))
+                    spindle_of, couplings, esr, dc_link, polygons, manual, fixed_stops)
 
 
 def _fixed_stops(channels: list[Channel], table: SignalTable, image: ProcessImage, dt: float,

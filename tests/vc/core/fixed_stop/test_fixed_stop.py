@@ -162,3 +162,16 @@ def test_a_reset_aborts_the_approach_but_keeps_the_clamp() -> None:
     rig.pulse("CHAN1.basic.out.reset", 2)
     rig.step(5)
     assert _state(rig) is State.CLAMPED and rig.get("W1.basic.in.fixedStopReached") == 1
+
+
+@pytest.mark.parametrize(("part", "end"), [(True, 0.0), (False, 50.0)])
+def test_a_program_reads_the_state_in_aa_fxs_and_branches_on_it(part: bool, end: float) -> None:
+    """The seed's example (L37917-37941) without alarms (MD37050 = 0): the program asks $AA_FXS."""
+    rig = _rig("MD37060: 0, MD37050: 0")
+    if not part:
+        rig.sim.inject_fault("", "no_part")
+    rig.mda("N10 G1 G90 F600 W130 FXS[W]=1 FXST[W]=25 FXSW[W]=5\nN20 IF $AA_FXS[W]==2 GOTOF FXS_ERROR\n"
+            "N30 FXS[W]=0\nN40 G0 W0\nN50 M30\nFXS_ERROR: IF $VA_FXS_INFO[W]==2 GOTOF LABEL_2\nN60 M30\n"
+            "LABEL_2: G0 W50\nN70 M30")
+    rig.run_until(lambda: rig.get("CHAN1.basic.in.stateReset") == 1 and rig.axis("W1").at_rest, 5000, 10)
+    assert rig.axis("W1").actual == pytest.approx(end, abs=0.01) and not rig.alarm_numbers()
