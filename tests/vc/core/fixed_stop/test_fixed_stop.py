@@ -12,7 +12,7 @@ from core_rig import Rig, machine, with_start_position
 
 from vc.core.fixed_stop.fixed_stop import State
 
-LATHE = str(Path(__file__).resolve().parents[4] / "scenarios" / "machines" / "lathe_tailstock.yaml")
+LATHE = str(Path(__file__).resolve().parents[4] / "scenarios" / "fixed_stop" / "machines" / "lathe_tailstock.yaml")
 APPROACH = "N10 G1 G90 F600 W130 FXS[W]=1\nN20 FXS[W]=0\nN30 M30"
 HOLD = "N10 G1 G90 F600 W130 FXS[W]=1\nN20 M0\nN30 M30"  # the quill stays clamped at M0
 CLAMP = 120.0 + 0.2 * 10000.0 / 50000.0  # the face plus 20 % of 10 kN over 50 kN/mm
