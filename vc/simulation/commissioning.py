@@ -265,4 +265,14 @@ def _device_needs(machine: MachineConfig, point: Callable[[str], str | None]) ->
             "Coolant", "coolant", wired("Coolant.pump", "Coolant.pressureOk"), (),
             f"Coolant.pump runs the pump; Coolant.pressureOk closes {plant.coolant.pressure_time_s:g} s later and"
             " opens at once when the pump stops (or the pressure is lost)"))
+    if plant.tailstock is not None:
+        tailstock = plant.tailstock
+        quill = tailstock.axis
+        needs.append(PlantNeed(
+            "Tailstock", "tailstock", wired("Tailstock.retracted", "Tailstock.atPart"), (),
+            f"The quill {quill} travels to the part's face at {tailstock.stop:g} (travel to fixed stop, FXS):"
+            f" give {quill}.basic.out.fixedStopEnable while {quill}.basic.in.fixedStopRequest is 1,"
+            f" {quill}.basic.out.fixedStopAckReached once {quill}.basic.in.fixedStopReached comes, take both away"
+            f" when the request falls; Tailstock.atPart (the sleeve at the part) may go to"
+            f" {quill}.basic.out.fixedStopSensor; Tailstock.retracted reads 1 at or behind {tailstock.retracted:g}"))
     return needs
