@@ -17,8 +17,17 @@ from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
 from vc.core.fixed_stop.fixed_stop import NOT_POSSIBLE, STILL_ACTIVE, FixedStop, State
 from vc.core.program.block_plan import BlockPlan
+from vc.core.program.commands import FixedStopWords
 
 FIXED_STOP_VARIABLES = ("$AA_FXS", "$VA_FXS", "$VA_FXS_INFO")
+
+
+def _set_values(fixed_stop: FixedStop, words: FixedStopWords) -> None:
+    """FXST / FXSW of the block into the axis's setting data SD43510 / SD43520."""
+    if words.torque is not None:
+        fixed_stop.set_torque(words.torque)
+    if words.window is not None:
+        fixed_stop.set_window(words.window)
 
 
 class ChannelFixedStops:
@@ -38,6 +47,9 @@ class ChannelFixedStops:
             if fixed_stop is None:
                 self._alarms.raise_alarm(NOT_POSSIBLE, cycle, name, channel=self.channel, axis=name)
                 return False
+            if words.switch == 1 and not fixed_stop.busy:
+                # the block's FXST / FXSW act from its start: the selection takes them (L37237-37247)
+                _set_values(fixed_stop, words)
             if words.switch == 1 and not fixed_stop.select(cycle):
                 return False
         for name in plan.targets:
@@ -48,10 +60,8 @@ class ChannelFixedStops:
                 return False
         for name, words in plan.fixed_stop.items():
             fixed_stop = self.of[name]
-            if words.torque is not None:
-                fixed_stop.set_torque(words.torque)
-            if words.window is not None:
-                fixed_stop.set_window(words.window)
+            if words.switch != 1:
+                _set_values(fixed_stop, words)
             if words.switch == 0:
                 fixed_stop.deselect()
         return True

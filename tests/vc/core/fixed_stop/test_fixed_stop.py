@@ -175,3 +175,12 @@ def test_a_program_reads_the_state_in_aa_fxs_and_branches_on_it(part: bool, end:
             "LABEL_2: G0 W50\nN70 M30")
     rig.run_until(lambda: rig.get("CHAN1.basic.in.stateReset") == 1 and rig.axis("W1").at_rest, 5000, 10)
     assert rig.axis("W1").actual == pytest.approx(end, abs=0.01) and not rig.alarm_numbers()
+
+
+def test_fxst_in_the_selecting_block_acts_from_its_start_without_a_ramp() -> None:
+    """Selected with FXST in its block, the torque is that value at once, also with MD37012."""
+    rig = _rig("MD37012: 0.1")
+    rig.mda("N10 G1 G90 F600 W130 FXS[W]=1 FXST[W]=35 FXSW[W]=2\nN20 M30")
+    rig.step(3)
+    fixed_stop = rig.nck.fixed_stops[0]
+    assert rig.axis("W1").torque_limit == 35.0 and (fixed_stop.torque, fixed_stop.window) == (35.0, 2.0)
