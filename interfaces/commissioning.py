@@ -94,6 +94,7 @@ RULES = {
     "turret": "the tool turret: lock pin, indexing drive, station code",
     "tool_changer": "the tool magazine and the changer arm",
     "coolant": "the coolant pump and its pressure switch",
+    "tailstock": "the tailstock quill's travel to fixed stop and its sleeve sensors",
 }
 
 

@@ -138,11 +138,16 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
                   "coolant pump contactor: 1 = the pump runs"),
     PlantFunction(r"Coolant\.pressureOk", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "coolant pressure switch: 1 once the running pump has built up the pressure"),
+    PlantFunction(r"Tailstock\.retracted", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "tailstock quill's sleeve sensor: 1 while the quill stands retracted, clear of the part"),
+    PlantFunction(r"Tailstock\.atPart", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "tailstock quill's sleeve sensor: 1 while its centre presses against the part (the fixed"
+                  " stop sensor, DB31.DBX1.2 with MD37040 = 1 / 2)"),
 )
 
 # The machine's devices besides the axes (the machine file's ``plant:``), by their I/O prefix.
-TURRET, MAGAZINE, TOOL_ARM, COOLANT = "Turret", "Magazine", "ToolArm", "Coolant"
-DEVICE_PREFIXES = (TURRET, MAGAZINE, TOOL_ARM, COOLANT)
+TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK = "Turret", "Magazine", "ToolArm", "Coolant", "Tailstock"
+DEVICE_PREFIXES = (TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK)
 
 
 def station_code_bits(stations: int) -> tuple[int, ...]:

@@ -204,6 +204,9 @@ class AxisRequests:
     ref_point_selection: int = signal("basic.out.refPointSelection", 0)  # DBX2.4..2.7: reference point 1..4
     encoder_1_activation: bool = signal("basic.out.enc1Activation")  # DBX1.5
     encoder_2_activation: bool = signal("basic.out.enc2Activation")  # DBX1.6
+    fixed_stop_enable: bool = signal("basic.out.fixedStopEnable")  # DBX3.1: travel to fixed stop enabled
+    fixed_stop_ack: bool = signal("basic.out.fixedStopAckReached")  # DBX1.1
+    fixed_stop_sensor: bool = signal("basic.out.fixedStopSensor")  # DBX1.2
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -223,6 +226,14 @@ class AxisStatus:
     command_plus: bool = signal("basic.in.traversPlusCommandActive")
     command_minus: bool = signal("basic.in.traversMinusCommandActive")
     drive_enabled: bool = signal("drive.in.enabled")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class FixedStopStatus:
+    """Travel to fixed stop (DB31.DBX62.4 / 62.5, seed 003 §17.2.2)."""
+
+    active: bool = signal("basic.in.fixedStopRequest")  # selected: the torque is limited
+    reached: bool = signal("basic.in.fixedStopReached")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -18,6 +18,7 @@ from plc_stub.programs.referencing import Referencing
 from plc_stub.programs.retraction import Retraction
 from plc_stub.programs.spindle import Spindle
 from plc_stub.programs.sync_spindle import SyncSpindle
+from plc_stub.programs.tailstock import Tailstock
 from plc_stub.programs.tool_change import ToolChange
 from plc_stub.programs.turret import Turret
 from plc_stub.runtime import ProgramClass, ScanCycleRuntime
@@ -33,6 +34,7 @@ REGISTRY: dict[str, ProgramClass] = {
     "coolant": Coolant,
     "turret": Turret,
     "tool_change": ToolChange,
+    "tailstock": Tailstock,
 }
 
 

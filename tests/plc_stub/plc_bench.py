@@ -12,6 +12,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from interfaces.catalog import load_catalog
+from interfaces.commissioning import Commissioning
 from interfaces.image import ProcessImage, Value
 from interfaces.plant_io import PlantIoMap
 from interfaces.plc import PlcEnvironment
@@ -24,10 +25,10 @@ OVERRIDE_SWITCHES = ("MCP.feedOverride", "MCP.rapidOverride", "MCP.spindleOverri
 
 class PlcBench:
     def __init__(self, program: ProgramClass, io_list: Mapping[str, str], axes: tuple[str, ...],
-                 parameters: Mapping[str, Any] | None = None):
+                 parameters: Mapping[str, Any] | None = None, commissioning: Commissioning | None = None):
         self.plant_io = PlantIoMap.from_mapping(io_list, axes)
         self.catalog = expand(load_catalog(), InterfaceLayout(channels=("CHAN1",), axes=axes))
-        environment = PlcEnvironment(self.catalog, self.plant_io, SCAN, parameters or {})
+        environment = PlcEnvironment(self.catalog, self.plant_io, SCAN, parameters or {}, commissioning=commissioning)
         self.runtime = ScanCycleRuntime(environment, program)
         self.interface = ProcessImage(self.catalog.area_sizes)
         self.plant = ProcessImage(self.plant_io.area_sizes())

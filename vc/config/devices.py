@@ -30,18 +30,25 @@ once both are read; every problem is reported with ``file:line:column``.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Collection, Mapping
 from typing import Any
 
-from interfaces.plant_io import COOLANT, MAGAZINE, TOOL_ARM, TURRET, station_code_bits
+from interfaces.plant_io import COOLANT, MAGAZINE, TAILSTOCK, TOOL_ARM, TURRET, station_code_bits
 from vc.config.machine_data import as_number, shown
-from vc.config.model import PLC_USER_ALARMS, CoolantPlant, MachinePlant, ToolChangerPlant, TurretPlant
+from vc.config.model import (
+    PLC_USER_ALARMS,
+    CoolantPlant,
+    MachinePlant,
+    TailstockPlant,
+    ToolChangerPlant,
+    TurretPlant,
+)
 from vc.located_yaml import LocatedMap, Mark, Problems
 
 # the loader's reader of a block of numbers: (raw, mark, where, key -> (lowest, highest, whole, meaning))
 ReadParameters = Callable[[Any, Mark, str, Mapping[str, tuple[float, float, bool, str]]], dict[str, Any]]
 
-DEVICES = ("turret", "coolant", "tool_changer")
+DEVICES = ("turret", "coolant", "tool_changer", "tailstock")
 MAX_STATIONS = 31  # a five-bit station code
 # per device: key -> (lowest, highest, whole number, meaning); the keys without a default are needed
 _KEYS: dict[str, dict[str, tuple[float, float, bool, str]]] = {
@@ -54,6 +61,12 @@ _KEYS: dict[str, dict[str, tuple[float, float, bool, str]]] = {
                      "index_time": (0.001, 60, False, "s from one pocket to the next"),
                      "arm_time": (0.001, 60, False, "s of the arm's stroke from home to the spindle"),
                      "pocket": (1, MAX_STATIONS, True, "the pocket at power-on")},
+    "tailstock": {"axis": (1, 31, True, "machine axis number of the quill (its place in axes:)"),
+                  "stop": (-1.0e6, 1.0e6, False, "position of the part's face on the quill's axis, mm"),
+                  "stiffness": (1.0, 1.0e9, False, "N/mm of the part and the centre"),
+                  "max_force": (1.0, 1.0e7, False, "N the drive pushes with at 100 % torque"),
+                  "force_limit": (1.0, 1.0e8, False, "N the part takes before it slips away"),
+                  "retracted": (-1.0e6, 1.0e6, False, "position at or behind which the quill is retracted")},
 }
 _OPTIONAL = ("station", "pocket")
 
@@ -66,16 +79,19 @@ def _io_of(device: str, values: Mapping[str, Any]) -> list[str]:
                 f"{TURRET}.unlocked", *(f"{TURRET}.code{bit}" for bit in codes)]
     if device == "coolant":
         return [f"{COOLANT}.pump", f"{COOLANT}.pressureOk"]
+    if device == "tailstock":
+        return [f"{TAILSTOCK}.retracted", f"{TAILSTOCK}.atPart"]
     codes = station_code_bits(int(values.get("pockets", 1)))
     return [f"{MAGAZINE}.rotateCw", f"{MAGAZINE}.rotateCcw", *(f"{MAGAZINE}.code{bit}" for bit in codes),
             f"{TOOL_ARM}.toSpindle", f"{TOOL_ARM}.home", f"{TOOL_ARM}.atSpindle"]
 
 
-_PREFIXES = {"turret": (TURRET,), "coolant": (COOLANT,), "tool_changer": (MAGAZINE, TOOL_ARM)}
+_PREFIXES = {"turret": (TURRET,), "coolant": (COOLANT,), "tool_changer": (MAGAZINE, TOOL_ARM),
+             "tailstock": (TAILSTOCK,)}
 
 
 def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tuple[str, Mark]],
-               read_parameters: ReadParameters) -> MachinePlant:
+               read_parameters: ReadParameters, axes: Collection[str] = ()) -> MachinePlant:
     """The ``plant:`` section checked against the I/O list ``wired`` (function -> address, mark);
     ``raw`` None: the machine has none of the devices (their I/O is then a mistake too).  A device's
     numbers are read by the loader's ``read_parameters`` (each key in its range, as ``dc_link:``)."""
@@ -92,7 +108,7 @@ def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tup
                                    f" {', '.join(DEVICES)} (an axis's plant: is under its axis)")
             continue
         values = _parameters(device, value, value_mark, problems, read_parameters)
-        if values is None:
+        if values is None or not _device_axis(device, values, value, value_mark, problems, list(axes)):
             continue
         unwired = [name for name in _io_of(device, values) if name not in wired]
         if unwired:
@@ -100,12 +116,28 @@ def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tup
         built[device] = values
     _check_device_io(built, wired, problems)
     turret, coolant, changer = built.get("turret"), built.get("coolant"), built.get("tool_changer")
+    tailstock = built.get("tailstock")
     return MachinePlant(
         turret=TurretPlant(turret["stations"], turret["index_time"], turret["lock_time"],
                            turret.get("station", 1)) if turret else None,
         coolant=CoolantPlant(coolant["pressure_time"]) if coolant else None,
         tool_changer=ToolChangerPlant(changer["pockets"], changer["index_time"], changer["arm_time"],
-                                      changer.get("pocket", 1)) if changer else None)
+                                      changer.get("pocket", 1)) if changer else None,
+        tailstock=TailstockPlant(tailstock["axis"], tailstock["stop"], tailstock["stiffness"], tailstock["max_force"],
+                                 tailstock["force_limit"], tailstock["retracted"]) if tailstock else None)
+
+
+def _device_axis(device: str, values: dict[str, Any], raw: Any, mark: Mark, problems: Problems,
+                 axes: list[str]) -> bool:
+    """The tailstock's ``axis:`` (a machine axis number) as the axis's name; False when there is none."""
+    if device != "tailstock":
+        return True
+    number = values["axis"]
+    if number > len(axes):
+        problems.add(_marks(raw, "axis", mark)[1], f"plant.tailstock.axis = {number}: the machine has {len(axes)} axes")
+        return False
+    values["axis"] = axes[number - 1]
+    return True
 
 
 def _parameters(device: str, raw: Any, mark: Mark, problems: Problems,

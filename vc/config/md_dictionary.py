@@ -642,6 +642,40 @@ EG_ACC_TOL = MdDef(37560, "EG_ACC_TOL", A, FLOAT, 25.0,
                    "acceleration threshold of the following axis in percent of MD32300 (DB31.DBX99.3)",
                    "seed 003 L26525-26527; [control] default", "%", 0.0, 100.0)
 
+# ---------------------------------------------------------------------------------- axis: travel to fixed stop
+FIXED_STOP_MODE = MdDef(37000, "FIXED_STOP_MODE", A, INT, 0,
+                        "travel to fixed stop: 0 = not available (FXS raises 20090), bit 0 = from the part"
+                        " program (FXS / FXST / FXSW); bit 1 (by the PLC in JOG) is not modelled",
+                        "seed 003 L37117-37160; [control] number, bits and default", "", 0, 3)
+FIXED_STOP_CONTROL = MdDef(37002, "FIXED_STOP_CONTROL", A, INT, 0,
+                           "bit 0: pulses cancelled at the stop: 0 = the function is aborted (20094), 1 = it is"
+                           " interrupted and the torque returns with the pulses; bit 1: the torque returns"
+                           " 0 = at once, 1 = on the ramp MD37012", "seed 003 L37461-37480; [control] default",
+                           "", 0, 3)
+FIXED_STOP_TORQUE_DEF = MdDef(37010, "FIXED_STOP_TORQUE_DEF", A, FLOAT, 5.0,
+                              "clamping torque when no FXST is programmed, percent of the drive's maximum torque",
+                              "seed 003 L37252-37255, L37850-37852; [control] default and range", "%", 0.0, 800.0)
+FIXED_STOP_TORQUE_RAMP_TIME = MdDef(37012, "FIXED_STOP_TORQUE_RAMP_TIME", A, FLOAT, 0.0,
+                                    "time in which a new torque limit is reached linearly (0: at once)",
+                                    "seed 003 L37168-37176; [control] default and range", "s", 0.0, 1.0e5)
+FIXED_STOP_WINDOW_DEF = MdDef(37020, "FIXED_STOP_WINDOW_DEF", A, FLOAT, 1.0,
+                              "monitoring window at the fixed stop when no FXSW is programmed",
+                              "seed 003 L37329-37337, L37853-37855; [control] default and range", "mm", 0.0, 1.0e8)
+FIXED_STOP_THRESHOLD = MdDef(37030, "FIXED_STOP_THRESHOLD", A, FLOAT, 2.0,
+                             "following error above which the fixed stop counts as reached (MD37040 = 0 / 2)",
+                             "seed 003 L37277-37283; [control] default and range", "mm", 0.0, 1.0e8)
+FIXED_STOP_BY_SENSOR = MdDef(37040, "FIXED_STOP_BY_SENSOR", A, INT, 0,
+                             "fixed stop detection: 0 = following error above MD37030, 1 = the sensor"
+                             " DB31.DBX1.2, 2 = either", "seed 003 L37275-37290; [control] default", "", 0, 2)
+FIXED_STOP_ALARM_MASK = MdDef(37050, "FIXED_STOP_ALARM_MASK", A, INT, 1,
+                              "fixed stop alarms: bit 0 = 0 suppresses 20091 (not reached), bit 1 = 1"
+                              " suppresses 20094 (aborted); bits 3 / 4 (FOC, brake test) are not modelled",
+                              "seed 003 L37375-37391, L37995-38013; [control] bit reading and default", "", 0, 31)
+FIXED_STOP_ACKN_MASK = MdDef(37060, "FIXED_STOP_ACKN_MASK", A, INT, 0,
+                             "PLC acknowledgements: bit 0 = 1 the motion waits for DB31.DBX3.1, bit 1 = 1 the"
+                             " block change waits for DB31.DBX1.1", "seed 003 L37187-37196, L37226-37232,"
+                             " L37311-37320; [control] default", "", 0, 3)
+
 # ---------------------------------------------------------------------------------- axis: ESR
 ESR_REACTION = MdDef(37500, "ESR_REACTION", A, INT, 0,
                      "extended stop and retract of the axis: 0 = none, 21 = NC-controlled retract,"

@@ -199,6 +199,19 @@ PLC_USER_ALARMS = range(700000, 700064)
 
 
 @dataclass(frozen=True, slots=True)
+class TailstockPlant:
+    """A tailstock quill on a machine axis that presses a part against the main spindle: the part's
+    face is the fixed stop the quill travels to (seed 003 chapter 17, vc/plant/tailstock.py)."""
+
+    axis: str  # the machine axis of the quill
+    stop: float  # where the quill's tip touches the part, on the axis (physical mm)
+    stiffness: float  # N/mm of the part and the centre: the quill goes force / stiffness further
+    max_force: float  # N the drive pushes with at 100 % torque
+    force_limit: float  # N the part takes; above them it slips away: the stop is lost
+    retracted: float  # the sleeve sensor "retracted" reads 1 at or behind this position
+
+
+@dataclass(frozen=True, slots=True)
 class TurretPlant:
     """A tool turret indexed by the PLC: a disk with its stations, an indexing drive, a lock pin."""
 
@@ -232,6 +245,7 @@ class MachinePlant:
     turret: TurretPlant | None = None
     coolant: CoolantPlant | None = None
     tool_changer: ToolChangerPlant | None = None
+    tailstock: TailstockPlant | None = None
 
 
 @dataclass(frozen=True, slots=True)

@@ -143,6 +143,18 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         "seed 003 L1564-1568 (distance-coded marks within MD34060) [control]"),
         AlarmDefinition(20005, "Channel %1 axis %2 reference point approach aborted", _STOP, Clear.RESET,
                         "seed 003 L1252-1254 (override 0 % in phase 2) [control]"),
+        AlarmDefinition(20090, "Axis %1 travel to fixed stop not possible", _STOP, Clear.RESET,
+                        "seed 003 L38017-38019 (number and name); [control] cause: FXS on an axis without"
+                        " MD37000, or FXS=1 while it is selected"),
+        AlarmDefinition(20091, "Axis %1 has not reached fixed stop", Reaction.NONE, Clear.RESET,
+                        "seed 003 L37963-37967 (the block changes); [control] reaction and clearing"),
+        AlarmDefinition(20092, "Axis %1 travel to fixed stop still active", _STOP, Clear.RESET,
+                        "seed 003 L37969-37972 (a motion or a new selection at the stop); [control] reaction"),
+        AlarmDefinition(20093, "Axis %1 standstill monitoring at fixed stop has been triggered", _STOP, Clear.RESET,
+                        "seed 003 L37335-37337, L37974-37984 (the axis left the window SD43520); [control]"
+                        " reaction"),
+        AlarmDefinition(20094, "Axis %1 travel to fixed stop has been aborted", _STOP, Clear.RESET,
+                        "seed 003 L37986-37993 (pulses cancelled, or DB31.DBX3.1 taken away); [control] reaction"),
         AlarmDefinition(20141, "Channel %1 axis %2 motion-synchronized action: illegal axis type", _STOP,
                         Clear.RESET, "seed 003 L17574-17575 (POS on a spindle in speed control); text [control]; also"
                         " a POS on an axis another motion owns [control]"),

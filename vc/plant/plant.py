@@ -30,6 +30,7 @@ from vc.config.model import AxisConfig, MachineConfig
 from vc.plant.chuck import Chuck
 from vc.plant.coolant import Coolant
 from vc.plant.gearbox import Gearbox
+from vc.plant.tailstock import Tailstock
 from vc.plant.tool_changer import ToolChanger
 from vc.plant.turret import Turret
 from vc.plant.workpiece import ClampedPart
@@ -119,7 +120,9 @@ class Plant:
         self.tool_changer = ToolChanger(devices.tool_changer, self._io, ipo_cycle_us) \
             if devices.tool_changer else None
         coolant = Coolant(devices.coolant, self._io, ipo_cycle_us) if devices.coolant else None
-        self._devices: list[Device] = [device for device in (self.turret, self.tool_changer, coolant)
+        # the tailstock's part is the fixed stop of its quill axis: the composed machine hands it to the axis
+        self.tailstock = Tailstock(devices.tailstock, self._io) if devices.tailstock else None
+        self._devices: list[Device] = [device for device in (self.turret, self.tool_changer, coolant, self.tailstock)
                                        if device is not None]
         # the devices rest until the PLC changes an output or one of them still moves
         self._outputs_seen = b""
@@ -190,6 +193,8 @@ class Plant:
             self.blocked_drives = [part.counter.axis for part in self._parts if part.step()]
         if self._devices:
             self._devices_cycle(io)
+        if self.tailstock is not None:
+            self.tailstock.write_sensors(io)  # the quill moves with its axis, not with an output
 
     def _devices_cycle(self, io: ProcessImage) -> None:
         """The devices' cycle, only when an output changed or one of them still moves: a machine

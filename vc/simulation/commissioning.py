@@ -44,6 +44,10 @@ def _devices(machine: MachineConfig) -> dict[str, dict[str, float]]:
                                    "arm_time": plant.tool_changer.arm_time_s}
     if plant.coolant is not None:
         devices["coolant"] = {"pressure_time": plant.coolant.pressure_time_s}
+    if plant.tailstock is not None:
+        # the quill's axis by its interface data block DB(30 + n), as the PLC addresses it
+        quill = next(axis for axis in machine.axes if axis.name == plant.tailstock.axis)
+        devices["tailstock"] = {"axis_db": quill.db}
     return devices
 
 
@@ -261,4 +265,14 @@ def _device_needs(machine: MachineConfig, point: Callable[[str], str | None]) ->
             "Coolant", "coolant", wired("Coolant.pump", "Coolant.pressureOk"), (),
             f"Coolant.pump runs the pump; Coolant.pressureOk closes {plant.coolant.pressure_time_s:g} s later and"
             " opens at once when the pump stops (or the pressure is lost)"))
+    if plant.tailstock is not None:
+        tailstock = plant.tailstock
+        quill = tailstock.axis
+        needs.append(PlantNeed(
+            "Tailstock", "tailstock", wired("Tailstock.retracted", "Tailstock.atPart"), (),
+            f"The quill {quill} travels to the part's face at {tailstock.stop:g} (travel to fixed stop, FXS):"
+            f" give {quill}.basic.out.fixedStopEnable while {quill}.basic.in.fixedStopRequest is 1,"
+            f" {quill}.basic.out.fixedStopAckReached once {quill}.basic.in.fixedStopReached comes, take both away"
+            f" when the request falls; Tailstock.atPart (the sleeve at the part) may go to"
+            f" {quill}.basic.out.fixedStopSensor; Tailstock.retracted reads 1 at or behind {tailstock.retracted:g}"))
     return needs

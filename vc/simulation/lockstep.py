@@ -86,6 +86,9 @@ class Simulation:
         self.interface = ProcessImage(self.catalog.area_sizes)
         self.plant = Plant(machine, self.nck.cycle_us, self.nck.axes, gear_stages, chucks_clamped, self.nck.dc_link,
                            turret_station)
+        tailstock = self.plant.tailstock
+        if tailstock is not None:
+            self.nck.axes_by_name[tailstock.axis].obstacle = tailstock  # the part is the quill's fixed stop
         self.plc: SoftPlc | None = None
         if self.plc_name is not None:
             scan_time = self.plc_period * self.nck.cycle_us / 1_000_000

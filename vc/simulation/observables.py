@@ -104,8 +104,11 @@ def quantity_unit(machine: MachineConfig, instance: str, quantity: str) -> str:
 #   coolant_pressure_lost    the pressure switch stays open while the pump runs (clogged filter, dry tank)
 #   magazine_stalled         the magazine's drive runs, the magazine does not turn
 #   tool_arm_stuck           the tool changer arm does not move
+#   stop_lost                the part in the tailstock slips away: the quill's fixed stop is gone
+#   no_part                  no part in the tailstock: the quill finds no fixed stop
 DEVICE_FAULTS = {"turret_sensor_missing": "Turret", "turret_lock_jammed": "Turret", "turret_drive_stalled": "Turret",
-                 "coolant_pressure_lost": "Coolant", "magazine_stalled": "Magazine", "tool_arm_stuck": "ToolArm"}
+                 "coolant_pressure_lost": "Coolant", "magazine_stalled": "Magazine", "tool_arm_stuck": "ToolArm",
+                 "stop_lost": "Tailstock", "no_part": "Tailstock"}
 FAULTS = ("zero_marks_missing", "reference_marks_missing", "encoder_slip", "load_disturbance", "workpiece_clamp",
           "mains_failure", *DEVICE_FAULTS)
 MACHINE_FAULTS = ("mains_failure", *DEVICE_FAULTS)  # faults of the whole machine or a device: no axis
@@ -115,7 +118,8 @@ def machine_devices(machine: MachineConfig) -> tuple[str, ...]:
     """The devices of ``machine`` a fault can be injected into (clear_faults names them)."""
     plant = machine.plant
     return tuple(name for name, present in (("Turret", plant.turret), ("Coolant", plant.coolant),
-                                            ("Magazine", plant.tool_changer), ("ToolArm", plant.tool_changer))
+                                            ("Magazine", plant.tool_changer), ("ToolArm", plant.tool_changer),
+                                            ("Tailstock", plant.tailstock))
                  if present is not None)
 MAINS = "mains"  # clear_faults: mains - the supply is back
 

@@ -83,7 +83,7 @@ class _FileReader:
             self._read_dc_link(document["dc_link"], document.mark_of("dc_link"))
         # the devices besides the axes and the PLC alarm texts, after plant_io: a device needs its I/O
         machine.plant = read_plant(document.get("plant"), document.mark_of("plant"), self.blocks.problems,
-                                   machine.plant_io_names, self.blocks.parameters)
+                                   machine.plant_io_names, self.blocks.parameters, tuple(machine.axes))
         machine.plc_alarms = read_plc_alarms(document.get("plc_alarms"), document.mark_of("plc_alarms"),
                                              self.blocks.problems)
 

@@ -25,6 +25,7 @@ standstill monitoring, the status bits) stays here, on the axis's own attributes
 from __future__ import annotations
 
 import dataclasses
+from typing import Protocol
 
 from interfaces.signal_groups import AxisStatus
 from vc.config import md_dictionary as MD
@@ -41,6 +42,14 @@ from vc.core.axis.signals import AxisInputs
 from vc.core.interface_map import SignalTable
 
 _TINY = 1e-9
+
+
+class Obstacle(Protocol):
+    """Something the slide can run into (the plant's fixed stop: vc/plant/fixed_stop.py)."""
+
+    def hold(self, previous: float, position: float, force_percent: float) -> float:
+        """Where the slide that moved from ``previous`` to ``position`` stands, the drive pushing
+        with ``force_percent`` of its maximum force."""
 
 
 class MachineAxis:
@@ -106,6 +115,12 @@ class MachineAxis:
         # DRF (AUTO / MDA, DB21.DBX0.3): the handwheel's offset in the MCS, overlaid on the path (part of
         # ``overlay``), and the distance of it still to travel; it outlives reset and program end (L36426)
         self.drf = DrfOffset(dt)
+        # travel to fixed stop (vc/core/fixed_stop/): the drive's torque limit in percent of its maximum
+        # (None: not limited), and while it stands at the stop the NC holds it there (no monitoring,
+        # DBX2.1 / 1.3 do not act); ``obstacle``: what the slide runs into (the plant's fixed stop)
+        self.torque_limit: float | None = None
+        self.at_fixed_stop = False
+        self.obstacle: Obstacle | None = None
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -211,6 +226,28 @@ class MachineAxis:
         """Controller and pulse enable present and a measuring system active: position control possible."""
         return self.inputs.controller_enable and self.inputs.pulse_enable and self.active_encoder is not None \
             and not self.pulses_cancelled
+
+    @property
+    def _drive_held_at_stop(self) -> bool:
+        """At the fixed stop the controller enable does not act (seed 003 L37292-37298)."""
+        return self.inputs.pulse_enable and self.active_encoder is not None and not self.pulses_cancelled
+
+    def hold_at_fixed_stop(self, setpoint: float) -> None:
+        """The fixed stop is detected: the path's rest is deleted and the setpoint stands at
+        ``setpoint``, the threshold MD37030 beyond the stop, so that the drive keeps pushing with
+        its torque limit (seed 003 L37306-37308, L37345-37349)."""
+        self.release()
+        self.setpoint = setpoint
+        self.resting = False
+
+    def leave_fixed_stop(self) -> None:
+        """Deselected or aborted: no torque limit, position control where the slide stands
+        (seed 003 L37446-37449, L37402-37406)."""
+        self.torque_limit = None
+        if self.owner is Owner.NONE:
+            self.setpoint = self.actual
+            self.loop.hold_at(self.actual)
+        self.resting = False
 
     @property
     def drive_enabled(self) -> bool:
@@ -354,7 +391,7 @@ class MachineAxis:
         else:
             # No position control: the drive brakes on its own ramp and the slide stops.
             loop.drive_velocity = ramp(loop.drive_velocity, 0.0, self.dyn.rapid_stop_decel, dt)
-        if self.disabled:
+        if self.disabled and not self.at_fixed_stop:
             # Axis disable: the setpoints do not reach the drive; the NC shows the setpoint as actual value.
             loop.drive_velocity = 0.0
             self.velocity = self.command_velocity
@@ -362,7 +399,15 @@ class MachineAxis:
         else:
             slide_velocity = loop.drive_velocity + self.disturbance_velocity if self.servo_on \
                 else loop.drive_velocity + self.external_velocity
+            previous = self.physical
             self.physical += slide_velocity * dt
+            if self.obstacle is not None:
+                force = 0.0 if not self.servo_on else 100.0 if self.torque_limit is None else self.torque_limit
+                held = self.obstacle.hold(previous, self.physical, force)
+                if held != self.physical:
+                    self.physical = held
+                    slide_velocity = (held - previous) / dt
+                    loop.drive_velocity = 0.0  # the motor is blocked
             self.velocity = slide_velocity
             if self.clamp is not None:
                 other, ratio, offset = self.clamp
@@ -385,7 +430,7 @@ class MachineAxis:
         if self._servo_off_countdown > 0:
             self._servo_off_countdown -= 1
         forced_off = self._servo_off_countdown == 0
-        wanted = self.drive_ready and not forced_off
+        wanted = (self.drive_ready or (self.at_fixed_stop and self._drive_held_at_stop)) and not forced_off
         if self.servo_on and not wanted and not forced_off:
             moving = self.command_velocity != 0.0 or abs(self.velocity) > self.dyn.standstill_velocity
             if moving:
@@ -460,6 +505,9 @@ class MachineAxis:
         dyn = self.dyn
         error = abs(self.setpoint + self.overlay - self.actual)  # exact stop windows count from the end point
         interpolation_done = self.owner is Owner.NONE and self.command_velocity == 0.0
+        if self.at_fixed_stop:
+            self.resting = False  # held against the stop: no exact stop or standstill monitoring (L37771-37773)
+            return
         if interpolation_done and self.servo_on and not self.disabled:
             self._motion_end_cycle += 1
             elapsed = self._motion_end_cycle * self._dt

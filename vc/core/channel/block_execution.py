@@ -39,6 +39,7 @@ from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.channel.spindle_functions import SpindleFunctions
 from vc.core.channel.stroke_limit_path import ChannelStrokeLimits
 from vc.core.channel.thread_retract import ThreadRetract
+from vc.core.fixed_stop.channel_fixed_stops import ChannelFixedStops
 from vc.core.interpolation.path import PathSegment
 from vc.core.interpolation.tool_path import ToolPathSegment
 from vc.core.program.block_plan import EXACT_STOP_COARSE, EXACT_STOP_FINE, BlockPlan, DecodeAlarm, software_limit_alarm
@@ -55,7 +56,7 @@ class BlockExecution:
                  axes_by_name: dict[str, MachineAxis], inputs: ChannelInputs, alarms: AlarmList, dt: float,
                  referencing: ReferencingControl, five_axis: FiveAxisControl, stroke: ChannelStrokeLimits,
                  spindles: SpindleFunctions, threads: ThreadRetract, stop: Callable[[], None],
-                 aux: AuxiliaryOutput, tools: ToolSelection):
+                 aux: AuxiliaryOutput, tools: ToolSelection, fixed_stops: ChannelFixedStops):
         self.run = run
         self.config = config
         self.name = config.name
@@ -72,6 +73,8 @@ class BlockExecution:
         self._stop = stop  # the channel's NC stop
         self._aux = aux  # the auxiliary functions to the PLC
         self._tools = tools
+        self._fixed_stops = fixed_stops  # FXS / FXST / FXSW (seed 003 chapter 17)
+        self._approaching: set[str] = set()  # the block's axes that travel to their fixed stop
         self.inclined: InclinedAxisControl | None = None  # inclined-axis control (seed 000), given by the NCK
         self.stroke_stop: StrokeStop | None = None  # the running block ends on a stroke limit boundary
         self._g74_axes: list[str] = []
@@ -158,7 +161,13 @@ class BlockExecution:
         run = self.run
         segment = run.segment
         assert segment is not None and run.plan is not None
-        axes_hold = False
+        if self._approaching and self._fixed_stops.path_ended(segment.axes, self._approaching):
+            self._approaching = set()
+            self._release_segment()  # the stop is found: the rest of the path is deleted (L37306)
+            run.phase = BlockPhase.BLOCK_END
+            self._block_end()
+            return
+        axes_hold = bool(self._approaching) and self._fixed_stops.holds_motion(segment.axes)
         inclined = self.inclined
         carried = inclined.orthogonal if inclined is not None and inclined.orthogonal_only_carried else None
         for axis in segment.axes:
@@ -181,6 +190,9 @@ class BlockExecution:
             segment.command_velocity = min(limit, feed * self._spindles.revolution_speed())
         segment.cycle(override, blocked, self._dt)
         if segment.finished:
+            if self._approaching:
+                self._fixed_stops.motion_finished(segment.axes, cycle)  # no stop before the end point: 20091
+                self._approaching = set()
             self._release_segment()
             if self.stroke_stop is not None:
                 run.phase = BlockPhase.CONTOUR_LOST  # the block cannot go on; RESET ends it
@@ -210,9 +222,14 @@ class BlockExecution:
         assert plan is not None
         if self._spindles.holds_block_end(plan):
             return  # SPOS / M19, WAITS, COUPON's block-change condition, WAITC
+        fixed_stops = self._fixed_stops
+        if fixed_stops.of and not fixed_stops.block_may_change:
+            return  # the PLC's acknowledgement of the fixed stop (MD37060)
         if plan.block_end in (EXACT_STOP_FINE, EXACT_STOP_COARSE):
             fine = plan.block_end == EXACT_STOP_FINE
             for name in plan.targets:
+                if fixed_stops.of and fixed_stops.standing_at_stop(name):
+                    continue  # it stands at its stop, not at the end point
                 axis = self.axes_by_name[name]
                 window = axis.dyn.fine_window if fine else axis.dyn.coarse_window
                 if abs(axis.distance_to_end_point) > window:
@@ -282,6 +299,9 @@ class BlockExecution:
             return
         self.run.plan = plan
         self._spindles.waits = []
+        if (plan.fixed_stop or self._fixed_stops.of) and not self._fixed_stops.apply(plan, cycle):
+            self._stop()
+            return
         if plan.stroke_limit is not None:
             self._stroke.control.apply(plan.stroke_limit)
         if not self._spindles.coupling_functions(plan, cycle, block):
@@ -409,6 +429,7 @@ class BlockExecution:
         self._feed_per_revolution = (plan.feed / 60.0, segment.command_velocity) if per_revolution else None
         for axis in axes:
             axis.take(Owner.PATH)
+        self._approaching = self._fixed_stops.approaching(axes) if self._fixed_stops.of else set()
         self.run.phase = BlockPhase.INTERPOLATE
         self._interpolate(False, cycle)
 

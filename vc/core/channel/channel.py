@@ -47,6 +47,7 @@ from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.channel.spindle_functions import SpindleFunctions
 from vc.core.channel.stroke_limit_path import ChannelStrokeLimits
 from vc.core.channel.thread_retract import ThreadRetract
+from vc.core.fixed_stop.channel_fixed_stops import ChannelFixedStops
 from vc.core.interface_map import SignalTable
 from vc.core.interpolation.thread_cutting import ThreadSegment
 from vc.core.overrides import OverrideCoding
@@ -100,9 +101,10 @@ class Channel:
         self._channel_referencing = ChannelReferencing(self.name, axes, referencing, alarms)
         self._spindles = SpindleFunctions(config, self.axes_by_name, self.inputs, alarms, self.stop)
         self._threads = ThreadRetract(self.run, config, axes, self.axes_by_name, self._spindles, alarms, dt, self.stop)
+        self.fixed_stops = ChannelFixedStops(self.name, alarms)  # travel to fixed stop, filled at power-on
         self._execution = BlockExecution(self.run, config, axes, self.axes_by_name, self.inputs, alarms, dt,
                                          referencing, self.five_axis, self._stroke, self._spindles, self._threads,
-                                         self.stop, self.aux, self.tools)
+                                         self.stop, self.aux, self.tools, self.fixed_stops)
         self._inclined: InclinedAxisControl | None = None
         self.command_axes = CommandAxes(self.name, axes, alarms, dt)  # POS[ax]= of synchronized actions
 
@@ -219,6 +221,7 @@ class Channel:
         self._spindles.reset_spindles(program_end=False)
         self.command_axes.reset()
         self.aux.reset()
+        self.fixed_stops.reset()
 
     def nc_start(self, cycle: int, mode: Mode, reference_function: bool) -> None:
         """NC start edge from the PLC."""

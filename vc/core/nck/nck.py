@@ -23,7 +23,8 @@ own skip-guards (most of the machine rests in most cycles).  Why each comes wher
 7. **referencing**: passive watchers (zero marks seen while moving), then the running
    referencing procedures; they command their axes before position control moves them.
 8. **position control**: the inclined-axis controls carry the orthogonal axis along a manual
-   motion, every axis that moves or was commanded runs its control loop, drive and encoder, and
+   motion, every axis that moves or was commanded runs its control loop, drive and encoder, then
+   travel to fixed stop detects its stop and watches its window (only while one is selected), and
    the couplings monitor their synchronism on the new actual values.
 9. **extended stop and retract**: synchronized actions, the channels' and the drives' ESR
    reactions, the DC link.  After position control, so that a trigger of this cycle sees this
@@ -117,6 +118,7 @@ class Nck:
         self.dc_link = parts.dc_link
         self.polygons = parts.polygons
         self.manual = parts.manual
+        self.fixed_stops = parts.fixed_stops
         self.alarm_reactions = AlarmReactions(self.alarms, self.axes, self.axes_by_name, self.channels_by_name,
                                               self.esr, self.polygons)
         self.emergency_stop = False
@@ -200,6 +202,9 @@ class Nck:
                 continue  # nothing moves and no input changed: its outputs stand
             if axis.control_cycle(self.cycle, self.alarms):
                 moved = True
+        for fixed_stop in self.fixed_stops:
+            if fixed_stop.busy:
+                fixed_stop.cycle(self.cycle)  # detection and monitoring on the new actual values
         self.couplings.monitor(self.cycle)
         return moved
 

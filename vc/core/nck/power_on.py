@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from interfaces.bit_access import Bit
 from interfaces.group_codec import GroupCodec
 from interfaces.image import ProcessImage
-from interfaces.signal_groups import DISPLAY_WCS, NckRequests, NckStatus
+from interfaces.signal_groups import DISPLAY_WCS, FixedStopStatus, NckRequests, NckStatus
 from interfaces.signals import Catalog, InstanceKind
 from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig
@@ -30,6 +30,7 @@ from vc.core.axis.axis import MachineAxis
 from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
+from vc.core.fixed_stop.fixed_stop import FixedStop
 from vc.core.interface_map import SignalTable
 from vc.core.nc_memory import NcMemory
 from vc.core.nck.alarm_area import AlarmArea
@@ -73,6 +74,7 @@ class NckParts:
     dc_link: DcLink | None
     polygons: list[PolygonTurning]
     manual: ManualFunctions
+    fixed_stops: list[FixedStop]  # travel to fixed stop of the axes whose MD37000 allows it
 
 
 def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memory: NcMemory, alarms: AlarmList,
@@ -127,13 +129,14 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
                                       _parameter_set_of(axis.name, spindle_of))
                   for axis in axes})
     dc_link = DcLink(machine.dc_link, dt) if machine.dc_link is not None else None
+    fixed_stops = _fixed_stops(channels, axis_table, image, dt, alarms)
     for channel in channels:
         geometry = {name: axis for name, axis in zip(channel.config.geometry_names, channel.config.geometry_axes,
                                                        strict=True) if axis}
         channel.esr = ChannelEsr(channel.name, channel.axes_by_name, alarms, dt, esr, geometry,
                                  {**channel.spindles, **channel.command_axes.by_name}, channel.command_axes)
-        channel.esr.other_variables = (couplings.variable_reader(channel.spindle_indices()),
-                                       channel.write_coupling_variable)
+        channel.esr.other_variables = (channel.fixed_stops.reader(channel.config, couplings.variable_reader(
+                                           channel.spindle_indices())), channel.write_coupling_variable)
     polygons: list[PolygonTurning] = []
     for channel in channels:
         channel.couplings = couplings
@@ -148,7 +151,22 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     return NckParts(nck_table.codec(NckRequests), nck_table.codec(NckStatus), display_wcs, alarm_area, plc_alarms,
                     mode_group, axes, axes_by_name, axis_coding, referencing,
                     channels, {channel.name: channel for channel in channels}, inclined_axes, retractions, spindles,
-                    spindle_of, couplings, esr, dc_link, polygons, manual)
+                    spindle_of, couplings, esr, dc_link, polygons, manual, fixed_stops)
+
+
+def _fixed_stops(channels: list[Channel], table: SignalTable, image: ProcessImage, dt: float,
+                 alarms: AlarmList) -> list[FixedStop]:
+    """Travel to fixed stop for every channel axis whose MD37000 bit 0 allows it from the program;
+    DB31.DBX62.4 / 62.5 of the other axes stay 0 (the function is not there)."""
+    table.codec(FixedStopStatus)
+    fixed_stops = []
+    for channel in channels:
+        for axis in channel.axes:
+            if axis.config.md.int(MD.FIXED_STOP_MODE) & 1:
+                fixed_stop = FixedStop(axis, table, image.area(f"DB{axis.config.db}"), dt, alarms)
+                channel.fixed_stops.add(fixed_stop)
+                fixed_stops.append(fixed_stop)
+    return fixed_stops
 
 
 def _axes(machine: MachineConfig, table: SignalTable, image: ProcessImage, memory: NcMemory, alarms: AlarmList,

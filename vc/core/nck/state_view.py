@@ -16,6 +16,7 @@ from interfaces.signals import MODE_GROUP_INSTANCE
 from vc.core.auxiliary.output import AUX_OUTPUT_STATES
 from vc.core.axis.command_axis import COMMAND_AXIS_STATES
 from vc.core.channel.program_run import CHANNEL_STATES, PROGRAM_STATES
+from vc.core.fixed_stop.fixed_stop import FIXED_STOP_STATES
 from vc.core.nck.manual_retraction import MANUAL_RETRACTION_STATES
 from vc.core.nck.mode_group import MODE_GROUP_STATES
 from vc.core.nck.power_on import NckParts
@@ -53,6 +54,7 @@ PUBLISHED: tuple[Published[Any], ...] = (
     Published(GEAR_CHANGE_STATES, lambda nck: [(spindle.name, spindle.gear_change) for spindle in nck.spindles]),
     Published(COUPLING_STATES, lambda nck: [(spindle.name, FollowingSpindle(nck.couplings.active, spindle.name))
                                             for spindle in nck.spindles]),
+    Published(FIXED_STOP_STATES, lambda nck: [(fixed_stop.name, fixed_stop) for fixed_stop in nck.fixed_stops]),
     Published(DRIVE_ESR_STATES, lambda nck: [(axis.name, nck.esr.drives[axis.name]) for axis in nck.axes]),
     Published(ESR_RETRACT_STATES, lambda nck: [(channel.name, channel.esr) for channel in nck.channels
                                                if channel.esr is not None]),

@@ -19,6 +19,7 @@ from vc.core.program.commands import (
     AuxiliaryFunction,
     CouplingCommand,
     DriveEsrCommand,
+    FixedStopWords,
     PolygonCommand,
     RetractProgramming,
     SpindleCommand,
@@ -104,6 +105,7 @@ class BlockPlan:
     reference_axes: tuple[str, ...] = ()  # G74: machine axes to reference
     preset: dict[str, float] = field(default_factory=dict)  # PRESETON: machine axis -> new actual value
     delete_drf: bool = False  # DRFOF: the DRF offsets of the channel's axes are deleted (seed 003 L36470)
+    fixed_stop: dict[str, FixedStopWords] = field(default_factory=dict)  # FXS / FXST / FXSW by machine axis
     spindles: dict[str, SpindleCommand] = field(default_factory=dict)  # machine axis -> its part of the block
     couplings: list[CouplingCommand] = field(default_factory=list)
     # CPSYNCOP[Sn]=.. and the other synchronism thresholds: machine axis of the FS -> MD number -> value

@@ -67,6 +67,15 @@ SYNCHRONISM_THRESHOLDS: dict[str, MdDef] = {
 
 
 @dataclass(slots=True)
+class FixedStopWords:
+    """FXS / FXST / FXSW of one axis in a block (seed 003 L37132-37160); None: not written."""
+
+    switch: int | None = None  # FXS[ax]=1 selects, =0 deselects
+    torque: float | None = None  # FXST[ax]=: the clamping torque, percent of the drive's maximum (SD43510)
+    window: float | None = None  # FXSW[ax]=: the monitoring window (SD43520)
+
+
+@dataclass(slots=True)
 class SpindleCommand:
     """What one block asks of one spindle (seed 003 chapter 13)."""
 

@@ -30,6 +30,7 @@ from vc.core.program.block_plan import (
 )
 from vc.core.program.commands import SYNCHRONISM_THRESHOLDS, OutputTime, SpindleCommand
 from vc.core.program.decoder import BlockDecoder
+from vc.core.program.fixed_stop_words import FIXED_STOP_WORDS, fixed_stop_word
 from vc.core.program.motion_words import (
     PITCH_OF_GEOMETRY_AXIS,
     circle_block,
@@ -185,6 +186,9 @@ def _assignment(decoder: BlockDecoder, item: Assignment) -> None:
         spos(decoder, item.name, item.index, item.value)
         return
     if retract_assignment(decoder, item):
+        return
+    if item.name in FIXED_STOP_WORDS and item.index:
+        fixed_stop_word(decoder, item)
         return
     if item.name == "FA" and item.index and isinstance(item.value, float):
         # FA[Sn]: the velocity of SPOS offset changes on a coupled FS, deg/min; 0 = MD (L23925-23940)
