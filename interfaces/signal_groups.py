@@ -226,6 +226,14 @@ class AxisStatus:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class PositioningAxisStatus:
+    """A positioning axis of the part program (seed 003 §9.7, L12267; §7.3, L8921)."""
+
+    positioning_axis: bool = signal("basic.in.isPosAxis")  # DBX76.5
+    feed: float = signal("basic.in.posAxisFeedrateValue", 0.0)  # DBD78: FA, mm/min or deg/min
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class DriveEsrStatus:
     """The drive's ESR feedback (DB31.DBX95.2..95.4)."""
 

@@ -96,14 +96,24 @@ class BlockDecoder:
         if axis.is_spindle and not axis.axis_mode:
             # the axis name of a spindle switches it to axis mode: an implicit M70 (L17421-17462)
             self.plan.spindles.setdefault(machine_axis, SpindleCommand()).axis_mode = True
+        end = self.end_point(machine_axis, name, value, self.plan.targets)
+        if end is not None:
+            self.plan.targets[machine_axis] = end
+
+    def end_point(self, machine_axis: str, name: str, value: object, given: Mapping[str, float]) -> float | None:
+        """The machine end point of ``name=value``: AC( ) / IC( ) or the modal G90 / G91; an
+        incremental value counts from ``given`` (an end point already in the block), the program
+        position or the setpoint."""
         if isinstance(value, ValueFunction) and value.name in ("AC", "IC"):
             absolute, number = value.name == "AC", value.value
         elif isinstance(value, float):
             absolute, number = self.modal.absolute, value
         else:
             self.unknown(f"{name}={value}")
-            return
-        start = self.plan.targets.get(machine_axis, self.program_positions.get(machine_axis, axis.setpoint))
-        self.plan.targets[machine_axis] = number if absolute else start + number
-        if not absolute and self.plan.five_axis is not None:
+            return None
+        if absolute:
+            return number
+        if self.plan.five_axis is not None:
             self.plan.five_axis.incremental_axes = True
+        return given.get(machine_axis, self.program_positions.get(machine_axis, self.axes[machine_axis].setpoint)) \
+            + number

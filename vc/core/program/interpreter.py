@@ -44,6 +44,7 @@ from vc.core.program.motion_words import (
     tapping_block,
     thread_cutting_block,
 )
+from vc.core.program.positioning_words import motion_end_keyword, positioning_assignment, positioning_block, waitp
 from vc.core.program.program import (
     Assignment,
     Block,
@@ -118,7 +119,7 @@ _KEYWORD_HANDLERS: dict[str, Callable[[BlockDecoder], None]] = {
     **RETRACT_KEYWORDS,
 }
 _CALL_HANDLERS: dict[str, Callable[[BlockDecoder, Call], None]] = {
-    "PRESETON": preseton, "WAITC": waitc, "WAITS": waits,
+    "PRESETON": preseton, "WAITC": waitc, "WAITS": waits, "WAITP": waitp,
     "SPCON": lambda decoder, call: spcon(decoder, call, True),
     "SPCOF": lambda decoder, call: spcon(decoder, call, False),
     **{name: coupling_call for name in ("COUPDEF", "COUPON", "COUPONC", "COUPOF", "COUPOFS", "COUPDEL",
@@ -162,6 +163,9 @@ def _decode_item(decoder: BlockDecoder, item: Item) -> None:
             decoder.axis_value(item.address, item.value)
     elif isinstance(item, Assignment):
         _assignment(decoder, item)
+    elif isinstance(item, Keyword) and item.index:
+        if not motion_end_keyword(decoder, item):
+            decoder.unknown(f"{item.name}[{item.index}]")
     elif isinstance(item, Keyword):
         keyword_handler = _KEYWORD_HANDLERS.get(item.name)
         if keyword_handler is None:
@@ -185,6 +189,8 @@ def _assignment(decoder: BlockDecoder, item: Assignment) -> None:
         spos(decoder, item.name, item.index, item.value)
         return
     if retract_assignment(decoder, item):
+        return
+    if positioning_assignment(decoder, item):
         return
     if item.name == "FA" and item.index and isinstance(item.value, float):
         # FA[Sn]: the velocity of SPOS offset changes on a coupled FS, deg/min; 0 = MD (L23925-23940)
@@ -244,6 +250,8 @@ def _finish(decoder: BlockDecoder) -> None:
         if command.axis_mode and command.m_function != 70:
             aux_words.implicit_spindle_function(decoder, axis, 70)  # programmed as an axis (L17466-17490)
     aux_words.check_block(decoder)
+    if plan.positioning or plan.axis_feeds or plan.positioning_waits:
+        positioning_block(decoder)
     if plan.polygon is not None:
         polygon_block(decoder)
         return
