@@ -237,7 +237,7 @@ class BlockExecution:
 
     def _positioning_holds(self, plan: BlockPlan) -> bool:
         """The block waits for its POS axes, WAITP's axes and at the program end for every positioning
-        axis (L11825-11840, L11764-11782); a motion an alarm took from an axis loses the block."""
+        axis (L11832-11845, L11771-11792); a motion an alarm took from an axis loses the block."""
         waited = [name for name, motion in plan.positioning.items() if motion.wait]
         waited.extend(plan.positioning_waits)
         if plan.program_end:

@@ -39,7 +39,7 @@ MOTION_ENDS = (MOTION_END_FINE, MOTION_END_COARSE, MOTION_END_IPO)
 @dataclass(frozen=True, slots=True)
 class PositioningMotion:
     """POS[ax]= (type 1: the block ends when the axis has reached its end) or POSA[ax]= (type 2: the
-    program goes on, WAITP waits), seed 003 L11825-11860."""
+    program goes on, WAITP waits), seed 003 L11832-11858."""
 
     target: float  # machine position
     wait: bool  # POS: the block waits for the axis; POSA: it does not

@@ -9,7 +9,8 @@ available", as on a control without the function.  Later NC functions add handle
 The word handlers live by what they program: ``motion_words`` (G words, F, circle, thread,
 tapping, G28 / G30, G22, PRESETON, five-axis arguments), ``spindle_words`` (spindles,
 couplings, polygon turning), ``retract_words`` (fast retraction, ESR, system variables,
-synchronized actions) and ``aux_words`` (the M, S, T, D, DL, H and F functions for the PLC);
+synchronized actions), ``positioning_words`` (POS / POSA / FA / WAITP / FINEA of positioning axes)
+and ``aux_words`` (the M, S, T, D, DL, H and F functions for the PLC);
 ``block_plan`` holds what they produce, ``decoder`` what they share.
 """
 

@@ -1,13 +1,13 @@
 """The words of positioning axes in a part program (seed 003 chapter 9).
 
-``POS[ax]=`` (type 1: the block ends when the axis has reached its end, L11825-11840) and
-``POSA[ax]=`` (type 2: the program goes on, the axis travels across block boundaries, L11848-11856),
+``POS[ax]=`` (type 1: the block ends when the axis has reached its end, L11832-11845) and
+``POSA[ax]=`` (type 2: the program goes on, the axis travels across block boundaries, L11852-11858),
 absolute or incremental by AC( ) / IC( ) or the modal G90 / G91 (L11741-11754); ``FA[ax]=`` the
 axis's own feed in mm/min or deg/min, modal, 0.001 .. 999 999.999, at most five in a block
-(L8840-8870); the motion-end conditions ``FINEA`` / ``COARSEA`` / ``IPOENDA`` written ``FINEA[ax]`` or
-``FINEA=ax`` (L11729-11737, L10112-10122); ``WAITP(ax, ...)`` in a block of its own (L11764-11770).
+(L8838-8871); the motion-end conditions ``FINEA`` / ``COARSEA`` / ``IPOENDA`` written ``FINEA[ax]`` or
+``FINEA=ax`` (L11729-11737, L10112-10122); ``WAITP(ax, ...)`` in a block of its own (L11771-11788).
 
-Each axis has one type in a block (L11708-11711): an axis both as path axis and as positioning axis
+Each axis has one type in a block (L11708-11709): an axis both as path axis and as positioning axis
 is refused (12080).  ``positioning_block`` checks what stands together once the block is read.
 """
 
@@ -19,8 +19,8 @@ from vc.core.program.decoder import BlockDecoder
 from vc.core.program.program import Assignment, Block, Call, Keyword, Label, Word
 
 POSITIONING_WORDS = ("POS", "POSA")
-MAX_AXIS_FEEDS = 5  # FA words in one block (L8851)
-MIN_AXIS_FEED, MAX_AXIS_FEED = 0.001, 999_999.999  # mm/min, deg/min (L8866-8870)
+MAX_AXIS_FEEDS = 5  # FA words in one block (L8853)
+MIN_AXIS_FEED, MAX_AXIS_FEED = 0.001, 999_999.999  # mm/min, deg/min (L8869-8871)
 
 
 def _positioning_axis(decoder: BlockDecoder, word: str, name: str) -> str | None:
@@ -74,7 +74,7 @@ def _motion_end(decoder: BlockDecoder, condition: str, name: str) -> None:
 
 
 def waitp(decoder: BlockDecoder, call: Call) -> None:
-    """WAITP(ax, ...): the block waits until these axes have reached their end (L11764-11780)."""
+    """WAITP(ax, ...): the block waits until these axes have reached their end (L11771-11792)."""
     axes: list[str] = []
     for argument in call.arguments:
         machine_axis = _positioning_axis(decoder, "WAITP", str(argument)) if isinstance(argument, str) and argument \
@@ -90,7 +90,7 @@ def waitp(decoder: BlockDecoder, call: Call) -> None:
 
 
 def positioning_block(decoder: BlockDecoder) -> None:
-    """What stands together: one type per axis (L11708-11711), WAITP alone (L11768), five FA (L8851)."""
+    """What stands together: one type per axis (L11708-11709), WAITP alone (L11775), five FA (L8853)."""
     plan, channel, label = decoder.plan, decoder.channel, decoder.block.label
     both = next((name for name in plan.positioning if name in plan.targets), None)
     if both is not None:
@@ -104,7 +104,7 @@ def positioning_block(decoder: BlockDecoder) -> None:
 def named_axes(block: Block, channel: ChannelConfig) -> set[str]:
     """The machine axes a block may name (as an address, an assignment or its index, an argument):
     a POSA axis still on its way among them makes the block wait before it is decoded, as the
-    control's implicit WAITP (L11760-11762: the axis is programmed again only once it has arrived)."""
+    control's implicit WAITP (L11761-11764: the axis is programmed again only once it has arrived)."""
     names: set[str] = set()
     for item in block.items:
         if isinstance(item, Word):

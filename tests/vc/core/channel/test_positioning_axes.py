@@ -137,10 +137,10 @@ def test_decoding_the_positioning_words() -> None:
 
 
 @pytest.mark.parametrize(("text", "number"), [
-    ("X10 POS[X]=20", 12080),  # one type per axis in a block (L11708-11711)
-    ("WAITP(Z) X10", 12080),  # WAITP stands alone (L11768)
+    ("X10 POS[X]=20", 12080),  # one type per axis in a block (L11708-11709)
+    ("WAITP(Z) X10", 12080),  # WAITP stands alone (L11775)
     ("WAITP()", 12080),
-    ("FA[Z]=0", 12080),  # 0.001 .. 999 999.999 (L8866)
+    ("FA[Z]=0", 12080),  # 0.001 .. 999 999.999 (L8869)
     ("FA[Z]=1000000", 12080),
     ("POS[Q9]=10", 12550),  # no such axis
     ("POS[Z]=DC(10)", 12550),  # DC / ACP / ACN: rotary axes with modulo are not built
