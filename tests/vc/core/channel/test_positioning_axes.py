@@ -10,7 +10,7 @@ from core_rig import ABSOLUTE_XYZ, DT, Rig, machine
 
 from vc.core.axis.command_axis import CommandState
 from vc.core.axis.owner import Owner
-from vc.core.program.block_plan import PositioningMotion
+from vc.core.program.block_plan import BlockPlan, DecodeAlarm, PositioningMotion
 from vc.core.program.interpreter import decode
 from vc.core.program.program import parse_program
 
@@ -122,7 +122,7 @@ def test_an_alarm_that_takes_the_axis_loses_the_block() -> None:
     assert rig.get("CHAN1.basic.in.stateInterrupted") == 1 and _block(rig) == 0
 
 
-def _decode(rig: Rig, text: str) -> tuple[object, object]:
+def _decode(rig: Rig, text: str) -> tuple[BlockPlan, DecodeAlarm | None]:
     block = parse_program(text)[0]
     return decode(block, rig.channel.run.modal, rig.channel.config, rig.channel.axes_by_name)
 
@@ -150,4 +150,4 @@ def test_decoding_the_positioning_words() -> None:
 def test_faulty_positioning_words_are_refused(text: str, number: int) -> None:
     rig = _rig()
     alarm = _decode(rig, text)[1]
-    assert alarm is not None and getattr(alarm, "number") == number
+    assert alarm is not None and alarm.number == number
