@@ -204,6 +204,7 @@ class AxisRequests:
     ref_point_selection: int = signal("basic.out.refPointSelection", 0)  # DBX2.4..2.7: reference point 1..4
     encoder_1_activation: bool = signal("basic.out.enc1Activation")  # DBX1.5
     encoder_2_activation: bool = signal("basic.out.enc2Activation")  # DBX1.6
+    modulo_limit_enable: bool = signal("basic.out.enableModuloLimitSwitch")  # DBX12.4
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -223,6 +224,7 @@ class AxisStatus:
     command_plus: bool = signal("basic.in.traversPlusCommandActive")
     command_minus: bool = signal("basic.in.traversMinusCommandActive")
     drive_enabled: bool = signal("drive.in.enabled")
+    modulo_limit_active: bool = signal("basic.in.moduloLimitSwitchActive")  # DBX74.4
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -141,8 +141,9 @@ class CommandAxis:
             alarms.raise_alarm(ALARM_ILLEGAL_AXIS_TYPE, cycle, axis.channel, axis.name, channel=axis.channel,
                                axis=axis.name)
             return
-        if axis.software_limits_active and not axis.dyn.limit_minus <= target <= axis.dyn.limit_plus:
-            sign = "+" if target > axis.dyn.limit_plus else "-"
+        minus, plus = axis.software_limits
+        if axis.software_limits_active and not minus <= target <= plus:
+            sign = "+" if target > plus else "-"
             alarms.raise_alarm(ALARM_SOFTWARE_LIMIT, cycle, axis.channel, axis.name, f"POS[{axis.name}]", sign,
                                channel=axis.channel, axis=axis.name)
             return

@@ -164,9 +164,10 @@ def software_limit_alarm(channel: str, label: str, axis: MachineAxis, position: 
     the Cartesian position of the inclined pair and for the points of a transformed path."""
     if not axis.software_limits_active:
         return None
-    if position > axis.dyn.limit_plus + LIMIT_TOLERANCE:
+    minus, plus = axis.software_limits
+    if position > plus + LIMIT_TOLERANCE:
         return DecodeAlarm(SOFTWARE_LIMIT, (channel, axis.name, label, "+"), axis.name)
-    if position < axis.dyn.limit_minus - LIMIT_TOLERANCE:
+    if position < minus - LIMIT_TOLERANCE:
         return DecodeAlarm(SOFTWARE_LIMIT, (channel, axis.name, label, "-"), axis.name)
     return None
 

@@ -143,7 +143,7 @@ def test_decoding_the_positioning_words() -> None:
     ("FA[Z]=0", 12080),  # 0.001 .. 999 999.999 (L8869)
     ("FA[Z]=1000000", 12080),
     ("POS[Q9]=10", 12550),  # no such axis
-    ("POS[Z]=DC(10)", 12550),  # DC / ACP / ACN: rotary axes with modulo are not built
+    ("POS[Z]=DC(10)", 16800),  # DC on a linear axis (L13164)
     ("FINEA[Q9]", 12550),
     ("POS[Z]=2000", 10720),  # beyond the software limit switch
 ])
