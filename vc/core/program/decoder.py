@@ -19,6 +19,8 @@ from vc.core.program.commands import SpindleCommand
 from vc.core.program.five_axis_program import FIVE_AXIS_G_CODES, FiveAxisWords
 from vc.core.program.program import Block, ValueFunction, Word
 
+_END_POINT_FUNCTIONS = ("AC", "IC", *ROTARY_MODES)  # the value functions of an axis's end point
+
 
 class BlockDecoder:
     def __init__(self, block: Block, modal: ModalState, channel: ChannelConfig, axes: dict[str, MachineAxis],
@@ -108,7 +110,7 @@ class BlockDecoder:
         it counts from ``given`` (an end point already in the block), the program position or the
         setpoint.  Under a five-axis transform the values are program coordinates, taken as written;
         a spindle's axis words keep their own rules (SPOS, ``spindle_words``)."""
-        if isinstance(value, ValueFunction) and value.name in ("AC", "IC", *ROTARY_MODES):
+        if isinstance(value, ValueFunction) and value.name in _END_POINT_FUNCTIONS:
             mode, number = value.name, value.value
         elif isinstance(value, float):
             mode, number = "G90" if self.modal.absolute else "IC", value
@@ -117,8 +119,8 @@ class BlockDecoder:
             return None
         if mode == "IC" and self.plan.five_axis is not None:
             self.plan.five_axis.incremental_axes = True
-        start = given.get(machine_axis, self.program_positions.get(machine_axis, self.axes[machine_axis].setpoint))
         axis = self.axes[machine_axis]
+        start = given.get(machine_axis, self.program_positions.get(machine_axis, axis.setpoint))
         if (axis.is_spindle or self.plan.five_axis is not None or self.modal.five_axis.transformed) and \
                 mode in ("AC", "G90", "IC"):
             return start + number if mode == "IC" else number  # a spindle in axis mode counts on [control]
