@@ -513,7 +513,8 @@ class MachineAxis:
         command_plus = self.command_velocity > _TINY
         command_minus = self.command_velocity < -_TINY
         # DB31.DBX74.4: the limits of a modulo rotary axis act (DBX12.4 and referenced, L12936-12946)
-        modulo_limit_active = self.modulo_range is not None and self.software_limits_active
+        modulo_limit_active = self.inputs.modulo_limit_enable and self.modulo_range is not None and \
+            self.software_limits_active
         # a plain tuple first: compared every cycle, the status is built (by keyword) only when it changed
         status = (exact_coarse, exact_fine, stationary, position_control, self.follow_up, first.referenced,
                   referenced_2, first.restored, restored_2, first.frequency_exceeded, frequency_exceeded_2,
