@@ -207,6 +207,7 @@ class AxisRequests:
     fixed_stop_enable: bool = signal("basic.out.fixedStopEnable")  # DBX3.1: travel to fixed stop enabled
     fixed_stop_ack: bool = signal("basic.out.fixedStopAckReached")  # DBX1.1
     fixed_stop_sensor: bool = signal("basic.out.fixedStopSensor")  # DBX1.2
+    modulo_limit_enable: bool = signal("basic.out.enableModuloLimitSwitch")  # DBX12.4
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -226,6 +227,15 @@ class AxisStatus:
     command_plus: bool = signal("basic.in.traversPlusCommandActive")
     command_minus: bool = signal("basic.in.traversMinusCommandActive")
     drive_enabled: bool = signal("drive.in.enabled")
+    modulo_limit_active: bool = signal("basic.in.moduloLimitSwitchActive")  # DBX74.4
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class PositioningAxisStatus:
+    """A positioning axis of the part program (seed 003 §9.7, L12267; §7.3, L8921)."""
+
+    positioning_axis: bool = signal("basic.in.isPosAxis")  # DBX76.5
+    feed: float = signal("basic.in.posAxisFeedrateValue", 0.0)  # DBD78: FA, mm/min or deg/min
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -173,6 +173,16 @@ def test_valid_overrides_replace_the_file_values_index_by_index() -> None:
     assert config.nck.float(mdd.GEAR_CHANGE_WAIT_TIME) == 5.0
 
 
+def test_the_limits_of_a_modulo_rotary_axis_may_leave_a_gap_across_the_range_end() -> None:
+    # seed 003 L12900-12905: MD36110 = 340, MD36100 = 350 forbid 340 .. 350 on a modulo axis only
+    gap = "machine_data:\n  Z1: {MD30300: 1, MD30310: 1, MD36100: 350, MD36110: 340}\n"
+    config = load_machine(TURN_MILL, _overrides(gap), "scenario.yaml")
+    assert config.axis("Z1").md.float(mdd.POS_LIMIT_MINUS) == 350.0
+    with pytest.raises(SourceError) as error:
+        load_machine(TURN_MILL, _overrides(gap.replace("MD30310: 1", "MD30310: 0")), "scenario.yaml")
+    assert "must be below" in str(error.value.problems[0])
+
+
 def test_overrides_that_change_the_structure_are_rechecked() -> None:
     overrides = _overrides("machine_data:\n  SP2: {MD35000: 1}\n  CHAN1: {MD20050: [1, 4, 2]}\n")
     with pytest.raises(SourceError) as error:

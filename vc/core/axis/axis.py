@@ -38,6 +38,7 @@ from vc.core.axis.jog import FREE_JOG, AxisJog, JogLimits
 from vc.core.axis.motion import ramp
 from vc.core.axis.owner import Owner
 from vc.core.axis.position_loop import PositionLoop
+from vc.core.axis.rotary import modulo_range_of
 from vc.core.axis.signals import AxisInputs
 from vc.core.interface_map import SignalTable
 
@@ -62,9 +63,7 @@ class MachineAxis:
         self.area_key = f"DB{config.db}"
         self.channel = channel
         self.dyn = dynamics_of(config)
-        md = config.md
-        self.modulo_range = ((md.float(MD.MODULO_RANGE_START), md.float(MD.MODULO_RANGE))
-                             if config.is_rotary and md.bool(MD.ROT_IS_MODULO) else None)
+        self.modulo_range = modulo_range_of(config)
         self._decode = table.codec(AxisInputs).decode
         self._encode = table.codec(AxisStatus).encode
         self._area = area
@@ -272,7 +271,23 @@ class MachineAxis:
         """After referencing, and also with a restored position (seed 003 L2777-2778) or one that
         is exact but waits for a reference return (``require_reference_return``)."""
         encoder = self.encoder
-        return (encoder.referenced or encoder.restored or encoder.reference_return_due) and not self.is_spindle
+        return (encoder.referenced or encoder.restored or encoder.reference_return_due) and not self.is_spindle \
+            and (self.modulo_range is None or self.inputs.modulo_limit_enable)
+
+    @property
+    def software_limits(self) -> tuple[float, float]:
+        """MD36100 / MD36110 in the NC's coordinates.  A modulo rotary axis has them only with
+        DB31.DBX12.4 (L12780-12800): the limits are modulo positions, the range from the minus to
+        the plus limit (across the range end where minus > plus, L12900-12905) is the turn nearest to
+        the setpoint, divided from the next in the middle of the forbidden gap between them [INF]."""
+        dyn = self.dyn
+        if self.modulo_range is None:
+            return dyn.limit_minus, dyn.limit_plus
+        size = self.modulo_range[1]
+        allowed = (dyn.limit_plus - dyn.limit_minus) % size
+        gap = size - allowed
+        low = self.setpoint - (self.setpoint - dyn.limit_plus - gap / 2.0) % size + gap / 2.0
+        return low, low + allowed
 
     @property
     def following_error(self) -> float:
@@ -545,10 +560,13 @@ class MachineAxis:
         frequency_exceeded_2 = second is not None and second.frequency_exceeded
         command_plus = self.command_velocity > _TINY
         command_minus = self.command_velocity < -_TINY
+        # DB31.DBX74.4: the limits of a modulo rotary axis act (DBX12.4 and referenced, L12936-12946)
+        modulo_limit_active = self.inputs.modulo_limit_enable and self.modulo_range is not None and \
+            self.software_limits_active
         # a plain tuple first: compared every cycle, the status is built (by keyword) only when it changed
         status = (exact_coarse, exact_fine, stationary, position_control, self.follow_up, first.referenced,
                   referenced_2, first.restored, restored_2, first.frequency_exceeded, frequency_exceeded_2,
-                  self.disabled, command_plus, command_minus, self.drive_enabled)
+                  self.disabled, command_plus, command_minus, self.drive_enabled, modulo_limit_active)
         if status == self._status:
             return
         self._status = status
@@ -557,4 +575,4 @@ class MachineAxis:
             follow_up_active=self.follow_up, referenced_1=first.referenced, referenced_2=referenced_2,
             restored_1=first.restored, restored_2=restored_2, frequency_exceeded_1=first.frequency_exceeded,
             frequency_exceeded_2=frequency_exceeded_2, disabled=self.disabled, command_plus=command_plus,
-            command_minus=command_minus, drive_enabled=self.drive_enabled))
+            command_minus=command_minus, drive_enabled=self.drive_enabled, modulo_limit_active=modulo_limit_active))

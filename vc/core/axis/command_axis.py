@@ -1,5 +1,7 @@
 """Command axes (seed 003 §9.3.2, L11211-11236): a machine axis that a synchronized action moves on
-its own, ``POS[<axis>]=<position>`` at ``FA[<axis>]=<feed>``, beside the channel's path.
+its own, ``POS[<axis>]=<position>`` at ``FA[<axis>]=<feed>``, beside the channel's path; and the
+positioning axes of the part program (§9.2.2, L11000-11110), ``POS`` / ``POSA``, on the same axis
+interpolator.
 
 Its axis interpolator (L11195-11205) runs a straight line (G01) to the end point at FA (mm/min or
 deg/min; without FA at MD32060 POS_AX_VELO, L11592-11594; at most MD32000), times the axis's own
@@ -17,14 +19,25 @@ a program block that moves the axis takes the axis from it, as from every motion
 extended stop (``$AA_ESR_TRIGGER``, vc/core/retraction/esr.py) keeps it stopped until one of those
 resets: a POS of a synchronized action that goes on firing does not move it again.
 
+A positioning axis of the program (POSITIONING) is no single axis: it belongs to its channel
+(L11044-11066).  NC stop, an alarm that stops the channel's axes and the channel's feed disable
+hold it on its ramp and NC start lets it go on; its own override DB31.DBB0 and feed stop DB31.DBX4.3
+act on it, the channel's override does not (L11591-11610); DB31.DBX2.2 ends it (its distance to
+go deleted, L12175) and the channel's reset stops it.  Its block ends when it meets its motion-end
+condition, modal per axis and kept over reset (L10112-10122; FINEA at power-on, L10193): FINEA
+the exact stop fine window, COARSEA the coarse window, IPOENDA the end of its interpolation.  While
+it moves, DB31.DBX76.5 says "positioning axis" (L12267) and DBD78 holds its FA (L8921).
+
 States::
 
     IDLE ──POS[ax]= (the axis at rest or a command axis already)──▶ TRAVERSING ──at the end point──▶ IDLE
     TRAVERSING ──channel reset, DB31.DBX2.2 (braked with MD32300); another owner takes the axis──▶ IDLE
     TRAVERSING, IDLE ──its single-axis ESR stop or retraction──▶ ESR_STOPPED ──channel reset, DB31.DBX2.2──▶ IDLE
+    IDLE, TRAVERSING ──POS / POSA of the part program──▶ POSITIONING ──at the end point──▶ IDLE
+    POSITIONING ──channel reset, DB31.DBX2.2 (braked); another owner takes the axis (the block is lost)──▶ IDLE
 
 A POS on a spindle (L17574-17575) or on an axis another motion owns now (the path, JOG,
-referencing, a retraction) is refused with alarm 20141 [control].
+referencing, a retraction, a positioning motion of the program) is refused with alarm 20141 [control].
 """
 
 from __future__ import annotations
@@ -32,22 +45,30 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from enum import Enum
 
+from interfaces.signal_groups import PositioningAxisStatus
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.motion import ramp, stopping_velocity
 from vc.core.axis.owner import Owner
+from vc.core.interface_map import SignalTable
 from vc.core.state_machine import Instance, StateMachine, states, transitions
 
 ALARM_ILLEGAL_AXIS_TYPE = 20141  # a command axis on a spindle or an axis in use (L17574-17575)
 ALARM_SOFTWARE_LIMIT = 10720  # the end point beyond a software limit switch, as for a block [control]
 _TINY = 1e-9
 
+# The motion-end conditions of a positioning axis (L10112-10122)
+MOTION_END_FINE = "FINEA"
+MOTION_END_COARSE = "COARSEA"
+MOTION_END_IPO = "IPOENDA"
+
 
 class CommandState(Enum):
     IDLE = "no command motion"
     TRAVERSING = "POS[ax]= of a synchronized action moves the axis"
     ESR_STOPPED = "stopped by its single-axis ESR until a reset"
+    POSITIONING = "POS / POSA of the part program moves it as a positioning axis"
 
 
 class CommandAxis:
@@ -64,6 +85,24 @@ class CommandAxis:
         self.feed = 0.0  # FA[ax] in mm/min (deg/min) for the next motion; 0: MD32060
         self.motion_feed = 0.0  # the running motion's
         self._reset_level = False  # DB31.DBX2.2 as last seen, for its rising edge
+        self.motion_end = MOTION_END_FINE  # FINEA / COARSEA / IPOENDA of the program, modal (L10193)
+        self.lost = False  # a positioning motion another owner took: its block cannot end
+        self._publish: Callable[[bool, float], None] | None = None  # DB31.DBX76.5 / DBD78
+        self._published: tuple[bool, float] = (False, 0.0)
+
+    def publish_to(self, table: SignalTable, area: bytearray) -> None:
+        """Write DB31.DBX76.5 and DBD78 of this axis into ``area`` from now on."""
+        encode = table.codec(PositioningAxisStatus).encode
+        self._publish = lambda positioning, feed: encode(area, PositioningAxisStatus(positioning_axis=positioning,
+                                                                                     feed=feed))
+
+    def write_status(self) -> None:
+        """DB31.DBX76.5 while the program's positioning motion runs, DBD78 the FA it runs at."""
+        positioning = self.state is CommandState.POSITIONING
+        status = (positioning, self.motion_feed if positioning else self.feed)
+        if status != self._published and self._publish is not None:
+            self._published = status
+            self._publish(*status)
 
     @property
     def busy(self) -> bool:
@@ -71,6 +110,16 @@ class CommandAxis:
         return self.state is not CommandState.IDLE
 
     # ------------------------------------------------------------------ the ESR's view (SingleAxis)
+    def motion_ended(self) -> bool:
+        """A positioning motion of the program has met its motion-end condition (L10112-10122)."""
+        if self.state is CommandState.POSITIONING:
+            return False
+        if self.motion_end == MOTION_END_IPO:
+            return True
+        dyn = self.axis.dyn
+        window = dyn.fine_window if self.motion_end == MOTION_END_FINE else dyn.coarse_window
+        return abs(self.axis.distance_to_end_point) <= window
+
     @property
     def is_single_axis(self) -> bool:
         """A single axis while its command motion runs (L11523-11527)."""
@@ -88,12 +137,13 @@ class CommandAxis:
         axis = self.axis
         if self.state is CommandState.ESR_STOPPED:
             return  # stopped by its ESR until a reset
-        if axis.is_spindle or axis.owner not in (Owner.NONE, Owner.COMMAND):
+        if axis.is_spindle or axis.owner not in (Owner.NONE, Owner.COMMAND) or self.state is CommandState.POSITIONING:
             alarms.raise_alarm(ALARM_ILLEGAL_AXIS_TYPE, cycle, axis.channel, axis.name, channel=axis.channel,
                                axis=axis.name)
             return
-        if axis.software_limits_active and not axis.dyn.limit_minus <= target <= axis.dyn.limit_plus:
-            sign = "+" if target > axis.dyn.limit_plus else "-"
+        minus, plus = axis.software_limits
+        if axis.software_limits_active and not minus <= target <= plus:
+            sign = "+" if target > plus else "-"
             alarms.raise_alarm(ALARM_SOFTWARE_LIMIT, cycle, axis.channel, axis.name, f"POS[{axis.name}]", sign,
                                channel=axis.channel, axis=axis.name)
             return
@@ -108,26 +158,50 @@ class CommandAxis:
         if axis.owner is Owner.NONE:
             axis.take(Owner.COMMAND)
 
+    def program_position(self, target: float) -> None:
+        """POS / POSA of the part program: the axis interpolator takes the axis to ``target`` at the
+        FA in effect (the channel has waited for a POSA motion of the axis to end, and takes the
+        axis from a synchronized action's command motion as from any owner)."""
+        axis = self.axis
+        self.target = target
+        self.motion_feed = self.feed
+        self.lost = False
+        if self.state is not CommandState.TRAVERSING:
+            self._reset_level = axis.inputs.reset_movement
+        self.state = CommandState.POSITIONING
+        axis.take(Owner.COMMAND)
+        self._busy()
+        self.write_status()
+
     def reset(self) -> None:
         """The channel's reset or DB31.DBX2.2: a running motion brakes and ends, an ESR stop ends."""
-        if self.state is CommandState.TRAVERSING and self.axis.owner is Owner.COMMAND:
+        if self.state in (CommandState.TRAVERSING, CommandState.POSITIONING) and self.axis.owner is Owner.COMMAND:
             self.axis.brake()
         self.state = CommandState.IDLE
+        self.lost = False
+        self.write_status()
 
     # ------------------------------------------------------------------ the cycle
-    def cycle(self) -> None:
-        """One IPO cycle: DB31.DBX2.2 on its rising edge resets; then the state's own step."""
+    def cycle(self, program_held: bool) -> None:
+        """One IPO cycle: DB31.DBX2.2 on its rising edge resets; then the state's own step.
+        ``program_held``: NC stop, a stopping alarm or the feed disable of the channel hold a
+        positioning motion of its program."""
         level = self.axis.inputs.reset_movement
         edge, self._reset_level = level and not self._reset_level, level
         if edge:
             self.reset()
         elif self.state is CommandState.TRAVERSING:
-            self._traverse()
+            self._traverse(False)
+        elif self.state is CommandState.POSITIONING:
+            self._traverse(program_held)
 
-    def _traverse(self) -> None:
+    def _traverse(self, program_held: bool) -> None:
         axis = self.axis
         if axis.owner is not Owner.COMMAND:
-            self.state = CommandState.IDLE  # braked by an e-stop or an alarm, or taken by the program
+            # braked by an e-stop or an alarm, or taken by the program: a positioning block is lost
+            self.lost = self.state is CommandState.POSITIONING
+            self.state = CommandState.IDLE
+            self.write_status()
             return
         dyn, dt = axis.dyn, self._dt
         remaining = self.target - axis.setpoint
@@ -137,7 +211,8 @@ class CommandAxis:
             axis.config.md.float(MD.POS_AX_VELO) * self._velocity_unit
         inp = axis.inputs
         # the feed stop holds it, and it never runs on into an actuated hardware limit switch (as JOG)
-        held = inp.feed_stop or not axis.drive_ready or (inp.hw_limit_plus if way > 0.0 else inp.hw_limit_minus)
+        held = program_held or inp.feed_stop or not axis.drive_ready or \
+            (inp.hw_limit_plus if way > 0.0 else inp.hw_limit_minus)
         speed = 0.0 if held else min(feed, dyn.max_velocity) * axis.override
         wanted = way * min(speed, stopping_velocity(abs(remaining), dyn.max_accel, dt))
         velocity = ramp(axis.command_velocity, wanted, dyn.max_accel, dt)
@@ -146,17 +221,24 @@ class CommandAxis:
         if (self.target - axis.setpoint) * way <= _TINY:
             axis.setpoint = self.target  # lands exactly on its end point
             axis.release()
+            positioning = self.state is CommandState.POSITIONING
             self.state = CommandState.IDLE
+            if positioning:
+                self.write_status()
 
 
 COMMAND_AXIS_STATES: StateMachine[CommandAxis] = StateMachine(
-    __name__, "command_axis", "Command axis: POS[ax]= of a synchronized action, a single axis (seed 003 §9.3.2)",
+    __name__, "command_axis", "Command axis: POS[ax]= of a synchronized action, a single axis (seed 003 §9.3.2);"
+    " a positioning axis of the program (§9.2.2)",
     Instance.AXIS, states(*CommandState),
     transitions(("IDLE", "TRAVERSING", "POS[ax]= of a synchronized action"),
                 ("TRAVERSING", "IDLE", "at its end point; channel reset, DB31.DBX2.2; another owner took it"),
                 ("TRAVERSING", "ESR_STOPPED", "its single-axis ESR stop or retraction"),
                 ("IDLE", "ESR_STOPPED", "its ESR stop after the motion ended within MD37510"),
-                ("ESR_STOPPED", "IDLE", "the channel's reset, DB31.DBX2.2")),
+                ("ESR_STOPPED", "IDLE", "the channel's reset, DB31.DBX2.2"),
+                ("IDLE", "POSITIONING", "POS / POSA of the part program"),
+                ("TRAVERSING", "POSITIONING", "POS / POSA of the part program takes the axis"),
+                ("POSITIONING", "IDLE", "at its end point; channel reset, DB31.DBX2.2; another owner took it")),
     read=lambda command: command.state)
 
 
@@ -186,14 +268,15 @@ class CommandAxes:
         command = self.by_name.get(name)
         if command is not None:
             command.feed = feed
-            if command.state is CommandState.TRAVERSING:
+            if command.state in (CommandState.TRAVERSING, CommandState.POSITIONING):
                 command.motion_feed = feed
+            command.write_status()
 
-    def cycle(self) -> None:
+    def cycle(self, program_held: bool) -> None:
         active = False
         for command in self.by_name.values():
             if command.busy:
-                command.cycle()
+                command.cycle(program_held)
                 active = active or command.busy
         self.active = active
 
@@ -201,6 +284,31 @@ class CommandAxes:
         """Program end or reset: the programmed FA no longer counts (L11595)."""
         for command in self.by_name.values():
             command.feed = 0.0
+            command.write_status()
+
+    # ------------------------------------------------------------------ the program's positioning axes
+    def program_position(self, name: str, target: float) -> None:
+        """POS[name]= / POSA[name]= of the channel's program (the decoder checked the axis)."""
+        self.by_name[name].program_position(target)
+
+    def positioning(self, name: str) -> bool:
+        """The program's positioning motion of ``name`` runs (a POSA the program must wait for)."""
+        command = self.by_name.get(name)
+        return command is not None and command.state is CommandState.POSITIONING
+
+    def motion_ended(self, names: Iterable[str]) -> bool:
+        """Every axis of ``names`` has met its motion-end condition."""
+        return all(self.by_name[name].motion_ended() for name in names)
+
+    def any_positioning(self) -> bool:
+        return self.active and any(command.state is CommandState.POSITIONING for command in self.by_name.values())
+
+    def lost(self, names: Iterable[str]) -> bool:
+        """A positioning motion of ``names`` was taken by another owner (an alarm's rapid stop)."""
+        return any(self.by_name[name].lost for name in names)
+
+    def set_motion_end(self, name: str, condition: str) -> None:
+        self.by_name[name].motion_end = condition
 
     def reset(self) -> None:
         """The channel's reset stops its command axes (L24176-24178)."""

@@ -76,6 +76,9 @@ class JoggedAxis(Protocol):
     @property
     def software_limits_active(self) -> bool: ...
 
+    @property
+    def software_limits(self) -> tuple[float, float]: ...
+
     def take(self, owner: Owner) -> None: ...
 
     def release(self) -> None: ...
@@ -106,8 +109,8 @@ class AxisJog:
             elif (direction > 0 and inp.hw_limit_plus) or (direction < 0 and inp.hw_limit_minus):
                 direction = 0  # only away from an actuated limit switch
             elif bounded and axis.owner is Owner.NONE and (
-                    (direction > 0 and axis.setpoint >= self.soft_limits(axis.dyn)[1])
-                    or (direction < 0 and axis.setpoint <= self.soft_limits(axis.dyn)[0])):
+                    (direction > 0 and axis.setpoint >= self.soft_limits(axis)[1])
+                    or (direction < 0 and axis.setpoint <= self.soft_limits(axis)[0])):
                 direction = 0  # resting on a software limit switch: only away from it
         handwheel = self._handwheel_direction(inp, allowed, direction, limits)
         if (direction or handwheel) and axis.owner is Owner.NONE and axis.drive_ready:
@@ -164,14 +167,14 @@ class AxisJog:
         (the limits of an axis it carries) even while this axis is not referenced."""
         return axis.software_limits_active or self.window is not None
 
-    def soft_limits(self, dyn: AxisDynamics) -> tuple[float, float]:
+    def soft_limits(self, axis: JoggedAxis) -> tuple[float, float]:
         """The software limits JOG keeps: MD36100 / MD36110, or the window a transform gave."""
-        return self.window if self.window is not None else (dyn.limit_minus, dyn.limit_plus)
+        return self.window if self.window is not None else axis.software_limits
 
     def _limit_to_software_limits(self, axis: JoggedAxis, velocity: float, accel: float) -> float:
         """Brake so as to stop exactly on a software limit switch (JOG), never harder than ``accel``."""
         dt = self._dt
-        minus, plus = self.soft_limits(axis.dyn)
+        minus, plus = self.soft_limits(axis)
         if velocity > 0.0:
             return min(velocity, stopping_velocity(plus - axis.setpoint, accel, dt))
         if velocity < 0.0:
@@ -180,7 +183,7 @@ class AxisJog:
 
     def _arrive_at_software_limits(self, axis: JoggedAxis) -> None:
         """Snap the rounding rest when the setpoint reached a software limit switch."""
-        minus, plus = self.soft_limits(axis.dyn)
+        minus, plus = self.soft_limits(axis)
         if axis.command_velocity > 0.0 and plus - axis.setpoint <= _TINY:
             axis.setpoint = plus
             axis.at_software_limit = 1
@@ -191,7 +194,7 @@ class AxisJog:
     def monitor_software_limit(self, axis: JoggedAxis, cycle: int, alarms: AlarmList) -> None:
         """Alarm 10621 while the axis rests on the software limit switch it reached; it clears
         once the axis has moved away from it."""
-        minus, plus = self.soft_limits(axis.dyn)
+        minus, plus = self.soft_limits(axis)
         resting_on_limit = (axis.at_software_limit > 0 and axis.setpoint >= plus - _TINY) or \
                            (axis.at_software_limit < 0 and axis.setpoint <= minus + _TINY)
         if resting_on_limit:

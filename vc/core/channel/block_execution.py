@@ -31,6 +31,7 @@ from vc.core.alarms import READ_IN_DISABLED, AlarmList
 from vc.core.auxiliary.output import AuxiliaryOutput
 from vc.core.auxiliary.tool_selection import ToolSelection
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.command_axis import CommandAxes
 from vc.core.axis.owner import Owner
 from vc.core.axis.stroke_limits import BOUNDARY, StrokeStop
 from vc.core.channel.interface import ChannelInputs
@@ -44,6 +45,7 @@ from vc.core.interpolation.path import PathSegment
 from vc.core.interpolation.tool_path import ToolPathSegment
 from vc.core.program.block_plan import EXACT_STOP_COARSE, EXACT_STOP_FINE, BlockPlan, DecodeAlarm, software_limit_alarm
 from vc.core.program.interpreter import decode
+from vc.core.program.positioning_words import named_axes
 from vc.core.program.program import Block, Jump, jump_target
 from vc.core.program.sync_actions import SyncActionError, parse_condition
 from vc.core.referencing.referencing import Source, State
@@ -56,7 +58,8 @@ class BlockExecution:
                  axes_by_name: dict[str, MachineAxis], inputs: ChannelInputs, alarms: AlarmList, dt: float,
                  referencing: ReferencingControl, five_axis: FiveAxisControl, stroke: ChannelStrokeLimits,
                  spindles: SpindleFunctions, threads: ThreadRetract, stop: Callable[[], None],
-                 aux: AuxiliaryOutput, tools: ToolSelection, fixed_stops: ChannelFixedStops):
+                 aux: AuxiliaryOutput, tools: ToolSelection, fixed_stops: ChannelFixedStops,
+                 positioning: CommandAxes):
         self.run = run
         self.config = config
         self.name = config.name
@@ -75,6 +78,7 @@ class BlockExecution:
         self._tools = tools
         self._fixed_stops = fixed_stops  # FXS / FXST / FXSW (seed 003 chapter 17)
         self._approaching: set[str] = set()  # the block's axes that travel to their fixed stop
+        self._positioning = positioning  # the axis interpolators of POS / POSA (vc/core/axis/command_axis.py)
         self.inclined: InclinedAxisControl | None = None  # inclined-axis control (seed 000), given by the NCK
         self.stroke_stop: StrokeStop | None = None  # the running block ends on a stroke limit boundary
         self._g74_axes: list[str] = []
@@ -225,6 +229,8 @@ class BlockExecution:
         fixed_stops = self._fixed_stops
         if fixed_stops.of and not fixed_stops.block_may_change:
             return  # the PLC's acknowledgement of the fixed stop (MD37060)
+        if (plan.positioning or plan.positioning_waits or plan.program_end) and self._positioning_holds(plan):
+            return  # POS, WAITP, the program end wait for their positioning axes
         if plan.block_end in (EXACT_STOP_FINE, EXACT_STOP_COARSE):
             fine = plan.block_end == EXACT_STOP_FINE
             for name in plan.targets:
@@ -246,6 +252,19 @@ class BlockExecution:
         if self.run.program_state is ProgramState.WAITING:
             self.run.program_state = ProgramState.RUNNING
         self._next_block()
+
+    def _positioning_holds(self, plan: BlockPlan) -> bool:
+        """The block waits for its POS axes, WAITP's axes and at the program end for every positioning
+        axis (L11832-11845, L11771-11792); a motion an alarm took from an axis loses the block."""
+        waited = [name for name, motion in plan.positioning.items() if motion.wait]
+        waited.extend(plan.positioning_waits)
+        if plan.program_end:
+            waited.extend(name for name in self._positioning.by_name if self._positioning.positioning(name))
+        if self._positioning.lost(waited):
+            self.run.phase = BlockPhase.CONTOUR_LOST  # the block cannot be finished; RESET ends it
+            self._stop()
+            return True
+        return not self._positioning.motion_ended(waited)
 
     def _next_block(self) -> None:
         plan = self.run.plan
@@ -273,6 +292,9 @@ class BlockExecution:
             self.run.end()  # a program without M30 ends after its last block
             return
         block = self.run.blocks[self.run.block_index]
+        if self._positioning.any_positioning() and \
+                any(self._positioning.positioning(name) for name in named_axes(block, self.config)):
+            return  # a POSA axis is programmed again only once it has arrived: the implicit WAITP
         self.run.current_block = block
         jump = next((item for item in block.items if isinstance(item, Jump)), None)
         if jump is not None:  # alone, or after its label ("MM: IF ... GOTOB MM")
@@ -313,11 +335,15 @@ class BlockExecution:
         if plan.delete_drf:
             for axis in self.axes:
                 axis.delete_drf_offset()
+        for name, condition in plan.motion_ends.items():
+            self._positioning.set_motion_end(name, condition)
+        for name, feed in plan.axis_feeds.items():
+            self._positioning.set_feed(name, feed)
         if plan.aux_functions:
             self._tools.block(plan.aux_functions)
             self._aux.block_started(plan.aux_functions)
         catching_up = self._spindles.program_spindles(plan, cycle, block)
-        if plan.spindles or plan.targets or catching_up or self._spindles.waits:
+        if plan.spindles or plan.targets or plan.positioning or catching_up or self._spindles.waits:
             self.run.phase = BlockPhase.SPINDLE
             if not self._spindles.spindles_ready(plan):
                 return
@@ -384,6 +410,8 @@ class BlockExecution:
                                      axis=tool_path.axis)
             self._stop()
             return
+        for name, motion in plan.positioning.items():
+            self._positioning.program_position(name, motion.target)  # each on its own interpolator (L11195)
         if not plan.targets:
             self.run.phase = BlockPhase.BLOCK_END
             self._block_end()

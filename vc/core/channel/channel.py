@@ -19,7 +19,8 @@ cycle of its program; its parts, each in a module of its own, share one :class:`
 ``channel_referencing``  channel-specific referencing (DB21.DBX1.0, MD34110 order)
 
 Beside the program it keeps its command axes (``vc/core/axis/command_axis.py``): axes a
-synchronized action moves on their own, which NC stop and program end leave alone and its reset stops.
+synchronized action moves on their own, which NC stop and program end leave alone and its reset stops;
+the same axis interpolators move the program's positioning axes (POS / POSA), which NC stop holds.
 
 The channel owns its auxiliary function output (``vc/core/auxiliary``: the DB21 output slots, the
 tool the program selects), which block execution fills and the NCK tells of the PLC's cycles.
@@ -102,11 +103,12 @@ class Channel:
         self._spindles = SpindleFunctions(config, self.axes_by_name, self.inputs, alarms, self.stop)
         self._threads = ThreadRetract(self.run, config, axes, self.axes_by_name, self._spindles, alarms, dt, self.stop)
         self.fixed_stops = ChannelFixedStops(self.name, alarms)  # travel to fixed stop, filled at power-on
+        # POS[ax]= of synchronized actions, POS / POSA of the program: the axis interpolators
+        self.command_axes = CommandAxes(self.name, axes, alarms, dt)
         self._execution = BlockExecution(self.run, config, axes, self.axes_by_name, self.inputs, alarms, dt,
                                          referencing, self.five_axis, self._stroke, self._spindles, self._threads,
-                                         self.stop, self.aux, self.tools, self.fixed_stops)
+                                         self.stop, self.aux, self.tools, self.fixed_stops, self.command_axes)
         self._inclined: InclinedAxisControl | None = None
-        self.command_axes = CommandAxes(self.name, axes, alarms, dt)  # POS[ax]= of synchronized actions
 
     # ------------------------------------------------------------------ what the NCK gives the channel
     @property
@@ -294,9 +296,12 @@ class Channel:
         if self._channel_referencing.groups:
             self._channel_referencing.cycle(cycle)
         path_runs_on = self._threads.esr_cycle(cycle)
-        if self.command_axes.active:
-            self.command_axes.cycle()  # independent of the program's state (L11215-11227)
         run = self.run
+        if self.command_axes.active:
+            # a command axis independent of the program's state (L11215-11227); a positioning axis of
+            # the program held by NC stop, a stopping alarm and the feed disable (L11044-11066)
+            self.command_axes.cycle(run.state is not ChannelState.ACTIVE or self.inputs.feed_disable
+                                    or bool(self._alarms.reactions(self.name) & STOP_AXES))
         reactions = self._alarms.reactions(self.name)
         if reactions & CHANNEL_INTERRUPT and run.state is ChannelState.ACTIVE:
             self.stop()

@@ -79,5 +79,6 @@ class ChannelStrokeLimits:
                                      channel=self.name, axis=reached)
         window = (axis.setpoint + low, axis.setpoint + high)
         if axis.software_limits_active and (inclined is None or axis.name not in inclined.machine_axes):
-            window = (max(window[0], axis.dyn.limit_minus), min(window[1], axis.dyn.limit_plus))
+            minus, plus = axis.software_limits
+            window = (max(window[0], minus), min(window[1], plus))
         return JogLimits(plus=high > BOUNDARY, minus=low < -BOUNDARY, window=window)

@@ -116,6 +116,9 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
             channel.inclined = inclined
             inclined_axes.append(inclined)
     referencing.order_inclined_pairs(inclined_axes)
+    for channel in channels:
+        for command in channel.command_axes.by_name.values():  # DB31.DBX76.5, DBD78 of a positioning axis
+            command.publish_to(axis_table, image.area(f"DB{command.axis.config.db}"))
     retractions = {channel.name: ManualRetraction(channel, memory, channel_table,
                                                   image.area(f"DB{channel.config.db}"), nck.int(MD.JOG_MODE_MASK))
                    for channel in channels}

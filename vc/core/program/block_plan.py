@@ -12,6 +12,7 @@ from collections.abc import Collection, Mapping
 from dataclasses import dataclass, field
 
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.command_axis import MOTION_END_COARSE, MOTION_END_FINE, MOTION_END_IPO
 from vc.core.axis.stroke_limits import StrokeCommand
 from vc.core.interpolation.circle import Arc
 from vc.core.interpolation.thread_cutting import ThreadCommand
@@ -31,6 +32,18 @@ from vc.core.program.sync_actions import SyncAction, VariableWrite
 EXACT_STOP_FINE = "G601"
 EXACT_STOP_COARSE = "G602"
 INTERPOLATION_END = "G603"
+
+# The motion-end conditions of a positioning axis (seed 003 L10112-10122), evaluated by its axis interpolator
+MOTION_ENDS = (MOTION_END_FINE, MOTION_END_COARSE, MOTION_END_IPO)
+
+
+@dataclass(frozen=True, slots=True)
+class PositioningMotion:
+    """POS[ax]= (type 1: the block ends when the axis has reached its end) or POSA[ax]= (type 2: the
+    program goes on, WAITP waits), seed 003 L11832-11858."""
+
+    target: float  # machine position
+    wait: bool  # POS: the block waits for the axis; POSA: it does not
 
 
 @dataclass(slots=True)
@@ -130,6 +143,10 @@ class BlockPlan:
     arc: Arc | None = None  # G2 / G3: the path in program coordinates (``targets`` hold its end point)
     stroke_limit: StrokeCommand | None = None  # G22 (with the box corners it sets) / G23
     aux_functions: list[AuxiliaryFunction] = field(default_factory=list)  # to the PLC, in the block's order
+    positioning: dict[str, PositioningMotion] = field(default_factory=dict)  # POS / POSA: machine axis -> motion
+    axis_feeds: dict[str, float] = field(default_factory=dict)  # FA[ax] of an axis: machine axis -> per minute
+    motion_ends: dict[str, str] = field(default_factory=dict)  # FINEA / COARSEA / IPOENDA: machine axis -> it
+    positioning_waits: tuple[str, ...] = ()  # WAITP: the machine axes the block waits for
 
 
 @dataclass(frozen=True, slots=True)
@@ -149,9 +166,10 @@ def software_limit_alarm(channel: str, label: str, axis: MachineAxis, position: 
     the Cartesian position of the inclined pair and for the points of a transformed path."""
     if not axis.software_limits_active:
         return None
-    if position > axis.dyn.limit_plus + LIMIT_TOLERANCE:
+    minus, plus = axis.software_limits
+    if position > plus + LIMIT_TOLERANCE:
         return DecodeAlarm(SOFTWARE_LIMIT, (channel, axis.name, label, "+"), axis.name)
-    if position < axis.dyn.limit_minus - LIMIT_TOLERANCE:
+    if position < minus - LIMIT_TOLERANCE:
         return DecodeAlarm(SOFTWARE_LIMIT, (channel, axis.name, label, "-"), axis.name)
     return None
 
@@ -160,7 +178,9 @@ def end_point_limit_alarm(plan: BlockPlan, channel: str, label: str, axes: Mappi
                           limits_checked_elsewhere: Collection[str] = ()) -> DecodeAlarm | None:
     """10720 for the first machine end point of an ordinary block beyond its software limits;
     ``limits_checked_elsewhere`` are axes a transform checks in its own coordinates."""
-    for name, target in plan.targets.items():
+    ends = plan.targets if not plan.positioning else \
+        {**plan.targets, **{name: motion.target for name, motion in plan.positioning.items()}}
+    for name, target in ends.items():
         if name not in limits_checked_elsewhere:
             alarm = software_limit_alarm(channel, label, axes[name], target)
             if alarm is not None:

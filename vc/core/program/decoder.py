@@ -11,11 +11,15 @@ from collections.abc import Collection, Mapping
 
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
+from vc.core.axis import rotary
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.rotary import ROTARY_MODES
 from vc.core.program.block_plan import BlockPlan, DecodeAlarm, ModalState
 from vc.core.program.commands import SpindleCommand
 from vc.core.program.five_axis_program import FIVE_AXIS_G_CODES, FiveAxisWords
 from vc.core.program.program import Block, ValueFunction, Word
+
+_END_POINT_FUNCTIONS = ("AC", "IC", *ROTARY_MODES)  # the value functions of an axis's end point
 
 
 class BlockDecoder:
@@ -96,14 +100,32 @@ class BlockDecoder:
         if axis.is_spindle and not axis.axis_mode:
             # the axis name of a spindle switches it to axis mode: an implicit M70 (L17421-17462)
             self.plan.spindles.setdefault(machine_axis, SpindleCommand()).axis_mode = True
-        if isinstance(value, ValueFunction) and value.name in ("AC", "IC"):
-            absolute, number = value.name == "AC", value.value
+        end = self.end_point(machine_axis, name, value, self.plan.targets)
+        if end is not None:
+            self.plan.targets[machine_axis] = end
+
+    def end_point(self, machine_axis: str, name: str, value: object, given: Mapping[str, float]) -> float | None:
+        """The machine end point of ``name=value``: AC( ) / IC( ) / DC( ) / ACP( ) / ACN( ) or the modal
+        G90 / G91, by the rules of rotary axes with and without modulo (``vc/core/axis/rotary.py``);
+        it counts from ``given`` (an end point already in the block), the program position or the
+        setpoint.  Under a five-axis transform the values are program coordinates, taken as written;
+        a spindle's axis words keep their own rules (SPOS, ``spindle_words``)."""
+        if isinstance(value, ValueFunction) and value.name in _END_POINT_FUNCTIONS:
+            mode, number = value.name, value.value
         elif isinstance(value, float):
-            absolute, number = self.modal.absolute, value
+            mode, number = "G90" if self.modal.absolute else "IC", value
         else:
             self.unknown(f"{name}={value}")
-            return
-        start = self.plan.targets.get(machine_axis, self.program_positions.get(machine_axis, axis.setpoint))
-        self.plan.targets[machine_axis] = number if absolute else start + number
-        if not absolute and self.plan.five_axis is not None:
+            return None
+        if mode == "IC" and self.plan.five_axis is not None:
             self.plan.five_axis.incremental_axes = True
+        axis = self.axes[machine_axis]
+        start = given.get(machine_axis, self.program_positions.get(machine_axis, axis.setpoint))
+        if (axis.is_spindle or self.plan.five_axis is not None or self.modal.five_axis.transformed) and \
+                mode in ("AC", "G90", "IC"):
+            return start + number if mode == "IC" else number  # a spindle in axis mode counts on [control]
+        end, alarm = rotary.end_point(axis.config, start, mode, number)
+        if alarm:
+            self.fail(alarm, self.channel.name, self.block.label, name, axis=machine_axis)
+            return None
+        return end

@@ -9,7 +9,8 @@ available", as on a control without the function.  Later NC functions add handle
 The word handlers live by what they program: ``motion_words`` (G words, F, circle, thread,
 tapping, G28 / G30, G22, PRESETON, five-axis arguments), ``spindle_words`` (spindles,
 couplings, polygon turning), ``retract_words`` (fast retraction, ESR, system variables,
-synchronized actions) and ``aux_words`` (the M, S, T, D, DL, H and F functions for the PLC);
+synchronized actions), ``positioning_words`` (POS / POSA / FA / WAITP / FINEA of positioning axes)
+and ``aux_words`` (the M, S, T, D, DL, H and F functions for the PLC);
 ``block_plan`` holds what they produce, ``decoder`` what they share.
 """
 
@@ -45,6 +46,7 @@ from vc.core.program.motion_words import (
     tapping_block,
     thread_cutting_block,
 )
+from vc.core.program.positioning_words import motion_end_keyword, positioning_assignment, positioning_block, waitp
 from vc.core.program.program import (
     Assignment,
     Block,
@@ -119,7 +121,7 @@ _KEYWORD_HANDLERS: dict[str, Callable[[BlockDecoder], None]] = {
     **RETRACT_KEYWORDS,
 }
 _CALL_HANDLERS: dict[str, Callable[[BlockDecoder, Call], None]] = {
-    "PRESETON": preseton, "WAITC": waitc, "WAITS": waits,
+    "PRESETON": preseton, "WAITC": waitc, "WAITS": waits, "WAITP": waitp,
     "SPCON": lambda decoder, call: spcon(decoder, call, True),
     "SPCOF": lambda decoder, call: spcon(decoder, call, False),
     **{name: coupling_call for name in ("COUPDEF", "COUPON", "COUPONC", "COUPOF", "COUPOFS", "COUPDEL",
@@ -163,6 +165,9 @@ def _decode_item(decoder: BlockDecoder, item: Item) -> None:
             decoder.axis_value(item.address, item.value)
     elif isinstance(item, Assignment):
         _assignment(decoder, item)
+    elif isinstance(item, Keyword) and item.index:
+        if not motion_end_keyword(decoder, item):
+            decoder.unknown(f"{item.name}[{item.index}]")
     elif isinstance(item, Keyword):
         keyword_handler = _KEYWORD_HANDLERS.get(item.name)
         if keyword_handler is None:
@@ -189,6 +194,8 @@ def _assignment(decoder: BlockDecoder, item: Assignment) -> None:
         return
     if item.name in FIXED_STOP_WORDS and item.index:
         fixed_stop_word(decoder, item)
+        return
+    if positioning_assignment(decoder, item):
         return
     if item.name == "FA" and item.index and isinstance(item.value, float):
         # FA[Sn]: the velocity of SPOS offset changes on a coupled FS, deg/min; 0 = MD (L23925-23940)
@@ -248,6 +255,8 @@ def _finish(decoder: BlockDecoder) -> None:
         if command.axis_mode and command.m_function != 70:
             aux_words.implicit_spindle_function(decoder, axis, 70)  # programmed as an axis (L17466-17490)
     aux_words.check_block(decoder)
+    if plan.positioning or plan.axis_feeds or plan.positioning_waits:
+        positioning_block(decoder)
     if plan.polygon is not None:
         polygon_block(decoder)
         return

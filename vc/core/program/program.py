@@ -8,6 +8,7 @@ A block is one line.  Its items::
     X1=100  DILF=10  M2=3    assignments: a name (letters and digits) '=' a value
     SPOS[2]=IC(-90)          assignment with an index and a value function (AC, IC, DC, ACP, ACN)
     FA[S2]=3600  POLF[X]=10  index by name
+    FINEA[X]                 a keyword with an index (no value)
     COUPON(S2,S1,77)         a call with arguments (names, numbers, "strings")
     LFON  STOPRE             a keyword (a name that is not an address word)
     MM_THREAD:               a label
@@ -97,9 +98,10 @@ class Call:
 
 @dataclass(frozen=True, slots=True)
 class Keyword:
-    """``LFON``."""
+    """``LFON``; with an index ``FINEA[X]`` (a word about one axis that takes no value)."""
 
     name: str
+    index: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -339,7 +341,7 @@ def _arguments(tokens: list[tuple[str, str]], index: int) -> tuple[list[Argument
     raise _SyntaxError("missing ')'")
 
 
-def _assignment(tokens: list[tuple[str, str]], index: int) -> tuple[Assignment, int]:
+def _assignment(tokens: list[tuple[str, str]], index: int) -> tuple[Assignment | Keyword, int]:
     name = tokens[index][1]
     index += 1
     subscript = ""
@@ -348,6 +350,8 @@ def _assignment(tokens: list[tuple[str, str]], index: int) -> tuple[Assignment, 
             raise _SyntaxError(f"{name}[")
         subscript = tokens[index + 1][1].upper()
         index += 3
+        if index >= len(tokens) or tokens[index][1] != "=":
+            return Keyword(name, subscript), index  # FINEA[X]: an indexed word without a value
     if index >= len(tokens) or tokens[index][1] != "=":
         raise _SyntaxError(f"{name}: '=' expected")
     index += 1

@@ -66,7 +66,7 @@ STATUS_SIGNALS = {
     "restored_2": "basic.in.enc2Restored", "frequency_exceeded_1": "basic.in.enc1FreqLimitExceeded",
     "frequency_exceeded_2": "basic.in.enc2FreqLimitExceeded", "disabled": "basic.in.disabled",
     "command_plus": "basic.in.traversPlusCommandActive", "command_minus": "basic.in.traversMinusCommandActive",
-    "drive_enabled": "drive.in.enabled",
+    "drive_enabled": "drive.in.enabled", "modulo_limit_active": "basic.in.moduloLimitSwitchActive",
 }
 
 

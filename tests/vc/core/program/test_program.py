@@ -129,6 +129,10 @@ def test_keywords() -> None:
     assert single("LFON STOPRE").items == (Keyword("LFON"), Keyword("STOPRE"))
 
 
+def test_a_keyword_with_an_index_takes_no_value() -> None:
+    assert single("FINEA[X] POS[X]=10").items == (Keyword("FINEA", "X"), Assignment("POS", "X", 10.0))
+
+
 def test_label() -> None:
     assert single("MM_THREAD:").items == (Label("MM_THREAD"),)
 
