@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from vc.scenario.model import LINK_CAN, Scenario
+from vc.scenario.language.model import LINK_CAN, Scenario
 from vc.simulation.lockstep import Simulation
 
 TargetFactory = Callable[[Scenario], Simulation]
