@@ -74,6 +74,11 @@ since the scenario started.  A value the scenario writes between two cycles belo
 cycle before it (a pulse written at 0 s rises at 0 s); ``time`` counts seconds since the
 scenario started.
 
+The package in layers, each importing only those below it (docs/architecture.md, "Scenarios"):
+:mod:`vc.scenario.command` (``vc run``), :mod:`vc.scenario.distribution` (worker processes, a Dask
+cluster), :mod:`vc.scenario.outputs` (golden traces, reports, timing diagrams), :mod:`vc.scenario.run`
+(the runner, traces), :mod:`vc.scenario.language` (this grammar: model, loader, the step kinds).
+
 Public functions (what ``vc run`` calls):
 
 * :func:`run_command` - check, run, report; returns the exit code 0 / 1 / 2.
