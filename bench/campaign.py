@@ -46,12 +46,12 @@ from typing import Any
 
 from interfaces.links.inprocess import plc_programs
 from vc.harness.targets import simulation_for
-from vc.scenario.cluster import ClusterSettings, run_on_cluster
-from vc.scenario.loader import load_scenarios
-from vc.scenario.model import Scenario
-from vc.scenario.parallel import RunSettings, run_parallel
-from vc.scenario.report import write_junit
-from vc.scenario.runner import ScenarioResult, run_scenarios
+from vc.scenario.distribution.cluster import ClusterSettings, run_on_cluster
+from vc.scenario.distribution.parallel import RunSettings, run_parallel
+from vc.scenario.language.loader import load_scenarios
+from vc.scenario.language.model import Scenario
+from vc.scenario.outputs.report import write_junit
+from vc.scenario.run.runner import ScenarioResult, run_scenarios
 from vc_build import status as build_status
 
 DEFAULT_CAMPAIGN = "campaigns/referencing_matrix.yaml"

@@ -1,8 +1,10 @@
-"""The README's Quickstart: exactly two commands, and .ci/run runs the second one."""
+"""The README's Quickstart: exactly two commands, and .ci/run runs the second one; the figures the
+README states of the layout (its import contracts) are those of pyproject.toml."""
 
 from __future__ import annotations
 
 import re
+import tomllib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -60,3 +62,9 @@ def test_the_test_run_lists_its_skips_with_their_reasons() -> None:
     assert report and set("fEs") <= set(report[0])
     text = " ".join((ROOT / "README.md").read_text(encoding="utf-8").split())
     assert f"`-r{report[0]}` in `pyproject.toml`" in text
+
+
+def test_the_readme_counts_the_import_contracts_of_pyproject() -> None:
+    said = re.search(r"`lint-imports`, (\d+) contracts in `pyproject.toml`", (ROOT / "README.md").read_text())
+    contracts = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["importlinter"]
+    assert said is not None and int(said.group(1)) == len(contracts["contracts"])

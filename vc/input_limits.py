@@ -56,7 +56,7 @@ MAX_JSON_NESTING        8            arrays and objects inside one another in a 
                                      documents nest 5 deep
 ======================  ===========  ==========================================================
 
-Conditions and placeholders share one reader (:mod:`vc.scenario.expressions`) and so these
+Conditions and placeholders share one reader (:mod:`vc.scenario.language.expressions`) and so these
 bounds; the value of every step of a placeholder's arithmetic stays within ``MAX_MAGNITUDE``.
 
 Numbers must also be finite everywhere: a YAML file holds no ``.inf`` or ``.nan``, and a

@@ -15,7 +15,7 @@ NOT_PYTHON = {"fmu._vc_fmi"}  # the FMU's C binary: it travels with the package 
 # BaseExceptions on purpose: the wall-clock bound of the file campaign must pass every
 # ``except Exception`` of the code under test, and so must Ctrl-C (a KeyboardInterrupt that carries
 # the results of the scenarios that finished).
-NOT_AN_ERROR = {"vc.bench.robustness.files._Hang", "vc.scenario.runner.RunInterrupted"}
+NOT_AN_ERROR = {"vc.bench.robustness.files._Hang", "vc.scenario.run.runner.RunInterrupted"}
 
 
 def _modules() -> list[str]:

@@ -14,7 +14,7 @@ from interfaces.links.inprocess import plc_programs
 from vc.harness.external_plc import CanPlcProcess, PlcProcess
 from vc.harness.targets import simulation_for
 from vc.scenario.command import EXIT_PASSED, run_command
-from vc.scenario.loader import scenario_files
+from vc.scenario.language.loader import scenario_files
 
 ROOT = Path(__file__).resolve().parents[2]
 FAULTS = "scenarios/can"

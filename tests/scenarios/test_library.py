@@ -14,9 +14,9 @@ from rich.console import Console
 from interfaces.links.inprocess import plc_programs
 from vc.harness.targets import simulation_for
 from vc.scenario.command import EXIT_FAILED, EXIT_PASSED, run_command
-from vc.scenario.golden import GoldenCheck, GoldenSummary, compare, golden_path, load, store, summarize
-from vc.scenario.loader import load_scenario, scenario_files
-from vc.scenario.runner import run_scenario
+from vc.scenario.language.loader import load_scenario, scenario_files
+from vc.scenario.outputs.golden import GoldenCheck, GoldenSummary, compare, golden_path, load, store, summarize
+from vc.scenario.run.runner import run_scenario
 
 ROOT = Path(__file__).resolve().parents[2]
 LIBRARY = ROOT / "scenarios"

@@ -20,8 +20,8 @@ from vc.harness.external_plc import CanPlcProcess
 from vc.harness.links.can import VirtualCanPlc
 from vc.harness.targets import simulation_for
 from vc.scenario.command import EXIT_PASSED, run_command
-from vc.scenario.loader import load_scenarios, scenario_files
-from vc.scenario.model import Scenario
+from vc.scenario.language.loader import load_scenarios, scenario_files
+from vc.scenario.language.model import Scenario
 from vc.simulation.lockstep import Simulation
 
 ROOT = Path(__file__).resolve().parents[2]

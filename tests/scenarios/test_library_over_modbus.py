@@ -17,7 +17,7 @@ from rich.console import Console
 from interfaces.links.inprocess import plc_programs
 from vc.harness.external_plc import PlcProcess
 from vc.scenario.command import EXIT_PASSED, run_command
-from vc.scenario.loader import load_scenarios
+from vc.scenario.language.loader import load_scenarios
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENARIOS = load_scenarios([str(ROOT / "scenarios")], plc_programs().keys())

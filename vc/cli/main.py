@@ -301,7 +301,7 @@ def _whole(lowest: int, highest: int | None = None, unit: str = "") -> Callable[
 
 
 def _jobs(text: str) -> int:
-    from vc.scenario.parallel import MAX_WORKERS_PER_CORE, max_workers
+    from vc.scenario.distribution.parallel import MAX_WORKERS_PER_CORE, max_workers
 
     return _whole(1, max_workers(), f" ({MAX_WORKERS_PER_CORE} worker processes per core)")(text)
 

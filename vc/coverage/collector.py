@@ -28,7 +28,7 @@ from interfaces.image import decode
 from interfaces.signals import InstanceKind, SignalRef
 from vc.coverage.data import CoverageData, MachineCoverage, ValueRecord
 from vc.coverage.probes import StateProbe, state_probes
-from vc.scenario.model import Scenario
+from vc.scenario.language.model import Scenario
 from vc.simulation.lockstep import Simulation
 from vc.simulation.observed import ObservedSimulation, OperatorAction
 from vc.simulation.published import AlarmList, Clear, NcFunction

@@ -30,7 +30,7 @@ from vc.harness.links import Link, LinkMode
 from vc.harness.links.can import CanLink
 from vc.harness.links.modbus import Endpoint, PlcLink
 from vc.harness.targets import simulation_for
-from vc.scenario.model import Scenario
+from vc.scenario.language.model import Scenario
 from vc.simulation.lockstep import Pacer, Simulation
 
 # plc: KIND:FILE -> the module run as ``python -m MODULE --modbus HOST:PORT FILE``

@@ -14,10 +14,10 @@ from interfaces.links.inprocess import plc_programs
 from vc.harness.external_plc import ChildPlcRun, ExternalPlcs
 from vc.harness.targets import TargetFactory, simulation_for
 from vc.input_limits import MAX_RUN_VARIANTS
-from vc.scenario.cluster import ClusterSettings
 from vc.scenario.command import plot_command, run_command
-from vc.scenario.model import Scenario
-from vc.scenario.target import ScenarioTarget
+from vc.scenario.distribution.cluster import ClusterSettings
+from vc.scenario.language.model import Scenario
+from vc.scenario.language.target import ScenarioTarget
 from vc_build import status as build_status
 
 # wraps the factory of a run, e.g. to observe each simulation (vc run --coverage)

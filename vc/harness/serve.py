@@ -46,7 +46,7 @@ from vc.harness.links import Link, LinkMode
 from vc.harness.links.modbus import Endpoint, PlcLink
 from vc.harness.pacer import RealtimePacer
 from vc.scenario.command import EXIT_PASSED, run_command
-from vc.scenario.model import Scenario, external_plc
+from vc.scenario.language.model import Scenario, external_plc
 from vc.simulation.lockstep import Simulation
 from vc.simulation.observed import ObservedSimulation, SimulationObserver
 
@@ -193,7 +193,7 @@ def _take_new_session_requests(link: PlcLink, say: Callable[[str], None]) -> Non
 def _machine_and_program(options: ServeOptions) -> tuple[MachineConfig, str, str | None]:
     if options.scenario is None:
         return load_machine(options.machine_path), options.program, None
-    from vc.scenario.loader import load_scenarios
+    from vc.scenario.language.loader import load_scenarios
 
     (scenario,) = load_scenarios([options.scenario], plc_programs().keys(), default_plc=options.program)
     if scenario.plc_program is None:

@@ -10,7 +10,7 @@ from collections.abc import Callable
 
 from interfaces.links import link_kind, load
 from vc.config.model import MachineConfig
-from vc.scenario.model import Scenario
+from vc.scenario.language.model import Scenario
 from vc.simulation.lockstep import Simulation
 
 TargetFactory = Callable[[Scenario], Simulation]

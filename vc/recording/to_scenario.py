@@ -36,7 +36,7 @@ from vc.config.model import MachineConfig
 from vc.located_yaml import load_text
 from vc.recording.format import LIFE, NC, Bytes, Marker, Peer, Recording
 from vc.recording.replay import recorded_machine
-from vc.scenario.values import format_value
+from vc.scenario.language.values import format_value
 from vc.simulation.observed import OperatorAction
 
 

@@ -35,7 +35,7 @@ File grammar (``[...]`` = optional)::
       expect_order: [EVENT, EVENT, ...]                  two or more
       expect_timing: {from: EVENT, to: EVENT, min: DURATION, max: DURATION}    min, max or both
       power_cycle: DURATION | {off: DURATION}            machine off and on again (default 1 s off)
-      fault: {axis: AXIS, kind: FAULT, [from: X, to: X], [by: X], [encoder: 1|2]}   vc.scenario.target.FAULTS
+      fault: {axis: AXIS, kind: FAULT, [from: X, to: X], [by: X], [encoder: 1|2]}   vc.simulation.observables.FAULTS
       clear_faults: AXIS
       acknowledge: alarms                                the alarm cancel key: alarms cleared with it go
       link_fault: {kind: loss | delay | bus_off, for: DURATION, [direction: nc_to_plc | plc_to_nc | both],
@@ -45,7 +45,7 @@ File grammar (``[...]`` = optional)::
     KEYS, NAMES   a name or a list of names
     NAME          signal symbol (X1.basic.in.enc1Synchronized) or absolute address (DB31.DBX60.4,
                   DB21.DBB4, DB31.DBD88); plant I/O name (MCP.jog) or address (I0.3);
-                  AXIS.QUANTITY (X1.position, see vc.scenario.target.AXIS_QUANTITIES);
+                  AXIS.QUANTITY (X1.position, see vc.simulation.observables.AXIS_QUANTITIES);
                   INSTANCE.MD<number>[<index>] (X1.MD34210: as the control holds it now);
                   CAN.QUANTITY (CAN.lostFromPlc, with link: can; vc.simulation.observables.LINK_QUANTITIES); time
     DURATION      20ms, 2s, 1.5 s, 1min, 500us, or a number of seconds
@@ -54,7 +54,7 @@ File grammar (``[...]`` = optional)::
                   included); "< 5", "<= 5", "> 5", ">= 5", "!= 0", "== 3"
     EVENT         "NAME rises" (0 -> not 0), "NAME falls" (not 0 -> 0), "NAME changes", or
                   "when CONDITION" (the cycle it becomes true; at 0 s if it holds from the start)
-    CONDITION     see vc.scenario.expressions: or, and, not, == != < <= > >=, + - * /, unary -,
+    CONDITION     see vc.scenario.language.expressions: or, and, not, == != < <= > >=, + - * /, unary -,
                   ( ), numbers, true/false, names, abs(x), alarm(N), alarm(N, AXIS or CHANNEL)
 
 Write rules (checked when the file is loaded):
@@ -74,6 +74,11 @@ since the scenario started.  A value the scenario writes between two cycles belo
 cycle before it (a pulse written at 0 s rises at 0 s); ``time`` counts seconds since the
 scenario started.
 
+The package in layers, each importing only those below it (docs/architecture.md, "Scenarios"):
+:mod:`vc.scenario.command` (``vc run``), :mod:`vc.scenario.distribution` (worker processes, a Dask
+cluster), :mod:`vc.scenario.outputs` (golden traces, reports, timing diagrams), :mod:`vc.scenario.run`
+(the runner, traces), :mod:`vc.scenario.language` (this grammar: model, loader, the step kinds).
+
 Public functions (what ``vc run`` calls):
 
 * :func:`run_command` - check, run, report; returns the exit code 0 / 1 / 2.
@@ -83,12 +88,12 @@ Public functions (what ``vc run`` calls):
 """
 
 from vc.scenario.command import EXIT_FAILED, EXIT_PASSED, EXIT_PROBLEMS, run_command
-from vc.scenario.loader import load_scenario, load_scenarios
-from vc.scenario.model import Scenario
-from vc.scenario.report import ConsoleReport, write_junit
-from vc.scenario.runner import ScenarioResult, run_scenario, run_scenarios
-from vc.scenario.target import ScenarioTarget
-from vc.scenario.trace import ImageSource, Recorder, write_csv, write_vcd
+from vc.scenario.language.loader import load_scenario, load_scenarios
+from vc.scenario.language.model import Scenario
+from vc.scenario.language.target import ScenarioTarget
+from vc.scenario.outputs.report import ConsoleReport, write_junit
+from vc.scenario.run.runner import ScenarioResult, run_scenario, run_scenarios
+from vc.scenario.run.trace import ImageSource, Recorder, write_csv, write_vcd
 
 __all__ = [
     "EXIT_FAILED",

@@ -21,15 +21,15 @@ from rich.console import Console
 from interfaces.signals import Catalog
 from vc.input_limits import MAX_RUN_VARIANTS
 from vc.located_yaml import SourceError
-from vc.scenario.cluster import ClusterError, ClusterSettings, run_on_cluster
-from vc.scenario.golden import GoldenCheck
-from vc.scenario.loader import MachineLoader, Programs, load_scenarios
-from vc.scenario.model import Scenario
-from vc.scenario.parallel import RunSettings, jobs_for, run_parallel
-from vc.scenario.report import ConsoleReport, write_junit
-from vc.scenario.runner import RunInterrupted, RunObserver, ScenarioResult, file_stem, run_one, run_scenarios
-from vc.scenario.target import ScenarioTarget
-from vc.scenario.tasks import SEND_DIAGRAM, SEND_NOTHING
+from vc.scenario.distribution.cluster import ClusterError, ClusterSettings, run_on_cluster
+from vc.scenario.distribution.parallel import RunSettings, jobs_for, process_context, run_parallel
+from vc.scenario.distribution.tasks import SEND_DIAGRAM, SEND_NOTHING
+from vc.scenario.language.loader import MachineLoader, Programs, load_scenarios
+from vc.scenario.language.model import Scenario
+from vc.scenario.language.target import ScenarioTarget
+from vc.scenario.outputs.golden import GoldenCheck
+from vc.scenario.outputs.report import ConsoleReport, write_junit
+from vc.scenario.run.runner import RunInterrupted, RunObserver, ScenarioResult, file_stem, run_one, run_scenarios
 
 EXIT_PASSED = 0
 EXIT_FAILED = 1
@@ -71,7 +71,7 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
     With ``golden`` each passed scenario is compared with its golden trace in that directory
     (``update_golden`` writes the traces instead).  ``jobs`` worker processes run the scenarios
     (None: one per core; 1: in this process); ``cluster`` runs them on a Dask cluster instead
-    (:mod:`vc.scenario.cluster`).  A run with its own ``catalog`` or ``machine_loader``, or with a
+    (:mod:`vc.scenario.distribution.cluster`).  A run with its own ``catalog`` or ``machine_loader``, or with a
     scenario of an external PLC, stays in this process.  ``report_dir`` gets the HTML report with timing diagrams.
     ``build`` names the build that runs (printed first); ``default_plc`` and ``max_variants``: see
     :func:`load_scenarios`.
@@ -110,7 +110,7 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
         jobs, cluster = 1, None  # each external PLC process belongs to the process that starts and ends it
     html = None
     if report_dir is not None:
-        from vc.scenario.html_report import HtmlReport
+        from vc.scenario.outputs.html_report import HtmlReport
 
         html = HtmlReport(report_dir)
     observer = _Observers(report, html) if html is not None else _Observers(report)
@@ -158,7 +158,7 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
         if html is not None:
             html.include(results)
             page = html.write(notes=notes, wall_s=wallclock.perf_counter() - began, build=build, jobs=workers,
-                              not_run=len(not_run))
+                              mp_context=process_context(), not_run=len(not_run))
             say(f"report: {page}")
     except KeyboardInterrupt:  # pressed again while the reports are written
         return EXIT_INTERRUPTED
@@ -178,8 +178,8 @@ def plot_command(spec: str, make_target: Callable[[Scenario], ScenarioTarget], k
     ``SCENARIO`` is a scenario file (its first variant, if it has a matrix) or a variant of it,
     ``FILE[ARGUMENTS]`` with the bracket of the variant's id (``edges.yaml[X1.MD34050=1,...]``).
     """
-    from vc.scenario.diagram import DiagramError, save, show
-    from vc.scenario.timing import timing_diagram
+    from vc.scenario.outputs.diagram import DiagramError, save, show
+    from vc.scenario.outputs.timing import timing_diagram
 
     report = ConsoleReport(console)
 
@@ -223,7 +223,7 @@ def plot_command(spec: str, make_target: Callable[[Scenario], ScenarioTarget], k
 
 def _can_draw(say: Callable[[str], None], option: str) -> bool:
     """Whether the diagrams of ``option`` can be drawn here; if not, says why (before anything runs)."""
-    from vc.scenario.diagram import DiagramError, require_matplotlib
+    from vc.scenario.outputs.diagram import DiagramError, require_matplotlib
 
     try:
         require_matplotlib()

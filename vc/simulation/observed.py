@@ -1,6 +1,6 @@
 """A simulation with observers: told after every IPO cycle and after every action of the operator.
 
-:class:`ObservedSimulation` is a :class:`~vc.scenario.target.ScenarioTarget` over a
+:class:`ObservedSimulation` is a :class:`~vc.scenario.language.target.ScenarioTarget` over a
 :class:`~vc.simulation.lockstep.Simulation`.  It steps the simulation one IPO cycle at a time and
 after each one calls every :class:`SimulationObserver`; every action of the operator (a scenario
 step that writes, forces, releases, loads a program, switches the machine off and on ...) goes to
@@ -125,7 +125,7 @@ def _names(value: ActionArgument) -> list[str]:
 
 
 class ObservedSimulation:
-    """A :class:`~vc.scenario.target.ScenarioTarget` that tells its observers about every cycle and
+    """A :class:`~vc.scenario.language.target.ScenarioTarget` that tells its observers about every cycle and
     every action of the operator (see the module docstring)."""
 
     def __init__(self, simulation: Simulation, observers: Sequence[SimulationObserver]):
@@ -163,7 +163,7 @@ class ObservedSimulation:
         return self.simulation.read(ref)
 
     def image_areas(self) -> Mapping[str, bytearray]:
-        """The trace recorder's fast path (``vc.scenario.trace.ImageSource``)."""
+        """The trace recorder's fast path (``vc.scenario.run.trace.ImageSource``)."""
         return self.simulation.image_areas()
 
     def axis_quantity(self, axis: str, quantity: str) -> float:

@@ -124,7 +124,7 @@ def test_commands_find_the_default_machine_by_name_from_any_directory(
 
 
 def test_run_takes_at_most_four_worker_processes_per_core(capsys: pytest.CaptureFixture[str]) -> None:
-    from vc.scenario.parallel import max_workers
+    from vc.scenario.distribution.parallel import max_workers
 
     assert build_parser().parse_args(["run", "-j", str(max_workers())]).jobs == max_workers()
     with pytest.raises(SystemExit) as exit_code:

@@ -12,8 +12,8 @@ from interfaces.links.inprocess import plc_programs
 from vc.coverage.collector import CoverageCollector
 from vc.coverage.data import FALLS, RISES, CoverageData
 from vc.harness.targets import simulation_for
-from vc.scenario.loader import load_scenarios
-from vc.scenario.runner import run_scenarios
+from vc.scenario.language.loader import load_scenarios
+from vc.scenario.run.runner import run_scenarios
 
 ROOT = Path(__file__).resolve().parents[3]
 REFERENCING = ROOT / "scenarios" / "referencing" / "incremental_jog_ref_falling_edge.yaml"

@@ -18,8 +18,8 @@ from vc.coverage.html import report_html
 from vc.coverage.report import Report, build_report, check_thresholds, summary_text
 from vc.coverage.state_machines import STATE_MACHINES
 from vc.harness.targets import simulation_for
-from vc.scenario.loader import load_scenarios
-from vc.scenario.runner import run_scenarios
+from vc.scenario.language.loader import load_scenarios
+from vc.scenario.run.runner import run_scenarios
 
 ROOT = Path(__file__).resolve().parents[3]
 REFERENCING = ROOT / "scenarios" / "referencing" / "incremental_jog_ref_falling_edge.yaml"

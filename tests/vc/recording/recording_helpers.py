@@ -9,8 +9,8 @@ from interfaces.links.inprocess import InProcessConnector, plc_programs
 from interfaces.plc import PlcConnector
 from vc.recording.format import Header, RecordedFile
 from vc.recording.recorder import SessionInfo, SessionRecorder
-from vc.scenario.loader import load_scenario
-from vc.scenario.runner import ScenarioResult, run_scenario
+from vc.scenario.language.loader import load_scenario
+from vc.scenario.run.runner import ScenarioResult, run_scenario
 from vc.simulation.lockstep import Simulation
 from vc.simulation.observed import ObservedSimulation
 

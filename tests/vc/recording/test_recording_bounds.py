@@ -126,8 +126,8 @@ def test_the_recorder_says_once_that_it_stopped_at_its_limit(tmp_path: Path, sou
     from interfaces.links.inprocess import InProcessConnector, plc_programs
     from vc.recording.format import RecordedFile
     from vc.recording.recorder import SessionInfo, SessionRecorder
-    from vc.scenario.loader import load_scenario
-    from vc.scenario.runner import run_scenario
+    from vc.scenario.language.loader import load_scenario
+    from vc.scenario.run.runner import run_scenario
     from vc.simulation.lockstep import Simulation
     from vc.simulation.observed import ObservedSimulation
 

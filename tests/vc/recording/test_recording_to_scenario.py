@@ -14,8 +14,8 @@ from vc.cli.main import main
 from vc.harness.targets import simulation_for
 from vc.recording.format import read_recording
 from vc.recording.to_scenario import ConversionError, to_scenario
-from vc.scenario.loader import load_scenario
-from vc.scenario.runner import run_scenario
+from vc.scenario.language.loader import load_scenario
+from vc.scenario.run.runner import run_scenario
 
 POWER_FAILURE = ROOT / "scenarios" / "manual_retraction" / "power_failure_during_g331.yaml"
 

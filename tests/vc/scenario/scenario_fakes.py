@@ -18,11 +18,11 @@ from interfaces.signals import SignalRef, expand
 from vc.config.loader import load_machine
 from vc.config.model import MachineConfig
 from vc.core.alarms import ALARM_TEXTS, Alarm, Clear
-from vc.scenario.loader import load_scenario
-from vc.scenario.model import Scenario
+from vc.scenario.language.loader import load_scenario
+from vc.scenario.language.model import Scenario
 
 HERE = Path(__file__).parent
-CORPUS = HERE / "bad_scenarios"
+CORPUS = HERE / "language" / "bad_scenarios"
 MACHINE_FILE = CORPUS / "machines" / "mini.yaml"
 KNOWN_PROGRAMS = ("basic_machine", "referencing")
 

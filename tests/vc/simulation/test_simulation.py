@@ -274,8 +274,8 @@ def test_a_fault_the_machine_cannot_have_now_fails_the_step_instead_of_the_run(t
     """A workpiece clamp on a spindle that follows none ended the run in a KeyError traceback."""
     from interfaces.links.inprocess import plc_programs
     from vc.harness.targets import simulation_for
-    from vc.scenario.loader import load_scenarios
-    from vc.scenario.runner import run_scenarios
+    from vc.scenario.language.loader import load_scenarios
+    from vc.scenario.run.runner import run_scenarios
 
     path = tmp_path / "clamp.yaml"
     path.write_text(f"name: clamp\nmachine: {TURN_MILL}\nplc: basic_machine\nsteps:\n  - wait: 20ms\n"

@@ -79,10 +79,10 @@ import yaml
 from interfaces.links.inprocess import plc_programs
 from vc.harness.targets import simulation_for
 from vc.located_yaml import Problem, SourceError
-from vc.scenario.durations import Duration
-from vc.scenario.loader import load_scenarios
-from vc.scenario.report import ConsoleReport
-from vc.scenario.runner import run_scenarios
+from vc.scenario.language.durations import Duration
+from vc.scenario.language.loader import load_scenarios
+from vc.scenario.outputs.report import ConsoleReport
+from vc.scenario.run.runner import run_scenarios
 
 DEFAULT_BOUND_S = 30.0  # wall seconds a mutant may take before it counts as a hang
 DEFAULT_RUN_SECONDS = 2.0  # simulated seconds a mutant that loads may run

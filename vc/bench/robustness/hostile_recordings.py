@@ -41,8 +41,8 @@ from vc.bench.robustness.one_shot import Outcome, run_vc, tally
 from vc.bench.robustness.processes import ROOT
 from vc.recording.format import RecordedFile
 from vc.recording.recorder import SessionInfo, SessionRecorder
-from vc.scenario.loader import load_scenario
-from vc.scenario.runner import run_scenario
+from vc.scenario.language.loader import load_scenario
+from vc.scenario.run.runner import run_scenario
 from vc.simulation.lockstep import Simulation
 from vc.simulation.observed import ObservedSimulation
 

@@ -4,7 +4,7 @@ an axis name, a channel name or ``NC``.
 The blocks are read as the machine file's are (vc/config/reader/blocks.py), with the scenario's
 marks, and replace the file's values index by index.  An axis may also carry ``sim:``,
 ``plant:`` and ``drive:`` (the keys written replace the file's), ``NC`` the keys of the DC link
-(``dc_link:``).  A scenario matrix's machine data settings (vc/scenario/variants.py) come here
+(``dc_link:``).  A scenario matrix's machine data settings (vc/scenario/language/variants.py) come here
 as the overrides of each variant.  The rules across the machine are checked afterwards, on the
 machine with its overrides (checking.py).
 """

@@ -1,4 +1,4 @@
-"""Machine axes (layer 8 of vc/core, beside kinematics): one axis and what moves it
+"""Machine axes (layer 7 of vc/core, beside kinematics): one axis and what moves it
 (seed 003 axes, DB31).
 
 ``axis``           the machine axis: setpoint, drive, encoder, monitoring, commands (owns the pieces below)

@@ -10,7 +10,7 @@ from interfaces.signal_groups import AxisStatus
 from interfaces.signals import InstanceKind
 from vc.core.axis.signals import AxisInputs
 from vc.core.interface_map import SignalTable
-from vc.scenario.loader import default_catalog
+from vc.scenario.language.loader import default_catalog
 
 
 @pytest.fixture(scope="module")
