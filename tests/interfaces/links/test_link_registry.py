@@ -45,7 +45,7 @@ def test_a_malformed_address_is_a_usage_error_before_anything_runs(capsys: pytes
 
 
 def test_a_scenario_may_put_its_plc_behind_each_link_that_runs_in_process() -> None:
-    from vc.scenario.loader import LINKS as SCENARIO_LINKS
+    from vc.scenario.language.loader import LINKS as SCENARIO_LINKS
 
     assert SCENARIO_LINKS == in_process_links() == ("can",)
 
