@@ -6,6 +6,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+from pathlib import Path
 
 import pytest
 
@@ -21,6 +22,9 @@ from vc.config.machine_files import packaged_machines
 from vc.config.model import MachineConfig
 from vc.located_yaml import LocatedMap, load_text
 from vc.simulation.commissioning import commissioning_of
+
+LATHE_WITH_TAILSTOCK = str(Path(__file__).resolve().parents[3] / "scenarios" / "fixed_stop" / "machines"
+                           / "lathe_tailstock.yaml")
 
 
 def facts(machine: MachineConfig) -> Commissioning:
@@ -51,7 +55,8 @@ def test_the_facts_follow_the_machine_data_a_scenario_overrides() -> None:
 def test_what_the_plant_needs_from_the_plc_names_its_inputs_outputs_and_signals() -> None:
     needs = {need.name: need for need in facts(load_machine("turn_mill")).needs}
     mill = {need.name: need for need in facts(load_machine("mill_3axis")).needs}
-    assert set(RULES) == {need.rule for need in (*needs.values(), *mill.values())}
+    lathe = {need.name: need for need in facts(load_machine(LATHE_WITH_TAILSTOCK)).needs}  # no packaged one has it
+    assert set(RULES) == {need.rule for need in (*needs.values(), *mill.values(), *lathe.values())}
     assert "Turret.unlock (Q2.2)" in needs["Turret"].plant_io and "8 stations" in needs["Turret"].text
     assert "ToolArm.toSpindle (Q0.3)" in mill["ToolChanger"].plant_io and "12 pockets" in mill["ToolChanger"].text
     assert "DB21.DBX6.1" in needs["CHAN1.auxiliaryFunctions"].interface
