@@ -448,6 +448,9 @@ class _Hang(BaseException):
     """Raised by the wall-clock bound (not an Exception: nothing in the harness may catch it)."""
 
 
+_RE_ALARM_S = 0.01
+
+
 @contextlib.contextmanager
 def _wall_bound(seconds: float) -> Iterator[None]:
     """Interrupt the block after ``seconds`` of wall time (SIGALRM; the main thread only).  A timer
@@ -464,7 +467,9 @@ def _wall_bound(seconds: float) -> Iterator[None]:
         raise _Hang()
 
     previous = signal.signal(signal.SIGALRM, interrupt)
-    signal.setitimer(signal.ITIMER_REAL, min(seconds, outer_delay) if outer_delay else seconds)
+    # again every 10 ms until the block is left: a _Hang raised while the interpreter runs a
+    # finalizer is printed as "Exception ignored" and swallowed, and the run went on to pass
+    signal.setitimer(signal.ITIMER_REAL, min(seconds, outer_delay) if outer_delay else seconds, _RE_ALARM_S)
     try:
         yield
     finally:
