@@ -100,6 +100,8 @@ def test_a_pure_wheel_leaves_the_editable_manifest_and_says_why_it_is_pure(check
 
 def test_a_compiled_wheel_leaves_the_editable_manifest_and_says_it_compiles(checkout: Path, tmp_path: Path) -> None:
     if shutil.which((sysconfig.get_config_var("CC") or "cc").split()[0]) is None:
+        if os.environ.get("VC_REQUIRE_GCC"):
+            pytest.fail("no C compiler, and VC_REQUIRE_GCC is set")
         pytest.skip("no C compiler: setup.py takes the pure path")  # the pure test above covers that one
     stand_in = tmp_path / "stand_in" / "mypyc"
     stand_in.mkdir(parents=True)

@@ -183,8 +183,10 @@ def _take_new_session_requests(link: PlcLink, say: Callable[[str], None]) -> Non
             return
         open_new_session()
 
-    with contextlib.suppress(ValueError, RuntimeError, NotImplementedError):  # not the main thread, no signals
+    try:
         link.loop.add_signal_handler(signal.SIGUSR1, open_new_session)
+    except (ValueError, RuntimeError, NotImplementedError) as error:  # not the main thread, no signals here
+        say(f"vc serve: SIGUSR1 cannot open a new session here ({error}); press Enter on the terminal instead")
     with contextlib.suppress(ValueError, OSError, AttributeError):  # no terminal (a pipe, a service, a test)
         if sys.stdin is not None and sys.stdin.isatty():
             link.loop.add_reader(sys.stdin.fileno(), line_typed)

@@ -21,11 +21,6 @@ def _rig(overrides: str = ABSOLUTE_XYZ) -> Rig:
     return rig
 
 
-def _run(rig: Rig, text: str) -> None:
-    rig.nck.load_mda("CHAN1", text)
-    rig.pulse("CHAN1.basic.out.ncStart", 2)
-
-
 def _block(rig: Rig) -> int:
     return rig.channel.run.block_index
 
@@ -36,7 +31,7 @@ def _state(rig: Rig, name: str = "Z1") -> CommandState:
 
 def test_pos_holds_the_block_until_the_axis_is_in_its_fine_window_and_runs_at_fa() -> None:
     rig = _rig()
-    _run(rig, "N10 G1 X140 F6000 POS[Z]=200 FA[Z]=3000\nN20 M30")
+    rig.mda("N10 G1 X140 F6000 POS[Z]=200 FA[Z]=3000\nN20 M30")
     z1 = rig.axis("Z1")
     rig.step(200)
     assert z1.command_velocity * 60.0 == pytest.approx(-3000.0)  # FA, not the path's F
@@ -49,7 +44,7 @@ def test_pos_holds_the_block_until_the_axis_is_in_its_fine_window_and_runs_at_fa
 
 def test_posa_lets_the_program_go_on_and_waitp_waits_for_the_axis() -> None:
     rig = _rig()
-    _run(rig, "N10 POSA[Z]=200 FA[Z]=1500\nN20 G1 X140 F6000\nN30 WAITP(Z)\nN40 X130\nN50 M30")
+    rig.mda("N10 POSA[Z]=200 FA[Z]=1500\nN20 G1 X140 F6000\nN30 WAITP(Z)\nN40 X130\nN50 M30")
     rig.run_until(lambda: _block(rig) == 2, 200)  # N10 and N20 are done while Z1 still travels (type 2)
     assert _state(rig) is CommandState.POSITIONING
     rig.step(100)
@@ -60,7 +55,7 @@ def test_posa_lets_the_program_go_on_and_waitp_waits_for_the_axis() -> None:
 
 def test_a_posa_axis_programmed_again_waits_for_its_end_and_the_program_end_waits_too() -> None:
     rig = _rig()
-    _run(rig, "N10 POSA[Z]=250 FA[Z]=3000\nN20 Z240 G1 F3000\nN30 POSA[Z]=IC(-10)\nN40 M30")
+    rig.mda("N10 POSA[Z]=250 FA[Z]=3000\nN20 Z240 G1 F3000\nN30 POSA[Z]=IC(-10)\nN40 M30")
     rig.step(100)
     assert _block(rig) == 1 and rig.axis("Z1").owner is Owner.COMMAND  # N20 waits before it is decoded
     rig.run_until(lambda: rig.axis("Z1").owner is Owner.PATH, 1000)  # N20 after Z1 arrived at 250
@@ -72,7 +67,7 @@ def test_a_posa_axis_programmed_again_waits_for_its_end_and_the_program_end_wait
 
 def test_nc_stop_and_the_feed_disable_hold_it_nc_start_continues_the_reset_stops_it() -> None:
     rig = _rig()
-    _run(rig, "N10 POSA[Z]=100 FA[Z]=2000\nN20 G4 F20\nN30 M30")
+    rig.mda("N10 POSA[Z]=100 FA[Z]=2000\nN20 G4 F20\nN30 M30")
     z1 = rig.axis("Z1")
     rig.step(50)
     rig.pulse("CHAN1.basic.out.ncStop", 2)  # the channel's signals act on its positioning axes (L11044)
@@ -97,7 +92,7 @@ def test_nc_stop_and_the_feed_disable_hold_it_nc_start_continues_the_reset_stops
 
 def test_db31_dbx2_2_deletes_its_distance_to_go_and_the_block_goes_on() -> None:
     rig = _rig()
-    _run(rig, "N10 POS[Z]=100 FA[Z]=2000\nN20 M30")
+    rig.mda("N10 POS[Z]=100 FA[Z]=2000\nN20 M30")
     rig.step(50)
     rig.set("Z1.basic.out.resetMovement", 1)
     rig.run_until(lambda: rig.get("CHAN1.basic.in.stateReset") == 1, 200)
@@ -106,7 +101,7 @@ def test_db31_dbx2_2_deletes_its_distance_to_go_and_the_block_goes_on() -> None:
 
 def test_ipoenda_ends_the_block_with_the_interpolation_and_the_condition_is_modal() -> None:
     rig = _rig()
-    _run(rig, "N10 IPOENDA[Z]\nN20 POS[Z]=290 FA[Z]=3000\nN30 M30")
+    rig.mda("N10 IPOENDA[Z]\nN20 POS[Z]=290 FA[Z]=3000\nN30 M30")
     rig.run_until(lambda: _block(rig) == 2, 1000)
     z1 = rig.axis("Z1")
     assert z1.setpoint == 290.0 and abs(z1.distance_to_end_point) > z1.dyn.fine_window  # before the window
@@ -115,7 +110,7 @@ def test_ipoenda_ends_the_block_with_the_interpolation_and_the_condition_is_moda
 
 def test_an_alarm_that_takes_the_axis_loses_the_block() -> None:
     rig = _rig()
-    _run(rig, "N10 POS[Z]=100 FA[Z]=2000\nN20 M30")
+    rig.mda("N10 POS[Z]=100 FA[Z]=2000\nN20 M30")
     rig.step(50)
     rig.axis("Z1").brake()  # as an alarm's rapid stop
     rig.step(50)
