@@ -238,6 +238,41 @@ class PositioningAxisStatus:
     feed: float = signal("basic.in.posAxisFeedrateValue", 0.0)  # DBD78: FA, mm/min or deg/min
 
 
+@dataclass(slots=True, kw_only=True)
+class PlcAxisRequests:
+    """A PLC axis (seed 003 §9.3.2, §9.7): the PLC takes and gives back the axis, stops, resumes
+    and resets it; and the parameters of FC18 SINU_TraversePosAxis (the exchange area of the basic
+    program, DBB140 ff.: interfaces/catalog/db31_axis.yaml)."""
+
+    request_plc_control: bool = signal("plcCtrl.out.requestPlcCtrl")  # DBX28.7
+    axis_reset: bool = signal("spindle.out.plcCtrl")  # DBX28.1 (the seed's [DOC-ERR]: the axis reset)
+    resume: bool = signal("spindle.out.resume")  # DBX28.2
+    axis_stop: bool = signal("spindle.out.stop")  # DBX30.0
+    start: bool = signal("plcAxis.out.start")  # FC18 Start
+    stop: bool = signal("plcAxis.out.stop")  # FC18 Stop
+    mode: int = signal("plcAxis.out.mode", 0)  # FC18 Mode
+    position: float = signal("plcAxis.out.position", 0.0)  # FC18 Pos
+    feedrate: float = signal("plcAxis.out.feedrate", 0.0)  # FC18 FRate
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class PlcAxisStatus:
+    """The axis's type towards the PLC (DBX63.0-63.2, DBB68) and FC18's feedback."""
+
+    reset_done: bool = signal("plcCtrl.in.resetDone")  # DBX63.0
+    plc_controlled: bool = signal("plcCtrl.in.active")  # DBX63.1
+    stopped: bool = signal("plcCtrl.in.stopped")  # DBX63.2
+    channel_number: int = signal("plcCtrl.in.assignedChanNumber", 0)  # DBX68.0-68.3
+    new_type_requested: bool = signal("plcCtrl.in.newTypeRequested")  # DBX68.4
+    changeover_possible: bool = signal("plcCtrl.in.changeoverPossible")  # DBX68.5
+    neutral: bool = signal("plcCtrl.in.neutralModeActive")  # DBX68.6
+    plc_axis: bool = signal("plcCtrl.in.assignedToPlc")  # DBX68.7
+    active: bool = signal("plcAxis.in.active")  # FC18: the motion runs
+    in_position: bool = signal("plcAxis.in.inPosition")  # FC18 InPos
+    error: bool = signal("plcAxis.in.error")  # FC18 Error
+    error_number: int = signal("plcAxis.in.errorNumber", 0)  # FC18 State
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class FixedStopStatus:
     """Travel to fixed stop (DB31.DBX62.4 / 62.5, seed 003 §17.2.2)."""

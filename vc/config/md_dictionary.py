@@ -376,6 +376,14 @@ MISC_FUNCTION_MASK = MdDef(30455, "MISC_FUNCTION_MASK", A, INT, 0,
                            " FA/OVRA/ACC, bit 7 edge-triggered synchronism measurement",
                            "seed 003 L1665-1672, L22391-22401, L23756-23797, L31462-31476; [control] default",
                            "", 0, 0xFFFF)
+BASE_FUNCTION_MASK = MdDef(30460, "BASE_FUNCTION_MASK", A, INT, 0,
+                           "axis functions (bit mask) of a PLC axis: bit 4 the axis is controlled by the PLC"
+                           " only (26075), bit 5 it is assigned to the PLC for good and starts as a neutral"
+                           " axis (26076), bit 6 the channel's feed disable DB21.DBX6.0 does not act on it while"
+                           " the PLC moves it, bit 7 DB21.DBX36.3 leaves it out while the PLC moves it",
+                           "seed 003 L12181-12218, L12499-12540; bits 0-3 and 8 (diameter programming,"
+                           " positioning axis only, L10319, L10852) [control]; bits 0-3 and 8 are not built",
+                           "", 0, 0x1FF)
 AXCONF_ASSIGN_MASTER_CHAN = MdDef(30550, "AXCONF_ASSIGN_MASTER_CHAN", A, INT, 0,
                                   "master channel of the axis (0 = the channel whose axes list holds it);"
                                   " axis-specific referencing runs in it",

@@ -166,6 +166,9 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
         AlarmDefinition(20141, "Channel %1 axis %2 motion-synchronized action: illegal axis type", _STOP,
                         Clear.RESET, "seed 003 L17574-17575 (POS on a spindle in speed control); text [control]; also"
                         " a POS on an axis another motion owns [control]"),
+        AlarmDefinition(20143, "Channel %1 axis %2 command axis cannot be started, as it is controlled by the PLC",
+                        _STOP, Clear.RESET, "seed 003 L11231-11235 (a synchronized action's command axis motion on a"
+                        " PLC axis); text and reaction [control]"),
         AlarmDefinition(21610, "Channel %1 axis %2 encoder %3 frequency exceeded", _STOP | Reaction.RAPID_STOP,
                         Clear.RESET, "seed 003 L758-761 (re-reference after the encoder limit frequency);"
                         " [control] number and reaction"),
@@ -202,6 +205,13 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         "[control]"),
         AlarmDefinition(25080, "Axis %1 positioning monitoring", _STOP | Reaction.RAPID_STOP, Clear.RESET,
                         "[control]"),
+        AlarmDefinition(26075, "Channel %1 axis %2 not available for the NC program, as exclusively controlled"
+                                " by the PLC", _STOP, Clear.RESET,
+                        "seed 003 L12215-12217, L12516-12520 (MD30460 bit 4; a program or synchronized action"
+                        " names the axis); text and reaction [control]"),
+        AlarmDefinition(26076, "Channel %1 axis %2 not available for the NC program, as permanently assigned to"
+                                " the PLC", _STOP, Clear.RESET,
+                        "seed 003 L12217 (MD30460 bit 5); text and reaction [control]"),
         AlarmDefinition(207900, "Axis %1 drive: motor blocked", _STOP | Reaction.RAPID_STOP, Clear.RESET,
                         "[control] SINAMICS F07900 as the NC shows it; the seeds name no drive fault: a part"
                         " twisted between two chucks blocks the counter spindle (vc/plant/workpiece.py)"),

@@ -35,6 +35,13 @@ States::
     TRAVERSING, IDLE ──its single-axis ESR stop or retraction──▶ ESR_STOPPED ──channel reset, DB31.DBX2.2──▶ IDLE
     IDLE, TRAVERSING ──POS / POSA of the part program──▶ POSITIONING ──at the end point──▶ IDLE
     POSITIONING ──channel reset, DB31.DBX2.2 (braked); another owner takes the axis (the block is lost)──▶ IDLE
+    IDLE ──FC18 of the PLC (vc/core/axis/plc_axis.py)──▶ PLC_POSITIONING ──at the end point──▶ IDLE
+    PLC_POSITIONING ──FC18 Stop, the PLC's axis reset, the channel's reset of a PLC axis (braked);
+                      another owner takes the axis──▶ IDLE
+
+A PLC axis's motion is held as its ``PlcAxis`` says (``plc_held``); the channel's reset and DB31.DBX2.2
+leave it alone (the PLC axis has its own reset).  A synchronized action's POS on an axis the PLC holds
+or may hold raises the alarm ``plc_refusal`` (20143, 26075, 26076).
 
 A POS on a spindle (L17574-17575) or on an axis another motion owns now (the path, JOG,
 referencing, a retraction, a positioning motion of the program) is refused with alarm 20141 [control].
@@ -69,6 +76,10 @@ class CommandState(Enum):
     TRAVERSING = "POS[ax]= of a synchronized action moves the axis"
     ESR_STOPPED = "stopped by its single-axis ESR until a reset"
     POSITIONING = "POS / POSA of the part program moves it as a positioning axis"
+    PLC_POSITIONING = "FC18 of the PLC moves it as a PLC axis"
+
+
+_MOVING = (CommandState.TRAVERSING, CommandState.POSITIONING, CommandState.PLC_POSITIONING)
 
 
 class CommandAxis:
@@ -89,6 +100,8 @@ class CommandAxis:
         self.lost = False  # a positioning motion another owner took: its block cannot end
         self._publish: Callable[[bool, float], None] | None = None  # DB31.DBX76.5 / DBD78
         self._published: tuple[bool, float] = (False, 0.0)
+        self.plc_held = False  # a PLC axis's motion is held this cycle (set by its PlcAxis)
+        self.plc_refusal = 0  # the alarm of a synchronized action's POS on an axis of the PLC; 0: allowed
 
     def publish_to(self, table: SignalTable, area: bytearray) -> None:
         """Write DB31.DBX76.5 and DBD78 of this axis into ``area`` from now on."""
@@ -137,6 +150,9 @@ class CommandAxis:
         axis = self.axis
         if self.state is CommandState.ESR_STOPPED:
             return  # stopped by its ESR until a reset
+        if self.plc_refusal:
+            alarms.raise_alarm(self.plc_refusal, cycle, axis.channel, axis.name, channel=axis.channel, axis=axis.name)
+            return
         if axis.is_spindle or axis.owner not in (Owner.NONE, Owner.COMMAND) or self.state is CommandState.POSITIONING:
             alarms.raise_alarm(ALARM_ILLEGAL_AXIS_TYPE, cycle, axis.channel, axis.name, channel=axis.channel,
                                axis=axis.name)
@@ -173,9 +189,22 @@ class CommandAxis:
         self._busy()
         self.write_status()
 
+    def plc_position(self, target: float, feed: float) -> None:
+        """FC18 of the PLC: the axis interpolator takes the axis to ``target`` at ``feed`` (mm/min or
+        deg/min, G94; 0: MD32060); its PlcAxis checked the axis and the end point."""
+        self.target = target
+        self.motion_feed = feed
+        self.lost = False
+        self.plc_held = False
+        if self.state is CommandState.IDLE:
+            self._reset_level = self.axis.inputs.reset_movement
+        self.state = CommandState.PLC_POSITIONING
+        self.axis.take(Owner.COMMAND)
+        self._busy()
+
     def reset(self) -> None:
         """The channel's reset or DB31.DBX2.2: a running motion brakes and ends, an ESR stop ends."""
-        if self.state in (CommandState.TRAVERSING, CommandState.POSITIONING) and self.axis.owner is Owner.COMMAND:
+        if self.state in _MOVING and self.axis.owner is Owner.COMMAND:
             self.axis.brake()
         self.state = CommandState.IDLE
         self.lost = False
@@ -188,18 +217,20 @@ class CommandAxis:
         positioning motion of its program."""
         level = self.axis.inputs.reset_movement
         edge, self._reset_level = level and not self._reset_level, level
-        if edge:
+        if edge and self.state is not CommandState.PLC_POSITIONING:
             self.reset()
         elif self.state is CommandState.TRAVERSING:
             self._traverse(False)
         elif self.state is CommandState.POSITIONING:
             self._traverse(program_held)
+        elif self.state is CommandState.PLC_POSITIONING:
+            self._traverse(self.plc_held)
 
     def _traverse(self, program_held: bool) -> None:
         axis = self.axis
         if axis.owner is not Owner.COMMAND:
             # braked by an e-stop or an alarm, or taken by the program: a positioning block is lost
-            self.lost = self.state is CommandState.POSITIONING
+            self.lost = self.state in (CommandState.POSITIONING, CommandState.PLC_POSITIONING)
             self.state = CommandState.IDLE
             self.write_status()
             return
@@ -238,7 +269,10 @@ COMMAND_AXIS_STATES: StateMachine[CommandAxis] = StateMachine(
                 ("ESR_STOPPED", "IDLE", "the channel's reset, DB31.DBX2.2"),
                 ("IDLE", "POSITIONING", "POS / POSA of the part program"),
                 ("TRAVERSING", "POSITIONING", "POS / POSA of the part program takes the axis"),
-                ("POSITIONING", "IDLE", "at its end point; channel reset, DB31.DBX2.2; another owner took it")),
+                ("POSITIONING", "IDLE", "at its end point; channel reset, DB31.DBX2.2; another owner took it"),
+                ("IDLE", "PLC_POSITIONING", "FC18 Start of the PLC"),
+                ("PLC_POSITIONING", "IDLE", "at its end point; FC18 Stop, the PLC's axis reset, the channel's reset"
+                 " of a PLC axis; another owner took it")),
     read=lambda command: command.state)
 
 
@@ -311,7 +345,7 @@ class CommandAxes:
         self.by_name[name].motion_end = condition
 
     def reset(self) -> None:
-        """The channel's reset stops its command axes (L24176-24178)."""
+        """The channel's reset stops its command axes (L24176-24178); a PLC axis has its own reset."""
         for command in self.by_name.values():
-            if command.busy:
+            if command.busy and command.state is not CommandState.PLC_POSITIONING:
                 command.reset()

@@ -33,6 +33,7 @@ from vc.core.auxiliary.tool_selection import ToolSelection
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.command_axis import CommandAxes
 from vc.core.axis.owner import Owner
+from vc.core.axis.plc_axis import PlcAxes
 from vc.core.axis.stroke_limits import BOUNDARY, StrokeStop
 from vc.core.channel.interface import ChannelInputs
 from vc.core.channel.program_run import BlockPhase, ChannelState, ProgramRun, ProgramState, raise_block_alarm
@@ -59,7 +60,7 @@ class BlockExecution:
                  referencing: ReferencingControl, five_axis: FiveAxisControl, stroke: ChannelStrokeLimits,
                  spindles: SpindleFunctions, threads: ThreadRetract, stop: Callable[[], None],
                  aux: AuxiliaryOutput, tools: ToolSelection, fixed_stops: ChannelFixedStops,
-                 positioning: CommandAxes):
+                 positioning: CommandAxes, plc_axes: PlcAxes):
         self.run = run
         self.config = config
         self.name = config.name
@@ -79,6 +80,7 @@ class BlockExecution:
         self._fixed_stops = fixed_stops  # FXS / FXST / FXSW (seed 003 chapter 17)
         self._approaching: set[str] = set()  # the block's axes that travel to their fixed stop
         self._positioning = positioning  # the axis interpolators of POS / POSA (vc/core/axis/command_axis.py)
+        self._plc_axes = plc_axes  # the axes the PLC holds or has for good (vc/core/axis/plc_axis.py)
         self.inclined: InclinedAxisControl | None = None  # inclined-axis control (seed 000), given by the NCK
         self.stroke_stop: StrokeStop | None = None  # the running block ends on a stroke limit boundary
         self._g74_axes: list[str] = []
@@ -295,6 +297,15 @@ class BlockExecution:
         if self._positioning.any_positioning() and \
                 any(self._positioning.positioning(name) for name in named_axes(block, self.config)):
             return  # a POSA axis is programmed again only once it has arrived: the implicit WAITP
+        if self._plc_axes.restricted:
+            refusal = self._plc_axes.block_refusal(named_axes(block, self.config))
+            if refusal is not None:
+                name, number = refusal
+                if not number:
+                    return  # the PLC has the axis: the block waits until it gives it back (implicit GET) [control]
+                self._alarms.raise_alarm(number, cycle, self.name, name, channel=self.name, axis=name)
+                self._stop()  # 26075 / 26076 (seed 003 L12215-12217)
+                return
         self.run.current_block = block
         jump = next((item for item in block.items if isinstance(item, Jump)), None)
         if jump is not None:  # alone, or after its label ("MM: IF ... GOTOB MM")

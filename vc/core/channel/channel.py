@@ -20,7 +20,8 @@ cycle of its program; its parts, each in a module of its own, share one :class:`
 
 Beside the program it keeps its command axes (``vc/core/axis/command_axis.py``): axes a
 synchronized action moves on their own, which NC stop and program end leave alone and its reset stops;
-the same axis interpolators move the program's positioning axes (POS / POSA), which NC stop holds.
+the same axis interpolators move the program's positioning axes (POS / POSA), which NC stop holds,
+and the PLC's axes (``vc/core/axis/plc_axis.py``: FC18, DB31.DBX28.7).
 
 The channel owns its auxiliary function output (``vc/core/auxiliary``: the DB21 output slots, the
 tool the program selects), which block execution fills and the NCK tells of the PLC's cycles.
@@ -39,6 +40,7 @@ from vc.core.axis.axis import MachineAxis
 from vc.core.axis.command_axis import CommandAxes
 from vc.core.axis.jog import JogLimits
 from vc.core.axis.owner import Owner
+from vc.core.axis.plc_axis import PlcAxes
 from vc.core.axis.stroke_limits import StrokeLimitControl
 from vc.core.channel.block_execution import BlockExecution
 from vc.core.channel.channel_referencing import ChannelReferencing
@@ -105,9 +107,11 @@ class Channel:
         self.fixed_stops = ChannelFixedStops(self.name, alarms)  # travel to fixed stop, filled at power-on
         # POS[ax]= of synchronized actions, POS / POSA of the program: the axis interpolators
         self.command_axes = CommandAxes(self.name, axes, alarms, dt)
+        self.plc_axes = PlcAxes()  # FC18 and DB31.DBX28.7 (vc/core/axis/plc_axis.py), filled at power-on
         self._execution = BlockExecution(self.run, config, axes, self.axes_by_name, self.inputs, alarms, dt,
                                          referencing, self.five_axis, self._stroke, self._spindles, self._threads,
-                                         self.stop, self.aux, self.tools, self.fixed_stops, self.command_axes)
+                                         self.stop, self.aux, self.tools, self.fixed_stops, self.command_axes,
+                                         self.plc_axes)
         self._inclined: InclinedAxisControl | None = None
 
     # ------------------------------------------------------------------ what the NCK gives the channel
@@ -222,6 +226,7 @@ class Channel:
         self._spindles.reset_couplings()
         self._spindles.reset_spindles(program_end=False)
         self.command_axes.reset()
+        self.plc_axes.reset()
         self.aux.reset()
         self.fixed_stops.reset()
 
@@ -232,6 +237,7 @@ class Channel:
             return
         if self._alarms.reactions(self.name) & NC_START_DISABLED:
             return
+        self.plc_axes.start()  # NC start lets a PLC axis held by NC stop go on (L12320-12330)
         if mode is Mode.JOG or reference_function:
             return
         if run.state is ChannelState.INTERRUPTED:
@@ -280,6 +286,7 @@ class Channel:
         if run.state is ChannelState.ACTIVE and self._threads.thread_segment is not None and run.modal.retract.enabled:
             self._threads.lift_fast(None)
         run.interrupt()
+        self.plc_axes.stop()
 
     def mode_changed(self) -> None:
         """Leaving the mode of a stopped program interrupts it (DB21.DBX35.3)."""
@@ -297,6 +304,9 @@ class Channel:
             self._channel_referencing.cycle(cycle)
         path_runs_on = self._threads.esr_cycle(cycle)
         run = self.run
+        if self.plc_axes.active:
+            # the PLC's requests and FC18 jobs, before the axis interpolators run (L12145-12565)
+            self.plc_axes.cycle(self.inputs.feed_disable, bool(self._alarms.reactions(self.name) & STOP_AXES))
         if self.command_axes.active:
             # a command axis independent of the program's state (L11215-11227); a positioning axis of
             # the program held by NC stop, a stopping alarm and the feed disable (L11044-11066)
@@ -350,4 +360,7 @@ class Channel:
     def write_axis_summary(self) -> None:
         """All axes referenced / all axes stationary (written when they change); spindles count
         as axes only in axis mode."""
-        self._interface.write_axis_summary(self.axes, self._needs_reference)
+        axes = self.axes
+        if self.plc_axes.any_left_out:  # MD30460 bit 7 (L12199-12213)
+            axes = [axis for axis in axes if not self.plc_axes.left_out(axis.name)]
+        self._interface.write_axis_summary(axes, self._needs_reference)

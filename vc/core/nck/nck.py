@@ -109,6 +109,7 @@ class Nck:
         self.referencing = parts.referencing
         self.channels = parts.channels
         self.channels_by_name = parts.channels_by_name
+        self._plc_axes_of = {name: channel.plc_axes for channel in self.channels for name in channel.plc_axes.by_name}
         self.inclined_axes = parts.inclined_axes
         self.retractions = parts.retractions
         self.spindles = parts.spindles
@@ -257,6 +258,9 @@ class Nck:
         for axis in self.axes:
             if axis.area_key in changed:
                 axis.decode_inputs()
+                plc_axes = self._plc_axes_of.get(axis.name)
+                if plc_axes is not None:
+                    plc_axes.decode_inputs(axis.name)  # DBX28.7, DBX30.0, FC18 (vc/core/axis/plc_axis.py)
                 axis.override = self._axis_coding.factor(axis.inputs.override_raw, axis.inputs.override_active)
                 self._hardware_limit_switches(axis)
                 spindle = self._spindle_of.get(axis.name)

@@ -27,6 +27,7 @@ from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.plc_axis import PlcAxis
 from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
@@ -118,7 +119,9 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     referencing.order_inclined_pairs(inclined_axes)
     for channel in channels:
         for command in channel.command_axes.by_name.values():  # DB31.DBX76.5, DBD78 of a positioning axis
-            command.publish_to(axis_table, image.area(f"DB{command.axis.config.db}"))
+            area = image.area(f"DB{command.axis.config.db}")
+            command.publish_to(axis_table, area)
+            channel.plc_axes.add(PlcAxis(command, channel.config.number, axis_table, area))  # FC18, DBX28.7
     retractions = {channel.name: ManualRetraction(channel, memory, channel_table,
                                                   image.area(f"DB{channel.config.db}"), nck.int(MD.JOG_MODE_MASK))
                    for channel in channels}
