@@ -138,6 +138,17 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
                   "coolant pump contactor: 1 = the pump runs"),
     PlantFunction(r"Coolant\.pressureOk", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "coolant pressure switch: 1 once the running pump has built up the pressure"),
+    PlantFunction(r"AxisMagazine\.unlock", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
+                  "lock pin solenoid of the magazine turned by an NC axis: 1 = pull the pin; 0 = the spring"
+                  " engages it (at a pocket)"),
+    PlantFunction(r"AxisMagazine\.locked", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "lock pin of the axis magazine engaged: the disk is locked at a pocket"),
+    PlantFunction(r"AxisMagazine\.unlocked", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "lock pin of the axis magazine fully pulled: the axis may turn the disk"),
+    PlantFunction(r"AxisMagazine\.inPocket", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "pocket sensor of the axis magazine: 1 while a pocket stands within the pin's window"),
+    PlantFunction(r"AxisMagazine\.driveReady", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "ready contact of the axis magazine's drive: 0 = the drive reports a fault"),
     PlantFunction(r"Tailstock\.retracted", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "tailstock quill's sleeve sensor: 1 while the quill stands retracted, clear of the part"),
     PlantFunction(r"Tailstock\.atPart", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
@@ -147,7 +158,8 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
 
 # The machine's devices besides the axes (the machine file's ``plant:``), by their I/O prefix.
 TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK = "Turret", "Magazine", "ToolArm", "Coolant", "Tailstock"
-DEVICE_PREFIXES = (TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK)
+AXIS_MAGAZINE = "AxisMagazine"  # a tool magazine turned by an NC axis the PLC positions (FC18)
+DEVICE_PREFIXES = (TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK, AXIS_MAGAZINE)
 
 
 def station_code_bits(stations: int) -> tuple[int, ...]:

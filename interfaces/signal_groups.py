@@ -242,7 +242,7 @@ class PositioningAxisStatus:
 class PlcAxisRequests:
     """A PLC axis (seed 003 §9.3.2, §9.7): the PLC takes and gives back the axis, stops, resumes
     and resets it; and the parameters of FC18 SINU_TraversePosAxis (the exchange area of the basic
-    program, DBB140 ff.: interfaces/catalog/db31_axis.yaml)."""
+    program, DBB32-43, DBB104-105: interfaces/catalog/db31_axis.yaml)."""
 
     request_plc_control: bool = signal("plcCtrl.out.requestPlcCtrl")  # DBX28.7
     axis_reset: bool = signal("spindle.out.plcCtrl")  # DBX28.1 (the seed's [DOC-ERR]: the axis reset)

@@ -12,6 +12,7 @@ as an output (or the other way round) is a programming error and fails when the 
 
 from __future__ import annotations
 
+import struct
 from typing import Generic, TypeVar
 
 from interfaces.bit_access import Bit, Field
@@ -82,6 +83,28 @@ class BitField:
         self._field.put(self._area, number)
 
 
+class Real:
+    """A REAL (32-bit IEEE 754, big-endian as S7 stores it) of the PLC's image: FC18's Pos and FRate."""
+
+    __slots__ = ("_area", "_byte", "name")
+
+    def __init__(self, area: bytearray, ref: SignalRef):
+        self._area = area
+        self._byte = ref.address.byte
+        self.name = ref.name
+
+    @property
+    def value(self) -> float:
+        return float(_REAL.unpack_from(self._area, self._byte)[0])
+
+    @value.setter
+    def value(self, number: float) -> None:
+        _REAL.pack_into(self._area, self._byte, number)
+
+
+_REAL = struct.Struct(">f")
+
+
 class GroupInput(Generic[T]):
     """A group of one instance's NC -> PLC signals, read whole."""
 
@@ -136,6 +159,10 @@ class PlcIo:
     def output_field(self, name: str) -> BitField:
         ref = self._checked(name, _OUTPUTS, SignalType.BITS)
         return BitField(self.image.area(ref.area_key), ref)
+
+    def output_real(self, name: str) -> Real:
+        ref = self._checked(name, _OUTPUTS, SignalType.REAL)
+        return Real(self.image.area(ref.area_key), ref)
 
     def input_group(self, group: type[T], instance: str, prefix: str = "") -> GroupInput[T]:
         """The NC's outputs of ``group`` for ``instance`` (a channel, an axis, ``NC``...); ``prefix``

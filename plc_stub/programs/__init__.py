@@ -12,6 +12,7 @@ from functools import partial
 from interfaces.plc import PlcFactory
 from plc_stub.programs.basic_machine import BasicMachine
 from plc_stub.programs.coolant import Coolant
+from plc_stub.programs.magazine import Magazine
 from plc_stub.programs.manual_retraction import ManualRetraction
 from plc_stub.programs.polygon import Polygon
 from plc_stub.programs.referencing import Referencing
@@ -35,6 +36,7 @@ REGISTRY: dict[str, ProgramClass] = {
     "turret": Turret,
     "tool_change": ToolChange,
     "tailstock": Tailstock,
+    "magazine": Magazine,
 }
 
 

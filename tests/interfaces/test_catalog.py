@@ -348,7 +348,7 @@ def test_signals_that_must_not_be_catalogued() -> None:
         ("DB31.DBX50.0", "DB31.DBX50.0 is not a signal of the catalogue"),
         ("DB34.DBX60.4", "DB34.DBX60.4: this machine has no DB34"),
         ("DB23.DBX7.7", "DB23.DBX7.7: this machine has no DB23"),
-        ("DB31.DBW31", "DB31.DBW31 covers bytes that hold no catalogue signal"),
+        ("DB31.DBW45", "DB31.DBW45 covers bytes that hold no catalogue signal"),
         ("I0.3", "I0.3: plant I/O is not part of the NC/PLC interface"),
     ],
 )

@@ -350,8 +350,10 @@ def _convention(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[str
         " first layout; 2, DB100 (the alarm list) at the end of the NC-to-PLC table (turn_mill's grew from 325 to"
         f" 359 registers) and the session key in HR {_span('', key_first, key_last)}; 3, the channel's auxiliary"
         " function area (DB21.DBB58 ff.: the M, S, T, D, DL, H and F functions the NC outputs) and DB2 (the PLC's"
-        " user alarms) at the end of the PLC-to-NC table (turn_mill's grew from 163 to 168 registers); this server"
-        f" speaks {LINK_VERSION}. A test pins every version to its layout (tests/interfaces/test_link_versions.py).",
+        " user alarms) at the end of the PLC-to-NC table (turn_mill's grew from 163 to 168 registers); 4, FC18's"
+        " exchange area of every axis (DB31.DBB32-43 to the NC, DBB104-105 to the PLC: the PLC axes; turn_mill's"
+        f" tables grew to 365 and 204 registers); this server speaks {LINK_VERSION}. A test pins every version to its"
+        " layout (tests/interfaces/test_link_versions.py).",
         "",
         f"* **Lockstep** (IR {LinkInput.MODE} = {MODE_LOCKSTEP}, `vc serve` without `--realtime`): the NC advances one"
         f" PLC period per scan the PLC reports done, and time stands while it waits. For PLCs that can be"

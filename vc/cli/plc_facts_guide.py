@@ -121,7 +121,7 @@ def nc_rules_section(catalog: ExpandedCatalog, register_map: RegisterMap, commis
             " then. The rows of these signals are in the signal tables below.")
     lines.append("* **Signals the NC does not model.** `vc map` has a `modelled` column: `no: <why>` marks the"
                  " catalogued signals the simulated NC neither reads nor writes (travel to fixed stop, gantry,"
-                 " PLC-controlled axes ...). A PLC that waits for one of them waits for ever; that is not its bug.")
+                 " indexing axes ...). A PLC that waits for one of them waits for ever; that is not its bug.")
     return lines
 
 

@@ -33,10 +33,11 @@ from __future__ import annotations
 from collections.abc import Callable, Collection, Mapping
 from typing import Any
 
-from interfaces.plant_io import COOLANT, MAGAZINE, TAILSTOCK, TOOL_ARM, TURRET, station_code_bits
+from interfaces.plant_io import AXIS_MAGAZINE, COOLANT, MAGAZINE, TAILSTOCK, TOOL_ARM, TURRET, station_code_bits
 from vc.config.machine_data import as_number, shown
 from vc.config.model import (
     PLC_USER_ALARMS,
+    AxisMagazinePlant,
     CoolantPlant,
     MachinePlant,
     TailstockPlant,
@@ -48,7 +49,7 @@ from vc.located_yaml import LocatedMap, Mark, Problems
 # the loader's reader of a block of numbers: (raw, mark, where, key -> (lowest, highest, whole, meaning))
 ReadParameters = Callable[[Any, Mark, str, Mapping[str, tuple[float, float, bool, str]]], dict[str, Any]]
 
-DEVICES = ("turret", "coolant", "tool_changer", "tailstock")
+DEVICES = ("turret", "coolant", "tool_changer", "tailstock", "axis_magazine")
 MAX_STATIONS = 31  # a five-bit station code
 # per device: key -> (lowest, highest, whole number, meaning); the keys without a default are needed
 _KEYS: dict[str, dict[str, tuple[float, float, bool, str]]] = {
@@ -67,6 +68,10 @@ _KEYS: dict[str, dict[str, tuple[float, float, bool, str]]] = {
                   "max_force": (1.0, 1.0e7, False, "N the drive pushes with at 100 % torque"),
                   "force_limit": (1.0, 1.0e8, False, "N the part takes before it slips away"),
                   "retracted": (-1.0e6, 1.0e6, False, "position at or behind which the quill is retracted")},
+    "axis_magazine": {"axis": (1, 31, True, "machine axis number of the magazine's modulo axis (its place in axes:)"),
+                      "pockets": (2, 360, True, "pockets of the magazine, evenly over the turn"),
+                      "lock_time": (0.001, 60, False, "s of the lock pin's stroke"),
+                      "window": (0.001, 10, False, "degrees either side of a pocket the pin engages in")},
 }
 _OPTIONAL = ("station", "pocket")
 
@@ -81,13 +86,15 @@ def _io_of(device: str, values: Mapping[str, Any]) -> list[str]:
         return [f"{COOLANT}.pump", f"{COOLANT}.pressureOk"]
     if device == "tailstock":
         return [f"{TAILSTOCK}.retracted", f"{TAILSTOCK}.atPart"]
+    if device == "axis_magazine":
+        return [f"{AXIS_MAGAZINE}.{name}" for name in ("unlock", "locked", "unlocked", "inPocket", "driveReady")]
     codes = station_code_bits(int(values.get("pockets", 1)))
     return [f"{MAGAZINE}.rotateCw", f"{MAGAZINE}.rotateCcw", *(f"{MAGAZINE}.code{bit}" for bit in codes),
             f"{TOOL_ARM}.toSpindle", f"{TOOL_ARM}.home", f"{TOOL_ARM}.atSpindle"]
 
 
 _PREFIXES = {"turret": (TURRET,), "coolant": (COOLANT,), "tool_changer": (MAGAZINE, TOOL_ARM),
-             "tailstock": (TAILSTOCK,)}
+             "tailstock": (TAILSTOCK,), "axis_magazine": (AXIS_MAGAZINE,)}
 
 
 def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tuple[str, Mark]],
@@ -116,7 +123,7 @@ def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tup
         built[device] = values
     _check_device_io(built, wired, problems)
     turret, coolant, changer = built.get("turret"), built.get("coolant"), built.get("tool_changer")
-    tailstock = built.get("tailstock")
+    tailstock, magazine = built.get("tailstock"), built.get("axis_magazine")
     return MachinePlant(
         turret=TurretPlant(turret["stations"], turret["index_time"], turret["lock_time"],
                            turret.get("station", 1)) if turret else None,
@@ -124,17 +131,20 @@ def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tup
         tool_changer=ToolChangerPlant(changer["pockets"], changer["index_time"], changer["arm_time"],
                                       changer.get("pocket", 1)) if changer else None,
         tailstock=TailstockPlant(tailstock["axis"], tailstock["stop"], tailstock["stiffness"], tailstock["max_force"],
-                                 tailstock["force_limit"], tailstock["retracted"]) if tailstock else None)
+                                 tailstock["force_limit"], tailstock["retracted"]) if tailstock else None,
+        axis_magazine=AxisMagazinePlant(magazine["axis"], magazine["pockets"], magazine["lock_time"],
+                                        magazine["window"]) if magazine else None)
 
 
 def _device_axis(device: str, values: dict[str, Any], raw: Any, mark: Mark, problems: Problems,
                  axes: list[str]) -> bool:
-    """The tailstock's ``axis:`` (a machine axis number) as the axis's name; False when there is none."""
-    if device != "tailstock":
+    """The ``axis:`` of the tailstock and the axis magazine (a machine axis number) as the axis's name;
+    False when there is none."""
+    if device not in ("tailstock", "axis_magazine"):
         return True
     number = values["axis"]
     if number > len(axes):
-        problems.add(_marks(raw, "axis", mark)[1], f"plant.tailstock.axis = {number}: the machine has {len(axes)} axes")
+        problems.add(_marks(raw, "axis", mark)[1], f"plant.{device}.axis = {number}: the machine has {len(axes)} axes")
         return False
     values["axis"] = axes[number - 1]
     return True

@@ -212,6 +212,17 @@ class TailstockPlant:
 
 
 @dataclass(frozen=True, slots=True)
+class AxisMagazinePlant:
+    """A tool magazine turned by a modulo NC axis that the PLC positions with FC18 (seed 003 §9.7):
+    its lock pin and pocket sensor (vc/plant/axis_magazine.py)."""
+
+    axis: str  # the machine axis that turns the disk
+    pockets: int  # pocket p stands at the pin at (p - 1) x 360 / pockets degrees
+    lock_time_s: float  # the lock pin's stroke
+    window: float  # degrees either side of a pocket in which the pin engages and inPocket reads 1
+
+
+@dataclass(frozen=True, slots=True)
 class TurretPlant:
     """A tool turret indexed by the PLC: a disk with its stations, an indexing drive, a lock pin."""
 
@@ -246,6 +257,7 @@ class MachinePlant:
     coolant: CoolantPlant | None = None
     tool_changer: ToolChangerPlant | None = None
     tailstock: TailstockPlant | None = None
+    axis_magazine: AxisMagazinePlant | None = None
 
 
 @dataclass(frozen=True, slots=True)

@@ -27,6 +27,7 @@ from typing import Protocol
 from interfaces.image import ProcessImage
 from interfaces.signals import SignalRef
 from vc.config.model import AxisConfig, MachineConfig
+from vc.plant.axis_magazine import AxisMagazine
 from vc.plant.chuck import Chuck
 from vc.plant.coolant import Coolant
 from vc.plant.gearbox import Gearbox
@@ -122,8 +123,11 @@ class Plant:
         coolant = Coolant(devices.coolant, self._io, ipo_cycle_us) if devices.coolant else None
         # the tailstock's part is the fixed stop of its quill axis: the composed machine hands it to the axis
         self.tailstock = Tailstock(devices.tailstock, self._io) if devices.tailstock else None
-        self._devices: list[Device] = [device for device in (self.turret, self.tool_changer, coolant, self.tailstock)
-                                       if device is not None]
+        # a magazine turned by an NC axis: its pocket sensor follows the axis's slide
+        self.axis_magazine = AxisMagazine(devices.axis_magazine, self._io, ipo_cycle_us,
+                                          slide_of[devices.axis_magazine.axis]) if devices.axis_magazine else None
+        self._devices: list[Device] = [device for device in (self.turret, self.tool_changer, coolant, self.tailstock,
+                                                             self.axis_magazine) if device is not None]
         # the devices rest until the PLC changes an output or one of them still moves
         self._outputs_seen = b""
         self._devices_moving = True
@@ -195,6 +199,8 @@ class Plant:
             self._devices_cycle(io)
         if self.tailstock is not None:
             self.tailstock.write_sensors(io)  # the quill moves with its axis, not with an output
+        if self.axis_magazine is not None:
+            self.axis_magazine.write_sensors(io)  # the pocket sensor follows the axis
 
     def _devices_cycle(self, io: ProcessImage) -> None:
         """The devices' cycle, only when an output changed or one of them still moves: a machine

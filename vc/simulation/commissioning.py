@@ -48,6 +48,9 @@ def _devices(machine: MachineConfig) -> dict[str, dict[str, float]]:
         # the quill's axis by its interface data block DB(30 + n), as the PLC addresses it
         quill = next(axis for axis in machine.axes if axis.name == plant.tailstock.axis)
         devices["tailstock"] = {"axis_db": quill.db}
+    if plant.axis_magazine is not None:
+        magazine = next(axis for axis in machine.axes if axis.name == plant.axis_magazine.axis)
+        devices["axis_magazine"] = {"axis_db": magazine.db, "pockets": plant.axis_magazine.pockets}
     return devices
 
 
@@ -275,4 +278,14 @@ def _device_needs(machine: MachineConfig, point: Callable[[str], str | None]) ->
             f" {quill}.basic.out.fixedStopAckReached once {quill}.basic.in.fixedStopReached comes, take both away"
             f" when the request falls; Tailstock.atPart (the sleeve at the part) may go to"
             f" {quill}.basic.out.fixedStopSensor; Tailstock.retracted reads 1 at or behind {tailstock.retracted:g}"))
+    if plant.axis_magazine is not None:
+        magazine = plant.axis_magazine
+        needs.append(PlantNeed(
+            "AxisMagazine", "axis_magazine", wired(*(f"AxisMagazine.{name}" for name in
+                                                   ("unlock", "locked", "unlocked", "inPocket", "driveReady"))), (),
+            f"The magazine's {magazine.pockets} pockets turn with the modulo axis {magazine.axis}: pocket p at"
+            f" (p - 1) x {360.0 / magazine.pockets:g} degrees; move it with FC18 (shortest path) while"
+            f" AxisMagazine.unlocked (AxisMagazine.unlock pulls the pin in {magazine.lock_time_s:g} s); dropping"
+            f" the solenoid engages the pin within {magazine.window:g} degrees of a pocket (AxisMagazine.locked,"
+            " AxisMagazine.inPocket); AxisMagazine.driveReady is the drive's ready contact"))
     return needs

@@ -25,14 +25,14 @@ Convention, stated once (``vc map --format dbc`` writes it as a DBC file, the te
       ..     up to 63 bytes a frame         0x405  DB21.DBB321         2
       0x208  DB21.DBB280..318      48       0x406  DB21.DBB396         2
       0x209  DB21.DBB333..377      48       0x407  DB21.DBB398         2
-      0x20A  DB21.DBB397           2        0x408  DB31.DBB0..31       48
-      0x20B  DB31.DBB60..103       48       ..     one frame per axis
-      ..     one frame per axis             0x40D  DB36.DBB0..31       48
-      0x210  DB36.DBB60..103       48       0x40E  DB2.DBB180..187     12
+      0x20A  DB21.DBB397           2        0x408  DB31.DBB0..43       48
+      0x20B  DB31.DBB60..105       48       ..     one frame per axis
+      ..     one frame per axis             0x40D  DB36.DBB0..43       48
+      0x210  DB36.DBB60..105       48       0x40E  DB2.DBB180..187     12
       0x211  DB100.DBB0..59        64
       0x212  DB100.DBB60..67       12
 
-  19 frames from the NC and 14 from the PLC per exchange (classic frames: 107 and 49).
+  19 frames from the NC and 15 from the PLC per exchange (classic frames: 109 and 63).
 
 * **Values.** Data-block words and double words are big-endian as in S7 (a DBC marks them
   Motorola, start bit = the most significant bit, frame byte x 8 + 7); a bit ``n.b`` or a byte
@@ -85,7 +85,7 @@ from interfaces.errors import VcError
 from interfaces.exchange import exchange_ranges, link_direction
 from interfaces.signals import Direction, ExpandedCatalog, SignalRef, SignalType
 
-LINK_VERSION = 3  # raised with every change of the layout (tests/interfaces/test_link_versions.py)
+LINK_VERSION = 4  # raised with every change of the layout (tests/interfaces/test_link_versions.py)
 DEFAULT_LINK_ID = 0x100
 DEFAULT_NC_TO_PLC_ID = 0x200
 DEFAULT_PLC_TO_NC_ID = 0x400
@@ -222,7 +222,7 @@ class FrameSlot:
 
     @property
     def name(self) -> str:
-        """The frame's name in a DBC file: sender, area, first and last byte (``NC_DB31_60_103``)."""
+        """The frame's name in a DBC file: sender, area, first and last byte (``NC_DB31_60_105``)."""
         sender = "NC" if self.direction is Direction.NC_TO_PLC else "PLC"
         return f"{sender}_{self.area}_{self.start}_{self.stop - 1}"
 

@@ -167,7 +167,7 @@ def test_the_gear_signals_are_in_the_signal_tables_with_their_registers(guide: s
         assert cells[3] == f"{'IR' if location.table is Table.NC_TO_PLC else 'HR'} {location.register}", symbol
     assert not any(line.startswith("| `SP2.spindle.out.oscillEnable`") for line in guide.splitlines())  # no gearbox
     rule = _section(guide, "What the NC expects of the PLC")
-    assert "set oscillation enable `SP1.spindle.out.oscillEnable` (DB34.DBX18.5, HR 125 bit 13)" in rule
+    assert "set oscillation enable `SP1.spindle.out.oscillEnable` (DB34.DBX18.5, HR 143 bit 13)" in rule
     assert "Without 18.5 the spindle stands still and the gearbox stays in neutral" in rule
 
 

@@ -346,7 +346,6 @@ FC18_JOB_STATES: StateMachine[PlcAxis] = StateMachine(
     transitions(("IDLE", "TRAVERSING", "FC18 Start"), ("IN_POSITION", "TRAVERSING", "FC18 Start"),
                 ("FAILED", "TRAVERSING", "FC18 Start"),
                 ("IDLE", "FAILED", "FC18 Start refused"), ("IN_POSITION", "FAILED", "FC18 Start refused"),
-                ("FAILED", "FAILED", "FC18 Start refused"),
                 ("TRAVERSING", "HELD", "NC stop, DBX30.0, feed disable, a stopping alarm"),
                 ("HELD", "TRAVERSING", "NC start, DBX28.2, the hold gone"),
                 ("TRAVERSING", "IN_POSITION", "in the exact stop fine window"),

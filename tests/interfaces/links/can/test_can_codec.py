@@ -92,13 +92,13 @@ def test_turn_mill_frames_as_the_docstring_draws_them() -> None:
         ("0x200", "NC_I_0_9", 12), ("0x201", "NC_DB10_106_109", 5), ("0x202", "NC_DB11_6_7", 3),
         ("0x203", "NC_DB19_20_20", 2), ("0x204", "NC_DB21_32_93", 64)]
     assert (hex(plc[3].can_id), plc[3].name, plc[3].length) == ("0x403", "PLC_DB19_0_0", 2)
-    assert (hex(nc[-8].can_id), nc[-8].name, nc[-8].length) == ("0x20b", "NC_DB31_60_103", 48)
+    assert (hex(nc[-8].can_id), nc[-8].name, nc[-8].length) == ("0x20b", "NC_DB31_60_105", 48)
     assert [(hex(s.can_id), s.name, s.length) for s in nc[-2:]] == [
         ("0x211", "NC_DB100_0_59", 64), ("0x212", "NC_DB100_60_67", 12)]  # the alarm block, a dword not cut
-    assert (hex(plc[8].can_id), plc[8].name) == ("0x408", "PLC_DB31_0_31")
+    assert (hex(plc[8].can_id), plc[8].name) == ("0x408", "PLC_DB31_0_43")
     assert (hex(plc[-1].can_id), plc[-1].name, plc[-1].length) == ("0x40e", "PLC_DB2_180_187", 12)  # behind the axes
     classic = layout(CanSettings(fd=False))
-    assert (len(classic.slots[Direction.NC_TO_PLC]), len(classic.slots[Direction.PLC_TO_NC])) == (109, 51)
+    assert (len(classic.slots[Direction.NC_TO_PLC]), len(classic.slots[Direction.PLC_TO_NC])) == (109, 63)
 
 
 def test_identifiers_that_clash_or_overflow_are_refused_with_their_ranges() -> None:

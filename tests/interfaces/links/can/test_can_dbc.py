@@ -62,7 +62,7 @@ def test_every_signal_is_in_its_frame_under_its_symbol() -> None:
 
 def test_frames_nodes_cycle_times_and_the_link_frames() -> None:
     db = database()
-    x1 = db.get_message_by_name("NC_DB31_60_103")
+    x1 = db.get_message_by_name("NC_DB31_60_105")
     assert (x1.frame_id, x1.length, x1.is_fd, x1.senders, x1.cycle_time) == (0x20B, 48, True, ["NC"], 10)
     assert "checksum" in [signal.name for signal in x1.signals]
     assert {node.name for node in db.nodes} == {"NC", "PLC"}

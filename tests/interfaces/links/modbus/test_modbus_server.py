@@ -657,8 +657,9 @@ def test_mbpoll_reads_a_documented_bit_and_gets_exception_02_for_a_read_only_add
     assert f"[{referenced.coil + 1}]: \t1" in result.stdout
     register = _mbpoll(served.port, "-t", "3", "-r", str(referenced.register + 1), "-c", "1", "127.0.0.1")
     assert int(register.stdout.split(f"[{referenced.register + 1}]:")[1].split()[0]) >> referenced.register_bit & 1
-    # the same number as a coil lies outside the PLC-to-NC table: refused
-    refused = _mbpoll(served.port, "-t", "0", "-r", str(referenced.coil + 1), "127.0.0.1", "1")
+    # a coil beyond the PLC-to-NC table (the NC-to-PLC table is longer): refused
+    outside = MAP.registers(Table.PLC_TO_NC) * 16
+    refused = _mbpoll(served.port, "-t", "0", "-r", str(outside + 1), "127.0.0.1", "1")
     assert refused.returncode != 0
     assert "Illegal data address" in refused.stderr + refused.stdout
 
