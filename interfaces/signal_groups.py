@@ -271,6 +271,7 @@ class PlcAxisStatus:
     in_position: bool = signal("plcAxis.in.inPosition")  # FC18 InPos
     error: bool = signal("plcAxis.in.error")  # FC18 Error
     error_number: int = signal("plcAxis.in.errorNumber", 0)  # FC18 State
+    start_acknowledged: bool = signal("plcAxis.in.startAcknowledged")  # the NC has taken the Start
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

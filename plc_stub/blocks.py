@@ -152,8 +152,9 @@ class TraversePosAxis:
     gives Error with State 20 and leaves that motion alone.
 
     The handshake with the NC, the same for an external PLC (docs/positioning_and_indexing.md, "FC18
-    over the interface"): Mode, Pos and FRate in DB31.DBB33 / DBD36 / DBD40, then Start
-    DB31.DBX32.0 for one PLC cycle; the NC answers in DB31.DBX104.0-104.2 and DBB105.
+    over the interface"): Mode, Pos and FRate in DB31.DBB33 / DBD36 / DBD40, then Start DB31.DBX32.0
+    = 1 until the NC acknowledges it in DB31.DBX104.3; from then on DB31.DBX104.0-104.2 and DBB105
+    answer this start.  Stop DB31.DBX32.1 is a pulse of one PLC cycle.
     """
 
     __slots__ = ("_feed", "_mode", "_own_error", "_pending", "_position", "_start", "_start_edge", "_status", "_stop",
@@ -174,7 +175,7 @@ class TraversePosAxis:
         self._status = io.input_group(PlcAxisStatus, self.axis)
         self._start_edge = R_TRIG()
         self._stop_edge = R_TRIG()
-        self._pending = False  # the Start went to the NC this scan: its answer comes with the next
+        self._pending = False  # a Start on its way to the NC: no answer of it yet
         self._own_error = 0
         self.in_pos = False
         self.error = False
@@ -184,12 +185,10 @@ class TraversePosAxis:
 
     def __call__(self, start: bool, stop: bool, funct: int, mode: int, pos: float, frate: float) -> bool:
         """One scan of the block; returns InPos."""
-        self._start.value = False  # Start and Stop reach the NC as one PLC cycle's pulse
-        self._stop.value = False
         status = self._status.read()
-        was_pending, self._pending = self._pending, False
+        self._stop.value = False  # Stop reaches the NC as one PLC cycle's pulse
         if self._start_edge(start):
-            if status.active or was_pending:
+            if self._pending or status.active:
                 self._own_error = FC18_STILL_RUNNING
             elif funct != FC18_POSITIONING_AXIS or not 0 <= mode <= 255 or not _is_real(pos) or not _is_real(frate):
                 self._own_error = FC18_PARAMETERS
@@ -198,12 +197,18 @@ class TraversePosAxis:
                 self._mode.value = mode
                 self._position.value = pos
                 self._feed.value = frate
-                self._start.value = True
                 self._pending = True
+        if self._pending:
+            # the handshake: Start stays 1 until the NC has taken it (DBX104.3), and rises only
+            # once the NC has let go of the last one; from then on its answer belongs to this start
+            if not self._start.value and not status.start_acknowledged:
+                self._start.value = True
+            elif self._start.value and status.start_acknowledged:
+                self._start.value = False
+                self._pending = False
         if self._stop_edge(stop):
             self._stop.value = True
         if self._pending:
-            # the Start goes to the NC with this cycle's outputs: nothing of the previous job shows
             self.active, self.in_pos, self.error, self.state = True, False, False, 0
         elif self._own_error:
             self.active, self.in_pos, self.error, self.state = status.active, False, True, self._own_error

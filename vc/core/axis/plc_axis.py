@@ -131,6 +131,7 @@ class PlcAxis:
         self.nc_stopped = False  # the channel's NC stop holds a PLC axis until NC start
         self.new_type_requested = False  # DBX28.7 waits for the program to leave the axis (DBX68.4)
         self.pending = False  # a request came in: the channel runs the cycle
+        self.start_acknowledged = False  # FC18's Start taken: its feedback belongs to it (DBX104.3)
         self._published: tuple[object, ...] | None = None
         self._set_refusal()
         self.write_status()
@@ -211,6 +212,7 @@ class PlcAxis:
             self._job_over()
         if inp.start and not last.start and self.job not in _MOVING:
             self._start()
+        self.start_acknowledged = inp.start
 
     def _take_control(self) -> None:
         """DBX28.7: granted once the program does not move the axis (L11240-11253, L11271-11272)."""
@@ -314,7 +316,7 @@ class PlcAxis:
     def write_status(self) -> None:
         plc = self.held_by_plc
         status = (self.reset_done, self.type, self.axis_stopped and self.job is Job.HELD, self.new_type_requested,
-                  self.job, self.error_number)
+                  self.job, self.error_number, self.start_acknowledged)
         if status == self._published:
             return
         self._published = status
@@ -323,7 +325,8 @@ class PlcAxis:
             stopped=self.axis_stopped and self.job is Job.HELD, channel_number=self._channel_number,
             new_type_requested=self.new_type_requested, changeover_possible=not self.mask & PLC_ONLY,
             neutral=self.type is AxisType.NEUTRAL, plc_axis=plc, active=self.job in _MOVING,
-            in_position=self.job is Job.IN_POSITION, error=self.job is Job.FAILED, error_number=self.error_number))
+            in_position=self.job is Job.IN_POSITION, error=self.job is Job.FAILED, error_number=self.error_number,
+            start_acknowledged=self.start_acknowledged))
 
 
 PLC_AXIS_TYPES: StateMachine[PlcAxis] = StateMachine(
