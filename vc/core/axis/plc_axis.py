@@ -77,7 +77,7 @@ FC18_MODES = ("AC", "IC", "DC", "ACP", "ACN")
 # FC18 State, the error numbers (after the real block's list; the seed prints none) [control]
 ERROR_PARAMETERS = 1  # Mode not 0..4, Pos or FRate not a number
 ERROR_ABORTED = 30  # the motion was aborted: channel reset, axis reset, control given back, axis taken
-ERROR_PROGRAM_MOVES_AXIS = 40  # the NC program moves the axis: the start is refused
+ERROR_PROGRAM_MOVES_AXIS = 40  # the NC moves the axis (its program, JOG, referencing ...): the start is refused
 ERROR_WRONG_POSITION = 100  # a modulo position outside the modulo range (16830)
 ERROR_NEGATIVE_FEED = 110
 ERROR_NO_SHORTEST_PATH = 125  # DC on a linear axis (16800)
@@ -247,8 +247,8 @@ class PlcAxis:
         self.reset_done = False
         self.axis_stopped = False
         self.nc_stopped = False
-        if axis.owner is Owner.PATH or self.command.state is CommandState.POSITIONING:
-            self._fail(ERROR_PROGRAM_MOVES_AXIS)
+        if axis.owner not in (Owner.NONE, Owner.COMMAND) or self.command.state is not CommandState.IDLE:
+            self._fail(ERROR_PROGRAM_MOVES_AXIS)  # the program, JOG, referencing or a synchronized action moves it
             return
         if inp.mode >= len(FC18_MODES) or not math.isfinite(inp.position) or not math.isfinite(inp.feedrate):
             self._fail(ERROR_PARAMETERS)
