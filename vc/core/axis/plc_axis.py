@@ -116,7 +116,12 @@ class PlcAxis:
         self.name = command.axis.name
         self._channel_number = channel_number
         self._area = area
-        self._decode = table.codec(PlcAxisRequests).decode
+        requests = table.codec(PlcAxisRequests)
+        self._decode = requests.decode
+        # the bytes of its requests (DBX28.x .. DBD40): the other bytes of DB31 change far more often
+        self._first = min(accessor.byte for accessor in requests.accessors)
+        self._end = max(accessor.byte + max(1, accessor.width_bits // 8) for accessor in requests.accessors)
+        self._raw = bytes(self._end - self._first)
         self._encode = table.codec(PlcAxisStatus).encode
         self.inputs = PlcAxisRequests()
         self._last = PlcAxisRequests()  # the requests as last evaluated: their edges
@@ -158,9 +163,15 @@ class PlcAxis:
         """MD30460 bit 7: DB21.DBX36.3 does not wait for this axis while the PLC has it."""
         return bool(self.mask & NOT_IN_ALL_AXES_STATIONARY) and self.held_by_plc
 
-    def decode_inputs(self) -> None:
+    def decode_inputs(self) -> bool:
+        """The axis's DB31 changed; True when its requests did (the cycle must look at them)."""
+        raw = bytes(self._area[self._first:self._end])
+        if raw == self._raw:
+            return False
+        self._raw = raw
         self._decode(self._area, self.inputs)
         self.pending = True
+        return True
 
     def channel_reset(self) -> None:
         """The channel's reset aborts FC18's motion of a PLC axis; a PLC-controlled axis keeps it."""
@@ -385,8 +396,7 @@ class PlcAxes:
 
     def decode_inputs(self, name: str) -> None:
         plc = self.by_name.get(name)
-        if plc is not None:
-            plc.decode_inputs()
+        if plc is not None and plc.decode_inputs():
             self.active = True
 
     def cycle(self, feed_disable: bool, alarm_stop: bool) -> None:
