@@ -1,6 +1,7 @@
 """Signal traces of a scenario run: recording, history queries, CSV and VCD files.
 
-What is recorded, after every IPO cycle, when it changes:
+What is recorded, after every IPO cycle, when it changes (``record_all``, for traces, golden
+traces and diagrams; otherwise only the names the scenario itself reads):
 
 * every catalogue signal of type bool, bits, byte or word of every DB instance (double words
   and reals, which often change every cycle, only when a scenario names them), and the numbers
