@@ -26,14 +26,14 @@ from typing import Protocol
 from interfaces.errors import VcError
 from vc.located_yaml import Mark
 from vc.scenario.language.durations import format_seconds
-from vc.scenario.language.expressions import EvaluationError, Evaluator, Expression
-from vc.scenario.language.model import EdgeKind, Event, ExpectAlarm, Scenario, Step, WaitUntil
+from vc.scenario.language.expressions import AlarmCall, EvaluationError, Evaluator, Expression, walk
+from vc.scenario.language.model import EdgeKind, Event, ExpectAlarm, Invariant, Scenario, Step, WaitUntil
 from vc.scenario.language.quantities import Quantity, QuantityKind, unit_of
 from vc.scenario.language.steps.common import alarms_text
 from vc.scenario.language.steps.table import STEPS
 from vc.scenario.language.target import ScenarioTarget
 from vc.scenario.language.values import format_value
-from vc.scenario.run.trace import Recorder, Recording, write_traces
+from vc.scenario.run.trace import History, Recorder, Recording, write_traces
 from vc.simulation.observables import StepRefused
 
 HISTORY_CHANGES = 10  # changes per name in a failure report
@@ -157,8 +157,47 @@ class _Probe:
 
 
 @dataclass(slots=True)
+class _Inputs:
+    """What a condition on signals alone reads, as their recorded histories: it cannot change while
+    they do not grow (a history grows with each change of its signal, a write between cycles too)."""
+
+    histories: tuple[History, ...]
+    seen: int = -1  # the histories' entries when the condition was last judged
+
+    @classmethod
+    def of(cls, condition: Expression, recording: Recording) -> _Inputs | None:
+        """None for a condition that must be judged every cycle: one on an axis quantity, a machine
+        datum, the time or an alarm (none of them recorded change by change)."""
+        if any(isinstance(node, AlarmCall) for node in walk(condition.root)):
+            return None
+        histories = []
+        for quantity in condition.names:
+            history = recording.history(quantity) if quantity.kind is QuantityKind.SIGNAL else None
+            if history is None:
+                return None
+            histories.append(history)
+        return cls(tuple(histories))
+
+    def changed(self) -> bool:
+        """Whether an input changed since the last call (True on the first)."""
+        seen = sum(len(history.cycles) for history in self.histories)
+        if seen == self.seen:
+            return False
+        self.seen = seen
+        return True
+
+
+@dataclass(slots=True)
+class _Invariant:
+    invariant: Invariant
+    evaluate: Evaluator
+    inputs: _Inputs | None  # None: judged every cycle
+
+
+@dataclass(slots=True)
 class _WhenTracker:
     evaluate: Evaluator
+    inputs: _Inputs | None = None  # None: judged every cycle
     holds: bool = False
     cycles: list[int] = field(default_factory=list)
 
@@ -174,13 +213,16 @@ class _Run:
         self.timeout_cycles = scenario.timeout.cycles(self.ipo_cycle_us)
         self.start_cycle = target.cycle
         self.probe = _Probe(target, self.start_cycle, recorder.axis_values)
-        self.invariants = [(invariant, invariant.condition.compile(self.probe))
+        # conditions compiled once; one on signals alone is judged again only when a signal of it changed
+        self.invariants = [_Invariant(invariant, invariant.condition.compile(self.probe),
+                                      _Inputs.of(invariant.condition, recorder))
                            for invariant in scenario.invariants]
         self.when: dict[str, _WhenTracker] = {}
         for event in scenario.events:
             if event.kind is EdgeKind.WHEN and event.text not in self.when:
                 assert event.condition is not None
-                self.when[event.text] = _WhenTracker(event.condition.compile(self.probe))
+                self.when[event.text] = _WhenTracker(event.condition.compile(self.probe),
+                                                     _Inputs.of(event.condition, recorder))
         self.axis_values = recorder.axis_values if recorder.axis_values is not None else {}
         self.forced: set[str] = set()
         self.step: Step | None = None
@@ -198,6 +240,8 @@ class _Run:
     def begin(self) -> None:
         self.recorder.start()
         for tracker in self.when.values():
+            if tracker.inputs is not None:
+                tracker.inputs.changed()  # the recording's initial values: what this judgement read
             tracker.holds = bool(self.evaluate(tracker.evaluate, None))
             if tracker.holds:
                 tracker.cycles.append(0)
@@ -230,8 +274,12 @@ class _Run:
     def after_cycle(self) -> None:
         self.recorder.sample()
         cycle = self.cycle
-        for invariant, condition in self.invariants:
-            if not self.evaluate(condition, invariant.condition):
+        for judged in self.invariants:
+            inputs = judged.inputs
+            if inputs is not None and not inputs.changed():
+                continue  # it held when they were as they are
+            invariant = judged.invariant
+            if not self.evaluate(judged.evaluate, invariant.condition):
                 names = invariant.condition.names
                 raise _Stop(self.failure(
                     "invariant",
@@ -245,6 +293,9 @@ class _Run:
     def watch_when_events(self) -> None:
         cycle = self.cycle
         for tracker in self.when.values():
+            inputs = tracker.inputs
+            if inputs is not None and not inputs.changed():
+                continue  # it holds, or not, as it did
             holds = bool(self.evaluate(tracker.evaluate, None))
             if holds and not tracker.holds:
                 tracker.cycles.append(cycle)
