@@ -17,7 +17,7 @@ from rich.console import Console
 from interfaces.links.inprocess import plc_programs
 from vc.harness.external_plc import PlcProcess
 from vc.scenario.command import EXIT_PASSED, run_command
-from vc.scenario.language.loader import load_scenario, scenario_files
+from vc.scenario.language.loader import load_scenarios, scenario_files
 
 ROOT = Path(__file__).resolve().parents[2]
 # the files, found without checking them at collection (each test's run checks its own file): a file
@@ -43,6 +43,6 @@ def test_the_scenario_over_modbus_gives_the_in_process_golden_trace(path: str, p
     code = run_command([relative], plc_process.target_factory(), plc_programs().keys(),
                        console=Console(file=output, width=200), golden="tests/golden")
     assert code == EXIT_PASSED, output.getvalue()
-    scenario = load_scenario(relative, plc_programs().keys(), variant=0)  # the variants share PLC and link
+    scenario = load_scenarios([relative], plc_programs().keys())[0]  # a matrix's variants share PLC and link
     if scenario.plc_program is not None and scenario.link is None:  # its PLC ran behind the link
         assert plc_process.link.session > sessions_before
