@@ -23,7 +23,7 @@ This module is pure: it builds the catalogue from already parsed documents
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from enum import StrEnum
 from typing import Any
@@ -41,14 +41,28 @@ class CatalogError(VcError, ValueError):
 
 
 class UnknownSignalError(VcError, KeyError):
-    """A name that is neither a catalogue symbol, a catalogue address nor a plant I/O point."""
+    """A name that is neither a catalogue symbol, a catalogue address nor a plant I/O point.
 
-    def __init__(self, message: str):
-        super().__init__(message)
-        self.message = message
+    The message may be given as a function that writes it: a "did you mean" search costs a
+    millisecond, and most misses are lookups that go on elsewhere (a PLC program's plant I/O name
+    tried in the catalogue first) and never show the message."""
+
+    def __init__(self, message: str | Callable[[], str]):
+        super().__init__(message if isinstance(message, str) else "")
+        self._message = message
+
+    @property
+    def message(self) -> str:
+        if not isinstance(self._message, str):
+            self._message = self._message()
+            self.args = (self._message,)
+        return self._message
 
     def __str__(self) -> str:
         return self.message
+
+    def __reduce__(self) -> tuple[type[UnknownSignalError], tuple[str]]:  # crosses processes as its text
+        return type(self), (self.message,)
 
 
 class Direction(StrEnum):
@@ -503,7 +517,7 @@ class ExpandedCatalog:
         try:
             address = Address.parse(text)
         except AddressError:
-            raise UnknownSignalError(self._unknown_symbol_message(text)) from None
+            raise UnknownSignalError(lambda: self._unknown_symbol_message(text)) from None
         return self.resolve_address(address)
 
     def resolve_address(self, address: Address) -> SignalRef:

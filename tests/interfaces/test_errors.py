@@ -66,3 +66,26 @@ def test_a_standard_base_is_kept_beside_the_root(exception_classes: dict[str, ty
     import yaml
 
     assert issubclass(InputLimitError, yaml.YAMLError)
+
+
+def test_an_unknown_signal_writes_its_suggestion_only_when_it_is_read() -> None:
+    import pickle
+
+    from interfaces.catalog import load_catalog
+    from interfaces.signals import InterfaceLayout, UnknownSignalError, expand
+
+    written = []
+
+    def message() -> str:
+        written.append(1)
+        return "unknown signal 'X1.x'; did you mean X1.y?"
+
+    error = UnknownSignalError(message)
+    assert written == []
+    assert str(error) == error.message == "unknown signal 'X1.x'; did you mean X1.y?" and written == [1]
+    again = pickle.loads(pickle.dumps(error))
+    assert str(again) == str(error) and isinstance(again, KeyError)
+    catalog = expand(load_catalog(), InterfaceLayout(("CHAN1",), ("X1", "Z1")))
+    with pytest.raises(UnknownSignalError) as caught:
+        catalog.resolve("X1.basic.in.enc1Synchronised")
+    assert "did you mean X1.basic.in.enc1Synchronized" in str(caught.value)

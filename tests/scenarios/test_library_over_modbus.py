@@ -17,10 +17,12 @@ from rich.console import Console
 from interfaces.links.inprocess import plc_programs
 from vc.harness.external_plc import PlcProcess
 from vc.scenario.command import EXIT_PASSED, run_command
-from vc.scenario.language.loader import load_scenarios
+from vc.scenario.language.loader import load_scenarios, scenario_files
 
 ROOT = Path(__file__).resolve().parents[2]
-SCENARIOS = load_scenarios([str(ROOT / "scenarios")], plc_programs().keys())
+# the files, found without checking them at collection (each test's run checks its own file): a file
+# with a matrix is one test that runs every variant, as in-process
+FILES, _ = scenario_files([str(ROOT / "scenarios")])
 
 pytestmark = pytest.mark.link
 
@@ -31,8 +33,7 @@ def plc_process() -> Iterator[PlcProcess]:
         yield process
 
 
-@pytest.mark.parametrize("path", [scenario.path for scenario in SCENARIOS],
-                         ids=[Path(scenario.path).stem for scenario in SCENARIOS])
+@pytest.mark.parametrize("path", FILES, ids=[Path(path).stem for path in FILES])
 def test_the_scenario_over_modbus_gives_the_in_process_golden_trace(path: str, plc_process: PlcProcess,
                                                                      monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(ROOT)
@@ -42,6 +43,6 @@ def test_the_scenario_over_modbus_gives_the_in_process_golden_trace(path: str, p
     code = run_command([relative], plc_process.target_factory(), plc_programs().keys(),
                        console=Console(file=output, width=200), golden="tests/golden")
     assert code == EXIT_PASSED, output.getvalue()
-    scenario = next(scenario for scenario in SCENARIOS if scenario.path == path)
+    scenario = load_scenarios([relative], plc_programs().keys())[0]  # a matrix's variants share PLC and link
     if scenario.plc_program is not None and scenario.link is None:  # its PLC ran behind the link
         assert plc_process.link.session > sessions_before

@@ -134,7 +134,8 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
             parallel = run_parallel(scenarios, settings, workers, observer=observer)
             results, notes = parallel.results, parallel.rerun_lines(scenarios)
         else:
-            results = run_scenarios(scenarios, make_target, observer=observer, trace_dir=trace_dir, check=check)
+            results = run_scenarios(scenarios, make_target, observer=observer, trace_dir=trace_dir, check=check,
+                                    record_all=settings.records_all)
     except ClusterError as error:
         report.close()
         say(f"vc run: {error}")

@@ -54,6 +54,12 @@ class RunSettings:
     update_golden: bool = False
     send_back: str = SEND_NOTHING
 
+    @property
+    def records_all(self) -> bool:
+        """Whether a run records every signal and axis (for traces, golden traces or the report's
+        diagrams), or only the names its scenario reads (nothing else would look at the rest)."""
+        return self.trace_dir is not None or self.golden is not None or self.send_back != SEND_NOTHING
+
 
 @dataclass(frozen=True, slots=True)
 class ScenarioTask:
@@ -187,7 +193,7 @@ class ScenarioWorker:
         trace_dir = self.settings.trace_dir
         directory = Path(locate(trace_dir) if locate is not None else trace_dir) if trace_dir else None
         result = run_one(scenario, self.settings.make_target, trace_dir=directory, trace_name=task.trace_name,
-                         check=self.check)
+                         check=self.check, record_all=self.settings.records_all)
         outcome = ScenarioOutcome.of(task.position, result, self.recording_of(result))
         return replace(outcome, task_s=wallclock.perf_counter() - began).translated(names)
 

@@ -172,6 +172,7 @@ class _Machines:
         self.loader = loader
         self._loaded: dict[tuple[str, str, object], MachineConfig | SourceError] = {}
         self._expanded: dict[tuple[int, InterfaceLayout], ExpandedCatalog] = {}
+        self.plc_refusals: dict[tuple[object, ...], tuple[str, ...]] = {}  # (program, machine shape)
 
     def load(self, path: str, overrides: LocatedMap | None, overrides_file: str) -> MachineConfig:
         # the overrides' problems carry the scenario file's marks: kept per scenario file
@@ -386,18 +387,33 @@ class _ScenarioChecker(StepChecker):
         if factory is None or self.machine is None or self.resolver is None:
             return
         machine = self.machine
+        # what the program is given is all of the machine's shape: once per program and shape in a run
+        # (the variants of a matrix and the scenarios on one machine), not once per scenario
+        shape = machine_shape(machine)
+        key = (self.plc, shape[:-1], _plain(shape[-1]))  # the PLC parameters (last) as a hashable copy
+        refusal = self.machines.plc_refusals.get(key)
+        if refusal is None:
+            refusal = self.machines.plc_refusals[key] = self.plc_refusal(factory)
+        if refusal:
+            place = "plc_parameters" if "plc_parameters" in document else "plc"
+            for line in refusal:
+                self.add(document.mark_of(place), f"the PLC program {self.plc} refuses its parameters (the machine"
+                         f" file's plc: section and plc_parameters): {line}")
+
+    def plc_refusal(self, factory: PlcFactory) -> tuple[str, ...]:
+        """Why the PLC program refuses to start on this machine, line by line; () when it starts."""
+        machine, resolver = self.machine, self.resolver
+        assert machine is not None and resolver is not None
         ipo_cycle_us = machine_ipo_cycle_us(machine)
-        environment = PlcEnvironment(self.resolver.catalog, machine.plant_io,
+        environment = PlcEnvironment(resolver.catalog, machine.plant_io,
                                      machine.plc_cycle_ipo * ipo_cycle_us / 1_000_000, machine.plc_parameters,
                                      machine.name, ipo_cycle_us, machine.plc_cycle_ipo)
         try:
             factory(environment)
         except Exception as error:  # the program's own check (ValueError), or a parameter it trips over
-            key = "plc_parameters" if "plc_parameters" in document else "plc"
             detail = str(error) if isinstance(error, ValueError) else f"{type(error).__name__}: {error}"
-            for line in detail.splitlines() or [type(error).__name__]:
-                self.add(document.mark_of(key), f"the PLC program {self.plc} refuses its parameters (the machine"
-                         f" file's plc: section and plc_parameters): {line}")
+            return tuple(detail.splitlines() or [type(error).__name__])
+        return ()
 
     def invariants(self, document: LocatedMap) -> list[Invariant]:
         value = document.get("invariants")

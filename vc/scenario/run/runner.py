@@ -26,14 +26,14 @@ from typing import Protocol
 from interfaces.errors import VcError
 from vc.located_yaml import Mark
 from vc.scenario.language.durations import format_seconds
-from vc.scenario.language.expressions import EvaluationError, Evaluator, Expression
-from vc.scenario.language.model import EdgeKind, Event, ExpectAlarm, Scenario, Step, WaitUntil
+from vc.scenario.language.expressions import AlarmCall, EvaluationError, Evaluator, Expression, walk
+from vc.scenario.language.model import EdgeKind, Event, ExpectAlarm, Invariant, Scenario, Step, WaitUntil
 from vc.scenario.language.quantities import Quantity, QuantityKind, unit_of
 from vc.scenario.language.steps.common import alarms_text
 from vc.scenario.language.steps.table import STEPS
 from vc.scenario.language.target import ScenarioTarget
 from vc.scenario.language.values import format_value
-from vc.scenario.run.trace import Recorder, Recording, write_traces
+from vc.scenario.run.trace import History, Recorder, Recording, write_traces
 from vc.simulation.observables import StepRefused
 
 HISTORY_CHANGES = 10  # changes per name in a failure report
@@ -121,9 +121,10 @@ class _Stop(VcError):
 class _Probe:
     """Compiled expressions read the target through this."""
 
-    def __init__(self, target: ScenarioTarget, start_cycle: int):
+    def __init__(self, target: ScenarioTarget, start_cycle: int, axis_values: dict[str, float] | None = None):
         self.target = target
         self.start_cycle = start_cycle
+        self.axis_values = axis_values  # what the recorder read of the axes in this cycle (empty between cycles)
 
     def reader(self, quantity: Quantity) -> Evaluator:
         target = self.target
@@ -133,7 +134,14 @@ class _Probe:
             return lambda: read(ref)
         if quantity.kind is QuantityKind.AXIS:
             axis_value, axis, name = target.axis_quantity, quantity.axis, quantity.quantity
-            return lambda: axis_value(axis, name)
+            values, key = self.axis_values, quantity.name
+            if values is None:
+                return lambda: axis_value(axis, name)
+
+            def read_axis() -> float:  # once per cycle: the recorder's reading, if it took one
+                value = values.get(key)
+                return axis_value(axis, name) if value is None else value
+            return read_axis
         if quantity.kind is QuantityKind.MACHINE_DATUM:
             datum, instance, number, index = target.machine_datum, quantity.axis, int(quantity.quantity), quantity.index
             return lambda: datum(instance, number, index)
@@ -149,8 +157,47 @@ class _Probe:
 
 
 @dataclass(slots=True)
+class _Inputs:
+    """What a condition on signals alone reads, as their recorded histories: it cannot change while
+    they do not grow (a history grows with each change of its signal, a write between cycles too)."""
+
+    histories: tuple[History, ...]
+    seen: int = -1  # the histories' entries when the condition was last judged
+
+    @classmethod
+    def of(cls, condition: Expression, recording: Recording) -> _Inputs | None:
+        """None for a condition that must be judged every cycle: one on an axis quantity, a machine
+        datum, the time or an alarm (none of them recorded change by change)."""
+        if any(isinstance(node, AlarmCall) for node in walk(condition.root)):
+            return None
+        histories = []
+        for quantity in condition.names:
+            history = recording.history(quantity) if quantity.kind is QuantityKind.SIGNAL else None
+            if history is None:
+                return None
+            histories.append(history)
+        return cls(tuple(histories))
+
+    def changed(self) -> bool:
+        """Whether an input changed since the last call (True on the first)."""
+        seen = sum(len(history.cycles) for history in self.histories)
+        if seen == self.seen:
+            return False
+        self.seen = seen
+        return True
+
+
+@dataclass(slots=True)
+class _Invariant:
+    invariant: Invariant
+    evaluate: Evaluator
+    inputs: _Inputs | None  # None: judged every cycle
+
+
+@dataclass(slots=True)
 class _WhenTracker:
     evaluate: Evaluator
+    inputs: _Inputs | None = None  # None: judged every cycle
     holds: bool = False
     cycles: list[int] = field(default_factory=list)
 
@@ -165,14 +212,18 @@ class _Run:
         self.ipo_cycle_us = target.ipo_cycle_us
         self.timeout_cycles = scenario.timeout.cycles(self.ipo_cycle_us)
         self.start_cycle = target.cycle
-        self.probe = _Probe(target, self.start_cycle)
-        self.invariants = [(invariant, invariant.condition.compile(self.probe))
+        self.probe = _Probe(target, self.start_cycle, recorder.axis_values)
+        # conditions compiled once; one on signals alone is judged again only when a signal of it changed
+        self.invariants = [_Invariant(invariant, invariant.condition.compile(self.probe),
+                                      _Inputs.of(invariant.condition, recorder))
                            for invariant in scenario.invariants]
         self.when: dict[str, _WhenTracker] = {}
         for event in scenario.events:
             if event.kind is EdgeKind.WHEN and event.text not in self.when:
                 assert event.condition is not None
-                self.when[event.text] = _WhenTracker(event.condition.compile(self.probe))
+                self.when[event.text] = _WhenTracker(event.condition.compile(self.probe),
+                                                     _Inputs.of(event.condition, recorder))
+        self.axis_values = recorder.axis_values if recorder.axis_values is not None else {}
         self.forced: set[str] = set()
         self.step: Step | None = None
         self.steps_done = 0
@@ -189,6 +240,8 @@ class _Run:
     def begin(self) -> None:
         self.recorder.start()
         for tracker in self.when.values():
+            if tracker.inputs is not None:
+                tracker.inputs.changed()  # the recording's initial values: what this judgement read
             tracker.holds = bool(self.evaluate(tracker.evaluate, None))
             if tracker.holds:
                 tracker.cycles.append(0)
@@ -210,16 +263,23 @@ class _Run:
                     step.quantities if step is not None else ()))
             self.target.step(1)
             done += 1
-            self.after_cycle()
-            if until is not None and self.evaluate(until, until_expression):
-                return True
+            try:
+                self.after_cycle()
+                if until is not None and self.evaluate(until, until_expression):
+                    return True
+            finally:  # the steps between two cycles read the target itself
+                self.axis_values.clear()
         return False
 
     def after_cycle(self) -> None:
         self.recorder.sample()
         cycle = self.cycle
-        for invariant, condition in self.invariants:
-            if not self.evaluate(condition, invariant.condition):
+        for judged in self.invariants:
+            inputs = judged.inputs
+            if inputs is not None and not inputs.changed():
+                continue  # it held when they were as they are
+            invariant = judged.invariant
+            if not self.evaluate(judged.evaluate, invariant.condition):
                 names = invariant.condition.names
                 raise _Stop(self.failure(
                     "invariant",
@@ -233,6 +293,9 @@ class _Run:
     def watch_when_events(self) -> None:
         cycle = self.cycle
         for tracker in self.when.values():
+            inputs = tracker.inputs
+            if inputs is not None and not inputs.changed():
+                continue  # it holds, or not, as it did
             holds = bool(self.evaluate(tracker.evaluate, None))
             if holds and not tracker.holds:
                 tracker.cycles.append(cycle)
@@ -314,11 +377,15 @@ class _Run:
 
 
 def run_scenario(scenario: Scenario, target: ScenarioTarget, recorder: Recorder | None = None,
-                 observer: RunObserver | None = None) -> ScenarioResult:
-    """Run one scenario on a freshly created target; exceptions of the target propagate."""
+                 observer: RunObserver | None = None, record_all: bool = True) -> ScenarioResult:
+    """Run one scenario on a freshly created target; exceptions of the target propagate.
+
+    ``record_all``: record every signal and axis of the machine (for traces, golden traces and
+    diagrams); False records the scenario's own names only, all its steps, conditions and failure
+    messages read (the result's recording then holds those alone)."""
     began = wallclock.perf_counter()
     if recorder is None:
-        recorder = Recorder(target)
+        recorder = Recorder(target, record_all=record_all, axis_values={})
     recorder.watch(scenario.quantities)
     run = _Run(scenario, target, recorder, observer)
     failure = None
@@ -340,13 +407,15 @@ def run_scenario(scenario: Scenario, target: ScenarioTarget, recorder: Recorder 
 def run_scenarios(scenarios: Sequence[Scenario], make_target: Callable[[Scenario], ScenarioTarget], *,
                   observer: RunObserver | None = None,
                   trace_dir: str | Path | None = None,
-                  check: Callable[[ScenarioResult], None] | None = None) -> list[ScenarioResult]:
+                  check: Callable[[ScenarioResult], None] | None = None,
+                  record_all: bool = True) -> list[ScenarioResult]:
     """Run each scenario on its own target from ``make_target``; write traces to ``trace_dir``.
 
     ``check`` looks at each result before it is reported and may turn a pass into a failure
     (the golden-trace comparison does).  An exception while building or running a target (a
     harness error, not a scenario failure) is reported as that scenario's ``error`` and the
     next scenario runs.  Ctrl-C raises :class:`RunInterrupted` with the results so far.
+    ``record_all``: see :func:`run_scenario`; with traces or a check every scenario records all.
     """
     results: list[ScenarioResult] = []
     names = trace_names(scenarios)
@@ -356,7 +425,7 @@ def run_scenarios(scenarios: Sequence[Scenario], make_target: Callable[[Scenario
             if observer is not None:
                 observer.scenario_started(scenario, position, len(scenarios))
             result = run_one(scenario, make_target, observer=observer, trace_dir=directory,
-                             trace_name=names[position], check=check)
+                             trace_name=names[position], check=check, record_all=record_all)
             results.append(result)  # finished, even if Ctrl-C comes while it is reported
             if observer is not None:
                 observer.scenario_finished(result)
@@ -367,12 +436,14 @@ def run_scenarios(scenarios: Sequence[Scenario], make_target: Callable[[Scenario
 
 def run_one(scenario: Scenario, make_target: Callable[[Scenario], ScenarioTarget], *,
             observer: RunObserver | None = None, trace_dir: Path | None = None, trace_name: str = "",
-            check: Callable[[ScenarioResult], None] | None = None) -> ScenarioResult:
+            check: Callable[[ScenarioResult], None] | None = None, record_all: bool = True) -> ScenarioResult:
     """One scenario of a run: on its own target, its traces written as ``trace_dir/trace_name.*``,
-    then ``check`` (the golden comparison).  A harness error becomes the result's ``error``."""
+    then ``check`` (the golden comparison).  A harness error becomes the result's ``error``.
+    ``record_all`` (see :func:`run_scenario`) is taken as True with traces or a check."""
     began = wallclock.perf_counter()
+    record_all = record_all or trace_dir is not None or check is not None
     try:
-        result = run_scenario(scenario, make_target(scenario), observer=observer)
+        result = run_scenario(scenario, make_target(scenario), observer=observer, record_all=record_all)
     except Exception:
         result = ScenarioResult(scenario, passed=False, error=traceback.format_exc(),
                                 wall_s=wallclock.perf_counter() - began)

@@ -1,6 +1,7 @@
 """Signal traces of a scenario run: recording, history queries, CSV and VCD files.
 
-What is recorded, after every IPO cycle, when it changes:
+What is recorded, after every IPO cycle, when it changes (``record_all``, for traces, golden
+traces and diagrams; otherwise only the names the scenario itself reads):
 
 * every catalogue signal of type bool, bits, byte or word of every DB instance (double words
   and reals, which often change every cycle, only when a scenario names them), and the numbers
@@ -31,6 +32,7 @@ import csv
 import heapq
 import time as wallclock
 from array import array
+from collections import OrderedDict
 from collections.abc import Callable, Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -39,7 +41,7 @@ from typing import Protocol, runtime_checkable
 from interfaces.address import Address
 from interfaces.image import Value, decode
 from interfaces.plant_io import PlantIoMap
-from interfaces.signals import ALARMS_INSTANCE, ExpandedCatalog, SignalRef, SignalType
+from interfaces.signals import ALARMS_INSTANCE, Catalog, ExpandedCatalog, SignalRef, SignalType
 from vc.escaping import csv_field, vcd
 from vc.scenario.language.model import EdgeKind
 from vc.scenario.language.quantities import Quantity, QuantityKind, axis_quantity, signal_quantity
@@ -193,37 +195,71 @@ def recorded_quantities(catalog: ExpandedCatalog, plant_io: PlantIoMap, axes: It
                         watched: Iterable[Quantity] = ()) -> dict[str, Quantity]:
     """What a :class:`Recorder` records on a machine by default, and ``watched`` (by name): every
     bool, bits, byte and word signal, every plant I/O point, position and velocity of every axis."""
-    found: dict[str, Quantity] = {}
-    chosen = [signal_quantity(item.ref()) for item in catalog.signals
-              if item.type in RECORDED_TYPES or (item.instance == ALARMS_INSTANCE and item.type is SignalType.DWORD)]
-    chosen += [signal_quantity(point.ref()) for point in plant_io.points]
-    chosen += [axis_quantity(axis, name) for axis in axes for name in RECORDED_AXIS_QUANTITIES]
-    for quantity in (*chosen, *watched):
+    found: dict[str, Quantity] = {quantity.name: quantity for quantity in _default_quantities(catalog, plant_io, axes)}
+    for quantity in watched:
         if quantity.kind is not QuantityKind.TIME:
             found.setdefault(quantity.name, quantity)
     return found
 
 
-class Recorder(Recording):
-    """Records a target's signals after every cycle and answers questions about their history."""
+_DEFAULTS_KEPT = 8  # machines whose default quantities a process keeps (a library has a handful)
+_defaults: OrderedDict[tuple[int, object, PlantIoMap, tuple[str, ...]],
+                       tuple[Catalog, tuple[Quantity, ...]]] = OrderedDict()
 
-    def __init__(self, target: ScenarioTarget, watch: Iterable[Quantity] = (), record_all: bool = True):
+
+def _default_quantities(catalog: ExpandedCatalog, plant_io: PlantIoMap, axes: Iterable[str]) -> tuple[Quantity, ...]:
+    """The default quantities of a machine, named once per catalogue, interface layout, plant I/O and
+    axes: every scenario and variant on one machine records the same ~1,500 names."""
+    names = tuple(axes)
+    base = catalog.catalog
+    key = (id(base), catalog.layout, plant_io, names)
+    kept = _defaults.get(key)
+    if kept is not None and kept[0] is base:  # the catalogue itself, not one at its address before
+        _defaults.move_to_end(key)
+        return kept[1]
+    chosen = [signal_quantity(item.ref()) for item in catalog.signals
+              if item.type in RECORDED_TYPES or (item.instance == ALARMS_INSTANCE and item.type is SignalType.DWORD)]
+    chosen += [signal_quantity(point.ref()) for point in plant_io.points]
+    chosen += [axis_quantity(axis, name) for axis in names for name in RECORDED_AXIS_QUANTITIES]
+    unique: dict[str, Quantity] = {}
+    for quantity in chosen:
+        unique.setdefault(quantity.name, quantity)
+    quantities = tuple(unique.values())
+    _defaults[key] = (base, quantities)
+    if len(_defaults) > _DEFAULTS_KEPT:
+        _defaults.popitem(last=False)
+    return quantities
+
+
+class Recorder(Recording):
+    """Records a target's signals after every cycle and answers questions about their history.
+
+    ``record_all``: every signal and axis of the machine (:func:`recorded_quantities`), for traces,
+    golden traces and diagrams; otherwise only what :meth:`watch` names (a scenario's own names).
+    ``axis_values``: where :meth:`sample` leaves the axis quantities it read in a cycle, by name, for
+    the scenario's conditions to read instead of asking the target again (the runner empties it)."""
+
+    def __init__(self, target: ScenarioTarget, watch: Iterable[Quantity] = (), record_all: bool = True,
+                 axis_values: dict[str, float] | None = None):
         super().__init__(target.ipo_cycle_us)
         self.target = target
         self.start_cycle = 0
         self.cycle = 0  # cycles since the start of the scenario
-        if record_all:
-            axes = (axis.name for axis in target.machine.axes)
-            for quantity in recorded_quantities(target.catalog, target.plant_io, axes).values():
-                self._add(quantity)
+        self.record_all = record_all
+        self.axis_values = axis_values
         self._images = target if isinstance(target, ImageSource) else None
         self._previous: dict[str, bytes] = {}
         self._signals: list[History] = []
         self._axes: list[History] = []
+        self._data: list[History] = []
         self._byte_index: dict[str, list[tuple[int, list[History]]]] = {}
         self._byte_reads: list[_ByteRead] = []
         self._word_reads: list[History] = []
         self._by_byte: dict[tuple[str, int], list[History]] = {}
+        if record_all:
+            axes = (axis.name for axis in target.machine.axes)
+            for quantity in _default_quantities(target.catalog, target.plant_io, axes):
+                self._add(quantity)
         self.watch(watch)
 
     def alarm_numbers(self) -> tuple[int, ...]:
@@ -233,25 +269,28 @@ class Recorder(Recording):
         """Record these too (call before :meth:`start`); ``time`` is never recorded."""
         for quantity in quantities:
             self._add(quantity)
-        self._signals = [h for h in self._histories.values() if h.quantity.kind is QuantityKind.SIGNAL]
-        self._axes = [h for h in self._histories.values() if h.quantity.kind is QuantityKind.AXIS]
-        self._data = [h for h in self._histories.values()
-                      if h.quantity.kind in (QuantityKind.MACHINE_DATUM, QuantityKind.LINK)]
-        self._by_byte = {}
-        for history in self._signals:
-            ref = history.quantity.ref
-            assert ref is not None
-            for byte in range(ref.address.byte, ref.address.byte + ref.address.size):
-                self._by_byte.setdefault((ref.area_key, byte), []).append(history)
-        if self._images is not None:
+        self._byte_index, self._byte_reads, self._word_reads = {}, [], []
+        if self._images is not None and self._by_byte:
             self._index_bytes()
         else:
             self._plan_reads()
 
     def _add(self, quantity: Quantity) -> None:
-        if quantity.kind is QuantityKind.TIME or quantity.name in self._histories:
+        kind = quantity.kind
+        if kind is QuantityKind.TIME or quantity.name in self._histories:
             return
-        self._histories[quantity.name] = History(quantity)
+        history = self._histories[quantity.name] = History(quantity)
+        if kind is QuantityKind.SIGNAL:
+            self._signals.append(history)
+            ref = quantity.ref
+            assert ref is not None
+            key, first = ref.area_key, ref.address.byte
+            for byte in range(first, first + ref.address.size):
+                self._by_byte.setdefault((key, byte), []).append(history)
+        elif kind is QuantityKind.AXIS:
+            self._axes.append(history)
+        elif kind in (QuantityKind.MACHINE_DATUM, QuantityKind.LINK):
+            self._data.append(history)
 
     def _index_bytes(self) -> None:
         self._byte_index = {}
@@ -287,12 +326,16 @@ class Recorder(Recording):
         """Take the initial values (cycle 0 of the trace)."""
         self.start_cycle = self.target.cycle
         self.cycle = 0
+        areas = self._images.image_areas() if self._byte_index and self._images is not None else None
         for history in self._histories.values():
             history.cycles = array("q")
             history.values = array("d")
-            history.add(0, float(self._read(history.quantity)))
-        if self._images is not None:
-            areas = self._images.image_areas()
+            ref = history.quantity.ref
+            if areas is not None and ref is not None:  # what read() gives, without a call per signal
+                history.add(0, float(decode(areas[ref.area_key], ref)))
+            else:
+                history.add(0, float(self._read(history.quantity)))
+        if areas is not None:
             self._previous = {key: bytes(areas[key]) for key in self._byte_index}
         for group in self._byte_reads:
             group.scratch[group.byte] = int(self.target.read(group.raw))
@@ -301,14 +344,17 @@ class Recorder(Recording):
         """Record what changed in the cycle that just completed."""
         cycle = self.target.cycle - self.start_cycle
         self.cycle = cycle
-        if self._images is not None:
+        if self._byte_index:
+            assert self._images is not None
             self._sample_images(cycle, self._images.image_areas())
-        else:
+        elif self._byte_reads or self._word_reads:
             self._sample_reads(cycle)
-        axis_value = self.target.axis_quantity
+        axis_value, values = self.target.axis_quantity, self.axis_values
         for history in self._axes:
             quantity = history.quantity
             value = axis_value(quantity.axis, quantity.quantity)
+            if values is not None:
+                values[quantity.name] = value
             if abs(value - history.last) > AXIS_DEADBAND:
                 history.add(cycle, value)
         for history in self._data:

@@ -17,6 +17,7 @@ from rich.console import Console
 from interfaces.links.inprocess import plc_programs
 from vc.harness.targets import simulation_for
 from vc.scenario.command import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_PASSED, run_command
+from vc.scenario.distribution.tasks import SEND_ALL, SEND_DIAGRAM, RunSettings
 from vc.scenario.language.model import Scenario
 from vc.simulation.lockstep import Simulation
 
@@ -158,3 +159,13 @@ def test_ctrl_c_stops_the_workers_and_keeps_the_junit_and_the_report_of_what_fin
     assert len(skipped) == total - finished and all("interrupted" in str(s.get("message")) for s in skipped)
     text = page.read_text(encoding="utf-8")
     assert f"The run was interrupted (Ctrl-C) after {finished} of {total} scenarios" in text
+
+
+def test_a_worker_records_everything_only_for_traces_golden_traces_or_the_report() -> None:
+    plain = RunSettings(("basic_machine",), simulation_for)
+    assert not plain.records_all
+    for asked in (RunSettings(("basic_machine",), simulation_for, trace_dir="traces"),
+                  RunSettings(("basic_machine",), simulation_for, golden="tests/golden"),
+                  RunSettings(("basic_machine",), simulation_for, send_back=SEND_DIAGRAM),
+                  RunSettings(("basic_machine",), simulation_for, send_back=SEND_ALL)):
+        assert asked.records_all

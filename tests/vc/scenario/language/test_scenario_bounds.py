@@ -180,3 +180,40 @@ def test_parameters_a_plc_program_refuses_are_a_problem_at_load_time(tmp_path: P
     assert problems(tmp_path, text, plc_programs()) == [
         "4:17: the PLC program referencing refuses its parameters (the machine file's plc: section and"
         " plc_parameters): plc: referencing_order must be a list of groups of axes, e.g. [[Y1, Z1], [X1]]"]
+
+
+def test_each_scenario_with_refused_parameters_is_told_though_the_program_starts_once(tmp_path: Path) -> None:
+    """The program is started once per machine shape and parameters of a run; every file that gives
+    them gets the problem at its own line."""
+    text = HEAD.replace("plc: none", "plc: referencing") + \
+        "plc_parameters: {referencing_order: 5}\nsteps:\n  - wait: 1s\n"
+    first = write_scenario(tmp_path, text, "first.yaml")
+    second = write_scenario(tmp_path, "# a comment line first\n" + text, "second.yaml")
+    started = []
+    programs = dict(plc_programs())
+    referencing = programs["referencing"]
+
+    def counted(environment: object) -> object:
+        started.append(environment)
+        return referencing(environment)  # type: ignore[arg-type]
+
+    programs["referencing"] = counted  # type: ignore[assignment]
+    with pytest.raises(SourceError) as caught:
+        load_scenarios([str(first), str(second)], programs)
+    found = [(Path(problem.mark.file).name, problem.mark.line) for problem in caught.value.problems]
+    assert found == [("first.yaml", 4), ("second.yaml", 5)]
+    assert len(started) == 1
+
+
+def test_names_that_resolve_cost_no_did_you_mean_search(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Loading the library started each scenario's PLC program, whose plant I/O names were looked up in
+    the catalogue first: a "did you mean" search of a millisecond for each, never shown."""
+    import difflib
+
+    def refused(*arguments: object, **keywords: object) -> list[str]:
+        raise AssertionError("a did-you-mean search while every name resolves")
+
+    monkeypatch.setattr(difflib, "get_close_matches", refused)
+    library = Path(__file__).resolve().parents[4] / "scenarios"
+    loaded = load_scenarios([str(library / "foundation"), str(library / "spindle")], plc_programs())
+    assert len(loaded) > 20

@@ -346,3 +346,44 @@ def test_an_invariant_on_a_reading_that_is_not_a_number_is_violated(tmp_path: Pa
     target.axes["X1"]["position"] = math.nan
     result = run(tmp_path, 'invariants: ["not X1.position > 5"]\nsteps:\n  - wait: 10ms\n', target)
     assert result.failure is not None and "a value that is not finite" in result.failure.message
+
+
+class _ReadCounting(ImageFakeTarget):
+    """Counts what the scenario reads through read() (the recorder reads the images)."""
+
+    def __init__(self) -> None:
+        super().__init__(machine(), SimpleNc())
+        self.reads: dict[str, int] = {}
+
+    def read(self, ref):  # type: ignore[no-untyped-def]
+        self.reads[ref.name] = self.reads.get(ref.name, 0) + 1
+        return super().read(ref)
+
+
+def test_a_condition_on_signals_is_judged_again_only_when_one_of_them_changed(tmp_path: Path) -> None:
+    target = _ReadCounting()
+    result = run(tmp_path, """\
+invariants:
+  - "CHAN1.basic.out.ncStart + MODEGROUP.basic.out.mdaMode <= 2"
+steps:
+""" + MOVE + """\
+  - wait: 1100ms
+  - expect_order: ["when CHAN1.basic.out.ncStart == 1", "X1.basic.in.posFineReached rises"]
+""", target)
+    assert result.passed, result.failure
+    assert result.cycles > 500
+    # mdaMode set once, ncStart up and down: a few judgements, not one a cycle
+    assert target.reads["CHAN1.basic.out.ncStart"] < 12
+
+
+def test_a_condition_on_signals_still_fails_in_the_cycle_its_signal_changed(tmp_path: Path) -> None:
+    result = run(tmp_path, """\
+invariants:
+  - "CHAN1.basic.out.ncStart == 0"
+steps:
+  - wait: 30ms
+""" + MOVE, ImageFakeTarget(machine(), SimpleNc()))
+    failure = result.failure
+    assert failure is not None and failure.kind == "invariant"
+    assert failure.cycle == 16  # set between cycles 15 and 16, judged after the next cycle as before
+    assert failure.message.startswith('invariant "CHAN1.basic.out.ncStart == 0" was violated at cycle')

@@ -217,3 +217,51 @@ def test_recorder_cost(tmp_path: Path) -> None:
     fast = measure_sample_cost(ImageFakeTarget(machine(), SimpleNc()), cycles=300)
     print(f"\nrecorder sample: {slow:.1f} us through read(), {fast:.1f} us through image_areas()")
     assert fast > 0 and slow > 0
+
+
+FAILING_MOVE = MOVE.replace('"X1.setpoint == 1 and', '"X1.setpoint == 2 and')
+
+
+def test_without_traces_a_run_records_only_the_scenarios_own_names(tmp_path: Path) -> None:
+    """vc run without traces, golden traces or a report records what the steps, conditions and
+    failure messages read: the failure (its trail of recent values included) is the same."""
+    failing = scenario(tmp_path, FAILING_MOVE)
+    everything = run_scenario(failing, ImageFakeTarget(machine(), SimpleNc()))
+    lean = run_scenario(failing, ImageFakeTarget(machine(), SimpleNc()), record_all=False)
+    assert everything.recorder is not None and lean.recorder is not None
+    assert {history.quantity.name for history in lean.recorder.histories} == \
+        {quantity.name for quantity in failing.quantities if quantity.name != "time"}
+    assert len(everything.recorder.histories) > 10 * len(lean.recorder.histories)
+    assert not lean.passed and lean.failure == everything.failure
+    assert lean.failure is not None and lean.failure.history
+    for history in lean.recorder.histories:
+        same = everything.recorder.history(history.quantity)
+        assert same is not None and list(same.entries()) == list(history.entries())
+
+
+class _CountingTarget(ImageFakeTarget):
+    def __init__(self) -> None:
+        super().__init__(machine(), SimpleNc())
+        self.axis_reads = 0
+
+    def axis_quantity(self, axis: str, quantity: str) -> float:
+        self.axis_reads += 1
+        return super().axis_quantity(axis, quantity)
+
+
+def test_an_axis_quantity_is_read_once_a_cycle_for_the_recorder_and_the_conditions(tmp_path: Path) -> None:
+    text = MOVE.replace("steps:", 'invariants:\n  - "X1.position >= 0"\n  - "X1.position < 2"\nsteps:')
+    target = _CountingTarget()
+    result = run_scenario(scenario(tmp_path, text), target, record_all=False)
+    assert result.passed, result.failure
+    # the recorder reads X1.position and X1.setpoint after each cycle, the two invariants take its reading;
+    # the steps between two cycles (the expect) read the target itself
+    assert result.cycles * 2 <= target.axis_reads <= result.cycles * 2 + 6
+
+
+def test_the_recorded_names_of_a_machine_are_the_same_for_every_scenario_on_it() -> None:
+    first, second = FakeTarget(machine()), FakeTarget(machine())
+    names = recorded_quantities(first.catalog, first.plant_io, ["X1"])
+    assert names == recorded_quantities(second.catalog, second.plant_io, ["X1"])
+    assert "X1.position" in names and "X1.velocity" in names and "CHAN1.basic.out.ncStart" in names
+    assert "Z1.position" not in names
