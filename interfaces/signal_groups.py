@@ -228,6 +228,7 @@ class AxisStatus:
     command_minus: bool = signal("basic.in.traversMinusCommandActive")
     drive_enabled: bool = signal("drive.in.enabled")
     modulo_limit_active: bool = signal("basic.in.moduloLimitSwitchActive")  # DBX74.4
+    index_in_position: bool = signal("basic.in.indexAxisInPos")  # DBX76.6: an indexing axis on a position
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
