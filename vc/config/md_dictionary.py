@@ -885,16 +885,16 @@ POLYGON_MASTER_ACC_TIME = MdDef(62904, "POLYGON_MASTER_ACC_TIME", C, FLOAT, 0.0,
 # ---------------------------------------------------------------------------------- indexing axes (chapter 11)
 # Two index position tables of the NC (L13560-13605) and the axis's assignment to one of them or to
 # equidistant indexing (MD30500 = 3, L13548-13560, §11.3.2).  The table's positions ascend and differ
-# (L13580-13583); on a modulo axis they lie in 0 <= p < 360 (L13586); the loader checks both.
+# (L13578-13580); on a modulo axis they lie in 0 <= p < 360 (L13586); the loader checks both.
 INDEX_AX_LENGTH_POS_TAB_1 = MdDef(10900, "INDEX_AX_LENGTH_POS_TAB_1", N, INT, 0,
                                   "number of index positions of table 1 (entries beyond it do not count)",
-                                  "seed 003 L13590-13602; [control] default", "", 0, 60)
+                                  "seed 003 L13594-13603; [control] default", "", 0, 60)
 INDEX_AX_POS_TAB_1 = MdDef(10910, "INDEX_AX_POS_TAB_1", N, FLOAT, (0.0,) * 60,
                            "index position table 1: ascending positions in mm or degrees",
                            "seed 003 L13562-13586, example L14131-14142", "mm", -1.0e8, 1.0e8, 60)
 INDEX_AX_LENGTH_POS_TAB_2 = MdDef(10920, "INDEX_AX_LENGTH_POS_TAB_2", N, INT, 0,
                                   "number of index positions of table 2 (entries beyond it do not count)",
-                                  "seed 003 L13590-13602; [control] default", "", 0, 60)
+                                  "seed 003 L13594-13603; [control] default", "", 0, 60)
 INDEX_AX_POS_TAB_2 = MdDef(10930, "INDEX_AX_POS_TAB_2", N, FLOAT, (0.0,) * 60,
                            "index position table 2: ascending positions in mm or degrees",
                            "seed 003 L13562-13586, example L14170-14183", "mm", -1.0e8, 1.0e8, 60)

@@ -123,7 +123,7 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         " (seed 003 §11.4 names no alarm)"),
         AlarmDefinition(17510, "Channel %1 block %2 invalid index for indexing axis %3", _STOP, Clear.RESET,
                         "[control] number and text: a coded position that names no index position of the"
-                        " axis (seed 003 L13876: 0 .. 59, an integer)"),
+                        " axis (seed 003 L13868: 0 .. 59, an integer)"),
         AlarmDefinition(16105, "Channel %1 block %2 assigned spindle %3 does not exist", _STOP, Clear.RESET,
                         "seed 003 L20232-20235, L20328"),
         AlarmDefinition(16111, "Channel %1 block %2 spindle %3 no speed programmed", _STOP, Clear.RESET,

@@ -127,7 +127,7 @@ class _Checker:
 
     def _check_indexing(self, entry: AxisEntry) -> None:
         """An indexing axis (MD30500): its table has positions, ascending, each different, inside a
-        modulo axis's range (L13580-13602); equidistant ones a spacing; no Hirth joint (not built)."""
+        modulo axis's range (L13578-13603); equidistant ones a spacing; no Hirth joint (not built)."""
         data, nck = entry.data, self.machine.nck
         assignment = int(data.value(mdd.INDEX_AX_ASSIGN_POS_TAB))
         if not assignment:
@@ -157,7 +157,7 @@ class _Checker:
             if positions[n] <= positions[n - 1]:
                 self.add(nck.mark_of(table_md, n),
                          f"{table_md.label}[{n}] = {positions[n]:g}: the index positions must ascend and differ"
-                         f" (L13580-13583), [{n - 1}] is {positions[n - 1]:g}")
+                         f" (L13578-13580), [{n - 1}] is {positions[n - 1]:g}")
                 return
         if modulo:
             start = float(data.value(mdd.MODULO_RANGE_START))

@@ -11,10 +11,10 @@ axis, ``vc/core/axis/jog.py``) JOG stops it on an index position (``vc/core/axis
 * incremental JOG (an INC machine function selected, whichever, L13463-13473): a key pressed takes
   the axis to the next index position in its direction; released on the way, the axis stops at
   once, between two positions, and a new press takes it on to that position;
-* the software limit switches: it goes at most to the last index position before them (L14030-14032).
+* the software limit switches: it goes at most to the last index position before them (L13993-13997).
 
 The latched mode of SD41050 = 0 (a second press stops it) is not built: the traverse keys of this
-NC are level-triggered.  The handwheel moves an indexing axis as any axis (L14034-14036).
+NC are level-triggered.  The handwheel moves an indexing axis as any axis (L13999-14002).
 
 States::
 
@@ -144,7 +144,7 @@ class IndexJog:
         self.state = IndexJogState.TO_INDEX_POSITION
 
     def _reachable(self, axis: IndexedAxis, target: float | None) -> float | None:
-        """``target`` if JOG may go there: not beyond the software limit switches (L14030-14032)."""
+        """``target`` if JOG may go there: not beyond the software limit switches (L13993-13997)."""
         if target is None or not axis.software_limits_active:
             return target
         minus, plus = axis.software_limits

@@ -7,9 +7,9 @@ MD30501 / MD30502, on a modulo axis MD30330 / MD30502, L14200-14300).  Number n 
 positions stands at ``offset + (n - 1) x spacing`` [INF: the seed numbers them 1 .. m on a modulo axis
 and "..., -1, 0, 1, ..." on a linear one without saying where 1 lies; the first position is 1 as in
 a table].  On a modulo axis the positions lie in its range and repeat every turn; after the last
-the next in the positive direction is the first (L13586-13589).
+the next in the positive direction is the first (L13586-13592).
 
-The program's coded positions (L13840-13890)::
+The program's coded positions (L13833-13868)::
 
     CAC(i)   absolute: to index position i, the way chosen as AC        linear and rotary axes
     CACP(i)  absolute, positive direction (as ACP)                      rotary axes
@@ -37,7 +37,7 @@ from vc.core.axis import rotary
 ALARM_NOT_AN_INDEXING_AXIS = 17500  # [control]
 ALARM_INVALID_INDEX = 17510  # [control]
 CODED_POSITIONS = {"CAC": "AC", "CACP": "ACP", "CACN": "ACN", "CDC": "DC", "CIC": "IC"}
-MAX_CODED_POSITION = 59  # L13876: 0 .. 59
+MAX_CODED_POSITION = 59  # L13868: 0 .. 59
 
 
 class IndexPositions:
@@ -153,7 +153,7 @@ class IndexPositions:
                 return None
             return min(candidates) if direction > 0 else max(candidates)
         # a modulo axis: the table in the turn of ``edge`` and the next turn that way; after the last
-        # position comes the first (L13586-13589)
+        # position comes the first (L13586-13592)
         begin, size = self.modulo
         turn = math.floor((edge - begin) / size) * size
         candidates = [p + turn + k * size for k in (0, direction) for p in self.table

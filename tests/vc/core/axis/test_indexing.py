@@ -38,7 +38,7 @@ def test_a_table_on_a_modulo_axis_wraps_after_its_last_position() -> None:
     table = IndexPositions(IndexDivision(table=(0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0)), (0.0, 360.0))
     assert table.position(1) == 0.0 and table.position(8) == 315.0 and table.position(9) is None
     assert table.standing_on(405.004, 0.01) == 2 and table.standing_on(50.0, 0.01) == 0
-    assert table.ahead(320.0, 1, 0.0) == 360.0 and table.ahead(370.0, -1, 0.01) == 360.0  # L13586-13589
+    assert table.ahead(320.0, 1, 0.0) == 360.0 and table.ahead(370.0, -1, 0.01) == 360.0  # L13586-13592
     assert table.below(50.0) == 2
 
 
@@ -96,7 +96,7 @@ def test_equidistant_indexing_on_the_modulo_table() -> None:
 
 @pytest.mark.parametrize(("overrides", "program", "alarm"), [
     (TURRET, "POS[C]=CAC(9)", 17510),  # the table has 8 positions
-    (TURRET, "POS[C]=CAC(60)", 17510),  # 0 .. 59 (L13876)
+    (TURRET, "POS[C]=CAC(60)", 17510),  # 0 .. 59 (L13868)
     (TURRET, "POS[C]=CAC(2.5)", 17510),
     (TURRET, "POS[A]=CAC(1)", 17500),  # A1 is no indexing axis
     (TURRET, "POS[X]=CIC(1)", 17500),
@@ -189,7 +189,7 @@ def test_jog_goes_at_most_to_the_last_index_position_before_the_software_limit()
     rig.set("C1.basic.out.traversKeyMinus", 1)
     rig.run_until(lambda: _jog_state(rig) is IndexJogState.ARRIVED, 3000)
     rig.step(100)
-    assert rig.axis("C1").setpoint == 135.0 and rig.alarm_numbers() == []  # L14030-14032
+    assert rig.axis("C1").setpoint == 135.0 and rig.alarm_numbers() == []  # L13993-13997
 
 
 def test_an_unreferenced_indexing_axis_jogs_as_any_axis() -> None:
@@ -216,3 +216,16 @@ def test_an_unreferenced_indexing_axis_jogs_as_any_axis() -> None:
 def test_the_reader_refuses_a_bad_index_table(overrides: str, message: str) -> None:
     with pytest.raises(VcError, match=message):
         machine(overrides, FIVE_AXIS)
+
+
+def test_the_channels_feed_override_at_0_holds_an_indexing_axis_but_no_other_positioning_axis() -> None:
+    rig = _rig()
+    rig.mda("N10 POS[C]=CACN(2) FA[C]=3600 POSA[Z]=IC(-50) FA[Z]=1000\nM30")  # L13955-13961
+    rig.step(50)
+    rig.set("CHAN1.basic.out.pathFeedrateOvrFactor", 0)
+    rig.step(100)
+    c1, z1 = rig.axis("C1"), rig.axis("Z1")
+    assert c1.command_velocity == 0.0 and z1.command_velocity != 0.0
+    rig.set("CHAN1.basic.out.pathFeedrateOvrFactor", 100)
+    rig.step(20)
+    assert c1.command_velocity < 0.0
