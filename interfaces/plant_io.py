@@ -138,6 +138,12 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
                   "coolant pump contactor: 1 = the pump runs"),
     PlantFunction(r"Coolant\.pressureOk", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "coolant pressure switch: 1 once the running pump has built up the pressure"),
+    PlantFunction(r"Clamp\.close", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
+                  "clamp valve of an axis (a rotary table): 1 = the clamp closes and holds the axis, 0 = it opens"),
+    PlantFunction(r"Clamp\.closed", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "end-position sensor of the axis clamp: 1 while it is closed and holds the axis"),
+    PlantFunction(r"Clamp\.opened", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "end-position sensor of the axis clamp: 1 while it is fully open: the axis may move"),
     PlantFunction(r"Tailstock\.retracted", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "tailstock quill's sleeve sensor: 1 while the quill stands retracted, clear of the part"),
     PlantFunction(r"Tailstock\.atPart", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
@@ -147,7 +153,8 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
 
 # The machine's devices besides the axes (the machine file's ``plant:``), by their I/O prefix.
 TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK = "Turret", "Magazine", "ToolArm", "Coolant", "Tailstock"
-DEVICE_PREFIXES = (TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK)
+CLAMP = "Clamp"
+DEVICE_PREFIXES = (TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK, CLAMP)
 
 
 def station_code_bits(stations: int) -> tuple[int, ...]:

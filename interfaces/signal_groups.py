@@ -208,6 +208,7 @@ class AxisRequests:
     fixed_stop_ack: bool = signal("basic.out.fixedStopAckReached")  # DBX1.1
     fixed_stop_sensor: bool = signal("basic.out.fixedStopSensor")  # DBX1.2
     modulo_limit_enable: bool = signal("basic.out.enableModuloLimitSwitch")  # DBX12.4
+    clamping: bool = signal("basic.out.clampingInProgress")  # DBX2.3: the clamping monitor replaces standstill's
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

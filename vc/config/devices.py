@@ -6,6 +6,7 @@
       turret: {stations: 8, index_time: 0.15, lock_time: 0.08, station: 1}
       coolant: {pressure_time: 0.3}
       tool_changer: {pockets: 12, index_time: 0.2, arm_time: 0.6, pocket: 1}
+      clamp: {axis: 5, travel_time: 0.2, load: 600.0}
     plc_alarms:
       700000: "Turret: lock pin not pulled"
 
@@ -18,8 +19,11 @@ switch (vc/plant/coolant.py), ``Coolant.pump`` and ``Coolant.pressureOk``, the s
 takes to build up.  ``tool_changer``: a mill's tool magazine and changer arm
 (vc/plant/tool_changer.py): pockets, seconds per pocket, the arm's stroke time, the pocket at
 power-on; I/O ``Magazine.rotateCw``, ``Magazine.rotateCcw``, ``Magazine.code1`` .., ``ToolArm.toSpindle``,
-``ToolArm.home``, ``ToolArm.atSpindle``.  I/O of a device the machine lacks is a mistake (the
-sensors would read 0 for ever).
+``ToolArm.home``, ``ToolArm.atSpindle``.  ``clamp``: the clamp of an axis, a rotary table's
+(vc/plant/clamp.py): the machine axis number it clamps, the stroke time, the speed (mm/min or deg/min)
+the machining load pushes the axis with when the clamp gives way; I/O ``Clamp.close``,
+``Clamp.closed``, ``Clamp.opened``.  I/O of a device the machine lacks is a mistake (the sensors
+would read 0 for ever).
 
 ``plc_alarms``: the texts of the PLC user alarms 700000 .. 700063 (DB2 user area 0) the machine's
 PLC program raises, as the machine builder's alarm text file gives them (vc/core/nck/plc_alarms.py).
@@ -33,10 +37,11 @@ from __future__ import annotations
 from collections.abc import Callable, Collection, Mapping
 from typing import Any
 
-from interfaces.plant_io import COOLANT, MAGAZINE, TAILSTOCK, TOOL_ARM, TURRET, station_code_bits
+from interfaces.plant_io import CLAMP, COOLANT, MAGAZINE, TAILSTOCK, TOOL_ARM, TURRET, station_code_bits
 from vc.config.machine_data import as_number, shown
 from vc.config.model import (
     PLC_USER_ALARMS,
+    ClampPlant,
     CoolantPlant,
     MachinePlant,
     TailstockPlant,
@@ -48,7 +53,8 @@ from vc.located_yaml import LocatedMap, Mark, Problems
 # the loader's reader of a block of numbers: (raw, mark, where, key -> (lowest, highest, whole, meaning))
 ReadParameters = Callable[[Any, Mark, str, Mapping[str, tuple[float, float, bool, str]]], dict[str, Any]]
 
-DEVICES = ("turret", "coolant", "tool_changer", "tailstock")
+DEVICES = ("turret", "coolant", "tool_changer", "tailstock", "clamp")
+_AXIS_DEVICES = ("tailstock", "clamp")  # their axis: is a machine axis number
 MAX_STATIONS = 31  # a five-bit station code
 # per device: key -> (lowest, highest, whole number, meaning); the keys without a default are needed
 _KEYS: dict[str, dict[str, tuple[float, float, bool, str]]] = {
@@ -67,6 +73,9 @@ _KEYS: dict[str, dict[str, tuple[float, float, bool, str]]] = {
                   "max_force": (1.0, 1.0e7, False, "N the drive pushes with at 100 % torque"),
                   "force_limit": (1.0, 1.0e8, False, "N the part takes before it slips away"),
                   "retracted": (-1.0e6, 1.0e6, False, "position at or behind which the quill is retracted")},
+    "clamp": {"axis": (1, 31, True, "machine axis number of the clamped axis (its place in axes:)"),
+              "travel_time": (0.001, 60, False, "s of the clamp's stroke from open to closed"),
+              "load": (0.0, 1.0e6, False, "mm/min (deg/min) the load pushes the axis with when the clamp gives way")},
 }
 _OPTIONAL = ("station", "pocket")
 
@@ -81,13 +90,15 @@ def _io_of(device: str, values: Mapping[str, Any]) -> list[str]:
         return [f"{COOLANT}.pump", f"{COOLANT}.pressureOk"]
     if device == "tailstock":
         return [f"{TAILSTOCK}.retracted", f"{TAILSTOCK}.atPart"]
+    if device == "clamp":
+        return [f"{CLAMP}.close", f"{CLAMP}.closed", f"{CLAMP}.opened"]
     codes = station_code_bits(int(values.get("pockets", 1)))
     return [f"{MAGAZINE}.rotateCw", f"{MAGAZINE}.rotateCcw", *(f"{MAGAZINE}.code{bit}" for bit in codes),
             f"{TOOL_ARM}.toSpindle", f"{TOOL_ARM}.home", f"{TOOL_ARM}.atSpindle"]
 
 
 _PREFIXES = {"turret": (TURRET,), "coolant": (COOLANT,), "tool_changer": (MAGAZINE, TOOL_ARM),
-             "tailstock": (TAILSTOCK,)}
+             "tailstock": (TAILSTOCK,), "clamp": (CLAMP,)}
 
 
 def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tuple[str, Mark]],
@@ -116,7 +127,11 @@ def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tup
         built[device] = values
     _check_device_io(built, wired, problems)
     turret, coolant, changer = built.get("turret"), built.get("coolant"), built.get("tool_changer")
-    tailstock = built.get("tailstock")
+    tailstock, clamp = built.get("tailstock"), built.get("clamp")
+    if tailstock and clamp and tailstock["axis"] == clamp["axis"]:
+        problems.add(_marks(block.get("clamp"), "axis", mark)[1],
+                     f"plant.clamp.axis: {clamp['axis']} is the tailstock's quill; the clamp holds another axis")
+        clamp = None
     return MachinePlant(
         turret=TurretPlant(turret["stations"], turret["index_time"], turret["lock_time"],
                            turret.get("station", 1)) if turret else None,
@@ -124,17 +139,19 @@ def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tup
         tool_changer=ToolChangerPlant(changer["pockets"], changer["index_time"], changer["arm_time"],
                                       changer.get("pocket", 1)) if changer else None,
         tailstock=TailstockPlant(tailstock["axis"], tailstock["stop"], tailstock["stiffness"], tailstock["max_force"],
-                                 tailstock["force_limit"], tailstock["retracted"]) if tailstock else None)
+                                 tailstock["force_limit"], tailstock["retracted"]) if tailstock else None,
+        clamp=ClampPlant(clamp["axis"], clamp["travel_time"], clamp["load"]) if clamp else None)
 
 
 def _device_axis(device: str, values: dict[str, Any], raw: Any, mark: Mark, problems: Problems,
                  axes: list[str]) -> bool:
-    """The tailstock's ``axis:`` (a machine axis number) as the axis's name; False when there is none."""
-    if device != "tailstock":
+    """The tailstock's or the clamp's ``axis:`` (a machine axis number) as the axis's name; False when
+    there is none."""
+    if device not in _AXIS_DEVICES:
         return True
     number = values["axis"]
     if number > len(axes):
-        problems.add(_marks(raw, "axis", mark)[1], f"plant.tailstock.axis = {number}: the machine has {len(axes)} axes")
+        problems.add(_marks(raw, "axis", mark)[1], f"plant.{device}.axis = {number}: the machine has {len(axes)} axes")
         return False
     values["axis"] = axes[number - 1]
     return True

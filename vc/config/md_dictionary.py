@@ -337,6 +337,10 @@ STANDSTILL_POS_TOL = MdDef(36030, "STANDSTILL_POS_TOL", A, FLOAT, 0.2, "standsti
                            "[control]", "mm", 0.0, 1.0e6)
 STANDSTILL_DELAY_TIME = MdDef(36040, "STANDSTILL_DELAY_TIME", A, FLOAT, 0.4,
                               "delay before standstill monitoring starts", "[control]", "s", 0.0, 1.0e5)
+CLAMP_POS_TOL = MdDef(36050, "CLAMP_POS_TOL", A, FLOAT, 0.5,
+                      "clamping tolerance: how far a clamped axis (DB31.DBX2.3) may leave its position (alarm 26000)",
+                      "seed 003 L15436, L15524 (DB31.DBX2.3); [control] number, meaning and default", "mm",
+                      0.0, 1.0e6)
 STANDSTILL_VELO_TOL = MdDef(36060, "STANDSTILL_VELO_TOL", A, FLOAT, 0.2,
                             "maximum velocity for 'axis/spindle stationary'", "seed 003 L20780-20787;"
                             " [control] default", "mm/min", 0.0, 1.0e6)

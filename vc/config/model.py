@@ -226,6 +226,16 @@ class TailstockPlant:
 
 
 @dataclass(frozen=True, slots=True)
+class ClampPlant:
+    """The clamp of an axis (a rotary table's), closed by the PLC once the axis stands
+    (vc/plant/clamp.py); DB31.DBX2.3 tells the NC (its clamping monitor)."""
+
+    axis: str  # the machine axis it clamps
+    travel_time_s: float  # s from open to closed and back
+    load: float  # mm/min or deg/min the machining load pushes the axis with once the clamp gives way
+
+
+@dataclass(frozen=True, slots=True)
 class TurretPlant:
     """A tool turret indexed by the PLC: a disk with its stations, an indexing drive, a lock pin."""
 
@@ -260,6 +270,7 @@ class MachinePlant:
     coolant: CoolantPlant | None = None
     tool_changer: ToolChangerPlant | None = None
     tailstock: TailstockPlant | None = None
+    clamp: ClampPlant | None = None
 
 
 @dataclass(frozen=True, slots=True)

@@ -204,6 +204,9 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         "seed 003 L2038-2040"),
         AlarmDefinition(25040, "Axis %1 standstill monitoring", _STOP | Reaction.RAPID_STOP, Clear.RESET,
                         "[control]"),
+        AlarmDefinition(26000, "Axis %1 clamping monitoring", _STOP | Reaction.RAPID_STOP, Clear.RESET,
+                        "[control] number and text: the clamped axis (DB31.DBX2.3) left its position by more than"
+                        " MD36050; the seed names DB31.DBX2.3 only (L15436, L15524)"),
         AlarmDefinition(25050, "Axis %1 contour monitoring", _STOP | Reaction.RAPID_STOP, Clear.RESET,
                         "[control]"),
         AlarmDefinition(25080, "Axis %1 positioning monitoring", _STOP | Reaction.RAPID_STOP, Clear.RESET,

@@ -28,6 +28,7 @@ from interfaces.image import ProcessImage
 from interfaces.signals import SignalRef
 from vc.config.model import AxisConfig, MachineConfig
 from vc.plant.chuck import Chuck
+from vc.plant.clamp import AxisClamp
 from vc.plant.coolant import Coolant
 from vc.plant.gearbox import Gearbox
 from vc.plant.tailstock import Tailstock
@@ -122,8 +123,10 @@ class Plant:
         coolant = Coolant(devices.coolant, self._io, ipo_cycle_us) if devices.coolant else None
         # the tailstock's part is the fixed stop of its quill axis: the composed machine hands it to the axis
         self.tailstock = Tailstock(devices.tailstock, self._io) if devices.tailstock else None
-        self._devices: list[Device] = [device for device in (self.turret, self.tool_changer, coolant, self.tailstock)
-                                       if device is not None]
+        # the clamp holds its axis's slide: the composed machine hands it to the axis as well
+        self.clamp = AxisClamp(devices.clamp, self._io, ipo_cycle_us) if devices.clamp else None
+        self._devices: list[Device] = [device for device in (self.turret, self.tool_changer, coolant, self.tailstock,
+                                                             self.clamp) if device is not None]
         # the devices rest until the PLC changes an output or one of them still moves
         self._outputs_seen = b""
         self._devices_moving = True

@@ -48,6 +48,9 @@ def _devices(machine: MachineConfig) -> dict[str, dict[str, float]]:
         # the quill's axis by its interface data block DB(30 + n), as the PLC addresses it
         quill = next(axis for axis in machine.axes if axis.name == plant.tailstock.axis)
         devices["tailstock"] = {"axis_db": quill.db}
+    if plant.clamp is not None:
+        clamped = next(axis for axis in machine.axes if axis.name == plant.clamp.axis)
+        devices["clamp"] = {"axis_db": clamped.db, "travel_time": plant.clamp.travel_time_s}
     return devices
 
 
@@ -275,4 +278,12 @@ def _device_needs(machine: MachineConfig, point: Callable[[str], str | None]) ->
             f" {quill}.basic.out.fixedStopAckReached once {quill}.basic.in.fixedStopReached comes, take both away"
             f" when the request falls; Tailstock.atPart (the sleeve at the part) may go to"
             f" {quill}.basic.out.fixedStopSensor; Tailstock.retracted reads 1 at or behind {tailstock.retracted:g}"))
+    if plant.clamp is not None:
+        clamp = plant.clamp
+        needs.append(PlantNeed(
+            "Clamp", "clamp", wired("Clamp.close", "Clamp.closed", "Clamp.opened"), (),
+            f"The clamp of {clamp.axis}: Clamp.close closes it in {clamp.travel_time_s:g} s (Clamp.closed), dropping it"
+            f" opens it (Clamp.opened); closed, it holds {clamp.axis}. Set {clamp.axis}.basic.out.clampingInProgress"
+            f" while it clamps (the NC's clamping monitor, MD36050, alarm 26000) and open it before"
+            f" {clamp.axis} moves"))
     return needs

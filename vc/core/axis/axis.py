@@ -540,8 +540,13 @@ class MachineAxis:
                 self._fine_reached = True
             elif not self._fine_reached and elapsed > dyn.positioning_time:
                 alarms.raise_alarm(25080, cycle, self.name, channel=self.channel, axis=self.name)
-            if self._fine_reached and elapsed > dyn.standstill_delay and error > dyn.standstill_tolerance:
-                alarms.raise_alarm(25040, cycle, self.name, channel=self.channel, axis=self.name)
+            # DB31.DBX2.3 "clamping in progress": the clamping monitor (MD36050, alarm 26000) takes the
+            # standstill monitor's place, as the clamp may push the axis further [control]
+            clamping = self.inputs.clamping
+            tolerance = dyn.clamp_tolerance if clamping else dyn.standstill_tolerance
+            if self._fine_reached and elapsed > dyn.standstill_delay and error > tolerance:
+                alarms.raise_alarm(26000 if clamping else 25040, cycle, self.name, channel=self.channel,
+                                   axis=self.name)
         else:
             self._fine_reached = False
         if self.at_software_limit:
