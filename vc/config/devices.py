@@ -129,7 +129,7 @@ def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tup
     turret, coolant, changer = built.get("turret"), built.get("coolant"), built.get("tool_changer")
     tailstock, clamp = built.get("tailstock"), built.get("clamp")
     if tailstock and clamp and tailstock["axis"] == clamp["axis"]:
-        problems.add(_marks(block.get("clamp"), "axis", mark)[1],
+        problems.add(_marks(block["clamp"], "axis", mark)[1],
                      f"plant.clamp.axis: {clamp['axis']} is the tailstock's quill; the clamp holds another axis")
         clamp = None
     return MachinePlant(
