@@ -229,3 +229,18 @@ def test_the_channels_feed_override_at_0_holds_an_indexing_axis_but_no_other_pos
     rig.set("CHAN1.basic.out.pathFeedrateOvrFactor", 100)
     rig.step(20)
     assert c1.command_velocity < 0.0
+
+
+def test_the_same_key_again_before_it_arrives_runs_on_and_an_estop_ends_the_jog() -> None:
+    rig = _jog_rig()
+    rig.set("C1.basic.out.traversKeyPlus", 1)
+    rig.step(100)
+    rig.set("C1.basic.out.traversKeyPlus", 0)
+    rig.step(5)
+    assert _jog_state(rig) is IndexJogState.TO_INDEX_POSITION
+    rig.set("C1.basic.out.traversKeyPlus", 1)  # pressed again: it runs on [INF]
+    rig.step(5)
+    assert _jog_state(rig) is IndexJogState.CONTINUOUS
+    rig.axis("C1").brake()  # another owner takes the axis (an emergency stop's braking)
+    rig.step(5)
+    assert _jog_state(rig) is IndexJogState.IDLE
