@@ -30,14 +30,11 @@ States::
 from __future__ import annotations
 
 from enum import Enum
-from typing import Protocol
 
-from vc.core.axis.dynamics import AxisDynamics
 from vc.core.axis.indexing import IndexPositions
-from vc.core.axis.jog import JogLimits
+from vc.core.axis.jog import JoggedAxis, JogLimits
 from vc.core.axis.motion import ramp, stopping_velocity
 from vc.core.axis.owner import Owner
-from vc.core.axis.signals import AxisInputs
 from vc.core.state_machine import Instance, StateMachine, states, transitions
 
 _TINY = 1e-9
@@ -48,30 +45,6 @@ class IndexJogState(Enum):
     CONTINUOUS = "the traverse key held: the axis runs"
     TO_INDEX_POSITION = "on its way to an index position, braking to stop on it"
     ARRIVED = "on the index position, the key still held"
-
-
-class IndexedAxis(Protocol):
-    """The machine axis as indexing JOG moves it (vc/core/axis/axis.py)."""
-
-    inputs: AxisInputs
-    dyn: AxisDynamics
-    owner: Owner
-    setpoint: float
-    command_velocity: float
-    override: float
-
-    @property
-    def drive_ready(self) -> bool: ...
-
-    @property
-    def software_limits_active(self) -> bool: ...
-
-    @property
-    def software_limits(self) -> tuple[float, float]: ...
-
-    def take(self, owner: Owner) -> None: ...
-
-    def release(self) -> None: ...
 
 
 class IndexJog:
@@ -89,7 +62,7 @@ class IndexJog:
         """Its cycle must run in JOG even with no key pressed (it runs out or waits for a release)."""
         return self.state is not IndexJogState.IDLE
 
-    def cycle(self, axis: IndexedAxis, allowed: bool, channel_feed_disable: bool, limits: JogLimits,
+    def cycle(self, axis: JoggedAxis, allowed: bool, channel_feed_disable: bool, limits: JogLimits,
               step: bool) -> None:
         """One IPO cycle of JOG; ``step``: an INC machine function is selected."""
         inp = axis.inputs
@@ -120,7 +93,7 @@ class IndexJog:
         if self.state is not IndexJogState.IDLE and axis.owner is Owner.JOG:
             self._move(axis, channel_feed_disable, limits)
 
-    def _start(self, axis: IndexedAxis, direction: int, step: bool) -> None:
+    def _start(self, axis: JoggedAxis, direction: int, step: bool) -> None:
         if not direction or axis.owner is not Owner.NONE or not axis.drive_ready:
             return
         self.direction = direction
@@ -133,7 +106,7 @@ class IndexJog:
             self.state, self.target = IndexJogState.CONTINUOUS, None
         axis.take(Owner.JOG)
 
-    def _run_out(self, axis: IndexedAxis, limits: JogLimits) -> None:
+    def _run_out(self, axis: JoggedAxis, limits: JogLimits) -> None:
         """The key released: the nearest index position ahead it can stop on (L13424-13430)."""
         velocity = axis.command_velocity
         way = (1 if velocity > 0.0 else -1) if velocity else self.direction
@@ -143,14 +116,14 @@ class IndexJog:
         self.target = self._reachable(axis, self.index.ahead(axis.setpoint, way, braking))
         self.state = IndexJogState.TO_INDEX_POSITION
 
-    def _reachable(self, axis: IndexedAxis, target: float | None) -> float | None:
+    def _reachable(self, axis: JoggedAxis, target: float | None) -> float | None:
         """``target`` if JOG may go there: not beyond the software limit switches (L13993-13997)."""
         if target is None or not axis.software_limits_active:
             return target
         minus, plus = axis.software_limits
         return target if minus - _TINY <= target <= plus + _TINY else None
 
-    def _edge(self, axis: IndexedAxis) -> float | None:
+    def _edge(self, axis: JoggedAxis) -> float | None:
         """CONTINUOUS: the last index position before the software limit switch it runs towards."""
         if not axis.software_limits_active:
             return None
@@ -158,7 +131,7 @@ class IndexJog:
         limit = plus if self.direction > 0 else minus
         return self.index.ahead(limit, -self.direction, 0.0)
 
-    def _move(self, axis: IndexedAxis, channel_feed_disable: bool, limits: JogLimits) -> None:
+    def _move(self, axis: JoggedAxis, channel_feed_disable: bool, limits: JogLimits) -> None:
         dyn, dt, inp = axis.dyn, self._dt, axis.inputs
         accel = min(dyn.max_accel, limits.accel)
         speed = min((dyn.jog_rapid_velocity if inp.rapid_key else dyn.jog_velocity) * axis.override, limits.velocity)
@@ -183,7 +156,7 @@ class IndexJog:
             axis.release()
             self.state, self.target = IndexJogState.IDLE, None
 
-    def _arrive(self, axis: IndexedAxis, position: float | None) -> None:
+    def _arrive(self, axis: JoggedAxis, position: float | None) -> None:
         if position is not None:
             axis.setpoint = position  # lands exactly on the index position
         axis.release()
