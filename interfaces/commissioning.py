@@ -95,6 +95,7 @@ RULES = {
     "tool_changer": "the tool magazine and the changer arm",
     "coolant": "the coolant pump and its pressure switch",
     "tailstock": "the tailstock quill's travel to fixed stop and its sleeve sensors",
+    "clamp": "an axis clamp: its valve, its end-position sensors and DB31.DBX2.3 while it clamps",
 }
 
 

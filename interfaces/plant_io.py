@@ -149,6 +149,12 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
                   "pocket sensor of the axis magazine: 1 while a pocket stands within the pin's window"),
     PlantFunction(r"AxisMagazine\.driveReady", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "ready contact of the axis magazine's drive: 0 = the drive reports a fault"),
+    PlantFunction(r"Clamp\.close", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
+                  "clamp valve of an axis (a rotary table): 1 = the clamp closes and holds the axis, 0 = it opens"),
+    PlantFunction(r"Clamp\.closed", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "end-position sensor of the axis clamp: 1 while it is closed and holds the axis"),
+    PlantFunction(r"Clamp\.opened", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
+                  "end-position sensor of the axis clamp: 1 while it is fully open: the axis may move"),
     PlantFunction(r"Tailstock\.retracted", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "tailstock quill's sleeve sensor: 1 while the quill stands retracted, clear of the part"),
     PlantFunction(r"Tailstock\.atPart", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
@@ -159,7 +165,8 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
 # The machine's devices besides the axes (the machine file's ``plant:``), by their I/O prefix.
 TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK = "Turret", "Magazine", "ToolArm", "Coolant", "Tailstock"
 AXIS_MAGAZINE = "AxisMagazine"  # a tool magazine turned by an NC axis the PLC positions (FC18)
-DEVICE_PREFIXES = (TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK, AXIS_MAGAZINE)
+CLAMP = "Clamp"
+DEVICE_PREFIXES = (TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK, AXIS_MAGAZINE, CLAMP)
 
 
 def station_code_bits(stations: int) -> tuple[int, ...]:

@@ -208,6 +208,7 @@ class AxisRequests:
     fixed_stop_ack: bool = signal("basic.out.fixedStopAckReached")  # DBX1.1
     fixed_stop_sensor: bool = signal("basic.out.fixedStopSensor")  # DBX1.2
     modulo_limit_enable: bool = signal("basic.out.enableModuloLimitSwitch")  # DBX12.4
+    clamping: bool = signal("basic.out.clampingInProgress")  # DBX2.3: the clamping monitor replaces standstill's
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -228,6 +229,7 @@ class AxisStatus:
     command_minus: bool = signal("basic.in.traversMinusCommandActive")
     drive_enabled: bool = signal("drive.in.enabled")
     modulo_limit_active: bool = signal("basic.in.moduloLimitSwitchActive")  # DBX74.4
+    index_in_position: bool = signal("basic.in.indexAxisInPos")  # DBX76.6: an indexing axis on a position
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -17,6 +17,7 @@ from plc_stub.programs.manual_retraction import ManualRetraction
 from plc_stub.programs.polygon import Polygon
 from plc_stub.programs.referencing import Referencing
 from plc_stub.programs.retraction import Retraction
+from plc_stub.programs.rotary_table import RotaryTable
 from plc_stub.programs.spindle import Spindle
 from plc_stub.programs.sync_spindle import SyncSpindle
 from plc_stub.programs.tailstock import Tailstock
@@ -37,6 +38,7 @@ REGISTRY: dict[str, ProgramClass] = {
     "tool_change": ToolChange,
     "tailstock": Tailstock,
     "magazine": Magazine,
+    "rotary_table": RotaryTable,
 }
 
 

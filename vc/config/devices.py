@@ -6,6 +6,7 @@
       turret: {stations: 8, index_time: 0.15, lock_time: 0.08, station: 1}
       coolant: {pressure_time: 0.3}
       tool_changer: {pockets: 12, index_time: 0.2, arm_time: 0.6, pocket: 1}
+      clamp: {axis: 5, travel_time: 0.2, load: 600.0}
     plc_alarms:
       700000: "Turret: lock pin not pulled"
 
@@ -18,8 +19,11 @@ switch (vc/plant/coolant.py), ``Coolant.pump`` and ``Coolant.pressureOk``, the s
 takes to build up.  ``tool_changer``: a mill's tool magazine and changer arm
 (vc/plant/tool_changer.py): pockets, seconds per pocket, the arm's stroke time, the pocket at
 power-on; I/O ``Magazine.rotateCw``, ``Magazine.rotateCcw``, ``Magazine.code1`` .., ``ToolArm.toSpindle``,
-``ToolArm.home``, ``ToolArm.atSpindle``.  I/O of a device the machine lacks is a mistake (the
-sensors would read 0 for ever).
+``ToolArm.home``, ``ToolArm.atSpindle``.  ``clamp``: the clamp of an axis, a rotary table's
+(vc/plant/clamp.py): the machine axis number it clamps, the stroke time, the speed (mm/min or deg/min)
+the machining load pushes the axis with when the clamp gives way; I/O ``Clamp.close``,
+``Clamp.closed``, ``Clamp.opened``.  I/O of a device the machine lacks is a mistake (the sensors
+would read 0 for ever).
 
 ``plc_alarms``: the texts of the PLC user alarms 700000 .. 700063 (DB2 user area 0) the machine's
 PLC program raises, as the machine builder's alarm text file gives them (vc/core/nck/plc_alarms.py).
@@ -33,11 +37,21 @@ from __future__ import annotations
 from collections.abc import Callable, Collection, Mapping
 from typing import Any
 
-from interfaces.plant_io import AXIS_MAGAZINE, COOLANT, MAGAZINE, TAILSTOCK, TOOL_ARM, TURRET, station_code_bits
+from interfaces.plant_io import (
+    AXIS_MAGAZINE,
+    CLAMP,
+    COOLANT,
+    MAGAZINE,
+    TAILSTOCK,
+    TOOL_ARM,
+    TURRET,
+    station_code_bits,
+)
 from vc.config.machine_data import as_number, shown
 from vc.config.model import (
     PLC_USER_ALARMS,
     AxisMagazinePlant,
+    ClampPlant,
     CoolantPlant,
     MachinePlant,
     TailstockPlant,
@@ -49,7 +63,8 @@ from vc.located_yaml import LocatedMap, Mark, Problems
 # the loader's reader of a block of numbers: (raw, mark, where, key -> (lowest, highest, whole, meaning))
 ReadParameters = Callable[[Any, Mark, str, Mapping[str, tuple[float, float, bool, str]]], dict[str, Any]]
 
-DEVICES = ("turret", "coolant", "tool_changer", "tailstock", "axis_magazine")
+DEVICES = ("turret", "coolant", "tool_changer", "tailstock", "axis_magazine", "clamp")
+_AXIS_DEVICES = ("tailstock", "axis_magazine", "clamp")  # their axis: is a machine axis number
 MAX_STATIONS = 31  # a five-bit station code
 # per device: key -> (lowest, highest, whole number, meaning); the keys without a default are needed
 _KEYS: dict[str, dict[str, tuple[float, float, bool, str]]] = {
@@ -72,6 +87,9 @@ _KEYS: dict[str, dict[str, tuple[float, float, bool, str]]] = {
                       "pockets": (2, 360, True, "pockets of the magazine, evenly over the turn"),
                       "lock_time": (0.001, 60, False, "s of the lock pin's stroke"),
                       "window": (0.001, 10, False, "degrees either side of a pocket the pin engages in")},
+    "clamp": {"axis": (1, 31, True, "machine axis number of the clamped axis (its place in axes:)"),
+              "travel_time": (0.001, 60, False, "s of the clamp's stroke from open to closed"),
+              "load": (0.0, 1.0e6, False, "mm/min (deg/min) the load pushes the axis with when the clamp gives way")},
 }
 _OPTIONAL = ("station", "pocket")
 
@@ -88,13 +106,15 @@ def _io_of(device: str, values: Mapping[str, Any]) -> list[str]:
         return [f"{TAILSTOCK}.retracted", f"{TAILSTOCK}.atPart"]
     if device == "axis_magazine":
         return [f"{AXIS_MAGAZINE}.{name}" for name in ("unlock", "locked", "unlocked", "inPocket", "driveReady")]
+    if device == "clamp":
+        return [f"{CLAMP}.close", f"{CLAMP}.closed", f"{CLAMP}.opened"]
     codes = station_code_bits(int(values.get("pockets", 1)))
     return [f"{MAGAZINE}.rotateCw", f"{MAGAZINE}.rotateCcw", *(f"{MAGAZINE}.code{bit}" for bit in codes),
             f"{TOOL_ARM}.toSpindle", f"{TOOL_ARM}.home", f"{TOOL_ARM}.atSpindle"]
 
 
 _PREFIXES = {"turret": (TURRET,), "coolant": (COOLANT,), "tool_changer": (MAGAZINE, TOOL_ARM),
-             "tailstock": (TAILSTOCK,), "axis_magazine": (AXIS_MAGAZINE,)}
+             "tailstock": (TAILSTOCK,), "axis_magazine": (AXIS_MAGAZINE,), "clamp": (CLAMP,)}
 
 
 def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tuple[str, Mark]],
@@ -123,7 +143,11 @@ def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tup
         built[device] = values
     _check_device_io(built, wired, problems)
     turret, coolant, changer = built.get("turret"), built.get("coolant"), built.get("tool_changer")
-    tailstock, magazine = built.get("tailstock"), built.get("axis_magazine")
+    tailstock, magazine, clamp = built.get("tailstock"), built.get("axis_magazine"), built.get("clamp")
+    if tailstock and clamp and tailstock["axis"] == clamp["axis"]:
+        problems.add(_marks(block["clamp"], "axis", mark)[1],
+                     f"plant.clamp.axis: {clamp['axis']} is the tailstock's quill; the clamp holds another axis")
+        clamp = None
     return MachinePlant(
         turret=TurretPlant(turret["stations"], turret["index_time"], turret["lock_time"],
                            turret.get("station", 1)) if turret else None,
@@ -133,14 +157,15 @@ def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tup
         tailstock=TailstockPlant(tailstock["axis"], tailstock["stop"], tailstock["stiffness"], tailstock["max_force"],
                                  tailstock["force_limit"], tailstock["retracted"]) if tailstock else None,
         axis_magazine=AxisMagazinePlant(magazine["axis"], magazine["pockets"], magazine["lock_time"],
-                                        magazine["window"]) if magazine else None)
+                                        magazine["window"]) if magazine else None,
+        clamp=ClampPlant(clamp["axis"], clamp["travel_time"], clamp["load"]) if clamp else None)
 
 
 def _device_axis(device: str, values: dict[str, Any], raw: Any, mark: Mark, problems: Problems,
                  axes: list[str]) -> bool:
-    """The ``axis:`` of the tailstock and the axis magazine (a machine axis number) as the axis's name;
-    False when there is none."""
-    if device not in ("tailstock", "axis_magazine"):
+    """The ``axis:`` of the tailstock, the axis magazine or the clamp (a machine axis number) as the
+    axis's name; False when there is none."""
+    if device not in _AXIS_DEVICES:
         return True
     number = values["axis"]
     if number > len(axes):

@@ -337,6 +337,10 @@ STANDSTILL_POS_TOL = MdDef(36030, "STANDSTILL_POS_TOL", A, FLOAT, 0.2, "standsti
                            "[control]", "mm", 0.0, 1.0e6)
 STANDSTILL_DELAY_TIME = MdDef(36040, "STANDSTILL_DELAY_TIME", A, FLOAT, 0.4,
                               "delay before standstill monitoring starts", "[control]", "s", 0.0, 1.0e5)
+CLAMP_POS_TOL = MdDef(36050, "CLAMP_POS_TOL", A, FLOAT, 0.5,
+                      "clamping tolerance: how far a clamped axis (DB31.DBX2.3) may leave its position (alarm 26000)",
+                      "seed 003 L15436, L15524 (DB31.DBX2.3); [control] number, meaning and default", "mm",
+                      0.0, 1.0e6)
 STANDSTILL_VELO_TOL = MdDef(36060, "STANDSTILL_VELO_TOL", A, FLOAT, 0.2,
                             "maximum velocity for 'axis/spindle stationary'", "seed 003 L20780-20787;"
                             " [control] default", "mm/min", 0.0, 1.0e6)
@@ -889,6 +893,44 @@ POLYGON_MASTER_ACC_TIME = MdDef(62904, "POLYGON_MASTER_ACC_TIME", C, FLOAT, 0.0,
                                 "master's acceleration time constant while synchronous, from the start speed to"
                                 " MD32000 (GSK parameter 0163); 0 = the gear stage's ramp; project machine datum",
                                 "seed 002 L154-163", "ms", 0.0, 10000.0)
+
+# ---------------------------------------------------------------------------------- indexing axes (chapter 11)
+# Two index position tables of the NC (L13560-13605) and the axis's assignment to one of them or to
+# equidistant indexing (MD30500 = 3, L13548-13560, §11.3.2).  The table's positions ascend and differ
+# (L13578-13580); on a modulo axis they lie in 0 <= p < 360 (L13586); the loader checks both.
+INDEX_AX_LENGTH_POS_TAB_1 = MdDef(10900, "INDEX_AX_LENGTH_POS_TAB_1", N, INT, 0,
+                                  "number of index positions of table 1 (entries beyond it do not count)",
+                                  "seed 003 L13594-13603; [control] default", "", 0, 60)
+INDEX_AX_POS_TAB_1 = MdDef(10910, "INDEX_AX_POS_TAB_1", N, FLOAT, (0.0,) * 60,
+                           "index position table 1: ascending positions in mm or degrees",
+                           "seed 003 L13562-13586, example L14131-14142", "mm", -1.0e8, 1.0e8, 60)
+INDEX_AX_LENGTH_POS_TAB_2 = MdDef(10920, "INDEX_AX_LENGTH_POS_TAB_2", N, INT, 0,
+                                  "number of index positions of table 2 (entries beyond it do not count)",
+                                  "seed 003 L13594-13603; [control] default", "", 0, 60)
+INDEX_AX_POS_TAB_2 = MdDef(10930, "INDEX_AX_POS_TAB_2", N, FLOAT, (0.0,) * 60,
+                           "index position table 2: ascending positions in mm or degrees",
+                           "seed 003 L13562-13586, example L14170-14183", "mm", -1.0e8, 1.0e8, 60)
+INDEX_AX_MODE = MdDef(10940, "INDEX_AX_MODE", N, INT, 0,
+                      "bit 0: the index position shown changes at the exact stop fine window of the next"
+                      " position (0) or half-way to it (1)", "seed 003 L13634-13680; [control] default",
+                      "", 0, 1)
+INDEX_AX_ASSIGN_POS_TAB = MdDef(30500, "INDEX_AX_ASSIGN_POS_TAB", A, INT, 0,
+                                "indexing axis: 0 = none, 1 / 2 = index position table 1 / 2,"
+                                " 3 = equidistant index positions", "seed 003 L13546-13557; [control] default",
+                                "", 0, 3, allowed=(0, 1, 2, 3))
+INDEX_AX_NUMERATOR = MdDef(30501, "INDEX_AX_NUMERATOR", A, FLOAT, 0.0,
+                           "equidistant indexing: numerator of the spacing (ignored on a modulo axis: MD30330)",
+                           "seed 003 L14210-14216, L14290; [control] default", "mm", 0.0, 1.0e8)
+INDEX_AX_DENOMINATOR = MdDef(30502, "INDEX_AX_DENOMINATOR", A, INT, 1,
+                             "equidistant indexing: the spacing is numerator / denominator; on a modulo axis"
+                             " the number of index positions", "seed 003 L14220-14224; [control] default",
+                             "", 1, 999_999_999)
+INDEX_AX_OFFSET = MdDef(30503, "INDEX_AX_OFFSET", A, FLOAT, 0.0,
+                        "equidistant indexing: the first index position", "seed 003 L13557-13560, L14225",
+                        "mm", -1.0e8, 1.0e8)
+HIRTH_IS_ACTIVE = MdDef(30505, "HIRTH_IS_ACTIVE", A, BOOL, False,
+                        "indexing axis with Hirth joint (the loader refuses 1: not built)",
+                        "seed 003 L13740-13767")
 
 # ---------------------------------------------------------------------------------- index
 

@@ -102,6 +102,19 @@ class DcLinkConfig:
 
 
 @dataclass(frozen=True, slots=True)
+class IndexDivision:
+    """The index positions of an indexing axis (seed 003 chapter 11, MD30500): the positions of its
+    table (MD10910 / MD10930, as many as MD10900 / MD10920), position 1 the table's first; or
+    equidistant ones (MD30500 = 3): position n at ``offset + (n - 1) x spacing``, ``count`` of them
+    in a turn of a modulo axis (MD30502), unbounded on any other axis (``count`` 0)."""
+
+    table: tuple[float, ...] = ()
+    offset: float = 0.0  # MD30503 INDEX_AX_OFFSET
+    spacing: float = 0.0  # MD30501 / MD30502; on a modulo axis MD30330 / MD30502
+    count: int = 0
+
+
+@dataclass(frozen=True, slots=True)
 class AxisConfig:
     name: str  # machine axis name (MD10000), also the interface instance name
     number: int  # machine axis number, 1-based: interface DB(30 + number)
@@ -111,6 +124,7 @@ class AxisConfig:
     sim: AxisSimulation = field(default_factory=AxisSimulation)
     plant: AxisPlant = field(default_factory=AxisPlant)
     drive: DriveParameters = field(default_factory=DriveParameters)
+    indexing: IndexDivision | None = None  # an indexing axis (MD30500 > 0): its index positions
 
     @property
     def is_spindle(self) -> bool:
@@ -223,6 +237,16 @@ class AxisMagazinePlant:
 
 
 @dataclass(frozen=True, slots=True)
+class ClampPlant:
+    """The clamp of an axis (a rotary table's), closed by the PLC once the axis stands
+    (vc/plant/clamp.py); DB31.DBX2.3 tells the NC (its clamping monitor)."""
+
+    axis: str  # the machine axis it clamps
+    travel_time_s: float  # s from open to closed and back
+    load: float  # mm/min or deg/min the machining load pushes the axis with once the clamp gives way
+
+
+@dataclass(frozen=True, slots=True)
 class TurretPlant:
     """A tool turret indexed by the PLC: a disk with its stations, an indexing drive, a lock pin."""
 
@@ -258,6 +282,7 @@ class MachinePlant:
     tool_changer: ToolChangerPlant | None = None
     tailstock: TailstockPlant | None = None
     axis_magazine: AxisMagazinePlant | None = None
+    clamp: ClampPlant | None = None
 
 
 @dataclass(frozen=True, slots=True)

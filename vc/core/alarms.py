@@ -118,6 +118,12 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         Clear.RESET, "seed 003 L13123-13124"),
         AlarmDefinition(16830, "Channel %1 block %2 axis %3 incorrect modulo position programmed", _STOP,
                         Clear.RESET, "seed 003 L13150-13152"),
+        AlarmDefinition(17500, "Channel %1 block %2 axis %3 is not an indexing axis", _STOP, Clear.RESET,
+                        "[control] number and text: CAC / CACP / CACN / CDC / CIC for an axis without MD30500"
+                        " (seed 003 §11.4 names no alarm)"),
+        AlarmDefinition(17510, "Channel %1 block %2 invalid index for indexing axis %3", _STOP, Clear.RESET,
+                        "[control] number and text: a coded position that names no index position of the"
+                        " axis (seed 003 L13868: 0 .. 59, an integer)"),
         AlarmDefinition(16105, "Channel %1 block %2 assigned spindle %3 does not exist", _STOP, Clear.RESET,
                         "seed 003 L20232-20235, L20328"),
         AlarmDefinition(16111, "Channel %1 block %2 spindle %3 no speed programmed", _STOP, Clear.RESET,
@@ -201,6 +207,9 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         "seed 003 L2038-2040"),
         AlarmDefinition(25040, "Axis %1 standstill monitoring", _STOP | Reaction.RAPID_STOP, Clear.RESET,
                         "[control]"),
+        AlarmDefinition(26000, "Axis %1 clamping monitoring", _STOP | Reaction.RAPID_STOP, Clear.RESET,
+                        "[control] number and text: the clamped axis (DB31.DBX2.3) left its position by more than"
+                        " MD36050; the seed names DB31.DBX2.3 only (L15436, L15524)"),
         AlarmDefinition(25050, "Axis %1 contour monitoring", _STOP | Reaction.RAPID_STOP, Clear.RESET,
                         "[control]"),
         AlarmDefinition(25080, "Axis %1 positioning monitoring", _STOP | Reaction.RAPID_STOP, Clear.RESET,

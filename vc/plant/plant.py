@@ -29,6 +29,7 @@ from interfaces.signals import SignalRef
 from vc.config.model import AxisConfig, MachineConfig
 from vc.plant.axis_magazine import AxisMagazine
 from vc.plant.chuck import Chuck
+from vc.plant.clamp import AxisClamp
 from vc.plant.coolant import Coolant
 from vc.plant.gearbox import Gearbox
 from vc.plant.tailstock import Tailstock
@@ -126,8 +127,10 @@ class Plant:
         # a magazine turned by an NC axis: its pocket sensor follows the axis's slide
         self.axis_magazine = AxisMagazine(devices.axis_magazine, self._io, ipo_cycle_us,
                                           slide_of[devices.axis_magazine.axis]) if devices.axis_magazine else None
+        # the clamp holds its axis's slide: the composed machine hands it to the axis as well
+        self.clamp = AxisClamp(devices.clamp, self._io, ipo_cycle_us) if devices.clamp else None
         self._devices: list[Device] = [device for device in (self.turret, self.tool_changer, coolant, self.tailstock,
-                                                             self.axis_magazine) if device is not None]
+                                                             self.axis_magazine, self.clamp) if device is not None]
         # the devices rest until the PLC changes an output or one of them still moves
         self._outputs_seen = b""
         self._devices_moving = True

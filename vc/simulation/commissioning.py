@@ -51,6 +51,9 @@ def _devices(machine: MachineConfig) -> dict[str, dict[str, float]]:
     if plant.axis_magazine is not None:
         magazine = next(axis for axis in machine.axes if axis.name == plant.axis_magazine.axis)
         devices["axis_magazine"] = {"axis_db": magazine.db, "pockets": plant.axis_magazine.pockets}
+    if plant.clamp is not None:
+        clamped = next(axis for axis in machine.axes if axis.name == plant.clamp.axis)
+        devices["clamp"] = {"axis_db": clamped.db, "travel_time": plant.clamp.travel_time_s}
     return devices
 
 
@@ -288,4 +291,12 @@ def _device_needs(machine: MachineConfig, point: Callable[[str], str | None]) ->
             f" AxisMagazine.unlocked (AxisMagazine.unlock pulls the pin in {magazine.lock_time_s:g} s); dropping"
             f" the solenoid engages the pin within {magazine.window:g} degrees of a pocket (AxisMagazine.locked,"
             " AxisMagazine.inPocket); AxisMagazine.driveReady is the drive's ready contact"))
+    if plant.clamp is not None:
+        clamp = plant.clamp
+        needs.append(PlantNeed(
+            "Clamp", "clamp", wired("Clamp.close", "Clamp.closed", "Clamp.opened"), (),
+            f"The clamp of {clamp.axis}: Clamp.close closes it in {clamp.travel_time_s:g} s (Clamp.closed), dropping it"
+            f" opens it (Clamp.opened); closed, it holds {clamp.axis}. Set {clamp.axis}.basic.out.clampingInProgress"
+            f" while it clamps (the NC's clamping monitor, MD36050, alarm 26000) and open it before"
+            f" {clamp.axis} moves"))
     return needs

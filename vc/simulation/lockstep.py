@@ -89,6 +89,9 @@ class Simulation:
         tailstock = self.plant.tailstock
         if tailstock is not None:
             self.nck.axes_by_name[tailstock.axis].obstacle = tailstock  # the part is the quill's fixed stop
+        clamp = self.plant.clamp
+        if clamp is not None:
+            self.nck.axes_by_name[clamp.axis].obstacle = clamp  # closed, it holds the slide
         self.plc: SoftPlc | None = None
         if self.plc_name is not None:
             scan_time = self.plc_period * self.nck.cycle_us / 1_000_000
@@ -375,6 +378,8 @@ class Simulation:
             return
         if kind in DEVICE_FAULTS:
             self.plant.inject(DEVICE_FAULTS[kind], kind)
+            if self.plant.clamp is not None and DEVICE_FAULTS[kind] == self.plant.clamp.name:
+                self.nck.axes_by_name[self.plant.clamp.axis].resting = False  # the load acts on a standing axis
             return
         item = self.nck.axes_by_name[axis]
         measuring_system = item.encoders[encoder - 1]

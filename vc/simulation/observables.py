@@ -108,10 +108,12 @@ def quantity_unit(machine: MachineConfig, instance: str, quantity: str) -> str:
 #   no_part                  no part in the tailstock: the quill finds no fixed stop
 #   axis_magazine_lock_sensor  the axis magazine's "locked" sensor wire is broken: it reads 0
 #   axis_magazine_drive_fault  the axis magazine's drive reports not ready
+#   clamp_not_closing        the axis clamp does not close: Clamp.closed never comes
+#   clamp_opening            the closed axis clamp gives way under the load, which pushes the axis
 DEVICE_FAULTS = {"turret_sensor_missing": "Turret", "turret_lock_jammed": "Turret", "turret_drive_stalled": "Turret",
                  "coolant_pressure_lost": "Coolant", "magazine_stalled": "Magazine", "tool_arm_stuck": "ToolArm",
                  "stop_lost": "Tailstock", "no_part": "Tailstock", "axis_magazine_lock_sensor": "AxisMagazine",
-                 "axis_magazine_drive_fault": "AxisMagazine"}
+                 "axis_magazine_drive_fault": "AxisMagazine", "clamp_not_closing": "Clamp", "clamp_opening": "Clamp"}
 FAULTS = ("zero_marks_missing", "reference_marks_missing", "encoder_slip", "load_disturbance", "workpiece_clamp",
           "mains_failure", *DEVICE_FAULTS)
 MACHINE_FAULTS = ("mains_failure", *DEVICE_FAULTS)  # faults of the whole machine or a device: no axis
@@ -122,7 +124,8 @@ def machine_devices(machine: MachineConfig) -> tuple[str, ...]:
     plant = machine.plant
     return tuple(name for name, present in (("Turret", plant.turret), ("Coolant", plant.coolant),
                                             ("Magazine", plant.tool_changer), ("ToolArm", plant.tool_changer),
-                                            ("Tailstock", plant.tailstock), ("AxisMagazine", plant.axis_magazine))
+                                            ("Tailstock", plant.tailstock), ("AxisMagazine", plant.axis_magazine),
+                                            ("Clamp", plant.clamp))
                  if present is not None)
 MAINS = "mains"  # clear_faults: mains - the supply is back
 

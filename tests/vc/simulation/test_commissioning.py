@@ -25,6 +25,8 @@ from vc.simulation.commissioning import commissioning_of
 
 LATHE_WITH_TAILSTOCK = str(Path(__file__).resolve().parents[3] / "scenarios" / "fixed_stop" / "machines"
                            / "lathe_tailstock.yaml")
+ROTARY_TABLE = str(Path(__file__).resolve().parents[3] / "scenarios" / "indexing_axes" / "machines"
+                   / "rotary_table.yaml")
 
 
 def facts(machine: MachineConfig) -> Commissioning:
@@ -56,7 +58,9 @@ def test_what_the_plant_needs_from_the_plc_names_its_inputs_outputs_and_signals(
     needs = {need.name: need for need in facts(load_machine("turn_mill")).needs}
     mill = {need.name: need for need in facts(load_machine("mill_3axis")).needs}
     lathe = {need.name: need for need in facts(load_machine(LATHE_WITH_TAILSTOCK)).needs}  # no packaged one has it
-    assert set(RULES) == {need.rule for need in (*needs.values(), *mill.values(), *lathe.values())}
+    table = {need.name: need for need in facts(load_machine(ROTARY_TABLE)).needs}  # nor the clamp
+    assert set(RULES) == {need.rule for need in (*needs.values(), *mill.values(), *lathe.values(), *table.values())}
+    assert "Clamp.close (Q0.6)" in table["Clamp"].plant_io and "C1.basic.out.clampingInProgress" in table["Clamp"].text
     assert "Turret.unlock (Q2.2)" in needs["Turret"].plant_io and "8 stations" in needs["Turret"].text
     assert "ToolArm.toSpindle (Q0.3)" in mill["ToolChanger"].plant_io and "12 pockets" in mill["ToolChanger"].text
     assert "DB21.DBX6.1" in needs["CHAN1.auxiliaryFunctions"].interface

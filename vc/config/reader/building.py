@@ -13,8 +13,8 @@ import dataclasses
 from interfaces.signals import NCK_INSTANCE
 from vc.config import md_dictionary as mdd
 from vc.config.machine_data import MachineData
-from vc.config.model import AxisConfig, ChannelConfig, ChuckPlant, GearboxPlant, MachineConfig
-from vc.config.reader.located import AxisEntry, ChannelEntry, LocatedMachine
+from vc.config.model import AxisConfig, ChannelConfig, ChuckPlant, GearboxPlant, IndexDivision, MachineConfig
+from vc.config.reader.located import AxisEntry, ChannelEntry, Instance, LocatedMachine
 
 
 def build_machine(machine: LocatedMachine, source: str) -> MachineConfig:
@@ -24,7 +24,7 @@ def build_machine(machine: LocatedMachine, source: str) -> MachineConfig:
         source=source,
         nck=MachineData(NCK_INSTANCE, machine.nck.values()),
         channels=tuple(_channel(number, entry) for number, entry in enumerate(machine.channels.values(), start=1)),
-        axes=tuple(_axis(number, entry) for number, entry in enumerate(machine.axes.values(), start=1)),
+        axes=tuple(_axis(number, entry, machine.nck) for number, entry in enumerate(machine.axes.values(), start=1)),
         plant_io=machine.plant_io,
         plc_parameters=machine.plc_parameters,
         plc_cycle_ipo=machine.plc_cycle_ipo,
@@ -35,10 +35,28 @@ def build_machine(machine: LocatedMachine, source: str) -> MachineConfig:
     )
 
 
-def _axis(number: int, entry: AxisEntry) -> AxisConfig:
+def _axis(number: int, entry: AxisEntry, nck: Instance) -> AxisConfig:
     plant = dataclasses.replace(entry.plant, gearbox=_gearbox(entry), chuck=_chuck(entry))
     return AxisConfig(entry.name, number, MachineData(entry.name, entry.data.values()),
-                      bool(entry.data.value(mdd.IS_ROT_AX)), entry.spindle_number, entry.sim, plant, entry.drive)
+                      bool(entry.data.value(mdd.IS_ROT_AX)), entry.spindle_number, entry.sim, plant, entry.drive,
+                      index_division(entry.data, nck))
+
+
+def index_division(data: Instance, nck: Instance) -> IndexDivision | None:
+    """The index positions MD30500 assigns the axis (seed 003 L13546-13605, §11.3.2), None for no
+    indexing axis; checking has made sure they ascend and lie in a modulo axis's range."""
+    assignment = int(data.value(mdd.INDEX_AX_ASSIGN_POS_TAB))
+    if assignment in (1, 2):
+        length, table = (mdd.INDEX_AX_LENGTH_POS_TAB_1, mdd.INDEX_AX_POS_TAB_1) if assignment == 1 else \
+            (mdd.INDEX_AX_LENGTH_POS_TAB_2, mdd.INDEX_AX_POS_TAB_2)
+        return IndexDivision(table=tuple(float(nck.value(table, n)) for n in range(int(nck.value(length)))))
+    if assignment == 3:
+        denominator = int(data.value(mdd.INDEX_AX_DENOMINATOR))
+        modulo = bool(data.value(mdd.IS_ROT_AX)) and bool(data.value(mdd.ROT_IS_MODULO))
+        numerator = float(data.value(mdd.MODULO_RANGE if modulo else mdd.INDEX_AX_NUMERATOR))  # L14210-14216
+        return IndexDivision(offset=float(data.value(mdd.INDEX_AX_OFFSET)), spacing=numerator / denominator,
+                             count=denominator if modulo else 0)
+    return None
 
 
 def _gearbox(entry: AxisEntry) -> GearboxPlant | None:

@@ -123,6 +123,50 @@ class _Checker:
         self._check_gearbox(entry, spindle)
         self._check_chuck(entry, spindle)
         self._check_generator(entry)
+        self._check_indexing(entry)
+
+    def _check_indexing(self, entry: AxisEntry) -> None:
+        """An indexing axis (MD30500): its table has positions, ascending, each different, inside a
+        modulo axis's range (L13578-13603); equidistant ones a spacing; no Hirth joint (not built)."""
+        data, nck = entry.data, self.machine.nck
+        assignment = int(data.value(mdd.INDEX_AX_ASSIGN_POS_TAB))
+        if not assignment:
+            return
+        mark = data.mark_of(mdd.INDEX_AX_ASSIGN_POS_TAB)
+        if entry.is_spindle:
+            self.add(mark, f"{entry.name}: a spindle cannot be an indexing axis (MD30500 = {assignment})")
+        if data.value(mdd.HIRTH_IS_ACTIVE):
+            self.add(data.mark_of(mdd.HIRTH_IS_ACTIVE),
+                     f"{entry.name}: MD30505 HIRTH_IS_ACTIVE = 1, the Hirth joint, is not built; write 0")
+        modulo = bool(data.value(mdd.IS_ROT_AX)) and bool(data.value(mdd.ROT_IS_MODULO))
+        if assignment == 3:
+            if not modulo and not float(data.value(mdd.INDEX_AX_NUMERATOR)):
+                self.add(data.mark_of(mdd.INDEX_AX_NUMERATOR),
+                         f"{entry.name}: equidistant indexing (MD30500 = 3) on an axis without modulo needs"
+                         " MD30501 INDEX_AX_NUMERATOR above 0")
+            return
+        length_md, table_md = (mdd.INDEX_AX_LENGTH_POS_TAB_1, mdd.INDEX_AX_POS_TAB_1) if assignment == 1 else \
+            (mdd.INDEX_AX_LENGTH_POS_TAB_2, mdd.INDEX_AX_POS_TAB_2)
+        length = int(nck.value(length_md))
+        if not length:
+            self.add(mark, f"{entry.name}: MD30500 = {assignment} assigns index position table {assignment},"
+                           f" but {length_md.label} is 0")
+            return
+        positions = [float(nck.value(table_md, n)) for n in range(length)]
+        for n in range(1, length):
+            if positions[n] <= positions[n - 1]:
+                self.add(nck.mark_of(table_md, n),
+                         f"{table_md.label}[{n}] = {positions[n]:g}: the index positions must ascend and differ"
+                         f" (L13578-13580), [{n - 1}] is {positions[n - 1]:g}")
+                return
+        if modulo:
+            start = float(data.value(mdd.MODULO_RANGE_START))
+            end = start + float(data.value(mdd.MODULO_RANGE))
+            outside = next((n for n, position in enumerate(positions) if not start <= position < end), None)
+            if outside is not None:
+                self.add(nck.mark_of(table_md, outside),
+                         f"{table_md.label}[{outside}] = {positions[outside]:g}: {entry.name} is a modulo axis,"
+                         f" its index positions lie in {start:g} <= p < {end:g} (L13586)")
 
     def _check_generator(self, entry: AxisEntry) -> None:
         """Generator operation needs the DC link it buffers, the Vdc_min controller on, a threshold

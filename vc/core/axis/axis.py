@@ -34,6 +34,8 @@ from vc.core.alarms import AlarmList
 from vc.core.axis.drf import DrfOffset
 from vc.core.axis.dynamics import CoupledLoop, dynamics_of, jerk_filter_of
 from vc.core.axis.encoder import MeasuringSystem
+from vc.core.axis.index_jog import IndexJog
+from vc.core.axis.indexing import IndexPositions
 from vc.core.axis.jog import FREE_JOG, AxisJog, JogLimits
 from vc.core.axis.motion import ramp
 from vc.core.axis.owner import Owner
@@ -64,6 +66,7 @@ class MachineAxis:
         self.channel = channel
         self.dyn = dynamics_of(config)
         self.modulo_range = modulo_range_of(config)
+        self.index = IndexPositions.of(config)  # an indexing axis's positions (MD30500), else None
         self._decode = table.codec(AxisInputs).decode
         self._encode = table.codec(AxisStatus).encode
         self._area = area
@@ -94,6 +97,8 @@ class MachineAxis:
         self._fine_reached = True
         self.at_software_limit = 0  # -1 / +1 while resting on the minus / plus software limit switch
         self.jog = AxisJog(dt)  # the traverse keys and the handwheel in JOG
+        # JOG of an indexing axis to its index positions, once it is referenced (L13405-13407)
+        self.index_jog = IndexJog(self.index, dt) if self.index is not None else None
         self.loop = PositionLoop(dt, self.actual, jerk_filter_of(config, self.dyn, dt, self.actual))
         self.resting = False  # at rest and no input changed since: the cycle may skip the axis
         self.coordinate_shift = 0.0  # the sum of every shift(): the NC coordinates against the first ones
@@ -373,9 +378,14 @@ class MachineAxis:
         """JOG: the handwheel's distance still to travel."""
         return self.jog.handwheel_rest
 
-    def jog_cycle(self, allowed: bool, channel_feed_disable: bool, limits: JogLimits = FREE_JOG) -> None:
-        """Continuous JOG with the traverse keys (level-triggered), or the handwheel's travel, one IPO cycle."""
-        self.jog.cycle(self, allowed, channel_feed_disable, limits)
+    def jog_cycle(self, allowed: bool, channel_feed_disable: bool, limits: JogLimits = FREE_JOG,
+                  step: bool = False) -> None:
+        """Continuous JOG with the traverse keys (level-triggered), or the handwheel's travel, one IPO
+        cycle; a referenced indexing axis jogs to its index positions (``step``: INC selected)."""
+        if self.index_jog is not None and self.referenced and not self.jog.handwheel_rest:
+            self.index_jog.cycle(self, allowed, channel_feed_disable, limits, step)
+        else:
+            self.jog.cycle(self, allowed, channel_feed_disable, limits)
 
     def _brake_cycle(self) -> None:
         velocity = ramp(self.command_velocity, 0.0, self._brake_decel, self._dt)
@@ -530,8 +540,13 @@ class MachineAxis:
                 self._fine_reached = True
             elif not self._fine_reached and elapsed > dyn.positioning_time:
                 alarms.raise_alarm(25080, cycle, self.name, channel=self.channel, axis=self.name)
-            if self._fine_reached and elapsed > dyn.standstill_delay and error > dyn.standstill_tolerance:
-                alarms.raise_alarm(25040, cycle, self.name, channel=self.channel, axis=self.name)
+            # DB31.DBX2.3 "clamping in progress": the clamping monitor (MD36050, alarm 26000) takes the
+            # standstill monitor's place, as the clamp may push the axis further [control]
+            clamping = self.inputs.clamping
+            tolerance = dyn.clamp_tolerance if clamping else dyn.standstill_tolerance
+            if self._fine_reached and elapsed > dyn.standstill_delay and error > tolerance:
+                alarms.raise_alarm(26000 if clamping else 25040, cycle, self.name, channel=self.channel,
+                                   axis=self.name)
         else:
             self._fine_reached = False
         if self.at_software_limit:
@@ -563,10 +578,15 @@ class MachineAxis:
         # DB31.DBX74.4: the limits of a modulo rotary axis act (DBX12.4 and referenced, L12936-12946)
         modulo_limit_active = self.inputs.modulo_limit_enable and self.modulo_range is not None and \
             self.software_limits_active
+        # DB31.DBX76.6: an indexing axis stands on an index position within MD36010 (L13823-13829),
+        # once it is referenced [INF: the seed counts index positions only then, L13405-13407]
+        index_in_position = self.index is not None and exact_fine and self.referenced and \
+            self.index.standing_on(self.actual, dyn.fine_window) > 0
         # a plain tuple first: compared every cycle, the status is built (by keyword) only when it changed
         status = (exact_coarse, exact_fine, stationary, position_control, self.follow_up, first.referenced,
                   referenced_2, first.restored, restored_2, first.frequency_exceeded, frequency_exceeded_2,
-                  self.disabled, command_plus, command_minus, self.drive_enabled, modulo_limit_active)
+                  self.disabled, command_plus, command_minus, self.drive_enabled, modulo_limit_active,
+                  index_in_position)
         if status == self._status:
             return
         self._status = status
@@ -575,4 +595,5 @@ class MachineAxis:
             follow_up_active=self.follow_up, referenced_1=first.referenced, referenced_2=referenced_2,
             restored_1=first.restored, restored_2=restored_2, frequency_exceeded_1=first.frequency_exceeded,
             frequency_exceeded_2=frequency_exceeded_2, disabled=self.disabled, command_plus=command_plus,
-            command_minus=command_minus, drive_enabled=self.drive_enabled, modulo_limit_active=modulo_limit_active))
+            command_minus=command_minus, drive_enabled=self.drive_enabled, modulo_limit_active=modulo_limit_active,
+            index_in_position=index_in_position))

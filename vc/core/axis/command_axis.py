@@ -211,10 +211,11 @@ class CommandAxis:
         self.write_status()
 
     # ------------------------------------------------------------------ the cycle
-    def cycle(self, program_held: bool) -> None:
+    def cycle(self, program_held: bool, channel_override_zero: bool = False) -> None:
         """One IPO cycle: DB31.DBX2.2 on its rising edge resets; then the state's own step.
         ``program_held``: NC stop, a stopping alarm or the feed disable of the channel hold a
-        positioning motion of its program."""
+        positioning motion of its program; the channel's feed override at 0 holds an indexing
+        axis's too (L13955-13961), which the channel's override does not move otherwise."""
         level = self.axis.inputs.reset_movement
         edge, self._reset_level = level and not self._reset_level, level
         if edge and self.state is not CommandState.PLC_POSITIONING:
@@ -222,7 +223,7 @@ class CommandAxis:
         elif self.state is CommandState.TRAVERSING:
             self._traverse(False)
         elif self.state is CommandState.POSITIONING:
-            self._traverse(program_held)
+            self._traverse(program_held or (channel_override_zero and self.axis.index is not None))
         elif self.state is CommandState.PLC_POSITIONING:
             self._traverse(self.plc_held)
 
@@ -306,11 +307,11 @@ class CommandAxes:
                 command.motion_feed = feed
             command.write_status()
 
-    def cycle(self, program_held: bool) -> None:
+    def cycle(self, program_held: bool, channel_override_zero: bool = False) -> None:
         active = False
         for command in self.by_name.values():
             if command.busy:
-                command.cycle(program_held)
+                command.cycle(program_held, channel_override_zero)
                 active = active or command.busy
         self.active = active
 

@@ -38,6 +38,7 @@ class AxisDynamics:
     positioning_time: float
     standstill_tolerance: float
     standstill_delay: float
+    clamp_tolerance: float  # MD36050: the clamping monitor's tolerance while DB31.DBX2.3 is set
     servo_disable_delay: float
     limit_minus: float
     limit_plus: float
@@ -75,6 +76,7 @@ def dynamics_of(axis: AxisConfig) -> AxisDynamics:
         positioning_time=md.float(MD.POSITIONING_TIME),
         standstill_tolerance=md.float(MD.STANDSTILL_POS_TOL),
         standstill_delay=md.float(MD.STANDSTILL_DELAY_TIME),
+        clamp_tolerance=md.float(MD.CLAMP_POS_TOL),
         servo_disable_delay=md.float(MD.SERVO_DISABLE_DELAY_TIME),
         limit_minus=md.float(MD.POS_LIMIT_MINUS),
         limit_plus=md.float(MD.POS_LIMIT_PLUS),

@@ -311,7 +311,8 @@ class Channel:
             # a command axis independent of the program's state (L11215-11227); a positioning axis of
             # the program held by NC stop, a stopping alarm and the feed disable (L11044-11066)
             self.command_axes.cycle(run.state is not ChannelState.ACTIVE or self.inputs.feed_disable
-                                    or bool(self._alarms.reactions(self.name) & STOP_AXES))
+                                    or bool(self._alarms.reactions(self.name) & STOP_AXES),
+                                    self.inputs.feed_override == 0.0)
         reactions = self._alarms.reactions(self.name)
         if reactions & CHANNEL_INTERRUPT and run.state is ChannelState.ACTIVE:
             self.stop()

@@ -86,12 +86,17 @@ class ManualFunctions:
                 # rest needs it only when a key or its handwheel asks it to move (limits cost time)
                 inputs = axis.inputs
                 asked = jog_allowed and (inputs.key_plus != inputs.key_minus or axis.handwheel_rest != 0.0)
-                if (asked or axis.owner is Owner.JOG) and not axis.is_spindle:
+                index_jog = axis.index_jog  # an indexing axis runs out to, or waits on, an index position
+                if (asked or axis.owner is Owner.JOG or (index_jog is not None and index_jog.busy)) \
+                        and not axis.is_spindle:
                     limits = retraction.jog_limits(axis)
                     if inclined is not None:
                         limits = limits.and_(inclined.jog_limits(axis))
                     limits = limits.and_(channel.stroke_jog_limits(axis, cycle))  # G22, stroke limit 3
-                    axis.jog_cycle(jog_allowed, feed_disable, limits)
+                    # an INC machine function takes an indexing axis to the next index position (L13463-13465)
+                    step = index_jog is not None and \
+                        increment_of(self._handwheel.read(self.image.area(axis.area_key))) > 0.0
+                    axis.jog_cycle(jog_allowed, feed_disable, limits, step)
         for retraction in self.retractions.values():
             retraction.follow()
 

@@ -15,6 +15,7 @@ from typing import Any, Generic, TypeVar
 from interfaces.signals import MODE_GROUP_INSTANCE
 from vc.core.auxiliary.output import AUX_OUTPUT_STATES
 from vc.core.axis.command_axis import COMMAND_AXIS_STATES
+from vc.core.axis.index_jog import INDEX_JOG_STATES
 from vc.core.axis.plc_axis import FC18_JOB_STATES, PLC_AXIS_TYPES
 from vc.core.channel.program_run import CHANNEL_STATES, PROGRAM_STATES
 from vc.core.fixed_stop.fixed_stop import FIXED_STOP_STATES
@@ -67,6 +68,8 @@ PUBLISHED: tuple[Published[Any], ...] = (
                                            for name, plc in channel.plc_axes.by_name.items()]),
     Published(FC18_JOB_STATES, lambda nck: [(name, plc) for channel in nck.channels
                                             for name, plc in channel.plc_axes.by_name.items()]),
+    Published(INDEX_JOG_STATES, lambda nck: [(axis.name, axis.index_jog) for axis in nck.axes
+                                             if axis.index_jog is not None]),
     Published(MANUAL_RETRACTION_STATES, lambda nck: [(channel.name, nck.retractions[channel.name])
                                                      for channel in nck.channels]),
 )

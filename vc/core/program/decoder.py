@@ -13,6 +13,7 @@ from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.axis import rotary
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.indexing import ALARM_NOT_AN_INDEXING_AXIS, CODED_POSITIONS
 from vc.core.axis.rotary import ROTARY_MODES
 from vc.core.program.block_plan import BlockPlan, DecodeAlarm, ModalState
 from vc.core.program.commands import SpindleCommand
@@ -110,6 +111,8 @@ class BlockDecoder:
         it counts from ``given`` (an end point already in the block), the program position or the
         setpoint.  Under a five-axis transform the values are program coordinates, taken as written;
         a spindle's axis words keep their own rules (SPOS, ``spindle_words``)."""
+        if isinstance(value, ValueFunction) and value.name in CODED_POSITIONS:
+            return self._coded_end_point(machine_axis, name, value, given)
         if isinstance(value, ValueFunction) and value.name in _END_POINT_FUNCTIONS:
             mode, number = value.name, value.value
         elif isinstance(value, float):
@@ -125,6 +128,22 @@ class BlockDecoder:
                 mode in ("AC", "G90", "IC"):
             return start + number if mode == "IC" else number  # a spindle in axis mode counts on [control]
         end, alarm = rotary.end_point(axis.config, start, mode, number)
+        if alarm:
+            self.fail(alarm, self.channel.name, self.block.label, name, axis=machine_axis)
+            return None
+        return end
+
+    def _coded_end_point(self, machine_axis: str, name: str, value: ValueFunction,
+                         given: Mapping[str, float]) -> float | None:
+        """``CAC(i)``, ``CACP(i)``, ``CACN(i)``, ``CDC(i)``, ``CIC(i)`` of an indexing axis (seed 003
+        §11.4, ``vc/core/axis/indexing.py``): the end point of index position i; 17500 on an axis
+        that is no indexing axis, 17510 for a number that names no index position."""
+        axis = self.axes[machine_axis]
+        if axis.index is None:
+            self.fail(ALARM_NOT_AN_INDEXING_AXIS, self.channel.name, self.block.label, name, axis=machine_axis)
+            return None
+        start = given.get(machine_axis, axis.setpoint)
+        end, alarm = axis.index.coded_end_point(axis.config, start, value.name, value.value, axis.dyn.fine_window)
         if alarm:
             self.fail(alarm, self.channel.name, self.block.label, name, axis=machine_axis)
             return None

@@ -67,6 +67,7 @@ STATUS_SIGNALS = {
     "frequency_exceeded_2": "basic.in.enc2FreqLimitExceeded", "disabled": "basic.in.disabled",
     "command_plus": "basic.in.traversPlusCommandActive", "command_minus": "basic.in.traversMinusCommandActive",
     "drive_enabled": "drive.in.enabled", "modulo_limit_active": "basic.in.moduloLimitSwitchActive",
+    "index_in_position": "basic.in.indexAxisInPos",
 }
 
 

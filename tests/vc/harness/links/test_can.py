@@ -148,7 +148,8 @@ def test_a_plc_that_cannot_run_the_program_is_reported() -> None:
             Simulation(TURN_MILL, "basic_machine", connector=link)
         assert "no PLC has started session 1 on the CAN bus" in str(caught.value)
         assert ("cannot run: no PLC program 'nonesuch' (known: basic_machine, coolant, manual_retraction, polygon,"
-                " referencing, retraction, spindle, sync_spindle, tailstock, tool_change, turret)") in str(caught.value)
+                " referencing, retraction, rotary_table, spindle, sync_spindle, tailstock, tool_change,"
+                " turret)") in str(caught.value)
         assert child.wait(10) == 2
     finally:
         link.close()
