@@ -255,6 +255,20 @@ class DriveEsrStatus:
     below_minimum_speed: bool = signal("drive.in.esrSpeedBelowMin")  # r2199.0
 
 
+@dataclass(frozen=True, slots=True, kw_only=True)
+class DriveMessageStatus:
+    """The drive's messages (DB31.DBX94.0..94.6, 95.0; seed 003 §18.2 L38362-38366 and the control's
+    list manual): temperature, ramp-up, torque and speed thresholds, the DC link."""
+
+    motor_temperature_warning: bool = signal("drive.in.motorTempPrewarning")  # DBX94.0, p0604
+    ramp_up_complete: bool = signal("drive.in.speedSetpointReached")  # DBX94.2
+    torque_below_threshold: bool = signal("drive.in.torqueBelowThreshold")  # DBX94.3, p2174 / p2176
+    speed_below_minimum: bool = signal("drive.in.speedBelowMin")  # DBX94.4, p2161
+    speed_below_threshold: bool = signal("drive.in.speedBelowThreshold")  # DBX94.5, p2155
+    speed_at_setpoint: bool = signal("drive.in.speedAtSetpoint")  # DBX94.6, p2163
+    dc_link_below_warning: bool = signal("drive.in.dcLinkBelowWarning")  # DBX95.0, p2172
+
+
 # ------------------------------------------------------------------------------------ DB31 spindle
 
 

@@ -32,6 +32,7 @@ from vc.config import md_dictionary as MD
 from vc.config.model import AxisConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.drf import DrfOffset
+from vc.core.axis.drive_messages import DriveMessages
 from vc.core.axis.dynamics import CoupledLoop, dynamics_of, jerk_filter_of
 from vc.core.axis.encoder import MeasuringSystem
 from vc.core.axis.jog import FREE_JOG, AxisJog, JogLimits
@@ -120,6 +121,9 @@ class MachineAxis:
         self.torque_limit: float | None = None
         self.at_fixed_stop = False
         self.obstacle: Obstacle | None = None
+        self.blocked = False  # the slide stood against the obstacle in the last cycle: the motor pushes
+        # the drive's messages DB31.DBX94.x / 95.0 (vc/core/axis/drive_messages.py): only a drive that reports them
+        self.messages: DriveMessages | None = None
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -399,6 +403,7 @@ class MachineAxis:
         self._update_servo_state(cycle, alarms)
         dt = self._dt
         loop = self.loop
+        drive_velocity_before = loop.drive_velocity
         if self.servo_on:
             if loop.close(self.dyn, self.setpoint + self.overlay, self.actual, self.command_velocity):
                 # Settled below the measuring resolution: the slide stands on the setpoint.
@@ -419,7 +424,8 @@ class MachineAxis:
             if self.obstacle is not None:
                 force = 0.0 if not self.servo_on else 100.0 if self.torque_limit is None else self.torque_limit
                 held = self.obstacle.hold(previous, self.physical, force)
-                if held != self.physical:
+                self.blocked = held != self.physical
+                if self.blocked:
                     self.physical = held
                     slide_velocity = (held - previous) / dt
                     loop.drive_velocity = 0.0  # the motor is blocked
@@ -437,6 +443,11 @@ class MachineAxis:
         if abs(self.velocity) > self._lowest_limit_velocity or self._frequency_exceeded_somewhere:
             self._monitor_encoder_frequency(cycle, alarms)
         self._monitor(cycle, alarms)
+        messages = self.messages
+        if messages is not None:
+            messages.update(self.velocity, loop.speed_setpoint if self.servo_on else 0.0,
+                            (loop.drive_velocity - drive_velocity_before) / dt, self.servo_on, self.torque_limit,
+                            self.blocked and self.servo_on)
         self._write_outputs()
         return True
 

@@ -57,6 +57,7 @@ from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import Alarm, AlarmList, Clear, Reaction
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.drive_messages import AMBIENT_TEMPERATURE
 from vc.core.axis.owner import Owner
 from vc.core.channel.program_run import ChannelState, Mode
 from vc.core.nc_memory import NcMemory
@@ -119,6 +120,10 @@ class Nck:
         self.polygons = parts.polygons
         self.manual = parts.manual
         self.fixed_stops = parts.fixed_stops
+        self._drive_messages = [axis.messages for axis in self.axes if axis.messages is not None]
+        if self.dc_link is not None:
+            for messages in self._drive_messages:
+                messages.set_link_voltage(self.dc_link.voltage)  # power-on: the link as it is (empty)
         self.alarm_reactions = AlarmReactions(self.alarms, self.axes, self.axes_by_name, self.channels_by_name,
                                               self.esr, self.polygons)
         self.emergency_stop = False
@@ -367,6 +372,8 @@ class Nck:
         cancel their pulses when it falls below 0.9 x r0208 and take them back once it is charged."""
         cancelled = dc_link.pulses_cancelled
         dc_link.cycle(self.esr.generators)
+        for messages in self._drive_messages:
+            messages.set_link_voltage(dc_link.voltage)  # DB31.DBX95.0 against each drive's p2172
         if dc_link.pulses_cancelled != cancelled:
             for axis in self.axes:
                 axis.pulses_cancelled = dc_link.pulses_cancelled
@@ -449,6 +456,16 @@ class Nck:
         drives show it in DB31.DBX92.7."""
         for axis in self.axes:
             axis.set_line_up_ready(ready)
+
+    def motor_temperature(self, axis: str, celsius: float | None) -> bool:
+        """The plant's motor temperature of ``axis`` (a fault: the motor overheats; None: back at
+        the ambient temperature); False when its drive reports no messages (DB31.DBX94.0 needs
+        ``drive: messages: 1``)."""
+        messages = self.axes_by_name[axis].messages
+        if messages is None:
+            return False
+        messages.set_temperature(AMBIENT_TEMPERATURE if celsius is None else celsius)
+        return True
 
     def drive_blocked(self, axis: str) -> None:
         """A fault of the machine: the drive of ``axis`` reports its motor blocked (a part twisted

@@ -27,6 +27,7 @@ from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.drive_messages import DriveMessages
 from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
@@ -131,6 +132,8 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     esr = NckEsr({axis.name: DriveEsr(axis, axis_table, image.area(f"DB{axis.config.db}"), dt,
                                       _parameter_set_of(axis.name, spindle_of))
                   for axis in axes})
+    for axis in axes:
+        _drive_messages(axis, axis_table, image, dt, _parameter_set_of(axis.name, spindle_of))
     dc_link = DcLink(machine.dc_link, dt) if machine.dc_link is not None else None
     fixed_stops = _fixed_stops(channels, axis_table, image, dt, alarms)
     for channel in channels:
@@ -203,6 +206,17 @@ def _spindles(machine: MachineConfig, table: SignalTable, image: ProcessImage, m
                 channel.spindles[axis.name] = spindle
                 spindles.append(spindle)
     return spindles
+
+
+def _drive_messages(axis: MachineAxis, table: SignalTable, image: ProcessImage, dt: float,
+                    parameter_set: Callable[[], int]) -> None:
+    """The drive's messages DB31.DBX94.x / 95.0 for an axis whose drive reports them (``drive:
+    messages: 1``); the NC knows the signals of every axis, the others' stay 0."""
+    messages = DriveMessages(axis.config, table, image.area(f"DB{axis.config.db}"), dt, parameter_set)
+    if axis.config.drive.messages:
+        messages.set_max_accel(axis.dyn.max_accel)
+        axis.messages = messages
+        messages.publish()
 
 
 def _parameter_set_of(axis: str, spindle_of: dict[str, Spindle]) -> Callable[[], int]:
