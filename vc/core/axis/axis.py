@@ -32,12 +32,14 @@ from vc.config import md_dictionary as MD
 from vc.config.model import AxisConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.drf import DrfOffset
+from vc.core.axis.drive_data_sets import DriveDataSets
 from vc.core.axis.drive_messages import DriveMessages
 from vc.core.axis.dynamics import CoupledLoop, dynamics_of, jerk_filter_of
 from vc.core.axis.encoder import MeasuringSystem
 from vc.core.axis.jog import FREE_JOG, AxisJog, JogLimits
 from vc.core.axis.motion import ramp
 from vc.core.axis.owner import Owner
+from vc.core.axis.parameter_sets import ServoParameterSets
 from vc.core.axis.position_loop import PositionLoop
 from vc.core.axis.rotary import modulo_range_of
 from vc.core.axis.signals import AxisInputs
@@ -124,6 +126,10 @@ class MachineAxis:
         self.blocked = False  # the slide stood against the obstacle in the last cycle: the motor pushes
         # the drive's messages DB31.DBX94.x / 95.0 (vc/core/axis/drive_messages.py): only a drive that reports them
         self.messages: DriveMessages | None = None
+        # the servo parameter set the PLC selects (DB31.DBX9.0-9.2, MD35590 = 1 / 2): only on such an axis
+        self.parameter_sets: ServoParameterSets | None = None
+        # the drive's data sets and integrator (DB31.DBX21.0-21.6 / 93.0-93.6, drive_data_sets.py)
+        self.data_sets = DriveDataSets(table, area, dt)
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -132,6 +138,12 @@ class MachineAxis:
         self._decode(self._area, inp)
         inp.select_encoder(len(self.encoders))
         self.resting = False
+        sets = self.parameter_sets
+        if sets is not None:
+            kv = sets.decode()
+            if kv is not None:
+                self.set_loop_gain(kv)
+        self.data_sets.decode()
         if inp.encoder_selected != self.active_encoder:
             self._select_encoder(inp.encoder_selected)
 
@@ -228,12 +240,13 @@ class MachineAxis:
     def drive_ready(self) -> bool:
         """Controller and pulse enable present and a measuring system active: position control possible."""
         return self.inputs.controller_enable and self.inputs.pulse_enable and self.active_encoder is not None \
-            and not self.pulses_cancelled
+            and not self.pulses_cancelled and not self.data_sets.pulses_cancelled
 
     @property
     def _drive_held_at_stop(self) -> bool:
         """At the fixed stop the controller enable does not act (seed 003 L37292-37298)."""
-        return self.inputs.pulse_enable and self.active_encoder is not None and not self.pulses_cancelled
+        return self.inputs.pulse_enable and self.active_encoder is not None and not self.pulses_cancelled \
+            and not self.data_sets.pulses_cancelled
 
     def hold_at_fixed_stop(self, setpoint: float) -> None:
         """The fixed stop is detected: the path's rest is deleted and the setpoint stands at
@@ -260,7 +273,7 @@ class MachineAxis:
         whatever the measuring systems do [control]."""
         inp = self.inputs
         return self.line_up_ready and inp.pulse_enable and inp.controller_enable and not self.pulses_cancelled \
-            and self._servo_off_countdown != 0
+            and not self.data_sets.pulses_cancelled and self._servo_off_countdown != 0
 
     def set_line_up_ready(self, ready: bool) -> None:
         self.line_up_ready = ready

@@ -22,10 +22,12 @@ own skip-guards (most of the machine rests in most cycles).  Why each comes wher
    the couplings, whose following spindles take their leading spindles' new set-points.
 7. **referencing**: passive watchers (zero marks seen while moving), then the running
    referencing procedures; they command their axes before position control moves them.
-8. **position control**: the inclined-axis controls carry the orthogonal axis along a manual
-   motion, every axis that moves or was commanded runs its control loop, drive and encoder, then
-   travel to fixed stop detects its stop and watches its window (only while one is selected), and
-   the couplings monitor their synchronism on the new actual values.
+8. **position control**: the drives changing a data set over (a motor changeover cancels the
+   pulses the axis's servo state sees in this cycle), the inclined-axis controls carry the
+   orthogonal axis along a manual motion, every axis that moves or was commanded runs its control
+   loop, drive and encoder, then travel to fixed stop detects its stop and watches its window
+   (only while one is selected), and the couplings monitor their synchronism on the new actual
+   values.
 9. **extended stop and retract**: synchronized actions, the channels' and the drives' ESR
    reactions, the DC link.  After position control, so that a trigger of this cycle sees this
    cycle's positions; before the alarm reactions, which must not cut off a retraction.
@@ -120,6 +122,7 @@ class Nck:
         self.polygons = parts.polygons
         self.manual = parts.manual
         self.fixed_stops = parts.fixed_stops
+        self._changing_drives: list[MachineAxis] = []  # drives changing a data set: ticked until done
         self._drive_messages = [axis.messages for axis in self.axes if axis.messages is not None]
         if self.dc_link is not None:
             for messages in self._drive_messages:
@@ -201,6 +204,8 @@ class Nck:
         """True when an axis moved this cycle."""
         for inclined in self.inclined_axes:
             inclined.follow()  # a manual motion of the inclined axis carries the orthogonal one along
+        if self._changing_drives:
+            self._drive_data_sets()
         moved = False
         for axis in self.axes:
             if axis.resting and axis.owner is Owner.NONE:
@@ -212,6 +217,16 @@ class Nck:
                 fixed_stop.cycle(self.cycle)  # detection and monitoring on the new actual values
         self.couplings.monitor(self.cycle)
         return moved
+
+    def _drive_data_sets(self) -> None:
+        """The drives changing a data set over (DB31.DBX21.x -> 93.x); a motor changeover cancels
+        and returns the pulses, which the axis's servo state must see this cycle."""
+        for axis in self._changing_drives:
+            cancelled = axis.data_sets.pulses_cancelled
+            axis.data_sets.cycle()
+            if axis.data_sets.pulses_cancelled != cancelled:
+                axis.resting = False
+        self._changing_drives = [axis for axis in self._changing_drives if axis.data_sets.busy]
 
     def _outputs(self, moved: bool) -> None:
         status = self._status_signature()
@@ -262,6 +277,8 @@ class Nck:
         for axis in self.axes:
             if axis.area_key in changed:
                 axis.decode_inputs()
+                if axis.data_sets.busy and axis not in self._changing_drives:
+                    self._changing_drives.append(axis)  # a data set changeover or the integrator's answer
                 axis.override = self._axis_coding.factor(axis.inputs.override_raw, axis.inputs.override_active)
                 self._hardware_limit_switches(axis)
                 spindle = self._spindle_of.get(axis.name)
