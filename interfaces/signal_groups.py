@@ -293,6 +293,55 @@ class DriveEsrStatus:
     below_minimum_speed: bool = signal("drive.in.esrSpeedBelowMin")  # r2199.0
 
 
+@dataclass(slots=True, kw_only=True)
+class ParameterSetRequest:
+    """The PLC's servo parameter set selection of an axis (DB31.DBX9.0-9.2, MD35590 = 1 / 2; seed 003
+    §7.4.11 L10220, §13.4.4 L18927-18958)."""
+
+    selection: int = signal("basic.out.posCtrlParameterSetSelection", 0)  # the set's index 0..5 (6, 7: 5)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ParameterSetStatus:
+    """The active servo parameter set (DB31.DBX69.0-69.2, L19065): a spindle's is SpindleStatus's."""
+
+    active: int = signal("drive.in.posCtrlParameterSetNumber", 0)
+
+
+@dataclass(slots=True, kw_only=True)
+class DriveDataSetRequest:
+    """The PLC's drive and motor data set selection and the speed controller's integrator
+    (DB31.DBX21.0-21.6; seed 003 §18.2 L38337-38344)."""
+
+    drive_data_set: int = signal("drive.out.driveDataSetSelection", 0)  # DDS A..C: 0..7
+    motor_data_set: int = signal("drive.out.motorDataSetSelection", 0)  # MDS A..B: 0..3
+    motor_changeover_done: bool = signal("drive.out.motorChangeoverDone")  # the PLC switched the contactors
+    integrator_disable: bool = signal("drive.out.disableSpeedCtrlIntegrator")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class DriveDataSetStatus:
+    """The drive's active data sets and integrator (DB31.DBX93.0-93.6; L38355-38361)."""
+
+    drive_data_set: int = signal("drive.in.driveDataSetNumber", 0)
+    motor_data_set: int = signal("drive.in.motorDataSetNumber", 0)
+    integrator_disabled: bool = signal("drive.in.speedCtrlIntegratorDisabled")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class DriveMessageStatus:
+    """The drive's messages (DB31.DBX94.0..94.6, 95.0; seed 003 §18.2 L38362-38366 and the control's
+    list manual): temperature, ramp-up, torque and speed thresholds, the DC link."""
+
+    motor_temperature_warning: bool = signal("drive.in.motorTempPrewarning")  # DBX94.0, p0604
+    ramp_up_complete: bool = signal("drive.in.speedSetpointReached")  # DBX94.2
+    torque_below_threshold: bool = signal("drive.in.torqueBelowThreshold")  # DBX94.3, p2174 / p2176
+    speed_below_minimum: bool = signal("drive.in.speedBelowMin")  # DBX94.4, p2161
+    speed_below_threshold: bool = signal("drive.in.speedBelowThreshold")  # DBX94.5, p2155
+    speed_at_setpoint: bool = signal("drive.in.speedAtSetpoint")  # DBX94.6, p2163
+    dc_link_below_warning: bool = signal("drive.in.dcLinkBelowWarning")  # DBX95.0, p2172
+
+
 # ------------------------------------------------------------------------------------ DB31 spindle
 
 

@@ -13,6 +13,9 @@ Networks after those of ``turret`` (1-13), for the quill's axis (the machine's `
         ADVANCE ──DBX62.5 (the NC found the stop) and the sleeve at the part──▶ CLAMPED: DBX1.1 = 1
         ADVANCE ──no stop within approach_timeout──▶ FAULT 700031: DBX3.1 = 0 (the NC aborts: 20094)
         ADVANCE ──DBX62.4 = 0 (not reached 20091, reset)──▶ IDLE: DBX3.1 = 0
+        ADVANCE ──the same, with clamp_torque_timeout: and |Md| < Mdx DB31.DBX94.3 fallen──▶ CLAMPED
+        ADVANCE ──with clamp_torque_timeout: 94.3 still 1 that long after the stop──▶ FAULT 700033:
+                  DBX3.1 = 0 (the clamping torque is not there: the NC aborts, 20094)
         CLAMPED ──DBX62.4 = 0 (FXS[W]=0, or the NC's window alarm 20093)──▶ IDLE: DBX3.1 = DBX1.1 = 0
         CLAMPED ──the sleeve leaves the part (it slipped)──▶ FAULT 700030: DBX3.1 = DBX1.1 = 0, feed
                   disable DB21.DBX6.0 (the slides stand; the part is loose)
@@ -22,6 +25,9 @@ Parameters, besides those of ``turret``::
 
     plc:
       approach_timeout: 10.0     # s from the enable to the NC's "fixed stop reached"
+      clamp_torque_timeout: 0.5  # s: acknowledge only once the drive reports the clamping torque
+                                 # (|Md| < Mdx falls: the quill's drive with messages: 1 and p2174
+                                 # below FXST); not given: no torque check
 """
 
 from __future__ import annotations
@@ -34,7 +40,7 @@ from plc_stub.io import Bool, PlcIo
 from plc_stub.programs.parameters import seconds
 from plc_stub.programs.turret import Turret, device_count, spindles
 
-PART_LOST, NO_PART, CHUCK_OPEN = 700030, 700031, 700032
+PART_LOST, NO_PART, CHUCK_OPEN, NO_CLAMPING_TORQUE = 700030, 700031, 700032, 700033
 APPROACH_TIMEOUT_S = 10.0
 
 
@@ -47,12 +53,16 @@ class TailstockStep(Enum):
 
 class Tailstock(Turret):
     PROGRAM = "tailstock"
-    PARAMETERS = (*Turret.PARAMETERS, "approach_timeout")
+    PARAMETERS = (*Turret.PARAMETERS, "approach_timeout", "clamp_torque_timeout")
 
     def __init__(self, io: PlcIo):
         super().__init__(io)
         problems: list[str] = []
-        approach_timeout = seconds(io.environment.parameters, "approach_timeout", APPROACH_TIMEOUT_S, problems)
+        parameters = io.environment.parameters
+        approach_timeout = seconds(parameters, "approach_timeout", APPROACH_TIMEOUT_S, problems)
+        # the clamping torque checked through the drive's |Md| < Mdx (DB31.DBX94.3) only where it is asked for
+        torque_timeout = seconds(parameters, "clamp_torque_timeout", 1.0, problems) \
+            if "clamp_torque_timeout" in parameters else None
         if problems:
             raise ValueError("\n".join(problems))
         # Network 14
@@ -69,13 +79,16 @@ class Tailstock(Turret):
             self.fixed_stop_active = io.input(f"{quill}.basic.in.fixedStopRequest")
             self.fixed_stop_reached = io.input(f"{quill}.basic.in.fixedStopReached")
             self.at_part = io.input(f"{TAILSTOCK}.atPart")
+            self.torque_below_threshold = io.input(f"{quill}.drive.in.torqueBelowThreshold") \
+                if torque_timeout is not None else None
             main = spindles(io)[0]
             self.chuck_clamped = io.input(chuck_closed(main)) if io.is_wired(chuck_closed(main)) else None
-        self.tailstock_alarms = {number: self.plc_alarm(number) for number in (PART_LOST, NO_PART, CHUCK_OPEN)} \
-            if quill is not None else {}
+        numbers = (PART_LOST, NO_PART, CHUCK_OPEN) + ((NO_CLAMPING_TORQUE,) if torque_timeout is not None else ())
+        self.tailstock_alarms = {number: self.plc_alarm(number) for number in numbers} if quill is not None else {}
         self.tailstock_step = TailstockStep.IDLE
         self.tailstock_fault = 0
         self.approach_watchdog = TON(approach_timeout, io.environment.scan_time_s)
+        self.torque_watchdog = TON(torque_timeout or 1.0, io.environment.scan_time_s)
 
     def auxiliary_networks(self) -> None:
         super().auxiliary_networks()
@@ -87,6 +100,9 @@ class Tailstock(Turret):
             return
         selected = self.fixed_stop_active.value
         step = self.tailstock_step
+        torque = self.torque_below_threshold  # None: no torque check
+        stop_found = step is TailstockStep.ADVANCE and selected and self.fixed_stop_reached.value \
+            and self.at_part.value
         if step is TailstockStep.FAULT:
             if self.reset_pressed:
                 step, self.tailstock_fault = TailstockStep.IDLE, 0
@@ -96,7 +112,7 @@ class Tailstock(Turret):
         elif step is TailstockStep.ADVANCE:
             if not selected:
                 step = TailstockStep.IDLE
-            elif self.fixed_stop_reached.value and self.at_part.value:
+            elif stop_found and (torque is None or not torque.value):
                 step = TailstockStep.CLAMPED
         elif step is TailstockStep.CLAMPED:
             if not selected:
@@ -105,6 +121,8 @@ class Tailstock(Turret):
                 step, self.tailstock_fault = TailstockStep.FAULT, PART_LOST
         if self.approach_watchdog(step is TailstockStep.ADVANCE and not self.fixed_stop_reached.value):
             step, self.tailstock_fault = TailstockStep.FAULT, NO_PART
+        if self.torque_watchdog(stop_found and step is TailstockStep.ADVANCE):
+            step, self.tailstock_fault = TailstockStep.FAULT, NO_CLAMPING_TORQUE
         self.tailstock_step = step
         self.fixed_stop_enable.value = step in (TailstockStep.ADVANCE, TailstockStep.CLAMPED)
         self.fixed_stop_ack.value = step is TailstockStep.CLAMPED

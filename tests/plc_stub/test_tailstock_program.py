@@ -106,3 +106,35 @@ def test_without_a_tailstock_the_network_does_nothing() -> None:
     plc.nc("W1.basic.in.fixedStopRequest", 1)
     plc.scan(3)
     assert plc.out("W1.basic.out.fixedStopEnable") == 0
+
+
+def _at_the_stop(plc: PlcBench) -> None:
+    plc.nc("W1.basic.in.fixedStopRequest", 1)
+    plc.scan(2)
+    plc.nc("W1.drive.in.torqueBelowThreshold", 1)
+    plc.nc("W1.basic.in.fixedStopReached", 1)
+    plc.input("Tailstock.atPart", 1)
+    plc.scan(2)
+
+
+def test_with_the_torque_check_the_acknowledgement_waits_for_the_clamping_torque() -> None:
+    plc = _plc({"clamp_torque_timeout": 0.5})
+    _at_the_stop(plc)
+    assert _step(plc) is TailstockStep.ADVANCE and plc.out("W1.basic.out.fixedStopAckReached") == 0
+    plc.nc("W1.drive.in.torqueBelowThreshold", 0)  # |Md| >= Mdx: the clamping torque is there
+    plc.scan(2)
+    assert _step(plc) is TailstockStep.CLAMPED and plc.out("W1.basic.out.fixedStopAckReached") == 1
+
+
+def test_a_clamping_torque_that_never_comes_raises_700033_and_takes_the_enable_away() -> None:
+    plc = _plc({"clamp_torque_timeout": 0.05})
+    _at_the_stop(plc)
+    plc.scan(6)
+    assert _step(plc) is TailstockStep.FAULT and plc.out("PLCALARMS.userArea0.out.alarm700033") == 1
+    assert plc.out("W1.basic.out.fixedStopEnable") == 0 and plc.out("W1.basic.out.fixedStopAckReached") == 0
+
+
+def test_without_the_torque_check_the_drives_message_is_not_read() -> None:
+    plc = _plc()
+    _at_the_stop(plc)
+    assert _step(plc) is TailstockStep.CLAMPED  # |Md| < Mdx still 1: not asked for

@@ -81,9 +81,19 @@ class DriveParameters:
     p0892: float = 0.0  # s: generator operation may use the motor from the trigger T1 to T2 = T1 + p0892
     p1240: int = 0  # Vdc controller configuration: 2 = at p1248 the motor brakes under ESR to buffer the link
     p1248: float = 0.0  # V: lower DC-link threshold, the Vdc_min controller's setpoint
-    p2161: float = 0.0  # rev/min: speed threshold 3, the generator's minimum motor speed (r2199.0)
+    p2161: float = 0.0  # rev/min: speed threshold 3, the generator's minimum motor speed (r2199.0), n min
     p0341: float = 0.0  # kg m^2: motor moment of inertia
     p0342: float = 1.0  # ratio of the total moment of inertia (motor and load) to the motor's
+    # The drive's messages to the PLC (DB31.DBX94.x / 95.0, docs/fixed_stop_and_drives.md §7): reported
+    # where the machine file switches them on, so that the machines without them keep their traces [INF];
+    # thresholds and factory settings of SINAMICS [control]
+    messages: bool = False
+    p0604: float = 120.0  # degC: motor temperature warning threshold (DBX94.0)
+    p2155: float = 900.0  # rev/min: speed threshold 2, n x (DBX94.5)
+    p2163: float = 90.0  # rev/min: speed threshold 4, the tolerance of n act = n set (DBX94.6, 94.2)
+    p2172: float = 800.0  # V: DC-link voltage threshold (DBX95.0)
+    p2174: float = 90.0  # percent of the drive's maximum torque [INF: SINAMICS counts Nm]: Mdx (DBX94.3)
+    p2176: float = 200.0  # ms: the torque must stand at or above p2174 this long before DBX94.3 falls
 
     @property
     def generator(self) -> bool:

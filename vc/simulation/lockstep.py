@@ -392,6 +392,9 @@ class Simulation:
         elif kind == "load_disturbance":
             item.disturbance_velocity = amount / item.dyn.display_velocity_factor
             item.resting = False
+        elif kind == "motor_temperature":
+            if not self.nck.motor_temperature(axis, end):
+                raise StepRefused(f"motor_temperature: the drive of {axis} reports no messages (drive: messages: 1)")
         elif kind == "workpiece_clamp":
             if not self.nck.couplings.clamp(axis, amount):
                 raise StepRefused(f"workpiece_clamp: {axis} is not the following spindle of a coupling now")
@@ -438,6 +441,7 @@ class Simulation:
         item = self.nck.axes_by_name[axis]
         item.disturbance_velocity = 0.0
         item.clamp = None
+        self.nck.motor_temperature(axis, None)
         item.resting = False
         for measuring_system in item.encoders:
             measuring_system.zero_marks_visible = True

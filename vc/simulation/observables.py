@@ -94,6 +94,8 @@ def quantity_unit(machine: MachineConfig, instance: str, quantity: str) -> str:
 #                            over the position controller's gain until the fault is cleared
 #   workpiece_clamp          a part clamped in a following spindle and its leading spindle locks the
 #                            FS to the LS, twisted by amount (degrees), until the fault is cleared
+#   motor_temperature        the motor's temperature rises to amount (degC, ``to:``) until the fault is
+#                            cleared (an axis whose drive reports its messages: DB31.DBX94.0 above p0604)
 #   mains_failure            the line supply of the drive line-up fails (no axis; a machine with dc_link:):
 #                            Drives.ready falls, the DC link is on its own until the fault is cleared
 #                            (clear_faults: mains)
@@ -115,7 +117,7 @@ DEVICE_FAULTS = {"turret_sensor_missing": "Turret", "turret_lock_jammed": "Turre
                  "stop_lost": "Tailstock", "no_part": "Tailstock", "axis_magazine_lock_sensor": "AxisMagazine",
                  "axis_magazine_drive_fault": "AxisMagazine", "clamp_not_closing": "Clamp", "clamp_opening": "Clamp"}
 FAULTS = ("zero_marks_missing", "reference_marks_missing", "encoder_slip", "load_disturbance", "workpiece_clamp",
-          "mains_failure", *DEVICE_FAULTS)
+          "motor_temperature", "mains_failure", *DEVICE_FAULTS)
 MACHINE_FAULTS = ("mains_failure", *DEVICE_FAULTS)  # faults of the whole machine or a device: no axis
 
 

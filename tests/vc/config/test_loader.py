@@ -517,3 +517,18 @@ def test_an_alias_bomb_in_a_machine_file_is_a_problem(tmp_path: Path) -> None:
         load_machine(str(path))
     (problem,) = error.value.problems
     assert problem.mark.line == 7 and "values with its aliases expanded" in problem.message
+
+
+def test_the_drives_messages_take_their_thresholds_and_p2161() -> None:
+    overrides = _overrides("machine_data:\n  Z1:\n    drive: {messages: 1, p2161: 8, p2174: 40}\n")
+    config = load_machine(TURN_MILL, overrides, "scenario.yaml")
+    drive = config.axis("Z1").drive
+    assert drive.messages is True and (drive.p2161, drive.p2174, drive.p2155) == (8.0, 40.0, 900.0)
+
+
+def test_a_message_threshold_without_the_messages_is_reported() -> None:
+    with pytest.raises(SourceError) as error:
+        load_machine(TURN_MILL, _overrides("machine_data:\n  Z1:\n    drive: {p2174: 40}\n"), "scenario.yaml")
+    assert [str(problem) for problem in error.value.problems] == [
+        "scenario.yaml:3:12: machine_data.Z1.drive: p2174 belong to the drive's messages: without messages: 1 the"
+        " drive reports none"]

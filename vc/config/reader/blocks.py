@@ -35,7 +35,18 @@ DRIVE_KEYS: dict[str, tuple[float, float, bool, str]] = {
     "p2161": (0, 100_000, False, "rev/min, minimum generator speed"),
     "p0341": (0, 1000, False, "kg m^2, motor moment of inertia"),
     "p0342": (1, 1_000_000, False, "ratio of the total to the motor moment of inertia"),
+    "messages": (0, 1, True, "1 = the drive reports its messages DB31.DBX94.x / 95.0"),
+    "p0604": (0, 300, False, "degC, motor temperature warning threshold"),
+    "p2155": (0, 210_000, False, "rev/min, speed threshold n x"),
+    "p2163": (0, 210_000, False, "rev/min, tolerance of n act = n set"),
+    "p2172": (0, 2000, False, "V, DC-link voltage threshold"),
+    "p2174": (0, 800, False, "percent of the maximum torque, torque threshold Mdx"),
+    "p2176": (0, 10_000, False, "ms, delay of the torque threshold"),
 }
+# the drive parameters that act in generator operation alone (p0888 = 3)
+GENERATOR_KEYS = ("p0892", "p1240", "p1248", "p0341", "p0342")
+# those that act with the drive's messages (``messages: 1``); p2161 serves both
+MESSAGE_KEYS = ("p0604", "p2155", "p2163", "p2172", "p2174", "p2176")
 # the drive line-up's DC link under ``dc_link:`` (the first three needed)
 DC_LINK_KEYS: dict[str, tuple[float, float, bool, str]] = {
     "supply_voltage": (1, 1000, False, "V, rated supply voltage r0208"),
@@ -175,11 +186,18 @@ class BlockReader:
                          f"{where}.drive.p0888 = {drive.pop('p0888')}: extended stop (1) and retract (2) are"
                          f" written by ESRS / ESRR from the part program; the file takes 0 or 3 (generator"
                          f" operation)")
+            if "messages" in drive:
+                drive["messages"] = bool(drive["messages"])
             entry.drive = dataclasses.replace(entry.drive, **drive)
-            ignored = [key for key in drive if key != "p0888"]
+            ignored = [key for key in drive if key in GENERATOR_KEYS
+                       or (key == "p2161" and not entry.drive.messages)]
             if ignored and not entry.drive.generator:  # an override may still switch generator operation off
                 self.add(entry.drive_mark, f"{where}.drive: {', '.join(ignored)} belong to generator operation:"
                                            f" without p0888 = 3 the drive would ignore them")
+            unheard = [key for key in drive if key in MESSAGE_KEYS]
+            if unheard and not entry.drive.messages:
+                self.add(entry.drive_mark, f"{where}.drive: {', '.join(unheard)} belong to the drive's messages:"
+                                           f" without messages: 1 the drive reports none")
 
     def parameters(self, raw: Any, mark: Mark, where: str,
                    table: Mapping[str, tuple[float, float, bool, str]]) -> dict[str, Any]:

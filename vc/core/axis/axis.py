@@ -32,6 +32,8 @@ from vc.config import md_dictionary as MD
 from vc.config.model import AxisConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.drf import DrfOffset
+from vc.core.axis.drive_data_sets import DriveDataSets
+from vc.core.axis.drive_messages import DriveMessages
 from vc.core.axis.dynamics import CoupledLoop, dynamics_of, jerk_filter_of
 from vc.core.axis.encoder import MeasuringSystem
 from vc.core.axis.index_jog import IndexJog
@@ -39,6 +41,7 @@ from vc.core.axis.indexing import IndexPositions
 from vc.core.axis.jog import FREE_JOG, AxisJog, JogLimits
 from vc.core.axis.motion import ramp
 from vc.core.axis.owner import Owner
+from vc.core.axis.parameter_sets import ServoParameterSets
 from vc.core.axis.position_loop import PositionLoop
 from vc.core.axis.rotary import modulo_range_of
 from vc.core.axis.signals import AxisInputs
@@ -125,6 +128,13 @@ class MachineAxis:
         self.torque_limit: float | None = None
         self.at_fixed_stop = False
         self.obstacle: Obstacle | None = None
+        self.blocked = False  # the slide stood against the obstacle in the last cycle: the motor pushes
+        # the drive's messages DB31.DBX94.x / 95.0 (vc/core/axis/drive_messages.py): only a drive that reports them
+        self.messages: DriveMessages | None = None
+        # the servo parameter set the PLC selects (DB31.DBX9.0-9.2, MD35590 = 1 / 2): only on such an axis
+        self.parameter_sets: ServoParameterSets | None = None
+        # the drive's data sets and integrator (DB31.DBX21.0-21.6 / 93.0-93.6, drive_data_sets.py)
+        self.data_sets = DriveDataSets(table, area, dt)
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -133,6 +143,12 @@ class MachineAxis:
         self._decode(self._area, inp)
         inp.select_encoder(len(self.encoders))
         self.resting = False
+        sets = self.parameter_sets
+        if sets is not None:
+            kv = sets.decode()
+            if kv is not None:
+                self.set_loop_gain(kv)
+        self.data_sets.decode()
         if inp.encoder_selected != self.active_encoder:
             self._select_encoder(inp.encoder_selected)
 
@@ -229,12 +245,13 @@ class MachineAxis:
     def drive_ready(self) -> bool:
         """Controller and pulse enable present and a measuring system active: position control possible."""
         return self.inputs.controller_enable and self.inputs.pulse_enable and self.active_encoder is not None \
-            and not self.pulses_cancelled
+            and not self.pulses_cancelled and not self.data_sets.pulses_cancelled
 
     @property
     def _drive_held_at_stop(self) -> bool:
         """At the fixed stop the controller enable does not act (seed 003 L37292-37298)."""
-        return self.inputs.pulse_enable and self.active_encoder is not None and not self.pulses_cancelled
+        return self.inputs.pulse_enable and self.active_encoder is not None and not self.pulses_cancelled \
+            and not self.data_sets.pulses_cancelled
 
     def hold_at_fixed_stop(self, setpoint: float) -> None:
         """The fixed stop is detected: the path's rest is deleted and the setpoint stands at
@@ -261,7 +278,7 @@ class MachineAxis:
         whatever the measuring systems do [control]."""
         inp = self.inputs
         return self.line_up_ready and inp.pulse_enable and inp.controller_enable and not self.pulses_cancelled \
-            and self._servo_off_countdown != 0
+            and not self.data_sets.pulses_cancelled and self._servo_off_countdown != 0
 
     def set_line_up_ready(self, ready: bool) -> None:
         self.line_up_ready = ready
@@ -409,6 +426,7 @@ class MachineAxis:
         self._update_servo_state(cycle, alarms)
         dt = self._dt
         loop = self.loop
+        drive_velocity_before = loop.drive_velocity
         if self.servo_on:
             if loop.close(self.dyn, self.setpoint + self.overlay, self.actual, self.command_velocity):
                 # Settled below the measuring resolution: the slide stands on the setpoint.
@@ -429,7 +447,8 @@ class MachineAxis:
             if self.obstacle is not None:
                 force = 0.0 if not self.servo_on else 100.0 if self.torque_limit is None else self.torque_limit
                 held = self.obstacle.hold(previous, self.physical, force)
-                if held != self.physical:
+                self.blocked = held != self.physical
+                if self.blocked:
                     self.physical = held
                     slide_velocity = (held - previous) / dt
                     loop.drive_velocity = 0.0  # the motor is blocked
@@ -447,6 +466,11 @@ class MachineAxis:
         if abs(self.velocity) > self._lowest_limit_velocity or self._frequency_exceeded_somewhere:
             self._monitor_encoder_frequency(cycle, alarms)
         self._monitor(cycle, alarms)
+        messages = self.messages
+        if messages is not None:
+            messages.update(self.velocity, loop.speed_setpoint if self.servo_on else 0.0,
+                            (loop.drive_velocity - drive_velocity_before) / dt, self.servo_on, self.torque_limit,
+                            self.blocked and self.servo_on)
         self._write_outputs()
         return True
 

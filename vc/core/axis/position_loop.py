@@ -31,6 +31,7 @@ class PositionLoop:
         self.model_position = start  # the setpoint as the drive can follow it (symmetrising)
         self.model_velocity = 0.0
         self.drive_velocity = 0.0
+        self.speed_setpoint = 0.0  # what the loop commanded the drive in its last cycle (the drive's n set)
         self.jerk_filter = jerk_filter
         self.coupled: CoupledLoop | None = None  # set each cycle while the spindle is coupled
         # on the speed controller alone (the FS of a VV coupling without position control, L21965-21968):
@@ -103,6 +104,7 @@ class PositionLoop:
             velocity_command = kv * (compare - actual) + feedforward
         limit = 1.2 * dyn.max_velocity
         velocity_command = max(-limit, min(limit, velocity_command))
+        self.speed_setpoint = velocity_command
         self.drive_velocity += (velocity_command - self.drive_velocity) * lag
         if symmetrising:
             self.model_velocity += (feedforward - self.model_velocity) * model_lag

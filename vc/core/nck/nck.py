@@ -22,10 +22,12 @@ own skip-guards (most of the machine rests in most cycles).  Why each comes wher
    the couplings, whose following spindles take their leading spindles' new set-points.
 7. **referencing**: passive watchers (zero marks seen while moving), then the running
    referencing procedures; they command their axes before position control moves them.
-8. **position control**: the inclined-axis controls carry the orthogonal axis along a manual
-   motion, every axis that moves or was commanded runs its control loop, drive and encoder, then
-   travel to fixed stop detects its stop and watches its window (only while one is selected), and
-   the couplings monitor their synchronism on the new actual values.
+8. **position control**: the drives changing a data set over (a motor changeover cancels the
+   pulses the axis's servo state sees in this cycle), the inclined-axis controls carry the
+   orthogonal axis along a manual motion, every axis that moves or was commanded runs its control
+   loop, drive and encoder, then travel to fixed stop detects its stop and watches its window
+   (only while one is selected), and the couplings monitor their synchronism on the new actual
+   values.
 9. **extended stop and retract**: synchronized actions, the channels' and the drives' ESR
    reactions, the DC link.  After position control, so that a trigger of this cycle sees this
    cycle's positions; before the alarm reactions, which must not cut off a retraction.
@@ -57,6 +59,7 @@ from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig, machine_ipo_cycle_us
 from vc.core.alarms import Alarm, AlarmList, Clear, Reaction
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.drive_messages import AMBIENT_TEMPERATURE
 from vc.core.axis.owner import Owner
 from vc.core.channel.program_run import ChannelState, Mode
 from vc.core.nc_memory import NcMemory
@@ -120,6 +123,11 @@ class Nck:
         self.polygons = parts.polygons
         self.manual = parts.manual
         self.fixed_stops = parts.fixed_stops
+        self._changing_drives: list[MachineAxis] = []  # drives changing a data set: ticked until done
+        self._drive_messages = [axis.messages for axis in self.axes if axis.messages is not None]
+        if self.dc_link is not None:
+            for messages in self._drive_messages:
+                messages.set_link_voltage(self.dc_link.voltage)  # power-on: the link as it is (empty)
         self.alarm_reactions = AlarmReactions(self.alarms, self.axes, self.axes_by_name, self.channels_by_name,
                                               self.esr, self.polygons)
         self.emergency_stop = False
@@ -197,6 +205,8 @@ class Nck:
         """True when an axis moved this cycle."""
         for inclined in self.inclined_axes:
             inclined.follow()  # a manual motion of the inclined axis carries the orthogonal one along
+        if self._changing_drives:
+            self._drive_data_sets()
         moved = False
         for axis in self.axes:
             if axis.resting and axis.owner is Owner.NONE:
@@ -208,6 +218,16 @@ class Nck:
                 fixed_stop.cycle(self.cycle)  # detection and monitoring on the new actual values
         self.couplings.monitor(self.cycle)
         return moved
+
+    def _drive_data_sets(self) -> None:
+        """The drives changing a data set over (DB31.DBX21.x -> 93.x); a motor changeover cancels
+        and returns the pulses, which the axis's servo state must see this cycle."""
+        for axis in self._changing_drives:
+            cancelled = axis.data_sets.pulses_cancelled
+            axis.data_sets.cycle()
+            if axis.data_sets.pulses_cancelled != cancelled:
+                axis.resting = False
+        self._changing_drives = [axis for axis in self._changing_drives if axis.data_sets.busy]
 
     def _outputs(self, moved: bool) -> None:
         status = self._status_signature()
@@ -261,6 +281,8 @@ class Nck:
                 plc_axes = self._plc_axes_of.get(axis.name)
                 if plc_axes is not None:
                     plc_axes.decode_inputs(axis.name)  # DBX28.7, DBX30.0, FC18 (vc/core/axis/plc_axis.py)
+                if axis.data_sets.busy and axis not in self._changing_drives:
+                    self._changing_drives.append(axis)  # a data set changeover or the integrator's answer
                 axis.override = self._axis_coding.factor(axis.inputs.override_raw, axis.inputs.override_active)
                 self._hardware_limit_switches(axis)
                 spindle = self._spindle_of.get(axis.name)
@@ -371,6 +393,8 @@ class Nck:
         cancel their pulses when it falls below 0.9 x r0208 and take them back once it is charged."""
         cancelled = dc_link.pulses_cancelled
         dc_link.cycle(self.esr.generators)
+        for messages in self._drive_messages:
+            messages.set_link_voltage(dc_link.voltage)  # DB31.DBX95.0 against each drive's p2172
         if dc_link.pulses_cancelled != cancelled:
             for axis in self.axes:
                 axis.pulses_cancelled = dc_link.pulses_cancelled
@@ -453,6 +477,16 @@ class Nck:
         drives show it in DB31.DBX92.7."""
         for axis in self.axes:
             axis.set_line_up_ready(ready)
+
+    def motor_temperature(self, axis: str, celsius: float | None) -> bool:
+        """The plant's motor temperature of ``axis`` (a fault: the motor overheats; None: back at
+        the ambient temperature); False when its drive reports no messages (DB31.DBX94.0 needs
+        ``drive: messages: 1``)."""
+        messages = self.axes_by_name[axis].messages
+        if messages is None:
+            return False
+        messages.set_temperature(AMBIENT_TEMPERATURE if celsius is None else celsius)
+        return True
 
     def drive_blocked(self, axis: str) -> None:
         """A fault of the machine: the drive of ``axis`` reports its motor blocked (a part twisted

@@ -27,6 +27,8 @@ from vc.config import md_dictionary as MD
 from vc.config.model import MachineConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.drive_messages import DriveMessages
+from vc.core.axis.parameter_sets import ServoParameterSets, selected_by_the_plc
 from vc.core.axis.plc_axis import PlcAxis
 from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
@@ -131,9 +133,13 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     spindle_of = {spindle.name: spindle for spindle in spindles}
     couplings = Couplings(list(machine.channels), spindle_of, axis_table,
                           {spindle.name: image.area(f"DB{spindle.axis.config.db}") for spindle in spindles}, dt, alarms)
+    for axis in axes:
+        _servo_parameter_sets(axis, axis_table, image)
     esr = NckEsr({axis.name: DriveEsr(axis, axis_table, image.area(f"DB{axis.config.db}"), dt,
-                                      _parameter_set_of(axis.name, spindle_of))
+                                      _parameter_set_of(axis, spindle_of))
                   for axis in axes})
+    for axis in axes:
+        _drive_messages(axis, axis_table, image, dt, _parameter_set_of(axis, spindle_of))
     dc_link = DcLink(machine.dc_link, dt) if machine.dc_link is not None else None
     fixed_stops = _fixed_stops(channels, axis_table, image, dt, alarms)
     for channel in channels:
@@ -208,12 +214,34 @@ def _spindles(machine: MachineConfig, table: SignalTable, image: ProcessImage, m
     return spindles
 
 
-def _parameter_set_of(axis: str, spindle_of: dict[str, Spindle]) -> Callable[[], int]:
-    """The active parameter set of ``axis``: a spindle's gear stage, else the first."""
-    spindle = spindle_of.get(axis)
-    if spindle is None:
-        return lambda: 0
-    return lambda: spindle.parameter_set
+def _drive_messages(axis: MachineAxis, table: SignalTable, image: ProcessImage, dt: float,
+                    parameter_set: Callable[[], int]) -> None:
+    """The drive's messages DB31.DBX94.x / 95.0 for an axis whose drive reports them (``drive:
+    messages: 1``); the NC knows the signals of every axis, the others' stay 0."""
+    messages = DriveMessages(axis.config, table, image.area(f"DB{axis.config.db}"), dt, parameter_set)
+    if axis.config.drive.messages:
+        messages.set_max_accel(axis.dyn.max_accel)
+        axis.messages = messages
+        messages.publish()
+
+
+def _servo_parameter_sets(axis: MachineAxis, table: SignalTable, image: ProcessImage) -> None:
+    """The PLC's servo parameter set selection DB31.DBX9.0-9.2 for an axis whose MD35590 allows it;
+    the NC knows the signals of every axis."""
+    sets = ServoParameterSets(axis.config, table, image.area(f"DB{axis.config.db}"))
+    if selected_by_the_plc(axis.config):
+        axis.parameter_sets = sets
+
+
+def _parameter_set_of(axis: MachineAxis, spindle_of: dict[str, Spindle]) -> Callable[[], int]:
+    """The active parameter set of ``axis``: a spindle's gear stage, the PLC's selection, else the first."""
+    spindle = spindle_of.get(axis.name)
+    if spindle is not None:
+        return lambda: spindle.parameter_set
+    sets = axis.parameter_sets
+    if sets is not None:
+        return lambda: sets.active
+    return lambda: 0
 
 
 def power_on_mode(machine: MachineConfig, retractions: dict[str, ManualRetraction]) -> Mode:

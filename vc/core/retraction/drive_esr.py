@@ -39,9 +39,9 @@ from collections.abc import Callable
 from enum import Enum
 
 from interfaces.signal_groups import DriveEsrStatus
-from vc.config import md_dictionary as MD
 from vc.config.model import EXTENDED_RETRACT, EXTENDED_STOP, GENERATOR_OPERATION, SPEED_HYSTERESIS
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.drive_messages import motor_speed
 from vc.core.axis.motion import ramp
 from vc.core.axis.owner import Owner
 from vc.core.interface_map import SignalTable
@@ -113,12 +113,7 @@ class DriveEsr:
         """Load-side velocity (mm/min or deg/min) -> motor rev/min with the axis's gear ratio of the
         active gear stage (MD31050 / MD31060 load / motor revolutions, "the current total gear ratio",
         L41971-41975; MD31030 leadscrew pitch) [control]."""
-        md = self.axis.config.md
-        stage = self._parameter_set()
-        ratio = md.int(MD.DRIVE_AX_RATIO_NUMERA, stage) / md.int(MD.DRIVE_AX_RATIO_DENOM, stage)
-        if self.axis.config.is_rotary:
-            return load_velocity_per_minute / 360.0 * ratio
-        return load_velocity_per_minute / md.float(MD.LEADSCREW_PITCH) * ratio
+        return motor_speed(self.axis.config, load_velocity_per_minute, self._parameter_set())
 
     # ------------------------------------------------------------------ $AA_ESR_ENABLE
     def set_enable(self, enabled: bool) -> None:

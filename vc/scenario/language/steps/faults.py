@@ -69,7 +69,7 @@ def check_fault(checker: StepChecker, index: int, mark: Mark, value: Any, value_
         checker.add(value.mark_of("kind"), f"unknown fault '{kind}'{hint}")
         return None
     needed = {"reference_marks_missing": ("from", "to"), "encoder_slip": ("by",), "load_disturbance": ("by",),
-              "workpiece_clamp": ("by",)}.get(kind, ())
+              "workpiece_clamp": ("by",), "motor_temperature": ("to",)}.get(kind, ())
     numbers: dict[str, float] = {}
     for key in ("from", "to", "by", "encoder"):
         if key in value:
@@ -92,6 +92,10 @@ def check_fault(checker: StepChecker, index: int, mark: Mark, value: Any, value_
         checker.add(value.mark_of("encoder"), "encoder is the measuring system 1 or 2")
         return None
     if axis is None:
+        return None
+    if kind == "motor_temperature" and checker.machine is not None and not checker.machine.axis(axis).drive.messages:
+        checker.add(value.mark_of("kind"), f"a motor_temperature fault needs the drive of {axis} to report its"
+                                           " messages (drive: messages: 1 in the machine file)")
         return None
     return InjectFault(index, "fault", mark, axis, str(kind), numbers.get("from", 0.0), numbers.get("to", 0.0),
                        numbers.get("by", 0.0), encoder)
