@@ -76,6 +76,7 @@ class Host:
 
     set_booleans: Callable[[list[int], list[bool]], None]
     set_integers: Callable[[list[int], list[int]], None]
+    set_reals: Callable[[list[int], list[float]], None]
     get_booleans: Callable[[list[int]], Sequence[object]]
     get_integers: Callable[[list[int]], Sequence[object]]
     get_reals: Callable[[list[int]], Sequence[float]]
@@ -128,12 +129,14 @@ class ExchangeSize:
 
     set_booleans: int
     set_integers: int
+    set_reals: int
     get_booleans: int
     get_integers: int
     get_reals: int
 
     def text(self) -> str:
-        return (f"setBoolean {self.set_booleans}, setInteger {self.set_integers}, getBoolean {self.get_booleans},"
+        return (f"setBoolean {self.set_booleans}, setInteger {self.set_integers}, setReal {self.set_reals},"
+                f" getBoolean {self.get_booleans},"
                 f" getInteger {self.get_integers}, getReal {self.get_reals}")
 
 
@@ -216,11 +219,13 @@ class JogDriver:
         self.jog_axis = next(axis.name for axis in machine.axes if not axis.is_rotary)
         self.boolean_inputs = references(Causality.INPUT, Kind.BOOLEAN)
         self.integer_inputs = references(Causality.INPUT, Kind.INTEGER)
+        self.real_inputs = references(Causality.INPUT, Kind.REAL)  # FC18's Pos and FRate of every axis
         self.boolean_outputs = references(Causality.OUTPUT, Kind.BOOLEAN)
         self.integer_outputs = references(Causality.OUTPUT, Kind.INTEGER)
         self.real_outputs = references(Causality.OUTPUT, Kind.REAL)
         self.boolean_values = [False] * len(self.boolean_inputs)
         self.integer_values = [0] * len(self.integer_inputs)
+        self.real_values = [0.0] * len(self.real_inputs)
         boolean_slot = {reference: slot for slot, reference in enumerate(self.boolean_inputs)}
         integer_slot = {reference: slot for slot, reference in enumerate(self.integer_inputs)}
 
@@ -277,8 +282,8 @@ class JogDriver:
 
     @property
     def exchange_size(self) -> ExchangeSize:
-        return ExchangeSize(len(self.boolean_inputs), len(self.integer_inputs), len(self.boolean_outputs),
-                            len(self.integer_outputs), len(self.real_outputs))
+        return ExchangeSize(len(self.boolean_inputs), len(self.integer_inputs), len(self.real_inputs),
+                            len(self.boolean_outputs), len(self.integer_outputs), len(self.real_outputs))
 
 
 def power_up(host: Host, driver: JogDriver) -> None:
@@ -313,10 +318,11 @@ def time_steps(host: Host, driver: JogDriver, steps: int) -> WorkloadFigures:
 def time_exchanges(host: Host, driver: JogDriver, steps: int) -> WorkloadFigures:
     """Each step: every input written, every output read, one batch per type, then ``doStep``."""
     do_step, step_s = host.do_step, driver.step_s
-    set_booleans, set_integers = host.set_booleans, host.set_integers
+    set_booleans, set_integers, set_reals = host.set_booleans, host.set_integers, host.set_reals
     get_booleans, get_integers, get_reals = host.get_booleans, host.get_integers, host.get_reals
-    boolean_inputs, integer_inputs = driver.boolean_inputs, driver.integer_inputs
+    boolean_inputs, integer_inputs, real_inputs = driver.boolean_inputs, driver.integer_inputs, driver.real_inputs
     boolean_values, integer_values = driver.boolean_values, driver.integer_values  # prepare() changes them in place
+    real_values = driver.real_values
     boolean_outputs, integer_outputs, real_outputs = driver.boolean_outputs, driver.integer_outputs, driver.real_outputs
     velocity_slot = driver.velocity_slot
     lowest = math.inf
@@ -325,6 +331,7 @@ def time_exchanges(host: Host, driver: JogDriver, steps: int) -> WorkloadFigures
         driver.prepare(step)
         set_booleans(boolean_inputs, boolean_values)
         set_integers(integer_inputs, integer_values)
+        set_reals(real_inputs, real_values)
         get_booleans(boolean_outputs)
         get_integers(integer_outputs)
         reals = get_reals(real_outputs)
@@ -392,8 +399,8 @@ class FmuUnderFmpy:
             slave.setupExperiment(startTime=0.0)
             slave.enterInitializationMode()
             slave.exitInitializationMode()
-            yield Host(slave.setBoolean, slave.setInteger, slave.getBoolean, slave.getInteger, slave.getReal,
-                       slave.doStep)
+            yield Host(slave.setBoolean, slave.setInteger, slave.setReal, slave.getBoolean, slave.getInteger,
+                       slave.getReal, slave.doStep)
             slave.terminate()
         finally:
             slave.freeInstance()
@@ -428,7 +435,7 @@ def inprocess_host(unit: NcUnit) -> Host:
     def get_each(references: list[int]) -> list[float]:
         return [get_value(reference) for reference in references]
 
-    return Host(set_each, set_each, get_each, get_each, get_each, unit.step)
+    return Host(set_each, set_each, set_each, get_each, get_each, get_each, unit.step)
 
 
 def _on_fmu(fmu: FmuUnderFmpy, machine: MachineConfig, workload: Workload, steps: int) -> WorkloadFigures:

@@ -89,7 +89,7 @@ def test_the_exchange_carries_every_input_and_output_of_the_unit(result: FmuBenc
     size = result.exchange_size
     inputs = [variable for variable in unit.variables if variable.causality is Causality.INPUT]
     outputs = [variable for variable in unit.variables if variable.causality is Causality.OUTPUT]
-    assert size.set_booleans + size.set_integers == len(inputs)
+    assert size.set_booleans + size.set_integers + size.set_reals == len(inputs)
     assert size.get_booleans + size.get_integers + size.get_reals == len(outputs)
 
 
