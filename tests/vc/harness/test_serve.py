@@ -21,6 +21,7 @@ import snap7
 from pyModbusTCP.client import ModbusClient
 
 from interfaces.catalog import load_catalog
+from interfaces.links.modbus.codec import RegisterMap, Table
 from interfaces.signal_map import map_rows
 from interfaces.signals import expand
 from vc.cli.main import main
@@ -98,6 +99,12 @@ def documented(symbol: str) -> dict[str, str]:
     return {key: str(value) for key, value in dataclasses.asdict(row).items()}
 
 
+def plc_to_nc_registers() -> int:
+    machine = load_machine(MACHINE)
+    register_map = RegisterMap.build(expand(load_catalog(), machine.layout), machine.plant_io.area_sizes())
+    return register_map.registers(Table.PLC_TO_NC)
+
+
 def test_serve_and_a_plc_process_reference_x1_and_clients_read_the_documented_bit(serving: tuple[int, Lines]) -> None:
     port, output = serving
     output.wait_for("PASS")
@@ -108,8 +115,12 @@ def test_serve_and_a_plc_process_reference_x1_and_clients_read_the_documented_bi
     assert client.read_discrete_inputs(int(referenced["modbus_address"]), 1) == [True]
     (register,) = client.read_input_registers(int(referenced["register"]), 1)
     assert register >> int(referenced["register_bit"]) & 1
-    # the same number written as a coil: outside the PLC-to-NC table
-    assert not client.write_single_coil(int(referenced["modbus_address"]), True)
+    # a coil the PLC's table holds: refused to a second writer while the PLC owns the link (01 illegal
+    # function); a coil beyond the PLC-to-NC table: refused as an address (02 illegal data address)
+    plc_coil = int(documented("X1.basic.out.enableCtrl")["modbus_address"])
+    assert not client.write_single_coil(plc_coil, True)
+    assert client.last_except == 1
+    assert not client.write_single_coil(16 * plc_to_nc_registers(), True)
     assert client.last_except == 2
     client.close()
     mbpoll = shutil.which("mbpoll")
@@ -120,9 +131,10 @@ def test_serve_and_a_plc_process_reference_x1_and_clients_read_the_documented_bi
     read = subprocess.run([mbpoll, "-m", "tcp", "-p", str(port), "-t", "1", "-r", reference, "-c", "1", "-1",
                            "127.0.0.1"], capture_output=True, text=True, timeout=10)
     assert read.returncode == 0 and f"[{reference}]: \t1" in read.stdout
-    refused = subprocess.run([mbpoll, "-m", "tcp", "-p", str(port), "-t", "0", "-r", reference, "-1", "127.0.0.1",
-                              "1"], capture_output=True, text=True, timeout=10)
-    assert refused.returncode != 0 and "Illegal data address" in refused.stdout + refused.stderr
+    for coil, answer in ((plc_coil, "Illegal function"), (16 * plc_to_nc_registers(), "Illegal data address")):
+        refused = subprocess.run([mbpoll, "-m", "tcp", "-p", str(port), "-t", "0", "-r", str(coil + 1), "-1",
+                                  "127.0.0.1", "1"], capture_output=True, text=True, timeout=10)
+        assert refused.returncode != 0 and answer in refused.stdout + refused.stderr
 
 
 @pytest.mark.realtime
