@@ -252,6 +252,7 @@ class PlcAxisRequests:
     axis_stop: bool = signal("spindle.out.stop")  # DBX30.0
     start: bool = signal("plcAxis.out.start")  # FC18 Start
     stop: bool = signal("plcAxis.out.stop")  # FC18 Stop
+    function: int = signal("plcAxis.out.function", 0)  # FC18 Funct (4 indexing axis, 5 or 0 positioning axis)
     mode: int = signal("plcAxis.out.mode", 0)  # FC18 Mode
     position: float = signal("plcAxis.out.position", 0.0)  # FC18 Pos
     feedrate: float = signal("plcAxis.out.feedrate", 0.0)  # FC18 FRate

@@ -126,7 +126,9 @@ class SR:
 FC18_PARAMETERS = 1  # Funct, Mode, Pos or FRate the block cannot hand on
 FC18_STILL_RUNNING = 20  # Start while the axis's previous motion still runs
 FC18_NO_AXIS = 40  # AxisNo names no axis of the machine that the NC could move
-FC18_POSITIONING_AXIS = 5  # Funct: positioning axis, metric (the function this block offers)
+FC18_INDEXING_AXIS = 4  # Funct: indexing axis, Pos the number of an index position (seed 003 §11.2.3)
+FC18_POSITIONING_AXIS = 5  # Funct: positioning axis, metric
+FC18_FUNCTIONS = (FC18_INDEXING_AXIS, FC18_POSITIONING_AXIS)  # the functions this block offers
 _REAL_MAX = 3.4028234663852886e38  # the largest S7 REAL
 
 
@@ -144,21 +146,22 @@ class TraversePosAxis:
         if self.magazine.error: alarm(self.magazine.state)
 
     Inputs (FC18's parameters): ``start`` (its rising edge starts a motion), ``stop`` (its rising edge
-    brakes a running one), ``funct`` (5: positioning axis, metric; others are not offered: State 1),
-    ``mode`` (0 absolute, 1 incremental, 2 shortest path, 3 absolute positive, 4 absolute negative),
-    ``pos`` (mm, degrees), ``frate`` (mm/min, deg/min; 0: MD32060).  Outputs: ``in_pos`` (the
-    motion ended in position), ``error`` with ``state`` (the error number), ``done`` (the job is
+    brakes a running one), ``funct`` (5: positioning axis, metric; 4: indexing axis, ``pos`` the number
+    of an index position; others are not offered: State 1), ``mode`` (0 absolute, 1 incremental,
+    2 shortest path, 3 absolute positive, 4 absolute negative: of an indexing axis CAC, CIC, CDC,
+    CACP, CACN), ``pos`` (mm, degrees), ``frate`` (mm/min, deg/min; 0: MD32060).  Outputs:
+    ``in_pos`` (the motion ended in position), ``error`` with ``state`` (the error number), ``done`` (the job is
     over: in position or failed) and ``active`` (it runs).  Start while the previous motion runs
     gives Error with State 20 and leaves that motion alone.
 
     The handshake with the NC, the same for an external PLC (docs/positioning_and_indexing.md, "FC18
-    over the interface"): Mode, Pos and FRate in DB31.DBB33 / DBD36 / DBD40, then Start DB31.DBX32.0
-    = 1 until the NC acknowledges it in DB31.DBX104.3; from then on DB31.DBX104.0-104.2 and DBB105
-    answer this start.  Stop DB31.DBX32.1 is a pulse of one PLC cycle.
+    over the interface"): Funct, Mode, Pos and FRate in DB31.DBB34 / DBB33 / DBD36 / DBD40, then
+    Start DB31.DBX32.0 = 1 until the NC acknowledges it in DB31.DBX104.3; from then on
+    DB31.DBX104.0-104.2 and DBB105 answer this start.  Stop DB31.DBX32.1 is a pulse of one PLC cycle.
     """
 
-    __slots__ = ("_feed", "_mode", "_own_error", "_pending", "_position", "_start", "_start_edge", "_status", "_stop",
-                 "_stop_edge", "active", "axis", "done", "error", "in_pos", "state")
+    __slots__ = ("_feed", "_function", "_mode", "_own_error", "_pending", "_position", "_start", "_start_edge",
+                 "_status", "_stop", "_stop_edge", "active", "axis", "done", "error", "in_pos", "state")
 
     def __init__(self, io: PlcIo, axis_no: int):
         commissioning = io.environment.commissioning
@@ -169,6 +172,7 @@ class TraversePosAxis:
         self.axis = facts.axis
         self._start = io.output(f"{self.axis}.plcAxis.out.start")
         self._stop = io.output(f"{self.axis}.plcAxis.out.stop")
+        self._function = io.output_byte(f"{self.axis}.plcAxis.out.function")
         self._mode = io.output_byte(f"{self.axis}.plcAxis.out.mode")
         self._position = io.output_real(f"{self.axis}.plcAxis.out.position")
         self._feed = io.output_real(f"{self.axis}.plcAxis.out.feedrate")
@@ -190,10 +194,11 @@ class TraversePosAxis:
         if self._start_edge(start):
             if self._pending or status.active:
                 self._own_error = FC18_STILL_RUNNING
-            elif funct != FC18_POSITIONING_AXIS or not 0 <= mode <= 255 or not _is_real(pos) or not _is_real(frate):
+            elif funct not in FC18_FUNCTIONS or not 0 <= mode <= 255 or not _is_real(pos) or not _is_real(frate):
                 self._own_error = FC18_PARAMETERS
             else:
                 self._own_error = 0
+                self._function.value = funct
                 self._mode.value = mode
                 self._position.value = pos
                 self._feed.value = frate

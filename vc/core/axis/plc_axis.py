@@ -3,7 +3,10 @@ PLC moves on its own through FC18 SINU_TraversePosAxis, or takes from the channe
 
 FC18 (L12269-12290) starts the axis as a concurrent positioning axis of its channel: G01 at FRate
 (G94, mm/min or deg/min; 0: MD32060), exact stop fine at its end (G09), on the axis's own
-interpolator (``CommandAxis``, state ``PLC_POSITIONING``).  An axis the program does not move
+interpolator (``CommandAxis``, state ``PLC_POSITIONING``).  Funct 5 (positioning axis; 0 as 5) takes
+Pos in mm or degrees and Mode as the way (AC, IC, DC, ACP, ACN); Funct 4 indexes an indexing axis
+(§11.2.3, L13522-13530): Pos is the number of an index position and Mode the program's coded way
+(CAC, CIC, CDC, CACP, CACN; vc/core/axis/indexing.py).  An axis the program does not move
 becomes a PLC axis with the request (L12221-12222: DB31.DBX68.7).  Its channel's NC stop holds it and
 NC start lets it go on, the channel's reset aborts it (L12320-12330); the channel's feed disable holds
 it unless MD30460 bit 6 (L12191-12210), and DB21.DBX36.3 leaves it out with bit 7.
@@ -50,6 +53,7 @@ from enum import Enum
 from interfaces.signal_groups import PlcAxisRequests, PlcAxisStatus
 from vc.config import md_dictionary as MD
 from vc.core.axis.command_axis import CommandAxis, CommandState
+from vc.core.axis.indexing import ALARM_INVALID_INDEX
 from vc.core.axis.owner import Owner
 from vc.core.axis.rotary import (
     ALARM_ACN_NOT_ALLOWED,
@@ -71,14 +75,20 @@ ALARM_PLC_ONLY = 26075
 ALARM_PLC_FOR_GOOD = 26076
 ALARM_COMMAND_ON_PLC_AXIS = 20143  # a synchronized action's POS on an axis the PLC holds (L11231-11235)
 
-# FC18 Mode -> the way of the end point (vc/core/axis/rotary.py)
+# FC18 Funct: the functions of an axis the NC takes (the spindle's 1-3 are not built) [control]
+FUNCT_INDEXING_AXIS = 4  # Pos is an index position's number (seed 003 §11.2.3)
+FUNCT_POSITIONING_AXIS = 5
+FUNCTIONS = (0, FUNCT_INDEXING_AXIS, FUNCT_POSITIONING_AXIS)  # 0: a PLC that leaves DBB34 alone, as 5
+
+# FC18 Mode -> the way of the end point (vc/core/axis/rotary.py); of an indexing axis the coded way
 FC18_MODES = ("AC", "IC", "DC", "ACP", "ACN")
+FC18_INDEX_MODES = ("CAC", "CIC", "CDC", "CACP", "CACN")
 
 # FC18 State, the error numbers (after the real block's list; the seed prints none) [control]
-ERROR_PARAMETERS = 1  # Mode not 0..4, Pos or FRate not a number
+ERROR_PARAMETERS = 1  # Funct not 4 / 5 (4 on no indexing axis), Mode not 0..4, Pos or FRate not a number
 ERROR_ABORTED = 30  # the motion was aborted: channel reset, axis reset, control given back, axis taken
 ERROR_PROGRAM_MOVES_AXIS = 40  # the NC moves the axis (its program, JOG, referencing ...): the start is refused
-ERROR_WRONG_POSITION = 100  # a modulo position outside the modulo range (16830)
+ERROR_WRONG_POSITION = 100  # a modulo position outside the modulo range (16830); no such index position (17510)
 ERROR_NEGATIVE_FEED = 110
 ERROR_NO_SHORTEST_PATH = 125  # DC on a linear axis (16800)
 ERROR_NO_ABSOLUTE_PLUS = 126  # ACP without modulo (16810)
@@ -86,7 +96,8 @@ ERROR_NO_ABSOLUTE_MINUS = 127  # ACN without modulo (16820)
 ERROR_LIMIT_PLUS = 130  # the end point beyond the software limit switch plus
 ERROR_LIMIT_MINUS = 131
 _WAY_ERRORS = {ALARM_DC_NOT_ALLOWED: ERROR_NO_SHORTEST_PATH, ALARM_ACP_NOT_ALLOWED: ERROR_NO_ABSOLUTE_PLUS,
-               ALARM_ACN_NOT_ALLOWED: ERROR_NO_ABSOLUTE_MINUS, ALARM_WRONG_MODULO_POSITION: ERROR_WRONG_POSITION}
+               ALARM_ACN_NOT_ALLOWED: ERROR_NO_ABSOLUTE_MINUS, ALARM_WRONG_MODULO_POSITION: ERROR_WRONG_POSITION,
+               ALARM_INVALID_INDEX: ERROR_WRONG_POSITION}  # "number of index positions too high" [control]
 
 
 class AxisType(Enum):
@@ -261,13 +272,18 @@ class PlcAxis:
         if axis.owner not in (Owner.NONE, Owner.COMMAND) or self.command.state is not CommandState.IDLE:
             self._fail(ERROR_PROGRAM_MOVES_AXIS)  # the program, JOG, referencing or a synchronized action moves it
             return
-        if inp.mode >= len(FC18_MODES) or not math.isfinite(inp.position) or not math.isfinite(inp.feedrate):
+        indexing = inp.function == FUNCT_INDEXING_AXIS
+        if inp.function not in FUNCTIONS or inp.mode >= len(FC18_MODES) or (indexing and axis.index is None) \
+                or not math.isfinite(inp.position) or not math.isfinite(inp.feedrate):
             self._fail(ERROR_PARAMETERS)
             return
         if inp.feedrate < 0.0:
             self._fail(ERROR_NEGATIVE_FEED)
             return
-        target, alarm = end_point(axis.config, axis.setpoint, FC18_MODES[inp.mode], inp.position)
+        if indexing:
+            target, alarm = self._index_end_point(inp.mode, inp.position)
+        else:
+            target, alarm = end_point(axis.config, axis.setpoint, FC18_MODES[inp.mode], inp.position)
         if alarm:
             self._fail(_WAY_ERRORS[alarm])
             return
@@ -281,6 +297,14 @@ class PlcAxis:
         self.error_number = 0
         self.job = Job.TRAVERSING
         self.command.plc_position(target, inp.feedrate)
+
+    def _index_end_point(self, mode: int, number: float) -> tuple[float, int]:
+        """Funct 4 (seed 003 §11.2.3, L13522-13530): Pos is the number of an index position, Mode the
+        coded way of the program (CAC, CIC, CDC, CACP, CACN; vc/core/axis/indexing.py)."""
+        axis = self.axis
+        assert axis.index is not None
+        return axis.index.coded_end_point(axis.config, axis.setpoint, FC18_INDEX_MODES[mode], number,
+                                          axis.dyn.fine_window)
 
     def _moving(self, feed_disable: bool, alarm_stop: bool) -> None:
         """TRAVERSING / HELD: the holds of this cycle; the end of the motion."""
