@@ -70,6 +70,7 @@ class MachineAxis:
         self.dyn = dynamics_of(config)
         self.modulo_range = modulo_range_of(config)
         self.index = IndexPositions.of(config)  # an indexing axis's positions (MD30500), else None
+        self.programmed_index = 0  # $AA_PROG_INDEX_AX_POS_NO: the index position a POS / FC18 motion goes to
         self._decode = table.codec(AxisInputs).decode
         self._encode = table.codec(AxisStatus).encode
         self._area = area
@@ -357,6 +358,8 @@ class MachineAxis:
     # ------------------------------------------------------------------ motion owners
     def take(self, owner: Owner) -> None:
         self.owner = owner
+        if owner is not Owner.COMMAND:
+            self.programmed_index = 0  # $AA_PROG_INDEX_AX_POS_NO: no longer on its way to an index position
         self._motion_end_cycle = 0
         self.resting = False
 

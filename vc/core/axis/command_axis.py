@@ -64,6 +64,7 @@ from vc.core.state_machine import Instance, StateMachine, states, transitions
 ALARM_ILLEGAL_AXIS_TYPE = 20141  # a command axis on a spindle or an axis in use (L17574-17575)
 ALARM_SOFTWARE_LIMIT = 10720  # the end point beyond a software limit switch, as for a block [control]
 _TINY = 1e-9
+_INDEX_TOLERANCE = 1e-6  # mm or degrees: an end point that lies on an index position
 
 # The motion-end conditions of a positioning axis (L10112-10122)
 MOTION_END_FINE = "FINEA"
@@ -173,6 +174,7 @@ class CommandAxis:
         self._busy()
         if axis.owner is Owner.NONE:
             axis.take(Owner.COMMAND)
+        self._aim(target)
 
     def program_position(self, target: float) -> None:
         """POS / POSA of the part program: the axis interpolator takes the axis to ``target`` at the
@@ -186,6 +188,7 @@ class CommandAxis:
             self._reset_level = axis.inputs.reset_movement
         self.state = CommandState.POSITIONING
         axis.take(Owner.COMMAND)
+        self._aim(target)
         self._busy()
         self.write_status()
 
@@ -200,7 +203,15 @@ class CommandAxis:
             self._reset_level = self.axis.inputs.reset_movement
         self.state = CommandState.PLC_POSITIONING
         self.axis.take(Owner.COMMAND)
+        self._aim(target)
         self._busy()
+
+    def _aim(self, target: float) -> None:
+        """$AA_PROG_INDEX_AX_POS_NO of an indexing axis: the number of the index position at ``target``
+        (0: none), until another owner takes the axis (L13779-13800)."""
+        index = self.axis.index
+        if index is not None:
+            self.axis.programmed_index = index.standing_on(target, _INDEX_TOLERANCE)
 
     def reset(self) -> None:
         """The channel's reset or DB31.DBX2.2: a running motion brakes and ends, an ESR stop ends."""

@@ -102,6 +102,28 @@ class IndexPositions:
             return math.floor(self._equidistant_number(position) + 1e-9)
         return sum(1 for p in self.table if p <= here)
 
+    def reached(self, position: float, window: float, halfway: bool) -> int:
+        """``$AA_ACT_INDEX_AX_POS_NO`` (L13618-13680, L13808-13820): the number of the index position
+        last reached or passed at ``position``.  MD10940 bit 0 = 0: a position counts from the edge of
+        its exact stop fine window ``window`` on its lower side, the same edge whichever way the axis
+        travels (reached going up, left going down); bit 0 = 1 (``halfway``): from half the way to it.
+        On a modulo axis before the first position of the turn: the last; on a linear table below
+        its first: 0 [INF]."""
+        if halfway:
+            return self._nearest(position)
+        number = self.below(position + window)
+        if self.modulo is not None and number < 1:
+            return self.count
+        return number
+
+    def _nearest(self, position: float) -> int:
+        here = self._here(position)
+        if not self.table:
+            number = round(self._equidistant_number(position))
+            return (number - 1) % self.count + 1 if self.modulo is not None else number
+        distances = [self._distance(here, p) for p in self.table]
+        return distances.index(min(distances)) + 1
+
     # ------------------------------------------------------------------ the program's coded positions
     def coded_end_point(self, config: AxisConfig, start: float, word: str, value: float,
                         window: float) -> tuple[float, int]:

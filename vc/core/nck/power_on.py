@@ -28,6 +28,7 @@ from vc.config.model import MachineConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.drive_messages import DriveMessages
+from vc.core.axis.index_variables import index_variable_reader
 from vc.core.axis.parameter_sets import ServoParameterSets, selected_by_the_plc
 from vc.core.axis.plc_axis import PlcAxis
 from vc.core.channel.channel import Channel
@@ -147,8 +148,10 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
                                                        strict=True) if axis}
         channel.esr = ChannelEsr(channel.name, channel.axes_by_name, alarms, dt, esr, geometry,
                                  {**channel.spindles, **channel.command_axes.by_name}, channel.command_axes)
-        channel.esr.other_variables = (channel.fixed_stops.reader(channel.config, couplings.variable_reader(
-                                           channel.spindle_indices())), channel.write_coupling_variable)
+        others = channel.fixed_stops.reader(channel.config, couplings.variable_reader(channel.spindle_indices()))
+        channel.esr.other_variables = (index_variable_reader(channel.config, channel.axes_by_name,
+                                                             nck.int(MD.INDEX_AX_MODE), others),
+                                       channel.write_coupling_variable)
     polygons: list[PolygonTurning] = []
     for channel in channels:
         channel.couplings = couplings
