@@ -929,8 +929,8 @@ INDEX_AX_OFFSET = MdDef(30503, "INDEX_AX_OFFSET", A, FLOAT, 0.0,
                         "equidistant indexing: the first index position", "seed 003 L13557-13560, L14225",
                         "mm", -1.0e8, 1.0e8)
 HIRTH_IS_ACTIVE = MdDef(30505, "HIRTH_IS_ACTIVE", A, BOOL, False,
-                        "indexing axis with Hirth joint (the loader refuses 1: not built)",
-                        "seed 003 L13740-13767")
+                        "indexing axis with Hirth joint: only on a rotary axis with equidistant index positions"
+                        " (MD30500 = 3)", "seed 003 L13740-13767")
 
 # ---------------------------------------------------------------------------------- index
 

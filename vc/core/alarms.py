@@ -121,6 +121,12 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
         AlarmDefinition(17500, "Channel %1 block %2 axis %3 is not an indexing axis", _STOP, Clear.RESET,
                         "[control] number and text: CAC / CACP / CACN / CDC / CIC for an axis without MD30500"
                         " (seed 003 §11.4 names no alarm)"),
+        AlarmDefinition(17501, "Channel %1 block %2 indexing axis %3 with Hirth joint is active", _STOP, Clear.RESET,
+                        "[control] number and text: an end point of an axis with MD30505 = 1 that is no index"
+                        " position (seed 003 L13740-13747: the Hirth joint locks it on its index positions only)"),
+        AlarmDefinition(17503, "Channel %1 block %2 indexing axis %3 with Hirth joint and axis not referenced", _STOP,
+                        Clear.RESET, "[control] number and text: a motion of an axis with MD30505 = 1 before its"
+                        " measuring system is referenced (seed 003 L13750-13757)"),
         AlarmDefinition(17510, "Channel %1 block %2 invalid index for indexing axis %3", _STOP, Clear.RESET,
                         "[control] number and text: a coded position that names no index position of the"
                         " axis (seed 003 L13868: 0 .. 59, an integer)"),

@@ -127,17 +127,20 @@ class _Checker:
 
     def _check_indexing(self, entry: AxisEntry) -> None:
         """An indexing axis (MD30500): its table has positions, ascending, each different, inside a
-        modulo axis's range (L13578-13603); equidistant ones a spacing; no Hirth joint (not built)."""
+        modulo axis's range (L13578-13603); equidistant ones a spacing; a Hirth joint only on a rotary axis
+        with equidistant positions (L13740-13767)."""
         data, nck = entry.data, self.machine.nck
         assignment = int(data.value(mdd.INDEX_AX_ASSIGN_POS_TAB))
+        if data.value(mdd.HIRTH_IS_ACTIVE) and (assignment != 3 or not data.value(mdd.IS_ROT_AX)):
+            # L13740-13767: a rotary axis with equidistant index positions
+            self.add(data.mark_of(mdd.HIRTH_IS_ACTIVE),
+                     f"{entry.name}: MD30505 HIRTH_IS_ACTIVE = 1, the Hirth joint, needs a rotary axis (MD30300"
+                     f" IS_ROT_AX = 1) with equidistant index positions (MD30500 = 3), here MD30500 = {assignment}")
         if not assignment:
             return
         mark = data.mark_of(mdd.INDEX_AX_ASSIGN_POS_TAB)
         if entry.is_spindle:
             self.add(mark, f"{entry.name}: a spindle cannot be an indexing axis (MD30500 = {assignment})")
-        if data.value(mdd.HIRTH_IS_ACTIVE):
-            self.add(data.mark_of(mdd.HIRTH_IS_ACTIVE),
-                     f"{entry.name}: MD30505 HIRTH_IS_ACTIVE = 1, the Hirth joint, is not built; write 0")
         modulo = bool(data.value(mdd.IS_ROT_AX)) and bool(data.value(mdd.ROT_IS_MODULO))
         if assignment == 3:
             if not modulo and not float(data.value(mdd.INDEX_AX_NUMERATOR)):

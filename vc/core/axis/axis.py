@@ -389,7 +389,10 @@ class MachineAxis:
         self.command_velocity = velocity
 
     def add_handwheel_travel(self, distance: float) -> None:
-        """Handwheel pulses in JOG: ``distance`` more to travel (sign = direction)."""
+        """Handwheel pulses in JOG: ``distance`` more to travel (sign = direction); not for an axis
+        with a Hirth joint (seed 003 L14070-14080)."""
+        if self.index is not None and self.index.hirth:
+            return
         self.jog.add_handwheel_travel(distance)
         self.resting = False
 

@@ -43,6 +43,14 @@ A PLC axis's motion is held as its ``PlcAxis`` says (``plc_held``); the channel'
 leave it alone (the PLC axis has its own reset).  A synchronized action's POS on an axis the PLC holds
 or may hold raises the alarm ``plc_refusal`` (20143, 26075, 26076).
 
+An indexing axis with a Hirth joint (MD30505, §11.5 L14030-14060) never stops between two index
+positions: NC stop, a stopping alarm, the feed disable, the channel's feed override at 0, the axis's
+feed stop DB31.DBX4.3 (or its own override at 0 [INF]) let it run on at the speed it has to the next
+index position ahead it can stop on (``stop_at``), where it waits for the hold to go; the channel's
+reset, DB31.DBX2.2, FC18 Stop and the PLC's axis reset end its motion there (TRAVERSING to it, no
+longer the program's or the PLC's).  Only an emergency stop, an alarm's rapid stop or a drive that
+is not ready stop it at once (L14036-14048).
+
 A POS on a spindle (L17574-17575) or on an axis another motion owns now (the path, JOG,
 referencing, a retraction, a positioning motion of the program) is refused with alarm 20141 [control].
 """
@@ -56,6 +64,7 @@ from interfaces.signal_groups import PositioningAxisStatus
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.indexing import ON_POSITION
 from vc.core.axis.motion import ramp, stopping_velocity
 from vc.core.axis.owner import Owner
 from vc.core.interface_map import SignalTable
@@ -64,7 +73,6 @@ from vc.core.state_machine import Instance, StateMachine, states, transitions
 ALARM_ILLEGAL_AXIS_TYPE = 20141  # a command axis on a spindle or an axis in use (L17574-17575)
 ALARM_SOFTWARE_LIMIT = 10720  # the end point beyond a software limit switch, as for a block [control]
 _TINY = 1e-9
-_INDEX_TOLERANCE = 1e-6  # mm or degrees: an end point that lies on an index position
 
 # The motion-end conditions of a positioning axis (L10112-10122)
 MOTION_END_FINE = "FINEA"
@@ -103,6 +111,9 @@ class CommandAxis:
         self._published: tuple[bool, float] = (False, 0.0)
         self.plc_held = False  # a PLC axis's motion is held this cycle (set by its PlcAxis)
         self.plc_refusal = 0  # the alarm of a synchronized action's POS on an axis of the PLC; 0: allowed
+        self._hirth = axis.index is not None and axis.index.hirth
+        self.stop_at: float | None = None  # a Hirth axis's delayed stop: the index position it stops on
+        self._run_on_speed = 0.0  # the speed it runs on at to ``stop_at``
 
     def publish_to(self, table: SignalTable, area: bytearray) -> None:
         """Write DB31.DBX76.5 and DBD78 of this axis into ``area`` from now on."""
@@ -211,15 +222,40 @@ class CommandAxis:
         (0: none), until another owner takes the axis (L13779-13800)."""
         index = self.axis.index
         if index is not None:
-            self.axis.programmed_index = index.standing_on(target, _INDEX_TOLERANCE)
+            self.axis.programmed_index = index.standing_on(target, ON_POSITION)
 
     def reset(self) -> None:
-        """The channel's reset or DB31.DBX2.2: a running motion brakes and ends, an ESR stop ends."""
+        """The channel's reset or DB31.DBX2.2: a running motion brakes and ends, an ESR stop ends;
+        a Hirth axis's motion ends on the next index position instead."""
         if self.state in _MOVING and self.axis.owner is Owner.COMMAND:
+            if self._hirth and self.axis.command_velocity:
+                self._stop_on_next_position()
+                return
             self.axis.brake()
         self.state = CommandState.IDLE
         self.lost = False
         self.write_status()
+
+    def _stop_on_next_position(self) -> None:
+        """Reset of a moving Hirth axis: on to the next index position, the motion no one's any more."""
+        axis = self.axis
+        self.stop_at = self.target = self._next_position(1.0 if axis.command_velocity > 0.0 else -1.0)
+        self.state = CommandState.TRAVERSING
+        self.lost = False
+        self.write_status()
+
+    def _next_position(self, way: float) -> float:
+        """The first index position ahead that the axis can stop on from the speed it has."""
+        axis = self.axis
+        assert axis.index is not None
+        velocity = axis.command_velocity
+        self._run_on_speed = abs(velocity)
+        # its braking distance and one cycle's travel more: the ramp brakes only from the next cycle on
+        braking = velocity * velocity / (2.0 * axis.dyn.max_accel) + abs(velocity) * self._dt
+        ahead = axis.index.ahead(axis.setpoint, int(way), braking)
+        if ahead is None or (ahead - self.target) * way > 0.0:
+            return self.target  # its end point comes first
+        return ahead
 
     # ------------------------------------------------------------------ the cycle
     def cycle(self, program_held: bool, channel_override_zero: bool = False) -> None:
@@ -254,14 +290,30 @@ class CommandAxis:
             axis.config.md.float(MD.POS_AX_VELO) * self._velocity_unit
         inp = axis.inputs
         # the feed stop holds it, and it never runs on into an actuated hardware limit switch (as JOG)
-        held = program_held or inp.feed_stop or not axis.drive_ready or \
-            (inp.hw_limit_plus if way > 0.0 else inp.hw_limit_minus)
-        speed = 0.0 if held else min(feed, dyn.max_velocity) * axis.override
+        hold = program_held or inp.feed_stop
+        if self._hirth:
+            if hold or axis.override == 0.0 or (self.stop_at is not None and self.state is CommandState.TRAVERSING):
+                if self.stop_at is None:
+                    self.stop_at = self._next_position(way)
+                remaining = self.stop_at - axis.setpoint
+                feed = self._run_on_speed
+            else:
+                self.stop_at = None
+                feed = min(feed, dyn.max_velocity) * axis.override
+            hold = False
+        else:
+            feed = min(feed, dyn.max_velocity) * axis.override
+        held = hold or not axis.drive_ready or (inp.hw_limit_plus if way > 0.0 else inp.hw_limit_minus)
+        speed = 0.0 if held else feed
         wanted = way * min(speed, stopping_velocity(abs(remaining), dyn.max_accel, dt))
         velocity = ramp(axis.command_velocity, wanted, dyn.max_accel, dt)
         axis.command_velocity = velocity
         axis.setpoint += velocity * dt
-        if (self.target - axis.setpoint) * way <= _TINY:
+        if self.stop_at is not None and self.stop_at != self.target and (self.stop_at - axis.setpoint) * way <= _TINY:
+            axis.setpoint = self.stop_at  # a Hirth axis stands on the index position until the hold goes
+            axis.command_velocity = 0.0
+        elif (self.target - axis.setpoint) * way <= _TINY:
+            self.stop_at = None
             axis.setpoint = self.target  # lands exactly on its end point
             axis.release()
             positioning = self.state is CommandState.POSITIONING

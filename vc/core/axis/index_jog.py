@@ -16,6 +16,11 @@ axis, ``vc/core/axis/jog.py``) JOG stops it on an index position (``vc/core/axis
 The latched mode of SD41050 = 0 (a second press stops it) is not built: the traverse keys of this
 NC are level-triggered.  The handwheel moves an indexing axis as any axis (L13999-14002).
 
+A Hirth axis (MD30505, §11.5 L14030-14060) never stops between two positions: INC JOG released on
+the way, the feed stop, the channel's feed disable and JOG left run it on to the index position ahead
+(continuous JOG runs out to the next one it can stop on) at the speed it has; the handwheel does not
+move it (L14070-14080, ``MachineAxis.add_handwheel_travel``).
+
 States::
 
     IDLE ──key, continuous──▶ CONTINUOUS ──key released (or the other key)──▶ TO_INDEX_POSITION
@@ -74,7 +79,12 @@ class IndexJog:
         if state is not IndexJogState.IDLE and axis.owner not in (Owner.JOG, Owner.NONE):
             self.state, self.target = IndexJogState.IDLE, None  # an e-stop or an alarm took the axis
             return
-        if state is not IndexJogState.IDLE and not allowed:
+        hirth = self.index.hirth
+        stop = not allowed or axis.inputs.feed_stop or channel_feed_disable
+        if hirth and state is IndexJogState.CONTINUOUS and stop and axis.owner is Owner.JOG:
+            self._run_out(axis, limits)  # a Hirth axis: on to the next index position
+            state = self.state
+        elif state is not IndexJogState.IDLE and not allowed and not hirth:
             # JOG left (another mode, the channel's alarm): it brakes where it is [INF]
             state = self.state = IndexJogState.TO_INDEX_POSITION if axis.owner is Owner.JOG else IndexJogState.IDLE
             self.target = None
@@ -86,9 +96,9 @@ class IndexJog:
         elif state is IndexJogState.CONTINUOUS and direction != self.direction:
             self._run_out(axis, limits)
         elif state is IndexJogState.TO_INDEX_POSITION:
-            if step and direction != self.direction:
+            if step and direction != self.direction and not hirth:
                 self.target = None  # INC released: stops at once (L13469-13473)
-            elif not step and direction == self.direction:
+            elif not step and direction == self.direction and not (hirth and stop):
                 self.state, self.target = IndexJogState.CONTINUOUS, None
         if self.state is not IndexJogState.IDLE and axis.owner is Owner.JOG:
             self._move(axis, channel_feed_disable, limits)
@@ -135,9 +145,13 @@ class IndexJog:
         dyn, dt, inp = axis.dyn, self._dt, axis.inputs
         accel = min(dyn.max_accel, limits.accel)
         speed = min((dyn.jog_rapid_velocity if inp.rapid_key else dyn.jog_velocity) * axis.override, limits.velocity)
-        if inp.feed_stop or channel_feed_disable or not axis.drive_ready:
-            speed = 0.0
         running_out = self.state is IndexJogState.TO_INDEX_POSITION
+        if self.index.hirth and running_out and self.target is not None:
+            speed = max(speed, abs(axis.command_velocity))  # whatever holds it: on to the position
+            if not axis.drive_ready:
+                speed = 0.0
+        elif inp.feed_stop or channel_feed_disable or not axis.drive_ready:
+            speed = 0.0
         goal = self.target if running_out else self._edge(axis)
         way = 1.0 if goal is None or goal > axis.setpoint else -1.0
         if goal is not None and not running_out and (goal - axis.setpoint) * self.direction <= _TINY:

@@ -31,11 +31,15 @@ from __future__ import annotations
 
 import math
 
+from vc.config import md_dictionary as MD
 from vc.config.model import AxisConfig, IndexDivision
 from vc.core.axis import rotary
 
 ALARM_NOT_AN_INDEXING_AXIS = 17500  # [control]
+ALARM_HIRTH_NOT_AN_INDEX_POSITION = 17501  # [control]: "indexing axis with Hirth joint is active"
+ALARM_HIRTH_NOT_REFERENCED = 17503  # [control]: "indexing axis with Hirth joint and axis not referenced"
 ALARM_INVALID_INDEX = 17510  # [control]
+ON_POSITION = 1e-6  # mm or degrees: an end point that lies on an index position
 CODED_POSITIONS = {"CAC": "AC", "CACP": "ACP", "CACN": "ACN", "CDC": "DC", "CIC": "IC"}
 MAX_CODED_POSITION = 59  # L13868: 0 .. 59
 
@@ -43,7 +47,8 @@ MAX_CODED_POSITION = 59  # L13868: 0 .. 59
 class IndexPositions:
     """The numbered index positions of one indexing axis, in the NC's coordinates."""
 
-    def __init__(self, division: IndexDivision, modulo: tuple[float, float] | None):
+    def __init__(self, division: IndexDivision, modulo: tuple[float, float] | None, hirth: bool = False):
+        self.hirth = hirth  # MD30505: a Hirth joint locks the axis on its positions (§11.3.2.2)
         self.table = division.table
         self.offset = division.offset
         self.spacing = division.spacing
@@ -55,7 +60,7 @@ class IndexPositions:
     def of(cls, config: AxisConfig) -> IndexPositions | None:
         if config.indexing is None:
             return None
-        return cls(config.indexing, rotary.modulo_range_of(config))
+        return cls(config.indexing, rotary.modulo_range_of(config), config.md.bool(MD.HIRTH_IS_ACTIVE))
 
     # ------------------------------------------------------------------ numbers and positions
     def position(self, number: int) -> float | None:
@@ -156,6 +161,16 @@ class IndexPositions:
         if target is None:
             return start, ALARM_INVALID_INDEX
         return target, 0
+
+    def hirth_refusal(self, end: float, referenced: bool) -> int:
+        """The alarm a motion of a Hirth axis to ``end`` raises before it moves, 0 if none: its
+        measuring system must be referenced (L13750-13757, 17503), and it may go to its index
+        positions only: the Hirth joint locks it there alone (L13740-13747, 17501) [control]."""
+        if not self.hirth:
+            return 0
+        if not referenced:
+            return ALARM_HIRTH_NOT_REFERENCED
+        return 0 if self.standing_on(end, ON_POSITION) else ALARM_HIRTH_NOT_AN_INDEX_POSITION
 
     # ------------------------------------------------------------------ JOG
     def ahead(self, position: float, direction: int, beyond: float) -> float | None:

@@ -53,7 +53,7 @@ from enum import Enum
 from interfaces.signal_groups import PlcAxisRequests, PlcAxisStatus
 from vc.config import md_dictionary as MD
 from vc.core.axis.command_axis import CommandAxis, CommandState
-from vc.core.axis.indexing import ALARM_INVALID_INDEX
+from vc.core.axis.indexing import ALARM_HIRTH_NOT_AN_INDEX_POSITION, ALARM_HIRTH_NOT_REFERENCED, ALARM_INVALID_INDEX
 from vc.core.axis.owner import Owner
 from vc.core.axis.rotary import (
     ALARM_ACN_NOT_ALLOWED,
@@ -88,7 +88,7 @@ FC18_INDEX_MODES = ("CAC", "CIC", "CDC", "CACP", "CACN")
 ERROR_PARAMETERS = 1  # Funct not 4 / 5 (4 on no indexing axis), Mode not 0..4, Pos or FRate not a number
 ERROR_ABORTED = 30  # the motion was aborted: channel reset, axis reset, control given back, axis taken
 ERROR_PROGRAM_MOVES_AXIS = 40  # the NC moves the axis (its program, JOG, referencing ...): the start is refused
-ERROR_WRONG_POSITION = 100  # a modulo position outside the modulo range (16830); no such index position (17510)
+ERROR_WRONG_POSITION = 100  # outside the modulo range (16830); no such index position (17510); Hirth (17501, 17503)
 ERROR_NEGATIVE_FEED = 110
 ERROR_NO_SHORTEST_PATH = 125  # DC on a linear axis (16800)
 ERROR_NO_ABSOLUTE_PLUS = 126  # ACP without modulo (16810)
@@ -97,7 +97,9 @@ ERROR_LIMIT_PLUS = 130  # the end point beyond the software limit switch plus
 ERROR_LIMIT_MINUS = 131
 _WAY_ERRORS = {ALARM_DC_NOT_ALLOWED: ERROR_NO_SHORTEST_PATH, ALARM_ACP_NOT_ALLOWED: ERROR_NO_ABSOLUTE_PLUS,
                ALARM_ACN_NOT_ALLOWED: ERROR_NO_ABSOLUTE_MINUS, ALARM_WRONG_MODULO_POSITION: ERROR_WRONG_POSITION,
-               ALARM_INVALID_INDEX: ERROR_WRONG_POSITION}  # "number of index positions too high" [control]
+               ALARM_INVALID_INDEX: ERROR_WRONG_POSITION,  # "number of index positions too high" [control]
+               ALARM_HIRTH_NOT_AN_INDEX_POSITION: ERROR_WRONG_POSITION,  # a Hirth axis off its positions [INF]
+               ALARM_HIRTH_NOT_REFERENCED: ERROR_WRONG_POSITION}  # [INF]
 
 
 class AxisType(Enum):
@@ -284,6 +286,8 @@ class PlcAxis:
             target, alarm = self._index_end_point(inp.mode, inp.position)
         else:
             target, alarm = end_point(axis.config, axis.setpoint, FC18_MODES[inp.mode], inp.position)
+        if not alarm and axis.index is not None:
+            alarm = axis.index.hirth_refusal(target, axis.referenced)  # a Hirth axis: its positions only
         if alarm:
             self._fail(_WAY_ERRORS[alarm])
             return

@@ -128,6 +128,8 @@ class BlockDecoder:
                 mode in ("AC", "G90", "IC"):
             return start + number if mode == "IC" else number  # a spindle in axis mode counts on [control]
         end, alarm = rotary.end_point(axis.config, start, mode, number)
+        if not alarm and axis.index is not None:
+            alarm = axis.index.hirth_refusal(end, axis.referenced)
         if alarm:
             self.fail(alarm, self.channel.name, self.block.label, name, axis=machine_axis)
             return None
@@ -144,6 +146,8 @@ class BlockDecoder:
             return None
         start = given.get(machine_axis, axis.setpoint)
         end, alarm = axis.index.coded_end_point(axis.config, start, value.name, value.value, axis.dyn.fine_window)
+        if not alarm:
+            alarm = axis.index.hirth_refusal(end, axis.referenced)
         if alarm:
             self.fail(alarm, self.channel.name, self.block.label, name, axis=machine_axis)
             return None

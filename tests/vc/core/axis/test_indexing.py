@@ -209,7 +209,9 @@ def test_an_unreferenced_indexing_axis_jogs_as_any_axis() -> None:
     ("C1: {MD30500: 1}", "MD10900 INDEX_AX_LENGTH_POS_TAB_1 is 0"),
     ("NC: {MD10900: 3, MD10910: [0, 90, 90]}\nC1: {MD30500: 1}", "must ascend and differ"),
     ("NC: {MD10900: 2, MD10910: [0, 400]}\nC1: {MD30500: 1}", "lie in 0 <= p < 360"),
-    ("C1: {MD30500: 3, MD30505: 1}", "Hirth joint, is not built"),
+    ("NC: {MD10900: 2, MD10910: [0, 90]}\nC1: {MD30500: 1, MD30505: 1}", "Hirth joint, needs a rotary axis"),
+    ("X1: {MD30500: 3, MD30501: 10, MD30505: 1}", "with equidistant index positions"),
+    ("C1: {MD30505: 1}", "here MD30500 = 0"),
     ("X1: {MD30500: 3}", "needs MD30501 INDEX_AX_NUMERATOR above 0"),
     ("C1: {MD30500: 4}", "MD30500"),
 ])
