@@ -384,9 +384,11 @@ BASE_FUNCTION_MASK = MdDef(30460, "BASE_FUNCTION_MASK", A, INT, 0,
                            "axis functions (bit mask) of a PLC axis: bit 4 the axis is controlled by the PLC"
                            " only (26075), bit 5 it is assigned to the PLC for good and starts as a neutral"
                            " axis (26076), bit 6 the channel's feed disable DB21.DBX6.0 does not act on it while"
-                           " the PLC moves it, bit 7 DB21.DBX36.3 leaves it out while the PLC moves it",
-                           "seed 003 L12181-12218, L12499-12540; bits 0-3 and 8 (diameter programming,"
-                           " positioning axis only, L10319, L10852) [control]; bits 0-3 and 8 are not built",
+                           " the PLC moves it, bit 7 DB21.DBX36.3 leaves it out while the PLC moves it, bit 8"
+                           " a positioning axis / auxiliary spindle only (no path or geometry axis, no thread:"
+                           " 14092)",
+                           "seed 003 L12181-12218, L12499-12540, L10843-10858; bits 0-3 (bit 2 diameter"
+                           " programming, L10481) [control] are accepted and not built",
                            "", 0, 0x1FF)
 AXCONF_ASSIGN_MASTER_CHAN = MdDef(30550, "AXCONF_ASSIGN_MASTER_CHAN", A, INT, 0,
                                   "master channel of the axis (0 = the channel whose axes list holds it);"

@@ -110,6 +110,9 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         " or extended address no auxiliary function takes"),
         AlarmDefinition(14800, "Channel %1 block %2 programmed path velocity is less than or equal to zero",
                         _STOP, Clear.RESET, "seed 003 L7841-7858"),
+        AlarmDefinition(14092, "Channel %1 block %2 axis %3 is wrong axis type", _STOP, Clear.RESET,
+                        "[control] number and text: an axis with MD30460 bit 8 (positioning axis / auxiliary"
+                        " spindle only) as a path axis, or as the spindle of G33 / G331 (seed 003 L10843-10858)"),
         AlarmDefinition(16800, "Channel %1 block %2 traverse instruction DC not allowed for axis %3", _STOP,
                         Clear.RESET, "seed 003 L13164"),
         AlarmDefinition(16810, "Channel %1 block %2 traverse instruction ACP not allowed for axis %3", _STOP,

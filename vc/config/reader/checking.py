@@ -331,6 +331,9 @@ class _Checker:
             used[channel_axis] = geometry_name
             if self.machine.axes[machine_axis].is_spindle:
                 self.add(mark, f"{label}: geometry axis {geometry_name} would be the spindle {machine_axis}")
+            elif int(self.machine.axes[machine_axis].data.value(mdd.BASE_FUNCTION_MASK)) & 0x100:
+                self.add(mark, f"{label}: geometry axis {geometry_name} would be {machine_axis}, a positioning"
+                               " axis only (MD30460 BASE_FUNCTION_MASK bit 8, L10846-10849)")
             if geometry_name in program_names and program_names.index(geometry_name) != channel_axis - 1:
                 self.add(mark, f"{label}: geometry axis {geometry_name} is channel axis {channel_axis}"
                                f" ({machine_axis}), but MD20080 gives the name {geometry_name} to channel"

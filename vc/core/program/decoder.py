@@ -14,12 +14,14 @@ from vc.config.model import ChannelConfig
 from vc.core.axis import rotary
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.indexing import ALARM_NOT_AN_INDEXING_AXIS, CODED_POSITIONS
+from vc.core.axis.plc_axis import POSITIONING_AXIS_ONLY
 from vc.core.axis.rotary import ROTARY_MODES
 from vc.core.program.block_plan import BlockPlan, DecodeAlarm, ModalState
 from vc.core.program.commands import SpindleCommand
 from vc.core.program.five_axis_program import FIVE_AXIS_G_CODES, FiveAxisWords
 from vc.core.program.program import Block, ValueFunction, Word
 
+ALARM_WRONG_AXIS_TYPE = 14092  # [control] "axis %3 is wrong axis type": MD30460 bit 8 as a path axis
 _END_POINT_FUNCTIONS = ("AC", "IC", *ROTARY_MODES)  # the value functions of an axis's end point
 
 
@@ -92,11 +94,24 @@ class BlockDecoder:
         machine_axis = self.channel.axis_for_program_name(name)
         return machine_axis if machine_axis in self.axes else None
 
+    def positioning_only(self, machine_axis: str) -> bool:
+        """MD30460 bit 8 (seed 003 L10843-10858): a positioning axis or auxiliary spindle only."""
+        return bool(self.axes[machine_axis].config.md.int(MD.BASE_FUNCTION_MASK) & POSITIONING_AXIS_ONLY)
+
+    def refuse_positioning_only(self, machine_axis: str, name: str) -> bool:
+        """14092 [control] for an axis of MD30460 bit 8 as a path axis or the spindle of a thread."""
+        if not self.positioning_only(machine_axis):
+            return False
+        self.fail(ALARM_WRONG_AXIS_TYPE, self.channel.name, self.block.label, name, axis=machine_axis)
+        return True
+
     def axis_value(self, name: str, value: object) -> None:
         machine_axis = self.machine_axis(name)
         if machine_axis is None:
             self.unknown(name)
             return
+        if self.refuse_positioning_only(machine_axis, name):
+            return  # no path axis (L10846-10849)
         axis = self.axes[machine_axis]
         if axis.is_spindle and not axis.axis_mode:
             # the axis name of a spindle switches it to axis mode: an implicit M70 (L17421-17462)

@@ -155,6 +155,9 @@ def thread_cutting_block(decoder: BlockDecoder) -> None:
     else:
         decoder.fail(12080, channel.name, label, "G33 without lead")
         return
+    master = _master_spindle(decoder)
+    if master is not None and decoder.refuse_positioning_only(master, master):
+        return  # an auxiliary spindle cuts no thread (L10850)
     modal.thread_lead = command
     plan.thread = command
     plan.block_end = INTERPOLATION_END  # thread blocks join without exact stop: one thread [control]
@@ -181,17 +184,24 @@ def tapping_block(decoder: BlockDecoder) -> None:
             set(decoder.pitch_words) - {PITCH_OF_GEOMETRY_AXIS[index]}:
         decoder.fail(12080, channel.name, label, f"{function} pitch")  # [control] missing or out of range
         return
-    number = channel.md.int(MD.SPIND_DEF_MASTER_SPIND)
-    spindle = next((name for name, each in decoder.axes.items() if each.config.spindle_number == number), None)
+    spindle = _master_spindle(decoder)
     if spindle is None:
-        decoder.fail(16105, channel.name, label, number)
+        decoder.fail(16105, channel.name, label, channel.md.int(MD.SPIND_DEF_MASTER_SPIND))
         return
+    if decoder.refuse_positioning_only(spindle, spindle):
+        return  # no tapping with an auxiliary spindle (L10850)
     command = plan.spindles.setdefault(spindle, SpindleCommand())
     if command.direction is not None or command.position is not None or command.gear is not None:
         decoder.fail(12080, channel.name, label, function)  # [control] M3/M4/M5, SPOS or M4x with G331
         return
     command.axis_mode = True  # position control, interpolated with the drilling axis (L17614-17616)
     plan.tapping = Tapping(function, axis, spindle, pitch)
+
+
+def _master_spindle(decoder: BlockDecoder) -> str | None:
+    """The machine axis of the channel's master spindle (MD20090), None if it has none."""
+    number = decoder.channel.md.int(MD.SPIND_DEF_MASTER_SPIND)
+    return next((name for name, each in decoder.axes.items() if each.config.spindle_number == number), None)
 
 
 def reference_return_block(decoder: BlockDecoder) -> bool:
