@@ -219,7 +219,8 @@ class CommandAxis:
 
     def _aim(self, target: float) -> None:
         """$AA_PROG_INDEX_AX_POS_NO of an indexing axis: the number of the index position at ``target``
-        (0: none), until another owner takes the axis (L13779-13800)."""
+        (0: none), until another owner takes the axis (L13779-13800).  A new motion has no delayed stop."""
+        self.stop_at = None
         index = self.axis.index
         if index is not None:
             self.axis.programmed_index = index.standing_on(target, ON_POSITION)
@@ -233,6 +234,7 @@ class CommandAxis:
                 return
             self.axis.brake()
         self.state = CommandState.IDLE
+        self.stop_at = None
         self.lost = False
         self.write_status()
 

@@ -163,3 +163,20 @@ def test_continuous_jog_with_the_feed_stop_runs_on_and_the_handwheel_does_not_mo
     c1.add_handwheel_travel(10.0)
     rig.step(200)
     assert c1.setpoint == 315.0
+
+
+def test_a_reset_while_it_waits_on_a_position_leaves_no_stop_for_the_next_motion() -> None:
+    rig = _rig()
+    c1 = rig.axis("C1")
+    rig.mda("N10 POS[C]=CACP(3) FA[C]=3600\nN20 M30")
+    rig.run_until(lambda: c1.setpoint > 330.0, 2000)
+    rig.set("CHAN1.basic.out.ncStop", 1)
+    rig.run_until(lambda: c1.command_velocity == STOPPED, 1000)
+    rig.set("CHAN1.basic.out.ncStop", 0)
+    rig.pulse("CHAN1.basic.out.reset", 2)  # standing on 360, waiting: the reset ends it there
+    rig.step(20)
+    rig.mda("N10 POS[C]=CACN(7) FA[C]=3600\nN20 M30")  # back to 270
+    rig.step(100)
+    rig.set("C1.basic.out.feedStopSpindleStop", 1)  # a new hold: the next position ahead, not 360
+    rig.run_until(lambda: c1.command_velocity == STOPPED, 1000)
+    assert c1.setpoint == 315.0
