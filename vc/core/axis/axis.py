@@ -48,6 +48,7 @@ from vc.core.axis.signals import AxisInputs
 from vc.core.interface_map import SignalTable
 
 _TINY = 1e-9
+POSITIONING_AXIS_ONLY = 1 << 8  # MD30460 bit 8 (seed 003 L10843-10858)
 
 
 class Obstacle(Protocol):
@@ -71,6 +72,8 @@ class MachineAxis:
         self.modulo_range = modulo_range_of(config)
         self.index = IndexPositions.of(config)  # an indexing axis's positions (MD30500), else None
         self.programmed_index = 0  # $AA_PROG_INDEX_AX_POS_NO: the index position a POS / FC18 motion goes to
+        # MD30460 bit 8: a positioning axis / auxiliary spindle only (no path axis, no thread; the decoder)
+        self.positioning_only = bool(config.md.int(MD.BASE_FUNCTION_MASK) & POSITIONING_AXIS_ONLY)
         self._decode = table.codec(AxisInputs).decode
         self._encode = table.codec(AxisStatus).encode
         self._area = area

@@ -70,7 +70,6 @@ PLC_ONLY = 1 << 4
 PLC_FOR_GOOD = 1 << 5
 FEED_DISABLE_IGNORED = 1 << 6
 NOT_IN_ALL_AXES_STATIONARY = 1 << 7
-POSITIONING_AXIS_ONLY = 1 << 8  # no path axis, no geometry axis, no thread (L10843-10858; the decoder)
 
 ALARM_PLC_ONLY = 26075
 ALARM_PLC_FOR_GOOD = 26076

@@ -14,7 +14,6 @@ from vc.config.model import ChannelConfig
 from vc.core.axis import rotary
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.indexing import ALARM_NOT_AN_INDEXING_AXIS, CODED_POSITIONS
-from vc.core.axis.plc_axis import POSITIONING_AXIS_ONLY
 from vc.core.axis.rotary import ROTARY_MODES
 from vc.core.program.block_plan import BlockPlan, DecodeAlarm, ModalState
 from vc.core.program.commands import SpindleCommand
@@ -96,7 +95,7 @@ class BlockDecoder:
 
     def positioning_only(self, machine_axis: str) -> bool:
         """MD30460 bit 8 (seed 003 L10843-10858): a positioning axis or auxiliary spindle only."""
-        return bool(self.axes[machine_axis].config.md.int(MD.BASE_FUNCTION_MASK) & POSITIONING_AXIS_ONLY)
+        return self.axes[machine_axis].positioning_only
 
     def refuse_positioning_only(self, machine_axis: str, name: str) -> bool:
         """14092 [control] for an axis of MD30460 bit 8 as a path axis or the spindle of a thread."""
