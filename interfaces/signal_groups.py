@@ -328,6 +328,21 @@ class DriveDataSetStatus:
     integrator_disabled: bool = signal("drive.in.speedCtrlIntegratorDisabled")
 
 
+@dataclass(slots=True, kw_only=True)
+class HoldingBrakeRequest:
+    """The PLC's order to the drive to release the motor's holding brake (DB31.DBX20.5; seed 003
+    §18.2 L38336)."""
+
+    release: bool = signal("drive.out.releaseHoldingBrake")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class HoldingBrakeStatus:
+    """The brake's feedback through the drive (DB31.DBX92.5 "holding brake released", L38353)."""
+
+    released: bool = signal("drive.in.holdingBrakeReleased")
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class DriveMessageStatus:
     """The drive's messages (DB31.DBX94.0..94.6, 95.0; seed 003 §18.2 L38362-38366 and the control's
