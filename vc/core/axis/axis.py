@@ -138,6 +138,7 @@ class MachineAxis:
         self.data_sets = DriveDataSets(table, area, dt)
         # the motor's holding brake (DB31.DBX20.5 / 92.5, holding_brake.py): only an axis that has one
         self.holding_brake: HoldingBrakeSignals | None = None
+        HoldingBrakeSignals.declare(table)
         self._table = table
 
     # ------------------------------------------------------------------ inputs

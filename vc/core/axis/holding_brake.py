@@ -19,6 +19,12 @@ from vc.core.interface_map import SignalTable
 class HoldingBrakeSignals:
     """One axis's DB31.DBX20.5 and DBX92.5."""
 
+    @staticmethod
+    def declare(table: SignalTable) -> None:
+        """The NC has the signals on every axis (an axis without a brake shows DBX92.5 = 0)."""
+        table.codec(HoldingBrakeRequest)
+        table.codec(HoldingBrakeStatus)
+
     def __init__(self, table: SignalTable, area: bytearray):
         self._decode = table.codec(HoldingBrakeRequest).decode
         self._encode = table.codec(HoldingBrakeStatus).encode
