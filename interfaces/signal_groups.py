@@ -343,6 +343,20 @@ class HoldingBrakeStatus:
     released: bool = signal("drive.in.holdingBrakeReleased")
 
 
+@dataclass(slots=True, kw_only=True)
+class SetpointSwitchoverRequest:
+    """The PLC's request for the shared drive's control (DB31.DBX24.5; seed 003 §18.2 L38226-38230)."""
+
+    request: bool = signal("drive.out.requestDriveCtrl")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SetpointSwitchoverStatus:
+    """Which axis of a shared drive has its control (DB31.DBX96.5, L38232-38236)."""
+
+    active: bool = signal("drive.in.driveCtrlActive")
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class DriveMessageStatus:
     """The drive's messages (DB31.DBX94.0..94.6, 95.0; seed 003 §18.2 L38362-38366 and the control's

@@ -140,6 +140,9 @@ class MachineAxis:
         self.holding_brake: HoldingBrakeSignals | None = None
         HoldingBrakeSignals.declare(table)
         self._table = table
+        # setpoint switchover (setpoint_switchover.py): an axis sharing its drive with others is position
+        # controlled only while it has the drive's control (DB31.DBX96.5); an axis with a drive of its own has
+        self.drive_control = True
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -257,9 +260,10 @@ class MachineAxis:
         self.resting = False
     @property
     def drive_ready(self) -> bool:
-        """Controller and pulse enable present and a measuring system active: position control possible."""
+        """Controller and pulse enable present, a measuring system active and the drive's control (a
+        drive shared with other axes, setpoint switchover): position control possible."""
         return self.inputs.controller_enable and self.inputs.pulse_enable and self.active_encoder is not None \
-            and not self.pulses_cancelled and not self.data_sets.pulses_cancelled
+            and not self.pulses_cancelled and not self.data_sets.pulses_cancelled and self.drive_control
 
     @property
     def _drive_held_at_stop(self) -> bool:
@@ -508,7 +512,7 @@ class MachineAxis:
         if wanted:
             self._tracking = False
         self.servo_on = wanted
-        self.follow_up = not wanted and (inp.follow_up_mode or forced_off)
+        self.follow_up = not wanted and (inp.follow_up_mode or forced_off or not self.drive_control)
 
     def set_encoder_turn(self, encoder: MeasuringSystem, turn: float) -> None:
         """A rotary motor encoder now turns once per ``turn`` of the axis (``MeasuringSystem.set_turn``)."""
