@@ -96,6 +96,7 @@ RULES = {
     "coolant": "the coolant pump and its pressure switch",
     "tailstock": "the tailstock quill's travel to fixed stop and its sleeve sensors",
     "clamp": "an axis clamp: its valve, its end-position sensors and DB31.DBX2.3 while it clamps",
+    "holding_brake": "an axis's holding brake: release it after the enables, engage it before they drop",
 }
 
 

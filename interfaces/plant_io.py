@@ -166,7 +166,8 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
 TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK = "Turret", "Magazine", "ToolArm", "Coolant", "Tailstock"
 AXIS_MAGAZINE = "AxisMagazine"  # a tool magazine turned by an NC axis the PLC positions (FC18)
 CLAMP = "Clamp"
-DEVICE_PREFIXES = (TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK, AXIS_MAGAZINE, CLAMP)
+HOLDING_BRAKE = "Brake"  # an axis's holding brake: no I/O of its own (the drive's DB31.DBX20.5 / 92.5)
+DEVICE_PREFIXES = (TURRET, MAGAZINE, TOOL_ARM, COOLANT, TAILSTOCK, AXIS_MAGAZINE, CLAMP, HOLDING_BRAKE)
 
 
 def station_code_bits(stations: int) -> tuple[int, ...]:

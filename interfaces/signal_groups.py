@@ -329,6 +329,35 @@ class DriveDataSetStatus:
     integrator_disabled: bool = signal("drive.in.speedCtrlIntegratorDisabled")
 
 
+@dataclass(slots=True, kw_only=True)
+class HoldingBrakeRequest:
+    """The PLC's order to the drive to release the motor's holding brake (DB31.DBX20.5; seed 003
+    §18.2 L38336)."""
+
+    release: bool = signal("drive.out.releaseHoldingBrake")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class HoldingBrakeStatus:
+    """The brake's feedback through the drive (DB31.DBX92.5 "holding brake released", L38353)."""
+
+    released: bool = signal("drive.in.holdingBrakeReleased")
+
+
+@dataclass(slots=True, kw_only=True)
+class SetpointSwitchoverRequest:
+    """The PLC's request for the shared drive's control (DB31.DBX24.5; seed 003 §18.2 L38226-38230)."""
+
+    request: bool = signal("drive.out.requestDriveCtrl")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SetpointSwitchoverStatus:
+    """Which axis of a shared drive has its control (DB31.DBX96.5, L38232-38236)."""
+
+    active: bool = signal("drive.in.driveCtrlActive")
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class DriveMessageStatus:
     """The drive's messages (DB31.DBX94.0..94.6, 95.0; seed 003 §18.2 L38362-38366 and the control's

@@ -7,6 +7,7 @@
       coolant: {pressure_time: 0.3}
       tool_changer: {pockets: 12, index_time: 0.2, arm_time: 0.6, pocket: 1}
       clamp: {axis: 5, travel_time: 0.2, load: 600.0}
+      holding_brake: {axis: 3, switch_time: 0.05, sag: -600.0}
     plc_alarms:
       700000: "Turret: lock pin not pulled"
 
@@ -22,8 +23,12 @@ power-on; I/O ``Magazine.rotateCw``, ``Magazine.rotateCcw``, ``Magazine.code1`` 
 ``ToolArm.home``, ``ToolArm.atSpindle``.  ``clamp``: the clamp of an axis, a rotary table's
 (vc/plant/clamp.py): the machine axis number it clamps, the stroke time, the speed (mm/min or deg/min)
 the machining load pushes the axis with when the clamp gives way; I/O ``Clamp.close``,
-``Clamp.closed``, ``Clamp.opened``.  I/O of a device the machine lacks is a mistake (the sensors
-would read 0 for ever).
+``Clamp.closed``, ``Clamp.opened``.  ``holding_brake``: the holding brake of an axis's motor
+(vc/plant/holding_brake.py): the machine axis number, the seconds it takes to release and to engage,
+the speed (mm/min or deg/min, signed) the weight moves the slide with while the brake is open and the
+drive gives no torque (a vertical axis's sag; 0 for a horizontal one).  It has no plant I/O: the
+drive releases it on DB31.DBX20.5 and reports its feedback in DB31.DBX92.5.  I/O of a device the
+machine lacks is a mistake (the sensors would read 0 for ever).
 
 ``plc_alarms``: the texts of the PLC user alarms 700000 .. 700063 (DB2 user area 0) the machine's
 PLC program raises, as the machine builder's alarm text file gives them (vc/core/nck/plc_alarms.py).
@@ -41,6 +46,7 @@ from interfaces.plant_io import (
     AXIS_MAGAZINE,
     CLAMP,
     COOLANT,
+    HOLDING_BRAKE,
     MAGAZINE,
     TAILSTOCK,
     TOOL_ARM,
@@ -53,6 +59,7 @@ from vc.config.model import (
     AxisMagazinePlant,
     ClampPlant,
     CoolantPlant,
+    HoldingBrakePlant,
     MachinePlant,
     TailstockPlant,
     ToolChangerPlant,
@@ -63,8 +70,8 @@ from vc.located_yaml import LocatedMap, Mark, Problems
 # the loader's reader of a block of numbers: (raw, mark, where, key -> (lowest, highest, whole, meaning))
 ReadParameters = Callable[[Any, Mark, str, Mapping[str, tuple[float, float, bool, str]]], dict[str, Any]]
 
-DEVICES = ("turret", "coolant", "tool_changer", "tailstock", "axis_magazine", "clamp")
-_AXIS_DEVICES = ("tailstock", "axis_magazine", "clamp")  # their axis: is a machine axis number
+DEVICES = ("turret", "coolant", "tool_changer", "tailstock", "axis_magazine", "clamp", "holding_brake")
+_AXIS_DEVICES = ("tailstock", "axis_magazine", "clamp", "holding_brake")  # their axis: is a machine axis number
 MAX_STATIONS = 31  # a five-bit station code
 # per device: key -> (lowest, highest, whole number, meaning); the keys without a default are needed
 _KEYS: dict[str, dict[str, tuple[float, float, bool, str]]] = {
@@ -90,6 +97,10 @@ _KEYS: dict[str, dict[str, tuple[float, float, bool, str]]] = {
     "clamp": {"axis": (1, 31, True, "machine axis number of the clamped axis (its place in axes:)"),
               "travel_time": (0.001, 60, False, "s of the clamp's stroke from open to closed"),
               "load": (0.0, 1.0e6, False, "mm/min (deg/min) the load pushes the axis with when the clamp gives way")},
+    "holding_brake": {"axis": (1, 31, True, "machine axis number of the braked axis (its place in axes:)"),
+                      "switch_time": (0.001, 10, False, "s the brake takes to release and to engage"),
+                      "sag": (-1.0e6, 1.0e6, False, "mm/min (deg/min), signed, the weight moves the slide with"
+                                                    " while the brake is open without torque")},
 }
 _OPTIONAL = ("station", "pocket")
 
@@ -108,13 +119,16 @@ def _io_of(device: str, values: Mapping[str, Any]) -> list[str]:
         return [f"{AXIS_MAGAZINE}.{name}" for name in ("unlock", "locked", "unlocked", "inPocket", "driveReady")]
     if device == "clamp":
         return [f"{CLAMP}.close", f"{CLAMP}.closed", f"{CLAMP}.opened"]
+    if device == "holding_brake":
+        return []  # the drive switches it and reports its feedback (DB31.DBX20.5 / 92.5)
     codes = station_code_bits(int(values.get("pockets", 1)))
     return [f"{MAGAZINE}.rotateCw", f"{MAGAZINE}.rotateCcw", *(f"{MAGAZINE}.code{bit}" for bit in codes),
             f"{TOOL_ARM}.toSpindle", f"{TOOL_ARM}.home", f"{TOOL_ARM}.atSpindle"]
 
 
 _PREFIXES = {"turret": (TURRET,), "coolant": (COOLANT,), "tool_changer": (MAGAZINE, TOOL_ARM),
-             "tailstock": (TAILSTOCK,), "axis_magazine": (AXIS_MAGAZINE,), "clamp": (CLAMP,)}
+             "tailstock": (TAILSTOCK,), "axis_magazine": (AXIS_MAGAZINE,), "clamp": (CLAMP,),
+             "holding_brake": (HOLDING_BRAKE,)}
 
 
 def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tuple[str, Mark]],
@@ -148,6 +162,13 @@ def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tup
         problems.add(_marks(block["clamp"], "axis", mark)[1],
                      f"plant.clamp.axis: {clamp['axis']} is the tailstock's quill; the clamp holds another axis")
         clamp = None
+    brake = built.get("holding_brake")
+    held = {device["axis"]: name for name, device in (("tailstock", tailstock), ("clamp", clamp)) if device}
+    if brake and brake["axis"] in held:
+        problems.add(_marks(block["holding_brake"], "axis", mark)[1],
+                     f"plant.holding_brake.axis: {brake['axis']} is the {held[brake['axis']]}'s axis; the brake holds"
+                     " another axis")
+        brake = None
     return MachinePlant(
         turret=TurretPlant(turret["stations"], turret["index_time"], turret["lock_time"],
                            turret.get("station", 1)) if turret else None,
@@ -158,7 +179,8 @@ def read_plant(raw: Any, mark: Mark, problems: Problems, wired: Mapping[str, tup
                                  tailstock["force_limit"], tailstock["retracted"]) if tailstock else None,
         axis_magazine=AxisMagazinePlant(magazine["axis"], magazine["pockets"], magazine["lock_time"],
                                         magazine["window"]) if magazine else None,
-        clamp=ClampPlant(clamp["axis"], clamp["travel_time"], clamp["load"]) if clamp else None)
+        clamp=ClampPlant(clamp["axis"], clamp["travel_time"], clamp["load"]) if clamp else None,
+        holding_brake=HoldingBrakePlant(brake["axis"], brake["switch_time"], brake["sag"]) if brake else None)
 
 
 def _device_axis(device: str, values: dict[str, Any], raw: Any, mark: Mark, problems: Problems,

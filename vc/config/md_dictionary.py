@@ -702,6 +702,13 @@ AX_ESR_DELAY_TIME1 = MdDef(37510, "AX_ESR_DELAY_TIME1", A, FLOAT, 0.0,
 AX_ESR_DELAY_TIME2 = MdDef(37511, "AX_ESR_DELAY_TIME2", A, FLOAT, 0.04, "single-axis ESR: braking time",
                            "seed 003 L11501-11503, L11545; [control] default", "s", 0.0, 1.0e3)
 
+# ---------------------------------------------------------------------------------- setpoint switchover
+CTRLOUT_MODULE_NR = MdDef(30110, "CTRLOUT_MODULE_NR", A, INT, 0,
+                          "setpoint assignment: the logical drive number; axes with the same number share one"
+                          " drive (setpoint switchover, DB31.DBX24.5 / 96.5); 0: the axis's own drive",
+                          "seed 003 L38196-38202, L38308-38320; [INF] default 0 (the harness numbers no drives)",
+                          "", 0, 64)
+
 # ---------------------------------------------------------------------------------- measuring systems
 NUM_ENCS = MdDef(30200, "NUM_ENCS", A, INT, 1, "number of measuring systems of the axis (1 or 2)",
                  "seed 003 L1685-1785 (two measuring systems); [control] default", "", 0, 2)

@@ -257,6 +257,16 @@ class ClampPlant:
 
 
 @dataclass(frozen=True, slots=True)
+class HoldingBrakePlant:
+    """The holding brake of an axis's motor (a vertical axis's), released by the drive on the PLC's
+    DB31.DBX20.5 (vc/plant/holding_brake.py); its feedback is DB31.DBX92.5."""
+
+    axis: str  # the machine axis whose motor it brakes
+    switch_time_s: float  # s the brake takes to release and to engage
+    sag: float  # mm/min (deg/min), signed: how the weight moves the slide while the brake is open without torque
+
+
+@dataclass(frozen=True, slots=True)
 class TurretPlant:
     """A tool turret indexed by the PLC: a disk with its stations, an indexing drive, a lock pin."""
 
@@ -293,6 +303,7 @@ class MachinePlant:
     tailstock: TailstockPlant | None = None
     axis_magazine: AxisMagazinePlant | None = None
     clamp: ClampPlant | None = None
+    holding_brake: HoldingBrakePlant | None = None
 
 
 @dataclass(frozen=True, slots=True)

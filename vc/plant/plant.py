@@ -32,6 +32,7 @@ from vc.plant.chuck import Chuck
 from vc.plant.clamp import AxisClamp
 from vc.plant.coolant import Coolant
 from vc.plant.gearbox import Gearbox
+from vc.plant.holding_brake import HoldingBrake
 from vc.plant.tailstock import Tailstock
 from vc.plant.tool_changer import ToolChanger
 from vc.plant.turret import Turret
@@ -129,8 +130,11 @@ class Plant:
                                           slide_of[devices.axis_magazine.axis]) if devices.axis_magazine else None
         # the clamp holds its axis's slide: the composed machine hands it to the axis as well
         self.clamp = AxisClamp(devices.clamp, self._io, ipo_cycle_us) if devices.clamp else None
+        # the holding brake holds its axis's slide and follows the drive: the composed machine fits it to the axis
+        self.holding_brake = HoldingBrake(devices.holding_brake, ipo_cycle_us) if devices.holding_brake else None
         self._devices: list[Device] = [device for device in (self.turret, self.tool_changer, coolant, self.tailstock,
-                                                             self.axis_magazine, self.clamp) if device is not None]
+                                                             self.axis_magazine, self.clamp, self.holding_brake)
+                                       if device is not None]
         # the devices rest until the PLC changes an output or one of them still moves
         self._outputs_seen = b""
         self._devices_moving = True
@@ -204,6 +208,8 @@ class Plant:
             self.tailstock.write_sensors(io)  # the quill moves with its axis, not with an output
         if self.axis_magazine is not None:
             self.axis_magazine.write_sensors(io)  # the pocket sensor follows the axis
+        if self.holding_brake is not None:
+            self.holding_brake.cycle()  # the brake follows the drive's order (DB31.DBX20.5), not an output
 
     def _devices_cycle(self, io: ProcessImage) -> None:
         """The devices' cycle, only when an output changed or one of them still moves: a machine

@@ -54,6 +54,9 @@ def _devices(machine: MachineConfig) -> dict[str, dict[str, float]]:
     if plant.clamp is not None:
         clamped = next(axis for axis in machine.axes if axis.name == plant.clamp.axis)
         devices["clamp"] = {"axis_db": clamped.db, "travel_time": plant.clamp.travel_time_s}
+    if plant.holding_brake is not None:
+        braked = next(axis for axis in machine.axes if axis.name == plant.holding_brake.axis)
+        devices["holding_brake"] = {"axis_db": braked.db, "switch_time": plant.holding_brake.switch_time_s}
     return devices
 
 
@@ -299,4 +302,15 @@ def _device_needs(machine: MachineConfig, point: Callable[[str], str | None]) ->
             f" opens it (Clamp.opened); closed, it holds {clamp.axis}. Set {clamp.axis}.basic.out.clampingInProgress"
             f" while it clamps (the NC's clamping monitor, MD36050, alarm 26000) and open it before"
             f" {clamp.axis} moves"))
+    if plant.holding_brake is not None:
+        brake = plant.holding_brake
+        axis = brake.axis
+        needs.append(PlantNeed(
+            "Brake", "holding_brake", (), (),
+            f"The holding brake of {axis}'s motor holds its slide until {axis}.drive.out.releaseHoldingBrake"
+            f" releases it; {axis}.drive.in.holdingBrakeReleased reports it {brake.switch_time_s:g} s later."
+            f" Release it only once {axis}.drive.in.enabled (the drive holds the axis), keep {axis} from moving"
+            f" until it is released, engage it before taking {axis}.basic.out.enableCtrl and"
+            f" {axis}.drive.out.enablePulses away and wait until the feedback has fallen"
+            + (f": released without torque the slide sags at {abs(brake.sag):g} per minute" if brake.sag else "")))
     return needs

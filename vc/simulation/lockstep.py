@@ -92,6 +92,10 @@ class Simulation:
         clamp = self.plant.clamp
         if clamp is not None:
             self.nck.axes_by_name[clamp.axis].obstacle = clamp  # closed, it holds the slide
+        brake = self.plant.holding_brake
+        if brake is not None:
+            braked = self.nck.axes_by_name[brake.axis]
+            brake.fit(braked, braked.fit_holding_brake(brake))  # engaged, it holds the slide; the drive switches it
         self.plc: SoftPlc | None = None
         if self.plc_name is not None:
             scan_time = self.plc_period * self.nck.cycle_us / 1_000_000
@@ -380,6 +384,8 @@ class Simulation:
             self.plant.inject(DEVICE_FAULTS[kind], kind)
             if self.plant.clamp is not None and DEVICE_FAULTS[kind] == self.plant.clamp.name:
                 self.nck.axes_by_name[self.plant.clamp.axis].resting = False  # the load acts on a standing axis
+            if self.plant.holding_brake is not None and DEVICE_FAULTS[kind] == self.plant.holding_brake.name:
+                self.nck.axes_by_name[self.plant.holding_brake.axis].resting = False  # the brake acts on the slide
             return
         item = self.nck.axes_by_name[axis]
         measuring_system = item.encoders[encoder - 1]

@@ -112,10 +112,13 @@ def quantity_unit(machine: MachineConfig, instance: str, quantity: str) -> str:
 #   axis_magazine_drive_fault  the axis magazine's drive reports not ready
 #   clamp_not_closing        the axis clamp does not close: Clamp.closed never comes
 #   clamp_opening            the closed axis clamp gives way under the load, which pushes the axis
+#   brake_not_opening        an axis's holding brake does not release: DB31.DBX92.5 never comes
+#   brake_not_closing        an axis's holding brake does not engage once released: DBX92.5 stays 1
 DEVICE_FAULTS = {"turret_sensor_missing": "Turret", "turret_lock_jammed": "Turret", "turret_drive_stalled": "Turret",
                  "coolant_pressure_lost": "Coolant", "magazine_stalled": "Magazine", "tool_arm_stuck": "ToolArm",
                  "stop_lost": "Tailstock", "no_part": "Tailstock", "axis_magazine_lock_sensor": "AxisMagazine",
-                 "axis_magazine_drive_fault": "AxisMagazine", "clamp_not_closing": "Clamp", "clamp_opening": "Clamp"}
+                 "axis_magazine_drive_fault": "AxisMagazine", "clamp_not_closing": "Clamp", "clamp_opening": "Clamp",
+                 "brake_not_opening": "Brake", "brake_not_closing": "Brake"}
 FAULTS = ("zero_marks_missing", "reference_marks_missing", "encoder_slip", "load_disturbance", "workpiece_clamp",
           "motor_temperature", "mains_failure", *DEVICE_FAULTS)
 MACHINE_FAULTS = ("mains_failure", *DEVICE_FAULTS)  # faults of the whole machine or a device: no axis
@@ -127,7 +130,7 @@ def machine_devices(machine: MachineConfig) -> tuple[str, ...]:
     return tuple(name for name, present in (("Turret", plant.turret), ("Coolant", plant.coolant),
                                             ("Magazine", plant.tool_changer), ("ToolArm", plant.tool_changer),
                                             ("Tailstock", plant.tailstock), ("AxisMagazine", plant.axis_magazine),
-                                            ("Clamp", plant.clamp))
+                                            ("Clamp", plant.clamp), ("Brake", plant.holding_brake))
                  if present is not None)
 MAINS = "mains"  # clear_faults: mains - the supply is back
 

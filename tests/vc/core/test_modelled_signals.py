@@ -52,7 +52,7 @@ def test_a_signal_the_nc_does_not_write_never_changes_in_a_golden_trace() -> Non
     catalog = load_catalog()
     dead = {item.symbol for name in packaged_machines() for item in expand(catalog, load_machine(name).layout).signals
             if item.direction is Direction.NC_TO_PLC and not item.definition.modelled}
-    assert "X1.drive.in.holdingBrakeReleased" in dead and "CHAN1.basic.in.handwheelOvrActive" not in dead
+    assert "X1.drive.in.rapidStopActive" in dead and "CHAN1.basic.in.handwheelOvrActive" not in dead
     traces = sorted(GOLDEN.rglob("*.json"))
     assert len(traces) > 200
     changing = {(path.relative_to(GOLDEN).as_posix(), name)
@@ -66,6 +66,8 @@ def test_the_not_modelled_marks_give_a_reason_and_the_map_shows_them() -> None:
     machine = load_machine("turn_mill")
     rows = {row.symbol: row for row in map_rows(expand(load_catalog(), machine.layout), machine.plant_io)}
     assert rows["X1.drive.in.enabled"].modelled == "yes"
-    assert rows["X1.drive.in.holdingBrakeReleased"].modelled == "no: holding brakes are not modelled"
+    assert rows["X1.drive.in.holdingBrakeReleased"].modelled == "yes"  # 0 on an axis without a brake
+    assert rows["X1.drive.in.rapidStopActive"].modelled == \
+        "no: the drive's ramp-function generator is not modelled at that depth"
     assert rows["CHAN1.basic.out.reposModeSelection"].modelled == "no: REPOS is not modelled"
     assert all(len(signal.not_modelled) > 20 for signal in load_catalog().signals if not signal.modelled)

@@ -25,6 +25,7 @@ from vc.simulation.commissioning import commissioning_of
 
 LATHE_WITH_TAILSTOCK = str(Path(__file__).resolve().parents[3] / "scenarios" / "fixed_stop" / "machines"
                            / "lathe_tailstock.yaml")
+VERTICAL_AXIS = str(Path(__file__).resolve().parents[3] / "scenarios" / "drives" / "machines" / "vertical_axis.yaml")
 ROTARY_TABLE = str(Path(__file__).resolve().parents[3] / "scenarios" / "indexing_axes" / "machines"
                    / "rotary_table.yaml")
 
@@ -59,7 +60,10 @@ def test_what_the_plant_needs_from_the_plc_names_its_inputs_outputs_and_signals(
     mill = {need.name: need for need in facts(load_machine("mill_3axis")).needs}
     lathe = {need.name: need for need in facts(load_machine(LATHE_WITH_TAILSTOCK)).needs}  # no packaged one has it
     table = {need.name: need for need in facts(load_machine(ROTARY_TABLE)).needs}  # nor the clamp
-    assert set(RULES) == {need.rule for need in (*needs.values(), *mill.values(), *lathe.values(), *table.values())}
+    vertical = {need.name: need for need in facts(load_machine(VERTICAL_AXIS)).needs}  # nor the holding brake
+    assert set(RULES) == {need.rule for need in (*needs.values(), *mill.values(), *lathe.values(), *table.values(),
+                                                 *vertical.values())}
+    assert "Z1.drive.out.releaseHoldingBrake" in vertical["Brake"].text and "sags at 600" in vertical["Brake"].text
     assert "Clamp.close (Q0.6)" in table["Clamp"].plant_io and "C1.basic.out.clampingInProgress" in table["Clamp"].text
     assert "Turret.unlock (Q2.2)" in needs["Turret"].plant_io and "8 stations" in needs["Turret"].text
     assert "ToolArm.toSpindle (Q0.3)" in mill["ToolChanger"].plant_io and "12 pockets" in mill["ToolChanger"].text

@@ -36,6 +36,7 @@ from vc.core.axis.drive_data_sets import DriveDataSets
 from vc.core.axis.drive_messages import DriveMessages
 from vc.core.axis.dynamics import CoupledLoop, dynamics_of, jerk_filter_of
 from vc.core.axis.encoder import MeasuringSystem
+from vc.core.axis.holding_brake import HoldingBrakeSignals
 from vc.core.axis.index_jog import IndexJog
 from vc.core.axis.indexing import IndexPositions
 from vc.core.axis.jog import FREE_JOG, AxisJog, JogLimits
@@ -139,6 +140,13 @@ class MachineAxis:
         self.parameter_sets: ServoParameterSets | None = None
         # the drive's data sets and integrator (DB31.DBX21.0-21.6 / 93.0-93.6, drive_data_sets.py)
         self.data_sets = DriveDataSets(table, area, dt)
+        # the motor's holding brake (DB31.DBX20.5 / 92.5, holding_brake.py): only an axis that has one
+        self.holding_brake: HoldingBrakeSignals | None = None
+        HoldingBrakeSignals.declare(table)
+        self._table = table
+        # setpoint switchover (setpoint_switchover.py): an axis sharing its drive with others is position
+        # controlled only while it has the drive's control (DB31.DBX96.5); an axis with a drive of its own has
+        self.drive_control = True
 
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
@@ -153,8 +161,17 @@ class MachineAxis:
             if kv is not None:
                 self.set_loop_gain(kv)
         self.data_sets.decode()
+        if self.holding_brake is not None:
+            self.holding_brake.decode()
         if inp.encoder_selected != self.active_encoder:
             self._select_encoder(inp.encoder_selected)
+
+    def fit_holding_brake(self, brake: Obstacle) -> HoldingBrakeSignals:
+        """The plant's holding brake on this axis's motor: it holds the slide (the axis's obstacle)
+        and takes the PLC's order and gives its feedback through the signals returned."""
+        self.obstacle = brake
+        self.holding_brake = HoldingBrakeSignals(self._table, self._area)
+        return self.holding_brake
 
     @property
     def disabled(self) -> bool:
@@ -247,9 +264,10 @@ class MachineAxis:
         self.resting = False
     @property
     def drive_ready(self) -> bool:
-        """Controller and pulse enable present and a measuring system active: position control possible."""
+        """Controller and pulse enable present, a measuring system active and the drive's control (a
+        drive shared with other axes, setpoint switchover): position control possible."""
         return self.inputs.controller_enable and self.inputs.pulse_enable and self.active_encoder is not None \
-            and not self.pulses_cancelled and not self.data_sets.pulses_cancelled
+            and not self.pulses_cancelled and not self.data_sets.pulses_cancelled and self.drive_control
 
     @property
     def _drive_held_at_stop(self) -> bool:
@@ -503,7 +521,7 @@ class MachineAxis:
         if wanted:
             self._tracking = False
         self.servo_on = wanted
-        self.follow_up = not wanted and (inp.follow_up_mode or forced_off)
+        self.follow_up = not wanted and (inp.follow_up_mode or forced_off or not self.drive_control)
 
     def set_encoder_turn(self, encoder: MeasuringSystem, turn: float) -> None:
         """A rotary motor encoder now turns once per ``turn`` of the axis (``MeasuringSystem.set_turn``)."""
@@ -566,7 +584,14 @@ class MachineAxis:
         if self.at_fixed_stop:
             self.resting = False  # held against the stop: no exact stop or standstill monitoring (L37771-37773)
             return
-        if interpolation_done and self.servo_on and not self.disabled:
+        if not self.servo_on and not self.follow_up and not self._tracking and self.position_control:
+            # held without controller enable (no follow-up mode): the standstill monitoring watches the
+            # slide, e.g. a vertical axis sagging on an open brake; 25040, then follow-up (L14921-14925)
+            self._fine_reached = False
+            if error > dyn.standstill_tolerance:
+                alarms.raise_alarm(25040, cycle, self.name, channel=self.channel, axis=self.name)
+                self._tracking = True
+        elif interpolation_done and self.servo_on and not self.disabled:
             self._motion_end_cycle += 1
             elapsed = self._motion_end_cycle * self._dt
             if error <= dyn.fine_window:

@@ -61,6 +61,7 @@ from vc.core.alarms import Alarm, AlarmList, Clear, Reaction
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.drive_messages import AMBIENT_TEMPERATURE
 from vc.core.axis.owner import Owner
+from vc.core.axis.setpoint_switchover import SharedDrive
 from vc.core.channel.program_run import ChannelState, Mode
 from vc.core.nc_memory import NcMemory
 from vc.core.nck.alarm_reactions import EMERGENCY_STOP_ALARM, AlarmReactions
@@ -124,6 +125,9 @@ class Nck:
         self.manual = parts.manual
         self.fixed_stops = parts.fixed_stops
         self._changing_drives: list[MachineAxis] = []  # drives changing a data set: ticked until done
+        # setpoint switchover: the drives several axes share, by axis; ticked while a request waits
+        self._shared_drive_of = {axis.name: drive for drive in parts.shared_drives for axis in drive.axes}
+        self._switching_drives: list[SharedDrive] = []
         self._drive_messages = [axis.messages for axis in self.axes if axis.messages is not None]
         if self.dc_link is not None:
             for messages in self._drive_messages:
@@ -207,6 +211,8 @@ class Nck:
             inclined.follow()  # a manual motion of the inclined axis carries the orthogonal one along
         if self._changing_drives:
             self._drive_data_sets()
+        if self._switching_drives:
+            self._setpoint_switchovers()
         moved = False
         for axis in self.axes:
             if axis.resting and axis.owner is Owner.NONE:
@@ -228,6 +234,12 @@ class Nck:
             if axis.data_sets.pulses_cancelled != cancelled:
                 axis.resting = False
         self._changing_drives = [axis for axis in self._changing_drives if axis.data_sets.busy]
+
+    def _setpoint_switchovers(self) -> None:
+        """The shared drives whose control another axis requests (DB31.DBX24.5 -> 96.5)."""
+        for drive in self._switching_drives:
+            drive.cycle()
+        self._switching_drives = [drive for drive in self._switching_drives if drive.busy]
 
     def _outputs(self, moved: bool) -> None:
         status = self._status_signature()
@@ -283,6 +295,11 @@ class Nck:
                     plc_axes.decode_inputs(axis.name)  # DBX28.7, DBX30.0, FC18 (vc/core/axis/plc_axis.py)
                 if axis.data_sets.busy and axis not in self._changing_drives:
                     self._changing_drives.append(axis)  # a data set changeover or the integrator's answer
+                shared = self._shared_drive_of.get(axis.name)
+                if shared is not None:
+                    shared.decode()  # DBX24.5: which axis requests the drive's control
+                    if shared.busy and shared not in self._switching_drives:
+                        self._switching_drives.append(shared)
                 axis.override = self._axis_coding.factor(axis.inputs.override_raw, axis.inputs.override_active)
                 self._hardware_limit_switches(axis)
                 spindle = self._spindle_of.get(axis.name)

@@ -31,6 +31,7 @@ from vc.core.axis.drive_messages import DriveMessages
 from vc.core.axis.index_variables import index_variable_reader
 from vc.core.axis.parameter_sets import ServoParameterSets, selected_by_the_plc
 from vc.core.axis.plc_axis import PlcAxis
+from vc.core.axis.setpoint_switchover import SharedDrive
 from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
@@ -79,6 +80,7 @@ class NckParts:
     polygons: list[PolygonTurning]
     manual: ManualFunctions
     fixed_stops: list[FixedStop]  # travel to fixed stop of the axes whose MD37000 allows it
+    shared_drives: list[SharedDrive]  # setpoint switchover: the axes of one drive (equal MD30110)
 
 
 def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memory: NcMemory, alarms: AlarmList,
@@ -166,7 +168,20 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     return NckParts(nck_table.codec(NckRequests), nck_table.codec(NckStatus), display_wcs, alarm_area, plc_alarms,
                     mode_group, axes, axes_by_name, axis_coding, referencing,
                     channels, {channel.name: channel for channel in channels}, inclined_axes, retractions, spindles,
-                    spindle_of, couplings, esr, dc_link, polygons, manual, fixed_stops)
+                    spindle_of, couplings, esr, dc_link, polygons, manual, fixed_stops,
+                    _shared_drives(axes, axis_table, image))
+
+
+def _shared_drives(axes: list[MachineAxis], table: SignalTable, image: ProcessImage) -> list[SharedDrive]:
+    """The drives two or more axes share (the same MD30110 above 0): setpoint switchover."""
+    SharedDrive.declare(table)
+    by_number: dict[int, list[MachineAxis]] = {}
+    for axis in axes:
+        number = axis.config.md.int(MD.CTRLOUT_MODULE_NR)
+        if number > 0:
+            by_number.setdefault(number, []).append(axis)
+    return [SharedDrive(number, members, table, [image.area(f"DB{axis.config.db}") for axis in members])
+            for number, members in by_number.items() if len(members) > 1]
 
 
 def _fixed_stops(channels: list[Channel], table: SignalTable, image: ProcessImage, dt: float,

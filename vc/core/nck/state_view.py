@@ -18,6 +18,7 @@ from vc.core.axis.command_axis import COMMAND_AXIS_STATES
 from vc.core.axis.drive_data_sets import DRIVE_DATA_SET_STATES
 from vc.core.axis.index_jog import INDEX_JOG_STATES
 from vc.core.axis.plc_axis import FC18_JOB_STATES, PLC_AXIS_TYPES
+from vc.core.axis.setpoint_switchover import SETPOINT_SWITCHOVER_STATES
 from vc.core.channel.program_run import CHANNEL_STATES, PROGRAM_STATES
 from vc.core.fixed_stop.fixed_stop import FIXED_STOP_STATES
 from vc.core.nck.manual_retraction import MANUAL_RETRACTION_STATES
@@ -60,6 +61,7 @@ PUBLISHED: tuple[Published[Any], ...] = (
     Published(FIXED_STOP_STATES, lambda nck: [(fixed_stop.name, fixed_stop) for fixed_stop in nck.fixed_stops]),
     Published(DRIVE_ESR_STATES, lambda nck: [(axis.name, nck.esr.drives[axis.name]) for axis in nck.axes]),
     Published(DRIVE_DATA_SET_STATES, lambda nck: [(axis.name, axis.data_sets) for axis in nck.axes]),
+    Published(SETPOINT_SWITCHOVER_STATES, lambda nck: [(drive.axes[0].name, drive) for drive in nck.shared_drives]),
     Published(ESR_RETRACT_STATES, lambda nck: [(channel.name, channel.esr) for channel in nck.channels
                                                if channel.esr is not None]),
     Published(ESR_STOP_STATES, lambda nck: [(channel.name, channel.esr) for channel in nck.channels
