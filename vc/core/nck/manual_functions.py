@@ -20,6 +20,7 @@ from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.interface_map import SignalTable
+from vc.core.nck.jog_functions import JogFunctions
 from vc.core.nck.manual_retraction import ManualRetraction
 from vc.core.nck.mode_group import ModeGroup
 from vc.core.spindle.coupling import Couplings
@@ -28,7 +29,7 @@ from vc.core.spindle.coupling import Couplings
 class ManualFunctions:
     def __init__(self, axis_table: SignalTable, channel_table: SignalTable, image: ProcessImage, mode_group: ModeGroup,
                  channels: list[Channel], alarms: AlarmList, referencing: ReferencingControl,
-                 retractions: dict[str, ManualRetraction], couplings: Couplings):
+                 retractions: dict[str, ManualRetraction], couplings: Couplings, jog_functions: JogFunctions):
         self.image = image
         self.mode_group = mode_group
         self.channels = channels
@@ -37,6 +38,7 @@ class ManualFunctions:
         self.retractions = retractions
         self.couplings = couplings
         self.handwheels = Handwheels()
+        self.jog_functions = jog_functions  # DB31.DBX5.x / 65.x: continuous or incremental JOG
         self._handwheel = axis_table.codec(HandwheelSelection, HANDWHEEL_OF_MACHINE_AXIS)
         self._geometry_handwheels = tuple(
             channel_table.codec(HandwheelSelection, HANDWHEEL_OF_GEOMETRY_AXIS.format(number=number))
@@ -77,6 +79,8 @@ class ManualFunctions:
             retraction = self.retractions[channel.name]
             inclined = channel.inclined
             for axis in channel.axes:
+                if refresh_all or (latched is not None and axis.area_key in latched):
+                    self.jog_functions.report(axis, jog_mode)
                 if axis.is_spindle and axis.name in self.couplings.active:
                     inputs = axis.inputs
                     direction = (1 if inputs.key_plus else -1) if jog_allowed and inputs.key_plus != inputs.key_minus \
@@ -87,16 +91,13 @@ class ManualFunctions:
                 inputs = axis.inputs
                 asked = jog_allowed and (inputs.key_plus != inputs.key_minus or axis.handwheel_rest != 0.0)
                 index_jog = axis.index_jog  # an indexing axis runs out to, or waits on, an index position
-                if (asked or axis.owner is Owner.JOG or (index_jog is not None and index_jog.busy)) \
-                        and not axis.is_spindle:
+                if (asked or axis.owner is Owner.JOG or axis.jog.keys.busy
+                        or (index_jog is not None and index_jog.busy)) and not axis.is_spindle:
                     limits = retraction.jog_limits(axis)
                     if inclined is not None:
                         limits = limits.and_(inclined.jog_limits(axis))
                     limits = limits.and_(channel.stroke_jog_limits(axis, cycle))  # G22, stroke limit 3
-                    # an INC machine function takes an indexing axis to the next index position (L13463-13465)
-                    step = index_jog is not None and \
-                        increment_of(self._handwheel.read(self.image.area(axis.area_key))) > 0.0
-                    axis.jog_cycle(jog_allowed, feed_disable, limits, step)
+                    axis.jog_cycle(jog_allowed, feed_disable, limits, self.jog_functions.selection(axis))
         for retraction in self.retractions.values():
             retraction.follow()
 
