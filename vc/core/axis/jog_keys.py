@@ -31,7 +31,7 @@ States::
     INCREMENT ──continuous mode: a key pressed again──▶ IDLE
     CONTINUOUS, INCREMENT, INCREMENT_HELD ──RESET, DBX2.2, a limit, the increment changed, the enables
         removed, JOG left──▶ AT_END (key still held) / IDLE
-    AT_END ──the keys released──▶ IDLE
+    AT_END ──the key held released──▶ IDLE (the other key pressed meanwhile starts at once)
 """
 
 from __future__ import annotations
@@ -119,8 +119,10 @@ class TraverseKeys:
         elif state is JogKeyState.INCREMENT_HELD:
             if held == self.direction:
                 self.state = JogKeyState.INCREMENT  # the same key again: on with the rest (L32818)
-        elif not plus and not minus:  # AT_END
+        elif held != self.direction:  # AT_END: the key released (the other one may start at once)
             self.state = JogKeyState.IDLE
+            if not ended or (selection.continuous_held and not selection.increment):
+                return self._start(selection, held, rise_plus, rise_minus, may_go_plus, may_go_minus)
         return 0
 
     def increment_travelled(self, held: bool) -> None:
@@ -177,7 +179,9 @@ class TraverseKeys:
             self._end(held)  # the same key again or the other key (L32833-32845)
 
     def _end(self, held: int) -> None:
+        """The motion ends; a key still held must be released before the next one."""
         self.state = JogKeyState.AT_END if held else JogKeyState.IDLE
+        self.direction = held or self.direction
         self.rest = 0.0
         self.increment = 0.0
 
@@ -198,5 +202,5 @@ JOG_KEY_STATES: StateMachine[TraverseKeys] = StateMachine(
                  " DBX2.2, a limit, the increment changed, the enables removed, JOG left"),
                 ("INCREMENT_HELD", "IDLE", "RESET, DBX2.2, the increment changed, the enables removed, JOG left"),
                 ("INCREMENT_HELD", "AT_END", "ended while the other key is held"),
-                ("AT_END", "IDLE", "the keys released")),
+                ("AT_END", "IDLE", "the key held released")),
     read=lambda keys: keys.state)
