@@ -7,21 +7,21 @@ increment (MD11330 / SD41010 x MD31090), "continuous" (or none) lets them traver
 they command it.  Two data choose how the keys command, for every axis of the NC:
 
 * continuous JOG, SD41050 JOG_CONT_MODE_LEVELTRIGGRD (L32789-32791): 1, jog mode, the axis runs
-  while the key is held and brakes when it is released (L32609-32613); 0, continuous mode, a press
+  while the key is held and brakes when it is released (L32614-32618); 0, continuous mode, a press
   starts it and it runs on after the release until the same key is pressed again, the other key is
-  pressed, RESET, JOG is left or a limit is reached (L32619-32660);
+  pressed, RESET, JOG is left or a limit is reached (L32624-32673);
 * incremental JOG, MD11300 JOG_INC_MODE_LEVELTRIGGRD (L33093-33095): 1, jog mode, the key held
   travels the increment; released before it is done the axis stops and keeps the rest, the same key
   pressed again travels it on; the other key does nothing until the increment is done or ended
-  (L32816-32822); 0, continuous mode, a press travels the whole increment, a second press of the
-  same key or the other key ends it (L32830-32845).
+  (L32814-32820); 0, continuous mode, a press travels the whole increment, a second press of the
+  same key or the other key ends it (L32832-32852).
 
 An increment ends (its rest is dropped, the axis brakes) on RESET (the channel's reset brakes the
 axis: another owner takes it), DB31.DBX2.2 "delete distance to go" (L32826-32828), a limit reached
 (the software limit switches, an actuated hardware limit switch in its direction), a change of the
-selected increment (L32850), the drive's enables removed (L32851) and JOG left (mode change, an
+selected increment (L32861), the drive's enables removed (L32862) and JOG left (mode change, an
 alarm that stops the axes) [control: the seed says the NC keeps JOG while an axis travels
-(L32855-32857); the harness's mode group takes the PLC's mode change, so the increment is ended].
+(L32872); the harness's mode group takes the PLC's mode change, so the increment is ended].
 
 States::
 
@@ -118,7 +118,7 @@ class TraverseKeys:
                 self._increment(selection, held, rise_plus or rise_minus)
         elif state is JogKeyState.INCREMENT_HELD:
             if held == self.direction:
-                self.state = JogKeyState.INCREMENT  # the same key again: on with the rest (L32818)
+                self.state = JogKeyState.INCREMENT  # the same key again: on with the rest (L32816)
         elif held != self.direction:  # AT_END: the key released (the other one may start at once)
             self.state = JogKeyState.IDLE
             if not ended or (selection.continuous_held and not selection.increment):
@@ -166,7 +166,7 @@ class TraverseKeys:
             self.state = JogKeyState.IDLE  # released (or both keys): it brakes
             return 0
         if pressed or not (may_go_plus if self.direction > 0 else may_go_minus):
-            self._end(held)  # the same or the other key pressed again, or a limit (L32646-32660)
+            self._end(held)  # the same or the other key pressed again, or a limit (L32656-32673)
             return 0
         return self.direction
 
@@ -174,9 +174,9 @@ class TraverseKeys:
         """INCREMENT: jog mode pauses on the release; continuous mode ends on a second press."""
         if selection.increment_held:
             if held != self.direction:
-                self.state = JogKeyState.INCREMENT_HELD  # released: it stops, the rest kept (L32816-32817)
+                self.state = JogKeyState.INCREMENT_HELD  # released: it stops, the rest kept (L32814-32816)
         elif pressed:
-            self._end(held)  # the same key again or the other key (L32833-32845)
+            self._end(held)  # the same key again or the other key (L32834-32846)
 
     def _end(self, held: int) -> None:
         """The motion ends; a key still held must be released before the next one."""

@@ -10,7 +10,7 @@ handwheels [control choice: the seed does not say]; none selected: continuous JO
 always traversed [control choice], and nothing is reported.  The NC reports the machine function
 it has active in JOG on DB31.DBX65.0..65.6 (L32733-32735, L33016-33040); outside JOG none.
 MD11300 (increments) and SD41050 (continuous) say whether the keys command in jog or continuous
-mode (``vc/core/axis/jog_keys.py``).
+mode (``vc/core/axis/jog_keys.py``).  The handwheels take the same fixed increments and weight.
 """
 
 from __future__ import annotations
@@ -18,14 +18,16 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from interfaces.image import ProcessImage
-from interfaces.signal_groups import ActiveJogMachineFunction, JogMachineFunctions
+from interfaces.signal_groups import ActiveJogMachineFunction, HandwheelSelection, JogMachineFunctions
 from vc.config import md_dictionary as MD
 from vc.config.machine_data import MachineData
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.handwheel import increment_of
 from vc.core.axis.jog_keys import JogSelection
 from vc.core.interface_map import SignalTable
 
 _NOTHING_ACTIVE = ActiveJogMachineFunction()
+HANDWHEEL_INCREMENTS = 5  # the handwheels take INC1 .. INC10000 (DB31.DBX5.0..5.4)
 
 
 class JogFunctions:
@@ -49,6 +51,10 @@ class JogFunctions:
             return self.continuous
         return JogSelection(self._increments[index] * self._weight[axis.name], self.continuous.continuous_held,
                             self._increment_held)
+
+    def handwheel_increment(self, selection: HandwheelSelection, axis: MachineAxis) -> float:
+        """The travel of ``axis`` per handwheel detent for the PLC's INC1 .. INC10000 (MD11330 x MD31090)."""
+        return increment_of(selection, self._increments[:HANDWHEEL_INCREMENTS], self._weight[axis.name])
 
     def report(self, axis: MachineAxis, jog_mode: bool) -> None:
         """DB31.DBX65.0..65.6: the machine function active in JOG (the PLC's selection), none outside."""

@@ -14,7 +14,7 @@ from interfaces.image import ProcessImage
 from interfaces.signal_groups import HANDWHEEL_OF_GEOMETRY_AXIS, HANDWHEEL_OF_MACHINE_AXIS, HandwheelSelection
 from vc.core.alarms import STOP_AXES, AlarmList
 from vc.core.axis.axis import MachineAxis
-from vc.core.axis.handwheel import GEOMETRY_AXES, Handwheels, increment_of
+from vc.core.axis.handwheel import GEOMETRY_AXES, Handwheels
 from vc.core.axis.owner import Owner
 from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
@@ -129,7 +129,7 @@ class ManualFunctions:
         if pulses and self._drf_active[channel.name] and not axes_stopped:
             for axis in channel.axes:
                 selection = self._handwheel.read(self.image.area(axis.area_key))
-                assigned, per_detent = selection.assigned, increment_of(selection)
+                assigned, per_detent = selection.assigned, self.jog_functions.handwheel_increment(selection, axis)
                 detents = sum(count for number, count in pulses.items() if assigned & (1 << (number - 1)))
                 if not (detents and per_detent):
                     continue
@@ -161,7 +161,8 @@ class ManualFunctions:
         for axis in channel.axes:
             axis_selection = self._handwheel.read(self.image.area(axis.area_key))
             if axis_selection.assigned:
-                receivers += [(number, axis, increment_of(axis_selection)) for number in pulses
+                receivers += [(number, axis, self.jog_functions.handwheel_increment(axis_selection, axis))
+                              for number in pulses
                               if axis_selection.assigned & (1 << (number - 1))]
         area = self.image.area(channel.area_key)
         inclined = channel.inclined
@@ -170,6 +171,7 @@ class ManualFunctions:
             if selection is not None and selection.assigned:
                 assigned = selection.assigned
                 axis = channel.axes_by_name[name]
-                per_detent = increment_of(selection) * (inclined.geometry_travel(axis) if inclined else 1.0)
+                per_detent = self.jog_functions.handwheel_increment(selection, axis) * \
+                    (inclined.geometry_travel(axis) if inclined else 1.0)
                 receivers += [(number, axis, per_detent) for number in pulses if assigned & (1 << (number - 1))]
         return receivers

@@ -92,7 +92,7 @@ def test_an_increment_ends_on_dbx2_2_a_new_increment_leaving_jog_another_owner_t
     if end == "reset_movement":
         axis.inputs.reset_movement = True
     elif end == "selection":
-        selection = JogSelection(1.0, increment_held=False)  # INC10000 -> INC1000 (L32850)
+        selection = JogSelection(1.0, increment_held=False)  # INC10000 -> INC1000 (L32861)
     elif end == "jog_left":
         allowed = False
     elif end == "owner":
@@ -131,7 +131,7 @@ def test_continuous_jog_in_continuous_mode_runs_on_after_the_release_until_a_key
     axis.inputs.key_plus = False
     jog(axis, 200, CONTINUOUS_LATCHED)
     assert axis.command_velocity == pytest.approx(2000.0 / 60.0)
-    axis.inputs.key_minus = True  # the other key stops it (L32650)
+    axis.inputs.key_minus = True  # the other key stops it (L32658)
     jog(axis, 200, CONTINUOUS_LATCHED)
     assert axis.command_velocity == 0.0 and axis.owner is Owner.NONE
     axis.inputs.key_minus = False

@@ -101,7 +101,7 @@ def test_continuous_mode_md11300_0_a_tap_travels_the_increment_and_reset_ends_it
     assert x1.setpoint == pytest.approx(start + 10.0, abs=1e-9)
     key(rig, "Plus", 4)
     rig.step(50)
-    rig.pulse("CHAN1.basic.out.reset", 4)  # RESET ends the increment (L32825)
+    rig.pulse("CHAN1.basic.out.reset", 4)  # RESET ends the increment (L32850)
     rig.step(300)
     assert start + 10.0 < x1.setpoint < start + 19.0 and x1.command_velocity == 0.0
 
@@ -115,3 +115,17 @@ def test_continuous_jog_in_continuous_mode_sd41050_0_runs_on_until_the_key_again
     key(rig, "Plus", 4)
     rig.step(200)
     assert x1.command_velocity == 0.0
+
+
+@pytest.mark.parametrize(("weight", "travel"), [("0.001", 2.0), ("-0.002", -4.0)])
+def test_the_handwheel_takes_md11330_times_md31090_a_negative_weight_turns_it_around(weight: str,
+                                                                                     travel: float) -> None:
+    rig = jog_rig("\nNC: {MD11330: [1, 10, 200, 1000, 10000]}", f", MD31090: [{weight}, 0.00254]")
+    x1 = rig.axis("X1")
+    start = x1.setpoint
+    rig.set("X1.basic.out.handwheelSelection", 1)
+    rig.set("X1.basic.out.inc100", 1)  # MD11330[2] = 200 increments
+    rig.step(2)
+    rig.sim.turn_handwheel(1, 10, 50)
+    rig.step(600)
+    assert x1.setpoint == pytest.approx(start + travel, abs=1e-9)
