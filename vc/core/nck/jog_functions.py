@@ -18,23 +18,35 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from interfaces.image import ProcessImage
-from interfaces.signal_groups import ActiveJogMachineFunction, HandwheelSelection, JogMachineFunctions
+from interfaces.signal_groups import (
+    ActiveGeometryJogMachineFunction,
+    ActiveJogMachineFunction,
+    GeometryJogMachineFunctions,
+    HandwheelSelection,
+    JogMachineFunctions,
+)
 from vc.config import md_dictionary as MD
 from vc.config.machine_data import MachineData
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.handwheel import increment_of
 from vc.core.axis.jog_keys import JogSelection
+from vc.core.channel.channel import Channel
 from vc.core.interface_map import SignalTable
 
 _NOTHING_ACTIVE = ActiveJogMachineFunction()
+_NOTHING_ACTIVE_GEOMETRY = ActiveGeometryJogMachineFunction()
 HANDWHEEL_INCREMENTS = 5  # the handwheels take INC1 .. INC10000 (DB31.DBX5.0..5.4)
 
 
 class JogFunctions:
     """The JOG machine function of every machine axis: what its keys command, what the NC reports."""
 
-    def __init__(self, nck: MachineData, axis_table: SignalTable, image: ProcessImage, axes: Sequence[MachineAxis]):
+    def __init__(self, nck: MachineData, axis_table: SignalTable, channel_table: SignalTable, image: ProcessImage,
+                 axes: Sequence[MachineAxis]):
         self._image = image
+        self._read_geometry = channel_table.codec(GeometryJogMachineFunctions).read
+        self._encode_geometry = channel_table.codec(ActiveGeometryJogMachineFunction).encode
+        self._geometry_reported: dict[str, ActiveGeometryJogMachineFunction] = {}
         self._read = axis_table.codec(JogMachineFunctions).read
         self._encode = axis_table.codec(ActiveJogMachineFunction).encode
         self._increments = (*nck.floats(MD.JOG_INCR_SIZE_TAB), nck.float(MD.JOG_VAR_INCR_SIZE))
@@ -67,15 +79,33 @@ class JogFunctions:
             self._reported[axis.name] = active
             self._encode(self._image.area(axis.area_key), active)
 
+    def report_geometry_axis(self, channel: Channel, jog_mode: bool) -> None:
+        """DB21.DBX41.0..41.6: the machine function of geometry axis 1 active in JOG (DB21.DBX13.0..13.6,
+        its handwheel's increment; L33011-33032, L34197-34205), none outside JOG or without the axis."""
+        active = _NOTHING_ACTIVE_GEOMETRY
+        area = self._image.area(channel.area_key)
+        if jog_mode and channel.config.geometry_axes[0]:
+            index = _selected(self._read_geometry(area))
+            if index is not None:
+                active = _ACTIVE_GEOMETRY[index]
+        if active != self._geometry_reported.get(channel.name, _NOTHING_ACTIVE_GEOMETRY):
+            self._geometry_reported[channel.name] = active
+            self._encode_geometry(area, active)
+
 
 # the feedback of each machine function, in the order of ``_selected``
 _ACTIVE = (ActiveJogMachineFunction(inc1=True), ActiveJogMachineFunction(inc10=True),
            ActiveJogMachineFunction(inc100=True), ActiveJogMachineFunction(inc1000=True),
            ActiveJogMachineFunction(inc10000=True), ActiveJogMachineFunction(inc_var=True),
            ActiveJogMachineFunction(continuous=True))
+_ACTIVE_GEOMETRY = (
+    ActiveGeometryJogMachineFunction(inc1=True), ActiveGeometryJogMachineFunction(inc10=True),
+    ActiveGeometryJogMachineFunction(inc100=True), ActiveGeometryJogMachineFunction(inc1000=True),
+    ActiveGeometryJogMachineFunction(inc10000=True), ActiveGeometryJogMachineFunction(inc_var=True),
+    ActiveGeometryJogMachineFunction(continuous=True))
 
 
-def _selected(functions: JogMachineFunctions) -> int | None:
+def _selected(functions: JogMachineFunctions | GeometryJogMachineFunctions) -> int | None:
     """The machine function the NC takes: the smallest increment selected (0..4 fixed, 5 INCvar),
     6 continuous, None for none."""
     for index, on in enumerate((functions.inc1, functions.inc10, functions.inc100, functions.inc1000,

@@ -71,6 +71,7 @@ class ManualFunctions:
                 self._handwheel_pulses(channel, pulses)
             if refresh_all or (latched is not None and channel.area_key in latched):
                 self._show_geometry_handwheel(channel)
+                self.jog_functions.report_geometry_axis(channel, jog_mode)
                 self._show_drf(channel, drf_mode)
             self._drf(channel, pulses, axes_stopped)
             self.referencing.traverse_keys(channel.name, channel.axes, allowed and reference_keys, cycle)

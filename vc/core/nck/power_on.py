@@ -160,7 +160,7 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     for spindle in spindles:
         spindle.write_outputs()  # the power-on state
     manual = ManualFunctions(axis_table, channel_table, image, mode_group, channels, alarms, referencing, retractions,
-                             couplings, JogFunctions(nck, axis_table, image, axes))
+                             couplings, JogFunctions(nck, axis_table, channel_table, image, axes))
     return NckParts(nck_table.codec(NckRequests), nck_table.codec(NckStatus), display_wcs, alarm_area, plc_alarms,
                     mode_group, axes, axes_by_name, axis_coding, referencing,
                     channels, {channel.name: channel for channel in channels}, inclined_axes, retractions, spindles,

@@ -129,3 +129,24 @@ def test_the_handwheel_takes_md11330_times_md31090_a_negative_weight_turns_it_ar
     rig.sim.turn_handwheel(1, 10, 50)
     rig.step(600)
     assert x1.setpoint == pytest.approx(start + travel, abs=1e-9)
+
+
+def test_geometry_axis_1_reports_its_machine_function_in_db21_dbx41() -> None:
+    rig = jog_rig()
+    names = ("inc1Active", "inc10Active", "inc100Active", "inc1000Active", "inc10000Active", "incVarActive",
+             "contManualTraversActive")
+
+    def active() -> list[str]:
+        return [name for name in names if rig.get(f"CHAN1.geoAxis1.in.{name}")]
+
+    assert active() == []
+    rig.set("CHAN1.geoAxis1.out.inc100", 1)
+    rig.step(2)
+    assert active() == ["inc100Active"]
+    rig.set("CHAN1.geoAxis1.out.inc100", 0)
+    rig.set("CHAN1.geoAxis1.out.incVar", 1)
+    rig.step(2)
+    assert active() == ["incVarActive"]
+    rig.select_mode("mda")
+    rig.step(2)
+    assert active() == []
