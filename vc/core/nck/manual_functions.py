@@ -90,10 +90,12 @@ class ManualFunctions:
                 # outside JOG only a jog that is still running out needs its cycle; in JOG an axis at
                 # rest needs it only when a key or its handwheel asks it to move (limits cost time)
                 inputs = axis.inputs
-                asked = jog_allowed and (inputs.key_plus != inputs.key_minus or axis.handwheel_rest != 0.0)
+                # (or its keys' state machine has a motion to end or a key to see released)
+                asked = jog_allowed and (inputs.key_plus != inputs.key_minus or axis.handwheel_rest != 0.0
+                                         or axis.jog.keys.busy)
                 index_jog = axis.index_jog  # an indexing axis runs out to, or waits on, an index position
-                if (asked or axis.owner is Owner.JOG or axis.jog.keys.busy
-                        or (index_jog is not None and index_jog.busy)) and not axis.is_spindle:
+                if (asked or axis.owner is Owner.JOG or (index_jog is not None and index_jog.busy)) \
+                        and not axis.is_spindle:
                     limits = retraction.jog_limits(axis)
                     if inclined is not None:
                         limits = limits.and_(inclined.jog_limits(axis))
