@@ -75,7 +75,7 @@ class TraverseKeys:
         self.direction = 0  # the direction of the key that started the motion
         self.way = 0  # INCREMENT: the direction the axis travels (against the key's with MD31090 < 0)
         self.increment = 0.0  # INCREMENT / INCREMENT_HELD: the increment selected when it started
-        self.rest = 0.0  # INCREMENT / INCREMENT_HELD: the distance still to travel (sign = direction)
+        self.rest = 0.0  # INCREMENT / INCREMENT_HELD: the distance still to travel (sign = way)
         self._plus = False  # the keys as last seen, for their edges
         self._minus = False
 
@@ -139,9 +139,6 @@ class TraverseKeys:
                 self.state, self.direction, self.way = JogKeyState.INCREMENT, pressed, way
                 self.increment = selection.increment
                 self.rest = pressed * selection.increment
-            return 0
-        if selection.increment:
-            self._end(held)  # INC selected: a new press travels an increment
             return 0
         if selection.continuous_held:
             if held and (may_go_plus if held > 0 else may_go_minus):
