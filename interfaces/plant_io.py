@@ -84,6 +84,9 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
     PlantFunction(r"MCP\.(inc1|inc10|inc100|inc1000|inc10000)", SignalType.BOOL, Direction.PLANT_TO_PLC,
                   PointOwner.OPERATOR,
                   "increment key on the machine control panel (machine function INC1 .. INC10000)"),
+    PlantFunction(r"MCP\.(incVar|jogContinuous)", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
+                  "machine function key on the machine control panel: the variable increment INCvar (SD41010)"
+                  " or continuous JOG"),
     PlantFunction(r"EStop\.chainOk", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "emergency-stop chain, normally closed: 1 = healthy, 0 = pressed or broken"),
     PlantFunction(r"Drives\.ready", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,

@@ -182,6 +182,62 @@ class HandwheelSelection:
     inc10000: bool = signal("inc10000")
 
 
+# ------------------------------------------------------------------- manual travel: JOG machine functions
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class JogMachineFunctions:
+    """A machine axis's machine function of JOG (DB31.DBX5.0..5.6, seed 003 §16.4 / §16.5): the
+    increment of incremental JOG, or continuous JOG."""
+
+    inc1: bool = signal("basic.out.inc1")
+    inc10: bool = signal("basic.out.inc10")
+    inc100: bool = signal("basic.out.inc100")
+    inc1000: bool = signal("basic.out.inc1000")
+    inc10000: bool = signal("basic.out.inc10000")
+    inc_var: bool = signal("basic.out.incVar")
+    continuous: bool = signal("basic.out.contTravers")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ActiveJogMachineFunction:
+    """The machine function of JOG the NC has active for a machine axis (DB31.DBX65.0..65.6)."""
+
+    inc1: bool = signal("basic.in.inc1Active")
+    inc10: bool = signal("basic.in.inc10Active")
+    inc100: bool = signal("basic.in.inc100Active")
+    inc1000: bool = signal("basic.in.inc1000Active")
+    inc10000: bool = signal("basic.in.inc10000Active")
+    inc_var: bool = signal("basic.in.incVarActive")
+    continuous: bool = signal("basic.in.contTraversActive")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class GeometryJogMachineFunctions:
+    """Geometry axis 1's machine function of JOG in DB21 (DBX13.0..13.6): its handwheel's increment."""
+
+    inc1: bool = signal("geoAxis1.out.inc1")
+    inc10: bool = signal("geoAxis1.out.inc10")
+    inc100: bool = signal("geoAxis1.out.inc100")
+    inc1000: bool = signal("geoAxis1.out.inc1000")
+    inc10000: bool = signal("geoAxis1.out.inc10000")
+    inc_var: bool = signal("geoAxis1.out.incVar")
+    continuous: bool = signal("geoAxis1.out.contManualTravers")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ActiveGeometryJogMachineFunction:
+    """The machine function of JOG the NC has active for geometry axis 1 (DB21.DBX41.0..41.6)."""
+
+    inc1: bool = signal("geoAxis1.in.inc1Active")
+    inc10: bool = signal("geoAxis1.in.inc10Active")
+    inc100: bool = signal("geoAxis1.in.inc100Active")
+    inc1000: bool = signal("geoAxis1.in.inc1000Active")
+    inc10000: bool = signal("geoAxis1.in.inc10000Active")
+    inc_var: bool = signal("geoAxis1.in.incVarActive")
+    continuous: bool = signal("geoAxis1.in.contManualTraversActive")
+
+
 # --------------------------------------------------------------------------------------- DB31 axis
 
 

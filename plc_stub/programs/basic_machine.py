@@ -18,6 +18,13 @@ Networks (one method each, called in this order from OB1):
    drives are ready (follow-up mode while the enable is off), the axis override, the
    traverse keys to DB31.DBX4.6/4.7, the rapid traverse key, the reference cam to
    DB31.DBX12.7 and the hardware limit switches (normally closed) to DB31.DBX12.0/12.1.
+   The machine functions of JOG (seed 003 §16.4.1, §16.5.1): the panel's keys INC1 .. INC10000,
+   INCvar and continuous JOG (``MCP.inc1`` .. ``MCP.inc10000``, ``MCP.incVar``,
+   ``MCP.jogContinuous``) select one of them, latched (the key last pressed; none after power-on,
+   so the NC's traverse keys stay continuous) and written to DB31.DBX5.0..5.6 of every axis; each
+   key's lamp (``Lamp.inc1`` .. ``Lamp.jogContinuous``) lights while the NC reports that machine
+   function active on an axis (DB31.DBX65.0..65.6: in JOG).  A program that assigns handwheels
+   (network 12 of ``manual_retraction``) gives the increment to the handwheels' axes instead.
 
 Everything is derived from the machine's I/O list: an axis without a cam simply has no
 cam network.
@@ -33,6 +40,10 @@ from plc_stub.io import Bool, Byte, PlcIo
 
 DRIVES_OFF_DELAY_S = 0.5  # infeed kept on after an e-stop: the NC brakes with powered drives
 KEY_MODES = ("auto", "mda", "jog")
+# the machine functions of JOG: the panel's key (and lamp) and the DB31 request, in the order of DBX5.0..5.6
+JOG_FUNCTIONS = (("inc1", "inc1"), ("inc10", "inc10"), ("inc100", "inc100"), ("inc1000", "inc1000"),
+                 ("inc10000", "inc10000"), ("incVar", "incVar"), ("jogContinuous", "contTravers"))
+INCREMENT_KEYS = 5  # the first five are the fixed increments INC1 .. INC10000 (the handwheels' too)
 
 
 @dataclass(slots=True)
@@ -133,6 +144,16 @@ class BasicMachine:
             )
             for name in layout.channels
         ]
+        # Network 4: the machine functions of JOG, where the panel has their keys
+        self.jog_keys = [(index, io.input(f"MCP.{key}"), R_TRIG()) for index, (key, _) in enumerate(JOG_FUNCTIONS)
+                         if io.is_wired(f"MCP.{key}")]
+        self.jog_function: int | None = None  # the machine function last selected (index of JOG_FUNCTIONS)
+        self.jog_requests = [tuple(io.output(f"{name}.basic.out.{signal}") for _, signal in JOG_FUNCTIONS)
+                             for name in layout.axes] if self.jog_keys else []
+        self.jog_feedback = [tuple(io.input(f"{name}.basic.in.{signal}Active") for _, signal in JOG_FUNCTIONS)
+                             for name in layout.axes] if self.jog_keys else []
+        self.jog_lamps = [(index, io.output(f"Lamp.{key}")) for index, (key, _) in enumerate(JOG_FUNCTIONS)
+                          if io.is_wired(f"Lamp.{key}")]
         # Network 4
         self.axes = [
             _AxisIo(
@@ -229,6 +250,25 @@ class BasicMachine:
                 axis.limit_minus_output.value = not axis.limit_minus_input.value
             if axis.limit_plus_input is not None:
                 axis.limit_plus_output.value = not axis.limit_plus_input.value
+        self.jog_machine_functions()
+
+    def jog_machine_functions(self) -> None:
+        """Network 4, the machine functions of JOG: the key last pressed to every axis, the lamps
+        from the NC's feedback."""
+        for index, key, edge in self.jog_keys:
+            if edge(key.value):
+                self.jog_function = index
+        for requests in self.jog_requests:
+            for index, request in enumerate(requests):
+                request.value = index == self.jog_function
+        for index, lamp in self.jog_lamps:
+            lamp.value = any(feedback[index].value for feedback in self.jog_feedback)
+
+    @property
+    def panel_increment(self) -> int | None:
+        """The fixed increment (1 .. 10000) the panel selects, None for INCvar, continuous or none."""
+        function = self.jog_function
+        return 10 ** function if function is not None and function < INCREMENT_KEYS else None
 
 
 def pressed(key: Bool | None) -> bool:

@@ -3,8 +3,8 @@
 The machine control panel has an axis selector per handwheel (``MCP.handwheel1`` .. ``3``, a byte
 coded as the HMI's handwheel byte DB10.DBB100 / 101 of seed 003 L33180-33197: bits 0..4 the axis
 number, bit 7 = 1 a machine axis, 0 a geometry axis of channel 1, 0 = no axis) and the increment
-keys ``MCP.inc1`` .. ``MCP.inc10000``.  The PLC user program assigns the handwheels through the
-NC/PLC interface, as L33162-33164 leave it to the PLC:
+keys ``MCP.inc1`` .. ``MCP.inc10000`` (latched by network 4 of ``basic_machine``).  The PLC user
+program assigns the handwheels through the NC/PLC interface, as L33162-33164 leave it to the PLC:
 
 * a machine axis: its DB31.DBX4.0..4.2 (bit n-1 = handwheel n, MD11324 = 0);
 * a geometry axis: DB21.DBX12.0..2 / 16.0..2 / 20.0..2 of channel 1;
@@ -17,7 +17,6 @@ selectors the network does nothing (a scenario forces the assignment instead).
 
 from __future__ import annotations
 
-from plc_stub.blocks import R_TRIG
 from plc_stub.io import BitField, Bool, Byte, PlcIo
 
 HANDWHEELS = 3
@@ -48,20 +47,15 @@ class HandwheelSelection:
                                              if io.is_wired(f"MCP.handwheel{number}") else None
                                              for number in range(1, HANDWHEELS + 1)]
         self.wired = any(selector is not None for selector in self.selectors)
-        self.increment_keys = [(size, io.input(f"MCP.inc{size}"), R_TRIG()) for size in INCREMENTS
-                               if io.is_wired(f"MCP.inc{size}")]
-        self.increment: int | None = None
         layout = io.environment.catalog.layout
         self.machine_axes = [_HandwheelTarget(io, f"{axis}.basic.out.") for axis in layout.axes] if self.wired else []
         self.geometry_axes = [_HandwheelTarget(io, f"{layout.channels[0]}.geoAxis{number}.out.")
                               for number in range(1, GEOMETRY_AXES + 1)] if self.wired and layout.channels else []
 
-    def __call__(self) -> None:
+    def __call__(self, increment: int | None) -> None:
+        """``increment``: the panel's increment key last pressed (1 .. 10000), None for none."""
         if not self.wired:
             return
-        for size, key, edge in self.increment_keys:
-            if edge(key.value):
-                self.increment = size
         machine = [0] * len(self.machine_axes)
         geometry = [0] * len(self.geometry_axes)
         for bit, selector in enumerate(self.selectors):
@@ -71,6 +65,6 @@ class HandwheelSelection:
             if 1 <= number <= len(targets):
                 targets[number - 1] |= 1 << bit
         for target, handwheels in zip(self.machine_axes, machine, strict=True):
-            target.write(handwheels, self.increment)
+            target.write(handwheels, increment)
         for target, handwheels in zip(self.geometry_axes, geometry, strict=True):
-            target.write(handwheels, self.increment)
+            target.write(handwheels, increment)

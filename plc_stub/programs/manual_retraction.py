@@ -111,7 +111,7 @@ class ManualRetractionNetworks:
                 channel.first_chance = False
                 channel.request.value = True
         self.coordinate_system()
-        self.handwheels()
+        self.handwheels(program.panel_increment)
 
     # Network 11 --------------------------------------------------------------------------
     def coordinate_system(self) -> None:

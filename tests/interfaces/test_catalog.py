@@ -241,7 +241,7 @@ def test_control_entries_are_the_agreed_ones() -> None:
         "DB11.DBX0.0", "DB11.DBX6.0", "DB11.DBX6.1", "DB11.DBX7.2",
         "DB21.DBX1.7", *(f"DB21.DBX35.{bit}" for bit in range(7)), "DB21.DBX36.6", "DB21.DBX36.7",
         # the geometry axes' machine functions INC1 .. INC10000 (the seed prints them at DB31 DBX5.x)
-        *(f"DB21.DBX{byte}.{bit}" for byte in (13, 17, 21) for bit in range(5)),
+        *(f"DB21.DBX{byte}.{bit}" for byte in (13, 17, 21) for bit in range(5)), "DB21.DBX13.5",
         # program control: activate M01, M00/M01 active, M02/M30 active
         "DB21.DBX0.5", "DB21.DBX32.5", "DB21.DBX33.5",
         # auxiliary function output (Basic Functions H2): change and quick signals ...

@@ -70,6 +70,20 @@ JOG_MODE_MASK = MdDef(10735, "JOG_MODE_MASK", N, INT, 0,
 JOG_INC_MODE_LEVELTRIGGRD = MdDef(11300, "JOG_INC_MODE_LEVELTRIGGRD", N, BOOL, True,
                                   "INC and REF in hold mode: the key must be held (default)",
                                   "seed 003 L558-565, L33093-33095")
+JOG_INCR_SIZE_TAB = MdDef(11330, "JOG_INCR_SIZE_TAB", N, FLOAT, (1.0, 10.0, 100.0, 1000.0, 10000.0),
+                          "the fixed increments of INC1 .. INC10000 (DB31.DBX5.0..5.4), in units of MD31090",
+                          "seed 003 L33068-33070, L35978; [control] defaults 1 / 10 / 100 / 1000 / 10000",
+                          "", 0.0, 1.0e8, 5)
+JOG_VAR_INCR_SIZE = MdDef(41010, "JOG_VAR_INCR_SIZE", N, FLOAT, 0.0,
+                          "setting datum SD41010 $SN_JOG_VAR_INCR_SIZE: the variable increment INCvar"
+                          " (DB31.DBX5.5), in units of MD31090",
+                          "seed 003 L33074-33076, L35982; [control] default 0", "", 0.0, 1.0e8)
+JOG_CONT_MODE_LEVELTRIGGRD = MdDef(41050, "JOG_CONT_MODE_LEVELTRIGGRD", N, BOOL, True,
+                                   "setting datum SD41050 $SN_JOG_CONT_MODE_LEVELTRIGGRD: continuous JOG in jog"
+                                   " mode (1: the axis runs while the key is held) or continuous mode (0: a press"
+                                   " starts it, a second press stops it)",
+                                   "seed 003 L32787-32791, L13422, L13436; [control] default 1 (L32791 names the"
+                                   " continuous mode the default, L13420 calls jog mode the usual one)")
 SUPPRESS_ALARM_MASK = MdDef(11410, "SUPPRESS_ALARM_MASK", N, INT, 0, "suppress specific alarms (bit mask)",
                             "seed 003 L18401-18405", "", 0, 0xFFFFFFFF)
 OVR_AX_IS_GRAY_CODE = MdDef(12000, "OVR_AX_IS_GRAY_CODE", N, BOOL, False,
@@ -272,6 +286,10 @@ DRIVE_AX_RATIO_NUMERA = MdDef(31060, "DRIVE_AX_RATIO_NUMERA", A, INT, (1,) * 6,
                               "load gearbox numerator (motor revolutions) per parameter set",
                               "seed 003 L19022-19034", "", -2_147_000_000, 2_147_000_000, 6,
                               nonzero="the seed says 0 cannot be entered, L19032")
+JOG_INCR_WEIGHT = MdDef(31090, "JOG_INCR_WEIGHT", A, FLOAT, (0.001, 0.00254),
+                        "the travel of one increment in incremental JOG and per handwheel detent ([0] metric,"
+                        " [1] inch); a negative value reverses the traverse keys' direction of an increment",
+                        "seed 003 L5476-5488, L33080-33088, L33143", "mm", -1.0e3, 1.0e3, 2)
 MAX_AX_VELO = MdDef(32000, "MAX_AX_VELO", A, FLOAT, 10000.0, "maximum axis velocity",
                     "seed 003 L8340-8349, L21166-21168; [control] default", "mm/min", 0.0, 1.0e7,
                     nonzero="the axis could never move, and its rapid-stop ramp is scaled by it")

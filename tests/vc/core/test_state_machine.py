@@ -53,10 +53,10 @@ def test_the_view_holds_every_instance_of_every_state_machine(path: str) -> None
     esr_channels = [channel for channel in nck.channels if channel.esr is not None]
     # the mode group; channel, program, auxiliary function output and manual retraction of each
     # channel, its two ESR state machines; mode, gear change and coupling of each spindle; the
-    # drive's ESR and data sets of every axis, the referencing, the command axis, the PLC axis type and
-    # the FC18 job of every axis that is no spindle
+    # drive's ESR and data sets of every axis, the referencing, the command axis, the PLC axis type,
+    # the FC18 job and the traverse keys in JOG of every axis that is no spindle
     assert len(view.instances) == (1 + 4 * len(nck.channels) + 2 * len(esr_channels) + 3 * len(nck.spindles)
-                                   + 2 * len(nck.axes) + 4 * len(axes))
+                                   + 2 * len(nck.axes) + 5 * len(axes))
     for reading in view:
         assert isinstance(reading, StateReading)
         declared = next(machine for machine in STATE_MACHINES if machine.name == reading.machine)

@@ -40,6 +40,7 @@ from vc.core.axis.holding_brake import HoldingBrakeSignals
 from vc.core.axis.index_jog import IndexJog
 from vc.core.axis.indexing import IndexPositions
 from vc.core.axis.jog import FREE_JOG, AxisJog, JogLimits
+from vc.core.axis.jog_keys import CONTINUOUS_JOG, JogSelection
 from vc.core.axis.motion import ramp
 from vc.core.axis.owner import Owner
 from vc.core.axis.parameter_sets import ServoParameterSets
@@ -423,13 +424,14 @@ class MachineAxis:
         return self.jog.handwheel_rest
 
     def jog_cycle(self, allowed: bool, channel_feed_disable: bool, limits: JogLimits = FREE_JOG,
-                  step: bool = False) -> None:
-        """Continuous JOG with the traverse keys (level-triggered), or the handwheel's travel, one IPO
-        cycle; a referenced indexing axis jogs to its index positions (``step``: INC selected)."""
+                  selection: JogSelection = CONTINUOUS_JOG) -> None:
+        """JOG with the traverse keys (continuous or incremental as ``selection`` says), or the
+        handwheel's travel, one IPO cycle; a referenced indexing axis jogs to its index positions
+        (whatever increment is selected, L13463-13465)."""
         if self.index_jog is not None and self.referenced and not self.jog.handwheel_rest:
-            self.index_jog.cycle(self, allowed, channel_feed_disable, limits, step)
+            self.index_jog.cycle(self, allowed, channel_feed_disable, limits, selection.increment != 0.0)
         else:
-            self.jog.cycle(self, allowed, channel_feed_disable, limits)
+            self.jog.cycle(self, allowed, channel_feed_disable, limits, selection)
 
     def _brake_cycle(self) -> None:
         velocity = ramp(self.command_velocity, 0.0, self._brake_decel, self._dt)

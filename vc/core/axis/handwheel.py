@@ -4,10 +4,11 @@ The operator turns an electronic handwheel; its pulses reach the NC directly (no
 PLC), one pulse per detent (MD11320 HANDWH_IMP_PER_LATCH = 1 [control default]).  The PLC assigns
 the handwheels to machine axes with DB31.DBX4.0..4.2 (bit coded: bit n-1 = handwheel n, MD11324 =
 0, the default of L33612-33620) and selects the increment with the machine functions INC1 ..
-INC10000 (DB31.DBX5.0..5.4).  A detent moves the axis by the increment x MD31090 JOG_INCR_WEIGHT
-(0.001 mm, the control's default, L5484 [control]); without an increment selected the pulses move
-nothing [control].  The axis travels the distance at its JOG velocity and acceleration and stops
-on the end point; an axis its traverse keys move takes no pulses (L33124).  Spindles take none.
+INC10000 (DB31.DBX5.0..5.4).  A detent moves the axis by the increment MD11330 x MD31090
+JOG_INCR_WEIGHT (0.001 mm, the control's default, L5484 [control]; negative: the other way, L33591);
+without an increment selected the pulses move nothing [control].  The axis travels the distance at
+its JOG velocity and acceleration and stops on the end point; an axis its traverse keys move takes
+no pulses (L33124).  Spindles take none.
 
 A handwheel may instead be assigned to a geometry axis of the channel (DB21.DBX12.0..2 /
 16.0..2 / 20.0..2 for geometry axes 1 / 2 / 3, L33170, L33406-33412) with the increments of the
@@ -33,16 +34,14 @@ from interfaces.signal_groups import HandwheelSelection
 
 HANDWHEELS = 3
 GEOMETRY_AXES = 3  # geometry axes 1..3 of a channel: DB21 bytes 12, 16, 20
-INCREMENT_WEIGHT = 0.001  # mm per increment: MD31090 JOG_INCR_WEIGHT[0] as the seed's example (L5484)
-INCREMENTS = (1, 10, 100, 1000, 10000)  # INC1 .. INC10000: MD11330 JOG_INCR_SIZE_TAB defaults [control]
-
-
-def increment_of(selection: HandwheelSelection) -> float:
-    """mm per detent: the lowest increment the PLC selects, 0 without one."""
+def increment_of(selection: HandwheelSelection, sizes: tuple[float, ...], weight: float) -> float:
+    """Travel per detent: the lowest increment the PLC selects of ``sizes`` (MD11330 INC1 ..
+    INC10000) x ``weight`` (MD31090 of the axis; negative: the handwheel turns the other way,
+    L33591), 0 without one."""
     selected = (selection.inc1, selection.inc10, selection.inc100, selection.inc1000, selection.inc10000)
-    for size, on in zip(INCREMENTS, selected, strict=True):
+    for size, on in zip(sizes, selected, strict=True):
         if on:
-            return size * INCREMENT_WEIGHT
+            return size * weight
     return 0.0
 
 

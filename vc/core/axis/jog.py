@@ -22,6 +22,7 @@ from typing import Protocol
 
 from vc.core.alarms import AlarmList
 from vc.core.axis.dynamics import AxisDynamics
+from vc.core.axis.jog_keys import CONTINUOUS_JOG, JogKeyState, JogSelection, TraverseKeys
 from vc.core.axis.motion import ramp, stopping_velocity
 from vc.core.axis.owner import Owner
 from vc.core.axis.signals import AxisInputs
@@ -91,29 +92,29 @@ class AxisJog:
         self._dt = dt
         self.handwheel_rest = 0.0  # the handwheel's distance still to travel (vc/core/axis/handwheel.py)
         self.window: tuple[float, float] | None = None  # JogLimits.window of the last JOG cycle
+        self.keys = TraverseKeys()  # what the traverse keys command: continuous or an increment
 
     def add_handwheel_travel(self, distance: float) -> None:
         """Handwheel pulses in JOG: ``distance`` more to travel (sign = direction)."""
         self.handwheel_rest += distance
 
-    def cycle(self, axis: JoggedAxis, allowed: bool, channel_feed_disable: bool, limits: JogLimits) -> None:
-        """Continuous JOG with the traverse keys (level-triggered), or the handwheel's travel, one IPO cycle."""
+    def cycle(self, axis: JoggedAxis, allowed: bool, channel_feed_disable: bool, limits: JogLimits,
+              selection: JogSelection = CONTINUOUS_JOG) -> None:
+        """JOG with the traverse keys (continuous or an increment, ``vc/core/axis/jog_keys.py``), or
+        the handwheel's travel, one IPO cycle."""
         inp = axis.inputs
-        direction = 0
         self.window = limits.window
         bounded = self.bounded(axis)
-        if allowed and inp.key_plus != inp.key_minus:
-            direction = 1 if inp.key_plus else -1
-            if (direction > 0 and not limits.plus) or (direction < 0 and not limits.minus):
-                direction = 0
-            elif (direction > 0 and inp.hw_limit_plus) or (direction < 0 and inp.hw_limit_minus):
-                direction = 0  # only away from an actuated limit switch
-            elif bounded and axis.owner is Owner.NONE and (
-                    (direction > 0 and axis.setpoint >= self.soft_limits(axis)[1])
-                    or (direction < 0 and axis.setpoint <= self.soft_limits(axis)[0])):
-                direction = 0  # resting on a software limit switch: only away from it
-        handwheel = self._handwheel_direction(inp, allowed, direction, limits)
-        if (direction or handwheel) and axis.owner is Owner.NONE and axis.drive_ready:
+        keys = self.keys
+        plus, minus = allowed and inp.key_plus, allowed and inp.key_minus
+        direction = keys.command(axis.owner, plus, minus, selection,
+                                 not allowed or inp.reset_movement or not axis.drive_ready,
+                                 self._may_go(axis, 1, limits, bounded), self._may_go(axis, -1, limits, bounded))
+        state = keys.state
+        increment = keys.way if state is JogKeyState.INCREMENT else 0
+        incrementing = increment or state is JogKeyState.INCREMENT_HELD
+        handwheel = self._handwheel_direction(inp, allowed, direction or increment, limits)
+        if (direction or handwheel or increment) and axis.owner is Owner.NONE and axis.drive_ready:
             axis.take(Owner.JOG)
         if axis.owner is not Owner.JOG:
             self.handwheel_rest = 0.0
@@ -123,7 +124,11 @@ class AxisJog:
         stopped = inp.feed_stop or channel_feed_disable or not axis.drive_ready
         target = 0.0 if stopped else direction * min(speed * axis.override, limits.velocity)
         accel = min(dyn.max_accel, limits.accel)
-        if handwheel and not stopped:
+        if increment and not stopped:
+            # the increment at JOG velocity, braking to stop on its end point
+            target = increment * min(speed * axis.override, limits.velocity,
+                                     stopping_velocity(abs(keys.rest), accel, self._dt))
+        elif handwheel and not stopped:
             # the handwheel's distance at JOG velocity, braking to stop on its end point
             target = handwheel * min(speed * axis.override, limits.velocity,
                                      stopping_velocity(abs(self.handwheel_rest), accel, self._dt))
@@ -132,14 +137,40 @@ class AxisJog:
             velocity = self._limit_to_software_limits(axis, velocity, accel)
         axis.command_velocity = velocity
         axis.setpoint += velocity * self._dt
+        if incrementing:
+            held = (1 if plus else -1) if plus != minus else 0
+            self._travel_increment(axis, velocity * self._dt, held == keys.direction)
         if handwheel:
             self._travel_handwheel(axis, velocity * self._dt, handwheel)
         if bounded:
             self._arrive_at_software_limits(axis)
         if handwheel and velocity == 0.0 and axis.at_software_limit == handwheel:
             self.handwheel_rest = 0.0  # the rest lies beyond the software limit switch
-        if velocity == 0.0 and not self.handwheel_rest and (direction == 0 or axis.at_software_limit == direction):
-            axis.release()  # stopped: key released, or resting on the software limit it points to
+        if incrementing and velocity == 0.0 and axis.at_software_limit == keys.way:
+            keys.increment_travelled(plus or minus)  # the rest lies beyond the software limit switch
+        if velocity == 0.0 and not self.handwheel_rest and keys.state is not JogKeyState.INCREMENT_HELD and \
+                not keys.travelling_increment and (direction == 0 or axis.at_software_limit == direction):
+            axis.release()  # stopped: key released, the increment done, or resting on the software limit
+
+    def _may_go(self, axis: JoggedAxis, direction: int, limits: JogLimits, bounded: bool) -> bool:
+        """JOG may start ``direction``: not a way it is kept from, only away from an actuated hardware
+        limit switch and, resting on a software limit switch, only away from it."""
+        inp = axis.inputs
+        if direction > 0:
+            return limits.plus and not inp.hw_limit_plus and not (
+                bounded and axis.owner is Owner.NONE and axis.setpoint >= self.soft_limits(axis)[1])
+        return limits.minus and not inp.hw_limit_minus and not (
+            bounded and axis.owner is Owner.NONE and axis.setpoint <= self.soft_limits(axis)[0])
+
+    def _travel_increment(self, axis: JoggedAxis, travelled: float, key_held: bool) -> None:
+        """Count the travel off the increment's rest; land exactly on its end point."""
+        keys = self.keys
+        rest = keys.rest - travelled
+        if rest * keys.way <= _TINY:
+            axis.setpoint += rest
+            keys.increment_travelled(key_held)
+        else:
+            keys.rest = rest
 
     def _handwheel_direction(self, inp: AxisInputs, allowed: bool, key_direction: int, limits: JogLimits) -> int:
         """The direction of the handwheel's travel this cycle (0: none); the traverse keys, a

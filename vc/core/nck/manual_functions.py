@@ -14,12 +14,13 @@ from interfaces.image import ProcessImage
 from interfaces.signal_groups import HANDWHEEL_OF_GEOMETRY_AXIS, HANDWHEEL_OF_MACHINE_AXIS, HandwheelSelection
 from vc.core.alarms import STOP_AXES, AlarmList
 from vc.core.axis.axis import MachineAxis
-from vc.core.axis.handwheel import GEOMETRY_AXES, Handwheels, increment_of
+from vc.core.axis.handwheel import GEOMETRY_AXES, Handwheels
 from vc.core.axis.owner import Owner
 from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.interface_map import SignalTable
+from vc.core.nck.jog_functions import JogFunctions
 from vc.core.nck.manual_retraction import ManualRetraction
 from vc.core.nck.mode_group import ModeGroup
 from vc.core.spindle.coupling import Couplings
@@ -28,7 +29,7 @@ from vc.core.spindle.coupling import Couplings
 class ManualFunctions:
     def __init__(self, axis_table: SignalTable, channel_table: SignalTable, image: ProcessImage, mode_group: ModeGroup,
                  channels: list[Channel], alarms: AlarmList, referencing: ReferencingControl,
-                 retractions: dict[str, ManualRetraction], couplings: Couplings):
+                 retractions: dict[str, ManualRetraction], couplings: Couplings, jog_functions: JogFunctions):
         self.image = image
         self.mode_group = mode_group
         self.channels = channels
@@ -37,6 +38,7 @@ class ManualFunctions:
         self.retractions = retractions
         self.couplings = couplings
         self.handwheels = Handwheels()
+        self.jog_functions = jog_functions  # DB31.DBX5.x / 65.x: continuous or incremental JOG
         self._handwheel = axis_table.codec(HandwheelSelection, HANDWHEEL_OF_MACHINE_AXIS)
         self._geometry_handwheels = tuple(
             channel_table.codec(HandwheelSelection, HANDWHEEL_OF_GEOMETRY_AXIS.format(number=number))
@@ -69,6 +71,7 @@ class ManualFunctions:
                 self._handwheel_pulses(channel, pulses)
             if refresh_all or (latched is not None and channel.area_key in latched):
                 self._show_geometry_handwheel(channel)
+                self.jog_functions.report_geometry_axis(channel, jog_mode)
                 self._show_drf(channel, drf_mode)
             self._drf(channel, pulses, axes_stopped)
             self.referencing.traverse_keys(channel.name, channel.axes, allowed and reference_keys, cycle)
@@ -77,6 +80,8 @@ class ManualFunctions:
             retraction = self.retractions[channel.name]
             inclined = channel.inclined
             for axis in channel.axes:
+                if refresh_all or (latched is not None and axis.area_key in latched):
+                    self.jog_functions.report(axis, jog_mode)
                 if axis.is_spindle and axis.name in self.couplings.active:
                     inputs = axis.inputs
                     direction = (1 if inputs.key_plus else -1) if jog_allowed and inputs.key_plus != inputs.key_minus \
@@ -85,7 +90,9 @@ class ManualFunctions:
                 # outside JOG only a jog that is still running out needs its cycle; in JOG an axis at
                 # rest needs it only when a key or its handwheel asks it to move (limits cost time)
                 inputs = axis.inputs
-                asked = jog_allowed and (inputs.key_plus != inputs.key_minus or axis.handwheel_rest != 0.0)
+                # (or its keys' state machine has a motion to end or a key to see released)
+                asked = jog_allowed and (inputs.key_plus != inputs.key_minus or axis.handwheel_rest != 0.0
+                                         or axis.jog.keys.busy)
                 index_jog = axis.index_jog  # an indexing axis runs out to, or waits on, an index position
                 if (asked or axis.owner is Owner.JOG or (index_jog is not None and index_jog.busy)) \
                         and not axis.is_spindle:
@@ -93,10 +100,7 @@ class ManualFunctions:
                     if inclined is not None:
                         limits = limits.and_(inclined.jog_limits(axis))
                     limits = limits.and_(channel.stroke_jog_limits(axis, cycle))  # G22, stroke limit 3
-                    # an INC machine function takes an indexing axis to the next index position (L13463-13465)
-                    step = index_jog is not None and \
-                        increment_of(self._handwheel.read(self.image.area(axis.area_key))) > 0.0
-                    axis.jog_cycle(jog_allowed, feed_disable, limits, step)
+                    axis.jog_cycle(jog_allowed, feed_disable, limits, self.jog_functions.selection(axis))
         for retraction in self.retractions.values():
             retraction.follow()
 
@@ -128,7 +132,7 @@ class ManualFunctions:
         if pulses and self._drf_active[channel.name] and not axes_stopped:
             for axis in channel.axes:
                 selection = self._handwheel.read(self.image.area(axis.area_key))
-                assigned, per_detent = selection.assigned, increment_of(selection)
+                assigned, per_detent = selection.assigned, self.jog_functions.handwheel_increment(selection, axis)
                 detents = sum(count for number, count in pulses.items() if assigned & (1 << (number - 1)))
                 if not (detents and per_detent):
                     continue
@@ -160,7 +164,8 @@ class ManualFunctions:
         for axis in channel.axes:
             axis_selection = self._handwheel.read(self.image.area(axis.area_key))
             if axis_selection.assigned:
-                receivers += [(number, axis, increment_of(axis_selection)) for number in pulses
+                receivers += [(number, axis, self.jog_functions.handwheel_increment(axis_selection, axis))
+                              for number in pulses
                               if axis_selection.assigned & (1 << (number - 1))]
         area = self.image.area(channel.area_key)
         inclined = channel.inclined
@@ -169,6 +174,7 @@ class ManualFunctions:
             if selection is not None and selection.assigned:
                 assigned = selection.assigned
                 axis = channel.axes_by_name[name]
-                per_detent = increment_of(selection) * (inclined.geometry_travel(axis) if inclined else 1.0)
+                per_detent = self.jog_functions.handwheel_increment(selection, axis) * \
+                    (inclined.geometry_travel(axis) if inclined else 1.0)
                 receivers += [(number, axis, per_detent) for number in pulses if assigned & (1 << (number - 1))]
         return receivers

@@ -17,6 +17,7 @@ from vc.core.auxiliary.output import AUX_OUTPUT_STATES
 from vc.core.axis.command_axis import COMMAND_AXIS_STATES
 from vc.core.axis.drive_data_sets import DRIVE_DATA_SET_STATES
 from vc.core.axis.index_jog import INDEX_JOG_STATES
+from vc.core.axis.jog_keys import JOG_KEY_STATES
 from vc.core.axis.plc_axis import FC18_JOB_STATES, PLC_AXIS_TYPES
 from vc.core.axis.setpoint_switchover import SETPOINT_SWITCHOVER_STATES
 from vc.core.channel.program_run import CHANNEL_STATES, PROGRAM_STATES
@@ -74,6 +75,7 @@ PUBLISHED: tuple[Published[Any], ...] = (
                                             for name, plc in channel.plc_axes.by_name.items()]),
     Published(INDEX_JOG_STATES, lambda nck: [(axis.name, axis.index_jog) for axis in nck.axes
                                              if axis.index_jog is not None]),
+    Published(JOG_KEY_STATES, lambda nck: [(axis.name, axis.jog.keys) for axis in nck.axes if not axis.is_spindle]),
     Published(MANUAL_RETRACTION_STATES, lambda nck: [(channel.name, nck.retractions[channel.name])
                                                      for channel in nck.channels]),
 )
