@@ -119,3 +119,21 @@ class ProcessImage:
                 if old != new:
                     changes.append(ByteChange(key, index, old, new))
         return changes
+
+
+class RangeCopy:
+    """The same ``(area, start, stop)`` byte ranges copied from one image into another again and
+    again (every PLC scan): the areas are looked up once, as the accessors bind theirs, since an
+    image keeps its areas' buffers for its whole life."""
+
+    __slots__ = ("_pieces", "source", "target")
+
+    def __init__(self, target: ProcessImage, source: ProcessImage, ranges: Iterable[tuple[str, int, int]]):
+        self.target = target
+        self.source = source
+        self._pieces = [(target.areas[key], source.areas[key], start, stop) for key, start, stop in ranges]
+
+    def run(self) -> None:
+        for into, origin, start, stop in self._pieces:
+            into[start:stop] = origin[start:stop]
+        self.target.version += 1
