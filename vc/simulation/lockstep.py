@@ -18,7 +18,7 @@ from collections.abc import Sequence
 from typing import Protocol
 
 from interfaces.catalog import load_catalog
-from interfaces.image import ProcessImage, Value
+from interfaces.image import ProcessImage, RangeCopy, Value
 from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import InProcessConnector
 from interfaces.plant_io import PointOwner
@@ -84,6 +84,7 @@ class Simulation:
         self.nck = Nck(machine, self._catalog, memory, physical)
         self.catalog = self.nck.catalog
         self.interface = ProcessImage(self.catalog.area_sizes)
+        self._nc_outputs = RangeCopy(self.interface, self.nck.image, self.nck.nc_to_plc_ranges)
         self.plant = Plant(machine, self.nck.cycle_us, self.nck.axes, gear_stages, chucks_clamped, self.nck.dc_link,
                            turret_station)
         tailstock = self.plant.tailstock
@@ -111,6 +112,7 @@ class Simulation:
             if ref.direction is not Direction.NC_TO_PLC:
                 self._image_of(ref).write(ref, value)
         self._line_up_ready = -1  # what the NC was last told of the plant's Drives.ready
+        self._line_up_seen_version = -1  # the plant image's version when it was last looked at
         self._tell_line_up()
         self._plc_cycle()
 
@@ -169,7 +171,11 @@ class Simulation:
 
     def _tell_line_up(self) -> None:
         """The drives learn whether their line-up is ready (DB31.DBX92.7) from the plant input
-        ``Drives.ready`` as the plant (or a force) sets it; without that input it is always ready."""
+        ``Drives.ready`` as the plant (or a force) sets it; without that input it is always ready.
+        Both write through ProcessImage.write: while the plant image's version stands, so does the input."""
+        if self.plant_image.version == self._line_up_seen_version:
+            return
+        self._line_up_seen_version = self.plant_image.version
         ready = self._drives_ready
         state = 1 if ready is None else self.plant_image.areas["I"][ready.address.byte] >> ready.address.bit & 1
         if state != self._line_up_ready:
@@ -201,7 +207,7 @@ class Simulation:
 
     def _refresh_plc_inputs(self) -> None:
         """The NC-to-PLC bytes of the wire from the NC, forces applied."""
-        self.interface.copy_from(self.nck.image, self.nck.nc_to_plc_ranges)
+        self._nc_outputs.run()
         self._apply(self._forces_by_direction[Direction.NC_TO_PLC], self.interface)
 
     def _apply_plc_forces(self) -> None:
