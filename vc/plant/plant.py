@@ -93,6 +93,7 @@ class Plant:
         self._io = machine.plant_io
         self._slides = list(slides)  # in machine axis order
         self._axes = [self._switches_of(axis) for axis in machine.axes]
+        self._switched = list(zip(self._axes, self._slides, strict=True))  # paired once, walked every cycle
         kept = gear_stages or {}
         self._gearboxes = [
             (gearbox, self._slides[index])
@@ -254,7 +255,7 @@ class Plant:
         raise KeyError(f"this machine has no {name} (its devices: {', '.join(self.device_names()) or 'none'})")
 
     def _switches(self, io: ProcessImage) -> None:
-        for switches, slide in zip(self._axes, self._slides, strict=True):
+        for switches, slide in self._switched:
             position = slide.physical
             if position == switches.last_position:
                 continue

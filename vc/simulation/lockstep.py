@@ -153,18 +153,20 @@ class Simulation:
     def step(self, cycles: int = 1) -> None:
         nck, plant, interface, plant_image = self.nck, self.plant, self.interface, self.plant_image
         plant_forces = self._forces_by_direction[Direction.PLANT_TO_PLC]
-        pacer, cyclic = self.pacer, self._cyclic
+        pacer, cyclic, plc_period = self.pacer, self._cyclic, self.plc_period
         for _ in range(cycles):
             if pacer is not None:
                 pacer.wait_next_cycle()
             nck.step(interface)
             plant.step(plant_image)
-            for axis in plant.blocked_drives:
-                nck.drive_blocked(axis)
+            if plant.blocked_drives:
+                for axis in plant.blocked_drives:
+                    nck.drive_blocked(axis)
             if plant_forces:
                 self._apply(plant_forces, plant_image)
-            self._tell_line_up()
-            if nck.cycle % self.plc_period == 0:
+            if plant_image.version != self._line_up_seen_version:
+                self._tell_line_up()
+            if nck.cycle % plc_period == 0:
                 self._plc_cycle()
             elif cyclic is not None:
                 self._link_cycle(cyclic)
@@ -172,9 +174,8 @@ class Simulation:
     def _tell_line_up(self) -> None:
         """The drives learn whether their line-up is ready (DB31.DBX92.7) from the plant input
         ``Drives.ready`` as the plant (or a force) sets it; without that input it is always ready.
-        Both write through ProcessImage.write: while the plant image's version stands, so does the input."""
-        if self.plant_image.version == self._line_up_seen_version:
-            return
+        Both write through ProcessImage.write: while the plant image's version stands, so does the
+        input (``step`` asks only then)."""
         self._line_up_seen_version = self.plant_image.version
         ready = self._drives_ready
         state = 1 if ready is None else self.plant_image.areas["I"][ready.address.byte] >> ready.address.bit & 1
