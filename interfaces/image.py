@@ -119,3 +119,23 @@ class ProcessImage:
                 if old != new:
                     changes.append(ByteChange(key, index, old, new))
         return changes
+
+
+class RangeCopy:
+    """The same ``(area, start, stop)`` byte ranges copied from one image into another again and
+    again (every PLC scan): each range is bound once as a view on both buffers, as the accessors
+    bind theirs (an image keeps its areas' buffers, at their size, for its whole life), so that a
+    copy neither looks an area up nor builds a temporary copy of the bytes."""
+
+    __slots__ = ("_pieces", "source", "target")
+
+    def __init__(self, target: ProcessImage, source: ProcessImage, ranges: Iterable[tuple[str, int, int]]):
+        self.target = target
+        self.source = source
+        self._pieces = [(memoryview(target.areas[key])[start:stop], memoryview(source.areas[key])[start:stop])
+                        for key, start, stop in ranges]
+
+    def run(self) -> None:
+        for into, origin in self._pieces:
+            into[:] = origin
+        self.target.version += 1

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Protocol
 
-from interfaces.image import ProcessImage
+from interfaces.image import ProcessImage, RangeCopy
 from interfaces.plc import PlcEnvironment
 from interfaces.signals import Direction
 from plc_stub.io import PlcIo
@@ -36,16 +36,26 @@ class ScanCycleRuntime:
         self._interface_outputs = catalog.byte_ranges(Direction.PLC_TO_NC)
         self._plant_outputs = [("Q", 0, sizes["Q"])]
         self.scans = 0
+        self._copies: tuple[RangeCopy, RangeCopy, RangeCopy, RangeCopy] | None = None
 
     def scan(self, interface: ProcessImage, plant: ProcessImage) -> None:
-        image = self.io.image
+        copies = self._copies
+        if copies is None or copies[0].target is not interface or copies[1].target is not plant:
+            copies = self._copies = self._bind(interface, plant)
         if self.scans:
-            interface.copy_from(image, self._interface_outputs)
-            plant.copy_from(image, self._plant_outputs)
-        image.copy_from(interface, self._interface_inputs)
-        image.copy_from(plant, self._plant_inputs)
+            copies[0].run()  # the outputs of the last scan
+            copies[1].run()
+        copies[2].run()  # the inputs of this one
+        copies[3].run()
         self.program.ob1()
         self.scans += 1
+
+    def _bind(self, interface: ProcessImage, plant: ProcessImage) -> tuple[RangeCopy, RangeCopy, RangeCopy, RangeCopy]:
+        """The copies between the PLC's image and the images a link hands it (the same ones scan
+        after scan; new ones after a power cycle)."""
+        image = self.io.image
+        return (RangeCopy(interface, image, self._interface_outputs), RangeCopy(plant, image, self._plant_outputs),
+                RangeCopy(image, interface, self._interface_inputs), RangeCopy(image, plant, self._plant_inputs))
 
     @property
     def sign_of_life(self) -> int:

@@ -42,7 +42,7 @@ class Chuck:
     open_sensor: SignalRef | None
     travel_cycles: int  # IPO cycles of a full stroke
     stroke: int  # 0 = fully open .. travel_cycles = clamped
-    _sensors_written_for: tuple[bool, bool] | None = None  # (clamped, open) as last written
+    _sensors_written_for: int = -1  # clamped (bit 0) and open (bit 1) as last written (-1: not yet)
 
     @classmethod
     def of_axis(cls, axis: AxisConfig, io_map: PlantIoMap, ipo_cycle_us: int,
@@ -92,7 +92,7 @@ class Chuck:
 
     def write_sensors(self, io: ProcessImage) -> None:
         """The end-position sensors for where the piston stands (only those wired)."""
-        state = (self.clamped, self.open)
+        state = self.clamped | self.open << 1  # one number: compared without building anything
         if state == self._sensors_written_for:
             return
         self._sensors_written_for = state
@@ -103,4 +103,4 @@ class Chuck:
 
     def forget_sensors(self) -> None:
         """Write the sensors anew at the next :meth:`write_sensors` (after a force on one ended)."""
-        self._sensors_written_for = None
+        self._sensors_written_for = -1

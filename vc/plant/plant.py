@@ -58,7 +58,7 @@ class _AxisSwitches:
     limit_minus: tuple[SignalRef, float] | None
     limit_plus: tuple[SignalRef, float] | None
     last_position: float | None = None
-    states: tuple[int, int, int] | None = None  # cam, minus, plus as last written
+    states: int = -1  # cam, minus, plus as last written (bits 0, 1, 2; -1: not yet)
 
 
 class Device(Protocol):
@@ -94,6 +94,7 @@ class Plant:
         self._io = machine.plant_io
         self._slides = list(slides)  # in machine axis order
         self._axes = [self._switches_of(axis) for axis in machine.axes]
+        self._switched = list(zip(self._axes, self._slides, strict=True))  # paired once, walked every cycle
         kept = gear_stages or {}
         self._gearboxes = [
             (gearbox, self._slides[index])
@@ -167,7 +168,7 @@ class Plant:
         """Write every plant-owned input anew (e.g. after a force on one of them ended)."""
         for switches in self._axes:
             switches.last_position = None
-            switches.states = None
+            switches.states = -1
         self._ready = None
         self._switches(io)
         for gearbox, _ in self._gearboxes:
@@ -201,7 +202,7 @@ class Plant:
         for chuck in self._chucks:
             chuck.step(io, pressure)
         if self._parts:
-            self.blocked_drives = [part.counter.axis for part in self._parts if part.step()]
+            self._parts_cycle()
         if self._devices:
             self._devices_cycle(io)
         if self.tailstock is not None:
@@ -210,6 +211,19 @@ class Plant:
             self.axis_magazine.write_sensors(io)  # the pocket sensor follows the axis
         if self.holding_brake is not None:
             self.holding_brake.cycle()  # the brake follows the drive's order (DB31.DBX20.5), not an output
+
+    def _parts_cycle(self) -> None:
+        """The parts held between two chucks; a new list only in the (rare) cycle a drive is blocked."""
+        blocked: list[str] | None = None
+        for part in self._parts:
+            if part.step():
+                if blocked is None:
+                    blocked = []
+                blocked.append(part.counter.axis)
+        if blocked is not None:
+            self.blocked_drives = blocked
+        elif self.blocked_drives:
+            self.blocked_drives = []
 
     def _devices_cycle(self, io: ProcessImage) -> None:
         """The devices' cycle, only when an output changed or one of them still moves: a machine
@@ -247,7 +261,7 @@ class Plant:
         raise KeyError(f"this machine has no {name} (its devices: {', '.join(self.device_names()) or 'none'})")
 
     def _switches(self, io: ProcessImage) -> None:
-        for switches, slide in zip(self._axes, self._slides, strict=True):
+        for switches, slide in self._switched:
             position = slide.physical
             if position == switches.last_position:
                 continue
@@ -255,20 +269,19 @@ class Plant:
             cam = switches.cam
             minus = switches.limit_minus
             plus = switches.limit_plus
-            states = (
-                1 if cam is not None and cam[1] <= position <= cam[2] else 0,
-                0 if minus is not None and position <= minus[1] else 1,
-                0 if plus is not None and position >= plus[1] else 1,
-            )
+            cam_state = 1 if cam is not None and cam[1] <= position <= cam[2] else 0
+            minus_state = 0 if minus is not None and position <= minus[1] else 1
+            plus_state = 0 if plus is not None and position >= plus[1] else 1
+            states = cam_state | minus_state << 1 | plus_state << 2  # one number: compared without building
             if states == switches.states:
                 continue
             switches.states = states
             if cam is not None:
-                io.write(cam[0], states[0])
+                io.write(cam[0], cam_state)
             if minus is not None:
-                io.write(minus[0], states[1])
+                io.write(minus[0], minus_state)
             if plus is not None:
-                io.write(plus[0], states[2])
+                io.write(plus[0], plus_state)
 
     def _drive_line_up(self, io: ProcessImage) -> None:
         if self._drives_ready is None:

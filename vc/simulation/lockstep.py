@@ -18,7 +18,7 @@ from collections.abc import Sequence
 from typing import Protocol
 
 from interfaces.catalog import load_catalog
-from interfaces.image import ProcessImage, Value
+from interfaces.image import ProcessImage, RangeCopy, Value
 from interfaces.links.errors import LinkError
 from interfaces.links.inprocess import InProcessConnector
 from interfaces.plant_io import PointOwner
@@ -84,6 +84,7 @@ class Simulation:
         self.nck = Nck(machine, self._catalog, memory, physical)
         self.catalog = self.nck.catalog
         self.interface = ProcessImage(self.catalog.area_sizes)
+        self._nc_outputs = RangeCopy(self.interface, self.nck.image, self.nck.nc_to_plc_ranges)
         self.plant = Plant(machine, self.nck.cycle_us, self.nck.axes, gear_stages, chucks_clamped, self.nck.dc_link,
                            turret_station)
         tailstock = self.plant.tailstock
@@ -115,6 +116,7 @@ class Simulation:
             if ref.direction is not Direction.NC_TO_PLC:
                 self._image_of(ref).write(ref, value)
         self._line_up_ready = -1  # what the NC was last told of the plant's Drives.ready
+        self._line_up_seen_version = -1  # the plant image's version when it was last looked at
         self._tell_line_up()
         self._plc_cycle()
 
@@ -155,25 +157,30 @@ class Simulation:
     def step(self, cycles: int = 1) -> None:
         nck, plant, interface, plant_image = self.nck, self.plant, self.interface, self.plant_image
         plant_forces = self._forces_by_direction[Direction.PLANT_TO_PLC]
-        pacer, cyclic = self.pacer, self._cyclic
+        pacer, cyclic, plc_period = self.pacer, self._cyclic, self.plc_period
         for _ in range(cycles):
             if pacer is not None:
                 pacer.wait_next_cycle()
             nck.step(interface)
             plant.step(plant_image)
-            for axis in plant.blocked_drives:
-                nck.drive_blocked(axis)
+            if plant.blocked_drives:
+                for axis in plant.blocked_drives:
+                    nck.drive_blocked(axis)
             if plant_forces:
                 self._apply(plant_forces, plant_image)
-            self._tell_line_up()
-            if nck.cycle % self.plc_period == 0:
+            if plant_image.version != self._line_up_seen_version:
+                self._tell_line_up()
+            if nck.cycle % plc_period == 0:
                 self._plc_cycle()
             elif cyclic is not None:
                 self._link_cycle(cyclic)
 
     def _tell_line_up(self) -> None:
         """The drives learn whether their line-up is ready (DB31.DBX92.7) from the plant input
-        ``Drives.ready`` as the plant (or a force) sets it; without that input it is always ready."""
+        ``Drives.ready`` as the plant (or a force) sets it; without that input it is always ready.
+        Both write through ProcessImage.write: while the plant image's version stands, so does the
+        input (``step`` asks only then)."""
+        self._line_up_seen_version = self.plant_image.version
         ready = self._drives_ready
         state = 1 if ready is None else self.plant_image.areas["I"][ready.address.byte] >> ready.address.bit & 1
         if state != self._line_up_ready:
@@ -205,7 +212,7 @@ class Simulation:
 
     def _refresh_plc_inputs(self) -> None:
         """The NC-to-PLC bytes of the wire from the NC, forces applied."""
-        self.interface.copy_from(self.nck.image, self.nck.nc_to_plc_ranges)
+        self._nc_outputs.run()
         self._apply(self._forces_by_direction[Direction.NC_TO_PLC], self.interface)
 
     def _apply_plc_forces(self) -> None:

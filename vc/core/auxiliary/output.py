@@ -97,6 +97,9 @@ class AuxiliaryOutput:
         self._decoded_bytes = slice(first, last + 1)
         self._encode_stop = table.codec(ProgramStopStatus).encode
         self._values: dict[tuple[str, int], tuple[int, float]] = {}  # (kind, slot) -> (extension, value) shown
+        # (kind, slot) -> (change, quick, extension, value) as last written: a slot is encoded again only
+        # when it differs (a batch touches a few of the 15 slots)
+        self._written: dict[tuple[str, int], tuple[bool, bool, int, float]] = {}
         self.state = OutputState.IDLE
         self._queue: deque[Batch] = deque()
         self._current: Batch | None = None  # the batch in the slots
@@ -233,6 +236,10 @@ class AuxiliaryOutput:
 
     def _write_slot(self, kind: str, slot: int, change: bool, quick: bool) -> None:
         extension, value = self._values.get((kind, slot), (0, 0.0))
+        content = (change, quick, extension, value)
+        if self._written.get((kind, slot)) == content:
+            return  # the slot's bytes hold it already
+        self._written[(kind, slot)] = content
         area = self._area
         if kind in _WHOLE_KINDS:
             self._whole[kind][slot](area, AuxWholeFunction(change=change, quick=quick, extended_address=extension,

@@ -111,7 +111,7 @@ class MachineAxis:
         self.loop = PositionLoop(dt, self.actual, jerk_filter_of(config, self.dyn, dt, self.actual))
         self.resting = False  # at rest and no input changed since: the cycle may skip the axis
         self.coordinate_shift = 0.0  # the sum of every shift(): the NC coordinates against the first ones
-        self._status: tuple[bool, ...] = ()  # the status bits last written
+        self._status = -1  # the status bits last written, one bit each (none yet)
         self.is_spindle = config.is_spindle
         # DB31.DBX61.5: a spindle in speed control runs without position control (L16163-16167)
         self.position_control = not config.is_spindle
@@ -642,11 +642,14 @@ class MachineAxis:
         # once it is referenced [INF: the seed counts index positions only then, L13405-13407]
         index_in_position = self.index is not None and exact_fine and self.referenced and \
             self.index.standing_on(self.actual, dyn.fine_window) > 0
-        # a plain tuple first: compared every cycle, the status is built (by keyword) only when it changed
-        status = (exact_coarse, exact_fine, stationary, position_control, self.follow_up, first.referenced,
-                  referenced_2, first.restored, restored_2, first.frequency_exceeded, frequency_exceeded_2,
-                  self.disabled, command_plus, command_minus, self.drive_enabled, modulo_limit_active,
-                  index_in_position)
+        drive_enabled = self.drive_enabled
+        # the bits as one number first: compared every cycle, without building anything; the status
+        # is built (by keyword) only when it changed
+        status = (exact_coarse | exact_fine << 1 | stationary << 2 | position_control << 3 | self.follow_up << 4
+                  | first.referenced << 5 | referenced_2 << 6 | first.restored << 7 | restored_2 << 8
+                  | first.frequency_exceeded << 9 | frequency_exceeded_2 << 10 | self.disabled << 11
+                  | command_plus << 12 | command_minus << 13 | drive_enabled << 14 | modulo_limit_active << 15
+                  | index_in_position << 16)
         if status == self._status:
             return
         self._status = status
@@ -655,5 +658,5 @@ class MachineAxis:
             follow_up_active=self.follow_up, referenced_1=first.referenced, referenced_2=referenced_2,
             restored_1=first.restored, restored_2=restored_2, frequency_exceeded_1=first.frequency_exceeded,
             frequency_exceeded_2=frequency_exceeded_2, disabled=self.disabled, command_plus=command_plus,
-            command_minus=command_minus, drive_enabled=self.drive_enabled, modulo_limit_active=modulo_limit_active,
+            command_minus=command_minus, drive_enabled=drive_enabled, modulo_limit_active=modulo_limit_active,
             index_in_position=index_in_position))

@@ -69,17 +69,14 @@ class DriveDataSets:
         self.integrator_disabled = False
         self._integrator_pending = False
         self._remaining = 0  # cycles of the changeover still to go
-        self._new_motor = False  # the changeover under way changes the motor
+        # the changeover under way changes the motor: its pulses are cancelled until the PLC confirms
+        # the new motor (a plain attribute: the axis asks several times an IPO cycle)
+        self.pulses_cancelled = False
 
     @property
     def busy(self) -> bool:
         """The drive has something to do in the coming cycles (the NCK ticks it only then)."""
         return self.state is not Changeover.STEADY or self._integrator_pending
-
-    @property
-    def pulses_cancelled(self) -> bool:
-        """A motor changeover cancels the pulses until the PLC confirms the new motor."""
-        return self._new_motor
 
     def decode(self) -> None:
         """The PLC changed its outputs."""
@@ -89,7 +86,7 @@ class DriveDataSets:
         if self.state is Changeover.STEADY:
             self._start_if_selected()
         elif self.state is Changeover.WAIT_MOTOR and request.motor_changeover_done:
-            self._new_motor = False
+            self.pulses_cancelled = False
             self.state = Changeover.STEADY
             self._start_if_selected()
 
@@ -98,7 +95,7 @@ class DriveDataSets:
         motor = request.motor_data_set % MOTOR_DATA_SETS
         if request.drive_data_set % DRIVE_DATA_SETS == self.drive_data_set and motor == self.motor_data_set:
             return
-        self._new_motor = motor != self.motor_data_set
+        self.pulses_cancelled = motor != self.motor_data_set
         self._remaining = self._switch_cycles
         self.state = Changeover.SWITCHING
 
@@ -117,10 +114,10 @@ class DriveDataSets:
         self.drive_data_set = request.drive_data_set % DRIVE_DATA_SETS
         self.motor_data_set = request.motor_data_set % MOTOR_DATA_SETS
         self.publish()
-        if self._new_motor and not request.motor_changeover_done:
+        if self.pulses_cancelled and not request.motor_changeover_done:
             self.state = Changeover.WAIT_MOTOR
             return
-        self._new_motor = False
+        self.pulses_cancelled = False
         self.state = Changeover.STEADY
         self._start_if_selected()  # the PLC selected again meanwhile
 

@@ -62,7 +62,7 @@ from vc.core.axis.axis import MachineAxis
 from vc.core.axis.drive_messages import AMBIENT_TEMPERATURE
 from vc.core.axis.owner import Owner
 from vc.core.axis.setpoint_switchover import SharedDrive
-from vc.core.channel.program_run import ChannelState, Mode
+from vc.core.channel.program_run import ChannelState, Mode, ProgramState
 from vc.core.nc_memory import NcMemory
 from vc.core.nck.alarm_reactions import EMERGENCY_STOP_ALARM, AlarmReactions
 from vc.core.nck.power_on import power_on
@@ -73,6 +73,18 @@ from vc.core.state_machine import StateView
 
 PLC_SIGN_OF_LIFE_ALARM = 2000
 PLC_NOT_STARTED_ALARM = 2001
+
+
+class _StatusSeen:
+    """What the NCK, mode-group and channel status bits were last written for."""
+
+    def __init__(self, alarms_version: int, emergency_stop: bool, mode: Mode, reference_function: bool,
+                 channels: list[tuple[ChannelState, ProgramState, bool]]):
+        self.alarms_version = alarms_version
+        self.emergency_stop = emergency_stop
+        self.mode = mode
+        self.reference_function = reference_function
+        self.channels = channels  # per channel: state, program state, channel-specific referencing active
 
 
 class Nck:
@@ -91,6 +103,8 @@ class Nck:
         self.plc_to_nc_ranges = expanded.byte_ranges(Direction.PLC_TO_NC)
         self.nc_to_plc_ranges = expanded.byte_ranges(Direction.NC_TO_PLC)
         self._seen_version = -1
+        self._latch_side: ProcessImage | None = None  # the PLC side the pieces below were bound to
+        self._latch_pieces: list[tuple[str, bytearray, bytearray, int, int]] = []
         self._latched: set[str] | None = None  # the data blocks the PLC changed this cycle; None: none
         self.alarms = AlarmList()
         # every catalogue signal the NC reads or writes, by its catalogue symbol: the signals it models
@@ -145,7 +159,9 @@ class Nck:
         self._hw_limits = {axis.name: (False, False) for axis in self.axes}
         for axis in self.axes:
             axis.control_cycle(0, self.alarms)  # publish the power-on state
-        self._last_status = self._status_signature()
+        self._status_seen = _StatusSeen(self.alarms.version, self.emergency_stop, self.mode_group.mode,
+                                        self.mode_group.reference_function,
+                                        [(c.state, c.program_state, c.reference_active) for c in self.channels])
         self._write_status()
         for channel in self.channels:
             channel.write_axis_summary()
@@ -242,9 +258,7 @@ class Nck:
         self._switching_drives = [drive for drive in self._switching_drives if drive.busy]
 
     def _outputs(self, moved: bool) -> None:
-        status = self._status_signature()
-        if status != self._last_status:
-            self._last_status = status
+        if self._status_changed():
             self._write_status()
         if moved:
             for channel in self.channels:
@@ -260,12 +274,16 @@ class Nck:
     # ------------------------------------------------------------------ inputs
     def _latch(self, plc_side: ProcessImage) -> set[str]:
         """Copy the PLC->NC bytes that changed; return the data blocks they belong to."""
+        if plc_side is not self._latch_side:  # bound once per PLC side: an image keeps its buffers
+            self._latch_side = plc_side
+            areas, sources = self.image.areas, plc_side.areas
+            self._latch_pieces = [(key, areas[key], sources[key], start, stop)
+                                  for key, start, stop in self.plc_to_nc_ranges]
         changed: set[str] = set()
-        areas, sources = self.image.areas, plc_side.areas
-        for key, start, stop in self.plc_to_nc_ranges:
-            incoming = sources[key][start:stop]
-            if incoming != areas[key][start:stop]:
-                areas[key][start:stop] = incoming
+        for key, own, source, start, stop in self._latch_pieces:
+            incoming = source[start:stop]
+            if incoming != own[start:stop]:
+                own[start:stop] = incoming
                 changed.add(key)
         return changed
 
@@ -423,11 +441,27 @@ class Nck:
             self.dc_link.supply_on = on
 
     # ------------------------------------------------------------------ outputs
-    def _status_signature(self) -> tuple[object, ...]:
-        """What the NCK, mode-group and channel outputs depend on besides the axes."""
+    def _status_changed(self) -> bool:
+        """Whether what the NCK, mode-group and channel outputs depend on besides the axes changed
+        since they were written; compared field by field, so that the cycles in which nothing
+        changed (nearly all) build nothing."""
         mode_group = self.mode_group
-        return (self.alarms.version, self.emergency_stop, mode_group.mode, mode_group.reference_function,
-                [(channel.state, channel.program_state, channel.reference_active) for channel in self.channels])
+        seen = self._status_seen
+        changed = (self.alarms.version != seen.alarms_version or self.emergency_stop != seen.emergency_stop
+                   or mode_group.mode is not seen.mode or mode_group.reference_function != seen.reference_function)
+        channels = seen.channels
+        for index, channel in enumerate(self.channels):
+            state, program_state, reference = channel.state, channel.program_state, channel.reference_active
+            if state is not channels[index][0] or program_state is not channels[index][1] \
+                    or reference != channels[index][2]:
+                channels[index] = (state, program_state, reference)
+                changed = True
+        if changed:
+            seen.alarms_version = self.alarms.version
+            seen.emergency_stop = self.emergency_stop
+            seen.mode = mode_group.mode
+            seen.reference_function = mode_group.reference_function
+        return changed
 
     def _write_status(self) -> None:
         present = self.alarms.present
