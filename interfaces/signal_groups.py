@@ -99,6 +99,13 @@ class ChannelStatus:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class FeedTypeStatus:
+    """The channel's feed type (DB21.DBX33.2): G95 / G96 / G97, F per revolution."""
+
+    revolution_feed: bool = signal("basic.in.revolutionalFeedrateActive")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class AxisSummary:
     all_referenced: bool = signal("basic.in.allAxesReferenced")
     all_stationary: bool = signal("basic.in.allAxesStationary")
@@ -391,6 +398,7 @@ class SpindleStatus:
     in_position: bool = signal("spindle.in.inPos")
     m_function: int = signal("spindle.in.mFuncNumber", 0)
     parameter_set: int = signal("drive.in.posCtrlParameterSetNumber", 0)
+    constant_cutting_speed: bool = signal("spindle.in.constantCuttingSpeedActive")  # DBX84.0: G96 / G961
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -133,6 +133,10 @@ SPIND_ASSIGN_TAB_ENABLE = MdDef(20092, "SPIND_ASSIGN_TAB_ENABLE", C, BOOL, False
 SPIND_RIGID_TAPPING_M_NR = MdDef(20094, "SPIND_RIGID_TAPPING_M_NR", C, INT, 70,
                                  "M function that switches the spindle to axis mode",
                                  "seed 003 L17177-17181; [control] default M70", "", 0, 2_147_483_647)
+DIAMETER_AX_DEF = MdDef(20100, "DIAMETER_AX_DEF", C, STR, "",
+                        "geometry axis with transverse-axis function: the radius G96 / G961 compute the"
+                        " spindle speed from (\"\" = none: G96 raises alarm 10870)",
+                        "seed 003 L7728-7731, L7846-7851, L10635-10645", "")
 RESET_MODE_MASK = MdDef(20110, "RESET_MODE_MASK", C, INT, 0x1,
                         "basic settings after reset / program end (bit mask); bit 0 = 1: reset behaviour"
                         " of the other bits active, bit 10: programmed coupling kept (1) or cancelled (0)",
@@ -145,6 +149,11 @@ REFP_NC_START_LOCK = MdDef(20700, "REFP_NC_START_LOCK", C, INT, 1,
                            " 2 = allowed with restored positions in MDA and overstore",
                            "seed 003 L2218-2231, L2726-2752; [control] default 1", "", 0, 2,
                            allowed=(0, 1, 2))
+ALLOW_G0_IN_G96 = MdDef(20750, "ALLOW_G0_IN_G96", C, BOOL, False,
+                        "G0 logic in G96 / G961: 0 = the spindle speed stays as it is during a rapid block"
+                        " (G96 acts where F acts), 1 = the speed of the rapid block's end point is set at"
+                        " its start, so the spindle reaches it while the axes travel",
+                        "seed 003 L7748-7753; [control] the meaning of the two values")
 SPOS_TO_VDI = MdDef(20850, "SPOS_TO_VDI", C, INT, 0,
                     "bit 0 = 1: SPOS/SPOSA output the auxiliary function M19 to the PLC",
                     "seed 003 L16406-16420; [control] default", "", 0, 1)
@@ -516,6 +525,11 @@ SPIND_FUNCTION_MASK = MdDef(35035, "SPIND_FUNCTION_MASK", A, INT, 0,
 SPIND_ACTIVE_AFTER_RESET = MdDef(35040, "SPIND_ACTIVE_AFTER_RESET", A, INT, 0,
                                  "own spindle reset: 0 = brake at reset/M2/M30, 1 = keep speed and direction",
                                  "seed 003 L16196-16214; [control] default", "", 0, 1, allowed=(0, 1))
+SPIND_MAX_VELO_LIMS = MdDef(43230, "SPIND_MAX_VELO_LIMS", A, FLOAT, 0.0,
+                            "setting datum SD43230 $SA_SPIND_MAX_VELO_LIMS: spindle speed limit while G96 /"
+                            " G961 / G97 are active, the start value of LIMS (0 = no limit but the gear"
+                            " stage's; kept here with the spindle's machine data)",
+                            "seed 003 L7773-7797; default 0 [project]", "rev/min", 0.0, 1.0e6)
 NUM_GEAR_STEPS = MdDef(35090, "NUM_GEAR_STEPS", A, INT, 5, "number of gear stages",
                        "seed 003 L18205-18211; [control] default", "", 1, 5)
 NUM_GEAR_STEPS2 = MdDef(35092, "NUM_GEAR_STEPS2", A, INT, 0, "gear stages of the 2nd data set (0 = off)",

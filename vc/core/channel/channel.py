@@ -13,7 +13,8 @@ cycle of its program; its parts, each in a module of its own, share one :class:`
 
 ``interface``            the DB21 signals: the PLC's requests and their edges, the states written back
 ``block_execution``      the block plan turned into motion, dwell, G74, block change, program end
-``spindle_functions``    the blocks' spindle, coupling and polygon commands, their interlocks
+``spindle_functions``    the blocks' spindle, coupling and polygon commands, their interlocks, and
+                         ``cutting_speed`` (G96 / G961: the master spindle's speed from the radius)
 ``thread_retract``       G33, fast retraction (LFON) and the channel's side of ESR
 ``stroke_limit_path``    stored stroke limits 2 and 3 on the paths and in JOG
 ``channel_referencing``  channel-specific referencing (DB21.DBX1.0, MD34110 order)
@@ -44,6 +45,7 @@ from vc.core.axis.plc_axis import PlcAxes
 from vc.core.axis.stroke_limits import StrokeLimitControl
 from vc.core.channel.block_execution import BlockExecution
 from vc.core.channel.channel_referencing import ChannelReferencing
+from vc.core.channel.cutting_speed import ConstantCuttingSpeed
 from vc.core.channel.interface import ChannelInterface
 from vc.core.channel.program_run import BlockPhase, ChannelState, Mode, ProgramRun, ProgramState
 from vc.core.channel.referencing_control import ReferencingControl
@@ -113,6 +115,7 @@ class Channel:
                                          self.stop, self.aux, self.tools, self.fixed_stops, self.command_axes,
                                          self.plc_axes)
         self._inclined: InclinedAxisControl | None = None
+        self._revolution_feed_shown = False  # DB21.DBX33.2 as written
 
     # ------------------------------------------------------------------ what the NCK gives the channel
     @property
@@ -191,6 +194,11 @@ class Channel:
     def thread_in_progress(self) -> ThreadSegment | None:
         """The G33 block's thread while it runs."""
         return self._threads.thread_segment
+
+    @property
+    def cutting_speed(self) -> ConstantCuttingSpeed:
+        """G96 / G961 of the channel (``cutting_speed.py``)."""
+        return self._spindles.cutting_speed
 
     @property
     def esr_run_on_spindle(self) -> str | None:
@@ -299,7 +307,13 @@ class Channel:
 
     # ------------------------------------------------------------------ cycle
     def program_cycle(self, cycle: int) -> None:
-        """Interpolation and block change for one IPO cycle."""
+        """Interpolation and block change for one IPO cycle, then the feed type it leaves."""
+        self._run_program(cycle)
+        if self.run.modal.per_revolution is not self._revolution_feed_shown:
+            self._revolution_feed_shown = self.run.modal.per_revolution
+            self._interface.write_feed_type(self._revolution_feed_shown)  # DB21.DBX33.2: G95 / G96 / G97
+
+    def _run_program(self, cycle: int) -> None:
         if self._channel_referencing.groups:
             self._channel_referencing.cycle(cycle)
         path_runs_on = self._threads.esr_cycle(cycle)
@@ -323,6 +337,8 @@ class Channel:
             return
         hold = (run.state is not ChannelState.ACTIVE or bool(reactions & STOP_AXES)) and not path_runs_on
         self._execution.cycle(hold, cycle)
+        if self._spindles.cutting_speed.following:
+            self._spindles.cutting_speed.cycle()  # G96 / G961: the speed of the transverse axis's new position
 
     # ------------------------------------------------------------------ spindles and couplings
     def master_spindle(self) -> str | None:

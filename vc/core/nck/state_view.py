@@ -18,6 +18,7 @@ from vc.core.axis.command_axis import COMMAND_AXIS_STATES
 from vc.core.axis.drive_data_sets import DRIVE_DATA_SET_STATES
 from vc.core.axis.index_jog import INDEX_JOG_STATES
 from vc.core.axis.plc_axis import FC18_JOB_STATES, PLC_AXIS_TYPES
+from vc.core.channel.cutting_speed import CUTTING_SPEED_STATES
 from vc.core.channel.program_run import CHANNEL_STATES, PROGRAM_STATES
 from vc.core.fixed_stop.fixed_stop import FIXED_STOP_STATES
 from vc.core.nck.manual_retraction import MANUAL_RETRACTION_STATES
@@ -51,6 +52,7 @@ PUBLISHED: tuple[Published[Any], ...] = (
     Published(CHANNEL_STATES, lambda nck: [(channel.name, channel.run) for channel in nck.channels]),
     Published(PROGRAM_STATES, lambda nck: [(channel.name, channel.run) for channel in nck.channels]),
     Published(AUX_OUTPUT_STATES, lambda nck: [(channel.name, channel.aux) for channel in nck.channels]),
+    Published(CUTTING_SPEED_STATES, lambda nck: [(channel.name, channel.cutting_speed) for channel in nck.channels]),
     Published(REFERENCING, lambda nck: [(axis.name, nck.referencing.of[axis.name])
                                         for axis in nck.axes if not axis.is_spindle]),
     Published(SPINDLE_MODES, lambda nck: [(spindle.name, spindle) for spindle in nck.spindles]),

@@ -60,10 +60,12 @@ from vc.core.program.program import (
 )
 from vc.core.program.retract_words import RETRACT_CALLS, RETRACT_KEYWORDS, retract_assignment, synchronized_action
 from vc.core.program.spindle_words import (
+    constant_cutting_speed,
     coupling_call,
     polygon_block,
     s_word,
     spcon,
+    spindle_limit,
     spindle_m,
     spos,
     synchronism_threshold,
@@ -221,6 +223,9 @@ def _assignment(decoder: BlockDecoder, item: Assignment) -> None:
         if speed is not None:
             _s_function(decoder, *speed)
         return
+    if item.name == "LIMS":
+        spindle_limit(decoder, item.index, item.value)
+        return
     if item.name == "CR" and not item.index and isinstance(item.value, float):
         decoder.radius_word = item.value  # the SINUMERIK's circle radius (the ISO dialect's R)
         return
@@ -249,6 +254,8 @@ def _auxiliary_assignment(decoder: BlockDecoder, item: Assignment) -> None:
 
 def _finish(decoder: BlockDecoder) -> None:
     modal, plan, channel = decoder.modal, decoder.plan, decoder.channel
+    if modal.constant_cutting and not decoder.dwell_requested:
+        constant_cutting_speed(decoder)  # the S of the block is the cutting speed
     for axis, command in plan.spindles.items():
         if command.position is not None:
             aux_words.implicit_spindle_function(decoder, axis, 19)  # SPOS / SPOSA (L16406-16455)
