@@ -42,15 +42,6 @@ class CuttingSpeedState(Enum):
     HELD = "held"  # G96 / G961 in a rapid block: the speed does not follow the axis
 
 
-CUTTING_SPEED_STATES: StateMachine[ConstantCuttingSpeed] = StateMachine(
-    __name__, "constant_cutting_speed", "Constant cutting speed G96 / G961 (DB31.DBX84.0)", Instance.CHANNEL,
-    states(*CuttingSpeedState),
-    transitions(("OFF", "FOLLOWING", "G96 / G961 S.."), ("OFF", "HELD", "G96 / G961 S.. in a rapid block"),
-                ("FOLLOWING", "HELD", "rapid block (G0)"), ("HELD", "FOLLOWING", "machining block"),
-                ("FOLLOWING", "OFF", "G97 / G971 / G94 / G95, reset, program end"),
-                ("HELD", "OFF", "G97 / G971 / G94 / G95, reset, program end")),
-    read=lambda cutting: cutting.state)
-
 M_PER_MIN_TO_MM = 1000.0  # the cutting speed is programmed in m/min, the radius is in mm
 
 
@@ -133,3 +124,13 @@ class ConstantCuttingSpeed:
             self._spindle.show_constant_cutting_speed(False)
             self._spindle = None
         self.cutting_speed = 0.0
+
+
+CUTTING_SPEED_STATES: StateMachine[ConstantCuttingSpeed] = StateMachine(
+    __name__, "constant_cutting_speed", "Constant cutting speed G96 / G961 (DB31.DBX84.0)", Instance.CHANNEL,
+    states(*CuttingSpeedState),
+    transitions(("OFF", "FOLLOWING", "G96 / G961 S.."), ("OFF", "HELD", "G96 / G961 S.. in a rapid block"),
+                ("FOLLOWING", "HELD", "rapid block (G0)"), ("HELD", "FOLLOWING", "machining block"),
+                ("FOLLOWING", "OFF", "G97 / G971 / G94 / G95, reset, program end"),
+                ("HELD", "OFF", "G97 / G971 / G94 / G95, reset, program end")),
+    read=lambda cutting: cutting.state)

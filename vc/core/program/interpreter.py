@@ -254,8 +254,8 @@ def _auxiliary_assignment(decoder: BlockDecoder, item: Assignment) -> None:
 
 def _finish(decoder: BlockDecoder) -> None:
     modal, plan, channel = decoder.modal, decoder.plan, decoder.channel
-    if modal.constant_cutting and not decoder.dwell_requested:
-        constant_cutting_speed(decoder)  # the S of the block is the cutting speed
+    if modal.constant_cutting:
+        constant_cutting_speed(decoder)  # the S of the block is the cutting speed (G4 S: revolutions)
     for axis, command in plan.spindles.items():
         if command.position is not None:
             aux_words.implicit_spindle_function(decoder, axis, 19)  # SPOS / SPOSA (L16406-16455)

@@ -94,7 +94,7 @@ def constant_cutting_speed(decoder: BlockDecoder) -> None:
     master = channel.md.int(MD.SPIND_DEF_MASTER_SPIND)
     axis = next((name for name, axis in decoder.axes.items() if axis.config.spindle_number == master), None)
     command = plan.spindles.get(axis) if axis is not None else None
-    if command is not None and command.speed is not None:
+    if axis is not None and command is not None and command.speed is not None and not decoder.dwell_requested:
         modal.cutting_speed = command.speed
         command.speed = None
         if command == SpindleCommand():
