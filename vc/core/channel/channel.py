@@ -116,6 +116,7 @@ class Channel:
                                          self.plc_axes)
         self._inclined: InclinedAxisControl | None = None
         self._revolution_feed_shown = False  # DB21.DBX33.2 as written
+        self.transverse_axis = config.transverse_axis()  # MD20100: diameter programming, G96's radius
 
     # ------------------------------------------------------------------ what the NCK gives the channel
     @property
@@ -194,6 +195,13 @@ class Channel:
     def thread_in_progress(self) -> ThreadSegment | None:
         """The G33 block's thread while it runs."""
         return self._threads.thread_segment
+
+    def shown_position(self, axis: str, position: float) -> float:
+        """A position as the channel shows it in program coordinates: the transverse axis in diameter
+        under DIAMON and DIAM90 (seed 003 L10340-10370)."""
+        if axis == self.transverse_axis and self.run.modal.diameter != "DIAMOF":
+            return 2.0 * position
+        return position
 
     @property
     def cutting_speed(self) -> ConstantCuttingSpeed:

@@ -69,8 +69,7 @@ class ConstantCuttingSpeed:
                 self.end()  # G97 / G971 / G94 / G95: the last speed stays (L7735-7738)
             return
         spindle = self._spindles.get(master or "")
-        transverse = self._axes_by_name.get(self._config.axis_for_program_name(
-            self._config.md.str(MD.DIAMETER_AX_DEF)) or "")
+        transverse = self._axes_by_name.get(self._config.transverse_axis() or "")
         if spindle is None or transverse is None:
             self.end()  # no master spindle in this channel: nothing to set
             return

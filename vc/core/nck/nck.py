@@ -457,13 +457,16 @@ class Nck:
 
     def program_position(self, axis: str) -> float:
         """The absolute (program) position the NC shows for ``axis``: Cartesian for the pair of an
-        inclined-axis control (seed 000 L38-41), else the machine position."""
-        for inclined in self.inclined_axes:
-            position = inclined.program_position(axis)
-            if position is not None:
-                return position
+        inclined-axis control (seed 000 L38-41), else the machine position; a transverse axis in
+        diameter under DIAMON / DIAM90 (seed 003 §8)."""
+        cartesian = next((position for inclined in self.inclined_axes
+                          if (position := inclined.program_position(axis)) is not None), None)
         item = self.axes_by_name[axis]
-        return item.shown(item.actual - item.drf_offset)  # the DRF offset is not shown (L36423)
+        # the DRF offset is not shown (L36423)
+        position = cartesian if cartesian is not None else item.shown(item.actual - item.drf_offset)
+        for channel in self.channels:
+            position = channel.shown_position(axis, position)  # DIAMON / DIAM90: in diameter
+        return position
 
     def physical_positions(self) -> dict[str, float]:
         return {axis.name: axis.physical for axis in self.axes}

@@ -59,6 +59,9 @@ class ModalState:
     # "" under G94 / G95 / G97 / G971; the cutting speed in m/min, kept for a re-selection (L7666-7668)
     constant_cutting: str = ""
     cutting_speed: float | None = None
+    # group 29: DIAMOF (reset value) / DIAMON (the transverse axis's end points in diameter) / DIAM90
+    # (in diameter with G90, in radius with G91), seed 003 §8.1, L10340-10400
+    diameter: str = "DIAMOF"
     polygon: bool = False  # G51.2 (polygon turning) until G50.2 (seed 002)
     five_axis: FiveAxisModal = field(default_factory=FiveAxisModal)  # G43.4 / G43 / G68.2 (seed 001)
     # group 1 thread modes: "G33" (thread cutting), "G331"/"G332" (tapping); "" after G0/G1
@@ -76,6 +79,7 @@ class ModalState:
         self.per_revolution = False
         self.constant_cutting = ""
         self.cutting_speed = None
+        self.diameter = "DIAMOF"
         self.polygon = False
         self.five_axis.reset()
         self.thread = ""

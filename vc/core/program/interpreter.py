@@ -35,6 +35,7 @@ from vc.core.program.fixed_stop_words import FIXED_STOP_WORDS, fixed_stop_word
 from vc.core.program.motion_words import (
     PITCH_OF_GEOMETRY_AXIS,
     circle_block,
+    diameter_programming,
     f_word,
     five_axis_word,
     g_word,
@@ -109,6 +110,10 @@ def _output_word(kind: str) -> Callable[[BlockDecoder, float], None]:
     return lambda decoder, value: aux_words.output(decoder, kind, 0, value)
 
 
+def _diameter_keyword(keyword: str) -> Callable[[BlockDecoder], None]:
+    return lambda decoder: diameter_programming(decoder, keyword)
+
+
 _WORD_HANDLERS: dict[str, Callable[[BlockDecoder, float], None]] = {"G": g_word, "M": _m_word, "F": f_word,
                                                                   "S": _s_word, "R": radius_word,
                                                                   **{kind: _output_word(kind) for kind in "TDH"},
@@ -120,6 +125,7 @@ _KEYWORD_HANDLERS: dict[str, Callable[[BlockDecoder], None]] = {
     "SPCOF": lambda decoder: spcon(decoder, None, False),
     "WAITS": lambda decoder: waits(decoder, None),
     "DRFOF": lambda decoder: setattr(decoder.plan, "delete_drf", True),
+    **{keyword: _diameter_keyword(keyword) for keyword in ("DIAMON", "DIAM90", "DIAMOF", "DIAMCYCOF")},
     **RETRACT_KEYWORDS,
 }
 _CALL_HANDLERS: dict[str, Callable[[BlockDecoder, Call], None]] = {

@@ -23,7 +23,7 @@ from vc.core.program.block_plan import (
     Tapping,
 )
 from vc.core.program.commands import PolygonCommand, SpindleCommand
-from vc.core.program.decoder import BlockDecoder
+from vc.core.program.decoder import ALARM_NO_TRANSVERSE_AXIS, BlockDecoder
 from vc.core.program.five_axis_program import FIVE_AXIS_ADDRESSES, FIVE_AXIS_G_CODES, TILTED_PLANE, FiveAxisWords
 from vc.core.program.program import Call, Word
 
@@ -88,6 +88,16 @@ def g_word(decoder: BlockDecoder, value: float) -> None:
         decoder.plan.five_axis.codes.append(code)  # the channel's five-axis control checks and applies them
     else:
         decoder.unknown(f"G{value:g}")
+
+
+def diameter_programming(decoder: BlockDecoder, keyword: str) -> None:
+    """DIAMON / DIAM90 / DIAMOF (G group 29, channel-modal): the transverse axis (MD20100) in diameter
+    or radius (seed 003 §8.1, L10296-10400); DIAMCYCOF is the radius programming of cycles and acts as
+    DIAMOF here [control].  Without a transverse axis DIAMON / DIAM90 raise 16510 [control]."""
+    if keyword in ("DIAMON", "DIAM90") and decoder.transverse_axis() is None:
+        decoder.fail(ALARM_NO_TRANSVERSE_AXIS, decoder.channel.name, decoder.block.label, keyword)
+        return
+    decoder.modal.diameter = "DIAMOF" if keyword == "DIAMCYCOF" else keyword
 
 
 def feed_type(modal: ModalState, per_revolution: bool, constant_cutting: str) -> None:

@@ -99,7 +99,7 @@ def constant_cutting_speed(decoder: BlockDecoder) -> None:
         command.speed = None
         if command == SpindleCommand():
             del plan.spindles[axis]  # the S was the cutting speed alone
-    if not transverse_axis(decoder):
+    if decoder.transverse_axis() is None:
         decoder.fail(10870, channel.name, decoder.block.label)
         return
     if modal.cutting_speed is None:
@@ -107,14 +107,6 @@ def constant_cutting_speed(decoder: BlockDecoder) -> None:
         return
     plan.constant_cutting = modal.constant_cutting
     plan.cutting_speed = modal.cutting_speed
-
-
-def transverse_axis(decoder: BlockDecoder) -> str | None:
-    """The machine axis of the channel's transverse axis (MD20100: a geometry axis name)."""
-    name = decoder.channel.md.str(MD.DIAMETER_AX_DEF)
-    if name not in decoder.channel.geometry_names:
-        return None
-    return decoder.machine_axis(name)
 
 
 def spos(decoder: BlockDecoder, name: str, index: str, value: object) -> None:

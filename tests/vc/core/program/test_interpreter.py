@@ -414,3 +414,46 @@ def test_lims_limits_the_master_spindle_or_spindle_n_and_a_negative_value_raises
     assert alarm is not None and alarm.number == 14820
     _, alarm = lathe("N20 LIMS[7]=100")
     assert alarm is not None and alarm.number == 16105
+
+
+# ------------------------------------------------------------------------------ transverse axis: DIAMON / DIAM90
+
+
+def test_diamon_halves_absolute_and_incremental_end_points_of_the_transverse_axis_only(lathe: Decoder) -> None:
+    plan = lathe.ok("DIAMON G1 X200 Z100 F100")
+    assert (plan.targets["X1"], plan.targets["Z1"]) == (100.0, 100.0)
+    assert lathe.ok("G91 X-20").targets["X1"] == pytest.approx(lathe.axes["X1"].setpoint - 10.0)
+
+
+def test_diam90_takes_absolute_values_as_diameters_and_incremental_ones_as_radii(lathe: Decoder) -> None:
+    assert lathe.ok("DIAM90 G1 X200 F100").targets["X1"] == 100.0
+    assert lathe.ok("G91 X-20").targets["X1"] == pytest.approx(lathe.axes["X1"].setpoint - 20.0)
+    assert lathe.ok("X=IC(-20)").targets["X1"] == pytest.approx(lathe.axes["X1"].setpoint - 20.0)
+    assert lathe.ok("G90 X=AC(60)").targets["X1"] == 30.0
+
+
+def test_dac_dic_rac_ric_act_for_one_value_whatever_the_mode(lathe: Decoder) -> None:
+    start = lathe.axes["X1"].setpoint
+    assert lathe.ok("G1 X=DAC(100) F100").targets["X1"] == 50.0
+    assert lathe.ok("X=DIC(-10)").targets["X1"] == pytest.approx(start - 5.0)
+    assert lathe.ok("DIAMON X=RAC(40)").targets["X1"] == 40.0
+    assert lathe.ok("X=RIC(4)").targets["X1"] == pytest.approx(start + 4.0)
+
+
+def test_diamof_and_the_reset_value_are_radius(lathe: Decoder) -> None:
+    lathe.ok("DIAMON")
+    assert lathe.ok("DIAMOF G1 X80 F100").targets["X1"] == 80.0
+    lathe.ok("DIAMON")
+    lathe.modal.reset()
+    assert lathe.modal.diameter == "DIAMOF"
+
+
+@pytest.mark.parametrize("text", ["DIAMON", "DIAM90", "G1 X=DAC(10) F100"])
+def test_diameter_programming_without_a_transverse_axis_raises_16510(dec: Decoder, text: str) -> None:
+    _, alarm = dec(f"N10 {text}")
+    assert alarm is not None and alarm.number == 16510
+
+
+def test_dac_on_another_axis_raises_16510(lathe: Decoder) -> None:
+    _, alarm = lathe("N10 G1 Z=DAC(10) F100")
+    assert alarm is not None and (alarm.number, alarm.axis) == (16510, "Z1")
