@@ -118,7 +118,7 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
         AlarmDefinition(14820, "Channel %1 block %2 negative maximum spindle speed programmed for constant"
                         " cutting speed", _STOP, Clear.RESET, "seed 003 L7853-7855 (LIMS < 0); [control] text"),
         AlarmDefinition(16510, "Channel %1 block %2 no transverse axis existing", _STOP, Clear.RESET,
-                        "seed 003 L10296-10400, L10635-10645 (DIAMON / DIAM90 / DAC / DIC / RAC / RIC without"
+                        "seed 003 L10283-10415, L10635-10645 (DIAMON / DIAM90 / DAC / DIC / RAC / RIC without"
                         " a transverse axis in MD20100); [control] number and text"),
         AlarmDefinition(16800, "Channel %1 block %2 traverse instruction DC not allowed for axis %3", _STOP,
                         Clear.RESET, "seed 003 L13164"),

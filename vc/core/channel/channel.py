@@ -198,7 +198,7 @@ class Channel:
 
     def shown_position(self, axis: str, position: float) -> float:
         """A position as the channel shows it in program coordinates: the transverse axis in diameter
-        under DIAMON and DIAM90 (seed 003 L10340-10370)."""
+        under DIAMON and DIAM90 (seed 003 L10360-10396)."""
         if axis == self.transverse_axis and self.run.modal.diameter != "DIAMOF":
             return 2.0 * position
         return position

@@ -60,7 +60,7 @@ class ModalState:
     constant_cutting: str = ""
     cutting_speed: float | None = None
     # group 29: DIAMOF (reset value) / DIAMON (the transverse axis's end points in diameter) / DIAM90
-    # (in diameter with G90, in radius with G91), seed 003 §8.1, L10340-10400
+    # (in diameter with G90, in radius with G91), seed 003 §8.1, L10360-10415
     diameter: str = "DIAMOF"
     polygon: bool = False  # G51.2 (polygon turning) until G50.2 (seed 002)
     five_axis: FiveAxisModal = field(default_factory=FiveAxisModal)  # G43.4 / G43 / G68.2 (seed 001)

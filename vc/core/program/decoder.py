@@ -22,7 +22,7 @@ from vc.core.program.program import Block, ValueFunction, Word
 
 _END_POINT_FUNCTIONS = ("AC", "IC", *ROTARY_MODES)  # the value functions of an axis's end point
 # DAC / DIC / RAC / RIC: one value of the transverse axis in diameter or radius, absolute or incremental,
-# whatever DIAMON / DIAM90 / DIAMOF say (seed 003 L10322-10327): (mode, divisor)
+# whatever DIAMON / DIAM90 / DIAMOF say (seed 003 L10336-10347): (mode, divisor)
 DIAMETER_FUNCTIONS = {"DAC": ("AC", 2.0), "DIC": ("IC", 2.0), "RAC": ("AC", 1.0), "RIC": ("IC", 1.0)}
 ALARM_NO_TRANSVERSE_AXIS = 16510  # DIAMON / DIAM90 / DAC ... without a transverse axis [control]
 
@@ -138,7 +138,7 @@ class BlockDecoder:
         if self.modal.diameter != "DIAMOF" and isinstance(value, (float, ValueFunction)) and \
                 not (isinstance(value, ValueFunction) and value.name in DIAMETER_FUNCTIONS) and \
                 machine_axis == self.transverse_axis() and (mode != "IC" or self.modal.diameter == "DIAMON"):
-            number /= 2.0  # DIAMON: every end point in diameter; DIAM90: the absolute ones (L10340-10400)
+            number /= 2.0  # DIAMON: every end point in diameter; DIAM90: the absolute ones (L10360-10415)
         if mode == "IC" and self.plan.five_axis is not None:
             self.plan.five_axis.incremental_axes = True
         axis = self.axes[machine_axis]

@@ -92,7 +92,7 @@ def g_word(decoder: BlockDecoder, value: float) -> None:
 
 def diameter_programming(decoder: BlockDecoder, keyword: str) -> None:
     """DIAMON / DIAM90 / DIAMOF (G group 29, channel-modal): the transverse axis (MD20100) in diameter
-    or radius (seed 003 §8.1, L10296-10400); DIAMCYCOF is the radius programming of cycles and acts as
+    or radius (seed 003 §8.1, L10283-10415); DIAMCYCOF is the radius programming of cycles and acts as
     DIAMOF here [control].  Without a transverse axis DIAMON / DIAM90 raise 16510 [control]."""
     if keyword in ("DIAMON", "DIAM90") and decoder.transverse_axis() is None:
         decoder.fail(ALARM_NO_TRANSVERSE_AXIS, decoder.channel.name, decoder.block.label, keyword)
