@@ -349,6 +349,23 @@ class DriveMessageStatus:
     dc_link_below_warning: bool = signal("drive.in.dcLinkBelowWarning")  # DBX95.0, p2172
 
 
+# ------------------------------------------------------------------------------ DB31 software cams
+
+
+@dataclass(slots=True, kw_only=True)
+class SoftwareCamRequests:
+    """DB31.DBX2.0: activate the axis's software cams (seed 003 L41202-41225)."""
+
+    activate: bool = signal("basic.out.swCams")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SoftwareCamStatus:
+    """DB31.DBX62.0: the axis's software cams are active (L41226-41267)."""
+
+    active: bool = signal("basic.in.swCamsActive")
+
+
 # ------------------------------------------------------------------------------------ DB31 spindle
 
 

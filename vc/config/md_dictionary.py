@@ -112,6 +112,99 @@ USER_DATA_PLC_ALARM = MdDef(14516, "USER_DATA_PLC_ALARM", N, INT, (0,) * 64,
                             " seed names no PLC alarms (docs/auxiliary_functions.md)", "", 0, 0xFF, 64)
 
 
+# ------------------------------------------------------------ NCK: software cams (seed 003 chapter 21)
+SW_CAM_PAIRS = 32  # cam pairs 1..32, eight to a setting datum of positions and times (L40925, L41054-41073)
+SW_CAM_ASSIGN_TAB = MdDef(10450, "SW_CAM_ASSIGN_TAB", N, INT, (0,) * SW_CAM_PAIRS,
+                          "machine axis number of cam pair n+1 (0 = not assigned: the pair does not act); an axis"
+                          " may have several pairs, a pair one axis",
+                          "seed 003 L41117-41131", "", 0, 31, SW_CAM_PAIRS)
+SW_CAM_MINUS_LEAD_TIME = MdDef(10460, "SW_CAM_MINUS_LEAD_TIME", N, FLOAT, (0.0,) * SW_CAM_PAIRS,
+                               "lead (> 0) or delay (< 0) time of the minus cam signal of pair n+1, added to"
+                               " SD41520 ff.", "seed 003 L41133-41160; [control] range", "s", -10.0, 10.0,
+                               SW_CAM_PAIRS)
+SW_CAM_PLUS_LEAD_TIME = MdDef(10461, "SW_CAM_PLUS_LEAD_TIME", N, FLOAT, (0.0,) * SW_CAM_PAIRS,
+                              "lead (> 0) or delay (< 0) time of the plus cam signal of pair n+1, added to"
+                              " SD41521 ff.", "seed 003 L41133-41160; [control] range", "s", -10.0, 10.0,
+                              SW_CAM_PAIRS)
+SW_CAM_MODE = MdDef(10485, "SW_CAM_MODE", N, INT, 0,
+                    "behaviour of the software cams (bits): 1 = the plus cam signal of a modulo axis is not"
+                    " inverted when plus - minus >= 180 degrees or minus > plus (bits 0 and 2, the timer and"
+                    " path-time cams, are not modelled)",
+                    "seed 003 L40997-40999, L41043-41047; [control] range", "", 0, 7)
+
+SW_CAM_MINUS_POS_TAB_1 = MdDef(41500, "SW_CAM_MINUS_POS_TAB_1", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41500: positions of the minus cams 1-8 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_PLUS_POS_TAB_1 = MdDef(41501, "SW_CAM_PLUS_POS_TAB_1", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41501: positions of the plus cams 1-8 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_MINUS_POS_TAB_2 = MdDef(41502, "SW_CAM_MINUS_POS_TAB_2", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41502: positions of the minus cams 9-16 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_PLUS_POS_TAB_2 = MdDef(41503, "SW_CAM_PLUS_POS_TAB_2", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41503: positions of the plus cams 9-16 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_MINUS_POS_TAB_3 = MdDef(41504, "SW_CAM_MINUS_POS_TAB_3", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41504: positions of the minus cams 17-24 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_PLUS_POS_TAB_3 = MdDef(41505, "SW_CAM_PLUS_POS_TAB_3", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41505: positions of the plus cams 17-24 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_MINUS_POS_TAB_4 = MdDef(41506, "SW_CAM_MINUS_POS_TAB_4", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41506: positions of the minus cams 25-32 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_PLUS_POS_TAB_4 = MdDef(41507, "SW_CAM_PLUS_POS_TAB_4", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41507: positions of the plus cams 25-32 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_MINUS_TIME_TAB_1 = MdDef(41520, "SW_CAM_MINUS_TIME_TAB_1", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41520: lead (> 0) or delay (< 0) time of the minus cams 1-8, added to MD10460",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_PLUS_TIME_TAB_1 = MdDef(41521, "SW_CAM_PLUS_TIME_TAB_1", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41521: lead (> 0) or delay (< 0) time of the plus cams 1-8, added to MD10461",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_MINUS_TIME_TAB_2 = MdDef(41522, "SW_CAM_MINUS_TIME_TAB_2", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41522: lead (> 0) or delay (< 0) time of the minus cams 9-16, added to MD10460",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_PLUS_TIME_TAB_2 = MdDef(41523, "SW_CAM_PLUS_TIME_TAB_2", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41523: lead (> 0) or delay (< 0) time of the plus cams 9-16, added to MD10461",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_MINUS_TIME_TAB_3 = MdDef(41524, "SW_CAM_MINUS_TIME_TAB_3", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41524: lead (> 0) or delay (< 0) time of the minus cams 17-24, added to MD10460",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_PLUS_TIME_TAB_3 = MdDef(41525, "SW_CAM_PLUS_TIME_TAB_3", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41525: lead (> 0) or delay (< 0) time of the plus cams 17-24, added to MD10461",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_MINUS_TIME_TAB_4 = MdDef(41526, "SW_CAM_MINUS_TIME_TAB_4", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41526: lead (> 0) or delay (< 0) time of the minus cams 25-32, added to MD10460",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_PLUS_TIME_TAB_4 = MdDef(41527, "SW_CAM_PLUS_TIME_TAB_4", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41527: lead (> 0) or delay (< 0) time of the plus cams 25-32, added to MD10461",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_MINUS_POS_TABS = (SW_CAM_MINUS_POS_TAB_1, SW_CAM_MINUS_POS_TAB_2, SW_CAM_MINUS_POS_TAB_3,
+                         SW_CAM_MINUS_POS_TAB_4)
+SW_CAM_PLUS_POS_TABS = (SW_CAM_PLUS_POS_TAB_1, SW_CAM_PLUS_POS_TAB_2, SW_CAM_PLUS_POS_TAB_3, SW_CAM_PLUS_POS_TAB_4)
+SW_CAM_MINUS_TIME_TABS = (SW_CAM_MINUS_TIME_TAB_1, SW_CAM_MINUS_TIME_TAB_2, SW_CAM_MINUS_TIME_TAB_3,
+                          SW_CAM_MINUS_TIME_TAB_4)
+SW_CAM_PLUS_TIME_TABS = (SW_CAM_PLUS_TIME_TAB_1, SW_CAM_PLUS_TIME_TAB_2, SW_CAM_PLUS_TIME_TAB_3,
+                         SW_CAM_PLUS_TIME_TAB_4)
+
+
 # ---------------------------------------------------------------------------------- channel
 AXCONF_GEOAX_ASSIGN_TAB = MdDef(20050, "AXCONF_GEOAX_ASSIGN_TAB", C, INT, (1, 2, 3),
                                 "channel axis number serving each geometry axis (0 = none)",

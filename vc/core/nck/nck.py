@@ -27,7 +27,7 @@ own skip-guards (most of the machine rests in most cycles).  Why each comes wher
    orthogonal axis along a manual motion, every axis that moves or was commanded runs its control
    loop, drive and encoder, then travel to fixed stop detects its stop and watches its window
    (only while one is selected), and the couplings monitor their synchronism on the new actual
-   values.
+   values, and the software cams of the axes whose cams are active set their signals.
 9. **extended stop and retract**: synchronized actions, the channels' and the drives' ESR
    reactions, the DC link.  After position control, so that a trigger of this cycle sees this
    cycle's positions; before the alarm reactions, which must not cut off a retraction.
@@ -123,6 +123,7 @@ class Nck:
         self.polygons = parts.polygons
         self.manual = parts.manual
         self.fixed_stops = parts.fixed_stops
+        self.software_cams = parts.software_cams
         self._changing_drives: list[MachineAxis] = []  # drives changing a data set: ticked until done
         self._drive_messages = [axis.messages for axis in self.axes if axis.messages is not None]
         if self.dc_link is not None:
@@ -217,6 +218,8 @@ class Nck:
             if fixed_stop.busy:
                 fixed_stop.cycle(self.cycle)  # detection and monitoring on the new actual values
         self.couplings.monitor(self.cycle)
+        if self.software_cams.busy:
+            self.software_cams.cycle()  # the cam signals of the active axes on the new actual values
         return moved
 
     def _drive_data_sets(self) -> None:
@@ -285,6 +288,9 @@ class Nck:
                     self._changing_drives.append(axis)  # a data set changeover or the integrator's answer
                 axis.override = self._axis_coding.factor(axis.inputs.override_raw, axis.inputs.override_active)
                 self._hardware_limit_switches(axis)
+                cams = self.software_cams.of.get(axis.name)
+                if cams is not None:
+                    self.software_cams.decode_inputs(cams)  # DBX2.0, the measuring system (chapter 21)
                 spindle = self._spindle_of.get(axis.name)
                 if spindle is not None:
                     if spindle.decode_inputs():

@@ -30,6 +30,7 @@ from vc.core.axis.axis import MachineAxis
 from vc.core.axis.drive_messages import DriveMessages
 from vc.core.axis.parameter_sets import ServoParameterSets, selected_by_the_plc
 from vc.core.axis.plc_axis import PlcAxis
+from vc.core.axis.software_cams import SoftwareCams
 from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
@@ -78,6 +79,7 @@ class NckParts:
     polygons: list[PolygonTurning]
     manual: ManualFunctions
     fixed_stops: list[FixedStop]  # travel to fixed stop of the axes whose MD37000 allows it
+    software_cams: SoftwareCams  # the cam pairs of MD10450 by axis (seed 003 chapter 21)
 
 
 def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memory: NcMemory, alarms: AlarmList,
@@ -163,7 +165,9 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     return NckParts(nck_table.codec(NckRequests), nck_table.codec(NckStatus), display_wcs, alarm_area, plc_alarms,
                     mode_group, axes, axes_by_name, axis_coding, referencing,
                     channels, {channel.name: channel for channel in channels}, inclined_axes, retractions, spindles,
-                    spindle_of, couplings, esr, dc_link, polygons, manual, fixed_stops)
+                    spindle_of, couplings, esr, dc_link, polygons, manual, fixed_stops,
+                    SoftwareCams(nck, axes, nck_table, axis_table, image.area("DB10"),
+                                 {axis.name: image.area(f"DB{axis.config.db}") for axis in axes}))
 
 
 def _fixed_stops(channels: list[Channel], table: SignalTable, image: ProcessImage, dt: float,

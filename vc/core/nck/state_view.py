@@ -18,6 +18,7 @@ from vc.core.axis.command_axis import COMMAND_AXIS_STATES
 from vc.core.axis.drive_data_sets import DRIVE_DATA_SET_STATES
 from vc.core.axis.index_jog import INDEX_JOG_STATES
 from vc.core.axis.plc_axis import FC18_JOB_STATES, PLC_AXIS_TYPES
+from vc.core.axis.software_cams import SOFTWARE_CAM_STATES
 from vc.core.channel.cutting_speed import CUTTING_SPEED_STATES
 from vc.core.channel.program_run import CHANNEL_STATES, PROGRAM_STATES
 from vc.core.fixed_stop.fixed_stop import FIXED_STOP_STATES
@@ -72,6 +73,7 @@ PUBLISHED: tuple[Published[Any], ...] = (
                                            for name, plc in channel.plc_axes.by_name.items()]),
     Published(FC18_JOB_STATES, lambda nck: [(name, plc) for channel in nck.channels
                                             for name, plc in channel.plc_axes.by_name.items()]),
+    Published(SOFTWARE_CAM_STATES, lambda nck: [(name, cams) for name, cams in nck.software_cams.of.items()]),
     Published(INDEX_JOG_STATES, lambda nck: [(axis.name, axis.index_jog) for axis in nck.axes
                                              if axis.index_jog is not None]),
     Published(MANUAL_RETRACTION_STATES, lambda nck: [(channel.name, nck.retractions[channel.name])
