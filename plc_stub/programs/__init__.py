@@ -11,6 +11,7 @@ from functools import partial
 
 from interfaces.plc import PlcFactory
 from plc_stub.programs.basic_machine import BasicMachine
+from plc_stub.programs.cams import Cams
 from plc_stub.programs.coolant import Coolant
 from plc_stub.programs.magazine import Magazine
 from plc_stub.programs.manual_retraction import ManualRetraction
@@ -39,6 +40,7 @@ REGISTRY: dict[str, ProgramClass] = {
     "tailstock": Tailstock,
     "magazine": Magazine,
     "rotary_table": RotaryTable,
+    "cams": Cams,
 }
 
 
