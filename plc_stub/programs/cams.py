@@ -3,7 +3,7 @@
 Networks after those of ``auxiliary`` (1-10), for the axis ``cam_axis`` (docs/software_cams.md):
 
 11. Software cams on (seed 003 §21.3.1, L41202-41230): DB31.DBX2.0 of the cam axis while it is
-    referenced (DB31.DBX60.4 / 60.5), as the seed suggests tying the activation to referencing.  The
+    referenced (DB31.DBX60.4 / 60.5), as the seed suggests tying the activation to referencing (L41219).  The
     NC answers with DB31.DBX62.0; when that does not come within ``cams_timeout`` (the axis parked,
     no measuring system, no cam pair assigned to it in MD10450) the PLC raises alarm 700030 and
     disables the feed until the reset key.  While 62.0 is missing the lubrication does not run.

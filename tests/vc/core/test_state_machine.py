@@ -38,7 +38,7 @@ def test_a_state_of_an_enum_is_its_member_in_the_declaring_module(declared: Stat
 
 def test_every_state_machine_has_its_own_name_and_the_variants_share_theirs() -> None:
     names = [machine.name for machine in STATE_MACHINES]
-    assert len(names) == len(set(names)) == 22
+    assert len(names) == len(set(names)) == 24
     for row in PUBLISHED:
         if isinstance(row.declaration, Variants):
             assert all(machine.name.startswith(f"{row.declaration.name}.") for machine in machines_of(row.declaration))
@@ -51,11 +51,12 @@ def test_the_view_holds_every_instance_of_every_state_machine(path: str) -> None
     view = nck.state_view()
     axes = [axis for axis in nck.axes if not axis.is_spindle]
     esr_channels = [channel for channel in nck.channels if channel.esr is not None]
-    # the mode group; channel, program, auxiliary function output and manual retraction of each
-    # channel, its two ESR state machines; mode, gear change and coupling of each spindle; the
-    # drive's ESR and data sets of every axis, the referencing, the command axis, the PLC axis type and
-    # the FC18 job of every axis that is no spindle
-    assert len(view.instances) == (1 + 4 * len(nck.channels) + 2 * len(esr_channels) + 3 * len(nck.spindles)
+    # the mode group; channel, program, auxiliary function output, constant cutting speed and manual
+    # retraction of each channel, its two ESR state machines; mode, gear change and coupling of each
+    # spindle; the drive's ESR and data sets of every axis, the referencing, the command axis, the PLC
+    # axis type and the FC18 job of every axis that is no spindle (no machine has software cams here)
+    assert not nck.software_cams.of
+    assert len(view.instances) == (1 + 5 * len(nck.channels) + 2 * len(esr_channels) + 3 * len(nck.spindles)
                                    + 2 * len(nck.axes) + 4 * len(axes))
     for reading in view:
         assert isinstance(reading, StateReading)
