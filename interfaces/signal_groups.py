@@ -213,6 +213,8 @@ class AxisRequests:
     encoder_2_activation: bool = signal("basic.out.enc2Activation")  # DBX1.6
     fixed_stop_enable: bool = signal("basic.out.fixedStopEnable")  # DBX3.1: travel to fixed stop enabled
     fixed_stop_ack: bool = signal("basic.out.fixedStopAckReached")  # DBX1.1
+    limit_switch_2_minus: bool = signal("basic.out.swLimitSwitch2Minus")  # DBX12.2: MD36120 instead of MD36100
+    limit_switch_2_plus: bool = signal("basic.out.swLimitSwitch2Plus")  # DBX12.3: MD36130 instead of MD36110
     fixed_stop_sensor: bool = signal("basic.out.fixedStopSensor")  # DBX1.2
     modulo_limit_enable: bool = signal("basic.out.enableModuloLimitSwitch")  # DBX12.4
     clamping: bool = signal("basic.out.clampingInProgress")  # DBX2.3: the clamping monitor replaces standstill's

@@ -450,6 +450,12 @@ POS_LIMIT_MINUS = MdDef(36100, "POS_LIMIT_MINUS", A, FLOAT, -1.0e8, "1st softwar
                         "[control]", "mm", -1.0e9, 1.0e9)
 POS_LIMIT_PLUS = MdDef(36110, "POS_LIMIT_PLUS", A, FLOAT, 1.0e8, "1st software limit switch plus",
                        "[control]", "mm", -1.0e9, 1.0e9)
+POS_LIMIT_MINUS2 = MdDef(36120, "POS_LIMIT_MINUS2", A, FLOAT, -1.0e8,
+                         "2nd software limit switch minus: in force instead of MD36100 while DB31.DBX12.2 = 1",
+                         "seed 003 L12835-12843, L12940; [control] default and the switchover", "mm", -1.0e9, 1.0e9)
+POS_LIMIT_PLUS2 = MdDef(36130, "POS_LIMIT_PLUS2", A, FLOAT, 1.0e8,
+                        "2nd software limit switch plus: in force instead of MD36110 while DB31.DBX12.3 = 1",
+                        "seed 003 L12835-12843, L12941; [control] default and the switchover", "mm", -1.0e9, 1.0e9)
 CONTOUR_TOL = MdDef(36400, "CONTOUR_TOL", A, FLOAT, 1.0, "tolerance band of contour monitoring (alarm 25050)",
                     "[control]", "mm", 0.0, 1.0e6)
 BRAKE_MODE_CHOICE = MdDef(36600, "BRAKE_MODE_CHOICE", A, INT, 0,

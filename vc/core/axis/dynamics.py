@@ -42,6 +42,8 @@ class AxisDynamics:
     servo_disable_delay: float
     limit_minus: float
     limit_plus: float
+    limit_minus_2: float  # MD36120 / MD36130: the 2nd software limit switches, chosen by DB31.DBX12.2 / 12.3
+    limit_plus_2: float
     brake_rapid_at_limit_switch: bool
     display_velocity_factor: float  # internal per second -> mm/min or rev/min
 
@@ -80,6 +82,8 @@ def dynamics_of(axis: AxisConfig) -> AxisDynamics:
         servo_disable_delay=md.float(MD.SERVO_DISABLE_DELAY_TIME),
         limit_minus=md.float(MD.POS_LIMIT_MINUS),
         limit_plus=md.float(MD.POS_LIMIT_PLUS),
+        limit_minus_2=md.float(MD.POS_LIMIT_MINUS2),
+        limit_plus_2=md.float(MD.POS_LIMIT_PLUS2),
         brake_rapid_at_limit_switch=md.int(MD.BRAKE_MODE_CHOICE) == 1,
         display_velocity_factor=1.0 / velocity_unit,
     )
