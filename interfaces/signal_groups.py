@@ -99,6 +99,13 @@ class ChannelStatus:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class DryRunStatus:
+    """DB21.DBX318.6: the NC took the dry-run feed (seed 003 L9433-9438)."""
+
+    active: bool = signal("basic.in.dryRunFeedrateActive")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class FeedTypeStatus:
     """The channel's feed type (DB21.DBX33.2): G95 / G96 / G97, F per revolution."""
 

@@ -242,6 +242,14 @@ REFP_NC_START_LOCK = MdDef(20700, "REFP_NC_START_LOCK", C, INT, 1,
                            " 2 = allowed with restored positions in MDA and overstore",
                            "seed 003 L2218-2231, L2726-2752; [control] default 1", "", 0, 2,
                            allowed=(0, 1, 2))
+DRY_RUN_FEED = MdDef(42100, "DRY_RUN_FEED", C, FLOAT, 5000.0,
+                     "setting datum SD42100 $SC_DRY_RUN_FEED: the dry-run feed, always mm/min (G94) (kept here"
+                     " with the channel's machine data)", "seed 003 L9395-9398, L9417-9421; [control] default",
+                     "mm/min", 0.0, 1.0e6)
+DRY_RUN_FEED_MODE = MdDef(42101, "DRY_RUN_FEED_MODE", C, INT, 0,
+                          "setting datum SD42101: 0 = the larger of F and SD42100, 1 = the smaller, 2 = SD42100"
+                          " alone; 10 / 11 / 12 as 0 / 1 / 2 but threads and tapping keep F",
+                          "seed 003 L9447-9470", "", 0, 12, allowed=(0, 1, 2, 10, 11, 12))
 ALLOW_G0_IN_G96 = MdDef(20750, "ALLOW_G0_IN_G96", C, BOOL, False,
                         "G0 logic in G96 / G961: 0 = the spindle speed stays as it is during a rapid block"
                         " (G96 acts where F acts), 1 = the speed of the rapid block's end point is set at"

@@ -35,6 +35,7 @@ from vc.core.axis.command_axis import CommandAxes
 from vc.core.axis.owner import Owner
 from vc.core.axis.plc_axis import PlcAxes
 from vc.core.axis.stroke_limits import BOUNDARY, StrokeStop
+from vc.core.channel.dry_run import DryRunFeed
 from vc.core.channel.interface import ChannelInputs
 from vc.core.channel.program_run import BlockPhase, ChannelState, ProgramRun, ProgramState, raise_block_alarm
 from vc.core.channel.referencing_control import ReferencingControl
@@ -60,7 +61,7 @@ class BlockExecution:
                  referencing: ReferencingControl, five_axis: FiveAxisControl, stroke: ChannelStrokeLimits,
                  spindles: SpindleFunctions, threads: ThreadRetract, stop: Callable[[], None],
                  aux: AuxiliaryOutput, tools: ToolSelection, fixed_stops: ChannelFixedStops,
-                 positioning: CommandAxes, plc_axes: PlcAxes):
+                 positioning: CommandAxes, plc_axes: PlcAxes, dry_run: DryRunFeed):
         self.run = run
         self.config = config
         self.name = config.name
@@ -90,6 +91,7 @@ class BlockExecution:
         self._dwell_degrees = 0.0  # G4 S: degrees the counted spindle still has to turn
         self._dwell_spindle = ""  # G4 S: the spindle whose revolutions count
         self._geometry = set(axis for axis in config.geometry_axes if axis)
+        self.dry_run = dry_run  # DB21.DBX0.6, SD42100 (``dry_run.py``)
 
     def _raise(self, number: int, cycle: int, block: Block, *parameters: object, axis: str = "") -> None:
         raise_block_alarm(self._alarms, self.name, number, cycle, block, *parameters, axis=axis)
@@ -134,10 +136,12 @@ class BlockExecution:
         self.run.phase = BlockPhase.BLOCK_END
         self._block_end()
 
-    @staticmethod
-    def _planned_feed(plan: BlockPlan) -> float:
+    def _planned_feed(self, plan: BlockPlan) -> float:
         """Path velocity per second to plan with; under G95 / G99 the axes' limit, which the speed of
-        the spindle lowers in every cycle (``SpindleFunctions.revolution_speed``)."""
+        the spindle lowers in every cycle (``SpindleFunctions.revolution_speed``); under dry run the
+        dry-run feed per minute (``dry_run.py``)."""
+        if self.dry_run.active and not plan.rapid:
+            return self.dry_run.feed(plan.feed, plan.feed_per_revolution, self._spindles.revolution_speed) / 60.0
         return math.inf if plan.feed_per_revolution else plan.feed / 60.0
 
     def brake_segment(self) -> None:
@@ -427,6 +431,7 @@ class BlockExecution:
             self.run.phase = BlockPhase.BLOCK_END
             self._block_end()
             return
+        self.dry_run.take(self.inputs.dry_run)  # DB21.DBX0.6 takes effect at a block's start (MD10704)
         if plan.thread is not None:
             if self._threads.start_thread(cycle):
                 self._block_end()
@@ -464,7 +469,7 @@ class BlockExecution:
             segment = self._stroke.shortened(segment, stop.fraction, plan.path_length)
         self.stroke_stop = stop
         self.run.segment = segment
-        per_revolution = plan.feed_per_revolution and not plan.rapid
+        per_revolution = plan.feed_per_revolution and not plan.rapid and not self.dry_run.active
         self._feed_per_revolution = (plan.feed / 60.0, segment.command_velocity) if per_revolution else None
         for axis in axes:
             axis.take(Owner.PATH)

@@ -46,6 +46,7 @@ from vc.core.axis.stroke_limits import StrokeLimitControl
 from vc.core.channel.block_execution import BlockExecution
 from vc.core.channel.channel_referencing import ChannelReferencing
 from vc.core.channel.cutting_speed import ConstantCuttingSpeed
+from vc.core.channel.dry_run import DryRunFeed
 from vc.core.channel.interface import ChannelInterface
 from vc.core.channel.program_run import BlockPhase, ChannelState, Mode, ProgramRun, ProgramState
 from vc.core.channel.referencing_control import ReferencingControl
@@ -110,10 +111,11 @@ class Channel:
         # POS[ax]= of synchronized actions, POS / POSA of the program: the axis interpolators
         self.command_axes = CommandAxes(self.name, axes, alarms, dt)
         self.plc_axes = PlcAxes()  # FC18 and DB31.DBX28.7 (vc/core/axis/plc_axis.py), filled at power-on
+        self.dry_run = DryRunFeed(config.md, table, area)  # the dry-run feed, DB21.DBX0.6 -> 318.6
         self._execution = BlockExecution(self.run, config, axes, self.axes_by_name, self.inputs, alarms, dt,
                                          referencing, self.five_axis, self._stroke, self._spindles, self._threads,
                                          self.stop, self.aux, self.tools, self.fixed_stops, self.command_axes,
-                                         self.plc_axes)
+                                         self.plc_axes, self.dry_run)
         self._inclined: InclinedAxisControl | None = None
         self._revolution_feed_shown = False  # DB21.DBX33.2 as written
         self.transverse_axis = config.transverse_axis()  # MD20100: diameter programming, G96's radius
@@ -216,6 +218,8 @@ class Channel:
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
         self._interface.decode_inputs()
+        if self.run.state is not ChannelState.ACTIVE:
+            self.dry_run.take(self.inputs.dry_run)  # no block runs: the selection is taken at once (L9434-9442)
 
     def clear_edges(self) -> None:
         self._interface.clear_edges()
