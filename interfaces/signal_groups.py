@@ -79,6 +79,7 @@ class ChannelRequests:
     dry_run: bool = signal("basic.out.dryRunFeedrate")
     program_test: bool = signal("basic.out.progTest")
     activate_m01: bool = signal("basic.out.activateM01")  # DB21.DBX0.5
+    path_fixed_feed: int = signal("basic.out.pathFixedFeedrateSelection", 0)  # DB21.DBX29.0-29.3: MD12202
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -222,6 +223,7 @@ class AxisRequests:
     fixed_stop_ack: bool = signal("basic.out.fixedStopAckReached")  # DBX1.1
     limit_switch_2_minus: bool = signal("basic.out.swLimitSwitch2Minus")  # DBX12.2: MD36120 instead of MD36100
     limit_switch_2_plus: bool = signal("basic.out.swLimitSwitch2Plus")  # DBX12.3: MD36130 instead of MD36110
+    fixed_feed: int = signal("basic.out.fixedFeedrateSelection", 0)  # DBX3.2-3.5: JOG at MD12202 / MD12204
     fixed_stop_sensor: bool = signal("basic.out.fixedStopSensor")  # DBX1.2
     modulo_limit_enable: bool = signal("basic.out.enableModuloLimitSwitch")  # DBX12.4
     clamping: bool = signal("basic.out.clampingInProgress")  # DBX2.3: the clamping monitor replaces standstill's

@@ -105,6 +105,13 @@ OVR_FACTOR_LIMIT_BIN = MdDef(12100, "OVR_FACTOR_LIMIT_BIN", N, FLOAT, 1.2,
                              "seed 003 L9216-9220; [control] default", "", 0.0, 2.0)
 
 
+PERMANENT_FEED = MdDef(12202, "PERMANENT_FEED", N, FLOAT, (0.0,) * 4,
+                       "fixed feedrates 1-4 of linear axes: the path feed with DB21.DBX29.0-29.3 (AUTO / MDA) and"
+                       " an axis's JOG velocity with DB31.DBX3.2-3.5; 0 = the value is not set [INF]",
+                       "seed 003 L9692-9722", "mm/min", 0.0, 1.0e6, 4)
+PERMANENT_ROT_AX_FEED = MdDef(12204, "PERMANENT_ROT_AX_FEED", N, FLOAT, (0.0,) * 4,
+                              "fixed feedrates 1-4 of rotary axes (JOG with DB31.DBX3.2-3.5); 0 = not set [INF]",
+                              "seed 003 L9716-9722; [control] unit as MD32000", "rev/min", 0.0, 1.0e6, 4)
 USER_DATA_PLC_ALARM = MdDef(14516, "USER_DATA_PLC_ALARM", N, INT, (0,) * 64,
                             "reaction of PLC user alarm 700000 + n (user area 0, DB2.DBX180.0 ..), bits: 0 NC start"
                             " disabled, 1 read-in disabled, 2 feed disabled (the axes of every channel stop)",

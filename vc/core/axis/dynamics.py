@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass
 
 from vc.config import md_dictionary as MD
+from vc.config.machine_data import MachineData
 from vc.config.model import AxisConfig
 from vc.core.axis.motion import JerkFilter
 
@@ -46,6 +47,8 @@ class AxisDynamics:
     limit_plus_2: float
     brake_rapid_at_limit_switch: bool
     display_velocity_factor: float  # internal per second -> mm/min or rev/min
+    # MD12202 / MD12204: the fixed feedrates 1-4 per second (0: not set), given at power-on (fixed_feeds_of)
+    fixed_feeds: tuple[float, ...] = ()
 
 
 def dynamics_of(axis: AxisConfig) -> AxisDynamics:
@@ -110,3 +113,19 @@ class CoupledLoop:
     kv: float
     feedforward: float
     symmetrising_time: float
+
+
+def fixed_feeds_of(nck: MachineData, axis: AxisConfig) -> tuple[float, ...]:
+    """MD12202 (linear axes, mm/min) or MD12204 (rotary axes, rev/min) per second, within MD32000."""
+    unit = 6.0 if axis.is_rotary else 1.0 / 60.0
+    top = axis.md.float(MD.MAX_AX_VELO) * unit
+    values = nck.floats(MD.PERMANENT_ROT_AX_FEED if axis.is_rotary else MD.PERMANENT_FEED)
+    return tuple(min(value * unit, top) for value in values)
+
+
+def fixed_feed(feeds: tuple[float, ...], selection: int) -> float:
+    """The fixed feedrate the selection bits name (the lowest set bit, bit 0 = value 1), 0.0 for none."""
+    if not selection:
+        return 0.0
+    index = (selection & -selection).bit_length() - 1
+    return feeds[index] if index < len(feeds) else 0.0

@@ -80,6 +80,7 @@ class Channel:
         rapid_coding: OverrideCoding,
         dt: float,
         referencing: ReferencingControl,
+        permanent_feeds: tuple[float, ...] = (),
     ):
         self.config = config
         self.name = config.name
@@ -115,7 +116,7 @@ class Channel:
         self._execution = BlockExecution(self.run, config, axes, self.axes_by_name, self.inputs, alarms, dt,
                                          referencing, self.five_axis, self._stroke, self._spindles, self._threads,
                                          self.stop, self.aux, self.tools, self.fixed_stops, self.command_axes,
-                                         self.plc_axes, self.dry_run)
+                                         self.plc_axes, self.dry_run, permanent_feeds)
         self._inclined: InclinedAxisControl | None = None
         self._revolution_feed_shown = False  # DB21.DBX33.2 as written
         self.transverse_axis = config.transverse_axis()  # MD20100: diameter programming, G96's radius

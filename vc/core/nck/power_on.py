@@ -15,6 +15,7 @@ by every part; ``signals_used`` collects what the NC models).
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -28,6 +29,7 @@ from vc.config.model import MachineConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.drive_messages import DriveMessages
+from vc.core.axis.dynamics import fixed_feeds_of
 from vc.core.axis.parameter_sets import ServoParameterSets, selected_by_the_plc
 from vc.core.axis.plc_axis import PlcAxis
 from vc.core.axis.software_cams import SoftwareCams
@@ -99,6 +101,8 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     mode_group = ModeGroup(SignalTable(catalog, InstanceKind.MODE_GROUP, used), image.area("DB11"))
 
     axes = _axes(machine, axis_table, image, memory, alarms, dt, physical)
+    for axis in axes:  # MD12202 / MD12204: the fixed feedrates of JOG and of the path (seed 003 L9692-9722)
+        axis.dyn = dataclasses.replace(axis.dyn, fixed_feeds=fixed_feeds_of(nck, axis.config))
     axes_by_name = {axis.name: axis for axis in axes}
     referencing = ReferencingControl(machine, axes, memory, dt, alarms)
     feed_coding = OverrideCoding(nck.bool(MD.OVR_FEED_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_FEEDRATE),
@@ -110,7 +114,8 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
 
     channels = [
         Channel(channel, channel_table, image.area(f"DB{channel.db}"),
-                [axes_by_name[name] for name in channel.axes], alarms, feed_coding, rapid_coding, dt, referencing)
+                [axes_by_name[name] for name in channel.axes], alarms, feed_coding, rapid_coding, dt, referencing,
+                nck.floats(MD.PERMANENT_FEED))
         for channel in machine.channels
     ]
     inclined_axes: list[InclinedAxisControl] = []
