@@ -108,10 +108,10 @@ OVR_FACTOR_LIMIT_BIN = MdDef(12100, "OVR_FACTOR_LIMIT_BIN", N, FLOAT, 1.2,
 PERMANENT_FEED = MdDef(12202, "PERMANENT_FEED", N, FLOAT, (0.0,) * 4,
                        "fixed feedrates 1-4 of linear axes: the path feed with DB21.DBX29.0-29.3 (AUTO / MDA) and"
                        " an axis's JOG velocity with DB31.DBX3.2-3.5; 0 = the value is not set [INF]",
-                       "seed 003 L9692-9722", "mm/min", 0.0, 1.0e6, 4)
+                       "seed 003 L9692-9734", "mm/min", 0.0, 1.0e6, 4)
 PERMANENT_ROT_AX_FEED = MdDef(12204, "PERMANENT_ROT_AX_FEED", N, FLOAT, (0.0,) * 4,
                               "fixed feedrates 1-4 of rotary axes (JOG with DB31.DBX3.2-3.5); 0 = not set [INF]",
-                              "seed 003 L9716-9722; [control] unit as MD32000", "rev/min", 0.0, 1.0e6, 4)
+                              "seed 003 L9716-9723; [control] unit as MD32000", "rev/min", 0.0, 1.0e6, 4)
 USER_DATA_PLC_ALARM = MdDef(14516, "USER_DATA_PLC_ALARM", N, INT, (0,) * 64,
                             "reaction of PLC user alarm 700000 + n (user area 0, DB2.DBX180.0 ..), bits: 0 NC start"
                             " disabled, 1 read-in disabled, 2 feed disabled (the axes of every channel stop)",
@@ -251,7 +251,7 @@ REFP_NC_START_LOCK = MdDef(20700, "REFP_NC_START_LOCK", C, INT, 1,
                            allowed=(0, 1, 2))
 DRY_RUN_FEED = MdDef(42100, "DRY_RUN_FEED", C, FLOAT, 5000.0,
                      "setting datum SD42100 $SC_DRY_RUN_FEED: the dry-run feed, always mm/min (G94) (kept here"
-                     " with the channel's machine data)", "seed 003 L9395-9398, L9417-9421; [control] default",
+                     " with the channel's machine data)", "seed 003 L9395-9402, L9429-9433; [control] default",
                      "mm/min", 0.0, 1.0e6)
 DRY_RUN_FEED_MODE = MdDef(42101, "DRY_RUN_FEED_MODE", C, INT, 0,
                           "setting datum SD42101: 0 = the larger of F and SD42100, 1 = the smaller, 2 = SD42100"

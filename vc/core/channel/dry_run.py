@@ -4,7 +4,7 @@ the programmed F, as SD42101 says.
     OFF ──DB21.DBX0.6 = 1, taken when a motion block starts, or at once while no program runs──▶ ON: 318.6 = 1
     ON ──DB21.DBX0.6 = 0, taken the same way──▶ OFF: 318.6 = 0
 
-The dry-run feed is always a feed per minute (G94, L9398): under G95 / G96 / G97 it replaces the
+The dry-run feed is always a feed per minute (G94, L9402): under G95 / G96 / G97 it replaces the
 feed per revolution.  SD42101 (L9447-9470): 0 the larger of the programmed feed and SD42100, 1 the
 smaller, 2 SD42100 alone; 10 / 11 / 12 the same, but threads and tapping keep their feed (here they
 always do: their feed comes from the spindle, never from F, so 0 / 1 / 2 act like 10 / 11 / 12 [INF]).
