@@ -139,6 +139,8 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
                   "tool changer arm at the spindle: the tools are swapped"),
     PlantFunction(r"Coolant\.pump", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
                   "coolant pump contactor: 1 = the pump runs"),
+    PlantFunction(r"Lube\.pump", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,
+                  "way lubrication pump of the slides: 1 = it pumps oil to the guideways (a pulse per lubrication)"),
     PlantFunction(r"Coolant\.pressureOk", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,
                   "coolant pressure switch: 1 once the running pump has built up the pressure"),
     PlantFunction(r"AxisMagazine\.unlock", SignalType.BOOL, Direction.PLC_TO_PLANT, PointOwner.PLC,

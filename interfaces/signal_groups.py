@@ -79,6 +79,7 @@ class ChannelRequests:
     dry_run: bool = signal("basic.out.dryRunFeedrate")
     program_test: bool = signal("basic.out.progTest")
     activate_m01: bool = signal("basic.out.activateM01")  # DB21.DBX0.5
+    path_fixed_feed: int = signal("basic.out.pathFixedFeedrateSelection", 0)  # DB21.DBX29.0-29.3: MD12202
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -96,6 +97,20 @@ class ChannelStatus:
     alarm_active: bool = signal("basic.in.alarmActive")
     alarm_with_stop: bool = signal("basic.in.alarmWithStopActive")
     reference_active: bool = signal("basic.in.refActive")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class DryRunStatus:
+    """DB21.DBX318.6: the NC took the dry-run feed (seed 003 L9433-9438)."""
+
+    active: bool = signal("basic.in.dryRunFeedrateActive")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class FeedTypeStatus:
+    """The channel's feed type (DB21.DBX33.2): G95 / G96 / G97, F per revolution."""
+
+    revolution_feed: bool = signal("basic.in.revolutionalFeedrateActive")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -262,6 +277,9 @@ class AxisRequests:
     encoder_2_activation: bool = signal("basic.out.enc2Activation")  # DBX1.6
     fixed_stop_enable: bool = signal("basic.out.fixedStopEnable")  # DBX3.1: travel to fixed stop enabled
     fixed_stop_ack: bool = signal("basic.out.fixedStopAckReached")  # DBX1.1
+    limit_switch_2_minus: bool = signal("basic.out.swLimitSwitch2Minus")  # DBX12.2: MD36120 instead of MD36100
+    limit_switch_2_plus: bool = signal("basic.out.swLimitSwitch2Plus")  # DBX12.3: MD36130 instead of MD36110
+    fixed_feed: int = signal("basic.out.fixedFeedrateSelection", 0)  # DBX3.2-3.5: JOG at MD12202 / MD12204
     fixed_stop_sensor: bool = signal("basic.out.fixedStopSensor")  # DBX1.2
     modulo_limit_enable: bool = signal("basic.out.enableModuloLimitSwitch")  # DBX12.4
     clamping: bool = signal("basic.out.clampingInProgress")  # DBX2.3: the clamping monitor replaces standstill's
@@ -428,6 +446,23 @@ class DriveMessageStatus:
     dc_link_below_warning: bool = signal("drive.in.dcLinkBelowWarning")  # DBX95.0, p2172
 
 
+# ------------------------------------------------------------------------------ DB31 software cams
+
+
+@dataclass(slots=True, kw_only=True)
+class SoftwareCamRequests:
+    """DB31.DBX2.0: activate the axis's software cams (seed 003 L41202-41225)."""
+
+    activate: bool = signal("basic.out.swCams")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SoftwareCamStatus:
+    """DB31.DBX62.0: the axis's software cams are active (L41226-41267)."""
+
+    active: bool = signal("basic.in.swCamsActive")
+
+
 # ------------------------------------------------------------------------------------ DB31 spindle
 
 
@@ -477,6 +512,7 @@ class SpindleStatus:
     in_position: bool = signal("spindle.in.inPos")
     m_function: int = signal("spindle.in.mFuncNumber", 0)
     parameter_set: int = signal("drive.in.posCtrlParameterSetNumber", 0)
+    constant_cutting_speed: bool = signal("spindle.in.constantCuttingSpeedActive")  # DBX84.0: G96 / G961
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -492,15 +492,21 @@ class ExpandedCatalog:
             last_owned = -1
             for byte in range(size):
                 owner = self._byte_direction.get((key, byte))
-                if owner is direction:
+                # a byte of a range placed behind every block (below) ends the range it interrupts
+                late = any(area == key and first <= byte < stop for area, first, stop in _RANGES_LINKED_LAST)
+                if owner is direction and not late:
                     if start is None:
                         start = byte
                     last_owned = byte
-                elif owner is not None and start is not None:
+                elif (owner is not None or late) and start is not None:
                     ranges.append((key, start, last_owned + 1))
                     start = None
             if start is not None:
                 ranges.append((key, start, last_owned + 1))
+        for key, first, stop in _RANGES_LINKED_LAST:
+            owned = [byte for byte in range(first, stop) if self._byte_direction.get((key, byte)) is direction]
+            if key in self._sizes and owned:
+                ranges.append((key, owned[0], owned[-1] + 1))
         return ranges
 
     def resolve(self, name: str) -> SignalRef:
@@ -560,6 +566,12 @@ class ExpandedCatalog:
 # Blocks added after the links' layout existed go behind all others in the links' order, so that
 # no address of the other blocks moves.
 _LINKED_LAST = (f"DB{FIRST_DB[InstanceKind.PLC_ALARMS]}",)
+
+
+# Byte ranges added to a block after the links' layout existed: behind every block (those of
+# _LINKED_LAST too), in this order, so that no address before them moves.  DB10.DBB110-117: the
+# software cams' minus and plus signals (seed 003 L41268-41273, link version 5).
+_RANGES_LINKED_LAST = (("DB10", 110, 118),)
 
 
 def _db_order(key: str) -> tuple[int, str]:

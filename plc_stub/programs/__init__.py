@@ -11,6 +11,7 @@ from functools import partial
 
 from interfaces.plc import PlcFactory
 from plc_stub.programs.basic_machine import BasicMachine
+from plc_stub.programs.cams import Cams
 from plc_stub.programs.coolant import Coolant
 from plc_stub.programs.drive_lineup import DriveLineup
 from plc_stub.programs.magazine import Magazine
@@ -41,6 +42,7 @@ REGISTRY: dict[str, ProgramClass] = {
     "magazine": Magazine,
     "rotary_table": RotaryTable,
     "drive_lineup": DriveLineup,
+    "cams": Cams,
 }
 
 

@@ -110,7 +110,19 @@ def test_the_alarm_block_is_a_project_block_behind_every_axis() -> None:
     section = load_catalog().section(InstanceKind.ALARMS)
     assert section.db == 100 and all(signal.origin is Origin.PROJECT for signal in section.signals)
     assert all(signal.direction is Direction.NC_TO_PLC for signal in section.signals)
-    assert expanded().byte_ranges(Direction.NC_TO_PLC)[-1] == ("DB100", 0, section.size)
+    assert expanded().byte_ranges(Direction.NC_TO_PLC)[-2] == ("DB100", 0, section.size)
+
+
+def test_the_software_cam_signals_come_behind_every_block() -> None:
+    """DB10.DBB110-117 (the cam signals, catalogued after the links' layout) follow every other
+    NC-to-PLC range, DB100 too, so that no address moves; DB10's own range ends before them."""
+    ranges = expanded().byte_ranges(Direction.NC_TO_PLC)
+    assert ranges[-1] == ("DB10", 110, 118)
+    assert ("DB10", 106, 110) in ranges
+    cams = [signal for signal in load_catalog().section(InstanceKind.NCK).signals if "swCams" in signal.symbol]
+    assert [str(signal.address) for signal in cams[:9]] == [*(f"DB10.DBX110.{bit}" for bit in range(8)),
+                                                            "DB10.DBX111.0"]
+    assert (cams[31].symbol, str(cams[32].address)) == ("<Nc>.basic.in.swCams[0].minus32", "DB10.DBX114.0")
 
 
 def test_the_plc_alarm_block_comes_last_in_the_links_order() -> None:
@@ -261,6 +273,8 @@ def test_control_entries_are_the_agreed_ones() -> None:
         *(f"DB2.DBX{180 + n // 8}.{n % 8}" for n in range(64)),
         # the drive's messages the seed's §18.2 does not print: motor temperature, |n act| < n x, Vdc
         "DB31.DBX94.0", "DB31.DBX94.5", "DB31.DBX95.0",
+        # the software cams 2 .. 31 inside the seed's fields DBX110.0..113.7 and DBX114.0..117.7
+        *(f"DB10.DBX{base + (n - 1) // 8}.{(n - 1) % 8}" for base in (110, 114) for n in range(2, 32)),
     }
 
 

@@ -352,7 +352,10 @@ def _convention(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[str
         " function area (DB21.DBB58 ff.: the M, S, T, D, DL, H and F functions the NC outputs) and DB2 (the PLC's"
         " user alarms) at the end of the PLC-to-NC table (turn_mill's grew from 163 to 168 registers); 4, FC18's"
         " exchange area of every axis (DB31.DBB32-43 to the NC, DBB104-105 to the PLC: the PLC axes; turn_mill's"
-        f" tables grew to 365 and 204 registers); this server speaks {LINK_VERSION}. A test pins every version to its"
+        " tables grew to 365 and 204 registers); 5, the software cams' signals DB10.DBB110-117 behind every other"
+        " range of the NC-to-PLC table (turn_mill's grew to 369 registers; no register of version 4 moved, so a PLC"
+        f" that does not read the cams needs no other change); this server speaks {LINK_VERSION}. A test pins every"
+        " version to its"
         " layout (tests/interfaces/test_link_versions.py).",
         "",
         f"* **Lockstep** (IR {LinkInput.MODE} = {MODE_LOCKSTEP}, `vc serve` without `--realtime`): the NC advances one"

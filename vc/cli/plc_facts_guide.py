@@ -149,7 +149,8 @@ def alarm_section(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[s
         "",
         f"The NC's alarm list is data block {alarm_block.ALARM_DB} (a project block: the real control shows its"
         " alarms on the HMI and gives the PLC only DB10.DBX109.0 and DB21.DBX36.6 / 36.7). It is the last range"
-        f" of the NC-to-PLC table, input registers {register}..{last}, and S7 data block {alarm_block.ALARM_DB}"
+        " of the NC-to-PLC table but the software cams' DB10.DBB110-117 (link version 5), input registers"
+        f" {register}..{last}, and S7 data block {alarm_block.ALARM_DB}"
         f" over `--s7`. The NC rewrites it whenever the list changes: the number of alarms present, a change"
         f" counter, and the first {entries} alarms in the order they were raised:",
         "",

@@ -119,11 +119,111 @@ OVR_FACTOR_LIMIT_BIN = MdDef(12100, "OVR_FACTOR_LIMIT_BIN", N, FLOAT, 1.2,
                              "seed 003 L9216-9220; [control] default", "", 0.0, 2.0)
 
 
+PERMANENT_FEED = MdDef(12202, "PERMANENT_FEED", N, FLOAT, (0.0,) * 4,
+                       "fixed feedrates 1-4 of linear axes: the path feed with DB21.DBX29.0-29.3 (AUTO / MDA) and"
+                       " an axis's JOG velocity with DB31.DBX3.2-3.5; 0 = the value is not set [INF]",
+                       "seed 003 L9692-9734", "mm/min", 0.0, 1.0e6, 4)
+PERMANENT_ROT_AX_FEED = MdDef(12204, "PERMANENT_ROT_AX_FEED", N, FLOAT, (0.0,) * 4,
+                              "fixed feedrates 1-4 of rotary axes (JOG with DB31.DBX3.2-3.5); 0 = not set [INF]",
+                              "seed 003 L9716-9723; [control] unit as MD32000", "rev/min", 0.0, 1.0e6, 4)
 USER_DATA_PLC_ALARM = MdDef(14516, "USER_DATA_PLC_ALARM", N, INT, (0,) * 64,
                             "reaction of PLC user alarm 700000 + n (user area 0, DB2.DBX180.0 ..), bits: 0 NC start"
                             " disabled, 1 read-in disabled, 2 feed disabled (the axes of every channel stop)",
                             "[control] number and name; [INF] the bit meanings as the project reads them, the"
                             " seed names no PLC alarms (docs/auxiliary_functions.md)", "", 0, 0xFF, 64)
+
+
+# ------------------------------------------------------------ NCK: software cams (seed 003 chapter 21)
+SW_CAM_PAIRS = 32  # cam pairs 1..32, eight to a setting datum of positions and times (L40925, L41054-41073)
+SW_CAM_ASSIGN_TAB = MdDef(10450, "SW_CAM_ASSIGN_TAB", N, INT, (0,) * SW_CAM_PAIRS,
+                          "machine axis number of cam pair n+1 (0 = not assigned: the pair does not act); an axis"
+                          " may have several pairs, a pair one axis",
+                          "seed 003 L41117-41131", "", 0, 31, SW_CAM_PAIRS)
+SW_CAM_MINUS_LEAD_TIME = MdDef(10460, "SW_CAM_MINUS_LEAD_TIME", N, FLOAT, (0.0,) * SW_CAM_PAIRS,
+                               "lead (> 0) or delay (< 0) time of the minus cam signal of pair n+1, added to"
+                               " SD41520 ff.", "seed 003 L41133-41160; [control] range", "s", -10.0, 10.0,
+                               SW_CAM_PAIRS)
+SW_CAM_PLUS_LEAD_TIME = MdDef(10461, "SW_CAM_PLUS_LEAD_TIME", N, FLOAT, (0.0,) * SW_CAM_PAIRS,
+                              "lead (> 0) or delay (< 0) time of the plus cam signal of pair n+1, added to"
+                              " SD41521 ff.", "seed 003 L41133-41160; [control] range", "s", -10.0, 10.0,
+                              SW_CAM_PAIRS)
+SW_CAM_MODE = MdDef(10485, "SW_CAM_MODE", N, INT, 0,
+                    "behaviour of the software cams (bits): 1 = the plus cam signal of a modulo axis is not"
+                    " inverted when plus - minus >= 180 degrees or minus > plus (bits 0 and 2, the timer and"
+                    " path-time cams, are not modelled)",
+                    "seed 003 L40997-40999, L41043-41047; [control] range", "", 0, 7)
+
+SW_CAM_MINUS_POS_TAB_1 = MdDef(41500, "SW_CAM_MINUS_POS_TAB_1", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41500: positions of the minus cams 1-8 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_PLUS_POS_TAB_1 = MdDef(41501, "SW_CAM_PLUS_POS_TAB_1", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41501: positions of the plus cams 1-8 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_MINUS_POS_TAB_2 = MdDef(41502, "SW_CAM_MINUS_POS_TAB_2", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41502: positions of the minus cams 9-16 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_PLUS_POS_TAB_2 = MdDef(41503, "SW_CAM_PLUS_POS_TAB_2", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41503: positions of the plus cams 9-16 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_MINUS_POS_TAB_3 = MdDef(41504, "SW_CAM_MINUS_POS_TAB_3", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41504: positions of the minus cams 17-24 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_PLUS_POS_TAB_3 = MdDef(41505, "SW_CAM_PLUS_POS_TAB_3", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41505: positions of the plus cams 17-24 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_MINUS_POS_TAB_4 = MdDef(41506, "SW_CAM_MINUS_POS_TAB_4", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41506: positions of the minus cams 25-32 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_PLUS_POS_TAB_4 = MdDef(41507, "SW_CAM_PLUS_POS_TAB_4", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41507: positions of the plus cams 25-32 in the machine coordinate system",
+    "seed 003 L41054-41073", "mm / deg", -1.0e9, 1.0e9, 8)
+
+SW_CAM_MINUS_TIME_TAB_1 = MdDef(41520, "SW_CAM_MINUS_TIME_TAB_1", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41520: lead (> 0) or delay (< 0) time of the minus cams 1-8, added to MD10460",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_PLUS_TIME_TAB_1 = MdDef(41521, "SW_CAM_PLUS_TIME_TAB_1", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41521: lead (> 0) or delay (< 0) time of the plus cams 1-8, added to MD10461",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_MINUS_TIME_TAB_2 = MdDef(41522, "SW_CAM_MINUS_TIME_TAB_2", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41522: lead (> 0) or delay (< 0) time of the minus cams 9-16, added to MD10460",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_PLUS_TIME_TAB_2 = MdDef(41523, "SW_CAM_PLUS_TIME_TAB_2", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41523: lead (> 0) or delay (< 0) time of the plus cams 9-16, added to MD10461",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_MINUS_TIME_TAB_3 = MdDef(41524, "SW_CAM_MINUS_TIME_TAB_3", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41524: lead (> 0) or delay (< 0) time of the minus cams 17-24, added to MD10460",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_PLUS_TIME_TAB_3 = MdDef(41525, "SW_CAM_PLUS_TIME_TAB_3", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41525: lead (> 0) or delay (< 0) time of the plus cams 17-24, added to MD10461",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_MINUS_TIME_TAB_4 = MdDef(41526, "SW_CAM_MINUS_TIME_TAB_4", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41526: lead (> 0) or delay (< 0) time of the minus cams 25-32, added to MD10460",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_PLUS_TIME_TAB_4 = MdDef(41527, "SW_CAM_PLUS_TIME_TAB_4", N, FLOAT, (0.0,) * 8,
+    "setting datum SD41527: lead (> 0) or delay (< 0) time of the plus cams 25-32, added to MD10461",
+    "seed 003 L41161-41196; [control] range", "s", -10.0, 10.0, 8)
+
+SW_CAM_MINUS_POS_TABS = (SW_CAM_MINUS_POS_TAB_1, SW_CAM_MINUS_POS_TAB_2, SW_CAM_MINUS_POS_TAB_3,
+                         SW_CAM_MINUS_POS_TAB_4)
+SW_CAM_PLUS_POS_TABS = (SW_CAM_PLUS_POS_TAB_1, SW_CAM_PLUS_POS_TAB_2, SW_CAM_PLUS_POS_TAB_3, SW_CAM_PLUS_POS_TAB_4)
+SW_CAM_MINUS_TIME_TABS = (SW_CAM_MINUS_TIME_TAB_1, SW_CAM_MINUS_TIME_TAB_2, SW_CAM_MINUS_TIME_TAB_3,
+                          SW_CAM_MINUS_TIME_TAB_4)
+SW_CAM_PLUS_TIME_TABS = (SW_CAM_PLUS_TIME_TAB_1, SW_CAM_PLUS_TIME_TAB_2, SW_CAM_PLUS_TIME_TAB_3,
+                         SW_CAM_PLUS_TIME_TAB_4)
 
 
 # ---------------------------------------------------------------------------------- channel
@@ -147,6 +247,10 @@ SPIND_ASSIGN_TAB_ENABLE = MdDef(20092, "SPIND_ASSIGN_TAB_ENABLE", C, BOOL, False
 SPIND_RIGID_TAPPING_M_NR = MdDef(20094, "SPIND_RIGID_TAPPING_M_NR", C, INT, 70,
                                  "M function that switches the spindle to axis mode",
                                  "seed 003 L17177-17181; [control] default M70", "", 0, 2_147_483_647)
+DIAMETER_AX_DEF = MdDef(20100, "DIAMETER_AX_DEF", C, STR, "",
+                        "geometry axis with transverse-axis function: the radius G96 / G961 compute the"
+                        " spindle speed from (\"\" = none: G96 raises alarm 10870)",
+                        "seed 003 L7728-7731, L7846-7851, L10635-10645", "")
 RESET_MODE_MASK = MdDef(20110, "RESET_MODE_MASK", C, INT, 0x1,
                         "basic settings after reset / program end (bit mask); bit 0 = 1: reset behaviour"
                         " of the other bits active, bit 10: programmed coupling kept (1) or cancelled (0)",
@@ -159,6 +263,19 @@ REFP_NC_START_LOCK = MdDef(20700, "REFP_NC_START_LOCK", C, INT, 1,
                            " 2 = allowed with restored positions in MDA and overstore",
                            "seed 003 L2218-2231, L2726-2752; [control] default 1", "", 0, 2,
                            allowed=(0, 1, 2))
+DRY_RUN_FEED = MdDef(42100, "DRY_RUN_FEED", C, FLOAT, 5000.0,
+                     "setting datum SD42100 $SC_DRY_RUN_FEED: the dry-run feed, always mm/min (G94) (kept here"
+                     " with the channel's machine data)", "seed 003 L9395-9402, L9429-9433; [control] default",
+                     "mm/min", 0.0, 1.0e6)
+DRY_RUN_FEED_MODE = MdDef(42101, "DRY_RUN_FEED_MODE", C, INT, 0,
+                          "setting datum SD42101: 0 = the larger of F and SD42100, 1 = the smaller, 2 = SD42100"
+                          " alone; 10 / 11 / 12 as 0 / 1 / 2 but threads and tapping keep F",
+                          "seed 003 L9447-9470", "", 0, 12, allowed=(0, 1, 2, 10, 11, 12))
+ALLOW_G0_IN_G96 = MdDef(20750, "ALLOW_G0_IN_G96", C, BOOL, False,
+                        "G0 logic in G96 / G961: 0 = the spindle speed stays as it is during a rapid block"
+                        " (G96 acts where F acts), 1 = the speed of the rapid block's end point is set at"
+                        " its start, so the spindle reaches it while the axes travel",
+                        "seed 003 L7748-7753; [control] the meaning of the two values")
 SPOS_TO_VDI = MdDef(20850, "SPOS_TO_VDI", C, INT, 0,
                     "bit 0 = 1: SPOS/SPOSA output the auxiliary function M19 to the PLC",
                     "seed 003 L16406-16420; [control] default", "", 0, 1)
@@ -366,6 +483,12 @@ POS_LIMIT_MINUS = MdDef(36100, "POS_LIMIT_MINUS", A, FLOAT, -1.0e8, "1st softwar
                         "[control]", "mm", -1.0e9, 1.0e9)
 POS_LIMIT_PLUS = MdDef(36110, "POS_LIMIT_PLUS", A, FLOAT, 1.0e8, "1st software limit switch plus",
                        "[control]", "mm", -1.0e9, 1.0e9)
+POS_LIMIT_MINUS2 = MdDef(36120, "POS_LIMIT_MINUS2", A, FLOAT, -1.0e8,
+                         "2nd software limit switch minus: in force instead of MD36100 while DB31.DBX12.2 = 1",
+                         "seed 003 L12835-12843, L12940; [control] default and the switchover", "mm", -1.0e9, 1.0e9)
+POS_LIMIT_PLUS2 = MdDef(36130, "POS_LIMIT_PLUS2", A, FLOAT, 1.0e8,
+                        "2nd software limit switch plus: in force instead of MD36110 while DB31.DBX12.3 = 1",
+                        "seed 003 L12835-12843, L12941; [control] default and the switchover", "mm", -1.0e9, 1.0e9)
 CONTOUR_TOL = MdDef(36400, "CONTOUR_TOL", A, FLOAT, 1.0, "tolerance band of contour monitoring (alarm 25050)",
                     "[control]", "mm", 0.0, 1.0e6)
 BRAKE_MODE_CHOICE = MdDef(36600, "BRAKE_MODE_CHOICE", A, INT, 0,
@@ -536,6 +659,11 @@ SPIND_FUNCTION_MASK = MdDef(35035, "SPIND_FUNCTION_MASK", A, INT, 0,
 SPIND_ACTIVE_AFTER_RESET = MdDef(35040, "SPIND_ACTIVE_AFTER_RESET", A, INT, 0,
                                  "own spindle reset: 0 = brake at reset/M2/M30, 1 = keep speed and direction",
                                  "seed 003 L16196-16214; [control] default", "", 0, 1, allowed=(0, 1))
+SPIND_MAX_VELO_LIMS = MdDef(43230, "SPIND_MAX_VELO_LIMS", A, FLOAT, 0.0,
+                            "setting datum SD43230 $SA_SPIND_MAX_VELO_LIMS: spindle speed limit while G96 /"
+                            " G961 / G97 are active, the start value of LIMS (0 = no limit but the gear"
+                            " stage's; kept here with the spindle's machine data)",
+                            "seed 003 L7773-7797; default 0 [project]", "rev/min", 0.0, 1.0e6)
 NUM_GEAR_STEPS = MdDef(35090, "NUM_GEAR_STEPS", A, INT, 5, "number of gear stages",
                        "seed 003 L18205-18211; [control] default", "", 1, 5)
 NUM_GEAR_STEPS2 = MdDef(35092, "NUM_GEAR_STEPS2", A, INT, 0, "gear stages of the 2nd data set (0 = off)",

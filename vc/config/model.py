@@ -16,7 +16,7 @@ from interfaces.links.can.codec import DEFAULT_TIMEOUT_US, CanSettings
 from interfaces.plant_io import PlantIoMap
 from interfaces.signals import InterfaceLayout
 from vc.config.machine_data import MachineData
-from vc.config.md_dictionary import IPO_SYSCLOCK_TIME_RATIO, SYSCLOCK_CYCLE_TIME
+from vc.config.md_dictionary import DIAMETER_AX_DEF, IPO_SYSCLOCK_TIME_RATIO, SYSCLOCK_CYCLE_TIME
 
 
 @dataclass(frozen=True, slots=True)
@@ -178,6 +178,12 @@ class ChannelConfig:
             if name == program_name:
                 return machine_axis
         return name if name in self.axes else None
+
+    def transverse_axis(self) -> str | None:
+        """The machine axis of the transverse axis (MD20100 DIAMETER_AX_DEF names a geometry axis), or
+        None: diameter programming and G96 / G961 take it (seed 003 §8, L10268-10645)."""
+        name = self.md.str(DIAMETER_AX_DEF)
+        return self.axis_for_program_name(name) if name and name in self.geometry_names else None
 
 
 PERIOD_PLC = "plc"  # with every PLC scan

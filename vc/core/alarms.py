@@ -94,6 +94,11 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         _STOP | Reaction.READ_IN_DISABLED, Clear.RESET, "[control]"),
         AlarmDefinition(10860, "Channel %1 block %2 feedrate not programmed", _STOP, Clear.RESET,
                         "seed 003 L7841-7858"),
+        AlarmDefinition(10870, "Channel %1 block %2 facing axis for constant cutting speed not defined", _STOP,
+                        Clear.RESET, "seed 003 L7846-7851 (G96 / G961 without a transverse axis in MD20100);"
+                        " [control] text"),
+        AlarmDefinition(10900, "Channel %1 block %2 no S value programmed for constant cutting speed", _STOP,
+                        Clear.RESET, "seed 003 L7857-7858; [control] text"),
         AlarmDefinition(12080, "Channel %1 block %2 syntax error in text %3", _STOP, Clear.RESET, "[control]"),
         AlarmDefinition(12550, "Channel %1 block %2 name %3 not defined or option/function not available",
                         _STOP, Clear.RESET, "[control]"),
@@ -113,6 +118,11 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
         AlarmDefinition(14092, "Channel %1 block %2 axis %3 is wrong axis type", _STOP, Clear.RESET,
                         "[control] number and text: an axis with MD30460 bit 8 (positioning axis / auxiliary"
                         " spindle only) as a path axis, or as the spindle of G33 / G331 (seed 003 L10843-10858)"),
+        AlarmDefinition(14820, "Channel %1 block %2 negative maximum spindle speed programmed for constant"
+                        " cutting speed", _STOP, Clear.RESET, "seed 003 L7853-7855 (LIMS < 0); [control] text"),
+        AlarmDefinition(16510, "Channel %1 block %2 no transverse axis existing", _STOP, Clear.RESET,
+                        "seed 003 L10283-10415, L10635-10645 (DIAMON / DIAM90 / DAC / DIC / RAC / RIC without"
+                        " a transverse axis in MD20100); [control] number and text"),
         AlarmDefinition(16800, "Channel %1 block %2 traverse instruction DC not allowed for axis %3", _STOP,
                         Clear.RESET, "seed 003 L13164"),
         AlarmDefinition(16810, "Channel %1 block %2 traverse instruction ACP not allowed for axis %3", _STOP,

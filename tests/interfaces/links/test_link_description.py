@@ -43,5 +43,6 @@ def test_the_description_says_where_the_alarm_block_is_and_what_its_codes_mean()
     location = register_map.location(catalog.resolve("ALARMS.list.in.count"))
     assert location is not None and location.table is Table.NC_TO_PLC
     assert (alarms["data_block"], alarms["input_register"], alarms["entries"]) == (100, location.register, 8)
-    assert alarms["input_register"] + 34 == register_map.registers(Table.NC_TO_PLC)  # the table's last range
+    # the alarm block is the last range but the software cams (DB10.DBB110-117, four registers behind it)
+    assert alarms["input_register"] + 34 + 4 == register_map.registers(Table.NC_TO_PLC)
     assert alarms["cleared_by"][4].startswith("emergency stop released, acknowledged with DB10.DBX56.2")

@@ -28,7 +28,7 @@ def test_the_command_prints_both_measurements_of_both_buses_and_the_figures_in_j
     for bus in BUSES:
         assert figures[f"{bus}_frames_per_s"] > 0
         assert figures[f"{bus}_lockstep_us_per_cycle"] > 0 and figures[f"{bus}_lockstep_realtime_factor"] > 0
-        # 19 + 1 frames out and 14 + 1 in every PLC period of 5 IPO cycles: 35 / 5 per cycle
+        # 20 + 1 frames out and 14 + 1 in every PLC period of 5 IPO cycles: 36 / 5 per cycle
         assert 6.0 < figures[f"{bus}_lockstep_frames_per_s"] / 1e6 * figures[f"{bus}_lockstep_us_per_cycle"] < 8.5
     text = "\n".join(lines[:-1])
     assert "throughput" in text and "lockstep" in text and "frames/s" in text and "us per IPO cycle" in text
@@ -36,13 +36,13 @@ def test_the_command_prints_both_measurements_of_both_buses_and_the_figures_in_j
 
 def test_the_burst_is_the_machines_frame_table(tmp_path: Path) -> None:
     burst = burst_of(load_machine(TURN_MILL))
-    assert [can_id for can_id, _ in burst.data] == list(range(0x200, 0x213))
+    assert [can_id for can_id, _ in burst.data] == list(range(0x200, 0x214))
     assert (burst.end, burst.answer) == (0x100, 0x101)
-    assert burst.data[0] == (0x200, 12) and burst.data[-1] == (0x212, 12)  # IB0..9, DB100.DBB60..67 (docs/can.md)
+    assert burst.data[0] == (0x200, 12) and burst.data[-1] == (0x213, 12)  # IB0..9, DB10.DBB110..117 (docs/can.md)
     moved = tmp_path / "moved.yaml"
     moved.write_text(Path(TURN_MILL).read_text(encoding="utf-8") + "can: {ids: {link: 0x80, nc_to_plc: 0x300}}\n",
                      encoding="utf-8")
     burst = burst_of(load_machine(str(moved)))
-    assert [can_id for can_id, _ in burst.data] == list(range(0x300, 0x313))
+    assert [can_id for can_id, _ in burst.data] == list(range(0x300, 0x314))
     assert (burst.end, burst.answer) == (0x80, 0x81)
     assert [len(frame.data) for frame in burst.frames()][:2] == [12, 5]

@@ -183,7 +183,9 @@ def test_the_alarm_block_time_base_and_boot_id_are_documented_at_their_registers
     count = register_map.location(catalog.resolve("ALARMS.list.in.count"))
     assert count is not None
     alarms = _section(guide, "Alarms: DB100")
-    assert f"input registers {count.register}..{register_map.registers(Table.NC_TO_PLC) - 1}" in alarms
+    cams = register_map.location(catalog.resolve("NC.basic.in.swCams[0].minus1"))
+    assert cams is not None and cams.register == register_map.registers(Table.NC_TO_PLC) - 4  # behind DB100
+    assert f"input registers {count.register}..{cams.register - 1}" in alarms
     assert f"| DBD4 | IR {count.register + 2}..{count.register + 3} |" in alarms
     time = _section(guide, "Time base, sessions and reconnecting")
     assert "IR 4..5 count the NC's IPO cycles" in time and "IR 12 is a random boot id" in time

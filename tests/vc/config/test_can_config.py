@@ -83,7 +83,7 @@ def test_the_loader_checks_what_only_the_machine_can_tell(tmp_path: Path) -> Non
     lines = len(TURN_MILL.read_text(encoding="utf-8").splitlines())
     assert [str(problem) for problem in caught.value.problems] == [
         f"{path}:{lines + 2}:8: can.ids: the link frames (0x100..0x102) overlap the NC-to-PLC data frames"
-        f" (0x101..0x113)",
+        f" (0x101..0x114)",
         f"{path}:{lines + 3}:11: can.period = 0.003 s is not a whole number of IPO cycles (2 ms)",
     ]
 

@@ -89,7 +89,7 @@ def test_sim_and_plant(turn_mill: MachineConfig) -> None:
 
 def test_plant_io(turn_mill: MachineConfig, mill: MachineConfig) -> None:
     assert turn_mill.plant_io.area_sizes() == {"I": 10, "Q": 3}  # Q2: the turret and the coolant pump
-    assert len(turn_mill.plant_io.points) == 70
+    assert len(turn_mill.plant_io.points) == 71  # with Lube.pump (Q2.4, the PLC program cams)
     assert str(turn_mill.plant_io.resolve("X1.refCam").address) == "I7.0"
     assert str(turn_mill.plant_io.resolve("MCP.feedOverride").address) == "IB3"
     assert mill.plant_io.area_sizes() == {"I": 11, "Q": 3}

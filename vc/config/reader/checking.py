@@ -115,6 +115,13 @@ class _Checker:
                                   else mdd.POS_LIMIT_PLUS),
                      f"{entry.name}: MD36100 POS_LIMIT_MINUS ({minus}) must be below"
                      f" MD36110 POS_LIMIT_PLUS ({plus})")
+        minus_2, plus_2 = data.value(mdd.POS_LIMIT_MINUS2), data.value(mdd.POS_LIMIT_PLUS2)
+        assert isinstance(minus_2, float) and isinstance(plus_2, float)
+        if minus_2 >= plus_2 and not (modulo and minus_2 != plus_2):
+            self.add(data.mark_of(mdd.POS_LIMIT_MINUS2 if data.is_written(mdd.POS_LIMIT_MINUS2)
+                                  else mdd.POS_LIMIT_PLUS2),
+                     f"{entry.name}: MD36120 POS_LIMIT_MINUS2 ({minus_2}) must be below"
+                     f" MD36130 POS_LIMIT_PLUS2 ({plus_2})")
         master = int(data.value(mdd.AXCONF_ASSIGN_MASTER_CHAN))
         if master and entry.channel and master != channel_numbers[entry.channel]:
             self.add(data.mark_of(mdd.AXCONF_ASSIGN_MASTER_CHAN),

@@ -26,7 +26,7 @@ TOP_LEVEL_KEYS = ("machine", "description", "plc_cycle_ipo", "nck", "channels", 
                   "dc_link", "plant", "plc_alarms")
 _OPTIONAL_DC_LINK_KEYS = ("precharge_time",)
 # Instance names the interface and the plant I/O vocabulary already use.
-RESERVED_NAMES = frozenset({"NC", "MODEGROUP", "HMI", "ALARMS", "MCP", "EStop", "Drives", "Lamp", "Door",
+RESERVED_NAMES = frozenset({"NC", "MODEGROUP", "HMI", "ALARMS", "MCP", "EStop", "Drives", "Lamp", "Door", "Lube",
                             "PLC", "PLCALARMS", *DEVICE_PREFIXES})  # PLC: the FMU
 MAX_CHANNELS = 10  # DB21..DB30: channel 11 would collide with DB31 of machine axis 1
 MAX_AXES = 31  # MD10000 has 31 entries

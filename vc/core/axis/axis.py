@@ -321,17 +321,21 @@ class MachineAxis:
 
     @property
     def software_limits(self) -> tuple[float, float]:
-        """MD36100 / MD36110 in the NC's coordinates.  A modulo rotary axis has them only with
+        """MD36100 / MD36110 in the NC's coordinates, MD36120 / MD36130 in their place while the PLC selects
+        the 2nd software limit switches (DB31.DBX12.2 / 12.3).  A modulo rotary axis has them only with
         DB31.DBX12.4 (L12780-12800): the limits are modulo positions, the range from the minus to
         the plus limit (across the range end where minus > plus, L12900-12905) is the turn nearest to
         the setpoint, divided from the next in the middle of the forbidden gap between them [INF]."""
-        dyn = self.dyn
+        dyn, inp = self.dyn, self.inputs
+        # DB31.DBX12.2 / 12.3: the 2nd software limit switch MD36120 / MD36130 in place of the 1st
+        limit_minus = dyn.limit_minus_2 if inp.limit_switch_2_minus else dyn.limit_minus
+        limit_plus = dyn.limit_plus_2 if inp.limit_switch_2_plus else dyn.limit_plus
         if self.modulo_range is None:
-            return dyn.limit_minus, dyn.limit_plus
+            return limit_minus, limit_plus
         size = self.modulo_range[1]
-        allowed = (dyn.limit_plus - dyn.limit_minus) % size
+        allowed = (limit_plus - limit_minus) % size
         gap = size - allowed
-        low = self.setpoint - (self.setpoint - dyn.limit_plus - gap / 2.0) % size + gap / 2.0
+        low = self.setpoint - (self.setpoint - limit_plus - gap / 2.0) % size + gap / 2.0
         return low, low + allowed
 
     @property

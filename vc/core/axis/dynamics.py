@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass
 
 from vc.config import md_dictionary as MD
+from vc.config.machine_data import MachineData
 from vc.config.model import AxisConfig
 from vc.core.axis.motion import JerkFilter
 
@@ -42,8 +43,12 @@ class AxisDynamics:
     servo_disable_delay: float
     limit_minus: float
     limit_plus: float
+    limit_minus_2: float  # MD36120 / MD36130: the 2nd software limit switches, chosen by DB31.DBX12.2 / 12.3
+    limit_plus_2: float
     brake_rapid_at_limit_switch: bool
     display_velocity_factor: float  # internal per second -> mm/min or rev/min
+    # MD12202 / MD12204: the fixed feedrates 1-4 per second (0: not set), given at power-on (fixed_feeds_of)
+    fixed_feeds: tuple[float, ...] = ()
 
 
 def dynamics_of(axis: AxisConfig) -> AxisDynamics:
@@ -80,6 +85,8 @@ def dynamics_of(axis: AxisConfig) -> AxisDynamics:
         servo_disable_delay=md.float(MD.SERVO_DISABLE_DELAY_TIME),
         limit_minus=md.float(MD.POS_LIMIT_MINUS),
         limit_plus=md.float(MD.POS_LIMIT_PLUS),
+        limit_minus_2=md.float(MD.POS_LIMIT_MINUS2),
+        limit_plus_2=md.float(MD.POS_LIMIT_PLUS2),
         brake_rapid_at_limit_switch=md.int(MD.BRAKE_MODE_CHOICE) == 1,
         display_velocity_factor=1.0 / velocity_unit,
     )
@@ -106,3 +113,19 @@ class CoupledLoop:
     kv: float
     feedforward: float
     symmetrising_time: float
+
+
+def fixed_feeds_of(nck: MachineData, axis: AxisConfig) -> tuple[float, ...]:
+    """MD12202 (linear axes, mm/min) or MD12204 (rotary axes, rev/min) per second, within MD32000."""
+    unit = 6.0 if axis.is_rotary else 1.0 / 60.0
+    top = axis.md.float(MD.MAX_AX_VELO) * unit
+    values = nck.floats(MD.PERMANENT_ROT_AX_FEED if axis.is_rotary else MD.PERMANENT_FEED)
+    return tuple(min(value * unit, top) for value in values)
+
+
+def fixed_feed(feeds: tuple[float, ...], selection: int) -> float:
+    """The fixed feedrate the selection bits name (the lowest set bit, bit 0 = value 1), 0.0 for none."""
+    if not selection:
+        return 0.0
+    index = (selection & -selection).bit_length() - 1
+    return feeds[index] if index < len(feeds) else 0.0

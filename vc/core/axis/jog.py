@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from vc.core.alarms import AlarmList
-from vc.core.axis.dynamics import AxisDynamics
+from vc.core.axis.dynamics import AxisDynamics, fixed_feed
 from vc.core.axis.jog_keys import CONTINUOUS_JOG, JogKeyState, JogSelection, TraverseKeys
 from vc.core.axis.motion import ramp, stopping_velocity
 from vc.core.axis.owner import Owner
@@ -120,7 +120,10 @@ class AxisJog:
             self.handwheel_rest = 0.0
             return
         dyn = axis.dyn
-        speed = dyn.jog_rapid_velocity if inp.rapid_key else dyn.jog_velocity
+        # DB31.DBX3.2-3.5: a fixed feedrate MD12202 / MD12204 in place of the JOG velocity (seed 003 L9692-9701)
+        speed = fixed_feed(dyn.fixed_feeds, inp.fixed_feed) if inp.fixed_feed else 0.0
+        if speed <= 0.0:
+            speed = dyn.jog_rapid_velocity if inp.rapid_key else dyn.jog_velocity
         stopped = inp.feed_stop or channel_feed_disable or not axis.drive_ready
         target = 0.0 if stopped else direction * min(speed * axis.override, limits.velocity)
         accel = min(dyn.max_accel, limits.accel)

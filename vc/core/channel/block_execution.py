@@ -32,9 +32,11 @@ from vc.core.auxiliary.output import AuxiliaryOutput
 from vc.core.auxiliary.tool_selection import ToolSelection
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.command_axis import CommandAxes
+from vc.core.axis.dynamics import fixed_feed
 from vc.core.axis.owner import Owner
 from vc.core.axis.plc_axis import PlcAxes
 from vc.core.axis.stroke_limits import BOUNDARY, StrokeStop
+from vc.core.channel.dry_run import DryRunFeed
 from vc.core.channel.interface import ChannelInputs
 from vc.core.channel.program_run import BlockPhase, ChannelState, ProgramRun, ProgramState, raise_block_alarm
 from vc.core.channel.referencing_control import ReferencingControl
@@ -60,7 +62,8 @@ class BlockExecution:
                  referencing: ReferencingControl, five_axis: FiveAxisControl, stroke: ChannelStrokeLimits,
                  spindles: SpindleFunctions, threads: ThreadRetract, stop: Callable[[], None],
                  aux: AuxiliaryOutput, tools: ToolSelection, fixed_stops: ChannelFixedStops,
-                 positioning: CommandAxes, plc_axes: PlcAxes):
+                 positioning: CommandAxes, plc_axes: PlcAxes, dry_run: DryRunFeed,
+                 permanent_feeds: tuple[float, ...]):
         self.run = run
         self.config = config
         self.name = config.name
@@ -90,6 +93,8 @@ class BlockExecution:
         self._dwell_degrees = 0.0  # G4 S: degrees the counted spindle still has to turn
         self._dwell_spindle = ""  # G4 S: the spindle whose revolutions count
         self._geometry = set(axis for axis in config.geometry_axes if axis)
+        self.dry_run = dry_run  # DB21.DBX0.6, SD42100 (``dry_run.py``)
+        self._permanent_feeds = permanent_feeds  # MD12202: the path's fixed feedrates 1-4, mm/min
 
     def _raise(self, number: int, cycle: int, block: Block, *parameters: object, axis: str = "") -> None:
         raise_block_alarm(self._alarms, self.name, number, cycle, block, *parameters, axis=axis)
@@ -134,11 +139,24 @@ class BlockExecution:
         self.run.phase = BlockPhase.BLOCK_END
         self._block_end()
 
-    @staticmethod
-    def _planned_feed(plan: BlockPlan) -> float:
+    def _planned_feed(self, plan: BlockPlan) -> float:
         """Path velocity per second to plan with; under G95 / G99 the axes' limit, which the speed of
-        the spindle lowers in every cycle (``SpindleFunctions.revolution_speed``)."""
+        the spindle lowers in every cycle (``SpindleFunctions.revolution_speed``); under dry run the
+        dry-run feed per minute (``dry_run.py``)."""
+        fixed = self._fixed_feed(plan)
+        if fixed > 0.0:
+            return fixed / 60.0
+        if self.dry_run.active and not plan.rapid:
+            return self.dry_run.feed(plan.feed, plan.feed_per_revolution, self._spindles.revolution_speed) / 60.0
         return math.inf if plan.feed_per_revolution else plan.feed / 60.0
+
+    def _fixed_feed(self, plan: BlockPlan) -> float:
+        """DB21.DBX29.0-29.3: the fixed feedrate MD12202 (mm/min, always per minute) in place of F for a
+        machining block, before the dry-run feed [INF]; 0.0 without one (seed 003 L9692-9722)."""
+        selection = self.inputs.path_fixed_feed
+        if not selection or plan.rapid or plan.tapping is not None:
+            return 0.0
+        return fixed_feed(self._permanent_feeds, selection)
 
     def brake_segment(self) -> None:
         segment = self.run.segment
@@ -427,6 +445,7 @@ class BlockExecution:
             self.run.phase = BlockPhase.BLOCK_END
             self._block_end()
             return
+        self.dry_run.take(self.inputs.dry_run)  # DB21.DBX0.6 takes effect at a block's start (MD10704)
         if plan.thread is not None:
             if self._threads.start_thread(cycle):
                 self._block_end()
@@ -464,7 +483,8 @@ class BlockExecution:
             segment = self._stroke.shortened(segment, stop.fraction, plan.path_length)
         self.stroke_stop = stop
         self.run.segment = segment
-        per_revolution = plan.feed_per_revolution and not plan.rapid
+        per_revolution = plan.feed_per_revolution and not plan.rapid and not self.dry_run.active \
+            and self._fixed_feed(plan) <= 0.0
         self._feed_per_revolution = (plan.feed / 60.0, segment.command_velocity) if per_revolution else None
         for axis in axes:
             axis.take(Owner.PATH)

@@ -13,7 +13,8 @@ cycle of its program; its parts, each in a module of its own, share one :class:`
 
 ``interface``            the DB21 signals: the PLC's requests and their edges, the states written back
 ``block_execution``      the block plan turned into motion, dwell, G74, block change, program end
-``spindle_functions``    the blocks' spindle, coupling and polygon commands, their interlocks
+``spindle_functions``    the blocks' spindle, coupling and polygon commands, their interlocks, and
+                         ``cutting_speed`` (G96 / G961: the master spindle's speed from the radius)
 ``thread_retract``       G33, fast retraction (LFON) and the channel's side of ESR
 ``stroke_limit_path``    stored stroke limits 2 and 3 on the paths and in JOG
 ``channel_referencing``  channel-specific referencing (DB21.DBX1.0, MD34110 order)
@@ -44,6 +45,8 @@ from vc.core.axis.plc_axis import PlcAxes
 from vc.core.axis.stroke_limits import StrokeLimitControl
 from vc.core.channel.block_execution import BlockExecution
 from vc.core.channel.channel_referencing import ChannelReferencing
+from vc.core.channel.cutting_speed import ConstantCuttingSpeed
+from vc.core.channel.dry_run import DryRunFeed
 from vc.core.channel.interface import ChannelInterface
 from vc.core.channel.program_run import BlockPhase, ChannelState, Mode, ProgramRun, ProgramState
 from vc.core.channel.referencing_control import ReferencingControl
@@ -77,6 +80,7 @@ class Channel:
         rapid_coding: OverrideCoding,
         dt: float,
         referencing: ReferencingControl,
+        permanent_feeds: tuple[float, ...] = (),
     ):
         self.config = config
         self.name = config.name
@@ -108,11 +112,14 @@ class Channel:
         # POS[ax]= of synchronized actions, POS / POSA of the program: the axis interpolators
         self.command_axes = CommandAxes(self.name, axes, alarms, dt)
         self.plc_axes = PlcAxes()  # FC18 and DB31.DBX28.7 (vc/core/axis/plc_axis.py), filled at power-on
+        self.dry_run = DryRunFeed(config.md, table, area)  # the dry-run feed, DB21.DBX0.6 -> 318.6
         self._execution = BlockExecution(self.run, config, axes, self.axes_by_name, self.inputs, alarms, dt,
                                          referencing, self.five_axis, self._stroke, self._spindles, self._threads,
                                          self.stop, self.aux, self.tools, self.fixed_stops, self.command_axes,
-                                         self.plc_axes)
+                                         self.plc_axes, self.dry_run, permanent_feeds)
         self._inclined: InclinedAxisControl | None = None
+        self._revolution_feed_shown = False  # DB21.DBX33.2 as written
+        self.transverse_axis = config.transverse_axis()  # MD20100: diameter programming, G96's radius
 
     # ------------------------------------------------------------------ what the NCK gives the channel
     @property
@@ -192,6 +199,18 @@ class Channel:
         """The G33 block's thread while it runs."""
         return self._threads.thread_segment
 
+    def shown_position(self, axis: str, position: float) -> float:
+        """A position as the channel shows it in program coordinates: the transverse axis in diameter
+        under DIAMON and DIAM90 (seed 003 L10360-10396)."""
+        if axis == self.transverse_axis and self.run.modal.diameter != "DIAMOF":
+            return 2.0 * position
+        return position
+
+    @property
+    def cutting_speed(self) -> ConstantCuttingSpeed:
+        """G96 / G961 of the channel (``cutting_speed.py``)."""
+        return self._spindles.cutting_speed
+
     @property
     def esr_run_on_spindle(self) -> str | None:
         """The master spindle of a thread in the ESR's MD21380."""
@@ -200,6 +219,8 @@ class Channel:
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self) -> None:
         self._interface.decode_inputs()
+        if self.run.state is not ChannelState.ACTIVE:
+            self.dry_run.take(self.inputs.dry_run)  # no block runs: the selection is taken at once (L9434-9442)
 
     def clear_edges(self) -> None:
         self._interface.clear_edges()
@@ -299,7 +320,13 @@ class Channel:
 
     # ------------------------------------------------------------------ cycle
     def program_cycle(self, cycle: int) -> None:
-        """Interpolation and block change for one IPO cycle."""
+        """Interpolation and block change for one IPO cycle, then the feed type it leaves."""
+        self._run_program(cycle)
+        if self.run.modal.per_revolution is not self._revolution_feed_shown:
+            self._revolution_feed_shown = self.run.modal.per_revolution
+            self._interface.write_feed_type(self._revolution_feed_shown)  # DB21.DBX33.2: G95 / G96 / G97
+
+    def _run_program(self, cycle: int) -> None:
         if self._channel_referencing.groups:
             self._channel_referencing.cycle(cycle)
         path_runs_on = self._threads.esr_cycle(cycle)
@@ -323,6 +350,8 @@ class Channel:
             return
         hold = (run.state is not ChannelState.ACTIVE or bool(reactions & STOP_AXES)) and not path_runs_on
         self._execution.cycle(hold, cycle)
+        if self._spindles.cutting_speed.following:
+            self._spindles.cutting_speed.cycle()  # G96 / G961: the speed of the transverse axis's new position
 
     # ------------------------------------------------------------------ spindles and couplings
     def master_spindle(self) -> str | None:

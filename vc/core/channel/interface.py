@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from interfaces.signal_groups import AxisSummary, ChannelRequests, ChannelStatus
+from interfaces.signal_groups import AxisSummary, ChannelRequests, ChannelStatus, FeedTypeStatus
 from vc.core.axis.axis import MachineAxis
 from vc.core.channel.program_run import ChannelState, ProgramRun, ProgramState
 from vc.core.interface_map import SignalTable
@@ -41,6 +41,7 @@ class ChannelInterface:
         self._decode = table.codec(ChannelInputs).decode
         self._encode_status = table.codec(ChannelStatus).encode
         self._encode_summary = table.codec(AxisSummary).encode
+        self._encode_feed_type = table.codec(FeedTypeStatus).encode
         self._area = area
         self._feed_coding = feed_coding
         self._rapid_coding = rapid_coding
@@ -75,6 +76,10 @@ class ChannelInterface:
             aborted=program is ProgramState.ABORTED, state_active=state is ChannelState.ACTIVE,
             state_interrupted=state is ChannelState.INTERRUPTED, state_reset=state is ChannelState.RESET,
             alarm_active=alarm_present, alarm_with_stop=alarm_with_stop, reference_active=reference_active))
+
+    def write_feed_type(self, revolution_feed: bool) -> None:
+        """DB21.DBX33.2: F per revolution (G95, G96, G97) in the channel's modal state (L7640-7651)."""
+        self._encode_feed_type(self._area, FeedTypeStatus(revolution_feed=revolution_feed))
 
     def write_axis_summary(self, axes: Sequence[MachineAxis], needs_reference: Sequence[MachineAxis]) -> None:
         """All axes referenced / all axes stationary (written when they change); spindles count

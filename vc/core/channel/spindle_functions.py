@@ -6,7 +6,7 @@ runs the block's SPCON / SPCOF, FA[Sn], COUP... calls, WAITC and G51.2 / G50.2 i
 holds the block where a spindle or a coupling says: the block's gear change and M70 before it
 moves, the spindle speed before machining (MD35500 / MD35510), SPOS / M19 / WAITS / COUPON /
 WAITC at its end.  G95 / G99 and G331 / G332 take the master spindle's speed from here
-(docs/sync_spindle.md).
+(docs/sync_spindle.md); G96 / G961 set it (``cutting_speed.py``, docs/feedrates.md).
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
+from vc.core.channel.cutting_speed import ConstantCuttingSpeed, CuttingSpeedState
 from vc.core.channel.interface import ChannelInputs
 from vc.core.channel.program_run import raise_block_alarm
 from vc.core.program.block_plan import BlockPlan, ModalState
@@ -43,6 +44,7 @@ class SpindleFunctions:
         self.polygon: PolygonTurning | None = None
         self._coupling_feeds: dict[str, float] = {}  # FA[Sn], deg/min (modal)
         self.waits: list[tuple[str, BlockChange | None]] = []  # COUPON / WAITC block-change conditions
+        self.cutting_speed = ConstantCuttingSpeed(config, axes_by_name, self.spindles)  # G96 / G961
 
     def _raise(self, number: int, cycle: int, block: Block, *parameters: object, axis: str = "") -> None:
         raise_block_alarm(self._alarms, self.name, number, cycle, block, *parameters, axis=axis)
@@ -65,6 +67,9 @@ class SpindleFunctions:
         self.waits = []
 
     def reset_spindles(self, program_end: bool) -> None:
+        """Reset and program end: G96 / G961 end first, so that the spindle's reset keeps (MD35040 = 1)
+        the speed they set (L16209-16211)."""
+        self.cutting_speed.end()
         for spindle in self.spindles.values():
             spindle.reset(program_end=program_end)
 
@@ -82,6 +87,8 @@ class SpindleFunctions:
             if self._coupled_spindle_command(name, command, cycle, block):
                 continue
             self.spindles[name].program(command, cycle, self._alarms, block.label, suppress(self.spindles[name]))
+        if plan.constant_cutting or plan.spindle_limits or self.cutting_speed.state is not CuttingSpeedState.OFF:
+            self.cutting_speed.block(plan, self.master_spindle())
         catching_up = False
         for spindle in self.spindles.values():
             if spindle.suppressed_gear is not None and not suppress(spindle):

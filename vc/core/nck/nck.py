@@ -27,7 +27,7 @@ own skip-guards (most of the machine rests in most cycles).  Why each comes wher
    orthogonal axis along a manual motion, every axis that moves or was commanded runs its control
    loop, drive and encoder, then travel to fixed stop detects its stop and watches its window
    (only while one is selected), and the couplings monitor their synchronism on the new actual
-   values.
+   values, and the software cams of the axes whose cams are active set their signals.
 9. **extended stop and retract**: synchronized actions, the channels' and the drives' ESR
    reactions, the DC link.  After position control, so that a trigger of this cycle sees this
    cycle's positions; before the alarm reactions, which must not cut off a retraction.
@@ -138,6 +138,7 @@ class Nck:
         self.polygons = parts.polygons
         self.manual = parts.manual
         self.fixed_stops = parts.fixed_stops
+        self.software_cams = parts.software_cams
         self._changing_drives: list[MachineAxis] = []  # drives changing a data set: ticked until done
         # setpoint switchover: the drives several axes share, by axis; ticked while a request waits
         self._shared_drive_of = {axis.name: drive for drive in parts.shared_drives for axis in drive.axes}
@@ -239,6 +240,8 @@ class Nck:
             if fixed_stop.busy:
                 fixed_stop.cycle(self.cycle)  # detection and monitoring on the new actual values
         self.couplings.monitor(self.cycle)
+        if self.software_cams.busy:
+            self.software_cams.cycle()  # the cam signals of the active axes on the new actual values
         return moved
 
     def _drive_data_sets(self) -> None:
@@ -320,6 +323,9 @@ class Nck:
                         self._switching_drives.append(shared)
                 axis.override = self._axis_coding.factor(axis.inputs.override_raw, axis.inputs.override_active)
                 self._hardware_limit_switches(axis)
+                cams = self.software_cams.of.get(axis.name)
+                if cams is not None:
+                    self.software_cams.decode_inputs(cams)  # DBX2.0, the measuring system (chapter 21)
                 spindle = self._spindle_of.get(axis.name)
                 if spindle is not None:
                     if spindle.decode_inputs():
@@ -508,13 +514,16 @@ class Nck:
 
     def program_position(self, axis: str) -> float:
         """The absolute (program) position the NC shows for ``axis``: Cartesian for the pair of an
-        inclined-axis control (seed 000 L38-41), else the machine position."""
-        for inclined in self.inclined_axes:
-            position = inclined.program_position(axis)
-            if position is not None:
-                return position
+        inclined-axis control (seed 000 L38-41), else the machine position; a transverse axis in
+        diameter under DIAMON / DIAM90 (seed 003 §8)."""
+        cartesian = next((position for inclined in self.inclined_axes
+                          if (position := inclined.program_position(axis)) is not None), None)
         item = self.axes_by_name[axis]
-        return item.shown(item.actual - item.drf_offset)  # the DRF offset is not shown (L36423)
+        # the DRF offset is not shown (L36423)
+        position = cartesian if cartesian is not None else item.shown(item.actual - item.drf_offset)
+        for channel in self.channels:
+            position = channel.shown_position(axis, position)  # DIAMON / DIAM90: in diameter
+        return position
 
     def physical_positions(self) -> dict[str, float]:
         return {axis.name: axis.physical for axis in self.axes}

@@ -15,6 +15,7 @@ by every part; ``signals_used`` collects what the NC models).
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -28,10 +29,12 @@ from vc.config.model import MachineConfig
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
 from vc.core.axis.drive_messages import DriveMessages
+from vc.core.axis.dynamics import fixed_feeds_of
 from vc.core.axis.index_variables import index_variable_reader
 from vc.core.axis.parameter_sets import ServoParameterSets, selected_by_the_plc
 from vc.core.axis.plc_axis import PlcAxis
 from vc.core.axis.setpoint_switchover import SharedDrive
+from vc.core.axis.software_cams import SoftwareCams
 from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
@@ -82,6 +85,7 @@ class NckParts:
     manual: ManualFunctions
     fixed_stops: list[FixedStop]  # travel to fixed stop of the axes whose MD37000 allows it
     shared_drives: list[SharedDrive]  # setpoint switchover: the axes of one drive (equal MD30110)
+    software_cams: SoftwareCams  # the cam pairs of MD10450 by axis (seed 003 chapter 21)
 
 
 def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memory: NcMemory, alarms: AlarmList,
@@ -101,6 +105,8 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     mode_group = ModeGroup(SignalTable(catalog, InstanceKind.MODE_GROUP, used), image.area("DB11"))
 
     axes = _axes(machine, axis_table, image, memory, alarms, dt, physical)
+    for axis in axes:  # MD12202 / MD12204: the fixed feedrates of JOG and of the path (seed 003 L9692-9722)
+        axis.dyn = dataclasses.replace(axis.dyn, fixed_feeds=fixed_feeds_of(nck, axis.config))
     axes_by_name = {axis.name: axis for axis in axes}
     referencing = ReferencingControl(machine, axes, memory, dt, alarms)
     feed_coding = OverrideCoding(nck.bool(MD.OVR_FEED_IS_GRAY_CODE), nck.floats(MD.OVR_FACTOR_FEEDRATE),
@@ -112,7 +118,8 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
 
     channels = [
         Channel(channel, channel_table, image.area(f"DB{channel.db}"),
-                [axes_by_name[name] for name in channel.axes], alarms, feed_coding, rapid_coding, dt, referencing)
+                [axes_by_name[name] for name in channel.axes], alarms, feed_coding, rapid_coding, dt, referencing,
+                nck.floats(MD.PERMANENT_FEED))
         for channel in machine.channels
     ]
     inclined_axes: list[InclinedAxisControl] = []
@@ -170,7 +177,9 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
                     mode_group, axes, axes_by_name, axis_coding, referencing,
                     channels, {channel.name: channel for channel in channels}, inclined_axes, retractions, spindles,
                     spindle_of, couplings, esr, dc_link, polygons, manual, fixed_stops,
-                    _shared_drives(axes, axis_table, image))
+                    _shared_drives(axes, axis_table, image),
+                    SoftwareCams(nck, axes, nck_table, axis_table, image.area("DB10"),
+                                 {axis.name: image.area(f"DB{axis.config.db}") for axis in axes}))
 
 
 def _shared_drives(axes: list[MachineAxis], table: SignalTable, image: ProcessImage) -> list[SharedDrive]:

@@ -20,6 +20,8 @@ from vc.core.axis.index_jog import INDEX_JOG_STATES
 from vc.core.axis.jog_keys import JOG_KEY_STATES
 from vc.core.axis.plc_axis import FC18_JOB_STATES, PLC_AXIS_TYPES
 from vc.core.axis.setpoint_switchover import SETPOINT_SWITCHOVER_STATES
+from vc.core.axis.software_cams import SOFTWARE_CAM_STATES
+from vc.core.channel.cutting_speed import CUTTING_SPEED_STATES
 from vc.core.channel.program_run import CHANNEL_STATES, PROGRAM_STATES
 from vc.core.fixed_stop.fixed_stop import FIXED_STOP_STATES
 from vc.core.nck.manual_retraction import MANUAL_RETRACTION_STATES
@@ -53,6 +55,7 @@ PUBLISHED: tuple[Published[Any], ...] = (
     Published(CHANNEL_STATES, lambda nck: [(channel.name, channel.run) for channel in nck.channels]),
     Published(PROGRAM_STATES, lambda nck: [(channel.name, channel.run) for channel in nck.channels]),
     Published(AUX_OUTPUT_STATES, lambda nck: [(channel.name, channel.aux) for channel in nck.channels]),
+    Published(CUTTING_SPEED_STATES, lambda nck: [(channel.name, channel.cutting_speed) for channel in nck.channels]),
     Published(REFERENCING, lambda nck: [(axis.name, nck.referencing.of[axis.name])
                                         for axis in nck.axes if not axis.is_spindle]),
     Published(SPINDLE_MODES, lambda nck: [(spindle.name, spindle) for spindle in nck.spindles]),
@@ -73,6 +76,7 @@ PUBLISHED: tuple[Published[Any], ...] = (
                                            for name, plc in channel.plc_axes.by_name.items()]),
     Published(FC18_JOB_STATES, lambda nck: [(name, plc) for channel in nck.channels
                                             for name, plc in channel.plc_axes.by_name.items()]),
+    Published(SOFTWARE_CAM_STATES, lambda nck: [(name, cams) for name, cams in nck.software_cams.of.items()]),
     Published(INDEX_JOG_STATES, lambda nck: [(axis.name, axis.index_jog) for axis in nck.axes
                                              if axis.index_jog is not None]),
     Published(JOG_KEY_STATES, lambda nck: [(axis.name, axis.jog.keys) for axis in nck.axes if not axis.is_spindle]),

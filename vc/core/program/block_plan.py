@@ -55,6 +55,13 @@ class ModalState:
     block_end: str = EXACT_STOP_FINE  # G60 + G601 / G602 / G603; G64 ends at interpolation end
     feed: float | None = None  # F: path feed in mm/min (G94) or mm per master spindle revolution (G95)
     per_revolution: bool = False  # group 15: G94 (reset value) / G95, the ISO G98 / G99 of seed 002 alike
+    # group 15 constant cutting speed: "G96" (F in mm/rev) / "G961" (F in mm/min) while it is selected,
+    # "" under G94 / G95 / G97 / G971; the cutting speed in m/min, kept for a re-selection (L7666-7668)
+    constant_cutting: str = ""
+    cutting_speed: float | None = None
+    # group 29: DIAMOF (reset value) / DIAMON (the transverse axis's end points in diameter) / DIAM90
+    # (in diameter with G90, in radius with G91), seed 003 §8.1, L10360-10415
+    diameter: str = "DIAMOF"
     polygon: bool = False  # G51.2 (polygon turning) until G50.2 (seed 002)
     five_axis: FiveAxisModal = field(default_factory=FiveAxisModal)  # G43.4 / G43 / G68.2 (seed 001)
     # group 1 thread modes: "G33" (thread cutting), "G331"/"G332" (tapping); "" after G0/G1
@@ -70,6 +77,9 @@ class ModalState:
         self.block_end = EXACT_STOP_FINE
         self.feed = None
         self.per_revolution = False
+        self.constant_cutting = ""
+        self.cutting_speed = None
+        self.diameter = "DIAMOF"
         self.polygon = False
         self.five_axis.reset()
         self.thread = ""
@@ -110,6 +120,9 @@ class BlockPlan:
     rapid: bool = True
     feed: float = 0.0  # mm/min, or mm/rev with feed_per_revolution
     feed_per_revolution: bool = False  # G95 / G99: the channel multiplies F by the spindle speed each cycle
+    constant_cutting: str = ""  # "G96" / "G961": the master spindle's speed follows the transverse axis
+    cutting_speed: float = 0.0  # m/min, with constant_cutting
+    spindle_limits: dict[str, float] = field(default_factory=dict)  # LIMS: machine axis of the spindle -> rev/min
     dwell: float = 0.0  # seconds
     program_stop: bool = False  # M0
     optional_stop: bool = False  # M1: stops only with DB21.DBX0.5 "activate M01"

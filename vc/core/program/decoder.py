@@ -22,6 +22,10 @@ from vc.core.program.program import Block, ValueFunction, Word
 
 ALARM_WRONG_AXIS_TYPE = 14092  # [control] "axis %3 is wrong axis type": MD30460 bit 8 as a path axis
 _END_POINT_FUNCTIONS = ("AC", "IC", *ROTARY_MODES)  # the value functions of an axis's end point
+# DAC / DIC / RAC / RIC: one value of the transverse axis in diameter or radius, absolute or incremental,
+# whatever DIAMON / DIAM90 / DIAMOF say (seed 003 L10336-10347): (mode, divisor)
+DIAMETER_FUNCTIONS = {"DAC": ("AC", 2.0), "DIC": ("IC", 2.0), "RAC": ("AC", 1.0), "RIC": ("IC", 1.0)}
+ALARM_NO_TRANSVERSE_AXIS = 16510  # DIAMON / DIAM90 / DAC ... without a transverse axis [control]
 
 
 class BlockDecoder:
@@ -88,6 +92,11 @@ class BlockDecoder:
         self.fail(16105, self.channel.name, self.block.label, name)
         return None
 
+    def transverse_axis(self) -> str | None:
+        """The machine axis of the channel's transverse axis (MD20100: a geometry axis name), or None."""
+        axis = self.channel.transverse_axis()
+        return axis if axis in self.axes else None
+
     def machine_axis(self, name: str) -> str | None:
         """The machine axis of this channel that ``name`` (geometry, channel or machine axis name) means."""
         machine_axis = self.channel.axis_for_program_name(name)
@@ -129,11 +138,21 @@ class BlockDecoder:
             return self._coded_end_point(machine_axis, name, value, given)
         if isinstance(value, ValueFunction) and value.name in _END_POINT_FUNCTIONS:
             mode, number = value.name, value.value
+        elif isinstance(value, ValueFunction) and value.name in DIAMETER_FUNCTIONS:
+            if machine_axis != self.transverse_axis():
+                self.fail(ALARM_NO_TRANSVERSE_AXIS, self.channel.name, self.block.label, name, axis=machine_axis)
+                return None
+            mode, divisor = DIAMETER_FUNCTIONS[value.name]
+            number = value.value / divisor
         elif isinstance(value, float):
             mode, number = "G90" if self.modal.absolute else "IC", value
         else:
             self.unknown(f"{name}={value}")
             return None
+        if self.modal.diameter != "DIAMOF" and isinstance(value, (float, ValueFunction)) and \
+                not (isinstance(value, ValueFunction) and value.name in DIAMETER_FUNCTIONS) and \
+                machine_axis == self.transverse_axis() and (mode != "IC" or self.modal.diameter == "DIAMON"):
+            number /= 2.0  # DIAMON: every end point in diameter; DIAM90: the absolute ones (L10360-10415)
         if mode == "IC" and self.plan.five_axis is not None:
             self.plan.five_axis.incremental_axes = True
         axis = self.axes[machine_axis]

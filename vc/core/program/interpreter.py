@@ -35,6 +35,7 @@ from vc.core.program.fixed_stop_words import FIXED_STOP_WORDS, fixed_stop_word
 from vc.core.program.motion_words import (
     PITCH_OF_GEOMETRY_AXIS,
     circle_block,
+    diameter_programming,
     f_word,
     five_axis_word,
     g_word,
@@ -60,10 +61,12 @@ from vc.core.program.program import (
 )
 from vc.core.program.retract_words import RETRACT_CALLS, RETRACT_KEYWORDS, retract_assignment, synchronized_action
 from vc.core.program.spindle_words import (
+    constant_cutting_speed,
     coupling_call,
     polygon_block,
     s_word,
     spcon,
+    spindle_limit,
     spindle_m,
     spos,
     synchronism_threshold,
@@ -107,6 +110,10 @@ def _output_word(kind: str) -> Callable[[BlockDecoder, float], None]:
     return lambda decoder, value: aux_words.output(decoder, kind, 0, value)
 
 
+def _diameter_keyword(keyword: str) -> Callable[[BlockDecoder], None]:
+    return lambda decoder: diameter_programming(decoder, keyword)
+
+
 _WORD_HANDLERS: dict[str, Callable[[BlockDecoder, float], None]] = {"G": g_word, "M": _m_word, "F": f_word,
                                                                   "S": _s_word, "R": radius_word,
                                                                   **{kind: _output_word(kind) for kind in "TDH"},
@@ -118,6 +125,7 @@ _KEYWORD_HANDLERS: dict[str, Callable[[BlockDecoder], None]] = {
     "SPCOF": lambda decoder: spcon(decoder, None, False),
     "WAITS": lambda decoder: waits(decoder, None),
     "DRFOF": lambda decoder: setattr(decoder.plan, "delete_drf", True),
+    **{keyword: _diameter_keyword(keyword) for keyword in ("DIAMON", "DIAM90", "DIAMOF", "DIAMCYCOF")},
     **RETRACT_KEYWORDS,
 }
 _CALL_HANDLERS: dict[str, Callable[[BlockDecoder, Call], None]] = {
@@ -221,6 +229,9 @@ def _assignment(decoder: BlockDecoder, item: Assignment) -> None:
         if speed is not None:
             _s_function(decoder, *speed)
         return
+    if item.name == "LIMS":
+        spindle_limit(decoder, item.index, item.value)
+        return
     if item.name == "CR" and not item.index and isinstance(item.value, float):
         decoder.radius_word = item.value  # the SINUMERIK's circle radius (the ISO dialect's R)
         return
@@ -249,6 +260,8 @@ def _auxiliary_assignment(decoder: BlockDecoder, item: Assignment) -> None:
 
 def _finish(decoder: BlockDecoder) -> None:
     modal, plan, channel = decoder.modal, decoder.plan, decoder.channel
+    if modal.constant_cutting:
+        constant_cutting_speed(decoder)  # the S of the block is the cutting speed (G4 S: revolutions)
     for axis, command in plan.spindles.items():
         if command.position is not None:
             aux_words.implicit_spindle_function(decoder, axis, 19)  # SPOS / SPOSA (L16406-16455)

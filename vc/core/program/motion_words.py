@@ -19,10 +19,11 @@ from vc.core.program.block_plan import (
     EXACT_STOP_COARSE,
     EXACT_STOP_FINE,
     INTERPOLATION_END,
+    ModalState,
     Tapping,
 )
 from vc.core.program.commands import PolygonCommand, SpindleCommand
-from vc.core.program.decoder import BlockDecoder
+from vc.core.program.decoder import ALARM_NO_TRANSVERSE_AXIS, BlockDecoder
 from vc.core.program.five_axis_program import FIVE_AXIS_ADDRESSES, FIVE_AXIS_G_CODES, TILTED_PLANE, FiveAxisWords
 from vc.core.program.program import Call, Word
 
@@ -74,10 +75,11 @@ def g_word(decoder: BlockDecoder, value: float) -> None:
     elif code in (94, 95, 98, 99):
         # G94 / G95, or G98 / G99 as the GSK programs of seed 002 write them (L241): a change of the
         # feed type wants a new F, the old one is in the other unit (else alarm 10860) [control]
-        per_revolution = code in (95, 99)
-        if per_revolution != modal.per_revolution:
-            modal.feed = None
-        modal.per_revolution = per_revolution
+        feed_type(modal, code in (95, 99), "")
+    elif code in (96, 961, 97, 971):
+        # constant cutting speed G96 (F in mm/rev, as G95) / G961 (F in mm/min, as G94); G97 / G971
+        # cancel it and keep the last speed, F per revolution / per minute (seed 003 L7654-7745)
+        feed_type(modal, code in (96, 97), f"G{code:g}" if code in (96, 961) else "")
     elif code == 51.2:
         decoder.plan.polygon = PolygonCommand(True)
     elif code == 50.2:
@@ -86,6 +88,25 @@ def g_word(decoder: BlockDecoder, value: float) -> None:
         decoder.plan.five_axis.codes.append(code)  # the channel's five-axis control checks and applies them
     else:
         decoder.unknown(f"G{value:g}")
+
+
+def diameter_programming(decoder: BlockDecoder, keyword: str) -> None:
+    """DIAMON / DIAM90 / DIAMOF (G group 29, channel-modal): the transverse axis (MD20100) in diameter
+    or radius (seed 003 §8.1, L10283-10415); DIAMCYCOF is the radius programming of cycles and acts as
+    DIAMOF here [control].  Without a transverse axis DIAMON / DIAM90 raise 16510 [control]."""
+    if keyword in ("DIAMON", "DIAM90") and decoder.transverse_axis() is None:
+        decoder.fail(ALARM_NO_TRANSVERSE_AXIS, decoder.channel.name, decoder.block.label, keyword)
+        return
+    decoder.modal.diameter = "DIAMOF" if keyword == "DIAMCYCOF" else keyword
+
+
+def feed_type(modal: ModalState, per_revolution: bool, constant_cutting: str) -> None:
+    """A G word of group 15: a change of the feed type wants a new F, the old one is in the other
+    unit (else alarm 10860) [control]."""
+    if per_revolution != modal.per_revolution:
+        modal.feed = None
+    modal.per_revolution = per_revolution
+    modal.constant_cutting = constant_cutting
 
 
 def f_word(decoder: BlockDecoder, value: float) -> None:

@@ -14,6 +14,7 @@ from vc.core.program.commands import (
     SYNCHRONISM_THRESHOLDS,
     CouplingCommand,
     PolygonCommand,
+    SpindleCommand,
     block_change_of,
     kind_of,
 )
@@ -63,6 +64,49 @@ def s_word(decoder: BlockDecoder, value: float, number: int | None = None) -> No
             command.direction = 3 if value > 0 else (4 if value < 0 else 5)
         return
     command.speed = value
+
+
+def spindle_limit(decoder: BlockDecoder, index: str, value: object) -> None:
+    """LIMS=<rev/min> (the master spindle) / LIMS[<n>]=: the speed limit of G96 / G961 / G97, up to
+    four in a block (seed 003 L7780-7790); a negative value raises 14820 (L7853-7855)."""
+    number = int(index[1:] if index[:1] == "S" else index) if index.lstrip("S").isdigit() else None
+    if (index and number is None) or not isinstance(value, float):
+        decoder.fail(12080, decoder.channel.name, decoder.block.label, f"LIMS[{index}]={value}" if index
+                     else f"LIMS={value}")  # [control]
+        return
+    if value < 0.0:
+        decoder.fail(14820, decoder.channel.name, decoder.block.label)
+        return
+    if number is None:
+        number = decoder.channel.md.int(MD.SPIND_DEF_MASTER_SPIND)
+    axis = next((name for name, axis in decoder.axes.items() if axis.config.spindle_number == number), None)
+    if axis is None:
+        decoder.fail(16105, decoder.channel.name, decoder.block.label, number)
+        return
+    decoder.plan.spindle_limits[axis] = value
+
+
+def constant_cutting_speed(decoder: BlockDecoder) -> None:
+    """G96 / G961 selected: the master spindle's S of the block is the cutting speed in m/min
+    (L7661-7668), which the first selection must program (10900); a transverse axis must be defined
+    in MD20100 (10870, L7846-7851)."""
+    modal, plan, channel = decoder.modal, decoder.plan, decoder.channel
+    master = channel.md.int(MD.SPIND_DEF_MASTER_SPIND)
+    axis = next((name for name, axis in decoder.axes.items() if axis.config.spindle_number == master), None)
+    command = plan.spindles.get(axis) if axis is not None else None
+    if axis is not None and command is not None and command.speed is not None and not decoder.dwell_requested:
+        modal.cutting_speed = command.speed
+        command.speed = None
+        if command == SpindleCommand():
+            del plan.spindles[axis]  # the S was the cutting speed alone
+    if decoder.transverse_axis() is None:
+        decoder.fail(10870, channel.name, decoder.block.label)
+        return
+    if modal.cutting_speed is None:
+        decoder.fail(10900, channel.name, decoder.block.label)
+        return
+    plan.constant_cutting = modal.constant_cutting
+    plan.cutting_speed = modal.cutting_speed
 
 
 def spos(decoder: BlockDecoder, name: str, index: str, value: object) -> None:

@@ -80,6 +80,10 @@ class SpeedControl:
         position_control_limit = gears.gear_float(MD.GEAR_STEP_PC_MAX_VELO_LIMIT)
         return min(limit, position_control_limit) if position_control_limit > 0.0 else limit
 
+    def min_speed(self) -> float:
+        """MD35140 of the active gear, rev/min: the least set speed while it turns."""
+        return self._gears.gear_float(MD.GEAR_STEP_MIN_VELO_LIMIT)
+
     def positioning_speed(self) -> float:
         """MD35300 of the active gear, rev/min: positioning, and a coupled FS's SPOS without FA."""
         return self._gears.gear_float(MD.SPIND_POSCTRL_VELO)
@@ -93,7 +97,7 @@ class SpeedControl:
         (after the M3/M4 inversion); ``held``: feed stop or a coupled FS's spindle stop.  Returns the
         velocity command, deg/s."""
         maximum = self.max_speed(position_control)
-        minimum = self._gears.gear_float(MD.GEAR_STEP_MIN_VELO_LIMIT)
+        minimum = self.min_speed()
         stopped = direction == 0 or wanted == 0.0 or held
         self.limited = direction != 0 and wanted > maximum
         self.raised = not stopped and 0.0 < wanted < minimum

@@ -125,6 +125,7 @@ class Spindle:
         self.sync_speed_reached = False  # following spindle: the differential speed is reached (83.5)
         self.start_keys_locked = False  # manual retraction: DBX30.1 / 30.2 start nothing (L35582-35588)
         self.esr_stopped = False  # stopped by its single-axis ESR until a reset (vc/core/retraction/esr.py)
+        self.constant_cutting_speed = False  # G96 / G961 set its speed (vc/core/channel/cutting_speed.py)
         self.alarm_version = -1
         self._apply_gear_data()
         self._apply_default_mode()
@@ -321,6 +322,11 @@ class Spindle:
         self.spcon = on
         if self.mode in (SpindleMode.CONTROL, SpindleMode.SYNCHRONOUS):
             self.set_position_control(on or self.mode is SpindleMode.SYNCHRONOUS)
+
+    def show_constant_cutting_speed(self, on: bool) -> None:
+        """DB31.DBX84.0: the channel's G96 / G961 sets this spindle's speed."""
+        self.constant_cutting_speed = on
+        self.quiet = False
 
     def show_speed(self, speed: float) -> None:
         self._encode_speed(self._area, SpindleSpeed(s_value=speed))
@@ -591,7 +597,7 @@ class Spindle:
         clockwise, in_position = self.axis.velocity > self.axis.dyn.standstill_velocity, self.in_position()
         # a plain tuple first: compared every cycle, the status is built (by keyword) only when it changed
         shown = (gear, dialog, speed.at_chuck_limit, limited, raised, reached, clockwise, mode, in_position,
-                 self.m_function, self.parameter_set)
+                 self.m_function, self.parameter_set, self.constant_cutting_speed)
         if shown != self._shown:
             self._shown = shown
             self._encode_status(self._area, SpindleStatus(
@@ -599,7 +605,8 @@ class Spindle:
                 setpoint_limited=limited, setpoint_raised=raised, speed_reached=reached, clockwise=clockwise,
                 control_mode=mode is SpindleMode.CONTROL, oscillation_mode=mode is SpindleMode.OSCILLATION,
                 positioning_mode=mode is SpindleMode.POSITIONING, spindle_mode=mode is not SpindleMode.AXIS,
-                in_position=in_position, m_function=self.m_function, parameter_set=self.parameter_set))
+                in_position=in_position, m_function=self.m_function, parameter_set=self.parameter_set,
+                constant_cutting_speed=self.constant_cutting_speed))
         if self.position_control != self._position_control_shown:
             self._position_control_shown = self.position_control
             self.axis.position_control = self.position_control

@@ -87,24 +87,25 @@ def test_frame_lengths_identifiers_and_sizes(settings: CanSettings) -> None:
 def test_turn_mill_frames_as_the_docstring_draws_them() -> None:
     nc = layout().slots[Direction.NC_TO_PLC]
     plc = layout().slots[Direction.PLC_TO_NC]
-    assert (len(nc), len(plc)) == (19, 15)
+    assert (len(nc), len(plc)) == (20, 15)
     assert [(hex(s.can_id), s.name, s.length) for s in nc[:5]] == [
         ("0x200", "NC_I_0_9", 12), ("0x201", "NC_DB10_106_109", 5), ("0x202", "NC_DB11_6_7", 3),
         ("0x203", "NC_DB19_20_20", 2), ("0x204", "NC_DB21_32_93", 64)]
     assert (hex(plc[3].can_id), plc[3].name, plc[3].length) == ("0x403", "PLC_DB19_0_0", 2)
-    assert (hex(nc[-8].can_id), nc[-8].name, nc[-8].length) == ("0x20b", "NC_DB31_60_105", 48)
-    assert [(hex(s.can_id), s.name, s.length) for s in nc[-2:]] == [
-        ("0x211", "NC_DB100_0_59", 64), ("0x212", "NC_DB100_60_67", 12)]  # the alarm block, a dword not cut
+    assert (hex(nc[-9].can_id), nc[-9].name, nc[-9].length) == ("0x20b", "NC_DB31_60_105", 48)
+    assert [(hex(s.can_id), s.name, s.length) for s in nc[-3:]] == [
+        ("0x211", "NC_DB100_0_59", 64), ("0x212", "NC_DB100_60_67", 12),  # the alarm block, a dword not cut
+        ("0x213", "NC_DB10_110_117", 12)]  # the software cams, behind every block (link version 5)
     assert (hex(plc[8].can_id), plc[8].name) == ("0x408", "PLC_DB31_0_43")
     assert (hex(plc[-1].can_id), plc[-1].name, plc[-1].length) == ("0x40e", "PLC_DB2_180_187", 12)  # behind the axes
     classic = layout(CanSettings(fd=False))
-    assert (len(classic.slots[Direction.NC_TO_PLC]), len(classic.slots[Direction.PLC_TO_NC])) == (109, 63)
+    assert (len(classic.slots[Direction.NC_TO_PLC]), len(classic.slots[Direction.PLC_TO_NC])) == (111, 63)
 
 
 def test_identifiers_that_clash_or_overflow_are_refused_with_their_ranges() -> None:
     with pytest.raises(CanMapError) as caught:
         CanLayout.build(catalog(), PLANT.area_sizes(), CanSettings(nc_to_plc_id=0x102))
-    assert str(caught.value) == ("the link frames (0x100..0x102) overlap the NC-to-PLC data frames (0x102..0x114)")
+    assert str(caught.value) == ("the link frames (0x100..0x102) overlap the NC-to-PLC data frames (0x102..0x115)")
     with pytest.raises(CanMapError) as caught:
         CanLayout.build(catalog(), PLANT.area_sizes(), CanSettings(plc_to_nc_id=0x7FA))
     assert str(caught.value) == ("the PLC-to-NC data frames need identifiers 0x7FA..0x808; standard identifiers"

@@ -358,3 +358,102 @@ def test_circle_alarms(dec: Decoder, text: str, number: int, detail: str) -> Non
 def test_an_arc_without_feed_raises_10860(dec: Decoder) -> None:
     _, alarm = dec("G2 I-20")
     assert alarm is not None and alarm.number == 10860
+
+
+# ------------------------------------------------------------------------------ constant cutting speed G96 / G961
+
+
+@pytest.fixture
+def lathe() -> Decoder:
+    return Decoder(ABSOLUTE_XYZ.replace("CHAN1: {MD20700: 0}", "CHAN1: {MD20700: 0, MD20100: X}"))
+
+
+def test_g96_takes_s_as_the_cutting_speed_and_f_per_revolution(lathe: Decoder) -> None:
+    plan = lathe.ok("G96 S230 M3 G1 X10 F0.2")
+    assert (plan.constant_cutting, plan.cutting_speed, plan.feed_per_revolution) == ("G96", 230.0, True)
+    command = plan.spindles["SP1"]
+    assert (command.speed, command.direction) == (None, 3)  # S is no spindle speed under G96
+    assert [(aux.kind, aux.value) for aux in plan.aux_functions if aux.kind == "S"] == [("S", 230.0)]
+    assert lathe.ok("X20").constant_cutting == "G96"  # modal
+
+
+def test_g961_is_the_cutting_speed_with_f_per_minute_and_g97_g971_end_it(lathe: Decoder) -> None:
+    plan = lathe.ok("G961 S100 G1 X10 F300")
+    assert (plan.constant_cutting, plan.feed_per_revolution, plan.feed) == ("G961", False, 300.0)
+    plan = lathe.ok("G97 S800 X20 F0.1")
+    assert (plan.constant_cutting, plan.feed_per_revolution, plan.spindles["SP1"].speed) == ("", True, 800.0)
+    plan = lathe.ok("G971 X30 F200")
+    assert (plan.constant_cutting, plan.feed_per_revolution) == ("", False)
+
+
+def test_g96_selected_again_keeps_the_last_cutting_speed_and_reset_forgets_it(lathe: Decoder) -> None:
+    lathe.ok("G96 S180")
+    lathe.ok("G97")
+    assert lathe.ok("G96").cutting_speed == 180.0  # L7666-7668
+    lathe.modal.reset()
+    _, alarm = lathe("N10 G96")
+    assert alarm is not None and alarm.number == 10900
+
+
+def test_g4_s_under_g96_counts_revolutions(lathe: Decoder) -> None:
+    lathe.ok("G96 S180")
+    plan = lathe.ok("G4 S3")
+    assert (plan.dwell_revolutions, plan.cutting_speed) == (3.0, 180.0)
+
+
+@pytest.mark.parametrize(("text", "number"), [("G96 S100", 10870), ("G961 S100", 10870)])
+def test_g96_without_a_transverse_axis_raises_10870(dec: Decoder, text: str, number: int) -> None:
+    _, alarm = dec(f"N10 {text}")
+    assert alarm is not None and alarm.number == number
+
+
+def test_lims_limits_the_master_spindle_or_spindle_n_and_a_negative_value_raises_14820(lathe: Decoder) -> None:
+    assert lathe.ok("LIMS=2500").spindle_limits == {"SP1": 2500.0}
+    assert lathe.ok("LIMS[2]=1200").spindle_limits == {"SP2": 1200.0}
+    _, alarm = lathe("N10 G96 S100 LIMS=-1")
+    assert alarm is not None and alarm.number == 14820
+    _, alarm = lathe("N20 LIMS[7]=100")
+    assert alarm is not None and alarm.number == 16105
+
+
+# ------------------------------------------------------------------------------ transverse axis: DIAMON / DIAM90
+
+
+def test_diamon_halves_absolute_and_incremental_end_points_of_the_transverse_axis_only(lathe: Decoder) -> None:
+    plan = lathe.ok("DIAMON G1 X200 Z100 F100")
+    assert (plan.targets["X1"], plan.targets["Z1"]) == (100.0, 100.0)
+    assert lathe.ok("G91 X-20").targets["X1"] == pytest.approx(lathe.axes["X1"].setpoint - 10.0)
+
+
+def test_diam90_takes_absolute_values_as_diameters_and_incremental_ones_as_radii(lathe: Decoder) -> None:
+    assert lathe.ok("DIAM90 G1 X200 F100").targets["X1"] == 100.0
+    assert lathe.ok("G91 X-20").targets["X1"] == pytest.approx(lathe.axes["X1"].setpoint - 20.0)
+    assert lathe.ok("X=IC(-20)").targets["X1"] == pytest.approx(lathe.axes["X1"].setpoint - 20.0)
+    assert lathe.ok("G90 X=AC(60)").targets["X1"] == 30.0
+
+
+def test_dac_dic_rac_ric_act_for_one_value_whatever_the_mode(lathe: Decoder) -> None:
+    start = lathe.axes["X1"].setpoint
+    assert lathe.ok("G1 X=DAC(100) F100").targets["X1"] == 50.0
+    assert lathe.ok("X=DIC(-10)").targets["X1"] == pytest.approx(start - 5.0)
+    assert lathe.ok("DIAMON X=RAC(40)").targets["X1"] == 40.0
+    assert lathe.ok("X=RIC(4)").targets["X1"] == pytest.approx(start + 4.0)
+
+
+def test_diamof_and_the_reset_value_are_radius(lathe: Decoder) -> None:
+    lathe.ok("DIAMON")
+    assert lathe.ok("DIAMOF G1 X80 F100").targets["X1"] == 80.0
+    lathe.ok("DIAMON")
+    lathe.modal.reset()
+    assert lathe.modal.diameter == "DIAMOF"
+
+
+@pytest.mark.parametrize("text", ["DIAMON", "DIAM90", "G1 X=DAC(10) F100"])
+def test_diameter_programming_without_a_transverse_axis_raises_16510(dec: Decoder, text: str) -> None:
+    _, alarm = dec(f"N10 {text}")
+    assert alarm is not None and alarm.number == 16510
+
+
+def test_dac_on_another_axis_raises_16510(lathe: Decoder) -> None:
+    _, alarm = lathe("N10 G1 Z=DAC(10) F100")
+    assert alarm is not None and (alarm.number, alarm.axis) == (16510, "Z1")

@@ -86,8 +86,8 @@ def test_frames_every_ipo_cycle_give_the_same_images() -> None:
         operate(linked)
         operate(local)
         assert images(linked) == images(local)
-        # 19 data frames and the NC link frame in every IPO cycle
-        assert virtual.link.bus.sent - sent >= 20 * (linked.cycle - 1)
+        # 20 data frames and the NC link frame in every IPO cycle
+        assert virtual.link.bus.sent - sent >= 21 * (linked.cycle - 1)
 
 
 def test_the_time_out_monitor_holds_the_sign_of_life_of_a_plc_with_a_missing_frame() -> None:
@@ -109,7 +109,7 @@ def test_the_time_out_monitor_holds_the_sign_of_life_of_a_plc_with_a_missing_fra
 
 
 def test_the_links_counters_as_scenario_quantities() -> None:
-    """Every PLC period the NC sends 19 data frames and its link frame and takes the PLC's 15 and
+    """Every PLC period the NC sends 20 data frames and its link frame and takes the PLC's 15 and
     its link frame; nothing lost, every frame fresh."""
     with VirtualCanPlc() as virtual:
         simulation = virtual.simulation(TURN_MILL, "basic_machine")
@@ -117,7 +117,7 @@ def test_the_links_counters_as_scenario_quantities() -> None:
         before = {name: simulation.link_quantity(name) for name in LINK_QUANTITIES}
         simulation.step(50)  # ten PLC periods
         after = {name: simulation.link_quantity(name) for name in LINK_QUANTITIES}
-    assert after["framesSent"] - before["framesSent"] == 200
+    assert after["framesSent"] - before["framesSent"] == 210
     assert after["framesTaken"] - before["framesTaken"] == 160
     assert after["plcSignOfLife"] - before["plcSignOfLife"] == 10
     assert all(after[name] == 0 for name in ("lostToPlc", "lostFromPlc", "delayedToPlc", "delayedFromPlc",
@@ -208,11 +208,11 @@ def test_free_running_the_nc_sends_nothing_while_the_interface_reports_bus_off()
     sent = interface.sent
     assert sent > 0 and plc.quantity("busState") == 0 and plc.quantity("lostToPlc") == 0
     interface.reported = can.BusState.ERROR
-    simulation.step(10)  # two periods: 19 data frames and the link frame each, none sent
-    assert interface.sent == sent and plc.quantity("lostToPlc") == 40 and plc.quantity("busState") == 2
+    simulation.step(10)  # two periods: 20 data frames and the link frame each, none sent
+    assert interface.sent == sent and plc.quantity("lostToPlc") == 42 and plc.quantity("busState") == 2
     interface.reported = can.BusState.ACTIVE
     simulation.step(5)
-    assert interface.sent == sent + 20 and plc.quantity("busState") == 0
+    assert interface.sent == sent + 21 and plc.quantity("busState") == 0
 
 
 def test_vc_serve_on_a_can_bus_runs_a_scenario_with_a_plc_process() -> None:
@@ -229,7 +229,7 @@ def test_vc_serve_on_a_can_bus_runs_a_scenario_with_a_plc_process() -> None:
         _, errors = plc.communicate(timeout=10)
     assert served.returncode == 0, served.stdout + served.stderr
     assert f"CAN bus {bus}, link frames from 0x100" in served.stdout and "PASS" in served.stdout
-    assert "session 1: machine turn_mill, program basic_machine, lockstep, 34 data frames" in errors
+    assert "session 1: machine turn_mill, program basic_machine, lockstep, 35 data frames" in errors
 
 
 def test_vc_serve_takes_a_can_bus_or_the_servers_not_both() -> None:

@@ -357,7 +357,8 @@ def test_the_alarm_block_db100_reaches_a_modbus_client_and_an_s7_client() -> Non
         register_map = RegisterMap.build(simulation.catalog, TURN_MILL.plant_io.area_sizes())
         first = register_map.table_byte(Table.NC_TO_PLC, "DB100", 0)
         assert first is not None and first % 2 == 0
-        assert first // 2 + 34 == register_map.registers(Table.NC_TO_PLC)  # 68 bytes, the end of the table
+        # 68 bytes, then the software cams (DB10.DBB110-117, four registers) end the table (link version 5)
+        assert first // 2 + 34 + 4 == register_map.registers(Table.NC_TO_PLC)
         assert plc.link.modbus is not None
         read: list[int] = []
         client = ModbusLinkClient("127.0.0.1", plc.link.modbus.port)
