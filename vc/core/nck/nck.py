@@ -141,7 +141,8 @@ class Nck:
         self.software_cams = parts.software_cams
         self._changing_drives: list[MachineAxis] = []  # drives changing a data set: ticked until done
         # setpoint switchover: the drives several axes share, by axis; ticked while a request waits
-        self._shared_drive_of = {axis.name: drive for drive in parts.shared_drives for axis in drive.axes}
+        self.shared_drives = parts.shared_drives  # setpoint switchover: the drives two or more axes share
+        self._shared_drive_of = {axis.name: drive for drive in self.shared_drives for axis in drive.axes}
         self._switching_drives: list[SharedDrive] = []
         self._drive_messages = [axis.messages for axis in self.axes if axis.messages is not None]
         if self.dc_link is not None:
