@@ -45,7 +45,7 @@ from vc.harness.external_plc import EXTERNAL_PLC_MODULES
 from vc.harness.links import Link, LinkMode
 from vc.harness.links.modbus import Endpoint, PlcLink
 from vc.harness.pacer import RealtimePacer
-from vc.scenario.command import EXIT_PASSED, run_command
+from vc.scenario.command import EXIT_INTERRUPTED, EXIT_PASSED, run_command
 from vc.scenario.language.model import Scenario, external_plc
 from vc.simulation.lockstep import Simulation
 from vc.simulation.observed import ObservedSimulation, SimulationObserver
@@ -150,6 +150,9 @@ def serve(options: ServeOptions) -> int:
             if scenario_path is not None:
                 code = run_command([scenario_path], power_on, plc_programs().keys(), junit=options.junit,
                                    default_plc=options.program)
+                if code == EXIT_INTERRUPTED:  # Ctrl-C during the scenario ends the server, --keep-running or not
+                    say("stopped")
+                    return code
                 if not options.keep_running:
                     say(f"scenario done (exit code {code}); the server stops (--keep-running keeps the machine"
                         " running)")

@@ -240,6 +240,29 @@ def test_statistics_come_while_a_scenario_runs_in_real_time(tmp_path: Path) -> N
         stop(server)
 
 
+
+@pytest.mark.parametrize("realtime", [[], ["--realtime", "--stats", "0.5"]], ids=["lockstep", "realtime"])
+def test_ctrl_c_during_a_served_scenario_ends_the_server_even_with_keep_running(tmp_path: Path,
+                                                                               realtime: list[str]) -> None:
+    """Ctrl-C interrupts the scenario and ends ``vc serve`` with 130, as without --keep-running (it used
+    to take the interrupted scenario for a finished one and keep the machine running)."""
+    scenario = tmp_path / "served.yaml"
+    scenario.write_text((SERVED % "2000 +- 0.01").replace("wait: 300ms", "wait: 3600s"))
+    port = free_port()
+    server = spawn("-m", "vc.cli.main", "serve", "--modbus", f"127.0.0.1:{port}", "--scenario", str(scenario),
+                   "--keep-running", *realtime)
+    plc = spawn("-m", "plc_stub", "--modbus", f"127.0.0.1:{port}", "--connect-timeout", "30")
+    try:
+        Lines(plc).wait_for("session 1")  # the PLC has its session: the scenario runs
+        output = Lines(server)
+        server.send_signal(signal.SIGINT)
+        assert server.wait(TIMEOUT) == 130
+        output.wait_for("interrupted after 0 of 1 scenarios")
+    finally:
+        stop(plc)
+        stop(server)
+
+
 MILL_3AXIS_SCENARIO = (SERVED % "2000 +- 0.01").replace("machine: turn_mill", "machine: mill_3axis")
 
 
