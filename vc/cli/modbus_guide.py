@@ -645,7 +645,8 @@ def _lockstep(register_map: RegisterMap) -> list[str]:
         " them before the grant and holds them while it waits), run exactly one scan, write the PLC-to-NC data"
         f" (HR {LINK_REGISTERS}..{outputs - 1}), then write HR {LinkHolding.SCAN_DONE} = the grant. The scan-done word"
         " must be the last write of the scan; it may share the last FC 16 request with outputs, because the"
-        " server applies a request as a whole. Remember the grant.",
+        " server applies a request as a whole. The server holds the PLC-to-NC registers for the whole session:"
+        " registers unchanged since the last scan of the session need not be written again. Remember the grant.",
         f"5. The NC accepts the scan when HR {LinkHolding.SCAN_DONE} equals the grant and HR"
         f" {LinkHolding.SESSION_READY} equals"
         f" the session, advances one PLC period (IR {LinkInput.PLC_CYCLE_IPO} IPO cycles), publishes the new inputs"

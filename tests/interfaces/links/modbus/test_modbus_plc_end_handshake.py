@@ -90,6 +90,38 @@ def test_the_outputs_go_with_the_scan_done_and_the_session_words_of_the_link() -
     assert values[2:] == [outputs[2 * r] << 8 | outputs[2 * r + 1] for r in range(2, PLC_TO_NC)]
 
 
+
+def _scan_and_finish(end: ModbusPlcEnd, server: _Server, grant: int, outputs: bytearray) -> list[int]:
+    """Grant ``grant``, run its scan with ``outputs``; the addresses written, in order."""
+    server.inputs[LinkInput.SCAN_GRANT] = grant
+    scan = end.poll()
+    assert scan is not None and scan.done == grant
+    server.writes.clear()
+    end.finish(scan, outputs)
+    return [address for address, _ in server.writes]
+
+
+def test_a_large_table_goes_in_chunks_with_register_0_last_and_unchanged_chunks_are_not_sent_again() -> None:
+    """Each left-out chunk is a Modbus round trip fewer per scan (the server holds the registers for the
+    session); register 0, the scan-done word, goes every scan, and after a refused write the whole table."""
+    server, started = _Server(), []
+    server.inputs[LinkInput.PLC_TO_NC_REGISTERS] = 300  # three requests of at most 123 registers
+    end = _end(server, started)
+    outputs = bytearray(600)
+    assert _scan_and_finish(end, server, 1, outputs) == [246, 123, 0]
+    assert _scan_and_finish(end, server, 2, outputs) == [0]
+    outputs[2 * 130 + 1] = 1  # a bit of register 130 changed
+    assert _scan_and_finish(end, server, 3, outputs) == [123, 0]
+    assert server.writes[0][1][130 - 123] == 1
+    assert _scan_and_finish(end, server, 4, outputs) == [0]
+    server.refuse = True  # the session's write refused (another PLC took it): the table is not known
+    with pytest.raises(RequestRefused):
+        _scan_and_finish(end, server, 5, outputs)
+    end.refused(RequestRefused("refused"))
+    server.refuse = False
+    assert _scan_and_finish(end, server, 6, outputs) == [246, 123, 0]
+
+
 def test_free_running_every_poll_is_a_scan_counted_as_the_sign_of_life() -> None:
     server, started = _Server(mode=MODE_FREE_RUNNING, grant=0), []
     end = _end(server, started)
