@@ -95,7 +95,8 @@ class UiServer:
 
     def stop(self) -> None:
         self._server.should_exit = True
-        self._thread.join(STOP_TIMEOUT_S)
+        if self._thread.is_alive():
+            self._thread.join(STOP_TIMEOUT_S)
         self._socket.close()
 
     def _run(self) -> None:
