@@ -3,8 +3,10 @@
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import pytest
 from ui_served import Served, needs_browser
@@ -20,6 +22,13 @@ def wait_until(check: Callable[[], object], what: str, timeout: float = WAIT_S) 
             return
         time.sleep(0.1)
     raise AssertionError(f"not within {timeout} s: {what}")
+
+
+def shoot(browser, name: str) -> None:  # type: ignore[no-untyped-def]
+    """The screenshots of docs/ui.md: VC_UI_SCREENSHOTS=docs/ui pytest tests/vc/ui/test_operator_page.py."""
+    folder = os.environ.get("VC_UI_SCREENSHOTS")
+    if folder:
+        assert browser.save_screenshot(str(Path(folder) / f"{name}.png"))
 
 
 def open_page(browser, served: Served):  # type: ignore[no-untyped-def]
@@ -73,6 +82,8 @@ def test_jog_x1_moves_it_and_lights_the_traverse_command_in_the_watch_table(brow
     by = open_page(browser, served)
     row = watch(browser, "DB31.DBX64.7")
     assert row.find_elements(by.CSS_SELECTOR, "td")[1].text == "X1.basic.in.traversPlusCommandActive"
+    if os.environ.get("VC_UI_SCREENSHOTS"):  # the screenshot shows a forced sensor too (it does not stop JOG)
+        watch(browser, "X1.refCam").find_element(by.CSS_SELECTOR, "button.force").click()
     press(browser, "MCP.jog")
     wait_until(lambda: browser.find_element(by.ID, "mode").text == "mode JOG", "JOG mode")
     start = float(cell(browser, "X1", "position"))
@@ -84,6 +95,7 @@ def test_jog_x1_moves_it_and_lights_the_traverse_command_in_the_watch_table(brow
         wait_until(lambda: value.text == "1", "DB31.DBX64.7 = 1 while X1+ is held")
         assert "bit1" in str(value.get_attribute("class"))
         wait_until(lambda: float(cell(browser, "X1", "velocity")) > 0, "X1 moves in plus")
+        shoot(browser, "operator_page")
     finally:
         ActionChains(browser).release().perform()
     wait_until(lambda: value.text == "0", "DB31.DBX64.7 = 0 once X1+ is let go")
@@ -143,6 +155,8 @@ def test_emergency_stop_raises_its_alarm_and_reset_clears_it(browser, served: Se
     estop = browser.find_element(by.ID, "key-EStop.chainOk")
     estop.click()
     wait_until(lambda: browser.find_elements(by.ID, "alarm-3000"), "alarm 3000 shown")
+    time.sleep(0.3)
+    shoot(browser, "emergency_stop")
     alarm = browser.find_element(by.ID, "alarm-3000").text
     assert "Emergency stop" in alarm or "emergency stop" in alarm.lower()
     assert "on" in str(estop.get_attribute("class"))

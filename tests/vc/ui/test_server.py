@@ -12,6 +12,7 @@ from collections.abc import Iterator
 
 import pytest
 import websockets
+from websockets.exceptions import InvalidStatus
 
 from vc.ui.bridge import OperatorBridge
 from vc.ui.server import UiServer, is_loopback
@@ -73,9 +74,9 @@ def exchange(server: UiServer, messages: list[str], token: str | None = "s3cret"
 
 
 def test_the_websocket_wants_the_token_and_the_pages_origin(server: UiServer) -> None:
-    with pytest.raises(websockets.exceptions.InvalidStatus):
+    with pytest.raises(InvalidStatus):
         exchange(server, [], token=None)
-    with pytest.raises(websockets.exceptions.InvalidStatus):
+    with pytest.raises(InvalidStatus):
         exchange(server, [], origin="http://evil.example")
     assert exchange(server, [], origin=f"http://127.0.0.1:{server.port}") == []
 
