@@ -7,6 +7,7 @@ let socket = null;
 let nextId = 1;
 let watched = [];  // the names typed into the watch table, in order
 let panelValues = {};
+let shownStates = "", shownAlarms = "";
 const pending = {};
 
 function $(id) { return document.getElementById(id); }
@@ -133,8 +134,15 @@ function show(update) {
     $(`channel-${channel}`).textContent =
       `${channel}: ${states[`channel/${channel}`] || "?"}, program ${states[`program/${channel}`] || "?"}`;
   }
-  $("states").tBodies[0].replaceChildren(...update.states.map((row) =>
-    element("tr", {}, row.map((cell) => element("td", {textContent: cell})))));
+  // the tables are built anew only when they change (a row a person reads or selects stays put)
+  const statesText = JSON.stringify(update.states), alarmsText = JSON.stringify(update.alarms);
+  if (statesText !== shownStates) {
+    shownStates = statesText;
+    $("states").tBodies[0].replaceChildren(...update.states.map((row) =>
+      element("tr", {}, row.map((cell) => element("td", {textContent: cell})))));
+  }
+  if (alarmsText === shownAlarms) return showWatch(update);
+  shownAlarms = alarmsText;
   $("alarms").tBodies[0].replaceChildren(...update.alarms.map((alarm) => {
     const row = element("tr", {id: `alarm-${alarm.number}`}, [
       element("td", {className: "number", textContent: alarm.number}), element("td", {textContent: alarm.text}),
@@ -142,6 +150,10 @@ function show(update) {
       element("td", {textContent: alarm.clear})]);
     return row;
   }));
+  showWatch(update);
+}
+
+function showWatch(update) {
   for (const row of $("watch-table").tBodies[0].rows) {
     const entry = update.watch[row.dataset.name];
     if (!entry) continue;
