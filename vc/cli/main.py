@@ -51,7 +51,7 @@ import platform
 import sys
 from collections.abc import Callable, Mapping, Sequence
 from importlib import metadata
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 from interfaces.catalog import load_catalog
 from interfaces.exports import EXPORTS, Export, ExportContext
@@ -67,9 +67,15 @@ from vc.input_limits import MAX_RECORDING_BYTES, MAX_RUN_VARIANTS
 from vc.located_yaml import SourceError
 from vc_build import status as build_status
 
+if TYPE_CHECKING:
+    from vc.harness.links.modbus import Endpoint
+    from vc.simulation.observed import SimulationObserver
+    from vc.ui.server import UiServer
+
 GUIDE_FORMAT = "guide"  # vc map --format guide: docs/modbus.md for the machine
 DBC_FORMAT = "dbc"  # vc map --format dbc: the CAN frames through cantools
 DEFAULT_BENCH_SECONDS = 30.0  # simulated, in process, per workload
+DEFAULT_UI_PORT = 8080  # vc serve --ui: the operator page
 DEFAULT_RECORD_LIMIT_MIB = 256  # vc serve --record-limit: some 40 minutes of a busy PLC
 DEFAULT_SCALING_SECONDS = 10.0  # simulated, per machine and load of --scaling
 DEFAULT_REALTIME_BENCH_SECONDS = 60.0  # wall-clock, the real-time measurement of --link modbus
@@ -420,6 +426,14 @@ def _serve(arguments: argparse.Namespace) -> int:
     from vc.harness.serve import ServeOptions, serve
 
     recorder = None
+    operator_page: UiServer | None = None
+    if arguments.ui is not None:
+        from vc.ui import missing_ui_extra
+
+        missing = missing_ui_extra()
+        if missing is not None:
+            print(f"vc serve: {missing}", file=sys.stderr)
+            return EXIT_PROBLEMS
     if arguments.verbose:
         logging.basicConfig(level=logging.INFO, format="%(name)s: %(message)s")
     try:
@@ -429,6 +443,11 @@ def _serve(arguments: argparse.Namespace) -> int:
             link = "can" if arguments.can else "modbus" if arguments.modbus or not arguments.s7 else "s7"
             recorder = session_recorder(arguments.record, arguments.scenario, link, arguments.realtime,
                                         arguments.record_limit << 20, lambda text: print(text, file=sys.stderr))
+        observer: SimulationObserver | None = recorder
+        if arguments.ui is not None:
+            operator_page = _operator_page(Endpoint.parse(arguments.ui, DEFAULT_UI_PORT),
+                                           _addresses(arguments.allow_writers), recorder)
+            observer = operator_page.bridge
         options = ServeOptions(
             machine_path=arguments.machine,
             machine_given=arguments.machine_given,
@@ -451,7 +470,7 @@ def _serve(arguments: argparse.Namespace) -> int:
             duration_s=arguments.duration,
             stats_every_s=arguments.stats,
             say=lambda text: print(text, flush=True),
-            observer=recorder,
+            observer=observer,
         )
         return serve(options)
     except (LinkError, ValueError) as error:
@@ -461,9 +480,28 @@ def _serve(arguments: argparse.Namespace) -> int:
         print(f"vc serve: {error.filename}: {error.strerror}", file=sys.stderr)
         return EXIT_PROBLEMS
     finally:
+        if operator_page is not None:
+            operator_page.stop()
         if recorder is not None and recorder.writer is not None:
             recorder.close()
             print(f"session recorded in {arguments.record} (vc replay {arguments.record})", flush=True)
+
+
+def _operator_page(endpoint: Endpoint, allow_writers: tuple[str, ...],
+                   recorder: SimulationObserver | None) -> UiServer:
+    """The operator page's server, listening and running in its thread before the NC starts."""
+    from interfaces.links.errors import LinkError
+    from vc.ui.bridge import OperatorBridge
+    from vc.ui.server import UiServer
+
+    try:
+        page = UiServer(OperatorBridge(allow_writers, recorder), endpoint.host, endpoint.port)
+    except OSError as error:
+        raise LinkError(f"--ui {endpoint}: {error.strerror or error}") from None
+    page.start()
+    token = " (the token in it is needed beyond loopback)" if page.token else ""
+    print(f"operator panel: {page.url}{token}", flush=True)
+    return page
 
 
 def _replay(arguments: argparse.Namespace) -> int:
@@ -615,6 +653,10 @@ def build_parser() -> argparse.ArgumentParser:
                        default=DEFAULT_RECORD_LIMIT_MIB, metavar="MIB",
                        help=f"with --record: end the recording at MIB mebibytes (uncompressed; default"
                             f" {DEFAULT_RECORD_LIMIT_MIB}, at most {MAX_RECORDING_BYTES >> 20}); the session goes on")
+    serve.add_argument("--ui", nargs="?", const=f"127.0.0.1:{DEFAULT_UI_PORT}", metavar="HOST:PORT",
+                       help=f"serve the operator panel in the browser (default 127.0.0.1:{DEFAULT_UI_PORT}; beyond"
+                            " loopback it asks for the token in the address it prints; needs the extra 'ui';"
+                            " docs/ui.md)")
     serve.set_defaults(handler=_serve, machine_given=False)
 
     replay = commands.add_parser("replay", help="replay a session recorded by vc serve --record without the PLC")

@@ -265,6 +265,10 @@ class Simulation:
         elif underlying is not None:
             self._image_of(ref).write(ref, underlying)
 
+    def forced(self) -> dict[SignalRef, Value]:
+        """The signals forced now and their forced values (a copy: the operator page shows them)."""
+        return dict(self._forces)
+
     def _rebuild_forces(self) -> None:
         for items in self._forces_by_direction.values():
             items.clear()
