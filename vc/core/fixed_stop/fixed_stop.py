@@ -16,6 +16,7 @@ the workpiece, then holds it with the clamping torque for as long as the program
     CLAMPED ──RESET──▶ CLAMPED (the clamp stays, L37711-37712)
     WAIT_ENABLE, APPROACH, DETECTED, CLAMPED ──FXS[ax]=0──▶ DESELECTING: DBX62.4 / 62.5 = 0
     DESELECTING ──the PLC took DBX3.1 (MD37060 bit 0) and DBX1.1 (bit 1) away──▶ OFF: position control again
+    DESELECTING ──the pulses taken away while waiting──▶ DESELECTING with the torque limit 0 (L37482-37486)
     FAILED ──the PLC took DBX3.1 away (MD37060 bit 0), else at once──▶ OFF
 
 While it is selected the drive's torque is limited to SD43510 (FXST, default MD37010), changed on the
@@ -241,9 +242,15 @@ class FixedStop:
         return axis.inputs.pulse_enable and not axis.pulses_cancelled
 
     def _deselecting(self) -> None:
-        """The signals are reset; position control again once the PLC acknowledged (L37436-37449)."""
-        inputs = self.axis.inputs
+        """The signals are reset; position control again once the PLC acknowledged (L37436-37449).
+        The pulses taken away while waiting set the torque limit to 0, and it stays 0 when they
+        come back until the deselection is done (L37482-37486)."""
+        axis = self.axis
+        inputs = axis.inputs
         if (self.ack_mask & 1 and inputs.fixed_stop_enable) or (self.ack_mask & 2 and inputs.fixed_stop_ack):
+            if not self._pulses_present:
+                self._torque_step = 0.0
+                axis.torque_limit = 0.0
             return
         self._release()
         self._set_state(State.OFF)

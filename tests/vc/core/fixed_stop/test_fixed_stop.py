@@ -184,3 +184,30 @@ def test_fxst_in_the_selecting_block_acts_from_its_start_without_a_ramp() -> Non
     rig.step(3)
     fixed_stop = rig.nck.fixed_stops[0]
     assert rig.axis("W1").torque_limit == 35.0 and (fixed_stop.torque, fixed_stop.window) == (35.0, 2.0)
+
+
+def test_pulses_taken_away_while_the_deselection_waits_for_the_plc_leave_no_torque() -> None:
+    """L37482-37486: the pulses taken away while the deselection waits for the PLC's acknowledgement
+    set the torque limit to 0; pulses given back in this phase bring no torque; after the
+    deselection the axis travels normally again."""
+    rig = _rig("MD37002: 1")  # the pulses may go at the stop without aborting the function
+    _clamped(rig)
+    rig.pulse("CHAN1.basic.out.reset", 2)  # the clamp outlasts the reset
+    rig.step(2)
+    rig.mda("N10 FXS[W]=0\nN20 M30")
+    rig.run_until(lambda: _state(rig) is State.DESELECTING, 50)
+    w1 = rig.axis("W1")
+    assert w1.torque_limit == 20.0 and w1.physical == pytest.approx(CLAMP)
+    rig.set("W1.drive.out.enablePulses", 0)
+    rig.step(5)
+    assert w1.torque_limit == 0.0 and _state(rig) is State.DESELECTING
+    rig.set("W1.drive.out.enablePulses", 1)
+    rig.step(20)
+    assert w1.torque_limit == 0.0 and w1.physical == pytest.approx(120.0)  # no torque any more: the part springs back
+    rig.set("W1.basic.out.fixedStopEnable", 0)
+    rig.set("W1.basic.out.fixedStopAckReached", 0)
+    rig.run_until(lambda: rig.get("CHAN1.basic.in.stateReset") == 1, 50)
+    assert _state(rig) is State.OFF and w1.torque_limit is None
+    rig.mda("N10 G1 G90 F600 W115\nN20 M30")
+    rig.run_until(lambda: abs(w1.actual - 115.0) < 1e-3, 3000)
+    assert not rig.alarm_numbers()
