@@ -60,7 +60,7 @@ class ChannelFixedStops:
                 _set_values(fixed_stop, words)
             if words.switch == 1 and not fixed_stop.select(cycle):
                 return False
-        for name in plan.targets:
+        for name in (*plan.targets, *plan.positioning):  # a path or a POS / POSA motion
             fixed_stop = self.of.get(name)
             written = plan.fixed_stop.get(name)
             if fixed_stop is not None and fixed_stop.at_stop and (written is None or written.switch != 0):

@@ -304,3 +304,14 @@ def test_posa_reaching_its_end_point_without_a_stop_raises_20091() -> None:
     rig.mda("N10 POSA[W]=115 FA[W]=600 FXS[W]=1\nN20 WAITP(W)\nN30 M30")
     rig.run_until(lambda: rig.get("CHAN1.basic.in.stateReset") == 1 and rig.axis("W1").actual > 114.9, 2000)
     assert 20091 in rig.alarm_numbers() and _state(rig) is State.OFF
+
+
+def test_a_posa_of_an_axis_at_its_stop_is_refused_with_20092() -> None:
+    rig = _rig()
+    _clamped(rig)
+    rig.pulse("CHAN1.basic.out.reset", 2)  # the clamp outlasts the reset
+    rig.step(2)
+    rig.mda("N10 POSA[W]=100 FA[W]=600\nN20 M30")
+    rig.step(5)
+    assert 20092 in rig.alarm_numbers() and _state(rig) is State.CLAMPED
+    assert rig.axis("W1").physical == pytest.approx(CLAMP)
