@@ -361,11 +361,12 @@ class FixedStopStatus:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class DriveEsrStatus:
-    """The drive's ESR feedback (DB31.DBX95.2..95.4)."""
+    """The drive's ESR feedback (DB31.DBX95.2..95.4) and its own motion while it reacts (DBX92.4)."""
 
     response_initiated: bool = signal("drive.in.esrResponseInitiated")  # r0887.12
     dc_link_undervoltage: bool = signal("drive.in.esrDcVoltageAlarmActive")  # r0056.15
     below_minimum_speed: bool = signal("drive.in.esrSpeedBelowMin")  # r2199.0
+    autonomous_motion: bool = signal("drive.in.autonomousMotionActive")  # r0887.13: the reaction runs
 
 
 @dataclass(slots=True, kw_only=True)

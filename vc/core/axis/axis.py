@@ -133,6 +133,7 @@ class MachineAxis:
         # DBX2.1 / 1.3 do not act); ``obstacle``: what the slide runs into (the plant's fixed stop)
         self.torque_limit: float | None = None
         self.at_fixed_stop = False
+        self.fixed_stop_waits = False  # FXS selected, its motion waits for the PLC's enable DBX3.1 (L37221-37232)
         self.obstacle: Obstacle | None = None
         self.blocked = False  # the slide stood against the obstacle in the last cycle: the motor pushes
         # the drive's messages DB31.DBX94.x / 95.0 (vc/core/axis/drive_messages.py): only a drive that reports them

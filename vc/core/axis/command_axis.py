@@ -139,8 +139,8 @@ class CommandAxis:
         """A positioning motion of the program has met its motion-end condition (L10112-10122)."""
         if self.state is CommandState.POSITIONING:
             return False
-        if self.motion_end == MOTION_END_IPO:
-            return True
+        if self.motion_end == MOTION_END_IPO or self.axis.at_fixed_stop:
+            return True  # at a fixed stop the motion has ended there (L37775-37778)
         dyn = self.axis.dyn
         window = dyn.fine_window if self.motion_end == MOTION_END_FINE else dyn.coarse_window
         return abs(self.axis.distance_to_end_point) <= window
@@ -279,8 +279,10 @@ class CommandAxis:
     def _traverse(self, program_held: bool) -> None:
         axis = self.axis
         if axis.owner is not Owner.COMMAND:
-            # braked by an e-stop or an alarm, or taken by the program: a positioning block is lost
-            self.lost = self.state in (CommandState.POSITIONING, CommandState.PLC_POSITIONING)
+            # braked by an e-stop or an alarm, or taken by the program: a positioning block is lost;
+            # a fixed stop found on the way ends the motion there (seed 003 L37306, L37775-37778)
+            self.lost = self.state in (CommandState.POSITIONING, CommandState.PLC_POSITIONING) \
+                and not axis.at_fixed_stop
             self.state = CommandState.IDLE
             self.write_status()
             return
@@ -292,7 +294,8 @@ class CommandAxis:
             axis.config.md.float(MD.POS_AX_VELO) * self._velocity_unit
         inp = axis.inputs
         # the feed stop holds it, and it never runs on into an actuated hardware limit switch (as JOG)
-        hold = program_held or inp.feed_stop
+        # travel to fixed stop waits for the PLC's enable DB31.DBX3.1 (seed 003 L37221-37232)
+        hold = program_held or inp.feed_stop or axis.fixed_stop_waits
         if self._hirth:
             if hold or axis.override == 0.0 or (self.stop_at is not None and self.state is CommandState.TRAVERSING):
                 if self.stop_at is None:

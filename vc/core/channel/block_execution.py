@@ -185,6 +185,9 @@ class BlockExecution:
         run = self.run
         segment = run.segment
         assert segment is not None and run.plan is not None
+        if self._fixed_stops.selected_by_action:  # a synchronized action selected FXS during the block
+            self._fixed_stops.selected_by_action = False
+            self._approaching = self._fixed_stops.approaching(segment.axes)
         if self._approaching and self._fixed_stops.path_ended(segment.axes, self._approaching):
             self._approaching = set()
             self._release_segment()  # the stop is found: the rest of the path is deleted (L37306)
@@ -489,6 +492,7 @@ class BlockExecution:
         for axis in axes:
             axis.take(Owner.PATH)
         self._approaching = self._fixed_stops.approaching(axes) if self._fixed_stops.of else set()
+        self._fixed_stops.selected_by_action = False
         self.run.phase = BlockPhase.INTERPOLATE
         self._interpolate(False, cycle)
 

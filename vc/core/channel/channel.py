@@ -59,7 +59,7 @@ from vc.core.interpolation.thread_cutting import ThreadSegment
 from vc.core.overrides import OverrideCoding
 from vc.core.program.block_plan import BlockPlan, ModalState
 from vc.core.program.program import Block, parse_program
-from vc.core.program.sync_actions import VariableWrite
+from vc.core.program.sync_actions import FIXED_STOP_WORDS, VariableWrite
 from vc.core.retraction.esr import ChannelEsr
 from vc.core.spindle.coupling import Couplings
 from vc.core.spindle.polygon import PolygonTurning
@@ -362,9 +362,13 @@ class Channel:
         machine axis name."""
         return self._spindles.spindle_indices()
 
-    def write_coupling_variable(self, write: VariableWrite) -> None:
-        """``$AA_COUP_CORR[Sn]=...`` of a program or a synchronized action (index: the machine axis)."""
-        self._spindles.write_coupling_variable(write)
+    def write_other_variable(self, write: VariableWrite, cycle: int) -> None:
+        """``$AA_COUP_CORR[Sn]=...`` of a program or a synchronized action, or a synchronized action's
+        ``FXS[ax]=`` / ``FXST[ax]=`` / ``FXSW[ax]=`` (index: the machine axis)."""
+        if write.name in FIXED_STOP_WORDS:
+            self.fixed_stops.write(write, cycle)
+        else:
+            self._spindles.write_coupling_variable(write)
 
     # ------------------------------------------------------------------ stored stroke limits 2 and 3
     def stroke_jog_limits(self, axis: MachineAxis, cycle: int) -> JogLimits:

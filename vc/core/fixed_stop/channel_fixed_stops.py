@@ -6,6 +6,12 @@ while one of its axes waits for the PLC; the path ends where an axis found its s
 deleted, L37306); at the end point an axis still approaching has not reached its stop (20091); the
 block changes once every fixed stop allows it.  A machine without the function has no entries and
 the channel asks nothing.
+
+A synchronized action's FXS / FXST / FXSW (L37125-37131, the examples L38047-38110) act in the IPO
+cycle the action is done in: on an axis the path moves, the running block's path then ends at the
+stop as for a programmed FXS.  On an axis that moves on its own (a synchronized action's POS, the
+program's POSA: vc/core/axis/command_axis.py) the function follows that motion and the program's
+blocks do not wait for it (L37775-37778).
 """
 
 from __future__ import annotations
@@ -18,6 +24,7 @@ from vc.core.axis.axis import MachineAxis
 from vc.core.fixed_stop.fixed_stop import NOT_POSSIBLE, STILL_ACTIVE, FixedStop, State
 from vc.core.program.block_plan import BlockPlan
 from vc.core.program.commands import FixedStopWords
+from vc.core.program.sync_actions import VariableWrite
 
 FIXED_STOP_VARIABLES = ("$AA_FXS", "$VA_FXS", "$VA_FXS_INFO")
 
@@ -35,6 +42,7 @@ class ChannelFixedStops:
         self.channel = channel
         self._alarms = alarms
         self.of: dict[str, FixedStop] = {}  # by machine axis: the axes whose MD37000 allows it
+        self.selected_by_action = False  # an action selected FXS: the running block looks at its axes again
 
     def add(self, fixed_stop: FixedStop) -> None:
         self.of[fixed_stop.name] = fixed_stop
@@ -52,7 +60,7 @@ class ChannelFixedStops:
                 _set_values(fixed_stop, words)
             if words.switch == 1 and not fixed_stop.select(cycle):
                 return False
-        for name in plan.targets:
+        for name in (*plan.targets, *plan.positioning):  # a path or a POS / POSA motion
             fixed_stop = self.of.get(name)
             written = plan.fixed_stop.get(name)
             if fixed_stop is not None and fixed_stop.at_stop and (written is None or written.switch != 0):
@@ -65,6 +73,22 @@ class ChannelFixedStops:
             if words.switch == 0:
                 fixed_stop.deselect()
         return True
+
+    def write(self, write: VariableWrite, cycle: int) -> None:
+        """A synchronized action's ``FXS[ax]=0|1``, ``FXST[ax]=``, ``FXSW[ax]=`` (checked when its block
+        was decoded): at once into the axis's setting data.  FXS=1 on an axis without MD37000 raises
+        20090, on one still selected 20092 (the seed's example guards it with $AA_FXS==0, L38099-38103)."""
+        fixed_stop = self.of.get(write.index)
+        if fixed_stop is None:
+            self._alarms.raise_alarm(NOT_POSSIBLE, cycle, write.index, channel=self.channel, axis=write.index)
+        elif write.name == "FXST":
+            fixed_stop.set_torque(write.value)
+        elif write.name == "FXSW":
+            fixed_stop.set_window(write.value)
+        elif not write.value:
+            fixed_stop.deselect()
+        elif fixed_stop.select(cycle):
+            self.selected_by_action = True
 
     def _busy_of(self, axes: Iterable[MachineAxis]) -> list[FixedStop]:
         return [fixed_stop for axis in axes if (fixed_stop := self.of.get(axis.name)) is not None and fixed_stop.busy]
@@ -87,7 +111,9 @@ class ChannelFixedStops:
 
     @property
     def block_may_change(self) -> bool:
-        return all(fixed_stop.block_may_change for fixed_stop in self.of.values())
+        """Every fixed stop allows the block change; one on an axis moving on its own does not hold
+        the program's blocks (L37775-37778)."""
+        return all(fixed_stop.block_may_change or fixed_stop.single_axis for fixed_stop in self.of.values())
 
     def standing_at_stop(self, name: str) -> bool:
         """The axis stands at its stop (or failed at it): its end point is no exact-stop target."""

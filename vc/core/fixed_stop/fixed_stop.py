@@ -16,6 +16,7 @@ the workpiece, then holds it with the clamping torque for as long as the program
     CLAMPED ──RESET──▶ CLAMPED (the clamp stays, L37711-37712)
     WAIT_ENABLE, APPROACH, DETECTED, CLAMPED ──FXS[ax]=0──▶ DESELECTING: DBX62.4 / 62.5 = 0
     DESELECTING ──the PLC took DBX3.1 (MD37060 bit 0) and DBX1.1 (bit 1) away──▶ OFF: position control again
+    DESELECTING ──the pulses taken away while waiting──▶ DESELECTING with the torque limit 0 (L37482-37486)
     FAILED ──the PLC took DBX3.1 away (MD37060 bit 0), else at once──▶ OFF
 
 While it is selected the drive's torque is limited to SD43510 (FXST, default MD37010), changed on the
@@ -35,6 +36,7 @@ from interfaces.signal_groups import FixedStopStatus
 from vc.config import md_dictionary as MD
 from vc.core.alarms import AlarmList
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.owner import Owner
 from vc.core.interface_map import SignalTable
 from vc.core.state_machine import Instance, StateMachine, states, transitions
 
@@ -86,6 +88,7 @@ class FixedStop:
         self._torque_step = 0.0  # per IPO cycle while the torque ramps (MD37012)
         self._ramp_target = self.torque
         self._pulses = True  # the pulses as last seen at the stop (MD37002)
+        self._single_axis = False  # the approach runs on the axis's own motion (POS / POSA, an action's POS)
         self._outputs: tuple[bool, bool] | None = None
         self._write_outputs()
 
@@ -123,12 +126,19 @@ class FixedStop:
         failure or a deselection only once the PLC took its enable away (L37309-37320, L37398-37404)."""
         return self.state in (State.OFF, State.APPROACH, State.CLAMPED)
 
+    @property
+    def single_axis(self) -> bool:
+        """The axis approaches on its own motion (a command or positioning axis), not the path's:
+        the program's blocks do not wait for it (L37775-37778)."""
+        return self._single_axis or (self.state is not State.OFF and self.axis.owner is Owner.COMMAND)
+
     def select(self, cycle: int) -> bool:
         """FXS[ax]=1.  False: refused with 20092 (it is at the stop or still selected)."""
         if self.state is not State.OFF:
             self._alarm(STILL_ACTIVE, cycle)
             return False
         self.info = INFO_NONE
+        self._single_axis = False
         self._set_state(State.WAIT_ENABLE if self.ack_mask & 1 and not self.axis.inputs.fixed_stop_enable
                         else State.APPROACH)
         self.axis.torque_limit = self.torque  # from the block's start, also while approaching (L37237-37247)
@@ -207,6 +217,10 @@ class FixedStop:
         by_error = self.by_sensor != 1 and abs(error) > self.threshold
         by_sensor = self.by_sensor != 0 and axis.inputs.fixed_stop_sensor
         if not (by_error or by_sensor):
+            if axis.owner is Owner.COMMAND:
+                self._single_axis = True
+            elif self._single_axis and axis.owner is Owner.NONE:
+                self.motion_finished(cycle)  # its own motion reached the end point without a stop: 20091
             return
         self._direction = 1.0 if error >= 0.0 else -1.0
         if by_sensor and not by_error:
@@ -241,9 +255,15 @@ class FixedStop:
         return axis.inputs.pulse_enable and not axis.pulses_cancelled
 
     def _deselecting(self) -> None:
-        """The signals are reset; position control again once the PLC acknowledged (L37436-37449)."""
-        inputs = self.axis.inputs
+        """The signals are reset; position control again once the PLC acknowledged (L37436-37449).
+        The pulses taken away while waiting set the torque limit to 0, and it stays 0 when they
+        come back until the deselection is done (L37482-37486)."""
+        axis = self.axis
+        inputs = axis.inputs
         if (self.ack_mask & 1 and inputs.fixed_stop_enable) or (self.ack_mask & 2 and inputs.fixed_stop_ack):
+            if not self._pulses_present:
+                self._torque_step = 0.0
+                axis.torque_limit = 0.0
             return
         self._release()
         self._set_state(State.OFF)
@@ -287,6 +307,7 @@ class FixedStop:
     def _set_state(self, state: State) -> None:
         self.state = state
         self.axis.at_fixed_stop = state in (State.DETECTED, State.CLAMPED, State.DESELECTING)
+        self.axis.fixed_stop_waits = state is State.WAIT_ENABLE
 
     def _ramp_to(self, percent: float) -> None:
         """A new torque limit: at once, or linearly within MD37012 (L37172-37176)."""

@@ -161,7 +161,7 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
         others = channel.fixed_stops.reader(channel.config, couplings.variable_reader(channel.spindle_indices()))
         channel.esr.other_variables = (index_variable_reader(channel.config, channel.axes_by_name,
                                                              nck.int(MD.INDEX_AX_MODE), others),
-                                       channel.write_coupling_variable)
+                                       channel.write_other_variable)
     polygons: list[PolygonTurning] = []
     for channel in channels:
         channel.couplings = couplings

@@ -18,9 +18,11 @@ from vc.core.program.commands import (
     esrs_command,
 )
 from vc.core.program.decoder import BlockDecoder
+from vc.core.program.fixed_stop_words import fixed_stop_action
 from vc.core.program.program import Assignment, Call, SynchronizedAction, ValueFunction
 from vc.core.program.sync_actions import (
     COMMAND_AXIS_WORDS,
+    FIXED_STOP_WORDS,
     SyncAction,
     SyncActionError,
     VariableWrite,
@@ -185,6 +187,8 @@ def synchronized_action(decoder: BlockDecoder, item: SynchronizedAction) -> None
         decoder.fail(12080, decoder.channel.name, decoder.block.label, str(error))
         return
     writes = [_command_axis_word(decoder, action.name, action.index, action.value) if action.name in COMMAND_AXIS_WORDS
+              else fixed_stop_action(decoder, action.name, action.index, action.value)
+              if action.name in FIXED_STOP_WORDS
               else _variable_write(decoder, action.name, action.index, action.value) for action in actions]
     if all(write is not None for write in writes):
         decoder.plan.sync_actions.append(SyncAction(item.number, item.static, item.mode, condition,

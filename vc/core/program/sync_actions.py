@@ -13,7 +13,9 @@ end [control].  The condition language is the part the retraction functions need
     term       := number | 'H<hex>' | 'B<binary>' | $VARIABLE[ '[' index ']' ] | '(' or_expr ')'
 
 An action is ``$VARIABLE[ [index] ]=<number>``, or ``POS[<axis>]=<number>`` / ``FA[<axis>]=<number>``
-that move the axis as a command axis (vc/core/axis/command_axis.py); several are separated by blanks.  Modes: WHENEVER
+that move the axis as a command axis (vc/core/axis/command_axis.py), or ``FXS[<axis>]=0|1`` /
+``FXST[<axis>]=<%>`` / ``FXSW[<axis>]=<width>`` of travel to fixed stop (vc/core/fixed_stop/, seed 003
+L37125-37131); several are separated by blanks.  Modes: WHENEVER
 does the actions in every cycle the condition holds, EVERY on each rising edge, WHEN once, FROM
 once the condition held once, in every cycle from then on [control].
 
@@ -33,6 +35,8 @@ from vc.input_limits import MAX_EXPRESSION_DEPTH, MAX_EXPRESSION_NESTING, MAX_MA
 
 Reader = Callable[[str, str], float]  # (variable, index) -> value; KeyError for an unknown variable
 COMMAND_AXIS_WORDS = ("POS", "FA")  # the words of a command axis an action may write (L11211-11236)
+FIXED_STOP_WORDS = ("FXS", "FXST", "FXSW")  # travel to fixed stop, in a block or an action (L37125-37131)
+_AXIS_WORDS = COMMAND_AXIS_WORDS + FIXED_STOP_WORDS
 
 _TOKEN = re.compile(r"\s*(?:(?P<number>\d+\.?\d*|\.\d+)|'(?P<literal>[HB][0-9A-F]+)'|(?P<variable>\$[A-Z0-9_]+)"
                     r"|(?P<word>[A-Z_][A-Z0-9_]*)|(?P<symbol>==|<>|>=|<=|[<>()\[\]=+\-]))", re.IGNORECASE)
@@ -205,7 +209,7 @@ def parse_actions(text: str) -> tuple[VariableWrite, ...]:
     actions = []
     while not parser.at_end():
         kind, name = parser.take()
-        if kind != "variable" and not (kind == "word" and name in COMMAND_AXIS_WORDS and parser.peek() == "["):
+        if kind != "variable" and not (kind == "word" and name in _AXIS_WORDS and parser.peek() == "["):
             raise SyncActionError(name)
         index = parser.index()
         parser.expect("=")

@@ -16,6 +16,9 @@ second cycle.  Timeline of one axis (figures 22-1, 22-2, 22-4)::
 
     ARMED ──$AA_ESR_ENABLE = 1, trigger 2 cycles──▶ REACTING (r0887.12 = r0887.13 = 1, DB31.DBX95.2)
     REACTING ──stop: p0892, then the ramp; retract: p0892 at p0893, then the ramp──▶ DONE (r0887.13 = 0)
+
+While it reacts the drive moves the axis on its own: DB31.DBX92.4 "drive-autonomous motion active"
+(L38352) is 1 in REACTING [INF: the harness's only drive-autonomous motion is this reaction].
     DONE ──$AA_ESR_ENABLE 1 -> 0 (acknowledge)──▶ ACKNOWLEDGED: 95.2 = 0
     REACTING ──enable 1 -> 0──▶ ack pending: 95.2 falls when the reaction ends (red path of fig. 22-4)
     ACKNOWLEDGED ──enable 0 -> 1 and $AN_ESR_TRIGGER = 0──▶ ARMED
@@ -194,7 +197,8 @@ class DriveEsr:
     def _write_status(self) -> None:
         self._encode(self._area, DriveEsrStatus(response_initiated=self._triggered,
                                                 dc_link_undervoltage=self._vdc_min_active,
-                                                below_minimum_speed=self._below_minimum_speed))
+                                                below_minimum_speed=self._below_minimum_speed,
+                                                autonomous_motion=self.reaction is DriveEsrReaction.REACTING))
 
     # ------------------------------------------------------------------ IPO cycle
     def cycle(self, trigger_cycles: int) -> None:
@@ -232,6 +236,7 @@ class DriveEsr:
             if axis.owner is Owner.RETRACT:
                 axis.release()
             self.reaction = DriveEsrReaction.DONE
+            self._write_status()  # DB31.DBX92.4: the drive's own motion has ended
             self._set_vdc_min_active(False)
             if self._acknowledge_pending:
                 self._acknowledge_pending = False

@@ -201,7 +201,7 @@ class ChannelEsr:
         self.single_axis_retract: dict[str, tuple[int, float]] = {}  # POLFA: axis -> (type, value)
         self.actions: dict[int, SyncAction] = {}
         # the system variables of other functions (the couplings'): their reader and writer
-        self.other_variables: tuple[Reader, Callable[[VariableWrite], None]] | None = None
+        self.other_variables: tuple[Reader, Callable[[VariableWrite, int], None]] | None = None
         self.motion: RetractMotion | None = None
         self._stop: _StopAxes | None = None
         self._now = 0  # the IPO cycle of the reaction's last step (or its start): where the stop axes are
@@ -267,7 +267,7 @@ class ChannelEsr:
         elif write.name == "FA":
             self.command_axes.set_feed(write.index, write.value)
         elif self.other_variables is not None:
-            self.other_variables[1](write)
+            self.other_variables[1](write, cycle)
 
     def add_actions(self, actions: list[SyncAction]) -> None:
         for action in actions:

@@ -299,11 +299,13 @@ def test_seq_esr_1_trigger_two_cycles_reaction_and_acknowledge() -> None:
     assert drive.triggered and drive.status == 4
     rig.step(1)
     assert rig.get("X1.drive.in.esrResponseInitiated") == 1
+    assert rig.get("X1.drive.in.autonomousMotionActive") == 1  # DB31.DBX92.4 while the drive moves on its own
     drive.set_enable(False)  # acknowledged while the reaction runs: 95.2 falls when it ends
     rig.step(10)
     assert drive.triggered
     rig.step(150)
     assert not drive.triggered and axis(rig, "X1").actual == pytest.approx(170.0, abs=0.01)
+    assert rig.get("X1.drive.in.autonomousMotionActive") == 0
     rig.nck.esr.trigger = False
     drive.set_enable(True)
     rig.step(3)
