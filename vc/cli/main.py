@@ -2,7 +2,7 @@
 
     vc run PATH... [-j N | --cluster ADDRESS|local:N [--cluster-files send|shared]] [--junit FILE]
            [--trace-dir DIR] [--report DIR] [--golden DIR [--update-golden]] [--link inprocess|modbus|can
-           [--can-bus BUS]] [--coverage FILE] [--max-variants N]
+           [--can-bus BUS]] [--coverage FILE] [--max-variants N] [-k EXPRESSION] [--shard I/N]
                                                       run scenario files, campaign files or directories
     vc run --plot SCENARIO [--plot-to FILE]           one scenario's timing diagram
     vc coverage report FILE... [--json OUT] [--html OUT] [--fail-under PCT] [--fail-under-function NAME=PCT]
@@ -292,6 +292,15 @@ def _positive(text: str) -> float:
     return value
 
 
+def _shard(text: str) -> object:
+    from vc.scenario.language.selection import SelectionError, Shard
+
+    try:
+        return Shard.parse(text)
+    except SelectionError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
 def _whole(lowest: int, highest: int | None = None, unit: str = "") -> Callable[[str], int]:
     """An argument type: a whole number from ``lowest`` (to ``highest``, ``unit`` said after it)."""
     def whole(text: str) -> int:
@@ -357,6 +366,14 @@ def _run(arguments: argparse.Namespace) -> int:
     if not arguments.paths:
         print("vc run: name scenario files or directories (or --plot SCENARIO)", file=sys.stderr)
         return EXIT_PROBLEMS
+    from vc.scenario.language.selection import Selection, SelectionError
+
+    try:
+        selection = Selection(arguments.keyword, arguments.shard) \
+            if arguments.keyword is not None or arguments.shard is not None else None
+    except SelectionError as error:
+        print(f"vc run: {error}", file=sys.stderr)
+        return EXIT_PROBLEMS
     collector = None
     if arguments.coverage is not None:
         from vc.coverage.collector import CoverageCollector
@@ -368,7 +385,7 @@ def _run(arguments: argparse.Namespace) -> int:
                                   can_bus=arguments.can_bus, jobs=arguments.jobs, cluster=arguments.cluster,
                                   cluster_files=arguments.cluster_files, report_dir=arguments.report,
                                   observe=collector.observe if collector else None,
-                                  max_variants=arguments.max_variants)
+                                  max_variants=arguments.max_variants, selection=selection)
     except LinkError as error:
         print(f"vc run: {error}", file=sys.stderr)
         return EXIT_PROBLEMS
@@ -568,6 +585,13 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--max-variants", type=_whole(1), default=MAX_RUN_VARIANTS, metavar="N",
                      help=f"the most variants the run's vary: matrices and campaigns may give together, counted before"
                           f" any is built (default {MAX_RUN_VARIANTS:,}; docs/scenarios.md)")
+    run.add_argument("-k", dest="keyword", metavar="EXPRESSION",
+                     help="run only the scenarios and variants whose file or name contains the expression's words,"
+                          " combined with and, or, not and parentheses, as pytest -k (e.g. -k \"referencing and not"
+                          " abort\", -k \"MD34050=1\")")
+    run.add_argument("--shard", type=_shard, metavar="I/N",
+                     help="run the I-th of N parts of the selected scenarios (every N-th from the I-th on): N CI"
+                          " jobs run each scenario once, without a cluster")
     run.add_argument("--coverage", metavar="FILE",
                      help="write the interface coverage of the run (signals, state machines, alarms, plant I/O) to"
                           " FILE; vc coverage report FILE shows it (docs/coverage.md)")

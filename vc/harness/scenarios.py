@@ -17,6 +17,7 @@ from vc.input_limits import MAX_RUN_VARIANTS
 from vc.scenario.command import plot_command, run_command
 from vc.scenario.distribution.cluster import ClusterSettings
 from vc.scenario.language.model import Scenario
+from vc.scenario.language.selection import Selection
 from vc.scenario.language.target import ScenarioTarget
 from vc_build import status as build_status
 
@@ -28,7 +29,7 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
                        golden: str | None = None, update_golden: bool = False, link: str = INPROCESS,
                        can_bus: str | None = None, jobs: int | None = None, observe: Observe | None = None,
                        cluster: str | None = None, cluster_files: str = "send", report_dir: str | None = None,
-                       max_variants: int = MAX_RUN_VARIANTS) -> int:
+                       max_variants: int = MAX_RUN_VARIANTS, selection: Selection | None = None) -> int:
     """``link``: ``inprocess`` runs the PLC programs in lockstep in this process, or in ``jobs``
     worker processes (default one per core), or on the Dask ``cluster`` (an address or local:N;
     ``cluster_files``: send or shared); ``modbus`` runs them in a ``python -m plc_stub``
@@ -38,7 +39,7 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
     PLC in its own process, in every run.  ``observe`` wraps the run's factory of simulations
     (the interface coverage observes each one, in this process: such a run has no workers).
     ``report_dir`` gets the HTML report with the timing diagrams; ``max_variants`` is the ceiling on
-    the variants of the run's matrices (vc run --max-variants)."""
+    the variants of the run's matrices (vc run --max-variants); ``selection``: -k and --shard."""
     build = build_status().describe()
 
     def run(make_target: TargetFactory, workers: int | None = 1, on: ClusterSettings | None = None) -> int:
@@ -49,7 +50,7 @@ def run_scenario_files(paths: Sequence[str], *, junit: str | None = None, trace_
                                golden=golden, update_golden=update_golden,
                                jobs=workers if observe is None else 1, build=build,
                                cluster=on if observe is None else None, report_dir=report_dir,
-                               max_variants=max_variants)
+                               max_variants=max_variants, selection=selection)
 
     if link != INPROCESS:
         plc_process: Callable[[str | None], ChildPlcRun[Any]] = load(link_kind(link).plc_process)

@@ -26,6 +26,7 @@ from vc.scenario.distribution.parallel import RunSettings, jobs_for, process_con
 from vc.scenario.distribution.tasks import SEND_DIAGRAM, SEND_NOTHING
 from vc.scenario.language.loader import MachineLoader, Programs, load_scenarios
 from vc.scenario.language.model import Scenario
+from vc.scenario.language.selection import Selection
 from vc.scenario.language.target import ScenarioTarget
 from vc.scenario.outputs.golden import GoldenCheck
 from vc.scenario.outputs.report import ConsoleReport, write_junit
@@ -65,7 +66,7 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
                 golden: str | Path | None = None, update_golden: bool = False, jobs: int | None = 1,
                 build: str = "", cluster: ClusterSettings | None = None,
                 report_dir: str | Path | None = None, default_plc: str | None = None,
-                max_variants: int = MAX_RUN_VARIANTS) -> int:
+                max_variants: int = MAX_RUN_VARIANTS, selection: Selection | None = None) -> int:
     """Check every scenario of ``paths``, run them if all are sound, report; return the exit code.
 
     With ``golden`` each passed scenario is compared with its golden trace in that directory
@@ -74,7 +75,7 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
     (:mod:`vc.scenario.distribution.cluster`).  A run with its own ``catalog`` or ``machine_loader``, or with a
     scenario of an external PLC, stays in this process.  ``report_dir`` gets the HTML report with timing diagrams.
     ``build`` names the build that runs (printed first); ``default_plc`` and ``max_variants``: see
-    :func:`load_scenarios`.
+    :func:`load_scenarios`; ``selection`` (``-k``, ``--shard``) keeps part of the scenarios.
     """
     report = ConsoleReport(console)
     began = wallclock.perf_counter()
@@ -93,6 +94,13 @@ def run_command(paths: Sequence[str], make_target: Callable[[Scenario], Scenario
     if not scenarios:
         report.say("no scenario files found in " + ", ".join(paths))
         return EXIT_PROBLEMS
+    if selection is not None:
+        found = len(scenarios)
+        scenarios = selection.apply(scenarios)
+        say(f"{selection.describe()}: {len(scenarios)} of {found} scenarios")
+        if not scenarios:
+            say(f"vc run: {selection.describe()} selects none of the {found} scenarios")
+            return EXIT_PROBLEMS
     check = GoldenCheck(Path(golden), update_golden) if golden is not None else None
     if check is not None and (shared := check.shared(scenarios)):
         for sentence in shared:
