@@ -557,7 +557,7 @@ class CouplingStatus:
 
 @dataclass(slots=True, kw_only=True)
 class GantryRequests:
-    """Read at the leading axis of a gantry grouping (seed 003 §12.6, L15390-15395)."""
+    """Read at the leading axis of a gantry grouping (seed 003 §12.6, L15362-15410)."""
 
     start_sync_run: bool = signal("coupling.out.gantryStartSyncRun")  # DBX29.4
     disable_sync: bool = signal("coupling.out.gantryDisableSync")  # DBX29.5
@@ -565,7 +565,7 @@ class GantryRequests:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class GantryStatus:
-    """101.4 / 101.5 are the leading axis's, 101.2 / 101.3 each following axis's (L15390-15410)."""
+    """101.4 / 101.5 are the leading axis's, 101.2 / 101.3 each following axis's (L15362-15410)."""
 
     cut_off_limit: bool = signal("coupling.in.gantryCutOffLimitExceeded")  # DBX101.2
     warning_limit: bool = signal("coupling.in.gantryWarningLimitExceeded")  # DBX101.3

@@ -4,7 +4,7 @@ Networks after those of ``basic_machine`` (1-4), for every gantry grouping the N
 leading axis shows DB31.DBX101.6 = 1 and DBX101.7 = 1; its followers DBX101.7 = 1, 101.6 = 0):
 
 5. Enables: the axes of a grouping are enabled together (network 4 gives every axis its enables;
-   a follower's traverse keys are never pressed: the NC ignores them, L15574-15578).
+   a follower's traverse keys are never pressed: the NC ignores them, L15570-15573).
 6. Referencing of the grouping (§12.3.1, L14655-14687): in JOG-REF or MDA-REF, NC start on the
    panel starts it; the PLC holds the leading axis's traverse key of its referencing direction
    until the leading axis reports DB31.DBX60.4 and releases it then: the NC references the
@@ -14,15 +14,15 @@ leading axis shows DB31.DBX101.6 = 1 and DBX101.7 = 1; its followers DBX101.7 = 
         LEADER ──DBX60.4 of the leading axis──▶ IDLE: key released
         LEADER ──reset, REF left──▶ IDLE
 
-7. Synchronization (L14740-14748, L14895-14911): when the NC reports DBX101.4 (the difference is
+7. Synchronization (L14740-14748, L14767-14790, L14814-14826): when the NC reports DBX101.4 (the difference is
    beyond the warning limit, or the synchronism was lost), the operator checks the portal and
    presses ``MCP.gantrySync`` (or, with ``gantry_auto_sync: true``, the PLC itself starts it): in
    REF the PLC gives DBX29.4 of the leading axis until DBX101.4 falls (the run started) or at most
    ``sync_start_time``.  ``gantry_disable_auto_sync: true`` sets DBX29.5 (no automatic
-   synchronization after follow-up, L14957-14990).
-8. Warning and trip limits (L14467-14501): a follower's DBX101.3 raises PLC alarm 700030 (the
+   synchronization after follow-up, L14906-14944).
+8. Warning and trip limits (L14467-14501): a follower's DBX101.3 raises PLC alarm 700060 (the
    portal is skewing) and holds the feed of the first channel (DB21.DBX6.0) while it stands; its
-   DBX101.2 (the NC stopped the grouping with alarm 10653) raises PLC alarm 700031 until the reset
+   DBX101.2 (the NC stopped the grouping with alarm 10653) raises PLC alarm 700061 until the reset
    key.  ``Lamp.gantrySync`` lights while every grouping is synchronized (DBX101.5).
 
 Parameters (machine file)::
@@ -43,7 +43,7 @@ from plc_stub.io import Bool, PlcIo
 from plc_stub.programs.auxiliary import PLC_ALARM
 from plc_stub.programs.basic_machine import BasicMachine, pressed
 
-WARNING_ALARM, TRIP_ALARM = 700030, 700031
+WARNING_ALARM, TRIP_ALARM = 700060, 700061
 SYNC_START_S = 0.5  # DBX29.4 is held at most this long when the NC does not take it
 
 

@@ -98,10 +98,10 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         "seed 003 L14496-14501 (number and text; the whole grouping stops, L14588);"
                         " [control] reaction (the mode group stops) and reset"),
         AlarmDefinition(10654, "Channel %1 waiting for synchronization start of gantry group %2", Reaction.NONE,
-                        Clear.SELF, "seed 003 L14744-14748 (the message 'waiting for gantry grouping X to start"
+                        Clear.SELF, "seed 003 L14725-14731 (the message 'waiting for gantry grouping X to start"
                         " synchronization'); [control] number"),
         AlarmDefinition(10655, "Channel %1 synchronization of gantry group %2 in progress", Reaction.NONE,
-                        Clear.SELF, "seed 003 L14705-14709 (the message 'gantry grouping X synchronizing',"
+                        Clear.SELF, "seed 003 L14698-14705 (the message 'gantry grouping X synchronizing',"
                         " suppressed by MD37150 bit 2); [control] number"),
         AlarmDefinition(10720, "Channel %1 block %3 axis %2 software limit switch %4",
                         _STOP | Reaction.READ_IN_DISABLED, Clear.RESET, "[control]"),

@@ -3,7 +3,7 @@
 One :class:`GantryGrouping` per grouping of MD37100 (tens digit 0 = leading axis, 1 = following
 axis, units digit = the grouping 1..8).  The program, JOG and the PLC move the leading axis only;
 each following axis takes the leading axis's setpoint (L14576-14578) and its traverse keys are
-ignored (L15574-15578).  The actual-value difference of each follower against the leading axis is
+ignored (L15570-15573).  The actual-value difference of each follower against the leading axis is
 monitored: beyond MD37110 the warning DB31.DBX101.3 and message 10652, gone below the limit
 (L14467-14476); beyond the trip limit (MD37120 synchronized, MD37130 not yet synchronized) alarm
 10653 and DB31.DBX101.2, and the whole grouping stops (L14488-14501, L14588).  Referencing and
@@ -25,7 +25,7 @@ synchronization follow the seed's procedure (§12.3, L14640-14748)::
 
 The target of the synchronization run is the leading axis's reference point value MD34100 when
 the run comes from referencing (L14644-14649), the leading axis's actual position when the PLC
-starts it after the synchronism was lost (L14906-14910).  MD37150 bit 0 (extended monitoring,
+starts it after the synchronism was lost (L14767-14786).  MD37150 bit 0 (extended monitoring,
 L14517-14547): a broken-up grouping and one in follow-up are monitored as well once referenced;
 a trip writes the difference into MD37135, and while MD37135 is not 0 every reset brings 10653
 back.  Bit 2 suppresses message 10655.  Machines without a gantry build no grouping, and a
@@ -53,7 +53,6 @@ ALARM_WARNING_LIMIT = 10652
 ALARM_ERROR_LIMIT = 10653
 ALARM_WAITING_FOR_START = 10654
 ALARM_SYNCHRONIZING = 10655
-MAX_GROUPINGS = 8  # L14416
 EXTENDED_MONITORING, NO_SYNC_MESSAGE = 1 << 0, 1 << 2  # MD37150 bits 0 and 2
 
 
@@ -159,7 +158,7 @@ class GantryGrouping:
     # ------------------------------------------------------------------ inputs
     def decode_inputs(self, axis: MachineAxis) -> None:
         """The PLC changed DB31 of ``axis``: the leading axis's gantry signals; a coupled follower's
-        traverse keys are ignored (L15574-15578)."""
+        traverse keys are ignored (L15570-15573)."""
         self.busy = True
         if axis is self.leader:
             self._decode(self._areas[axis.name], self.inputs)
@@ -327,7 +326,7 @@ class GantryGrouping:
 
     def _automatic_sync(self) -> bool:
         """12.3.2: back from follow-up into position control, within the standstill tolerance MD36030 of
-        each follower and DBX29.5 not set: synchronized again without a run (L14957-14990)."""
+        each follower and DBX29.5 not set: synchronized again without a run (L14906-14944)."""
         if self.inputs.disable_sync or self._from_referencing:
             return False
         for axis in self.axes:
@@ -344,7 +343,7 @@ class GantryGrouping:
         leader = self.leader
         extended = bool(self.function_mask & EXTENDED_MONITORING) and all(a.referenced for a in self.axes)
         if state is State.SYNCHRONIZED and any(axis.follow_up for axis in self.axes):
-            self._enter(State.WAITING_FOR_START)  # follow-up: the synchronism is lost (L14962-14966)
+            self._enter(State.WAITING_FOR_START)  # follow-up: the synchronism is lost (L14908-14912)
             self._recouple()
             state = self.state
         monitored = state in _COUPLED or state is State.FOLLOWER_REFERENCING or \
