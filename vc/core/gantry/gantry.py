@@ -224,12 +224,10 @@ class GantryGrouping:
                 leader.setpoint = follower.setpoint - self.offsets[follower.name]  # the leading axis runs along
                 leader.command_velocity = follower.command_velocity
                 leader.resting = False
-        if leader.owner is Owner.BRAKE:
-            for follower in self.followers:
-                if follower.owner is Owner.NONE:
-                    follower.brake()  # a stop of one axis stops the grouping (L14588)
         for follower in self.followers:
-            if follower.owner is Owner.BRAKE and leader.owner is not Owner.BRAKE:
+            # a stop of one axis stops the grouping (L14588): a follower braking on its own (a reaction
+            # of its own) brakes the leading axis, whose braking setpoint the other followers take
+            if follower.owner is Owner.BRAKE and leader.owner is not Owner.BRAKE and leader.command_velocity:
                 leader.brake()
             if follower.owner is Owner.NONE and follower is not self._follower_referencing:
                 setpoint = leader.setpoint + self.offsets[follower.name]
