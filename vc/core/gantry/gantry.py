@@ -195,8 +195,6 @@ class GantryGrouping:
             start = self.inputs.start_sync_run and not self._start_was
             if start and reference_function and not any_referencing:
                 self._start_sync_run(cycle, self._target if self._from_referencing else self.leader.actual)
-            elif self._automatic_sync():
-                self._synchronized()
         self._start_was = self.inputs.start_sync_run
         self._setpoints(cycle)
 
@@ -343,6 +341,9 @@ class GantryGrouping:
         if state is State.SYNCHRONIZED and any(axis.follow_up for axis in self.axes):
             self._enter(State.WAITING_FOR_START)  # follow-up: the synchronism is lost (L14908-14912)
             self._recouple()
+            state = self.state
+        elif state is State.WAITING_FOR_START and self._automatic_sync():
+            self._synchronized()  # on this cycle's servo states and actual values
             state = self.state
         monitored = state in _COUPLED or state is State.FOLLOWER_REFERENCING or \
             (extended and state is State.BROKEN_UP)

@@ -171,3 +171,23 @@ def _reference_broken_up(rig: Rig) -> None:
                 break
         rig.set(f"{axis}.basic.out.traversKeyPlus", 0)
         rig.step(50)
+
+
+@pytest.mark.parametrize("disable_sync", [0, 1])
+def test_follow_up_loses_the_synchronism_and_position_control_within_md36030_restores_it_unless_dbx29_5(
+        disable_sync: int) -> None:
+    rig = _rig()
+    _reference(rig)
+    rig.run_until(lambda: _state(rig) is State.SYNCHRONIZED, 2000)
+    rig.step(200)
+    rig.set("X1.coupling.out.gantryDisableSync", disable_sync)
+    rig.set("X2.basic.out.followUpMode", 1)
+    rig.set("X2.basic.out.enableCtrl", 0)
+    rig.step(10)
+    assert _state(rig) is State.WAITING_FOR_START and rig.get("X1.coupling.in.gantrySyncOk") == 0
+    rig.set("X2.basic.out.enableCtrl", 1)
+    rig.set("X2.basic.out.followUpMode", 0)
+    rig.step(10)
+    # 12.3.2 (L14906-14944): back in position control within the standstill tolerance
+    assert rig.get("X1.coupling.in.gantrySyncOk") == 1 - disable_sync
+    assert _state(rig) is (State.WAITING_FOR_START if disable_sync else State.SYNCHRONIZED)
