@@ -72,6 +72,9 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
     PlantFunction(r"MCP\.optionalStop", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "optional stop switch on the machine control panel: 1 = M01 stops the program (the PLC selects"
                   " it with DB21.DBX0.5)"),
+    PlantFunction(r"MCP\.gantrySync", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
+                  "key on the machine control panel: start the gantry synchronization run the NC waits for"
+                  " (DB31.DBX101.4; the PLC program gantry gives DB31.DBX29.4)"),
     PlantFunction(r"MCP\.noOrthogonalCompensation", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "switch on the machine control panel: move the inclined axis without compensating the "
                   "orthogonal one (NOZAGC of the inclined-axis control)"),

@@ -553,6 +553,29 @@ class CouplingStatus:
     sync_mode: bool = signal("spindle.in.syncModeActive")
 
 
+# ----------------------------------------------------------------------------- DB31 gantry axes
+
+
+@dataclass(slots=True, kw_only=True)
+class GantryRequests:
+    """Read at the leading axis of a gantry grouping (seed 003 §12.6, L15362-15410)."""
+
+    start_sync_run: bool = signal("coupling.out.gantryStartSyncRun")  # DBX29.4
+    disable_sync: bool = signal("coupling.out.gantryDisableSync")  # DBX29.5
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class GantryStatus:
+    """101.4 / 101.5 are the leading axis's, 101.2 / 101.3 each following axis's (L15362-15410)."""
+
+    cut_off_limit: bool = signal("coupling.in.gantryCutOffLimitExceeded")  # DBX101.2
+    warning_limit: bool = signal("coupling.in.gantryWarningLimitExceeded")  # DBX101.3
+    sync_run_ready: bool = signal("coupling.in.gantrySyncRunReady")  # DBX101.4
+    sync_ok: bool = signal("coupling.in.gantrySyncOk")  # DBX101.5
+    leading: bool = signal("coupling.in.gantryLeadingActive")  # DBX101.6
+    gantry: bool = signal("coupling.in.gantryActive")  # DBX101.7
+
+
 # ----------------------------------------------------------------------------- DB100 alarm list
 
 

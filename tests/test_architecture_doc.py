@@ -29,7 +29,7 @@ def test_every_path_the_architecture_names_exists() -> None:
 def test_every_package_of_the_nc_core_is_in_the_picture() -> None:
     text = DOC.read_text(encoding="utf-8")
     packages = sorted(p.name for p in (ROOT / "vc" / "core").iterdir() if (p / "__init__.py").exists())
-    assert len(packages) == 12
+    assert len(packages) == 13
     assert [name for name in packages if f"\n{name}/" not in text] == []
 
 

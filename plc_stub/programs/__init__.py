@@ -14,6 +14,7 @@ from plc_stub.programs.basic_machine import BasicMachine
 from plc_stub.programs.cams import Cams
 from plc_stub.programs.coolant import Coolant
 from plc_stub.programs.drive_lineup import DriveLineup
+from plc_stub.programs.gantry import Gantry
 from plc_stub.programs.magazine import Magazine
 from plc_stub.programs.manual_retraction import ManualRetraction
 from plc_stub.programs.polygon import Polygon
@@ -43,6 +44,7 @@ REGISTRY: dict[str, ProgramClass] = {
     "rotary_table": RotaryTable,
     "drive_lineup": DriveLineup,
     "cams": Cams,
+    "gantry": Gantry,
 }
 
 

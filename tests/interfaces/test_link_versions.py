@@ -28,18 +28,21 @@ from vc.config.machine_files import packaged_machines
 # DB2, the PLC's user alarms, behind every other block (docs/modbus.md, "Link versions"; docs/can.md); 4: FC18's
 # exchange area of every axis, DB31.DBB32-43 (PLC to NC) and DBB104-105 (NC to PLC); 5: the software cams'
 # signals DB10.DBB110-117 behind every other block (no address of version 4 moved: backward compatible
-# for a PLC that ignores them, the version and the table sizes tell it)
+# for a PLC that ignores them, the version and the table sizes tell it); 6: the packaged machine gantry_mill and
+# DB31.DBX29.4, the gantry's start of the synchronization run (no address of version 5 moved)
 MODBUS_LAYOUTS = {
     2: "fffd2c1c55b0696552105b46e4e6152863cf1e343d76537bd4592ebcec3f73f7",
     3: "e1de97c22308d9323762f729d93fdb276ddf82ed16868034bcc93b2f912c0d06",
     4: "934fb304cbcacd0fbc3c6349fc3de513782931a1c03e6e753abacc03f8d14be8",
     5: "2f05c658db7d7dc077bc73acf97da928117f88ce52a07ad868d95b3e158c3241",
+    6: "1b0ae20d8a488a9c88d66a983027b2f0b08261ea2b4ff422095cdfb287547930",
 }
 CAN_LAYOUTS = {
     2: "d7cb80778840f026a9c38e6e6f0299ce63065adfe46ca65be12b8c5b7032003a",
     3: "fdd22d9d3486115be60c64d4d1aaafe98e2f36046120c737bc877c52b46db651",
     4: "cac4454b04b31bc99012e93fdf84b21ea6c9e2575e55dc47720d2c92ee9b8575",
     5: "10545fadf2af467f34875c1d9418d859e436976d490e224215bf2cc3874da68a",
+    6: "7e97514e4825df906834743dc65ba3d2641afb75cdd5a37402956740494eff8d",
 }
 
 

@@ -35,7 +35,7 @@
                                                       self-contained (or lean: runs in the host's Python)
 
 M is a machine file or the name of a machine the package ships (turn_mill, the default,
-mill_3axis, mill_5axis), found from any directory.
+mill_3axis, mill_5axis, gantry_mill), found from any directory.
 
 Problems in input files are reported with file, line and column and exit with code 2;
 a failed scenario exits with 1.

@@ -354,7 +354,9 @@ def _convention(catalog: ExpandedCatalog, register_map: RegisterMap) -> list[str
         " exchange area of every axis (DB31.DBB32-43 to the NC, DBB104-105 to the PLC: the PLC axes; turn_mill's"
         " tables grew to 365 and 204 registers); 5, the software cams' signals DB10.DBB110-117 behind every other"
         " range of the NC-to-PLC table (turn_mill's grew to 369 registers; no register of version 4 moved, so a PLC"
-        f" that does not read the cams needs no other change); this server speaks {LINK_VERSION}. A test pins every"
+        " that does not read the cams needs no other change); 6, the machine gantry_mill and DB31.DBX29.4 (the"
+        " gantry's start of the synchronization run, in a byte the table had: no register of version 5 moved);"
+        f" this server speaks {LINK_VERSION}. A test pins every"
         " version to its"
         " layout (tests/interfaces/test_link_versions.py).",
         "",

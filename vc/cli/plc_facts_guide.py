@@ -120,7 +120,7 @@ def nc_rules_section(catalog: ExpandedCatalog, register_map: RegisterMap, commis
             f" {where(f'{axis}.spindle.out.gearChangeoverDone')}: the NC takes the stage and drops 82.3; clear 16.3"
             " then. The rows of these signals are in the signal tables below.")
     lines.append("* **Signals the NC does not model.** `vc map` has a `modelled` column: `no: <why>` marks the"
-                 " catalogued signals the simulated NC neither reads nor writes (travel to fixed stop, gantry,"
+                 " catalogued signals the simulated NC neither reads nor writes (oscillation, the drive's rapid stop,"
                  " indexing axes ...). A PLC that waits for one of them waits for ever; that is not its bug.")
     return lines
 

@@ -1,6 +1,6 @@
 """Where a machine file is: a path, or the name of a machine the package ships.
 
-The project's machines (turn_mill, mill_3axis, mill_5axis) are package data of ``vc``
+The project's machines (turn_mill, mill_3axis, mill_5axis, gantry_mill) are package data of ``vc``
 (``vc/machines/*.yaml``), so ``--machine turn_mill`` finds its file from any directory after a
 plain ``pip install``.  That directory is their only home: the repository's scenario library
 reaches the same files through the symbolic link ``scenarios/machines -> ../vc/machines``, so a

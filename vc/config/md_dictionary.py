@@ -836,6 +836,40 @@ FIXED_STOP_ACKN_MASK = MdDef(37060, "FIXED_STOP_ACKN_MASK", A, INT, 0,
                              " block change waits for DB31.DBX1.1", "seed 003 L37187-37196, L37226-37232,"
                              " L37311-37320; [control] default", "", 0, 3)
 
+# ---------------------------------------------------------------------------------- axis: gantry axes
+GANTRY_AXIS_TYPE = MdDef(37100, "GANTRY_AXIS_TYPE", A, INT, 0,
+                         "gantry axis: tens digit 0 = leading axis, 1 = synchronized (following) axis; units"
+                         " digit = the gantry grouping 1..8; 0 = no gantry axis (01 leads grouping 1, 11"
+                         " follows in it)", "seed 003 L14407-14428; [control] 0 = no gantry axis", "", 0, 18,
+                         allowed=(0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 12, 13, 14, 15, 16, 17, 18))
+GANTRY_POS_TOL_WARNING = MdDef(37110, "GANTRY_POS_TOL_WARNING", A, FLOAT, 0.0,
+                               "gantry warning limit of the actual-value difference (DB31.DBX101.3, alarm 10652);"
+                               " also the largest difference for which the synchronization run starts by itself;"
+                               " 0: no warning and no automatic synchronization run",
+                               "seed 003 L14465-14481, L14698-14731, L15240-15250; [control] default", "mm",
+                               0.0, 1.0e8)
+GANTRY_POS_TOL_ERROR = MdDef(37120, "GANTRY_POS_TOL_ERROR", A, FLOAT, 0.0,
+                             "gantry trip (cut-off) limit of a synchronized grouping (DB31.DBX101.2, alarm 10653,"
+                             " the grouping stops); 0: not monitored",
+                             "seed 003 L14486-14501, L15098-15101; [control] default", "mm", 0.0, 1.0e8)
+GANTRY_POS_TOL_REF = MdDef(37130, "GANTRY_POS_TOL_REF", A, FLOAT, 0.0,
+                           "gantry trip (cut-off) limit while the grouping is not synchronized (referencing);"
+                           " 0: not monitored", "seed 003 L14493-14496, L15101; [control] default", "mm",
+                           0.0, 1.0e8)
+GANTRY_ACT_POS_TOL_ERROR = MdDef(37135, "GANTRY_ACT_POS_TOL_ERROR", A, FLOAT, 0.0,
+                                 "the actual-value difference the extended monitoring (MD37150 bit 0) found beyond"
+                                 " the trip limit, written by the control; while it is not 0 alarm 10653 comes"
+                                 " back at every reset", "seed 003 L14531-14547; [control] default", "mm",
+                                 -1.0e8, 1.0e8)
+GANTRY_BREAK_UP = MdDef(37140, "GANTRY_BREAK_UP", A, BOOL, False,
+                        "break up the gantry grouping: its axes travel on their own, nothing is monitored,"
+                        " DB31.DBX101.5 = 0", "seed 003 L14590-14612, L14636-14638; [control] default")
+GANTRY_FUNCTION_MASK = MdDef(37150, "GANTRY_FUNCTION_MASK", A, INT, 0,
+                             "bit 0: extended monitoring (also in follow-up and broken up, once referenced);"
+                             " bit 1: the follower searches its zero mark in the leading axis's direction;"
+                             " bit 2: no 'synchronization in progress' message (alarm 10655)",
+                             "seed 003 L14517-14547, L14703-14705, L14848-14856; [control] default", "", 0, 7)
+
 # ---------------------------------------------------------------------------------- axis: ESR
 ESR_REACTION = MdDef(37500, "ESR_REACTION", A, INT, 0,
                      "extended stop and retract of the axis: 0 = none, 21 = NC-controlled retract,"

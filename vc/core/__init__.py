@@ -4,7 +4,8 @@ Layers, from the top; a package imports only packages below it (import-linter ke
 
 1. ``nck``            the NCK, the mode group, manual retraction, the alarm area (DB100)
 2. ``channel``        the channel and its referencing order
-3. ``spindle`` | ``retraction`` | ``transforms`` | ``auxiliary`` | ``fixed_stop``   independent of one another
+3. ``spindle`` | ``retraction`` | ``transforms`` | ``auxiliary`` | ``fixed_stop`` | ``gantry``   independent of one
+   another
 4. ``referencing``    the axis referencing state machine
 5. ``program``        program text, interpreter, sync actions and the commands they produce
 6. ``interpolation``  path, circle, tool path, thread cutting

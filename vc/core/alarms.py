@@ -90,6 +90,19 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         Reaction.NC_START_DISABLED, Clear.RESET, "seed 003 L2218-2231; [control] number"),
         AlarmDefinition(10621, "Channel %1 axis %2 rests on software limit switch %3",
                         Reaction.NONE, Clear.SELF, "[control]"),
+        AlarmDefinition(10652, "Channel %1 axis %2 gantry warning limit exceeded", Reaction.NONE, Clear.SELF,
+                        "seed 003 L14467-14476 (the message 'warning limit exceeded', gone below the limit);"
+                        " [control] number and text"),
+        AlarmDefinition(10653, "Channel %1 axis %2 error limit exceeded",
+                        Reaction.RAPID_STOP | _STOP | Reaction.MODE_GROUP, Clear.RESET,
+                        "seed 003 L14496-14501 (number and text; the whole grouping stops, L14588);"
+                        " [control] reaction (the mode group stops) and reset"),
+        AlarmDefinition(10654, "Channel %1 waiting for synchronization start of gantry group %2", Reaction.NONE,
+                        Clear.SELF, "seed 003 L14725-14731 (the message 'waiting for gantry grouping X to start"
+                        " synchronization'); [control] number"),
+        AlarmDefinition(10655, "Channel %1 synchronization of gantry group %2 in progress", Reaction.NONE,
+                        Clear.SELF, "seed 003 L14698-14705 (the message 'gantry grouping X synchronizing',"
+                        " suppressed by MD37150 bit 2); [control] number"),
         AlarmDefinition(10720, "Channel %1 block %3 axis %2 software limit switch %4",
                         _STOP | Reaction.READ_IN_DISABLED, Clear.RESET, "[control]"),
         AlarmDefinition(10860, "Channel %1 block %2 feedrate not programmed", _STOP, Clear.RESET,

@@ -85,7 +85,7 @@ from interfaces.errors import VcError
 from interfaces.exchange import exchange_ranges, link_direction
 from interfaces.signals import Direction, ExpandedCatalog, SignalRef, SignalType
 
-LINK_VERSION = 5  # raised with every change of the layout (tests/interfaces/test_link_versions.py)
+LINK_VERSION = 6  # raised with every change of the layout (tests/interfaces/test_link_versions.py)
 DEFAULT_LINK_ID = 0x100
 DEFAULT_NC_TO_PLC_ID = 0x200
 DEFAULT_PLC_TO_NC_ID = 0x400

@@ -91,7 +91,7 @@ DESCRIPTION_REGISTER = 4096  # first input register of the description
 MAX_DESCRIPTION_BYTES = 2 * 12288  # input registers 4096..16383 (the commissioning facts of many axes fit)
 READ_LIMIT = 125  # registers in one read request or response (FC 3, 4): the protocol's limit
 WRITE_LIMIT = 123  # registers in one write request (FC 16)
-LINK_VERSION = 5  # raised with every change of the layout (tests/interfaces/test_link_versions.py)
+LINK_VERSION = 6  # raised with every change of the layout (tests/interfaces/test_link_versions.py)
 SESSION_KEY_REGISTERS = 4  # holding registers 2..5: a 64-bit key
 
 # Modbus function codes by the table they address

@@ -25,7 +25,7 @@ from vc.cli.main import main
 from vc.config.loader import load_machine
 
 ROOT = Path(__file__).resolve().parents[3]
-MACHINES = ("turn_mill", "mill_3axis", "mill_5axis")
+MACHINES = ("turn_mill", "mill_3axis", "mill_5axis", "gantry_mill")
 
 
 def _rows_and_context(machine_name: str, io_base: int = 0) -> tuple[list[MapRow], ExportContext]:

@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[3]
 
 
 def test_the_project_machines_are_packaged_and_the_scenario_library_reaches_the_same_files() -> None:
-    assert packaged_machines() == ["mill_3axis", "mill_5axis", "turn_mill"]
+    assert packaged_machines() == ["gantry_mill", "mill_3axis", "mill_5axis", "turn_mill"]
     for name in packaged_machines():
         packaged = machine_file(name)
         assert packaged is not None and Path(packaged).is_file()
@@ -53,7 +53,7 @@ def test_an_unknown_name_lists_the_packaged_machines() -> None:
     with pytest.raises(SourceError) as error:
         load_machine("lathe")
     assert str(error.value) == ("lathe:1:1: no machine file 'lathe' and no packaged machine of that name"
-                                " (packaged: mill_3axis, mill_5axis, turn_mill)")
+                                " (packaged: gantry_mill, mill_3axis, mill_5axis, turn_mill)")
 
 
 def test_a_built_wheel_ships_the_machines_and_vc_map_finds_them_by_name(tmp_path: Path) -> None:
@@ -74,7 +74,7 @@ def test_a_built_wheel_ships_the_machines_and_vc_map_finds_them_by_name(tmp_path
     with zipfile.ZipFile(wheel) as archive:
         shipped = set(archive.namelist())
     assert {"vc/machines/turn_mill.yaml", "vc/machines/mill_3axis.yaml", "vc/machines/mill_5axis.yaml",
-            "interfaces/catalog/db31_axis.yaml"} <= shipped
+            "vc/machines/gantry_mill.yaml", "interfaces/catalog/db31_axis.yaml"} <= shipped
 
     installed = tmp_path / "installed"
     subprocess.run([sys.executable, "-m", "pip", "install", "--no-deps", "-q", "--target", str(installed),

@@ -24,10 +24,11 @@ own skip-guards (most of the machine rests in most cycles).  Why each comes wher
    referencing procedures; they command their axes before position control moves them.
 8. **position control**: the drives changing a data set over (a motor changeover cancels the
    pulses the axis's servo state sees in this cycle), the inclined-axis controls carry the
-   orthogonal axis along a manual motion, every axis that moves or was commanded runs its control
+   orthogonal axis along a manual motion, the gantry followers take their leading axes' setpoints
+   (only while a grouping's axis moves or its referencing runs), every axis that moves or was commanded runs its control
    loop, drive and encoder, then travel to fixed stop detects its stop and watches its window
-   (only while one is selected), and the couplings monitor their synchronism on the new actual
-   values, and the software cams of the axes whose cams are active set their signals.
+   (only while one is selected), and the couplings and the gantry groupings monitor their
+   synchronism on the new actual values, and the software cams of the axes whose cams are active set their signals.
 9. **extended stop and retract**: synchronized actions, the channels' and the drives' ESR
    reactions, the DC link.  After position control, so that a trigger of this cycle sees this
    cycle's positions; before the alarm reactions, which must not cut off a retraction.
@@ -139,6 +140,7 @@ class Nck:
         self.manual = parts.manual
         self.fixed_stops = parts.fixed_stops
         self.software_cams = parts.software_cams
+        self.gantries = parts.gantries
         self._changing_drives: list[MachineAxis] = []  # drives changing a data set: ticked until done
         # setpoint switchover: the drives several axes share, by axis; ticked while a request waits
         self.shared_drives = parts.shared_drives  # setpoint switchover: the drives two or more axes share
@@ -231,6 +233,9 @@ class Nck:
             self._drive_data_sets()
         if self._switching_drives:
             self._setpoint_switchovers()
+        gantries = self.gantries
+        if gantries.groupings:  # the followers take their leading axes' setpoints
+            gantries.couple(self.cycle, self.mode_group.reference_function, self.referencing.any_active)
         moved = False
         for axis in self.axes:
             if axis.resting and axis.owner is Owner.NONE:
@@ -241,6 +246,8 @@ class Nck:
             if fixed_stop.busy:
                 fixed_stop.cycle(self.cycle)  # detection and monitoring on the new actual values
         self.couplings.monitor(self.cycle)
+        if gantries.groupings:
+            gantries.monitor(self.cycle)  # the gantry differences on the new actual values
         if self.software_cams.busy:
             self.software_cams.cycle()  # the cam signals of the active axes on the new actual values
         return moved
@@ -324,6 +331,9 @@ class Nck:
                         self._switching_drives.append(shared)
                 axis.override = self._axis_coding.factor(axis.inputs.override_raw, axis.inputs.override_active)
                 self._hardware_limit_switches(axis)
+                gantry = self.gantries.of.get(axis.name)
+                if gantry is not None:
+                    gantry.decode_inputs(axis)  # DBX29.4 / 29.5; a follower's traverse keys (chapter 12)
                 cams = self.software_cams.of.get(axis.name)
                 if cams is not None:
                     self.software_cams.decode_inputs(cams)  # DBX2.0, the measuring system (chapter 21)
@@ -394,6 +404,7 @@ class Nck:
             if reset:
                 channel.reset(self.cycle)
                 self.referencing.abort_channel(channel.name)
+                self.gantries.reset(channel.name, self.cycle)
                 continue
             if edges.reference_start and mode_group.reference_function and mode_group.mode is not Mode.AUTO \
                     and not self.emergency_stop:

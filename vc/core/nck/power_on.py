@@ -39,6 +39,7 @@ from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.fixed_stop.fixed_stop import FixedStop
+from vc.core.gantry.gantry import Gantries
 from vc.core.interface_map import SignalTable
 from vc.core.nc_memory import NcMemory
 from vc.core.nck.alarm_area import AlarmArea
@@ -86,6 +87,7 @@ class NckParts:
     fixed_stops: list[FixedStop]  # travel to fixed stop of the axes whose MD37000 allows it
     shared_drives: list[SharedDrive]  # setpoint switchover: the axes of one drive (equal MD30110)
     software_cams: SoftwareCams  # the cam pairs of MD10450 by axis (seed 003 chapter 21)
+    gantries: Gantries  # the gantry groupings of MD37100 (seed 003 chapter 12); none on most machines
 
 
 def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memory: NcMemory, alarms: AlarmList,
@@ -179,7 +181,9 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
                     spindle_of, couplings, esr, dc_link, polygons, manual, fixed_stops,
                     _shared_drives(axes, axis_table, image),
                     SoftwareCams(nck, axes, nck_table, axis_table, image.area("DB10"),
-                                 {axis.name: image.area(f"DB{axis.config.db}") for axis in axes}))
+                                 {axis.name: image.area(f"DB{axis.config.db}") for axis in axes}),
+                    Gantries(axes, referencing.of, referencing.start, axis_table,
+                             {axis.name: image.area(f"DB{axis.config.db}") for axis in axes}, memory, dt, alarms))
 
 
 def _shared_drives(axes: list[MachineAxis], table: SignalTable, image: ProcessImage) -> list[SharedDrive]:

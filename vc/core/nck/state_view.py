@@ -24,6 +24,7 @@ from vc.core.axis.software_cams import SOFTWARE_CAM_STATES
 from vc.core.channel.cutting_speed import CUTTING_SPEED_STATES
 from vc.core.channel.program_run import CHANNEL_STATES, PROGRAM_STATES
 from vc.core.fixed_stop.fixed_stop import FIXED_STOP_STATES
+from vc.core.gantry.gantry import GANTRY_STATES
 from vc.core.nck.manual_retraction import MANUAL_RETRACTION_STATES
 from vc.core.nck.mode_group import MODE_GROUP_STATES
 from vc.core.nck.power_on import NckParts
@@ -82,6 +83,7 @@ PUBLISHED: tuple[Published[Any], ...] = (
     Published(JOG_KEY_STATES, lambda nck: [(axis.name, axis.jog.keys) for axis in nck.axes if not axis.is_spindle]),
     Published(MANUAL_RETRACTION_STATES, lambda nck: [(channel.name, nck.retractions[channel.name])
                                                      for channel in nck.channels]),
+    Published(GANTRY_STATES, lambda nck: [(grouping.name, grouping) for grouping in nck.gantries.groupings]),
 )
 
 STATE_MACHINES: tuple[StateMachine[Any], ...] = tuple(
