@@ -215,6 +215,25 @@ class JogMachineFunctions:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class JogTargetRequests:
+    """JOG to a fixed point (DB31.DBX13.0..13.2, its number binary, 0 = off) or to the position
+    SD43320 (DB31.DBX13.3) of a machine axis (seed 003 §16.9, §16.10)."""
+
+    fixed_point: int = signal("basic.out.jogFixedPointSelection", 0)
+    to_position: bool = signal("basic.out.jogToPos")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class JogTargetStatus:
+    """What the NC reports of JOG to a fixed point / to a position (DB31.DBX75.0..75.7)."""
+
+    fixed_point_selected: int = signal("basic.in.jogFixedPointSelectedNumber", 0)
+    fixed_point_reached: int = signal("basic.in.jogFixedPointReachedNumber", 0)
+    to_position_active: bool = signal("basic.in.jogToPosActive")
+    position_reached: bool = signal("basic.in.jogPosReached")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class ActiveJogMachineFunction:
     """The machine function of JOG the NC has active for a machine axis (DB31.DBX65.0..65.6)."""
 

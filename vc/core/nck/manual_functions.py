@@ -21,6 +21,7 @@ from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.interface_map import SignalTable
 from vc.core.nck.jog_functions import JogFunctions
+from vc.core.nck.jog_targets import JogTargets
 from vc.core.nck.manual_retraction import ManualRetraction
 from vc.core.nck.mode_group import ModeGroup
 from vc.core.spindle.coupling import Couplings
@@ -29,7 +30,8 @@ from vc.core.spindle.coupling import Couplings
 class ManualFunctions:
     def __init__(self, axis_table: SignalTable, channel_table: SignalTable, image: ProcessImage, mode_group: ModeGroup,
                  channels: list[Channel], alarms: AlarmList, referencing: ReferencingControl,
-                 retractions: dict[str, ManualRetraction], couplings: Couplings, jog_functions: JogFunctions):
+                 retractions: dict[str, ManualRetraction], couplings: Couplings, jog_functions: JogFunctions,
+                 jog_targets: JogTargets):
         self.image = image
         self.mode_group = mode_group
         self.channels = channels
@@ -39,6 +41,7 @@ class ManualFunctions:
         self.couplings = couplings
         self.handwheels = Handwheels()
         self.jog_functions = jog_functions  # DB31.DBX5.x / 65.x: continuous or incremental JOG
+        self.jog_targets = jog_targets  # DB31.DBX13.0..13.3 / 75.x: JOG to a fixed point / to a position
         self._handwheel = axis_table.codec(HandwheelSelection, HANDWHEEL_OF_MACHINE_AXIS)
         self._geometry_handwheels = tuple(
             channel_table.codec(HandwheelSelection, HANDWHEEL_OF_GEOMETRY_AXIS.format(number=number))
@@ -74,6 +77,7 @@ class ManualFunctions:
                 self.jog_functions.report_geometry_axis(channel, jog_mode)
                 self._show_drf(channel, drf_mode)
             self._drf(channel, pulses, axes_stopped)
+            self.jog_targets.cycle(channel.axes, jog_mode, emergency_stop, latched, cycle, self.alarms)
             self.referencing.traverse_keys(channel.name, channel.axes, allowed and reference_keys, cycle)
             feed_disable = channel.inputs.feed_disable
             jog_allowed = allowed and jog_mode
@@ -100,6 +104,7 @@ class ManualFunctions:
                     if inclined is not None:
                         limits = limits.and_(inclined.jog_limits(axis))
                     limits = limits.and_(channel.stroke_jog_limits(axis, cycle))  # G22, stroke limit 3
+                    limits = limits.and_(self.jog_targets.jog_limits(axis))  # towards a fixed point / position
                     axis.jog_cycle(jog_allowed, feed_disable, limits, self.jog_functions.selection(axis))
         for retraction in self.retractions.values():
             retraction.follow()
