@@ -9,12 +9,12 @@ increments, and it stops exactly on it (L34310-34312, L34672-34674); an incremen
 first is done (L34376-34378, L34732-34734).  Away from the target only with MD10735 bit 2
 (L34426-34432); the key pressed the other way does nothing [control: the channel's message "JOG:
 direction locked" is not built].  The target is a position of the machine coordinate system
-(frames are ignored, L34527-34529).  The axis must be referenced: a key pressed without it raises
+(frames are ignored, L34523-34525).  The axis must be referenced: a key pressed without it raises
 alarm 17810 and nothing moves (L34270, L34392-34394).  Another fixed point selected while the axis
 travels to one ends the motion with alarm 17812 (L34338-34342); a new press travels on.
 
 Reached: the axis stands within the exact stop window MD36010 on a fixed point (DB31.DBX75.3..75.5,
-whatever brought it there, L34314-34320 and the example's initial state L34571-34575) or on the
+whatever brought it there, L34314-34320 and the example's initial state L34568-34572) or on the
 position of JOG to position while it is active (DB31.DBX75.7, L34676-34678).  JOG left, or an
 emergency stop, withdraws the selection [control: the seed says it can be activated only in JOG and
 not during an emergency stop, L34266, L34300-34304; the harness drops it there too].
