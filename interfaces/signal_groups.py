@@ -197,6 +197,25 @@ class HandwheelSelection:
     inc10000: bool = signal("inc10000")
 
 
+HANDWHEEL_INVERSION_OF_MACHINE_AXIS = "basic."  # DB31.DBX7.0 / 67.0
+HANDWHEEL_INVERSION_OF_GEOMETRY_AXIS_1 = "geoAxis1."  # DB21.DBX15.0 / 43.0
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class HandwheelInversionRequest:
+    """The PLC inverts the handwheel's direction of rotation for a machine axis or geometry axis 1
+    (seed 003 §16.6.1 L33280-33306; symbol after the prefix)."""
+
+    invert: bool = signal("out.handwheelInvertDir")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class HandwheelInversionStatus:
+    """The NC's acknowledgement: the handwheel's direction inverted (DB31.DBX67.0, DB21.DBX43.0)."""
+
+    inverted: bool = signal("in.handwheelDirInverted")
+
+
 # ------------------------------------------------------------------- manual travel: JOG machine functions
 
 
