@@ -343,7 +343,9 @@ def test_signals_that_must_not_be_catalogued() -> None:
     addresses = {str(signal.address) for signal in catalog.signals}
     assert not any(s.startswith(("<HmiChan>", "<HmiModeGroup>")) for s in symbols)
     assert "DB31.DBX29.4" not in addresses
-    assert "DB31.DBX7.0" not in addresses  # the channel's NC start disable lives in DB21
+    # the channel's NC start disable lives in DB21; DB31.DBX7.0 is the axis's handwheel inversion, whose
+    # symbol the seed misprints as it (L33287, L33404)
+    assert by_address("DB31.DBX7.0").definition.symbol == "<Axis>.basic.out.handwheelInvertDir"
     assert not any(signal.address.db == 31 and signal.address.byte >= 132 for signal in catalog.signals)
 
 
