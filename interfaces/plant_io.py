@@ -90,6 +90,9 @@ PLANT_FUNCTIONS: tuple[PlantFunction, ...] = (
     PlantFunction(r"MCP\.(incVar|jogContinuous)", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "machine function key on the machine control panel: the variable increment INCvar (SD41010)"
                   " or continuous JOG"),
+    PlantFunction(r"MCP\.fixedPoint[1-4]", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
+                  "JOG to fixed point key on the machine control panel: selects fixed point n of the axes"
+                  " (DB31.DBX13.0..13.2); pressed again it withdraws the selection"),
     PlantFunction(r"EStop\.chainOk", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.OPERATOR,
                   "emergency-stop chain, normally closed: 1 = healthy, 0 = pressed or broken"),
     PlantFunction(r"Drives\.ready", SignalType.BOOL, Direction.PLANT_TO_PLC, PointOwner.PLANT,

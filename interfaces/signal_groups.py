@@ -197,6 +197,25 @@ class HandwheelSelection:
     inc10000: bool = signal("inc10000")
 
 
+HANDWHEEL_INVERSION_OF_MACHINE_AXIS = "basic."  # DB31.DBX7.0 / 67.0
+HANDWHEEL_INVERSION_OF_GEOMETRY_AXIS_1 = "geoAxis1."  # DB21.DBX15.0 / 43.0
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class HandwheelInversionRequest:
+    """The PLC inverts the handwheel's direction of rotation for a machine axis or geometry axis 1
+    (seed 003 §16.6.1 L33280-33306; symbol after the prefix)."""
+
+    invert: bool = signal("out.handwheelInvertDir")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class HandwheelInversionStatus:
+    """The NC's acknowledgement: the handwheel's direction inverted (DB31.DBX67.0, DB21.DBX43.0)."""
+
+    inverted: bool = signal("in.handwheelDirInverted")
+
+
 # ------------------------------------------------------------------- manual travel: JOG machine functions
 
 
@@ -212,6 +231,25 @@ class JogMachineFunctions:
     inc10000: bool = signal("basic.out.inc10000")
     inc_var: bool = signal("basic.out.incVar")
     continuous: bool = signal("basic.out.contTravers")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class JogTargetRequests:
+    """JOG to a fixed point (DB31.DBX13.0..13.2, its number binary, 0 = off) or to the position
+    SD43320 (DB31.DBX13.3) of a machine axis (seed 003 §16.9, §16.10)."""
+
+    fixed_point: int = signal("basic.out.jogFixedPointSelection", 0)
+    to_position: bool = signal("basic.out.jogToPos")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class JogTargetStatus:
+    """What the NC reports of JOG to a fixed point / to a position (DB31.DBX75.0..75.7)."""
+
+    fixed_point_selected: int = signal("basic.in.jogFixedPointSelectedNumber", 0)
+    fixed_point_reached: int = signal("basic.in.jogFixedPointReachedNumber", 0)
+    to_position_active: bool = signal("basic.in.jogToPosActive")
+    position_reached: bool = signal("basic.in.jogPosReached")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -25,6 +25,12 @@ Networks (one method each, called in this order from OB1):
    key's lamp (``Lamp.inc1`` .. ``Lamp.jogContinuous``) lights while the NC reports that machine
    function active on an axis (DB31.DBX65.0..65.6: in JOG).  A program that assigns handwheels
    (network 12 of ``manual_retraction``) gives the increment to the handwheels' axes instead.
+5. JOG to a fixed point (seed 003 §16.9.1): the panel's keys ``MCP.fixedPoint1`` .. ``4`` select
+   fixed point n of every axis (DB31.DBX13.0..13.2, binary), latched; the same key pressed again,
+   or a mode other than JOG, withdraws it (0).  Each key's lamp (``Lamp.fixedPoint1`` ..) lights
+   steadily while every axis with the selection acknowledged (DB31.DBX75.0..75.2 = n) stands on
+   the fixed point (DB31.DBX75.3..75.5 = n) and flashes while one still has to travel there.  On
+   a panel without these keys the program never writes DB31.DBX13.
 
 Everything is derived from the machine's I/O list: an axis without a cam simply has no
 cam network.
@@ -44,6 +50,8 @@ KEY_MODES = ("auto", "mda", "jog")
 JOG_FUNCTIONS = (("inc1", "inc1"), ("inc10", "inc10"), ("inc100", "inc100"), ("inc1000", "inc1000"),
                  ("inc10000", "inc10000"), ("incVar", "incVar"), ("jogContinuous", "contTravers"))
 INCREMENT_KEYS = 5  # the first five are the fixed increments INC1 .. INC10000 (the handwheels' too)
+FIXED_POINTS = 4  # MD30600 holds at most four fixed points per axis (seed 003 L34435)
+FLASH_PERIOD_S = 0.5  # a fixed point's lamp flashes while an axis still travels there
 
 
 @dataclass(slots=True)
@@ -154,6 +162,19 @@ class BasicMachine:
                              for name in layout.axes] if self.jog_keys else []
         self.jog_lamps = [(index, io.output(f"Lamp.{key}")) for index, (key, _) in enumerate(JOG_FUNCTIONS)
                           if io.is_wired(f"Lamp.{key}")]
+        # Network 5: JOG to a fixed point, where the panel has its keys
+        self.fixed_point_keys = [(number, io.input(f"MCP.fixedPoint{number}"), R_TRIG())
+                                 for number in range(1, FIXED_POINTS + 1) if io.is_wired(f"MCP.fixedPoint{number}")]
+        self.fixed_point = 0  # the fixed point selected on the panel, 0 none
+        self.fixed_point_requests = [io.output_field(f"{name}.basic.out.jogFixedPointSelection")
+                                     for name in layout.axes] if self.fixed_point_keys else []
+        self.fixed_point_feedback = [(io.input_field(f"{name}.basic.in.jogFixedPointSelectedNumber"),
+                                      io.input_field(f"{name}.basic.in.jogFixedPointReachedNumber"))
+                                     for name in layout.axes] if self.fixed_point_keys else []
+        self.fixed_point_lamps = [(number, io.output(f"Lamp.fixedPoint{number}"))
+                                  for number in range(1, FIXED_POINTS + 1) if io.is_wired(f"Lamp.fixedPoint{number}")]
+        self.flash_scans = max(1, round(FLASH_PERIOD_S / 2 / scan))
+        self.flash_count = 0
         # Network 4
         self.axes = [
             _AxisIo(
@@ -183,6 +204,7 @@ class BasicMachine:
         self.operating_mode()
         self.channel_control()
         self.axis_control()
+        self.jog_to_fixed_point()
 
     # Network 1 ---------------------------------------------------------------------------
     def emergency_stop_and_drives(self) -> None:
@@ -263,6 +285,26 @@ class BasicMachine:
                 request.value = index == self.jog_function
         for index, lamp in self.jog_lamps:
             lamp.value = any(feedback[index].value for feedback in self.jog_feedback)
+
+    # Network 5 ---------------------------------------------------------------------------
+    def jog_to_fixed_point(self) -> None:
+        """Network 5, JOG to a fixed point: the key last pressed to every axis (again: off; outside
+        JOG: off), the lamps from the NC's feedback."""
+        if not self.fixed_point_keys:
+            return
+        for number, key, edge in self.fixed_point_keys:
+            if edge(key.value):
+                self.fixed_point = 0 if self.fixed_point == number else number
+        if self.selected_mode != "jog" or self.reference_function:
+            self.fixed_point = 0
+        for request in self.fixed_point_requests:
+            request.value = self.fixed_point
+        self.flash_count = (self.flash_count + 1) % (2 * self.flash_scans)
+        flash_on = self.flash_count < self.flash_scans
+        for number, lamp in self.fixed_point_lamps:
+            selected = [reached.value == number for acknowledged, reached in self.fixed_point_feedback
+                        if acknowledged.value == number]
+            lamp.value = bool(selected) and (all(selected) or flash_on)
 
     @property
     def panel_increment(self) -> int | None:

@@ -249,3 +249,43 @@ def test_drives_stay_on_for_the_off_delay_after_an_emergency_stop(plc: PlcBench)
     plc.input("EStop.chainOk", 1)
     plc.scan(2)
     assert plc.out("Drives.on") == 1
+
+
+# ------------------------------------------------------------------ network 5: JOG to a fixed point
+FIXED_POINT_IO = {**IO_LIST, "I8.0": "MCP.fixedPoint1", "I8.1": "MCP.fixedPoint2",
+                  "Q1.0": "Lamp.fixedPoint1", "Q1.1": "Lamp.fixedPoint2"}
+
+
+def test_a_fixed_point_key_selects_it_on_every_axis_again_withdraws_it_and_jog_left_too() -> None:
+    plc = bench(FIXED_POINT_IO)
+    plc.scan(2)
+    plc.tap("MCP.fixedPoint2")
+    assert [plc.out(f"{axis}.basic.out.jogFixedPointSelection") for axis in AXES] == [2, 2, 2]
+    plc.tap("MCP.fixedPoint1")
+    assert plc.out("X1.basic.out.jogFixedPointSelection") == 1
+    plc.tap("MCP.fixedPoint1")
+    assert plc.out("X1.basic.out.jogFixedPointSelection") == 0
+    plc.tap("MCP.fixedPoint2")
+    plc.tap("MCP.mda")
+    assert plc.out("X1.basic.out.jogFixedPointSelection") == 0
+    plc.tap("MCP.jog")
+    assert plc.out("X1.basic.out.jogFixedPointSelection") == 0  # a new press selects it again
+
+
+def test_the_lamp_flashes_while_an_axis_travels_to_the_fixed_point_and_lights_once_all_stand_on_it() -> None:
+    plc = bench(FIXED_POINT_IO)
+    plc.scan(2)
+    plc.tap("MCP.fixedPoint2")
+    assert plc.out("Lamp.fixedPoint2") == 0  # not acknowledged yet
+    plc.nc("X1.basic.in.jogFixedPointSelectedNumber", 2)
+    plc.nc("Z1.basic.in.jogFixedPointSelectedNumber", 2)
+    plc.nc("X1.basic.in.jogFixedPointReachedNumber", 2)
+    seen = set()
+    for _ in range(100):
+        plc.scan()
+        seen.add(plc.out("Lamp.fixedPoint2"))
+    assert seen == {0, 1}  # Z1 still travels: flashing
+    plc.nc("Z1.basic.in.jogFixedPointReachedNumber", 2)
+    plc.scan()
+    assert all(plc.scan() is None and plc.out("Lamp.fixedPoint2") == 1 for _ in range(100))
+    assert plc.out("Lamp.fixedPoint1") == 0

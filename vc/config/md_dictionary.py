@@ -64,9 +64,11 @@ OPERATING_MODE_EXTENDED = MdDef(10721, "OPERATING_MODE_EXTENDED", N, INT, (0,) *
                                 " (DB21.DBX377.5)", "seed 003 L35370-35378; [control] default", "", 0, 1, 10,
                                 allowed=(0, 1))
 JOG_MODE_MASK = MdDef(10735, "JOG_MODE_MASK", N, INT, 0,
-                      "JOG settings (bit mask); bit 8 = 1: manual retraction in both directions"
+                      "JOG settings (bit mask); bit 2 = 1: JOG to a fixed point / to a position may travel"
+                      " away from it (0 = towards it only); bit 8 = 1: manual retraction in both directions"
                       " (0 = plus only)",
-                      "seed 003 L35390-35400, L35547-35549; [control] default", "", 0, 0xFFFF)
+                      "seed 003 L34322-34330, L34426-34432, L34711-34716, L35390-35400, L35547-35549;"
+                      " [control] default", "", 0, 0xFFFF)
 JOG_INC_MODE_LEVELTRIGGRD = MdDef(11300, "JOG_INC_MODE_LEVELTRIGGRD", N, BOOL, True,
                                   "INC and REF in hold mode: the key must be held (default)",
                                   "seed 003 L558-565, L33093-33095")
@@ -463,6 +465,17 @@ SPIND_ASSIGN_TO_MACHAX = MdDef(35000, "SPIND_ASSIGN_TO_MACHAX", A, INT, 0,
                                "seed 003 L20186-20188", "", 0, 20)
 STOP_LIMIT_COARSE = MdDef(36000, "STOP_LIMIT_COARSE", A, FLOAT, 0.04, "exact stop coarse window",
                           "seed 003 L21210-21240; [control] default", "mm", 0.0, 1.0e6)
+# JOG to a fixed point (seed 003 §16.9.2) and to a position (§16.10.2)
+FIX_POINT_POS = MdDef(30600, "FIX_POINT_POS", A, FLOAT, (0.0,) * 4,
+                      "the fixed points 1..4 of JOG to fixed point (DB31.DBX13.0..13.2), machine coordinates",
+                      "seed 003 L34435-34437, L34563-34569", "mm", -1.0e8, 1.0e8, 4)
+NUM_FIX_POINT_POS = MdDef(30610, "NUM_FIX_POINT_POS", A, INT, 0,
+                          "how many of MD30600's fixed points are valid (0 = none)",
+                          "seed 003 L34435, L34441-34446; [control] default 0", "", 0, 4)
+JOG_POSITION = MdDef(43320, "JOG_POSITION", A, FLOAT, 0.0,
+                     "setting datum SD43320 $SA_JOG_POSITION: the position of JOG to position (DB31.DBX13.3),"
+                     " machine coordinates",
+                     "seed 003 L34644-34646, L34800-34802, L34858; [control] default 0", "mm", -1.0e8, 1.0e8)
 STOP_LIMIT_FINE = MdDef(36010, "STOP_LIMIT_FINE", A, FLOAT, 0.01, "exact stop fine window",
                         "seed 003 L21210-21240; [control] default", "mm", 0.0, 1.0e6)
 POSITIONING_TIME = MdDef(36020, "POSITIONING_TIME", A, FLOAT, 1.0,

@@ -144,6 +144,12 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         Clear.RESET, "seed 003 L13123-13124"),
         AlarmDefinition(16830, "Channel %1 block %2 axis %3 incorrect modulo position programmed", _STOP,
                         Clear.RESET, "seed 003 L13150-13152"),
+        AlarmDefinition(17810, "Channel %1 axis %2 not referenced", Reaction.NONE, Clear.RESET,
+                        "seed 003 L34270, L34392-34394, L34624 (JOG to a fixed point / to a position of an axis"
+                        " not referenced: it does not travel); [control] clearing"),
+        AlarmDefinition(17812, "Channel %1 axis %2 JOG to fixed point: fixed point changed", Reaction.NONE,
+                        Clear.RESET, "seed 003 L34338-34342 (the motion ends, a new JOG start travels on);"
+                        " [control] clearing"),
         AlarmDefinition(17500, "Channel %1 block %2 axis %3 is not an indexing axis", _STOP, Clear.RESET,
                         "[control] number and text: CAC / CACP / CACN / CDC / CIC for an axis without MD30500"
                         " (seed 003 §11.4 names no alarm)"),

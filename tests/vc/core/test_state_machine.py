@@ -54,12 +54,12 @@ def test_the_view_holds_every_instance_of_every_state_machine(path: str) -> None
     # the mode group; channel, program, auxiliary function output, constant cutting speed and manual
     # retraction of each channel, its two ESR state machines; mode, gear change and coupling of each
     # spindle; the drive's ESR and data sets of every axis, the referencing, the command axis, the PLC
-    # axis type, the FC18 job and the traverse keys in JOG of every axis that is no spindle (no machine
-    # has software cams or a shared drive here)
+    # axis type, the FC18 job, the traverse keys in JOG and JOG to a fixed point / position of every
+    # axis that is no spindle (no machine has software cams or a shared drive here)
     assert not nck.software_cams.of
     assert not nck.shared_drives
     assert len(view.instances) == (1 + 5 * len(nck.channels) + 2 * len(esr_channels) + 3 * len(nck.spindles)
-                                   + 2 * len(nck.axes) + 5 * len(axes))
+                                   + 2 * len(nck.axes) + 6 * len(axes))
     for reading in view:
         assert isinstance(reading, StateReading)
         declared = next(machine for machine in STATE_MACHINES if machine.name == reading.machine)

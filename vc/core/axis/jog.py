@@ -42,6 +42,8 @@ class JogLimits:
     # The setpoints between which JOG keeps the axis in place of its software limit switches
     # MD36100 / MD36110, where a transform checks them in other coordinates (inclined axis, AOT).
     window: tuple[float, float] | None = None
+    # JOG to a fixed point / to a position (vc/core/axis/jog_target.py): the axis stops exactly on it
+    target: float | None = None
 
     def and_(self, other: JogLimits) -> JogLimits:
         """Both sets of limits at once."""
@@ -52,7 +54,8 @@ class JogLimits:
         window = self.window if other.window is None else other.window if self.window is None else \
             (max(self.window[0], other.window[0]), min(self.window[1], other.window[1]))
         return JogLimits(self.plus and other.plus, self.minus and other.minus,
-                         min(self.velocity, other.velocity), min(self.accel, other.accel), window)
+                         min(self.velocity, other.velocity), min(self.accel, other.accel), window,
+                         self.target if other.target is None else other.target)
 
 
 FREE_JOG = JogLimits()
@@ -138,13 +141,23 @@ class AxisJog:
         velocity = ramp(axis.command_velocity, target, accel, self._dt)
         if bounded:
             velocity = self._limit_to_software_limits(axis, velocity, accel)
+        on_target = False
+        jog_target = limits.target
+        if jog_target is not None:
+            velocity, on_target = self._limit_to_target(axis, velocity, accel, jog_target)
         axis.command_velocity = velocity
         axis.setpoint += velocity * self._dt
+        if on_target and jog_target is not None:
+            axis.setpoint = jog_target
         if incrementing:
             held = (1 if plus else -1) if plus != minus else 0
             self._travel_increment(axis, velocity * self._dt, held == keys.direction)
         if handwheel:
             self._travel_handwheel(axis, velocity * self._dt, handwheel)
+        if on_target:  # the motion that reaches the target ends there: an increment, the handwheel's distance too
+            self.handwheel_rest = 0.0
+            if keys.state is not JogKeyState.IDLE and keys.state is not JogKeyState.AT_END:
+                keys.end_motion(plus or minus)
         if bounded:
             self._arrive_at_software_limits(axis)
         if handwheel and velocity == 0.0 and axis.at_software_limit == handwheel:
@@ -154,6 +167,19 @@ class AxisJog:
         if velocity == 0.0 and not self.handwheel_rest and keys.state is not JogKeyState.INCREMENT_HELD and \
                 not keys.travelling_increment and (direction == 0 or axis.at_software_limit == direction):
             axis.release()  # stopped: key released, the increment done, or resting on the software limit
+
+    def _limit_to_target(self, axis: JoggedAxis, velocity: float, accel: float,
+                         target: float) -> tuple[float, bool]:
+        """Brake so as to stop exactly on the target of JOG to a fixed point / a position when the
+        axis travels towards it; True when it arrives this cycle (the setpoint is snapped to it)."""
+        distance = target - axis.setpoint
+        if velocity > 0.0 and distance > 0.0:
+            velocity = min(velocity, stopping_velocity(max(distance, 0.0), accel, self._dt))
+            return velocity, distance - velocity * self._dt <= _TINY
+        if velocity < 0.0 and distance < 0.0:
+            velocity = max(velocity, -stopping_velocity(max(-distance, 0.0), accel, self._dt))
+            return velocity, velocity * self._dt - distance <= _TINY
+        return velocity, False
 
     def _may_go(self, axis: JoggedAxis, direction: int, limits: JogLimits, bounded: bool) -> bool:
         """JOG may start ``direction``: not a way it is kept from, only away from an actuated hardware

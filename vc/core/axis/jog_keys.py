@@ -129,6 +129,11 @@ class TraverseKeys:
         """The axis is at the end of the increment, or it cannot go on (a limit): it is done."""
         self._end(self.direction if held else 0)
 
+    def end_motion(self, held: bool) -> None:
+        """The motion ends from outside (another fixed point selected, L34338-34342): a key still held
+        must be released before the next press."""
+        self._end(self.direction if held else 0)
+
     def _start(self, selection: JogSelection, held: int, rise_plus: bool, rise_minus: bool,
                may_go_plus: bool, may_go_minus: bool) -> int:
         """IDLE: a press starts a motion; in jog mode of continuous JOG the key's level moves the axis."""

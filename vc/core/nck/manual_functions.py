@@ -20,7 +20,9 @@ from vc.core.channel.channel import Channel
 from vc.core.channel.program_run import Mode
 from vc.core.channel.referencing_control import ReferencingControl
 from vc.core.interface_map import SignalTable
+from vc.core.nck.handwheel_inversion import HandwheelInversion
 from vc.core.nck.jog_functions import JogFunctions
+from vc.core.nck.jog_targets import JogTargets
 from vc.core.nck.manual_retraction import ManualRetraction
 from vc.core.nck.mode_group import ModeGroup
 from vc.core.spindle.coupling import Couplings
@@ -29,7 +31,8 @@ from vc.core.spindle.coupling import Couplings
 class ManualFunctions:
     def __init__(self, axis_table: SignalTable, channel_table: SignalTable, image: ProcessImage, mode_group: ModeGroup,
                  channels: list[Channel], alarms: AlarmList, referencing: ReferencingControl,
-                 retractions: dict[str, ManualRetraction], couplings: Couplings, jog_functions: JogFunctions):
+                 retractions: dict[str, ManualRetraction], couplings: Couplings, jog_functions: JogFunctions,
+                 jog_targets: JogTargets):
         self.image = image
         self.mode_group = mode_group
         self.channels = channels
@@ -38,7 +41,9 @@ class ManualFunctions:
         self.retractions = retractions
         self.couplings = couplings
         self.handwheels = Handwheels()
+        self.handwheel_inversion = HandwheelInversion(axis_table, channel_table, image)  # DB31.DBX7.0 / 67.0
         self.jog_functions = jog_functions  # DB31.DBX5.x / 65.x: continuous or incremental JOG
+        self.jog_targets = jog_targets  # DB31.DBX13.0..13.3 / 75.x: JOG to a fixed point / to a position
         self._handwheel = axis_table.codec(HandwheelSelection, HANDWHEEL_OF_MACHINE_AXIS)
         self._geometry_handwheels = tuple(
             channel_table.codec(HandwheelSelection, HANDWHEEL_OF_GEOMETRY_AXIS.format(number=number))
@@ -67,6 +72,7 @@ class ManualFunctions:
         for channel in self.channels:
             axes_stopped = emergency_stop or bool(self.alarms.reactions(channel.name) & STOP_AXES)
             allowed = keys_followed and not channel.is_active and not axes_stopped
+            self.handwheel_inversion.follow(channel, channel.axes, latched, refresh_all)
             if pulses and allowed and jog_mode:
                 self._handwheel_pulses(channel, pulses)
             if refresh_all or (latched is not None and channel.area_key in latched):
@@ -74,6 +80,7 @@ class ManualFunctions:
                 self.jog_functions.report_geometry_axis(channel, jog_mode)
                 self._show_drf(channel, drf_mode)
             self._drf(channel, pulses, axes_stopped)
+            self.jog_targets.cycle(channel.axes, jog_mode, emergency_stop, latched, cycle, self.alarms)
             self.referencing.traverse_keys(channel.name, channel.axes, allowed and reference_keys, cycle)
             feed_disable = channel.inputs.feed_disable
             jog_allowed = allowed and jog_mode
@@ -100,6 +107,7 @@ class ManualFunctions:
                     if inclined is not None:
                         limits = limits.and_(inclined.jog_limits(axis))
                     limits = limits.and_(channel.stroke_jog_limits(axis, cycle))  # G22, stroke limit 3
+                    limits = limits.and_(self.jog_targets.jog_limits(axis))  # towards a fixed point / position
                     axis.jog_cycle(jog_allowed, feed_disable, limits, self.jog_functions.selection(axis))
         for retraction in self.retractions.values():
             retraction.follow()
@@ -161,14 +169,18 @@ class ManualFunctions:
     def _handwheel_receivers(self, channel: Channel, pulses: dict[int, int]) -> list[tuple[int, MachineAxis, float]]:
         """(handwheel, machine axis, its travel per detent) of every assignment of a turning handwheel."""
         receivers: list[tuple[int, MachineAxis, float]] = []
+        inverted = self.handwheel_inversion.axes  # DB31.DBX7.0: the handwheel turns the other way
         for axis in channel.axes:
             axis_selection = self._handwheel.read(self.image.area(axis.area_key))
             if axis_selection.assigned:
-                receivers += [(number, axis, self.jog_functions.handwheel_increment(axis_selection, axis))
-                              for number in pulses
+                per_detent = self.jog_functions.handwheel_increment(axis_selection, axis)
+                if axis.name in inverted:
+                    per_detent = -per_detent
+                receivers += [(number, axis, per_detent) for number in pulses
                               if axis_selection.assigned & (1 << (number - 1))]
         area = self.image.area(channel.area_key)
         inclined = channel.inclined
+        inverted_1 = channel.name in self.handwheel_inversion.geometry_axis_1  # DB21.DBX15.0
         for geometry, name in zip(self._geometry_handwheels, channel.config.geometry_axes, strict=False):
             selection = geometry.read(area) if name else None
             if selection is not None and selection.assigned:
@@ -176,5 +188,7 @@ class ManualFunctions:
                 axis = channel.axes_by_name[name]
                 per_detent = self.jog_functions.handwheel_increment(selection, axis) * \
                     (inclined.geometry_travel(axis) if inclined else 1.0)
+                if inverted_1 and geometry is self._geometry_handwheels[0]:
+                    per_detent = -per_detent
                 receivers += [(number, axis, per_detent) for number in pulses if assigned & (1 << (number - 1))]
         return receivers

@@ -44,6 +44,7 @@ from vc.core.interface_map import SignalTable
 from vc.core.nc_memory import NcMemory
 from vc.core.nck.alarm_area import AlarmArea
 from vc.core.nck.jog_functions import JogFunctions
+from vc.core.nck.jog_targets import JogTargets
 from vc.core.nck.manual_functions import ManualFunctions
 from vc.core.nck.manual_retraction import ManualRetraction
 from vc.core.nck.mode_group import ModeGroup
@@ -174,7 +175,8 @@ def power_on(machine: MachineConfig, catalog: Catalog, image: ProcessImage, memo
     for spindle in spindles:
         spindle.write_outputs()  # the power-on state
     manual = ManualFunctions(axis_table, channel_table, image, mode_group, channels, alarms, referencing, retractions,
-                             couplings, JogFunctions(nck, axis_table, channel_table, image, axes))
+                             couplings, JogFunctions(nck, axis_table, channel_table, image, axes),
+                             JogTargets(nck, axis_table, image, axes))
     return NckParts(nck_table.codec(NckRequests), nck_table.codec(NckStatus), display_wcs, alarm_area, plc_alarms,
                     mode_group, axes, axes_by_name, axis_coding, referencing,
                     channels, {channel.name: channel for channel in channels}, inclined_axes, retractions, spindles,

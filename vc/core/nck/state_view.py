@@ -18,6 +18,7 @@ from vc.core.axis.command_axis import COMMAND_AXIS_STATES
 from vc.core.axis.drive_data_sets import DRIVE_DATA_SET_STATES
 from vc.core.axis.index_jog import INDEX_JOG_STATES
 from vc.core.axis.jog_keys import JOG_KEY_STATES
+from vc.core.axis.jog_target import JOG_TARGET_STATES
 from vc.core.axis.plc_axis import FC18_JOB_STATES, PLC_AXIS_TYPES
 from vc.core.axis.setpoint_switchover import SETPOINT_SWITCHOVER_STATES
 from vc.core.axis.software_cams import SOFTWARE_CAM_STATES
@@ -81,6 +82,7 @@ PUBLISHED: tuple[Published[Any], ...] = (
     Published(INDEX_JOG_STATES, lambda nck: [(axis.name, axis.index_jog) for axis in nck.axes
                                              if axis.index_jog is not None]),
     Published(JOG_KEY_STATES, lambda nck: [(axis.name, axis.jog.keys) for axis in nck.axes if not axis.is_spindle]),
+    Published(JOG_TARGET_STATES, lambda nck: list(nck.manual.jog_targets.of.items())),
     Published(MANUAL_RETRACTION_STATES, lambda nck: [(channel.name, nck.retractions[channel.name])
                                                      for channel in nck.channels]),
     Published(GANTRY_STATES, lambda nck: [(grouping.name, grouping) for grouping in nck.gantries.groupings]),
