@@ -36,7 +36,7 @@ FC18's job (its outputs Active, InPos, Error, State)::
     TRAVERSING ──NC stop (PLC), DBX30.0, the feed disable, a stopping alarm of the channel──▶ HELD
     HELD ──NC start, DBX28.2, the hold gone──▶ TRAVERSING
     TRAVERSING ──in the exact stop fine window of its end point──▶ IN_POSITION
-    TRAVERSING, HELD ──channel reset (PLC), DBX28.1, DBX28.7 = 0, another owner took it──▶ FAILED (30)
+    TRAVERSING, HELD ──channel reset (PLC), DBX28.1, DB21.DBX6.2, DBX28.7 = 0, another owner took it──▶ FAILED (30)
     TRAVERSING, HELD ──FC18 Stop──▶ IDLE (braked, the rest of the way deleted)
     IN_POSITION, FAILED ──DBX28.1──▶ IDLE
 
@@ -86,7 +86,7 @@ FC18_INDEX_MODES = ("CAC", "CIC", "CDC", "CACP", "CACN")
 
 # FC18 State, the error numbers (after the real block's list; the seed prints none) [control]
 ERROR_PARAMETERS = 1  # Funct not 4 / 5 (4 on no indexing axis), Mode not 0..4, Pos or FRate not a number
-ERROR_ABORTED = 30  # the motion was aborted: channel reset, axis reset, control given back, axis taken
+ERROR_ABORTED = 30  # the motion was aborted: channel reset, axis reset, DB21.DBX6.2, control given back, axis taken
 ERROR_PROGRAM_MOVES_AXIS = 40  # the NC moves the axis (its program, JOG, referencing ...): the start is refused
 ERROR_WRONG_POSITION = 100  # outside the modulo range (16830); no such index position (17510); Hirth (17501, 17503)
 ERROR_NEGATIVE_FEED = 110
@@ -237,6 +237,16 @@ class PlcAxis:
         if inp.start and not last.start and self.job not in _MOVING:
             self._start()
         self.start_acknowledged = inp.start
+
+    def delete_distance_to_go(self) -> bool:
+        """The channel's DB21.DBX6.2 aborts the motion of a PLC axis or a PLC-controlled one (use
+        case 1, L11339-11343); the PLC learns of the abort as from DBX28.1, which the seed likens
+        to it (L11452): FC18 Error, State 30.  True if a motion ended."""
+        if self.type is AxisType.CHANNEL or self.type is AxisType.NEUTRAL or self.job not in _MOVING:
+            return False
+        self._abort(ERROR_ABORTED)
+        self.write_status()
+        return True
 
     def _take_control(self) -> None:
         """DBX28.7: granted once the program does not move the axis (L11240-11253, L11271-11272)."""
@@ -391,8 +401,8 @@ FC18_JOB_STATES: StateMachine[PlcAxis] = StateMachine(
                 ("TRAVERSING", "HELD", "NC stop, DBX30.0, feed disable, a stopping alarm"),
                 ("HELD", "TRAVERSING", "NC start, DBX28.2, the hold gone"),
                 ("TRAVERSING", "IN_POSITION", "in the exact stop fine window"),
-                ("TRAVERSING", "FAILED", "channel reset, DBX28.1, DBX28.7 = 0, the axis taken"),
-                ("HELD", "FAILED", "channel reset, DBX28.1, DBX28.7 = 0, the axis taken"),
+                ("TRAVERSING", "FAILED", "channel reset, DBX28.1, DB21.DBX6.2, DBX28.7 = 0, the axis taken"),
+                ("HELD", "FAILED", "channel reset, DBX28.1, DB21.DBX6.2, DBX28.7 = 0, the axis taken"),
                 ("TRAVERSING", "IDLE", "FC18 Stop"), ("HELD", "IDLE", "FC18 Stop"),
                 ("IN_POSITION", "IDLE", "DBX28.1"), ("FAILED", "IDLE", "DBX28.1")),
     read=lambda plc: plc.job)
@@ -444,6 +454,11 @@ class PlcAxes:
     def stop(self) -> None:
         for plc in self.by_name.values():
             plc.channel_stop()
+
+    def delete_distance_to_go(self) -> None:
+        """DB21.DBX6.2's rising edge: the PLC axes' motions end (L11339-11343)."""
+        for plc in self.by_name.values():
+            plc.delete_distance_to_go()
 
     def start(self) -> None:
         for plc in self.by_name.values():

@@ -82,6 +82,7 @@ class BlockExecution:
         self._tools = tools
         self._fixed_stops = fixed_stops  # FXS / FXST / FXSW (seed 003 chapter 17)
         self._approaching: set[str] = set()  # the block's axes that travel to their fixed stop
+        self._deleting = False  # DB21.DBX6.2: the path brakes and the block ends where it stops
         self._positioning = positioning  # the axis interpolators of POS / POSA (vc/core/axis/command_axis.py)
         self._plc_axes = plc_axes  # the axes the PLC holds or has for good (vc/core/axis/plc_axis.py)
         self.inclined: InclinedAxisControl | None = None  # inclined-axis control (seed 000), given by the NCK
@@ -170,7 +171,18 @@ class BlockExecution:
             self._release_segment()
             self.run.aborting = False
 
+    def delete_distance_to_go(self) -> None:
+        """DB21.DBX6.2's rising edge: the path axes of the running block brake on their ramp and the
+        block ends where they stand; the next block starts from there (path axes only, not the
+        positioning axes, seed 003 L12160-12164; the Basic Functions manual's behaviour [control]).
+        A thread (G33, G331) and a travel to fixed stop are not interrupted [control]."""
+        run = self.run
+        if run.phase is BlockPhase.INTERPOLATE and run.segment is not None and not self._approaching \
+                and self._threads.thread_segment is None:
+            self._deleting = True
+
     def _release_segment(self) -> None:
+        self._deleting = False
         if self.run.segment is not None:
             for axis in self.run.segment.axes:
                 if axis.owner is Owner.PATH:
@@ -209,13 +221,21 @@ class BlockExecution:
             # keeps its state "running" (only read-in disable makes it "waiting").
             interlocked = axis.inputs.feed_stop and axis is not carried
             axes_hold = axes_hold or interlocked or not axis.drive_ready
-        blocked = hold or self.inputs.feed_disable or axes_hold
+        blocked = hold or self.inputs.feed_disable or axes_hold or self._deleting
         override = self.inputs.rapid_override if segment.rapid else self.inputs.feed_override
         if self._feed_per_revolution is not None:
             feed, limit = self._feed_per_revolution
             # the spindle's turning sets the path velocity; a standing spindle holds the path (no alarm)
             segment.command_velocity = min(limit, feed * self._spindles.revolution_speed())
         segment.cycle(override, blocked, self._dt)
+        if self._deleting and segment.velocity == 0.0:
+            self._release_segment()  # the rest of the block's path is deleted
+            run.plan.return_targets = {}  # G28 / G30: the second motion too
+            if self.inclined is not None:
+                self.inclined.reset()  # the leg is not finished: as after a RESET on the way
+            run.phase = BlockPhase.BLOCK_END
+            self._block_end()
+            return
         if segment.finished:
             if self._approaching:
                 self._fixed_stops.motion_finished(segment.axes, cycle)  # no stop before the end point: 20091

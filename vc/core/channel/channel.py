@@ -332,6 +332,8 @@ class Channel:
         path_runs_on = self._threads.esr_cycle(cycle)
         run = self.run
         if self.plc_axes.active:
+            if self.edges.delete_distance_to_go:
+                self.plc_axes.delete_distance_to_go()  # DB21.DBX6.2 ends their motions (L11339-11343)
             # the PLC's requests and FC18 jobs, before the axis interpolators run (L12145-12565)
             self.plc_axes.cycle(self.inputs.feed_disable, bool(self._alarms.reactions(self.name) & STOP_AXES))
         if self.command_axes.active:
@@ -349,6 +351,8 @@ class Channel:
         if run.state is ChannelState.RESET:
             return
         hold = (run.state is not ChannelState.ACTIVE or bool(reactions & STOP_AXES)) and not path_runs_on
+        if self.edges.delete_distance_to_go:
+            self._execution.delete_distance_to_go()  # DB21.DBX6.2
         self._execution.cycle(hold, cycle)
         if self._spindles.cutting_speed.following:
             self._spindles.cutting_speed.cycle()  # G96 / G961: the speed of the transverse axis's new position

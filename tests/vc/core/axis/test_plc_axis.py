@@ -147,6 +147,30 @@ def test_nc_stop_holds_a_plc_axis_nc_start_continues_and_the_reset_aborts_it() -
     assert rig.get("Z1.plcCtrl.in.assignedToPlc") == 0 and _type(rig) is AxisType.CHANNEL
 
 
+def test_delete_distance_to_go_aborts_a_plc_axis_and_a_plc_controlled_axis_error_30() -> None:
+    rig = _rig()
+    z1 = rig.axis("Z1")
+    _start(rig, "Z1", 200.0, 2000.0)
+    rig.step(50)
+    rig.set("CHAN1.basic.out.deleteDistanceToGo", 1)  # DB21.DBX6.2: use case 1 (L11339-11343)
+    rig.step(2)
+    assert rig.get("Z1.plcAxis.in.error") == 1 and rig.get("Z1.plcAxis.in.errorNumber") == 30
+    assert rig.get("Z1.plcAxis.in.active") == 0 and _type(rig) is AxisType.CHANNEL
+    rig.step(60)
+    assert z1.command_velocity == 0.0 and 200.0 < z1.setpoint < 300.0
+    rig.set("CHAN1.basic.out.deleteDistanceToGo", 0)
+    rig.set("Z1.plcCtrl.out.requestPlcCtrl", 1)  # DBX28.7: the PLC takes it
+    rig.step(2)
+    assert _type(rig) is AxisType.PLC_CONTROLLED
+    _start(rig, "Z1", 100.0, 2000.0)
+    rig.step(50)
+    assert _job(rig) is Job.TRAVERSING
+    rig.pulse("CHAN1.basic.out.deleteDistanceToGo", 2)
+    rig.step(60)
+    assert _job(rig) is Job.FAILED and rig.get("Z1.plcAxis.in.errorNumber") == 30
+    assert z1.command_velocity == 0.0 and _type(rig) is AxisType.PLC_CONTROLLED
+
+
 def test_md30460_bit_6_leaves_the_feed_disable_out_and_bit_7_the_all_axes_stationary() -> None:
     rig = _rig("MD30460: 0xC0")
     z1 = rig.axis("Z1")

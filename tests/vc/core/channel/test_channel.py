@@ -185,6 +185,38 @@ def test_axis_feed_stop_of_one_path_axis_holds_every_axis_of_the_block_on_the_co
     assert (x1.setpoint, z1.setpoint) == (170.0, 320.0)
 
 
+def test_delete_distance_to_go_brakes_the_path_and_the_next_block_starts_where_it_stopped() -> None:
+    rig = mda_rig()
+    x1, z1 = rig.axis("X1"), rig.axis("Z1")
+    z_start = z1.setpoint
+    rig.mda("N10 G1 X160 F1000\nN20 G91 Z-10\nN30 M30")
+    rig.step(50)
+    rig.set("CHAN1.basic.out.deleteDistanceToGo", 1)  # DB21.DBX6.2, its rising edge
+    rig.step(1)
+    assert x1.command_velocity != 0.0  # braked on its ramp, not stopped at once
+    rig.step(20)
+    deleted_at = x1.setpoint
+    assert x1.command_velocity == 0.0 and deleted_at != 160.0
+    run_to_reset(rig)
+    assert x1.setpoint == deleted_at  # the rest of N10 is deleted
+    assert z1.setpoint == pytest.approx(z_start - 10.0)  # N20 ran (incremental from where it stood)
+
+
+def test_delete_distance_to_go_held_at_1_acts_once_and_not_on_a_positioning_axis() -> None:
+    rig = mda_rig()
+    x1, z1 = rig.axis("X1"), rig.axis("Z1")
+    rig.set("CHAN1.basic.out.deleteDistanceToGo", 1)  # 1 before the program starts: no edge in a block
+    rig.mda("N10 POS[Z]=250 FA[Z]=2000\nN20 G1 X160 F1000\nN30 M30")
+    run_to_reset(rig)
+    assert z1.setpoint == 250.0 and x1.setpoint == 160.0
+    rig.set("CHAN1.basic.out.deleteDistanceToGo", 0)
+    rig.mda("N10 POS[Z]=300 FA[Z]=2000\nN20 M30")
+    rig.step(50)
+    rig.set("CHAN1.basic.out.deleteDistanceToGo", 1)  # seed 003 L12160-12164: not for positioning axes
+    run_to_reset(rig)
+    assert z1.setpoint == 300.0
+
+
 def test_read_in_disable_keeps_the_next_block_from_starting() -> None:
     rig = mda_rig()
     x1 = rig.axis("X1")
