@@ -32,6 +32,7 @@ from interfaces.plant_io import PointOwner
 from interfaces.signals import SignalRef, UnknownSignalError
 from vc.simulation.lockstep import Simulation
 from vc.simulation.observed import OperatorAction, SimulationObserver, perform, resolve
+from vc.ui.connection import connection_state
 from vc.ui.panel import Rules, lamps, panel_controls
 
 UPDATE_PERIOD_S = 0.1  # what a person reads: 10 snapshots a second
@@ -202,6 +203,7 @@ class OperatorBridge:
                 "watch": {name: {"symbol": ref.name, "address": str(ref.address), "value": _plain(simulation.read(ref)),
                                  "forced": ref in forced} for name, ref in watched.items()},
                 "forces": {ref.name: _plain(value) for ref, value in forced.items()},
+                "connection": connection_state(simulation),
             }
         }
 

@@ -181,3 +181,32 @@ def test_mda_block_typed_and_started_needs_the_axes_referenced(browser, served: 
     assert cell(browser, "Z1", "position") == "0.000"
     press(browser, "MCP.reset", 0.3)
     wait_until(lambda: not browser.find_elements(by.ID, "alarm-10203"), "alarm 10203 cleared by RESET")
+
+
+def test_the_plc_connection_is_shown_and_the_lost_sign_of_life_too(browser, served: Served) -> None:
+    """The link, its session, the PLC peer and the pacing as vc serve --stats prints them; then the
+    PLC process ends: the session closes and alarm 2000 (no sign of life for MD10100) appears."""
+    import re
+
+    by = open_page(browser, served)
+
+    def shown(name: str) -> str:
+        return str(browser.find_element(by.ID, f"plc-{name}").text)
+
+    assert shown("link").startswith("Modbus TCP on 127.0.0.1:")
+    assert shown("mode") == "real time"
+    assert shown("session") == "1"
+    wait_until(lambda: "PLC at 127.0.0.1" in shown("peer") and "requests" in shown("peer"), "the PLC peer")
+    assert shown("life").startswith("ok")
+    overruns = re.fullmatch(r"(\d+) of (\d+) cycles \((\d+) while serving the links\)", shown("overruns"))
+    assert overruns is not None, shown("overruns")
+    cycles = int(overruns[2])
+    wait_until(lambda: int(shown("overruns").split(" of ")[1].split()[0]) > cycles, "the cycles counted on")
+    shoot(browser, "plc_connection")
+    assert served.plc is not None
+    served.plc.terminate()
+    served.plc.wait(10)
+    wait_until(lambda: "alarm 2000" in shown("life"), "the lost sign of life (alarm 2000)")
+    assert "lost" in str(browser.find_element(by.ID, "plc-life").get_attribute("class"))
+    wait_until(lambda: browser.find_elements(by.ID, "alarm-2000"), "alarm 2000 in the alarm table")
+    wait_until(lambda: "was lost" in shown("peer"), "the session closed")

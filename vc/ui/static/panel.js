@@ -118,6 +118,7 @@ function show(update) {
     const lamp = document.getElementById(`lamp-${name}`);
     if (lamp) lamp.classList.toggle("on", Boolean(value));
   }
+  if (update.connection) showConnection(update.connection);
   for (const axis of update.axes) {
     const row = document.getElementById(`axis-${axis.name}`);
     if (!row) continue;
@@ -167,6 +168,18 @@ function showWatch(update) {
     row.cells[3].title = entry.forced ? "forced" : "";
     row.querySelector(".forced-mark").textContent = entry.forced ? " F" : "";
   }
+}
+
+function showConnection(connection) {
+  $("plc-link").textContent = connection.link;
+  $("plc-mode").textContent = connection.mode;
+  $("plc-session").textContent = connection.session === null ? "–" : connection.session;
+  $("plc-peer").textContent = connection.peer;
+  $("plc-life").textContent = connection.sign_of_life;
+  $("plc-life").classList.toggle("lost", connection.sign_of_life_lost !== null);
+  $("plc-overruns").textContent = connection.overruns === null ? "– (lockstep: no schedule to overrun)"
+    : `${connection.overruns} of ${connection.cycles} cycles (${connection.link_overruns} while serving the links)`;
+  $("plc-overruns").title = connection.pacing;
 }
 
 // ---------------------------------------------------------------- watch and force, MDA, alarms
