@@ -34,6 +34,7 @@ from vc.simulation.lockstep import Simulation
 from vc.simulation.observed import OperatorAction, SimulationObserver, perform, resolve
 from vc.ui.connection import connection_state
 from vc.ui.panel import Rules, lamps, panel_controls
+from vc.ui.recording import PageRecording
 
 UPDATE_PERIOD_S = 0.1  # what a person reads: 10 snapshots a second
 MAX_WATCHED = 200  # signals in one page's watch table
@@ -46,7 +47,7 @@ Reply = Callable[[bool, str], None]
 class Command:
     """What a page asks of the NC; ``reply`` is called in the NC thread with (done, message)."""
 
-    kind: str  # key, force, release, mda, acknowledge, handwheel, watch, closed
+    kind: str  # key, force, release, mda, acknowledge, handwheel, watch, record, closed
     page: int
     peer: str  # the page's address (the force rules)
     arguments: dict[str, Any] = field(default_factory=dict)
@@ -62,6 +63,7 @@ class OperatorBridge:
                  update_period_s: float = UPDATE_PERIOD_S):
         self.allow_writers = allow_writers
         self.recorder = recorder
+        self.recording = PageRecording(recorder)  # ended from the page, turned into a scenario
         self.update_period_s = update_period_s
         self.commands: deque[Command] = deque()
         self.pages = 0  # open pages, counted by the server
@@ -87,7 +89,7 @@ class OperatorBridge:
             self.recorder.attached(simulation)
 
     def cycle_done(self, simulation: Simulation) -> None:
-        if self.recorder is not None:
+        if self.recorder is not None and not self.recording.ended:  # ended from the page: nothing more to diff
             self.recorder.cycle_done(simulation)
         if not self.pages and not self.commands:
             return  # nobody looks: nothing of the page runs
@@ -100,7 +102,7 @@ class OperatorBridge:
             self.publish(self.snapshot(simulation))
 
     def acted(self, simulation: Simulation, action: OperatorAction) -> None:
-        if self.recorder is not None:
+        if self.recorder is not None and not self.recording.ended:
             self.recorder.acted(simulation, action)
 
     # ------------------------------------------------------------------ the page's commands
@@ -155,6 +157,8 @@ class OperatorBridge:
                 return f"refused: this machine has no channel '{channel}'"
             self._act(simulation, OperatorAction("mda", (channel, text)))
             return f"MDA program loaded into {channel}: select MDA and press NC START"
+        if kind == "record":
+            return self.recording.command(str(arguments.get("action")))
         if kind == "acknowledge":
             self._act(simulation, OperatorAction("acknowledge", ()))
             return "alarms acknowledged (cancel key)"
@@ -204,6 +208,7 @@ class OperatorBridge:
                                  "forced": ref in forced} for name, ref in watched.items()},
                 "forces": {ref.name: _plain(value) for ref, value in forced.items()},
                 "connection": connection_state(simulation),
+                "recording": self.recording.state(),
             }
         }
 

@@ -38,7 +38,7 @@ from starlette.websockets import WebSocket, WebSocketDisconnect
 from vc.ui.bridge import Command, OperatorBridge
 
 MAX_MESSAGE_CHARACTERS = 65_536  # one command of a page (an MDA program is the longest)
-COMMANDS = ("key", "force", "release", "mda", "acknowledge", "handwheel", "watch")
+COMMANDS = ("key", "force", "release", "mda", "acknowledge", "handwheel", "watch", "record")
 STOP_TIMEOUT_S = 5.0
 
 
@@ -75,6 +75,7 @@ class UiServer:
         self._ready = threading.Event()
         app = Starlette(routes=[
             Route("/", self._index),
+            Route("/recording/scenario.yaml", self._scenario),
             WebSocketRoute("/ws", self._socket_endpoint),
             Mount("/static", app=StaticFiles(packages=[("vc.ui", "static")]), name="static"),
         ])
@@ -135,6 +136,17 @@ class UiServer:
                                      status_code=403)
         query = f"?token={self.token}" if self.token else ""
         return RedirectResponse(f"/static/index.html{query}")
+
+    def _scenario(self, request: Request) -> Response:
+        """The ended recording as a scenario (a plain function: Starlette runs it in a worker thread,
+        so the conversion never holds up the server's loop)."""
+        if not self._token_ok(request.query_params.get("token")):
+            return PlainTextResponse("this operator panel needs its token", status_code=403)
+        download = self.bridge.recording.scenario()
+        if download.refusal:
+            return PlainTextResponse(download.refusal, status_code=409)
+        return Response(download.text, media_type="application/yaml",
+                        headers={"Content-Disposition": f'attachment; filename="{download.name}"'})
 
     def _same_origin(self, websocket: WebSocket) -> bool:
         origin = websocket.headers.get("origin")

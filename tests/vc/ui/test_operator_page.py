@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
-from ui_served import Served, needs_browser
+from ui_served import Served, needs_browser, serve_with_page
 
 pytestmark = [needs_browser, pytest.mark.realtime, pytest.mark.timeout(240)]
 WAIT_S = 20.0
@@ -210,3 +210,42 @@ def test_the_plc_connection_is_shown_and_the_lost_sign_of_life_too(browser, serv
     assert "lost" in str(browser.find_element(by.ID, "plc-life").get_attribute("class"))
     wait_until(lambda: browser.find_elements(by.ID, "alarm-2000"), "alarm 2000 in the alarm table")
     wait_until(lambda: "was lost" in shown("peer"), "the session closed")
+
+
+@pytest.fixture
+def served_recording(tmp_path: Path) -> Iterator[Served]:
+    yield from serve_with_page("--record", str(tmp_path / "session.jsonl"))
+
+
+def test_record_end_it_on_the_page_and_its_scenario_passes_vc_run(browser, served_recording: Served,
+                                                                  tmp_path: Path) -> None:
+    """vc serve --record: jog X1 from the page, end the recording there, download the scenario the
+    page offers and run it with vc run (plc: none: the recorded PLC's writes are its steps)."""
+    import subprocess
+    import sys
+    import urllib.request
+
+    by = open_page(browser, served_recording)
+    state = browser.find_element(by.ID, "record-state")
+    wait_until(lambda: state.text.startswith(f"recording to {tmp_path / 'session.jsonl'}"), "recording shown")
+    link = browser.find_element(by.ID, "record-scenario")
+    assert not link.is_displayed()
+    press(browser, "MCP.jog")
+    wait_until(lambda: browser.find_element(by.ID, "mode").text == "mode JOG", "JOG mode")
+    press(browser, "MCP.plus.X1", 0.5)
+    wait_until(lambda: float(cell(browser, "X1", "velocity")) == 0 and float(cell(browser, "X1", "position")) > 0,
+               "X1 jogged and stopped")
+    browser.find_element(by.ID, "record-stop").click()
+    wait_until(lambda: "has ended at cycle" in state.text and link.is_displayed(), "the recording ended")
+    assert "its scenario can be downloaded" in messages(browser)
+    assert browser.find_element(by.ID, "record-stop").get_attribute("disabled") is not None
+    shoot(browser, "record")
+    with urllib.request.urlopen(str(link.get_attribute("href")), timeout=30) as response:
+        assert 'filename="session.yaml"' in response.headers["Content-Disposition"]
+        text = response.read().decode("utf-8")
+    scenario = tmp_path / "from_the_page.yaml"
+    scenario.write_text(text, encoding="utf-8")
+    assert "plc: none" in text
+    run = subprocess.run([sys.executable, "-m", "vc.cli.main", "run", str(scenario)], capture_output=True, text=True,
+                         timeout=180, cwd=Path(__file__).resolve().parents[3])
+    assert run.returncode == 0, run.stdout + run.stderr

@@ -119,6 +119,7 @@ function show(update) {
     if (lamp) lamp.classList.toggle("on", Boolean(value));
   }
   if (update.connection) showConnection(update.connection);
+  if (update.recording) showRecording(update.recording);
   for (const axis of update.axes) {
     const row = document.getElementById(`axis-${axis.name}`);
     if (!row) continue;
@@ -182,6 +183,18 @@ function showConnection(connection) {
   $("plc-overruns").title = connection.pacing;
 }
 
+function showRecording(recording) {
+  const text = {none: `not recording: ${recording.note}`,
+                recording: `recording to ${recording.path} (cycle ${recording.cycle})`,
+                "size limit": `the recording ${recording.path} stopped at its size limit (--record-limit)`,
+                ended: `the recording ${recording.path} has ended at cycle ${recording.cycle}`}[recording.state];
+  $("record-state").textContent = text;
+  $("record-stop").disabled = recording.state === "none" || recording.state === "ended";
+  const link = $("record-scenario");
+  link.hidden = recording.state !== "ended";
+  link.href = `/recording/scenario.yaml${token ? `?token=${encodeURIComponent(token)}` : ""}`;
+}
+
 // ---------------------------------------------------------------- watch and force, MDA, alarms
 function sendWatch() { send("watch", {names: watched}, "watch"); }
 
@@ -209,5 +222,6 @@ window.addEventListener("DOMContentLoaded", () => {
   $("mda-load").addEventListener("click", () =>
     send("mda", {channel: $("mda-channel").value, text: $("mda-text").value}, "mda"));
   $("acknowledge").addEventListener("click", () => send("acknowledge", {}, "acknowledge"));
+  $("record-stop").addEventListener("click", () => send("record", {action: "stop"}, "record"));
   connect();
 });
