@@ -249,3 +249,65 @@ def test_record_end_it_on_the_page_and_its_scenario_passes_vc_run(browser, serve
     run = subprocess.run([sys.executable, "-m", "vc.cli.main", "run", str(scenario)], capture_output=True, text=True,
                          timeout=180, cwd=Path(__file__).resolve().parents[3])
     assert run.returncode == 0, run.stdout + run.stderr
+
+
+def test_scope_triggers_on_x1_key_saves_png_and_a_vcd_gtkwave_reads(browser, served: Served, tmp_path: Path) -> None:
+    """Lanes X1's key (MCP.plus.X1), DB31.DBX64.7 and X1.position; trigger on the key rising; hold the
+    key: the frozen diagram shows the key 0, 1 and 0 again; the PNG is the canvas, the VCD (written by
+    the server from the samples it kept) is converted by GTKWave's vcd2fst and read by pyvcd."""
+    import base64
+    import shutil
+    import subprocess
+    import urllib.request
+
+    from vcd.reader import TokenKind, tokenize
+
+    by = open_page(browser, served)
+    browser.find_element(by.ID, "scope-lanes").send_keys("MCP.plus.X1, DB31.DBX64.7, X1.position")
+    seconds = browser.find_element(by.ID, "scope-seconds")
+    seconds.clear()
+    seconds.send_keys("3")
+    browser.find_element(by.ID, "scope-apply").click()
+    wait_until(lambda: "scope: 3 lanes" in messages(browser), "the lanes picked")
+    from selenium.webdriver.support.ui import Select
+
+    wait_until(lambda: len(Select(browser.find_element(by.ID, "scope-trigger")).options) == 3, "digital lanes")
+    Select(browser.find_element(by.ID, "scope-trigger")).select_by_visible_text("MCP.plus.X1")
+    status = browser.find_element(by.ID, "scope-status")
+    assert status.text == "armed: waiting for MCP.plus.X1 rising"
+    press(browser, "MCP.jog")
+    wait_until(lambda: browser.find_element(by.ID, "mode").text == "mode JOG", "JOG mode")
+    press(browser, "MCP.plus.X1", 0.5)
+    wait_until(lambda: status.text.endswith("frozen") and status.text.startswith("triggered"), "triggered, frozen")
+    shown = browser.execute_script("return scopeShown();")
+    key = [value for _, value in shown["lanes"][0]["values"]]
+    assert key[0] == 0 and 1 in key and key[-1] == 0, "the key goes 1 and back to 0 in the frozen window"
+    first_one = key.index(1)
+    assert shown["lanes"][0]["values"][first_one][0] == shown["triggeredAt"]
+    assert 1 in [value for _, value in shown["lanes"][1]["values"]]  # the NC's traverse command followed
+    assert shown["lanes"][2]["values"][-1][1] > 0  # X1 moved
+    browser.execute_script("document.getElementById('scope').scrollIntoView();")
+    shoot(browser, "scope")
+
+    png = browser.find_element(by.ID, "scope-png")
+    png.click()
+    href = str(png.get_attribute("href"))
+    assert href.startswith("data:image/png;base64,")
+    image = base64.b64decode(href.split(",", 1)[1])
+    assert image[:8] == b"\x89PNG\r\n\x1a\n"
+    if os.environ.get("VC_UI_SCREENSHOTS"):
+        (Path(os.environ["VC_UI_SCREENSHOTS"]) / "scope_saved.png").write_bytes(image)
+
+    vcd = tmp_path / "scope.vcd"
+    with urllib.request.urlopen(str(browser.find_element(by.ID, "scope-vcd").get_attribute("href")),
+                                timeout=30) as response:
+        vcd.write_bytes(response.read())
+    with vcd.open("rb") as handle:
+        tokens = list(tokenize(handle))
+    names = {token.data.reference for token in tokens if token.kind is TokenKind.VAR}
+    assert {"MCP.plus.X1", "basic.in.traversPlusCommandActive", "X1.position"} <= names, names
+    vcd2fst = shutil.which("vcd2fst")
+    if vcd2fst:
+        fst = tmp_path / "scope.fst"
+        converted = subprocess.run([vcd2fst, str(vcd), str(fst)], capture_output=True, text=True, timeout=60)
+        assert converted.returncode == 0 and fst.stat().st_size > 0, converted.stderr

@@ -120,6 +120,7 @@ function show(update) {
   }
   if (update.connection) showConnection(update.connection);
   if (update.recording) showRecording(update.recording);
+  scopeTake(update.scope);
   for (const axis of update.axes) {
     const row = document.getElementById(`axis-${axis.name}`);
     if (!row) continue;
