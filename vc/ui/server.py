@@ -19,8 +19,10 @@ import hmac
 import ipaddress
 import itertools
 import json
+import os
 import secrets
 import socket
+import tempfile
 import threading
 from collections import deque
 from collections.abc import Callable
@@ -35,10 +37,12 @@ from starlette.routing import Mount, Route, WebSocketRoute
 from starlette.staticfiles import StaticFiles
 from starlette.websockets import WebSocket, WebSocketDisconnect
 
+from vc.scenario.run.trace import write_vcd
 from vc.ui.bridge import Command, OperatorBridge
 
 MAX_MESSAGE_CHARACTERS = 65_536  # one command of a page (an MDA program is the longest)
-COMMANDS = ("key", "force", "release", "mda", "acknowledge", "handwheel", "watch")
+COMMANDS = ("key", "force", "release", "mda", "acknowledge", "handwheel", "watch", "record", "scope")
+SCOPE_COPY_TIMEOUT_S = 5.0  # the NC copies the scope's ring between two cycles
 STOP_TIMEOUT_S = 5.0
 
 
@@ -75,6 +79,8 @@ class UiServer:
         self._ready = threading.Event()
         app = Starlette(routes=[
             Route("/", self._index),
+            Route("/recording/scenario.yaml", self._scenario),
+            Route("/scope.vcd", self._scope_vcd),
             WebSocketRoute("/ws", self._socket_endpoint),
             Mount("/static", app=StaticFiles(packages=[("vc.ui", "static")]), name="static"),
         ])
@@ -135,6 +141,39 @@ class UiServer:
                                      status_code=403)
         query = f"?token={self.token}" if self.token else ""
         return RedirectResponse(f"/static/index.html{query}")
+
+    def _scenario(self, request: Request) -> Response:
+        """The ended recording as a scenario (a plain function: Starlette runs it in a worker thread,
+        so the conversion never holds up the server's loop)."""
+        if not self._token_ok(request.query_params.get("token")):
+            return PlainTextResponse("this operator panel needs its token", status_code=403)
+        download = self.bridge.recording.scenario()
+        if download.refusal:
+            return PlainTextResponse(download.refusal, status_code=409)
+        return Response(download.text, media_type="application/yaml",
+                        headers={"Content-Disposition": f'attachment; filename="{download.name}"'})
+
+    def _scope_vcd(self, request: Request) -> Response:
+        """The scope's ring as a VCD file, written by the project's trace writer (a plain function:
+        run in a worker thread, which waits for the NC to copy the ring between two cycles)."""
+        if not self._token_ok(request.query_params.get("token")):
+            return PlainTextResponse("this operator panel needs its token", status_code=403)
+        copied: list[Any] = []
+        done = threading.Event()
+        self.bridge.commands.append(Command("scope_copy", 0, "", {"into": copied}, lambda ok, message: done.set()))
+        if not done.wait(SCOPE_COPY_TIMEOUT_S) or not copied:
+            return PlainTextResponse("the NC ran no cycle to copy the scope in (lockstep waits for the PLC)",
+                                     status_code=503)
+        recording = copied[0]
+        if not recording.histories:
+            return PlainTextResponse("the scope has no lanes: pick some on the page", status_code=409)
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "scope.vcd")
+            write_vcd(recording, path)
+            with open(path, encoding="utf-8") as handle:
+                text = handle.read()
+        return Response(text, media_type="text/x-vcd",
+                        headers={"Content-Disposition": 'attachment; filename="scope.vcd"'})
 
     def _same_origin(self, websocket: WebSocket) -> bool:
         origin = websocket.headers.get("origin")
@@ -206,6 +245,10 @@ class UiServer:
             arguments = message.get("arguments", {})
             if not isinstance(arguments, dict):
                 raise ValueError("the arguments of a command are a JSON object")
+            if kind == "scope" and not (isinstance(arguments.get("names"), list)
+                                        and all(isinstance(name, str) for name in arguments["names"])
+                                        and isinstance(arguments.get("seconds"), (int, float))):
+                raise ValueError("scope takes a list of names and the seconds to keep")
             if kind == "watch" and not (isinstance(arguments.get("names"), list)
                                         and all(isinstance(name, str) for name in arguments["names"])):
                 raise ValueError("watch takes a list of names")

@@ -97,3 +97,18 @@ def test_malformed_commands_are_answered_not_fatal(server: UiServer) -> None:
     kinds = [command.kind for command in server.bridge.commands]
     assert kinds[-2:] == ["acknowledge", "closed"], kinds
     assert "explode" not in kinds and "watch" not in kinds
+
+
+def test_the_downloads_want_the_token_and_say_why_there_is_nothing(server: UiServer) -> None:
+    """No NC cycles here: the VCD cannot be copied (503, said why); no --record: no scenario (409)."""
+    base = f"http://127.0.0.1:{server.port}"
+    for path in ("/scope.vcd", "/recording/scenario.yaml"):
+        assert get(f"{base}{path}")[0] == 403
+    status, text = get(f"{base}/recording/scenario.yaml?token=s3cret")
+    assert status == 409 and "--record FILE" in text
+    status, text = get(f"{base}/scope.vcd?token=s3cret")
+    assert status == 503 and "no cycle" in text
+    answers = exchange(server, [json.dumps({"id": 3, "command": "scope", "arguments": {"names": ["X1.position"]}}),
+                                json.dumps({"id": 4, "command": "scope_copy", "arguments": {}})], expect=2)
+    assert "seconds to keep" in str(answers[0]["message"])
+    assert "unknown command 'scope_copy'" in str(answers[1]["message"])  # the server's own, never a page's

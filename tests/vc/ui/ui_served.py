@@ -30,6 +30,7 @@ needs_browser = pytest.mark.skipif(
 class Served:
     url: str
     output: Path  # what vc serve printed so far
+    plc: subprocess.Popen[bytes] | None = None  # python -m plc_stub (a test may end it: the PLC lost)
 
 
 def _modbus_port() -> int:
@@ -78,7 +79,7 @@ def serve_with_page(*extra: str) -> Iterator[Served]:
             plc = subprocess.Popen([sys.executable, "-m", "plc_stub", "--modbus", f"127.0.0.1:{modbus}",
                                     "--connect-timeout", "30"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                    cwd=ROOT)
-            yield Served(url, output)
+            yield Served(url, output, plc)
         finally:
             for process in (plc, server):
                 if process is not None:

@@ -118,6 +118,9 @@ function show(update) {
     const lamp = document.getElementById(`lamp-${name}`);
     if (lamp) lamp.classList.toggle("on", Boolean(value));
   }
+  if (update.connection) showConnection(update.connection);
+  if (update.recording) showRecording(update.recording);
+  scopeTake(update.scope);
   for (const axis of update.axes) {
     const row = document.getElementById(`axis-${axis.name}`);
     if (!row) continue;
@@ -169,6 +172,30 @@ function showWatch(update) {
   }
 }
 
+function showConnection(connection) {
+  $("plc-link").textContent = connection.link;
+  $("plc-mode").textContent = connection.mode;
+  $("plc-session").textContent = connection.session === null ? "–" : connection.session;
+  $("plc-peer").textContent = connection.peer;
+  $("plc-life").textContent = connection.sign_of_life;
+  $("plc-life").classList.toggle("lost", connection.sign_of_life_lost !== null);
+  $("plc-overruns").textContent = connection.overruns === null ? "– (lockstep: no schedule to overrun)"
+    : `${connection.overruns} of ${connection.cycles} cycles (${connection.link_overruns} while serving the links)`;
+  $("plc-overruns").title = connection.pacing;
+}
+
+function showRecording(recording) {
+  const text = {none: `not recording: ${recording.note}`,
+                recording: `recording to ${recording.path} (cycle ${recording.cycle})`,
+                "size limit": `the recording ${recording.path} stopped at its size limit (--record-limit)`,
+                ended: `the recording ${recording.path} has ended at cycle ${recording.cycle}`}[recording.state];
+  $("record-state").textContent = text;
+  $("record-stop").disabled = recording.state === "none" || recording.state === "ended";
+  const link = $("record-scenario");
+  link.hidden = recording.state !== "ended";
+  link.href = `/recording/scenario.yaml${token ? `?token=${encodeURIComponent(token)}` : ""}`;
+}
+
 // ---------------------------------------------------------------- watch and force, MDA, alarms
 function sendWatch() { send("watch", {names: watched}, "watch"); }
 
@@ -196,5 +223,6 @@ window.addEventListener("DOMContentLoaded", () => {
   $("mda-load").addEventListener("click", () =>
     send("mda", {channel: $("mda-channel").value, text: $("mda-text").value}, "mda"));
   $("acknowledge").addEventListener("click", () => send("acknowledge", {}, "acknowledge"));
+  $("record-stop").addEventListener("click", () => send("record", {action: "stop"}, "record"));
   connect();
 });
