@@ -216,3 +216,20 @@ def test_the_handwheel_with_drf_does_not_move_it_in_mda() -> None:
     rig.nck.turn_handwheel(1, 20, 1)
     rig.step(200)
     assert c1.drf_offset == 0.0 and c1.actual == pytest.approx(start, abs=1e-9)
+
+
+@pytest.mark.parametrize("program", [
+    "G43.4 H1",  # the kinematic transformation (seed 003 L14066)
+    "G68.2 X0 Y0 Z0 I0 J30 K0",  # the tilted plane's frame (L14077)
+])
+def test_a_transformation_or_frame_over_a_hirth_axis_is_refused_at_selection(program: str) -> None:
+    rig = _rig()
+    rig.mda(f"N10 {program}\nN20 G1 X=10 F1000\nN30 M30")
+    rig.step(20)
+    assert rig.alarm_numbers() == [17501] and rig.axis("X1").setpoint == 0.0
+    rig.pulse("CHAN1.basic.out.reset", 2)
+    rig.step(10)
+    assert rig.alarm_numbers() == []
+    rig.mda("N10 G43 H1\nN20 G49\nN30 M30")  # G43 alone turns no axis: allowed
+    _ended(rig)
+    assert rig.alarm_numbers() == []
