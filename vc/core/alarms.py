@@ -155,7 +155,8 @@ ALARM_TEXTS: dict[int, AlarmDefinition] = {
                         " (seed 003 §11.4 names no alarm)"),
         AlarmDefinition(17501, "Channel %1 block %2 indexing axis %3 with Hirth joint is active", _STOP, Clear.RESET,
                         "[control] number and text: an end point of an axis with MD30505 = 1 that is no index"
-                        " position (seed 003 L13740-13747: the Hirth joint locks it on its index positions only)"),
+                        " position (seed 003 L13740-13747: the Hirth joint locks it on its index positions only);"
+                        " [INF] also PRESETON, G95, G43.4 and G68.2 on such an axis (L14064-14077)"),
         AlarmDefinition(17503, "Channel %1 block %2 indexing axis %3 with Hirth joint and axis not referenced", _STOP,
                         Clear.RESET, "[control] number and text: a motion of an axis with MD30505 = 1 before its"
                         " measuring system is referenced (seed 003 L13750-13757)"),

@@ -193,7 +193,10 @@ class MachineAxis:
         self.resting = False
 
     def add_drf_travel(self, distance: float) -> None:
-        """Handwheel pulses with DRF: the DRF offset grows by ``distance`` (sign = direction)."""
+        """Handwheel pulses with DRF: the DRF offset grows by ``distance`` (sign = direction); not
+        for an axis with a Hirth joint, as the handwheel in JOG (seed 003 L14074, L14081)."""
+        if self.index is not None and self.index.hirth:
+            return
         self.drf.add_travel(distance)
         self.resting = False
 
@@ -417,7 +420,7 @@ class MachineAxis:
 
     def add_handwheel_travel(self, distance: float) -> None:
         """Handwheel pulses in JOG: ``distance`` more to travel (sign = direction); not for an axis
-        with a Hirth joint (seed 003 L14070-14080)."""
+        with a Hirth joint (seed 003 L14074)."""
         if self.index is not None and self.index.hirth:
             return
         self.jog.add_handwheel_travel(distance)

@@ -13,7 +13,7 @@ from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.axis import rotary
 from vc.core.axis.axis import MachineAxis
-from vc.core.axis.indexing import ALARM_NOT_AN_INDEXING_AXIS, CODED_POSITIONS
+from vc.core.axis.indexing import ALARM_HIRTH_NOT_AN_INDEX_POSITION, ALARM_NOT_AN_INDEXING_AXIS, CODED_POSITIONS
 from vc.core.axis.rotary import ROTARY_MODES
 from vc.core.program.block_plan import BlockPlan, DecodeAlarm, ModalState
 from vc.core.program.commands import SpindleCommand
@@ -111,6 +111,15 @@ class BlockDecoder:
         if not self.positioning_only(machine_axis):
             return False
         self.fail(ALARM_WRONG_AXIS_TYPE, self.channel.name, self.block.label, name, axis=machine_axis)
+        return True
+
+    def refuse_hirth(self, machine_axis: str, name: str) -> bool:
+        """17501 [control] for an indexing axis with a Hirth joint in a function it must not be used
+        with (seed 003 §11.5 L14064-14073: PRESETON, G95): the joint locks it on its positions."""
+        index = self.axes[machine_axis].index
+        if index is None or not index.hirth:
+            return False
+        self.fail(ALARM_HIRTH_NOT_AN_INDEX_POSITION, self.channel.name, self.block.label, name, axis=machine_axis)
         return True
 
     def axis_value(self, name: str, value: object) -> None:

@@ -333,6 +333,8 @@ def _finish(decoder: BlockDecoder) -> None:
             decoder.fail(10860, channel.name, decoder.block.label)
         elif modal.feed <= 0.0:
             decoder.fail(14800, channel.name, decoder.block.label)
+        elif modal.per_revolution and any(decoder.refuse_hirth(axis, axis) for axis in plan.targets):
+            return  # a Hirth axis never with a feed per revolution (G95, seed 003 L14073)
         else:
             plan.feed = modal.feed
             plan.feed_per_revolution = modal.per_revolution

@@ -133,6 +133,8 @@ def preseton(decoder: BlockDecoder, call: Call) -> None:
         if machine_axis is None or decoder.axes[machine_axis].is_spindle or not isinstance(value, float):
             decoder.fail(12080, decoder.channel.name, decoder.block.label, f"PRESETON({name},{value})")
             return
+        if decoder.refuse_hirth(machine_axis, str(name)):
+            return  # its actual value is the joint's position (L14070)
         decoder.plan.preset[machine_axis] = value
 
 

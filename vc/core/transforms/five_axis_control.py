@@ -36,6 +36,7 @@ from collections.abc import Collection, Sequence
 from vc.config import md_dictionary as MD
 from vc.config.model import ChannelConfig
 from vc.core.axis.axis import MachineAxis
+from vc.core.axis.indexing import ALARM_HIRTH_NOT_AN_INDEX_POSITION
 from vc.core.interpolation.tool_path import ToolPathSegment
 from vc.core.kinematics.five_axis import (
     NO_ROTATION,
@@ -88,6 +89,8 @@ class FiveAxisControl:
         usable = isinstance(chain, Kinematics) and len(self.linear) == 3 and \
             len(self.rotary) == chain.mechanism.rotary_axes
         self.kinematics: Kinematics | None = chain if usable and isinstance(chain, Kinematics) else None
+        # a rotary axis of the chain with a Hirth joint: no transformation, no frame (seed 003 L14066, L14077)
+        self._hirth_axis = next((axis.name for axis in self.rotary if axis.index is not None and axis.index.hirth), "")
         self._pose_key: tuple[float, ...] = ()
         self._pose: ToolPose | None = None
 
@@ -154,6 +157,10 @@ class FiveAxisControl:
             # STO, smooth tool orientation (Pr3051, seed 001 L30-31, L42-46), is not part of this
             # control: refused like a function whose option is missing [control]
             return DecodeAlarm(12550, (self._channel, label, "G43.4 L2"))
+        if self._hirth_axis and {TOOL_CENTER_POINT, TILTED_PLANE} & set(words.codes):
+            # the transformation G43.4 and the frame G68.2 would turn it off its index positions
+            return DecodeAlarm(ALARM_HIRTH_NOT_AN_INDEX_POSITION, (self._channel, label, self._hirth_axis),
+                               self._hirth_axis)
         refusal = self._refusal(plan, words)
         if refusal:
             return self._refuse(label, refusal)

@@ -180,3 +180,56 @@ def test_a_reset_while_it_waits_on_a_position_leaves_no_stop_for_the_next_motion
     rig.set("C1.basic.out.feedStopSpindleStop", 1)  # a new hold: the next position ahead, not 360
     rig.run_until(lambda: c1.command_velocity == STOPPED, 1000)
     assert c1.setpoint == 315.0
+
+
+@pytest.mark.parametrize("program", [
+    "PRESETON(C1,90)",  # a zero offset by the actual value (seed 003 L14070)
+    "G95 G1 C=90 F0.1",  # a feed per revolution (L14073)
+    "G95 F0.1\nN15 G1 X=10 C=90",  # G95 modal from an earlier block
+])
+def test_the_functions_a_hirth_axis_must_not_be_used_with_are_refused_and_reset_clears_them(program: str) -> None:
+    rig = _rig()
+    start = rig.axis("C1").setpoint
+    rig.mda(f"N10 {program}\nN20 M30")
+    rig.step(20)
+    assert rig.alarm_numbers() == [17501] and rig.axis("C1").setpoint == start and rig.axis("C1").referenced
+    rig.pulse("CHAN1.basic.out.reset", 2)
+    rig.step(10)
+    assert rig.alarm_numbers() == []
+
+
+def test_a_hirth_axis_under_g94_again_and_positioning_under_g95_are_not_refused() -> None:
+    rig = _rig()  # POS moves at FA in mm/min (deg/min) whatever group 15 says [control]
+    rig.mda("N10 G95 F0.1\nN20 POS[C]=CAC(1) FA[C]=7200\nN30 G94 G1 C=90 F7200\nN40 M30")
+    _ended(rig)
+    assert rig.alarm_numbers() == [] and rig.axis("C1").setpoint == pytest.approx(90.0)
+
+
+def test_the_handwheel_with_drf_does_not_move_it_in_mda() -> None:
+    rig = _rig()  # seed 003 L14074, L14081: no DRF offset on a Hirth axis, as no handwheel in JOG
+    c1 = rig.axis("C1")
+    rig.set("C1.basic.out.handwheelSelection", 1)
+    rig.set("C1.basic.out.inc100", 1)
+    rig.set("CHAN1.basic.out.handwheelOffsetDrf", 1)
+    rig.step(2)
+    start = c1.actual
+    rig.nck.turn_handwheel(1, 20, 1)
+    rig.step(200)
+    assert c1.drf_offset == 0.0 and c1.actual == pytest.approx(start, abs=1e-9)
+
+
+@pytest.mark.parametrize("program", [
+    "G43.4 H1",  # the kinematic transformation (seed 003 L14066)
+    "G68.2 X0 Y0 Z0 I0 J30 K0",  # the tilted plane's frame (L14077)
+])
+def test_a_transformation_or_frame_over_a_hirth_axis_is_refused_at_selection(program: str) -> None:
+    rig = _rig()
+    rig.mda(f"N10 {program}\nN20 G1 X=10 F1000\nN30 M30")
+    rig.step(20)
+    assert rig.alarm_numbers() == [17501] and rig.axis("X1").setpoint == 0.0
+    rig.pulse("CHAN1.basic.out.reset", 2)
+    rig.step(10)
+    assert rig.alarm_numbers() == []
+    rig.mda("N10 G43 H1\nN20 G49\nN30 M30")  # G43 alone turns no axis: allowed
+    _ended(rig)
+    assert rig.alarm_numbers() == []
