@@ -143,6 +143,13 @@ class _Checker:
             self.add(data.mark_of(mdd.HIRTH_IS_ACTIVE),
                      f"{entry.name}: MD30505 HIRTH_IS_ACTIVE = 1, the Hirth joint, needs a rotary axis (MD30300"
                      f" IS_ROT_AX = 1) with equidistant index positions (MD30500 = 3), here MD30500 = {assignment}")
+        gantry = int(data.value(mdd.GANTRY_AXIS_TYPE))
+        if data.value(mdd.HIRTH_IS_ACTIVE) and gantry // 10 == 1:
+            # L14083-14093: a Hirth axis is never the following axis of a coupling, nor of a gantry grouping
+            self.add(data.mark_of(mdd.HIRTH_IS_ACTIVE),
+                     f"{entry.name}: MD30505 HIRTH_IS_ACTIVE = 1, the Hirth joint, on a synchronized axis of gantry"
+                     f" grouping {gantry % 10} (MD37100 GANTRY_AXIS_TYPE = {gantry}): a Hirth axis cannot follow"
+                     " another axis (L14083-14093)")
         if not assignment:
             return
         mark = data.mark_of(mdd.INDEX_AX_ASSIGN_POS_TAB)
