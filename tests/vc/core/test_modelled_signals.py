@@ -67,7 +67,8 @@ def test_the_not_modelled_marks_give_a_reason_and_the_map_shows_them() -> None:
     rows = {row.symbol: row for row in map_rows(expand(load_catalog(), machine.layout), machine.plant_io)}
     assert rows["X1.drive.in.enabled"].modelled == "yes"
     assert rows["X1.drive.in.holdingBrakeReleased"].modelled == "yes"  # 0 on an axis without a brake
-    assert rows["X1.drive.in.rapidStopActive"].modelled.startswith("no: the NC's rapid stop exists")
+    assert rows["X1.drive.in.rapidStopActive"].modelled.startswith(
+        "no: the drive's ramp-function generator and its rapid stop OFF3 are not modelled")
     assert rows["X1.drive.in.autonomousMotionActive"].modelled == "yes"  # the drive's ESR reaction
     assert rows["CHAN1.basic.out.reposModeSelection"].modelled == "no: REPOS is not modelled"
     assert all(len(signal.not_modelled) > 20 for signal in load_catalog().signals if not signal.modelled)
