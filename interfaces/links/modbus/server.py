@@ -86,6 +86,10 @@ SERVED_FUNCTIONS = frozenset({READ_COILS, READ_DISCRETE_INPUTS, READ_HOLDING, RE
 SERVE_SLICE_S = 0.0002  # requests served per pass of the event loop, in time
 PENDING_LIMIT = 16  # requests of one connection taken out of its bytes and waiting for their answers
 RECEIVE_LIMIT = 16 * 1024  # bytes of one connection waiting to be taken before its socket is no longer read
+# A Ctrl-C that interrupts the event loop in the middle of a task's step leaves that task pending with
+# nothing to wake it (cancelled or not), and the harness then never ended waiting for it: each wait of
+# the server's close for its tasks gets this long (asyncio.wait, which neither cancels nor waits again)
+SHUTDOWN_TIMEOUT_S = 2.0
 ANSWER_LIMIT = 64 * 1024  # answers of one connection not yet taken by its client before it is no longer served
 
 log = logging.getLogger(__name__)
@@ -334,11 +338,12 @@ class ModbusServerLink:
         if self._answering is not None:
             self._answering.cancel()
             with contextlib.suppress(BaseException):
-                self.loop.run_until_complete(self._answering)
+                self.loop.run_until_complete(asyncio.wait({self._answering}, timeout=SHUTDOWN_TIMEOUT_S))
             self._answering = None
         if self._server is not None:
             with contextlib.suppress(Exception):
-                self.loop.run_until_complete(self._server.shutdown())
+                shutdown = self.loop.create_task(self._server.shutdown())
+                self.loop.run_until_complete(asyncio.wait({shutdown}, timeout=SHUTDOWN_TIMEOUT_S))
             self._server = None
 
     def describe(self) -> str:

@@ -51,7 +51,7 @@ from interfaces.links.modbus.codec import (
     Table,
 )
 from interfaces.links.modbus.s7 import S7ServerLink
-from interfaces.links.modbus.server import ModbusServerLink
+from interfaces.links.modbus.server import SHUTDOWN_TIMEOUT_S, ModbusServerLink
 from interfaces.links.modbus.tables import ModbusTables
 from interfaces.plc import PlcEnvironment
 from vc.config.model import MachineConfig
@@ -302,8 +302,8 @@ class PlcLink:
             pending = asyncio.all_tasks(self.loop)
             for task in pending:
                 task.cancel()
-            if pending:
-                self.loop.run_until_complete(asyncio.gather(*pending, return_exceptions=True))
+            if pending:  # bounded: a task a Ctrl-C interrupted in its step never ends (modbus/server.py)
+                self.loop.run_until_complete(asyncio.wait(pending, timeout=SHUTDOWN_TIMEOUT_S))
             self.loop.close()
 
 

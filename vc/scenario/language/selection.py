@@ -18,6 +18,7 @@ import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+from interfaces.errors import VcError
 from vc.scenario.language.model import Scenario
 
 _TOKEN = re.compile(r"\s*(\(|\)|[^\s()]+)")
@@ -26,7 +27,7 @@ _OPERATORS = ("and", "or", "not")
 Match = Callable[[str], bool]  # the scenario's id, lower case -> selected
 
 
-class SelectionError(ValueError):
+class SelectionError(VcError, ValueError):
     """A ``-k`` expression or a ``--shard`` that cannot be read; the message says where."""
 
 
